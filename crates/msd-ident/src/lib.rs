@@ -1,0 +1,1 @@
+//! msd-ident (placeholder while the crate is being built).

@@ -1,0 +1,1 @@
+//! msd-mc (placeholder while the crate is being built).

@@ -1,0 +1,1 @@
+//! msd-ode (placeholder while the crate is being built).

@@ -1,0 +1,1 @@
+//! msd-opt (placeholder while the crate is being built).

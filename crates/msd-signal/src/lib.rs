@@ -1,0 +1,1 @@
+//! msd-signal (placeholder while the crate is being built).
