@@ -1,0 +1,253 @@
+//! The exact LTI simulator against analytic solutions and against DP5(4).
+
+mod common;
+use common::{Plant, paper_grid, paper_input, paper_input_left};
+use msd_ode::{Breakpoint, ExactSimulator, Hold, Ode45Options, SVector, SampledInput, ode45};
+
+const DT: f64 = 0.002;
+
+fn simulate(plant: Plant, hold: Hold, values: &[f64], breakpoints: &[Breakpoint]) -> Vec<f64> {
+    let sim = ExactSimulator::new(&plant.model(), DT, hold).expect("valid model");
+    sim.simulate(
+        &SVector::zeros(),
+        &SampledInput {
+            values,
+            breakpoints,
+        },
+    )
+    .expect("simulates")
+    .iter()
+    .map(|x| x[0])
+    .collect()
+}
+
+/// Breakpoints of the paper's identification input on its grid: the 6 N step at 0.5 s
+/// (sample 250), the kink where the 0.5 Hz sine starts at 3 s (1500), and the switch to
+/// the 1.4 Hz sine at 9 s (4500), where the force jumps.
+fn paper_breakpoints() -> Vec<Breakpoint> {
+    [250usize, 1500, 4500]
+        .iter()
+        .map(|&i| {
+            let t = i as f64 * DT;
+            Breakpoint {
+                index: i,
+                left: paper_input_left(t),
+                right: paper_input(t),
+            }
+        })
+        .collect()
+}
+
+/// Reference: ode45 at RelTol 1e-12, restarted at each breakpoint so that no step straddles
+/// a jump or a kink (each piece's input is smooth, evaluated one-sidedly).
+fn piecewise_reference(plant: Plant) -> Vec<f64> {
+    let grid = paper_grid();
+    let cuts = [0usize, 250, 1500, 4500, 7500];
+    let opts = Ode45Options {
+        rel_tol: 1e-12,
+        abs_tol: 1e-15,
+        ..Ode45Options::default()
+    };
+    let mut state = SVector::<f64, 2>::zeros();
+    let mut out = vec![0.0; grid.len()];
+    for w in cuts.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let (ta, tb) = (grid[a], grid[b]);
+        // One-sided input on the open piece: evaluate with the formula valid inside it.
+        let inside = move |t: f64| {
+            if t <= ta {
+                paper_input(ta)
+            } else if t >= tb {
+                paper_input_left(tb)
+            } else {
+                paper_input(t)
+            }
+        };
+        let mut rhs = |t: f64, y: &SVector<f64, 2>, d: &mut SVector<f64, 2>| {
+            d[0] = y[1];
+            d[1] = (inside(t) - plant.c * y[1] - plant.k * y[0]) / plant.m;
+        };
+        let sol = ode45(&mut rhs, &grid[a..=b], &state, &opts).expect("solves");
+        for (j, y) in sol.y.iter().enumerate() {
+            out[a + j] = y[0];
+        }
+        state = *sol.y.last().expect("non-empty");
+    }
+    out
+}
+
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+fn max_abs(a: &[f64]) -> f64 {
+    a.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+#[test]
+fn every_hold_is_exact_for_a_constant_input() {
+    for zeta in [0.05, 1.0, 3.0] {
+        let plant = Plant::with_damping_ratio(zeta);
+        let values = vec![6.0; 2001];
+        for hold in [Hold::Zero, Hold::First, Hold::Cubic] {
+            let x = simulate(plant, hold, &values, &[]);
+            let worst = x
+                .iter()
+                .enumerate()
+                .map(|(i, xi)| (xi - plant.step_response(6.0, i as f64 * DT).0).abs())
+                .fold(0.0, f64::max);
+            // Only rounding: ~2000 steps of a few ulps of 0.05 m.
+            assert!(worst < 1e-12, "{hold:?}, ζ = {zeta}: {worst:e}");
+        }
+    }
+}
+
+#[test]
+fn first_and_cubic_holds_are_exact_for_a_ramp() {
+    let plant = Plant::PAPER;
+    let values: Vec<f64> = (0..2001).map(|i| 4.0 * i as f64 * DT).collect();
+    for hold in [Hold::First, Hold::Cubic] {
+        let x = simulate(plant, hold, &values, &[]);
+        let worst = x
+            .iter()
+            .enumerate()
+            .map(|(i, xi)| (xi - plant.ramp_response(4.0, i as f64 * DT).0).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{hold:?}: {worst:e}");
+    }
+}
+
+#[test]
+fn a_jump_on_a_sample_instant_is_exact_with_its_breakpoint() {
+    let plant = Plant::PAPER;
+    let values: Vec<f64> = (0..3001)
+        .map(|i| if i >= 250 { 6.0 } else { 0.0 })
+        .collect();
+    let jump = [Breakpoint {
+        index: 250,
+        left: 0.0,
+        right: 6.0,
+    }];
+    let exact = |i: usize| {
+        if i < 250 {
+            0.0
+        } else {
+            plant.step_response(6.0, (i - 250) as f64 * DT).0
+        }
+    };
+    for hold in [Hold::Zero, Hold::First, Hold::Cubic] {
+        let x = simulate(plant, hold, &values, &jump);
+        let worst = x
+            .iter()
+            .enumerate()
+            .map(|(i, xi)| (xi - exact(i)).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-12, "{hold:?}: {worst:e}");
+    }
+    // Without the breakpoint the cubic smears the jump over its stencil: a visible error.
+    let smeared = simulate(plant, Hold::Cubic, &values, &[]);
+    let worst = smeared
+        .iter()
+        .enumerate()
+        .map(|(i, xi)| (xi - exact(i)).abs())
+        .fold(0.0, f64::max);
+    assert!(worst > 1e-7, "the breakpoint should matter: {worst:e}");
+}
+
+#[test]
+fn cubic_hold_matches_dp45_on_the_paper_input_to_1e_8_relative() {
+    let plant = Plant::PAPER;
+    let grid = paper_grid();
+    let values: Vec<f64> = grid.iter().map(|&t| paper_input(t)).collect();
+    let exact = simulate(plant, Hold::Cubic, &values, &paper_breakpoints());
+    let reference = piecewise_reference(plant);
+    let relative = max_abs_diff(&exact, &reference) / max_abs(&reference);
+    assert!(relative < 1e-8, "relative error {relative:e}");
+
+    // Also against ode45 at RelTol 1e-10 straight through the jumps, as the paper runs it.
+    let mut rhs = |t: f64, y: &SVector<f64, 2>, d: &mut SVector<f64, 2>| {
+        d[0] = y[1];
+        d[1] = (paper_input(t) - plant.c * y[1] - plant.k * y[0]) / plant.m;
+    };
+    let opts = Ode45Options {
+        rel_tol: 1e-10,
+        abs_tol: 1e-13,
+        ..Ode45Options::default()
+    };
+    let sol = ode45(&mut rhs, &grid, &SVector::zeros(), &opts).expect("solves");
+    let straight: Vec<f64> = sol.y.iter().map(|y| y[0]).collect();
+    let relative = max_abs_diff(&exact, &straight) / max_abs(&reference);
+    assert!(
+        relative < 1e-8,
+        "relative error against straight ode45 {relative:e}"
+    );
+}
+
+#[test]
+fn first_order_hold_error_stays_within_its_dt_squared_bound() {
+    // Linear interpolation errs by at most dt²/8·max|u''| on a smooth piece, and the
+    // displacement error is that input error filtered by the plant, so
+    // |Δx| ≤ dt²/8 · max|u''| · ∫|g|, with g the displacement impulse response.
+    let plant = Plant::PAPER;
+    let grid = paper_grid();
+    let values: Vec<f64> = grid.iter().map(|&t| paper_input(t)).collect();
+    let reference = piecewise_reference(plant);
+    let first = simulate(plant, Hold::First, &values, &paper_breakpoints());
+    let error = max_abs_diff(&first, &reference);
+    let u2 = (3.0 * (std::f64::consts::PI).powi(2))
+        .max(2.5 * (2.0 * std::f64::consts::PI * 1.4).powi(2));
+    let fine = 1e-4;
+    let g_l1: f64 = (0..150_000)
+        .map(|i| plant.velocity_decay(i as f64 * fine).0.abs() / plant.m * fine)
+        .sum();
+    let bound = DT * DT / 8.0 * u2 * g_l1 * 1.01;
+    assert!(
+        error <= bound,
+        "first-order hold error {error:e} above bound {bound:e}"
+    );
+    // And the bound is not vacuous: the error is of the predicted order, well above the
+    // cubic hold's.
+    assert!(
+        error > bound / 100.0,
+        "error {error:e} suspiciously small for O(dt²), bound {bound:e}"
+    );
+    let cubic = simulate(plant, Hold::Cubic, &values, &paper_breakpoints());
+    assert!(max_abs_diff(&cubic, &reference) < error / 100.0);
+    // A zero-order hold is far worse still (O(dt)).
+    let zero = simulate(plant, Hold::Zero, &values, &paper_breakpoints());
+    assert!(max_abs_diff(&zero, &reference) > 10.0 * error);
+}
+
+#[test]
+fn short_pieces_fall_back_to_lower_order_stencils() {
+    // Breakpoints two and three samples apart force the quadratic and linear stencils;
+    // a ramp is still reproduced exactly.
+    let plant = Plant::PAPER;
+    let values: Vec<f64> = (0..41).map(|i| 4.0 * i as f64 * DT).collect();
+    let kinks: Vec<Breakpoint> = [3usize, 5, 8, 9, 12]
+        .iter()
+        .map(|&i| Breakpoint {
+            index: i,
+            left: values[i],
+            right: values[i],
+        })
+        .collect();
+    let x = simulate(plant, Hold::Cubic, &values, &kinks);
+    for (i, xi) in x.iter().enumerate() {
+        let exact = plant.ramp_response(4.0, i as f64 * DT).0;
+        assert!((xi - exact).abs() < 1e-14, "sample {i}: {xi} vs {exact}");
+    }
+}
+
+#[test]
+fn transition_matrix_is_the_matrix_exponential() {
+    let plant = Plant::PAPER;
+    let sim = ExactSimulator::new(&plant.model(), DT, Hold::Cubic).expect("valid");
+    let expected = (plant.matrix() * DT).exp();
+    assert!((sim.transition() - expected).abs().max() < 1e-15);
+    assert_eq!(sim.dt(), DT);
+    assert_eq!(sim.hold(), Hold::Cubic);
+}
