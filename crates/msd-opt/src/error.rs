@@ -1,0 +1,174 @@
+//! The crate's one error type, [`OptError`].
+//!
+//! Every variant names what was wrong and where: which option and its value, which
+//! coordinate of `x0` or of the bounds. Solvers return it only for bad input or
+//! for a problem that cannot even be started; a run that stops early for a
+//! numerical reason is a normal result with an exit reason instead.
+//!
+//! ```
+//! use msd_opt::{nelder_mead, NelderMeadOptions, OptError};
+//!
+//! let err = nelder_mead(|x| x[0] * x[0], &[f64::NAN], &NelderMeadOptions::default())
+//!     .unwrap_err();
+//! assert!(matches!(err, OptError::NonFiniteStart { index: 0, .. }));
+//! assert_eq!(err.to_string(), "x0[0] = NaN is not finite");
+//! ```
+
+/// Everything that can go wrong before or while starting a solver.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OptError {
+    /// The starting point has no coordinates.
+    #[error("x0 is empty: at least one parameter is needed")]
+    EmptyStart,
+    /// A coordinate of the starting point is NaN or infinite.
+    #[error("x0[{index}] = {value} is not finite")]
+    NonFiniteStart {
+        /// Coordinate index.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// An option is outside its valid range.
+    #[error("option `{name}` = {value} is invalid: expected {expected}")]
+    InvalidOption {
+        /// Field name of the option.
+        name: &'static str,
+        /// The rejected value (integers are shown as floats).
+        value: f64,
+        /// The valid range, in words.
+        expected: &'static str,
+    },
+    /// Two things that must have the same length do not.
+    #[error("{what}: expected length {expected}, found {found}")]
+    LengthMismatch {
+        /// What was compared, e.g. "upper bounds vs lower bounds".
+        what: &'static str,
+        /// The length required.
+        expected: usize,
+        /// The length given.
+        found: usize,
+    },
+    /// A lower bound is above its upper bound.
+    #[error("lower bound {lower} is above upper bound {upper} at coordinate {index}")]
+    InvertedBounds {
+        /// Coordinate index.
+        index: usize,
+        /// Lower bound.
+        lower: f64,
+        /// Upper bound.
+        upper: f64,
+    },
+    /// A bound is NaN (infinite bounds are allowed where the solver says so).
+    #[error("{which} bound at coordinate {index} is NaN")]
+    NaNBound {
+        /// "lower" or "upper".
+        which: &'static str,
+        /// Coordinate index.
+        index: usize,
+    },
+    /// Multistart needs finite bounds to spread its starting points over.
+    #[error("multistart needs finite bounds; coordinate {index} has [{lower}, {upper}]")]
+    InfiniteBounds {
+        /// Coordinate index.
+        index: usize,
+        /// Lower bound.
+        lower: f64,
+        /// Upper bound.
+        upper: f64,
+    },
+    /// Levenberg–Marquardt needs at least as many residuals as parameters.
+    #[error(
+        "{residuals} residuals for {parameters} parameters: Levenberg–Marquardt needs residuals ≥ parameters"
+    )]
+    TooFewResiduals {
+        /// Number of residuals m.
+        residuals: usize,
+        /// Number of parameters n.
+        parameters: usize,
+    },
+    /// The residuals could not be computed, or were not finite, at the starting point.
+    #[error(
+        "residuals at the starting point are not finite or could not be computed (first bad index: {index:?})"
+    )]
+    InitialResiduals {
+        /// First non-finite residual, if the problem reported success but gave one.
+        index: Option<usize>,
+    },
+    /// The Jacobian at the starting point has a non-finite entry.
+    #[error("Jacobian at the starting point has a non-finite entry at row {row}, column {column}")]
+    InitialJacobian {
+        /// Row (residual index).
+        row: usize,
+        /// Column (parameter index).
+        column: usize,
+    },
+    /// A local solver inside multistart failed on one start.
+    #[error("multistart: local solver failed on start {start}: {source}")]
+    LocalSolver {
+        /// Index of the start that failed (the lowest such index).
+        start: usize,
+        /// The local solver's error.
+        source: Box<OptError>,
+    },
+    /// The rayon thread pool could not be built.
+    #[error("multistart: could not build a thread pool of {threads} threads: {message}")]
+    ThreadPool {
+        /// Requested number of threads.
+        threads: usize,
+        /// rayon's message.
+        message: String,
+    },
+}
+
+/// Checks a starting point: non-empty and finite.
+pub(crate) fn check_start(x0: &[f64]) -> Result<(), OptError> {
+    if x0.is_empty() {
+        return Err(OptError::EmptyStart);
+    }
+    match x0.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(OptError::NonFiniteStart {
+            index,
+            value: x0[index],
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Checks that a tolerance is finite and strictly positive.
+pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<(), OptError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(OptError::InvalidOption {
+            name,
+            value,
+            expected: "a finite number > 0",
+        })
+    }
+}
+
+/// Checks that a tolerance is finite and non-negative.
+#[allow(dead_code)] // used by levenberg_marquardt
+pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<(), OptError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(OptError::InvalidOption {
+            name,
+            value,
+            expected: "a finite number ≥ 0",
+        })
+    }
+}
+
+/// Checks that an optional count is at least one.
+pub(crate) fn check_count(name: &'static str, value: Option<usize>) -> Result<(), OptError> {
+    match value {
+        Some(0) => Err(OptError::InvalidOption {
+            name,
+            value: 0.0,
+            expected: "at least 1 (or None for the default)",
+        }),
+        _ => Ok(()),
+    }
+}
