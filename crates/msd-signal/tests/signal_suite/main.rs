@@ -1,0 +1,9 @@
+//! The crate's one integration-test binary.
+
+mod errors;
+mod multisine_prbs;
+mod noise;
+mod preprocess;
+mod serde_toml;
+mod signals;
+mod spectral;
