@@ -30,7 +30,7 @@
 use crate::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::system::OdeSystem;
-use crate::tableau::{A, C, E, interpolant_weights};
+use crate::tableau::{A, C, E, INTERPOLANT};
 use nalgebra::SVector;
 
 /// Sampled solution of an initial-value problem.
@@ -242,23 +242,27 @@ where
 
         // Output.
         if dense_grid {
-            while next < t_span.len() {
-                let tout = t_span[next];
-                if tdir * (tnew - tout) < 0.0 {
-                    break;
+            if next < t_span.len() && tdir * (tnew - t_span[next]) >= 0.0 {
+                let poly = Interpolant::new(&y, h, &k);
+                while next < t_span.len() {
+                    let tout = t_span[next];
+                    if tdir * (tnew - tout) < 0.0 {
+                        break;
+                    }
+                    if tout == tnew {
+                        output(tout, &ynew);
+                    } else {
+                        poly.eval_into(&mut stage, (tout - t) / h);
+                        output(tout, &stage);
+                    }
+                    next += 1;
                 }
-                if tout == tnew {
-                    output(tout, &ynew);
-                } else {
-                    interpolate(&mut stage, tout, t, h, &y, &k);
-                    output(tout, &stage);
-                }
-                next += 1;
             }
         } else {
+            let poly = Interpolant::new(&y, h, &k);
             for r in 1..options.refine {
                 let tref = t + (tnew - t) * (r as f64 / options.refine as f64);
-                interpolate(&mut stage, tref, t, h, &y, &k);
+                poly.eval_into(&mut stage, (tref - t) / h);
                 output(tref, &stage);
             }
             output(tnew, &ynew);
@@ -284,21 +288,35 @@ where
     Ok(stats)
 }
 
-/// ode45's `ntrp45`: the state at `tout` inside the step [t, t + h] into `out`.
-#[inline]
-fn interpolate<const N: usize>(
-    out: &mut SVector<f64, N>,
-    tout: f64,
-    t: f64,
-    h: f64,
-    y: &SVector<f64, N>,
-    k: &[SVector<f64, N>; 7],
-) {
-    let w = interpolant_weights((tout - t) / h);
-    out.copy_from(y);
-    for (wi, ki) in w.iter().zip(k.iter()) {
-        if *wi != 0.0 {
-            out.axpy(h * wi, ki, 1.0);
+/// ode45's `ntrp45` for one step, as a polynomial in s = (t − tₙ)/h:
+/// y(s) = yₙ + q₀ s + q₁ s² + q₂ s³ + q₃ s⁴ with q_j = h Σᵢ BIᵢⱼ kᵢ, evaluated by Horner.
+/// Building it costs one pass over the stages per step; each output point then costs
+/// four multiply-adds per component.
+struct Interpolant<const N: usize> {
+    y: SVector<f64, N>,
+    q: [SVector<f64, N>; 4],
+}
+
+impl<const N: usize> Interpolant<N> {
+    #[inline]
+    fn new(y: &SVector<f64, N>, h: f64, k: &[SVector<f64, N>; 7]) -> Self {
+        let q = std::array::from_fn(|j| {
+            let mut qj = SVector::<f64, N>::zeros();
+            for (row, ki) in INTERPOLANT.iter().zip(k.iter()) {
+                if row[j] != 0.0 {
+                    qj.axpy(h * row[j], ki, 1.0);
+                }
+            }
+            qj
+        });
+        Self { y: *y, q }
+    }
+
+    #[inline]
+    fn eval_into(&self, out: &mut SVector<f64, N>, s: f64) {
+        for i in 0..N {
+            let p = ((self.q[3][i] * s + self.q[2][i]) * s + self.q[1][i]) * s + self.q[0][i];
+            out[i] = self.y[i] + p * s;
         }
     }
 }

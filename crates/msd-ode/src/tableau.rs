@@ -87,15 +87,3 @@ pub const INTERPOLANT: [[f64; 4]; 7] = [
     [0.0, -11.0 / 7.0, 11.0 / 3.0, -55.0 / 28.0],
     [0.0, 3.0 / 2.0, -4.0, 5.0 / 2.0],
 ];
-
-/// Interpolation weights for fraction `s` of the step: wᵢ(s) = Σⱼ BIᵢⱼ s^(j+1).
-#[inline]
-pub(crate) fn interpolant_weights(s: f64) -> [f64; 7] {
-    let s2 = s * s;
-    let powers = [s, s2, s2 * s, s2 * s2];
-    let mut w = [0.0; 7];
-    for (wi, row) in w.iter_mut().zip(INTERPOLANT.iter()) {
-        *wi = row[0] * powers[0] + row[1] * powers[1] + row[2] * powers[2] + row[3] * powers[3];
-    }
-    w
-}
