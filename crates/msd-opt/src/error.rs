@@ -148,7 +148,6 @@ pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<(), OptEr
 }
 
 /// Checks that a tolerance is finite and non-negative.
-#[allow(dead_code)] // used by levenberg_marquardt
 pub(crate) fn check_non_negative(name: &'static str, value: f64) -> Result<(), OptError> {
     if value.is_finite() && value >= 0.0 {
         Ok(())

@@ -18,10 +18,15 @@
 
 pub mod bounds;
 pub mod error;
+pub mod levenberg_marquardt;
 pub mod nelder_mead;
 
 pub use bounds::Bounds;
 pub use error::OptError;
+pub use levenberg_marquardt::{
+    FiniteDifference, LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult,
+    LmExit, ResidualFn, levenberg_marquardt,
+};
 pub use nelder_mead::{
     NelderMeadExit, NelderMeadOptions, NelderMeadResult, Step, TRACE_HEADER, TraceRow, nelder_mead,
 };

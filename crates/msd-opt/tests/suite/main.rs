@@ -1,4 +1,5 @@
 //! Integration tests of msd-opt: one test binary, one module per topic.
 
+mod levenberg_marquardt;
 mod mgh;
 mod nelder_mead;

@@ -1,0 +1,809 @@
+//! Levenberg–Marquardt for nonlinear least squares, after MINPACK's `lmder`
+//! (Moré, 1978, "The Levenberg–Marquardt algorithm: implementation and theory"),
+//! with box bounds.
+//!
+//! ## The algorithm
+//! Minimise `‖r(x)‖²` over `lower ≤ x ≤ upper`. Each outer iteration forms the
+//! Jacobian J at the current x, factors it by Householder QR with column pivoting,
+//! and scales the variables by `D = diag(max over iterations of ‖J column‖)`
+//! (MINPACK mode 1; a fixed `diagonal` gives mode 2). The step p solves the damped
+//! problem `min ‖J·p + r‖² + λ‖D·p‖²` with λ chosen by Moré's `lmpar` so that
+//! `‖D·p‖ ≈ Δ`; the system is solved stably from the QR factors by Givens
+//! rotations (`qrsolv`), never by forming JᵀJ. The trust radius Δ starts at
+//! `initial_step_bound · ‖D·x0‖` and is updated from the ratio of actual to
+//! predicted reduction exactly as `lmder` does; a step is accepted when the ratio
+//! is at least 1e-4.
+//!
+//! **Termination** (MINPACK's `info`): relative reduction (actual and predicted)
+//! at most `f_tolerance`; trust radius at most `x_tolerance·‖D·x‖`; the cosine
+//! between r and every column of J at most `g_tolerance`; the evaluation limit; or
+//! one of the tolerances so small that no further progress is possible.
+//!
+//! **Bounds** (an addition to MINPACK): x0 is projected onto the box; at each
+//! outer iteration a variable on a bound whose gradient component `(Jᵀr)_j` pushes
+//! outward is held fixed (its Jacobian column is zeroed for the step computation,
+//! which makes its step component exactly zero); every trial point is projected
+//! onto the box, and when projection shortens the step the predicted reduction is
+//! recomputed from the projected step. Finite-difference steps stay inside the box.
+//! A step that projection shrinks to zero length ends the run with
+//! [`LmExit::XTolerance`]. Without bounds the method is `lmder` step for step.
+//!
+//! **Non-finite residuals** at a trial point count as a failed step: the trust
+//! region shrinks and the point is never accepted.
+//!
+//! ## Call order
+//! The solver calls `residuals(x)` first at x0, then for each trial point. It calls
+//! `jacobian(x)` only at a point x whose residuals were the last ones evaluated
+//! (x0, or a trial point just accepted), so a problem may compute residuals and
+//! Jacobian in one simulation and hand the cached Jacobian over. When the run
+//! ends right after an accepted step, `jacobian` is called once more at the final
+//! x (again right after its residuals) so the result carries J at the solution.
+//!
+//! ```
+//! use msd_opt::{levenberg_marquardt, LevenbergMarquardtOptions, ResidualFn};
+//!
+//! // Fit y = a·exp(b·t) to exact data from a = 2, b = −0.5.
+//! let t: Vec<f64> = (0..10).map(|i| i as f64 * 0.5).collect();
+//! let y: Vec<f64> = t.iter().map(|t| 2.0 * (-0.5 * t).exp()).collect();
+//! let mut problem = ResidualFn::new(t.len(), |x: &[f64], r: &mut [f64]| {
+//!     for ((ri, ti), yi) in r.iter_mut().zip(&t).zip(&y) {
+//!         *ri = x[0] * (x[1] * ti).exp() - yi;
+//!     }
+//!     true
+//! });
+//! let fit = levenberg_marquardt(&mut problem, &[1.0, 0.0], &LevenbergMarquardtOptions::default())
+//!     .unwrap();
+//! assert!(fit.exit.is_success());
+//! assert!((fit.x[0] - 2.0).abs() < 1e-8 && (fit.x[1] + 0.5).abs() < 1e-8);
+//! assert_eq!(fit.jacobian.shape(), (10, 2));
+//! ```
+
+// A translation of MINPACK keeps its index loops, which read like the Fortran.
+#![allow(clippy::needless_range_loop)]
+
+mod minpack;
+
+use std::fmt;
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{check_count, check_non_negative, check_positive, check_start};
+use crate::{Bounds, OptError};
+use minpack::{enorm, lmpar, qrfac};
+
+/// A nonlinear least-squares problem: residuals r(x) ∈ ℝᵐ and optionally their
+/// Jacobian.
+pub trait LeastSquaresProblem {
+    /// Number of residuals m (fixed for the problem, at least the number of
+    /// parameters).
+    fn residual_count(&self) -> usize;
+
+    /// Writes the residuals at `x` into `out` (length m). Return false if they
+    /// could not be computed; false or a non-finite value is treated as a failed
+    /// step (the trust region shrinks, the point is never accepted).
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool;
+
+    /// Writes the m×n Jacobian ∂r_i/∂x_j at `x` into `out`. Called only right after
+    /// `residuals(x)` at the same x (see the module doc). Return false if not
+    /// supplied: the solver then uses finite differences. The default returns false.
+    fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
+        let _ = (x, out);
+        false
+    }
+}
+
+/// A [`LeastSquaresProblem`] from a residual closure (Jacobian by finite
+/// differences).
+#[derive(Debug, Clone)]
+pub struct ResidualFn<F> {
+    m: usize,
+    f: F,
+}
+
+impl<F: FnMut(&[f64], &mut [f64]) -> bool> ResidualFn<F> {
+    /// Wraps `f(x, out) -> ok` producing `m` residuals.
+    pub fn new(m: usize, f: F) -> Self {
+        Self { m, f }
+    }
+}
+
+impl<F: FnMut(&[f64], &mut [f64]) -> bool> LeastSquaresProblem for ResidualFn<F> {
+    fn residual_count(&self) -> usize {
+        self.m
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
+        (self.f)(x, out)
+    }
+}
+
+/// Finite-difference scheme for a Jacobian the problem does not supply.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum FiniteDifference {
+    /// `(r(x + h·e_j) − r(x))/h`, one evaluation per parameter (MINPACK `fdjac2`).
+    #[default]
+    Forward,
+    /// `(r(x + h·e_j) − r(x − h·e_j))/(2h)`, two evaluations per parameter.
+    Central,
+}
+
+/// Options of [`levenberg_marquardt`]; defaults follow MINPACK (`lmder1`,
+/// as SciPy's `leastsq`).
+///
+/// | field | default | source |
+/// |---|---|---|
+/// | `f_tolerance` | √ε ≈ 1.49e-8 | ftol, MINPACK `lmder1`/`leastsq` |
+/// | `x_tolerance` | √ε ≈ 1.49e-8 | xtol, idem |
+/// | `g_tolerance` | 0 | gtol, idem |
+/// | `max_evaluations` | `None` = 100·(n + 1) | maxfev of `lmder1` |
+/// | `initial_step_bound` | 100 | factor, MINPACK's recommended value |
+/// | `diagonal` | `None` (mode 1: Jacobian column norms) | mode, MINPACK |
+/// | `bounds` | `None` | unconstrained, as MINPACK |
+/// | `finite_difference` | forward | `fdjac2` |
+/// | `finite_difference_step` | `None`: √ε forward, ε^⅓ central | `fdjac2` with epsfcn = ε |
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LevenbergMarquardtOptions {
+    /// Stop when both actual and predicted relative reductions of ‖r‖² are at most
+    /// this. By default √ε.
+    pub f_tolerance: f64,
+    /// Stop when the trust radius is at most this times ‖D·x‖ (relative step).
+    /// By default √ε.
+    pub x_tolerance: f64,
+    /// Stop when the largest cosine between r and a column of J is at most this.
+    /// By default 0.
+    pub g_tolerance: f64,
+    /// Residual evaluations allowed (not counting finite differences); `None` means
+    /// 100·(n + 1). By default `None`.
+    pub max_evaluations: Option<usize>,
+    /// Initial trust radius as a multiple of ‖D·x0‖ (or itself if that is zero).
+    /// By default 100.
+    pub initial_step_bound: f64,
+    /// Fixed positive scaling D (MINPACK mode 2); `None` scales by the Jacobian's
+    /// column norms (mode 1). By default `None`.
+    pub diagonal: Option<Vec<f64>>,
+    /// Box bounds (see the module doc). By default `None`.
+    pub bounds: Option<Bounds>,
+    /// Scheme for Jacobians the problem does not supply. By default forward.
+    pub finite_difference: FiniteDifference,
+    /// Relative finite-difference step: `h_j = step·|x_j|`, or `step` where
+    /// `x_j = 0`. `None` means √ε (forward) or ε^⅓ (central). By default `None`.
+    pub finite_difference_step: Option<f64>,
+}
+
+impl Default for LevenbergMarquardtOptions {
+    /// MINPACK-like: ftol = xtol = √ε, gtol = 0, maxfev = 100·(n + 1), factor = 100, mode 1.
+    fn default() -> Self {
+        Self {
+            f_tolerance: f64::EPSILON.sqrt(),
+            x_tolerance: f64::EPSILON.sqrt(),
+            g_tolerance: 0.0,
+            max_evaluations: None,
+            initial_step_bound: 100.0,
+            diagonal: None,
+            bounds: None,
+            finite_difference: FiniteDifference::Forward,
+            finite_difference_step: None,
+        }
+    }
+}
+
+impl LevenbergMarquardtOptions {
+    /// Checks every option's range: tolerances finite and ≥ 0, step bound and
+    /// finite-difference step finite and > 0, evaluation limit ≥ 1, diagonal
+    /// entries finite and > 0, bounds well formed.
+    ///
+    /// # Errors
+    /// [`OptError::InvalidOption`] naming the field, or a bounds error.
+    ///
+    /// ```
+    /// use msd_opt::{LevenbergMarquardtOptions, OptError};
+    /// let bad = LevenbergMarquardtOptions { f_tolerance: -1.0, ..Default::default() };
+    /// assert!(matches!(bad.validate(), Err(OptError::InvalidOption { name: "f_tolerance", .. })));
+    /// ```
+    pub fn validate(&self) -> Result<(), OptError> {
+        check_non_negative("f_tolerance", self.f_tolerance)?;
+        check_non_negative("x_tolerance", self.x_tolerance)?;
+        check_non_negative("g_tolerance", self.g_tolerance)?;
+        check_count("max_evaluations", self.max_evaluations)?;
+        check_positive("initial_step_bound", self.initial_step_bound)?;
+        if let Some(h) = self.finite_difference_step {
+            check_positive("finite_difference_step", h)?;
+        }
+        if let Some(d) = &self.diagonal {
+            for &v in d {
+                check_positive("diagonal", v)?;
+            }
+        }
+        if let Some(b) = &self.bounds {
+            b.validate()?;
+        }
+        Ok(())
+    }
+}
+
+/// Why [`levenberg_marquardt`] stopped (MINPACK's `info` 1–8, plus one of ours).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LmExit {
+    /// info 1: actual and predicted relative reductions at most `f_tolerance`.
+    FTolerance,
+    /// info 2: relative change of x at most `x_tolerance`.
+    XTolerance,
+    /// info 3: both of the above.
+    FAndXTolerance,
+    /// info 4: r is orthogonal to the columns of J within `g_tolerance` (includes r = 0).
+    Gradient,
+    /// info 5: `max_evaluations` reached.
+    MaxEvaluations,
+    /// info 6: `f_tolerance` too small, no further reduction possible.
+    FToleranceTooSmall,
+    /// info 7: `x_tolerance` too small, no further improvement of x possible.
+    XToleranceTooSmall,
+    /// info 8: `g_tolerance` too small, r orthogonal to J to machine precision.
+    GToleranceTooSmall,
+    /// The Jacobian at the current point has a non-finite entry.
+    NonFiniteJacobian,
+}
+
+impl LmExit {
+    /// True for the convergence reasons (MINPACK info 1–4).
+    pub fn is_success(&self) -> bool {
+        matches!(
+            self,
+            Self::FTolerance | Self::XTolerance | Self::FAndXTolerance | Self::Gradient
+        )
+    }
+}
+
+impl fmt::Display for LmExit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::FTolerance => {
+                "both actual and predicted relative reductions in the sum of squares are at most f_tolerance"
+            }
+            Self::XTolerance => "relative error between two consecutive iterates is at most x_tolerance",
+            Self::FAndXTolerance => {
+                "relative reduction at most f_tolerance and relative step at most x_tolerance"
+            }
+            Self::Gradient => {
+                "the residuals are orthogonal to the Jacobian columns to within g_tolerance"
+            }
+            Self::MaxEvaluations => "number of residual evaluations has reached max_evaluations",
+            Self::FToleranceTooSmall => {
+                "f_tolerance is too small: no further reduction in the sum of squares is possible"
+            }
+            Self::XToleranceTooSmall => {
+                "x_tolerance is too small: no further improvement in x is possible"
+            }
+            Self::GToleranceTooSmall => {
+                "g_tolerance is too small: residuals orthogonal to the Jacobian to machine precision"
+            }
+            Self::NonFiniteJacobian => "the Jacobian has a non-finite entry",
+        })
+    }
+}
+
+/// What [`levenberg_marquardt`] found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LevenbergMarquardtResult {
+    /// Final parameters (inside the bounds).
+    pub x: Vec<f64>,
+    /// Residuals at `x`.
+    pub residuals: Vec<f64>,
+    /// ‖r(x)‖₂.
+    pub residual_norm: f64,
+    /// Sum of squares ‖r(x)‖² (not halved), comparable with a Nelder–Mead cost
+    /// written as Σ rᵢ².
+    pub cost: f64,
+    /// Jacobian at `x` (m×n), e.g. for the covariance `s²·(JᵀJ)⁻¹`.
+    pub jacobian: DMatrix<f64>,
+    /// Accepted steps.
+    pub iterations: usize,
+    /// Residual evaluations by the solver (MINPACK `nfev`), excluding finite differences.
+    pub evaluations: usize,
+    /// Jacobian evaluations (analytic or by finite differences, MINPACK `njev`).
+    pub jacobian_evaluations: usize,
+    /// Residual evaluations spent on finite differences.
+    pub finite_difference_evaluations: usize,
+    /// Why the solver stopped.
+    pub exit: LmExit,
+}
+
+impl fmt::Display for LevenbergMarquardtResult {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let xs: Vec<String> = self.x.iter().map(|v| format!("{v:.10e}")).collect();
+        writeln!(f, "Levenberg–Marquardt (MINPACK lmder)")?;
+        writeln!(f, "x = [{}]", xs.join(", "))?;
+        writeln!(f, "residual norm = {:.10e}", self.residual_norm)?;
+        writeln!(f, "sum of squares = {:.10e}", self.cost)?;
+        writeln!(
+            f,
+            "iterations: {}, evaluations: {}, jacobian evaluations: {}, finite-difference evaluations: {}",
+            self.iterations,
+            self.evaluations,
+            self.jacobian_evaluations,
+            self.finite_difference_evaluations
+        )?;
+        write!(f, "exit: {}", self.exit)
+    }
+}
+
+/// Work arrays, allocated once per solve.
+struct Work {
+    jac: DMatrix<f64>,
+    qr: Vec<f64>,
+    ipvt: Vec<usize>,
+    rdiag: Vec<f64>,
+    qr_norms: Vec<f64>,
+    col_norms: Vec<f64>,
+    diag: Vec<f64>,
+    qtf: Vec<f64>,
+    step: Vec<f64>,
+    trial: Vec<f64>,
+    sdiag: Vec<f64>,
+    wa1: Vec<f64>,
+    wa2: Vec<f64>,
+    wa3: Vec<f64>,
+    wa4: Vec<f64>,
+    f_trial: Vec<f64>,
+    f_minus: Vec<f64>,
+    x_fd: Vec<f64>,
+}
+
+impl Work {
+    fn new(m: usize, n: usize) -> Self {
+        Self {
+            jac: DMatrix::zeros(m, n),
+            qr: vec![0.0; m * n],
+            ipvt: vec![0; n],
+            rdiag: vec![0.0; n],
+            qr_norms: vec![0.0; n],
+            col_norms: vec![0.0; n],
+            diag: vec![1.0; n],
+            qtf: vec![0.0; n],
+            step: vec![0.0; n],
+            trial: vec![0.0; n],
+            sdiag: vec![0.0; n],
+            wa1: vec![0.0; n],
+            wa2: vec![0.0; n],
+            wa3: vec![0.0; n],
+            wa4: vec![0.0; m],
+            f_trial: vec![0.0; m],
+            f_minus: vec![0.0; m],
+            x_fd: vec![0.0; n],
+        }
+    }
+}
+
+fn residuals_ok<P: LeastSquaresProblem + ?Sized>(p: &mut P, x: &[f64], out: &mut [f64]) -> bool {
+    p.residuals(x, out) && out.iter().all(|v| v.is_finite())
+}
+
+/// Computes the Jacobian at `x` (whose residuals `fvec` were just evaluated) into
+/// `w.jac`; returns the first non-finite entry, if any.
+fn compute_jacobian<P: LeastSquaresProblem + ?Sized>(
+    problem: &mut P,
+    x: &[f64],
+    fvec: &[f64],
+    options: &LevenbergMarquardtOptions,
+    w: &mut Work,
+    fd_evaluations: &mut usize,
+) -> Result<(), (usize, usize)> {
+    if !problem.jacobian(x, &mut w.jac) {
+        finite_differences(problem, x, fvec, options, w, fd_evaluations);
+    }
+    let m = w.jac.nrows();
+    match w.jac.as_slice().iter().position(|v| !v.is_finite()) {
+        Some(k) => Err((k % m, k / m)),
+        None => Ok(()),
+    }
+}
+
+/// Finite-difference Jacobian, each step kept inside the bounds: a forward step
+/// that would leave the box is taken backward (or to the farther bound); a central
+/// difference that would leave the box falls back to that one-sided step.
+fn finite_differences<P: LeastSquaresProblem + ?Sized>(
+    problem: &mut P,
+    x: &[f64],
+    fvec: &[f64],
+    options: &LevenbergMarquardtOptions,
+    w: &mut Work,
+    fd_evaluations: &mut usize,
+) {
+    let m = fvec.len();
+    let central = options.finite_difference == FiniteDifference::Central;
+    let rel = options.finite_difference_step.unwrap_or(if central {
+        f64::EPSILON.cbrt()
+    } else {
+        f64::EPSILON.sqrt()
+    });
+    w.x_fd.copy_from_slice(x);
+    for j in 0..x.len() {
+        let (l, u) = match &options.bounds {
+            Some(b) => (b.lower[j], b.upper[j]),
+            None => (f64::NEG_INFINITY, f64::INFINITY),
+        };
+        let mut h = rel * x[j].abs();
+        if h == 0.0 {
+            h = rel;
+        }
+        let column = &mut w.jac.as_mut_slice()[j * m..(j + 1) * m];
+        if central && x[j] - h >= l && x[j] + h <= u {
+            w.x_fd[j] = x[j] + h;
+            let ok_plus = residuals_ok(problem, &w.x_fd, &mut w.f_trial);
+            w.x_fd[j] = x[j] - h;
+            let ok_minus = residuals_ok(problem, &w.x_fd, &mut w.f_minus);
+            *fd_evaluations += 2;
+            let h2 = (x[j] + h) - (x[j] - h);
+            for i in 0..m {
+                column[i] = if ok_plus && ok_minus {
+                    (w.f_trial[i] - w.f_minus[i]) / h2
+                } else {
+                    f64::NAN
+                };
+            }
+        } else {
+            if x[j] + h > u {
+                h = if x[j] - h >= l {
+                    -h
+                } else if u - x[j] >= x[j] - l {
+                    u - x[j]
+                } else {
+                    l - x[j]
+                };
+            }
+            if h == 0.0 {
+                // A fixed variable (lower = upper): no direction to move in.
+                column.iter_mut().for_each(|c| *c = 0.0);
+                continue;
+            }
+            w.x_fd[j] = x[j] + h;
+            let h_exact = w.x_fd[j] - x[j];
+            let ok = residuals_ok(problem, &w.x_fd, &mut w.f_trial);
+            *fd_evaluations += 1;
+            for i in 0..m {
+                column[i] = if ok {
+                    (w.f_trial[i] - fvec[i]) / h_exact
+                } else {
+                    f64::NAN
+                };
+            }
+        }
+        w.x_fd[j] = x[j];
+    }
+}
+
+/// Solves `min ‖r(x)‖²` (within the bounds, if any) from `x0` by MINPACK's
+/// Levenberg–Marquardt method.
+///
+/// # Errors
+/// Bad input ([`OptError::EmptyStart`], [`OptError::NonFiniteStart`], an invalid
+/// option, bounds or diagonal that do not fit, [`OptError::TooFewResiduals`]), or a
+/// problem that cannot be started ([`OptError::InitialResiduals`],
+/// [`OptError::InitialJacobian`]). Everything after the start ends in an [`LmExit`].
+pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
+    problem: &mut P,
+    x0: &[f64],
+    options: &LevenbergMarquardtOptions,
+) -> Result<LevenbergMarquardtResult, OptError> {
+    check_start(x0)?;
+    options.validate()?;
+    let n = x0.len();
+    let m = problem.residual_count();
+    if m < n {
+        return Err(OptError::TooFewResiduals {
+            residuals: m,
+            parameters: n,
+        });
+    }
+    if let Some(b) = &options.bounds {
+        b.validate_for(n)?;
+    }
+    if let Some(d) = &options.diagonal
+        && d.len() != n
+    {
+        return Err(OptError::LengthMismatch {
+            what: "diagonal vs x0",
+            expected: n,
+            found: d.len(),
+        });
+    }
+    let max_evaluations = options.max_evaluations.unwrap_or(100 * (n + 1));
+    let eps = f64::EPSILON;
+
+    let mut w = Work::new(m, n);
+    let mut x = x0.to_vec();
+    if let Some(b) = &options.bounds {
+        b.project(&mut x);
+    }
+    let mut fvec = vec![0.0; m];
+    if !problem.residuals(&x, &mut fvec) {
+        return Err(OptError::InitialResiduals { index: None });
+    }
+    if let Some(index) = fvec.iter().position(|v| !v.is_finite()) {
+        return Err(OptError::InitialResiduals { index: Some(index) });
+    }
+    let mut nfev = 1;
+    let mut njev = 0;
+    let mut fd_evaluations = 0;
+    let mut fnorm = enorm(&fvec);
+    let mut par = 0.0;
+    let mut iter = 1; // MINPACK's counter: 1 + accepted steps
+    let mut delta = 0.0;
+    let mut xnorm = 0.0;
+    let mut jacobian_current: bool;
+
+    let exit = 'outer: loop {
+        // Jacobian at x: the last residual evaluation was at this x.
+        njev += 1;
+        if let Err((row, column)) =
+            compute_jacobian(problem, &x, &fvec, options, &mut w, &mut fd_evaluations)
+        {
+            if njev == 1 {
+                return Err(OptError::InitialJacobian { row, column });
+            }
+            jacobian_current = true;
+            break LmExit::NonFiniteJacobian;
+        }
+        jacobian_current = true;
+
+        // Active set: variables on a bound that the gradient Jᵀr pushes outward.
+        w.qr.copy_from_slice(w.jac.as_slice());
+        for j in 0..n {
+            let column = &w.jac.as_slice()[j * m..(j + 1) * m];
+            w.col_norms[j] = enorm(column);
+            if let Some(b) = &options.bounds {
+                let g: f64 = column.iter().zip(&fvec).map(|(a, r)| a * r).sum();
+                let fixed = b.lower[j] == b.upper[j];
+                let at_lower = x[j] <= b.lower[j] && g > 0.0;
+                let at_upper = x[j] >= b.upper[j] && g < 0.0;
+                if fixed || at_lower || at_upper {
+                    w.qr[j * m..(j + 1) * m].iter_mut().for_each(|v| *v = 0.0);
+                }
+            }
+        }
+        qrfac(
+            m,
+            n,
+            &mut w.qr,
+            &mut w.ipvt,
+            &mut w.rdiag,
+            &mut w.qr_norms,
+            &mut w.wa1,
+        );
+
+        if iter == 1 {
+            match &options.diagonal {
+                Some(d) => w.diag.copy_from_slice(d),
+                None => {
+                    for j in 0..n {
+                        w.diag[j] = if w.col_norms[j] == 0.0 {
+                            1.0
+                        } else {
+                            w.col_norms[j]
+                        };
+                    }
+                }
+            }
+            for j in 0..n {
+                w.wa3[j] = w.diag[j] * x[j];
+            }
+            xnorm = enorm(&w.wa3);
+            delta = options.initial_step_bound * xnorm;
+            if delta == 0.0 {
+                delta = options.initial_step_bound;
+            }
+        }
+
+        // qtf = first n components of Qᵀ·r.
+        w.wa4.copy_from_slice(&fvec);
+        for j in 0..n {
+            let cj = j * m;
+            if w.qr[cj + j] != 0.0 {
+                let mut sum = 0.0;
+                for i in j..m {
+                    sum += w.qr[cj + i] * w.wa4[i];
+                }
+                let temp = -sum / w.qr[cj + j];
+                for i in j..m {
+                    w.wa4[i] += w.qr[cj + i] * temp;
+                }
+            }
+            w.qr[cj + j] = w.rdiag[j];
+            w.qtf[j] = w.wa4[j];
+        }
+
+        // Scaled gradient norm (largest cosine between r and a column of J).
+        let mut gnorm = 0.0_f64;
+        if fnorm != 0.0 {
+            for j in 0..n {
+                let l = w.ipvt[j];
+                if w.qr_norms[l] != 0.0 {
+                    let mut sum = 0.0;
+                    for i in 0..=j {
+                        sum += w.qr[i + j * m] * (w.qtf[i] / fnorm);
+                    }
+                    gnorm = gnorm.max((sum / w.qr_norms[l]).abs());
+                }
+            }
+        }
+        if gnorm <= options.g_tolerance {
+            break LmExit::Gradient;
+        }
+        if options.diagonal.is_none() {
+            for j in 0..n {
+                w.diag[j] = w.diag[j].max(w.col_norms[j]);
+            }
+        }
+
+        // Inner loop: find an acceptable step.
+        loop {
+            par = lmpar(
+                n,
+                &mut w.qr,
+                m,
+                &w.ipvt,
+                &w.diag,
+                &w.qtf,
+                delta,
+                par,
+                &mut w.step,
+                &mut w.sdiag,
+                &mut w.wa1,
+                &mut w.wa2,
+            );
+            let mut clipped = false;
+            for j in 0..n {
+                w.step[j] = -w.step[j];
+                w.trial[j] = x[j] + w.step[j];
+            }
+            if let Some(b) = &options.bounds {
+                b.project(&mut w.trial);
+                for j in 0..n {
+                    let p = w.trial[j] - x[j];
+                    if p != w.step[j] {
+                        clipped = true;
+                        w.step[j] = p;
+                    }
+                }
+            }
+            for j in 0..n {
+                w.wa3[j] = w.diag[j] * w.step[j];
+            }
+            let pnorm = enorm(&w.wa3);
+            if pnorm == 0.0 {
+                break 'outer LmExit::XTolerance;
+            }
+            if iter == 1 {
+                delta = delta.min(pnorm);
+            }
+
+            let ok = residuals_ok(problem, &w.trial, &mut w.f_trial);
+            nfev += 1;
+            let fnorm1 = if ok { enorm(&w.f_trial) } else { f64::INFINITY };
+            let actred = if 0.1 * fnorm1 < fnorm {
+                1.0 - (fnorm1 / fnorm).powi(2)
+            } else {
+                -1.0
+            };
+
+            // Predicted reduction and directional derivative, both scaled by ‖r‖².
+            let (prered, dirder) = if !clipped {
+                for j in 0..n {
+                    w.wa3[j] = 0.0;
+                }
+                for j in 0..n {
+                    let temp = w.step[w.ipvt[j]];
+                    for i in 0..=j {
+                        w.wa3[i] += w.qr[i + j * m] * temp;
+                    }
+                }
+                let temp1 = enorm(&w.wa3) / fnorm;
+                let temp2 = (par.sqrt() * pnorm) / fnorm;
+                (
+                    temp1 * temp1 + temp2 * temp2 / 0.5,
+                    -(temp1 * temp1 + temp2 * temp2),
+                )
+            } else {
+                // Linear model along the projected step: ‖r + J·p‖².
+                w.wa4.iter_mut().for_each(|v| *v = 0.0);
+                for j in 0..n {
+                    let pj = w.step[j];
+                    if pj != 0.0 {
+                        for (acc, a) in w.wa4.iter_mut().zip(&w.jac.as_slice()[j * m..]) {
+                            *acc += a * pj;
+                        }
+                    }
+                }
+                let jp = enorm(&w.wa4) / fnorm;
+                let rjp: f64 =
+                    w.wa4.iter().zip(&fvec).map(|(a, r)| a * r).sum::<f64>() / (fnorm * fnorm);
+                (-(2.0 * rjp + jp * jp), rjp)
+            };
+            let ratio = if prered > 0.0 { actred / prered } else { 0.0 };
+
+            // Update the trust radius.
+            if ratio <= 0.25 {
+                let mut temp = if actred >= 0.0 {
+                    0.5
+                } else {
+                    0.5 * dirder / (dirder + 0.5 * actred)
+                };
+                if 0.1 * fnorm1 >= fnorm || temp < 0.1 || !temp.is_finite() {
+                    temp = 0.1;
+                }
+                delta = temp * delta.min(pnorm / 0.1);
+                par /= temp;
+            } else if par == 0.0 || ratio >= 0.75 {
+                delta = pnorm / 0.5;
+                par *= 0.5;
+            }
+
+            if ratio >= 1e-4 {
+                x.copy_from_slice(&w.trial);
+                fvec.copy_from_slice(&w.f_trial);
+                for j in 0..n {
+                    w.wa2[j] = w.diag[j] * x[j];
+                }
+                xnorm = enorm(&w.wa2[..n]);
+                fnorm = fnorm1;
+                iter += 1;
+                jacobian_current = false;
+            }
+
+            // Convergence tests.
+            let f_small = actred.abs() <= options.f_tolerance
+                && prered <= options.f_tolerance
+                && 0.5 * ratio <= 1.0;
+            let x_small = delta <= options.x_tolerance * xnorm;
+            match (f_small, x_small) {
+                (true, true) => break 'outer LmExit::FAndXTolerance,
+                (true, false) => break 'outer LmExit::FTolerance,
+                (false, true) => break 'outer LmExit::XTolerance,
+                (false, false) => {}
+            }
+            // Termination and stringent tolerances (the last one found wins, as MINPACK).
+            let mut stop = None;
+            if nfev >= max_evaluations {
+                stop = Some(LmExit::MaxEvaluations);
+            }
+            if actred.abs() <= eps && prered <= eps && 0.5 * ratio <= 1.0 {
+                stop = Some(LmExit::FToleranceTooSmall);
+            }
+            if delta <= eps * xnorm {
+                stop = Some(LmExit::XToleranceTooSmall);
+            }
+            if gnorm <= eps {
+                stop = Some(LmExit::GToleranceTooSmall);
+            }
+            if let Some(reason) = stop {
+                break 'outer reason;
+            }
+            if ratio >= 1e-4 {
+                break;
+            }
+        }
+    };
+
+    let mut exit = exit;
+    if !jacobian_current {
+        // The last residual evaluation was at x (the accepted step): J at the solution.
+        njev += 1;
+        if compute_jacobian(problem, &x, &fvec, options, &mut w, &mut fd_evaluations).is_err() {
+            exit = LmExit::NonFiniteJacobian;
+        }
+    }
+    Ok(LevenbergMarquardtResult {
+        residual_norm: fnorm,
+        cost: fnorm * fnorm,
+        x,
+        residuals: fvec,
+        jacobian: w.jac,
+        iterations: iter - 1,
+        evaluations: nfev,
+        jacobian_evaluations: njev,
+        finite_difference_evaluations: fd_evaluations,
+        exit,
+    })
+}
