@@ -33,8 +33,11 @@
 
 use std::f64::consts::TAU;
 
-use rustfft::FftPlanner;
+use std::cell::RefCell;
+use std::sync::Arc;
+
 use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
 
 use crate::error::{Result, SignalError, check_data, positive, same_length};
 
@@ -51,9 +54,18 @@ pub enum Window {
 impl Window {
     fn coefficients(self, l: usize) -> Vec<f64> {
         match self {
-            Window::Hann => (0..l)
-                .map(|n| 0.5 * (1.0 - (TAU * n as f64 / l as f64).cos()))
-                .collect(),
+            Window::Hann => {
+                // w[n] = w[L − n]: compute half, mirror the rest.
+                let mut w = vec![0.0; l];
+                for n in 0..=l / 2 {
+                    let v = 0.5 * (1.0 - (TAU * n as f64 / l as f64).cos());
+                    w[n] = v;
+                    if n > 0 {
+                        w[l - n] = v;
+                    }
+                }
+                w
+            }
             Window::Rectangular => vec![1.0; l],
         }
     }
@@ -159,6 +171,16 @@ pub struct FrequencyResponseEstimate {
     pub averages: usize,
 }
 
+thread_local! {
+    /// One planner per thread: rustfft planners cache their plans, so repeated estimates
+    /// of the same length (e.g. in a Monte Carlo loop) do not plan again.
+    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
+}
+
+fn forward_fft(len: usize) -> Arc<dyn Fft<f64>> {
+    PLANNER.with(|p| p.borrow_mut().plan_fft_forward(len))
+}
+
 /// Averaged auto and cross spectra of one or two records.
 struct Welch {
     frequency: Vec<f64>,
@@ -217,10 +239,11 @@ fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<W
     let window = opts.window.coefficients(l);
     let wss: f64 = window.iter().map(|w| w * w).sum();
     let bins = l / 2 + 1;
-    let fft = FftPlanner::new().plan_fft_forward(l);
-    let mut bx = vec![Complex64::new(0.0, 0.0); l];
-    let mut by = vec![Complex64::new(0.0, 0.0); l];
-    let mut seg = vec![0.0; l];
+    let fft = forward_fft(l);
+    let mut scratch = vec![Complex64::new(0.0, 0.0); fft.get_inplace_scratch_len()];
+    let mut buf = vec![Complex64::new(0.0, 0.0); l];
+    let mut seg_x = vec![0.0; l];
+    let mut seg_y = vec![0.0; l];
     let mut w = Welch {
         frequency: (0..bins).map(|k| k as f64 * fs / l as f64).collect(),
         sxx: vec![0.0; bins],
@@ -228,25 +251,38 @@ fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<W
         sxy: vec![Complex64::new(0.0, 0.0); bins],
         averages,
     };
-    let transform = |data: &[f64], seg: &mut [f64], buf: &mut [Complex64]| {
-        seg.copy_from_slice(data);
-        detrend_segment(seg, opts.detrend);
-        for ((b, s), wi) in buf.iter_mut().zip(seg.iter()).zip(&window) {
-            *b = Complex64::new(s * wi, 0.0);
-        }
-        fft.process(buf);
-    };
     for s in 0..averages {
         let range = s * step..s * step + l;
-        transform(&x[range.clone()], &mut seg, &mut bx);
-        if let Some(y) = y {
-            transform(&y[range], &mut seg, &mut by);
-        }
-        for k in 0..bins {
-            w.sxx[k] += bx[k].norm_sqr();
-            if y.is_some() {
-                w.syy[k] += by[k].norm_sqr();
-                w.sxy[k] += bx[k].conj() * by[k];
+        seg_x.copy_from_slice(&x[range.clone()]);
+        detrend_segment(&mut seg_x, opts.detrend);
+        match y {
+            None => {
+                for ((b, sx), wi) in buf.iter_mut().zip(&seg_x).zip(&window) {
+                    *b = Complex64::new(sx * wi, 0.0);
+                }
+                fft.process_with_scratch(&mut buf, &mut scratch);
+                for (acc, b) in w.sxx.iter_mut().zip(&buf) {
+                    *acc += b.norm_sqr();
+                }
+            }
+            Some(y) => {
+                // Two real records in one complex FFT: z = x + i·y gives
+                // X_k = (Z_k + conj Z_{L−k})/2 and Y_k = (Z_k − conj Z_{L−k})/(2i).
+                seg_y.copy_from_slice(&y[range]);
+                detrend_segment(&mut seg_y, opts.detrend);
+                for (((b, sx), sy), wi) in buf.iter_mut().zip(&seg_x).zip(&seg_y).zip(&window) {
+                    *b = Complex64::new(sx * wi, sy * wi);
+                }
+                fft.process_with_scratch(&mut buf, &mut scratch);
+                for k in 0..bins {
+                    let zk = buf[k];
+                    let zm = buf[(l - k) % l].conj();
+                    let xk = (zk + zm) * 0.5;
+                    let yk = (zk - zm) * Complex64::new(0.0, -0.5);
+                    w.sxx[k] += xk.norm_sqr();
+                    w.syy[k] += yk.norm_sqr();
+                    w.sxy[k] += xk.conj() * yk;
+                }
             }
         }
     }
