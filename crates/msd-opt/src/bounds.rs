@@ -108,7 +108,6 @@ impl Bounds {
     }
 
     /// Checks that every bound is finite (needed to spread multistart points).
-    #[allow(dead_code)] // used by multistart
     pub(crate) fn require_finite(&self) -> Result<(), OptError> {
         for (index, (&lower, &upper)) in self.lower.iter().zip(&self.upper).enumerate() {
             if !lower.is_finite() || !upper.is_finite() {

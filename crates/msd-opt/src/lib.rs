@@ -19,6 +19,7 @@
 pub mod bounds;
 pub mod error;
 pub mod levenberg_marquardt;
+pub mod multistart;
 pub mod nelder_mead;
 
 pub use bounds::Bounds;
@@ -26,6 +27,9 @@ pub use error::OptError;
 pub use levenberg_marquardt::{
     FiniteDifference, LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult,
     LmExit, ResidualFn, levenberg_marquardt,
+};
+pub use multistart::{
+    MultistartOptions, RankedCost, Sampling, StartResult, multistart, starting_points,
 };
 pub use nelder_mead::{
     NelderMeadExit, NelderMeadOptions, NelderMeadResult, Step, TRACE_HEADER, TraceRow, nelder_mead,

@@ -2,4 +2,5 @@
 
 mod levenberg_marquardt;
 mod mgh;
+mod multistart;
 mod nelder_mead;
