@@ -8,7 +8,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{Criterion, criterion_main};
 use msd_opt::{
     LeastSquaresProblem, LevenbergMarquardtOptions, NelderMeadOptions, levenberg_marquardt,
     nelder_mead,
@@ -150,5 +150,10 @@ fn benches(c: &mut Criterion) {
     });
 }
 
-criterion_group!(solvers, benches);
-criterion_main!(solvers);
+/// The group lives in a private module: `criterion_group!` makes a public function.
+mod group {
+    use super::benches;
+    criterion::criterion_group!(solvers, benches);
+}
+
+criterion_main!(group::solvers);
