@@ -13,6 +13,28 @@
 //! * [`spectral`]: Welch PSD, cross spectrum, H1 frequency-response estimate and
 //!   coherence on top of rustfft.
 //!
+//! ## Signals in TOML
+//! Every [`Signal`] is a table tagged by `kind`; the [`paper`] module shows both paper
+//! inputs in full. For example, the validation input:
+//! ```
+//! let u: msd_signal::Signal = toml::from_str(r#"
+//!     kind = "sum"
+//!     [[terms]]
+//!     kind = "chirp"
+//!     amplitude = 2.5
+//!     f0 = 0.2
+//!     f1 = 3.0
+//!     duration = 15.0
+//!     [[terms]]
+//!     kind = "step"
+//!     amplitude = 1.0
+//!     time = 1.0
+//! "#)?;
+//! u.validate()?;
+//! assert_eq!(u, msd_signal::paper_validation_input());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! ## Example: the paper's identification data, seeded
 //! ```
 //! use msd_signal::{gaussian_noise, h1_estimate, paper_identification_input, WelchOptions};

@@ -38,11 +38,13 @@ use std::sync::Arc;
 
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SignalError, check_data, positive, same_length};
 
 /// The taper applied to each segment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Window {
     /// Periodic Hann, w[n] = ½·(1 − cos(2πn/L)) (as scipy's `welch`). The default.
     #[default]
@@ -72,7 +74,8 @@ impl Window {
 }
 
 /// What is removed from each segment before windowing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Detrend {
     /// Nothing.
     None,
@@ -83,8 +86,10 @@ pub enum Detrend {
     Linear,
 }
 
-/// Options of the Welch estimators.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Options of the Welch estimators (in TOML: a table with any of these fields; missing
+/// ones take their defaults, unknown ones are rejected).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct WelchOptions {
     /// Segment length L in samples; `None` = the whole record as one segment.
     /// By default `None`: the paper's lightly damped mode needs the full 15 s resolution.

@@ -451,6 +451,10 @@ impl Signal {
         self.collect_times(t0, t1, &mut times);
         times.sort_by(f64::total_cmp);
         times.dedup();
+        debug_assert!(
+            times.windows(2).all(|w| w[0] < w[1]),
+            "sorted, merged breakpoint times"
+        );
         times
             .into_iter()
             .map(|time| Breakpoint {

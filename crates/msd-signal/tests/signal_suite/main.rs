@@ -4,6 +4,7 @@ mod errors;
 mod multisine_prbs;
 mod noise;
 mod preprocess;
+mod properties;
 mod serde_toml;
 mod signals;
 mod spectral;

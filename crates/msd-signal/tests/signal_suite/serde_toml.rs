@@ -152,3 +152,24 @@ fn defaults_apply_and_unknown_fields_are_rejected() {
     let msg = r.expect_err("order 40 is out of range").to_string();
     assert!(msg.contains("PRBS order 40"), "{msg}");
 }
+
+#[test]
+fn welch_options_from_toml() {
+    use msd_signal::{Detrend, WelchOptions, Window};
+    let o: WelchOptions =
+        toml::from_str("segment_length = 512\ndetrend = \"linear\"\n").expect("parses");
+    assert_eq!(
+        o,
+        WelchOptions {
+            segment_length: Some(512),
+            overlap: 0.5,
+            window: Window::Hann,
+            detrend: Detrend::Linear
+        }
+    );
+    assert_eq!(
+        toml::from_str::<WelchOptions>("").expect("all defaults"),
+        WelchOptions::default()
+    );
+    assert!(toml::from_str::<WelchOptions>("segments = 3\n").is_err());
+}
