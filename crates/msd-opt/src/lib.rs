@@ -1,19 +1,41 @@
-//! Optimisation for parameter identification: a Nelder–Mead simplex search that
-//! reproduces MATLAB's `fminsearch`, a bounded Levenberg–Marquardt least-squares
-//! solver after MINPACK's `lmder`, and a seeded multistart driver for either.
+//! Optimisation for parameter identification, knowing nothing of the problems it
+//! solves:
 //!
-//! The crate knows nothing of the problems it solves: a cost is a closure
-//! `FnMut(&[f64]) -> f64`, a least-squares problem implements
-//! [`LeastSquaresProblem`].
+//! - [`nelder_mead`]: the Nelder–Mead simplex search of MATLAB's `fminsearch`, step
+//!   for step (initial simplex, coefficients, order of tests, stopping rule,
+//!   counts), with an optional `Display = 'iter'` trace and, off by default,
+//!   relative tolerances, Gao–Han adaptive coefficients and bounds.
+//! - [`levenberg_marquardt`]: MINPACK's `lmder` (Moré's trust-region
+//!   Levenberg–Marquardt with QR and Givens rotations) plus box bounds and finite
+//!   differences; the result carries the Jacobian at the solution.
+//! - [`multistart`]: seeded Latin-hypercube or Halton starting points, refined by
+//!   either method on a local rayon pool, ranked; identical for any thread count.
+//!
+//! Bad input is an [`OptError`]; a run that stops early is a result with an exit
+//! reason.
 //!
 //! ```
-//! use msd_opt::{nelder_mead, NelderMeadExit, NelderMeadOptions};
+//! use msd_opt::{
+//!     levenberg_marquardt, nelder_mead, LevenbergMarquardtOptions, NelderMeadExit,
+//!     NelderMeadOptions, ResidualFn,
+//! };
 //!
-//! // Rosenbrock's function from the classical start, with fminsearch's defaults.
+//! // Rosenbrock's function from the classical start, with fminsearch's defaults:
+//! // 85 iterations and 159 evaluations, as MATLAB reports.
 //! let cost = |x: &[f64]| 100.0 * (x[1] - x[0] * x[0]).powi(2) + (1.0 - x[0]).powi(2);
 //! let r = nelder_mead(cost, &[-1.2, 1.0], &NelderMeadOptions::default()).unwrap();
 //! assert_eq!(r.exit, NelderMeadExit::Converged);
-//! assert!(r.cost < 1e-8);
+//! assert_eq!((r.iterations, r.evaluations), (85, 159));
+//!
+//! // The same function as least squares, r = (10(x2 − x1²), 1 − x1).
+//! let mut ls = ResidualFn::new(2, |x: &[f64], r: &mut [f64]| {
+//!     r[0] = 10.0 * (x[1] - x[0] * x[0]);
+//!     r[1] = 1.0 - x[0];
+//!     true
+//! });
+//! let fit = levenberg_marquardt(&mut ls, &[-1.2, 1.0], &LevenbergMarquardtOptions::default())
+//!     .unwrap();
+//! assert!(fit.exit.is_success() && fit.cost < 1e-20);
 //! ```
 
 pub mod bounds;

@@ -668,6 +668,7 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
                     }
                 }
             }
+            debug_assert!(options.bounds.as_ref().is_none_or(|b| b.contains(&w.trial)));
             for j in 0..n {
                 w.wa3[j] = w.diag[j] * w.step[j];
             }

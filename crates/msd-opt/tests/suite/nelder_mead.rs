@@ -397,12 +397,24 @@ fn bad_input_is_a_specific_error() {
 
 #[test]
 fn options_deserialize_with_defaults_and_reject_unknown_fields() {
-    // serde's derive through a tiny in-memory format: use the Default impl check.
-    let d = NelderMeadOptions::default();
-    assert_eq!(d.x_tolerance, 1e-4);
-    assert_eq!(d.f_tolerance, 1e-4);
-    assert_eq!(d.max_iterations, None);
-    assert!(!d.adaptive && !d.relative_tolerances && !d.trace && d.bounds.is_none());
+    let o: NelderMeadOptions = toml::from_str("x_tolerance = 1e-6\nadaptive = true").unwrap();
+    assert_eq!(
+        o,
+        NelderMeadOptions {
+            x_tolerance: 1e-6,
+            adaptive: true,
+            ..Default::default()
+        }
+    );
+    let bounded: NelderMeadOptions =
+        toml::from_str("[bounds]\nlower = [0.0, -inf]\nupper = [1.0, inf]").unwrap();
+    assert_eq!(bounded.bounds.unwrap().upper[1], f64::INFINITY);
+    assert!(toml::from_str::<NelderMeadOptions>("tolx = 1e-6").is_err());
+    let lm: msd_opt::LevenbergMarquardtOptions = toml::from_str("g_tolerance = 1e-10").unwrap();
+    assert_eq!(lm.g_tolerance, 1e-10);
+    assert_eq!(lm.initial_step_bound, 100.0);
+    let ms: msd_opt::MultistartOptions = toml::from_str("sampling = \"Halton\"").unwrap();
+    assert_eq!((ms.starts, ms.threads), (16, 2));
 }
 
 #[test]
