@@ -1,0 +1,363 @@
+//! Estimation of m, c, k (and optionally the initial state and a sensor offset).
+//!
+//! Two methods (see [`Method`]): the paper's Nelder–Mead on the summed squared output
+//! error, and Levenberg–Marquardt on the residual vector with the exact Jacobian from
+//! the sensitivity equations. Either can run on either [`Backend`](crate::Backend), from a
+//! given θ₀ or from the automatic ARX guess, with fixed parameters, bounds and
+//! multistart. Every estimate comes with fit metrics and, from the exact sensitivities at
+//! θ̂, a Gauss–Newton covariance with confidence intervals.
+
+mod layout;
+mod options;
+mod problem;
+
+pub use options::{
+    EstimationOptions, FixedParameters, Method, MultistartSettings, ParameterBounds,
+};
+
+use crate::uncertainty::{Uncertainty, from_jacobian};
+use crate::{
+    Backend, DataSet, FitMetrics, IdentError, InitialState, Parameters, Result, arx_initial_guess,
+};
+use layout::Layout;
+use msd_ode::Hold;
+use msd_opt::{
+    Bounds, MultistartOptions, RankedCost, levenberg_marquardt, multistart, nelder_mead,
+};
+use problem::{Cost, Residuals, output_jacobian};
+use std::time::{Duration, Instant};
+
+/// Where θ₀ came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GuessSource {
+    /// Given by the caller.
+    Given,
+    /// The automatic ARX guess.
+    Automatic,
+}
+
+/// The result of an estimation.
+#[derive(Debug, Clone)]
+pub struct Estimate {
+    /// θ̂.
+    pub parameters: Parameters,
+    /// The initial state used (estimated when asked).
+    pub initial_state: InitialState,
+    /// The sensor offset used (estimated when asked).
+    pub offset: f64,
+    /// θ₀ and where it came from.
+    pub initial_guess: (Parameters, GuessSource),
+    /// The optimiser.
+    pub method: Method,
+    /// The simulator inside the cost.
+    pub backend: Backend,
+    /// Final cost Σ(y − ŷ)².
+    pub cost: f64,
+    /// Optimiser iterations.
+    pub iterations: usize,
+    /// Cost (residual) evaluations, each one simulation.
+    pub evaluations: usize,
+    /// Jacobian evaluations (Levenberg–Marquardt), each one sensitivity simulation.
+    pub jacobian_evaluations: usize,
+    /// Why the optimiser stopped, in words.
+    pub exit: String,
+    /// Whether the optimiser met its convergence test.
+    pub converged: bool,
+    /// Starting points tried (1 without multistart).
+    pub starts: usize,
+    /// Wall-clock time of the estimation.
+    pub wall_time: Duration,
+    /// Fit on the estimation data.
+    pub fit: FitMetrics,
+    /// Model output ŷ on the estimation data (offset included).
+    pub model_output: Vec<f64>,
+    /// Residuals y − ŷ.
+    pub residuals: Vec<f64>,
+    /// Covariance and intervals.
+    pub uncertainty: Uncertainty,
+}
+
+impl std::fmt::Display for Estimate {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let u = &self.uncertainty;
+        writeln!(
+            f,
+            "method {} on {}: {}",
+            self.method.name(),
+            self.backend.name(),
+            self.exit
+        )?;
+        for (name, i) in [("m", &u.mass), ("c", &u.damping), ("k", &u.stiffness)] {
+            writeln!(
+                f,
+                "  {name} = {:.6} ± {:.2e}  (95 % CI {:.6} … {:.6})",
+                i.value, i.standard_error, i.ci95[0], i.ci95[1]
+            )?;
+        }
+        writeln!(
+            f,
+            "  fn = {:.5} Hz, ζ = {:.5}, R² = {:.5}, fit = {:.2} %",
+            u.natural_frequency_hz.value,
+            u.damping_ratio.value,
+            self.fit.r_squared,
+            self.fit.fit_percent
+        )?;
+        write!(
+            f,
+            "  {} iterations, {} evaluations, {:.1} ms",
+            self.iterations,
+            self.evaluations,
+            self.wall_time.as_secs_f64() * 1e3
+        )
+    }
+}
+
+/// One local optimisation's outcome.
+struct Local {
+    v: Vec<f64>,
+    cost: f64,
+    iterations: usize,
+    evaluations: usize,
+    jacobians: usize,
+    exit: String,
+    converged: bool,
+}
+
+impl RankedCost for Local {
+    fn ranked_cost(&self) -> f64 {
+        self.cost
+    }
+}
+
+/// Estimates the parameters from `data`.
+///
+/// ```
+/// use msd_ident::{estimate, simulate, Backend, DataSet, EstimationOptions, Excitation, InitialState, Parameters};
+/// use msd_signal::{gaussian_noise, paper_identification_input};
+/// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
+/// let mut y = simulate(&Parameters::PAPER, &input, InitialState::REST, &Backend::EXACT)?;
+/// for (yi, e) in y.iter_mut().zip(gaussian_noise(1, "identification", 0.0025, 7501)?) {
+///     *yi += e;
+/// }
+/// let data = DataSet::new("paper", input, y)?;
+/// let fit = estimate(&data, &EstimationOptions::fast())?;
+/// assert!(fit.uncertainty.stiffness.contains(120.0) || (fit.parameters.stiffness - 120.0).abs() < 1.0);
+/// println!("{fit}");
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate> {
+    options.validate()?;
+    let started = Instant::now();
+    let (guess, source) = match options.initial_guess {
+        Some(g) => (g, GuessSource::Given),
+        None => (arx_initial_guess(data)?, GuessSource::Automatic),
+    };
+    let log = options.method == Method::LevenbergMarquardt;
+    let layout = Layout::new(options, log);
+    if data.len() <= layout.len() {
+        return Err(IdentError::TooFewSamples {
+            got: data.len(),
+            needed: layout.len() + 1,
+            why: "more samples than estimated quantities",
+        });
+    }
+    let theta0 = clamp_to_bounds(&layout.apply_fixed(&guess), options);
+    let v0 = layout.pack(&theta0, options.initial_state, options.offset);
+    let hold = match options.backend {
+        Backend::Exact { hold } => hold,
+        Backend::Ode45 { .. } => Hold::Cubic,
+    };
+
+    let local = |start: &[f64]| -> std::result::Result<Local, msd_opt::OptError> {
+        match options.method {
+            Method::NelderMead => {
+                let mut cost = Cost::new(data, &layout, options.backend);
+                let r = nelder_mead(
+                    |v| cost.sse(v),
+                    start,
+                    &nelder_mead_options(options, &layout),
+                )?;
+                Ok(Local {
+                    converged: r.exit == msd_opt::NelderMeadExit::Converged,
+                    exit: r.exit.to_string(),
+                    v: r.x,
+                    cost: r.cost,
+                    iterations: r.iterations,
+                    evaluations: r.evaluations,
+                    jacobians: 0,
+                })
+            }
+            Method::LevenbergMarquardt => {
+                let mut problem = Residuals {
+                    cost: Cost::new(data, &layout, options.backend),
+                    hold,
+                    jacobians: 0,
+                };
+                let mut lm = options.levenberg_marquardt.clone();
+                lm.bounds = log_bounds(options, &layout);
+                let r = levenberg_marquardt(&mut problem, start, &lm)?;
+                Ok(Local {
+                    converged: r.exit.is_success(),
+                    exit: r.exit.to_string(),
+                    v: r.x,
+                    cost: r.cost,
+                    iterations: r.iterations,
+                    evaluations: r.evaluations,
+                    jacobians: r.jacobian_evaluations,
+                })
+            }
+        }
+    };
+
+    let (best, starts) = match &options.multistart {
+        None => (local(&v0)?, 1),
+        Some(ms) => {
+            let (bounds, pick) = multistart_box(options, &layout, &theta0, ms);
+            let ms_options = MultistartOptions {
+                starts: ms.starts,
+                seed: ms.seed,
+                threads: ms.threads,
+                ..MultistartOptions::default()
+            };
+            let ranked = multistart(&bounds, &ms_options, |point| {
+                // Sampled coordinates are log-parameters; convert for Nelder–Mead.
+                let mut start = v0.clone();
+                for (k, &column) in pick.iter().enumerate() {
+                    start[column] = if log { point[k] } else { point[k].exp() };
+                }
+                local(&start)
+            })?;
+            let total = ranked.len();
+            let best = ranked
+                .into_iter()
+                .next()
+                .ok_or_else(|| IdentError::EstimationFailed {
+                    reason: "no multistart run finished".into(),
+                })?;
+            (best.result, total)
+        }
+    };
+    if !best.cost.is_finite() {
+        return Err(IdentError::EstimationFailed {
+            reason: format!("the cost is not finite at any point tried ({})", best.exit),
+        });
+    }
+    let (parameters, initial_state, offset) = layout.unpack(&best.v);
+    parameters.validate()?;
+
+    // Model output on the estimation backend, fit metrics, uncertainty.
+    let raw_layout = Layout::new(options, false);
+    let v_raw = raw_layout.pack(&parameters, initial_state, offset);
+    let mut cost = Cost::new(data, &raw_layout, options.backend);
+    let sse = cost.sse(&v_raw);
+    if !sse.is_finite() {
+        return Err(IdentError::EstimationFailed {
+            reason: "the model cannot be simulated at the estimate".into(),
+        });
+    }
+    let model_output = cost.model;
+    let residuals: Vec<f64> = data
+        .output
+        .iter()
+        .zip(&model_output)
+        .map(|(y, m)| y - m)
+        .collect();
+    let fit = FitMetrics::new(&data.output, &model_output);
+    let jacobian = output_jacobian(data, &raw_layout, &v_raw)?;
+    let uncertainty = from_jacobian(
+        &jacobian,
+        sse,
+        raw_layout.names(),
+        v_raw,
+        &parameters,
+        raw_layout.parameter_columns(),
+    )?;
+    Ok(Estimate {
+        parameters,
+        initial_state,
+        offset,
+        initial_guess: (guess, source),
+        method: options.method,
+        backend: options.backend,
+        cost: sse,
+        iterations: best.iterations,
+        evaluations: best.evaluations,
+        jacobian_evaluations: best.jacobians,
+        exit: best.exit,
+        converged: best.converged,
+        starts,
+        wall_time: started.elapsed(),
+        fit,
+        model_output,
+        residuals,
+        uncertainty,
+    })
+}
+
+fn nelder_mead_options(options: &EstimationOptions, layout: &Layout) -> msd_opt::NelderMeadOptions {
+    let mut nm = options.nelder_mead.clone();
+    if nm.bounds.is_none() && options.bounds.as_array().iter().any(Option::is_some) {
+        let n = layout.len();
+        let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
+        for (column, i) in layout.free().enumerate() {
+            if let Some([lo, hi]) = options.bounds.as_array()[i] {
+                lower[column] = lo;
+                upper[column] = hi;
+            }
+        }
+        nm.bounds = Bounds::new(lower, upper).ok();
+    }
+    nm
+}
+
+fn log_bounds(options: &EstimationOptions, layout: &Layout) -> Option<Bounds> {
+    let b = options.bounds.as_array();
+    if b.iter().all(Option::is_none) {
+        return options.levenberg_marquardt.bounds.clone();
+    }
+    let n = layout.len();
+    let (mut lower, mut upper) = (vec![f64::NEG_INFINITY; n], vec![f64::INFINITY; n]);
+    for (column, i) in layout.free().enumerate() {
+        if let Some([lo, hi]) = b[i] {
+            lower[column] = lo.ln();
+            upper[column] = hi.ln();
+        }
+    }
+    Bounds::new(lower, upper).ok()
+}
+
+fn clamp_to_bounds(theta: &Parameters, options: &EstimationOptions) -> Parameters {
+    let mut v = theta.to_array();
+    for (value, bound) in v.iter_mut().zip(options.bounds.as_array()) {
+        if let Some([lo, hi]) = bound {
+            *value = value.clamp(lo, hi);
+        }
+    }
+    Parameters::from_array(v)
+}
+
+/// The multistart box in log-parameters (bounds, or θ₀·10^(±decades)) and the columns
+/// of the free physical parameters it samples.
+fn multistart_box(
+    options: &EstimationOptions,
+    layout: &Layout,
+    theta0: &Parameters,
+    ms: &MultistartSettings,
+) -> (Bounds, Vec<usize>) {
+    let values = theta0.to_array();
+    let b = options.bounds.as_array();
+    let half = ms.decades * std::f64::consts::LN_10;
+    let (mut lower, mut upper, mut pick) = (Vec::new(), Vec::new(), Vec::new());
+    for (column, i) in layout.free().enumerate() {
+        let (lo, hi) = match b[i] {
+            Some([lo, hi]) => (lo.ln(), hi.ln()),
+            None => (values[i].ln() - half, values[i].ln() + half),
+        };
+        lower.push(lo);
+        upper.push(hi);
+        pick.push(column);
+    }
+    // Valid by construction: finite and lower < upper.
+    let bounds = Bounds { lower, upper };
+    (bounds, pick)
+}

@@ -1,0 +1,162 @@
+//! The cost (Nelder–Mead) and the residual problem (Levenberg–Marquardt).
+
+use super::layout::Layout;
+use crate::{Backend, DataSet, sensitivities, simulate_into};
+use msd_ode::Hold;
+use msd_opt::LeastSquaresProblem;
+use nalgebra::DMatrix;
+
+/// J(v) = Σ (y − x̂ − offset)² with x̂ from `backend`; +∞ outside the physical region or
+/// when the simulation fails, never NaN.
+pub(crate) struct Cost<'a> {
+    pub data: &'a DataSet,
+    pub layout: &'a Layout,
+    pub backend: Backend,
+    pub model: Vec<f64>,
+    pub simulations: usize,
+}
+
+impl<'a> Cost<'a> {
+    pub(crate) fn new(data: &'a DataSet, layout: &'a Layout, backend: Backend) -> Self {
+        Self {
+            data,
+            layout,
+            backend,
+            model: vec![0.0; data.len()],
+            simulations: 0,
+        }
+    }
+
+    /// Simulates the model output for `v` into `self.model`; false if not physical or if
+    /// the simulation failed.
+    pub(crate) fn simulate(&mut self, v: &[f64]) -> bool {
+        let (theta, state, offset) = self.layout.unpack(v);
+        let positive = theta.mass > 0.0 && theta.damping > 0.0 && theta.stiffness > 0.0;
+        if !positive
+            || theta.validate().is_err()
+            || !state.displacement.is_finite()
+            || !state.velocity.is_finite()
+            || !offset.is_finite()
+        {
+            return false;
+        }
+        self.simulations += 1;
+        if simulate_into(
+            &theta,
+            &self.data.excitation,
+            state,
+            &self.backend,
+            &mut self.model,
+        )
+        .is_err()
+        {
+            return false;
+        }
+        for m in &mut self.model {
+            *m += offset;
+        }
+        true
+    }
+
+    pub(crate) fn sse(&mut self, v: &[f64]) -> f64 {
+        if !self.simulate(v) {
+            return f64::INFINITY;
+        }
+        let sse: f64 = self
+            .data
+            .output
+            .iter()
+            .zip(&self.model)
+            .map(|(y, m)| (y - m).powi(2))
+            .sum();
+        if sse.is_finite() { sse } else { f64::INFINITY }
+    }
+}
+
+/// Residuals r = y − x̂ − offset in the layout's (log-)parameters, with the exact
+/// Jacobian from the sensitivity equations.
+pub(crate) struct Residuals<'a> {
+    pub cost: Cost<'a>,
+    pub hold: Hold,
+    pub jacobians: usize,
+}
+
+impl LeastSquaresProblem for Residuals<'_> {
+    fn residual_count(&self) -> usize {
+        self.cost.data.len()
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
+        if !self.cost.simulate(x) {
+            return false;
+        }
+        for ((r, y), m) in out
+            .iter_mut()
+            .zip(&self.cost.data.output)
+            .zip(&self.cost.model)
+        {
+            *r = y - m;
+        }
+        out.iter().all(|r| r.is_finite())
+    }
+
+    fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
+        let layout = self.cost.layout;
+        let (theta, state, _) = layout.unpack(x);
+        let values = theta.to_array();
+        let free: Vec<usize> = layout.free().collect();
+        let nfree = free.len();
+        let has_state = layout.has_state();
+        let has_offset = layout.has_offset();
+        self.jacobians += 1;
+        let result = sensitivities(
+            &theta,
+            &self.cost.data.excitation,
+            state,
+            self.hold,
+            |i, s| {
+                for (column, &p) in free.iter().enumerate() {
+                    // ∂r/∂ln θ = −θ ∂x/∂θ
+                    out[(i, column)] = -values[p] * s.parameters[p];
+                }
+                let mut column = nfree;
+                if has_state {
+                    out[(i, column)] = -s.initial_state[0];
+                    out[(i, column + 1)] = -s.initial_state[1];
+                    column += 2;
+                }
+                if has_offset {
+                    out[(i, column)] = -1.0;
+                }
+            },
+        );
+        result.is_ok() && out.iter().all(|v| v.is_finite())
+    }
+}
+
+/// The Jacobian of the model output with respect to the raw estimated quantities
+/// (m, c, k as they are, initial state, offset), for the covariance.
+pub(crate) fn output_jacobian(
+    data: &DataSet,
+    layout: &Layout,
+    v_raw: &[f64],
+) -> crate::Result<DMatrix<f64>> {
+    let (theta, state, _) = layout.unpack(v_raw);
+    let free: Vec<usize> = layout.free().collect();
+    let mut j = DMatrix::<f64>::zeros(data.len(), layout.len());
+    sensitivities(&theta, &data.excitation, state, Hold::Cubic, |i, s| {
+        for (column, &p) in free.iter().enumerate() {
+            j[(i, column)] = s.parameters[p];
+        }
+        let mut column = free.len();
+        if layout.has_state() {
+            j[(i, column)] = s.initial_state[0];
+            j[(i, column + 1)] = s.initial_state[1];
+            column += 2;
+        }
+        if layout.has_offset() {
+            j[(i, column)] = 1.0;
+        }
+    })?;
+    Ok(j)
+}

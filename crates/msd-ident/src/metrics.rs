@@ -1,0 +1,49 @@
+//! Goodness-of-fit measures of a model output against a measurement.
+
+use serde::{Deserialize, Serialize};
+
+/// How well a model output matches a measurement.
+///
+/// ```
+/// use msd_ident::FitMetrics;
+/// let measured = [1.0, 2.0, 3.0, 4.0];
+/// let model = [1.1, 1.9, 3.1, 3.9];
+/// let fit = FitMetrics::new(&measured, &model);
+/// assert!((fit.r_squared - (1.0 - 0.04 / 5.0)).abs() < 1e-12);
+/// assert!((fit.residual_rms - 0.1).abs() < 1e-12);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FitMetrics {
+    /// Coefficient of determination R² = 1 − SSE/SST, SST about the measurement's mean.
+    pub r_squared: f64,
+    /// MATLAB's `compare` fit: 100·(1 − ‖y − ŷ‖/‖y − ȳ‖), in percent.
+    pub fit_percent: f64,
+    /// Root mean square of the residuals y − ŷ.
+    pub residual_rms: f64,
+    /// Sum of squared residuals.
+    pub sse: f64,
+    /// Number of samples.
+    pub samples: usize,
+}
+
+impl FitMetrics {
+    /// Computes the metrics of `model` against `measured` (equal lengths, non-empty).
+    pub fn new(measured: &[f64], model: &[f64]) -> Self {
+        debug_assert_eq!(measured.len(), model.len());
+        let n = measured.len();
+        let mean = measured.iter().sum::<f64>() / n as f64;
+        let sst: f64 = measured.iter().map(|y| (y - mean).powi(2)).sum();
+        let sse: f64 = measured
+            .iter()
+            .zip(model)
+            .map(|(y, m)| (y - m).powi(2))
+            .sum();
+        Self {
+            r_squared: 1.0 - sse / sst,
+            fit_percent: 100.0 * (1.0 - (sse / sst).sqrt()),
+            residual_rms: (sse / n as f64).sqrt(),
+            sse,
+            samples: n,
+        }
+    }
+}

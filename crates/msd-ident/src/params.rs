@@ -1,0 +1,174 @@
+//! The physical parameters and the quantities derived from them.
+
+use crate::{IdentError, Result};
+use msd_ode::{LtiModel, SMatrix, SVector};
+use serde::{Deserialize, Serialize};
+
+/// Mass m, damping c and stiffness k of m·x'' + c·x' + k·x = F(t), in consistent units
+/// (SI: kg, N·s/m, N/m).
+///
+/// ```
+/// use msd_ident::Parameters;
+/// let plant = Parameters::new(2.5, 1.8, 120.0)?;
+/// assert!((plant.natural_frequency() - 6.9282).abs() < 1e-4);      // rad/s
+/// assert!((plant.natural_frequency_hz() - 1.1027).abs() < 1e-4);
+/// assert!((plant.damping_ratio() - 0.051962).abs() < 1e-6);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Parameters {
+    /// Mass m (> 0).
+    pub mass: f64,
+    /// Viscous damping coefficient c (≥ 0).
+    pub damping: f64,
+    /// Stiffness k (> 0).
+    pub stiffness: f64,
+}
+
+/// Names of the three parameters, in the order used by vectors and matrices.
+pub const PARAMETER_NAMES: [&str; 3] = ["mass", "damping", "stiffness"];
+
+impl Parameters {
+    /// Checked constructor.
+    pub fn new(mass: f64, damping: f64, stiffness: f64) -> Result<Self> {
+        let p = Self {
+            mass,
+            damping,
+            stiffness,
+        };
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// The paper's plant: m = 2.5 kg, c = 1.8 N·s/m, k = 120 N/m.
+    pub const PAPER: Parameters = Parameters {
+        mass: 2.5,
+        damping: 1.8,
+        stiffness: 120.0,
+    };
+
+    /// Finite, mass and stiffness > 0, damping ≥ 0.
+    ///
+    /// ```
+    /// use msd_ident::{IdentError, Parameters};
+    /// let p = Parameters { mass: 1.0, damping: f64::NAN, stiffness: 1.0 };
+    /// assert!(matches!(p.validate(), Err(IdentError::InvalidParameter { name: "damping", .. })));
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let checks = [
+            ("mass", self.mass, self.mass > 0.0, "a finite number > 0"),
+            (
+                "damping",
+                self.damping,
+                self.damping >= 0.0,
+                "a finite number >= 0",
+            ),
+            (
+                "stiffness",
+                self.stiffness,
+                self.stiffness > 0.0,
+                "a finite number > 0",
+            ),
+        ];
+        for (name, value, ok, expected) in checks {
+            if !(value.is_finite() && ok) {
+                return Err(IdentError::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// As an array (m, c, k).
+    pub fn to_array(&self) -> [f64; 3] {
+        [self.mass, self.damping, self.stiffness]
+    }
+
+    /// From an array (m, c, k), unchecked.
+    pub fn from_array(v: [f64; 3]) -> Self {
+        Self {
+            mass: v[0],
+            damping: v[1],
+            stiffness: v[2],
+        }
+    }
+
+    /// Undamped natural frequency ωn = √(k/m), rad/s.
+    pub fn natural_frequency(&self) -> f64 {
+        (self.stiffness / self.mass).sqrt()
+    }
+
+    /// Natural frequency fn = ωn/2π, Hz.
+    pub fn natural_frequency_hz(&self) -> f64 {
+        self.natural_frequency() / (2.0 * std::f64::consts::PI)
+    }
+
+    /// Damping ratio ζ = c / (2√(mk)).
+    pub fn damping_ratio(&self) -> f64 {
+        self.damping / (2.0 * (self.mass * self.stiffness).sqrt())
+    }
+
+    /// Damped natural frequency ωd = ωn√(1 − ζ²), rad/s; `None` when ζ ≥ 1 (no
+    /// oscillation).
+    pub fn damped_natural_frequency(&self) -> Option<f64> {
+        let z = self.damping_ratio();
+        (z < 1.0).then(|| self.natural_frequency() * (1.0 - z * z).sqrt())
+    }
+
+    /// Quality factor Q = 1/(2ζ) (infinite without damping).
+    pub fn quality_factor(&self) -> f64 {
+        1.0 / (2.0 * self.damping_ratio())
+    }
+
+    /// Static compliance 1/k: displacement per unit static force.
+    pub fn static_compliance(&self) -> f64 {
+        1.0 / self.stiffness
+    }
+
+    /// State-space form with state (x, x'): A = [[0, 1], [−k/m, −c/m]], b = [0, 1/m].
+    pub fn state_space(&self) -> LtiModel<2> {
+        let (m, c, k) = (self.mass, self.damping, self.stiffness);
+        LtiModel {
+            a: SMatrix::<f64, 2, 2>::new(0.0, 1.0, -k / m, -c / m),
+            b: SVector::<f64, 2>::new(0.0, 1.0 / m),
+        }
+    }
+}
+
+impl std::fmt::Display for Parameters {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "m = {:.6}, c = {:.6}, k = {:.6}",
+            self.mass, self.damping, self.stiffness
+        )
+    }
+}
+
+/// Initial state of the mass: displacement x(t₀) and velocity x'(t₀).
+///
+/// By default at rest (0, 0).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialState {
+    /// x(t₀).
+    pub displacement: f64,
+    /// x'(t₀).
+    pub velocity: f64,
+}
+
+impl InitialState {
+    /// At rest.
+    pub const REST: InitialState = InitialState {
+        displacement: 0.0,
+        velocity: 0.0,
+    };
+
+    pub(crate) fn vector(&self) -> SVector<f64, 2> {
+        SVector::<f64, 2>::new(self.displacement, self.velocity)
+    }
+}

@@ -1,0 +1,199 @@
+//! Gauss–Newton covariance, confidence intervals and identifiability diagnostics.
+//!
+//! ## The method
+//! With J the N×p Jacobian ∂x̂/∂θ of the model output at θ̂ (exact sensitivities),
+//! σ̂² = SSE/(N − p) and Cov(θ̂) ≈ σ̂²·(JᵀJ)⁻¹. Standard errors are the square roots of
+//! its diagonal; the 95 % intervals use Student's t with N − p degrees of freedom. The
+//! natural frequency and damping ratio get intervals by the delta method,
+//! Var g(θ̂) ≈ ∇gᵀ Cov ∇g. The condition number is that of JᵀJ with its columns scaled
+//! to unit norm, so it does not depend on the units. The intervals are only as good as
+//! the model: they assume white Gaussian output noise and a correct model structure.
+
+use crate::{IdentError, Parameters, Result};
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+use statrs::distribution::{ContinuousCDF, StudentsT};
+
+/// A value with its standard error and 95 % confidence interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Interval {
+    /// The estimate.
+    pub value: f64,
+    /// Its standard error (0 for a fixed parameter).
+    pub standard_error: f64,
+    /// The 95 % confidence interval [low, high].
+    pub ci95: [f64; 2],
+}
+
+impl Interval {
+    fn new(value: f64, standard_error: f64, t: f64) -> Self {
+        Self {
+            value,
+            standard_error,
+            ci95: [value - t * standard_error, value + t * standard_error],
+        }
+    }
+
+    /// Whether `x` lies inside the 95 % interval.
+    pub fn contains(&self, x: f64) -> bool {
+        self.ci95[0] <= x && x <= self.ci95[1]
+    }
+}
+
+/// Uncertainty of an estimate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uncertainty {
+    /// Names of the estimated quantities, in the order of the matrices.
+    pub names: Vec<&'static str>,
+    /// Their estimated values.
+    pub values: Vec<f64>,
+    /// Covariance matrix σ̂²(JᵀJ)⁻¹.
+    pub covariance: DMatrix<f64>,
+    /// Correlation matrix.
+    pub correlation: DMatrix<f64>,
+    /// Condition number of the column-normalised JᵀJ.
+    pub condition_number: f64,
+    /// σ̂ = √(SSE/(N − p)), the estimated noise level.
+    pub sigma: f64,
+    /// N − p.
+    pub degrees_of_freedom: usize,
+    /// Mass with interval.
+    pub mass: Interval,
+    /// Damping with interval.
+    pub damping: Interval,
+    /// Stiffness with interval.
+    pub stiffness: Interval,
+    /// Natural frequency (Hz) with interval (delta method).
+    pub natural_frequency_hz: Interval,
+    /// Damping ratio with interval (delta method).
+    pub damping_ratio: Interval,
+    /// Plain-language identifiability warnings (empty when all is well).
+    pub warnings: Vec<String>,
+}
+
+/// Columns of the physical parameters among the estimated quantities: `Some(column)` or
+/// `None` for a fixed parameter.
+pub(crate) type ParameterColumns = [Option<usize>; 3];
+
+/// Builds the uncertainty from the Jacobian of the model output (N×p), the SSE, and the
+/// positions of m, c, k among the columns.
+pub(crate) fn from_jacobian(
+    jacobian: &DMatrix<f64>,
+    sse: f64,
+    names: Vec<&'static str>,
+    values: Vec<f64>,
+    parameters: &Parameters,
+    columns: ParameterColumns,
+) -> Result<Uncertainty> {
+    let (n, p) = jacobian.shape();
+    if n <= p {
+        return Err(IdentError::TooFewSamples {
+            got: n,
+            needed: p + 1,
+            why: "confidence intervals need more samples than parameters",
+        });
+    }
+    let jtj = jacobian.transpose() * jacobian;
+    let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
+    if let Some(j) = norms.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the output does not depend on {} (its sensitivity is zero): the input does not excite the system",
+                names[j]
+            ),
+        });
+    }
+    let scaled = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
+    let eigen = scaled.clone().symmetric_eigen();
+    let (min_eig, max_eig) = eigen
+        .eigenvalues
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    let condition_number = if min_eig > 0.0 {
+        max_eig / min_eig
+    } else {
+        f64::INFINITY
+    };
+    if condition_number.is_nan() || condition_number >= 1e14 {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the sensitivity matrix is singular (condition number {condition_number:.1e}): some parameters cannot be told apart with this input"
+            ),
+        });
+    }
+    let scaled_inverse = scaled
+        .try_inverse()
+        .ok_or_else(|| IdentError::NotIdentifiable {
+            reason: "the sensitivity matrix cannot be inverted".into(),
+        })?;
+    let dof = n - p;
+    let sigma2 = sse / dof as f64;
+    let covariance = DMatrix::from_fn(p, p, |r, c| {
+        sigma2 * scaled_inverse[(r, c)] / (norms[r] * norms[c])
+    });
+    let se: Vec<f64> = (0..p).map(|j| covariance[(j, j)].max(0.0).sqrt()).collect();
+    let correlation = DMatrix::from_fn(p, p, |r, c| covariance[(r, c)] / (se[r] * se[c]));
+    let t = StudentsT::new(0.0, 1.0, dof as f64)
+        .map(|d| d.inverse_cdf(0.975))
+        .unwrap_or(1.959_963_984_540_054);
+
+    let theta = parameters.to_array();
+    let param_se = |i: usize| columns[i].map_or(0.0, |c| se[c]);
+    let cov = |i: usize, j: usize| match (columns[i], columns[j]) {
+        (Some(a), Some(b)) => covariance[(a, b)],
+        _ => 0.0,
+    };
+    let delta = |gradient: [f64; 3]| -> f64 {
+        let mut var = 0.0;
+        for i in 0..3 {
+            for j in 0..3 {
+                var += gradient[i] * cov(i, j) * gradient[j];
+            }
+        }
+        var.max(0.0).sqrt()
+    };
+    let (m, c, k) = (theta[0], theta[1], theta[2]);
+    let fnat = parameters.natural_frequency_hz();
+    let zeta = parameters.damping_ratio();
+    let fn_se = delta([-fnat / (2.0 * m), 0.0, fnat / (2.0 * k)]);
+    let zeta_se = delta([
+        -zeta / (2.0 * m),
+        1.0 / (2.0 * (m * k).sqrt()),
+        -zeta / (2.0 * k),
+    ]);
+
+    let mut warnings = Vec::new();
+    for r in 0..p {
+        for c in (r + 1)..p {
+            let rho = correlation[(r, c)];
+            if rho.abs() > 0.99 {
+                warnings.push(format!(
+                    "{} and {} are strongly correlated (ρ = {rho:.3}): the data barely tell them apart; consider fixing one (e.g. a weighed mass) or a richer input",
+                    names[r], names[c]
+                ));
+            }
+        }
+    }
+    if condition_number > 1e8 {
+        warnings.push(format!(
+            "the sensitivity matrix is ill-conditioned (condition number {condition_number:.1e}): the estimates are fragile"
+        ));
+    }
+    Ok(Uncertainty {
+        names,
+        values,
+        correlation,
+        covariance,
+        condition_number,
+        sigma: sigma2.sqrt(),
+        degrees_of_freedom: dof,
+        mass: Interval::new(m, param_se(0), t),
+        damping: Interval::new(c, param_se(1), t),
+        stiffness: Interval::new(k, param_se(2), t),
+        natural_frequency_hz: Interval::new(fnat, fn_se, t),
+        damping_ratio: Interval::new(zeta, zeta_se, t),
+        warnings,
+    })
+}
