@@ -1,0 +1,212 @@
+//! Monte Carlo robustness band: N parameter samples around θ̂ re-simulate a given input.
+
+use crate::engine::{self, MemoryPlan};
+use crate::{McError, McOptions, Result, Sampling, Summary, draw::Sampler};
+use msd_ident::{Backend, Excitation, Parameters, simulate, simulate_into};
+use rayon::prelude::*;
+
+/// Pointwise percentiles of the simulated responses, and what they say.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Band {
+    /// Sample times.
+    pub times: Vec<f64>,
+    /// Response with the nominal parameters θ̂.
+    pub nominal: Vec<f64>,
+    /// (level in percent, pointwise percentile) for each requested level, ascending.
+    pub percentiles: Vec<(f64, Vec<f64>)>,
+    /// Band width over time: last minus first percentile.
+    pub width: Vec<f64>,
+    /// Share of the measurements within [lower, upper] (inclusive), when given.
+    pub coverage: Option<f64>,
+    /// Natural frequency fn = √(k/m)/2π (Hz) across the successful samples.
+    pub natural_frequency_hz: Summary,
+    /// Damping ratio ζ = c/(2√(mk)) across the successful samples.
+    pub damping_ratio: Summary,
+    /// N, samples drawn.
+    pub samples: usize,
+    /// Samples that were non-physical after every redraw or failed to simulate; they are
+    /// left out of the percentiles and summaries.
+    pub failed_samples: usize,
+    /// Worker threads used.
+    pub threads: usize,
+    /// The sampling used.
+    pub sampling: Sampling,
+    /// The backend used.
+    pub backend: Backend,
+    /// The time chunking and memory of the run.
+    pub memory: MemoryPlan,
+}
+
+impl Band {
+    /// The lowest percentile (the band's lower edge).
+    pub fn lower(&self) -> &[f64] {
+        &self.percentiles[0].1
+    }
+
+    /// The highest percentile (the band's upper edge).
+    pub fn upper(&self) -> &[f64] {
+        &self.percentiles[self.percentiles.len() - 1].1
+    }
+
+    /// The 50th percentile, when requested.
+    pub fn median(&self) -> Option<&[f64]> {
+        self.percentile(50.0)
+    }
+
+    /// The percentile at `level`, when requested.
+    pub fn percentile(&self, level: f64) -> Option<&[f64]> {
+        self.percentiles
+            .iter()
+            .find(|(l, _)| *l == level)
+            .map(|(_, v)| v.as_slice())
+    }
+}
+
+impl std::fmt::Display for Band {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let levels: Vec<String> = self
+            .percentiles
+            .iter()
+            .map(|(l, _)| format!("{l}"))
+            .collect();
+        writeln!(
+            f,
+            "Monte Carlo band: {} samples ({} failed), {} threads, {} backend, {} pass(es)",
+            self.samples,
+            self.failed_samples,
+            self.threads,
+            self.backend.name(),
+            self.memory.passes
+        )?;
+        writeln!(f, "  percentiles: {} %", levels.join(", "))?;
+        if let Some(c) = self.coverage {
+            writeln!(
+                f,
+                "  coverage: {:.1} % of measurements inside the band",
+                100.0 * c
+            )?;
+        }
+        let (imax, wmax) =
+            self.width
+                .iter()
+                .enumerate()
+                .fold(
+                    (0, f64::NEG_INFINITY),
+                    |a, (i, &w)| if w > a.1 { (i, w) } else { a },
+                );
+        let mean = self.width.iter().sum::<f64>() / self.width.len() as f64;
+        writeln!(
+            f,
+            "  width: mean {mean:.6}, max {wmax:.6} at t = {:.3}",
+            self.times[imax]
+        )?;
+        writeln!(f, "  fn (Hz): {}", self.natural_frequency_hz)?;
+        write!(f, "  zeta: {}", self.damping_ratio)
+    }
+}
+
+/// Monte Carlo band of the response to `excitation` around `nominal`, with the coverage
+/// of `measured` (one value per excitation sample) when given. See
+/// [`monte_carlo_band_with_progress`].
+pub fn monte_carlo_band(
+    nominal: &Parameters,
+    excitation: &Excitation,
+    measured: Option<&[f64]>,
+    options: &McOptions,
+) -> Result<Band> {
+    monte_carlo_band_with_progress(nominal, excitation, measured, options, &|_, _| {})
+}
+
+/// As [`monte_carlo_band`], calling `progress(done, total)` after each simulation
+/// (from the worker threads, in no particular order; `total` = N × passes).
+///
+/// ## The algorithm
+/// Sample i draws its parameters from its own generator ([`sample_rng`](crate::sample_rng)
+/// (seed, i)), simulates the excitation with the chosen backend, and contributes to the
+/// pointwise percentiles (MATLAB `prctile` convention) computed exactly per time chunk
+/// (see [`MemoryPlan`]). Everything runs on a local rayon pool of `options.threads`
+/// threads; the result is bit-for-bit independent of the thread count.
+pub fn monte_carlo_band_with_progress(
+    nominal: &Parameters,
+    excitation: &Excitation,
+    measured: Option<&[f64]>,
+    options: &McOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Band> {
+    options.validate()?;
+    nominal.validate()?;
+    let points = excitation.len();
+    if let Some(y) = measured
+        && y.len() != points
+    {
+        return Err(McError::LengthMismatch {
+            what: "measurements",
+            expected: points,
+            got: y.len(),
+        });
+    }
+    let (n, levels) = (options.samples, options.percentiles.as_slice());
+    let (backend, initial) = (&options.backend, options.initial_state);
+    let sampler = Sampler::new(nominal, &options.sampling)?;
+    let pool = crate::pool(options.threads)?;
+    let nominal_response = simulate(nominal, excitation, initial, backend)?;
+    let plan = MemoryPlan::new(
+        n,
+        points,
+        options.threads,
+        levels.len(),
+        options.max_buffer_bytes,
+    );
+
+    let (draws, out) = pool.install(|| {
+        let draws: Vec<Option<Parameters>> = (0..n)
+            .into_par_iter()
+            .map(|i| sampler.draw(options.seed, i))
+            .collect();
+        let out = engine::run(&plan, levels, progress, |i, scratch| match &draws[i] {
+            Some(p) => simulate_into(p, excitation, initial, backend, scratch).is_ok(),
+            None => false,
+        });
+        (draws, out)
+    });
+
+    let good: Vec<Parameters> = (0..n)
+        .filter(|&i| out.ok[i])
+        .filter_map(|i| draws[i])
+        .collect();
+    if good.is_empty() {
+        let first = match draws[0] {
+            None => format!("non-physical draw after {} redraws", crate::MAX_REDRAWS),
+            Some(p) => simulate(&p, excitation, initial, backend)
+                .err()
+                .map_or_else(|| "unknown".into(), |e| e.to_string()),
+        };
+        return Err(McError::AllSamplesFailed { samples: n, first });
+    }
+    let percentiles: Vec<(f64, Vec<f64>)> = levels.iter().copied().zip(out.percentiles).collect();
+    let (lower, upper) = (&percentiles[0].1, &percentiles[levels.len() - 1].1);
+    let width = upper.iter().zip(lower).map(|(u, l)| u - l).collect();
+    let coverage = measured.map(|y| {
+        let inside = (0..points)
+            .filter(|&t| lower[t] <= y[t] && y[t] <= upper[t])
+            .count();
+        inside as f64 / points as f64
+    });
+    let fnat: Vec<f64> = good.iter().map(Parameters::natural_frequency_hz).collect();
+    let zeta: Vec<f64> = good.iter().map(Parameters::damping_ratio).collect();
+    Ok(Band {
+        times: excitation.times().to_vec(),
+        nominal: nominal_response,
+        percentiles,
+        width,
+        coverage,
+        natural_frequency_hz: Summary::new(&fnat, levels),
+        damping_ratio: Summary::new(&zeta, levels),
+        samples: n,
+        failed_samples: n - good.len(),
+        threads: options.threads,
+        sampling: options.sampling,
+        backend: options.backend,
+        memory: plan,
+    })
+}
