@@ -6,8 +6,11 @@
 //!    the sample rate is far above the resonance (poles crowd z = 1). So the fit is
 //!    refined by instrumental variables: the instruments are the noise-free outputs
 //!    simulated by the previous ARX model (three passes, as in the classic IV4 idea).
-//! 3. When the resonance is still sampled more than 40 times per radian, the record is
-//!    decimated (moving-average anti-alias, msd-signal) and steps 1–2 repeated.
+//! 3. Steps 1–2 are repeated on the record decimated by 2, 4, 8, … (msd-signal's
+//!    anti-aliased `decimate`, while at least 100 samples remain): a resonance far below
+//!    the sample rate is fitted well only at a coarser rate, and which rate suits is not
+//!    known in advance. Each candidate is simulated on the full-rate data and the one with
+//!    the smallest output error (means removed) wins.
 //! 4. The discrete poles z map to s = ln(z)/dt, giving ωn = |s| and ζ = −Re(s)/|s| (or
 //!    the two real poles of an over-damped system); the static gain G = Σb/(1 + a₁ + a₂)
 //!    is 1/k. Then m = k/ωn² and c = 2ζ√(mk).
@@ -15,10 +18,11 @@
 //! Everything is relative, so it works in any units (a plant with m ≈ 1e-6 in volts as
 //! well as the paper's kilograms). It is only a starting point for the estimators.
 
-use crate::{DataSet, IdentError, Parameters, Result};
+use crate::{Backend, DataSet, IdentError, InitialState, Parameters, Result, simulate};
 use nalgebra::{DMatrix, DVector};
 
-/// Estimates (m, c, k) from the data by an instrumental-variable ARX(2, 3) fit.
+/// Estimates (m, c, k) from the data by instrumental-variable ARX(2, 3) fits at several
+/// sample rates, keeping the candidate that best reproduces the measured output.
 ///
 /// ```
 /// use msd_ident::{arx_initial_guess, simulate, Backend, DataSet, Excitation, InitialState, Parameters};
@@ -33,19 +37,59 @@ pub fn arx_initial_guess(data: &DataSet) -> Result<Parameters> {
     let mut u = data.excitation.samples().to_vec();
     let mut y = data.output.clone();
     let mut dt = data.excitation.dt();
-    let mut guess = fit(&u, &y, dt)?;
-    for _ in 0..3 {
-        let rad_per_sample = guess.natural_frequency() * dt;
-        let factor = (0.1 / rad_per_sample).floor() as usize;
-        if factor < 4 || y.len() / factor < 50 {
+    let mut best: Option<(f64, Parameters)> = None;
+    let mut last_error = None;
+    loop {
+        match fit(&u, &y, dt) {
+            Ok(candidate) => {
+                let score = output_error(data, &candidate);
+                if best.is_none_or(|(b, _)| score < b) {
+                    best = Some((score, candidate));
+                }
+            }
+            Err(e) => last_error = Some(e),
+        }
+        if y.len() / 2 < MIN_DECIMATED {
             break;
         }
-        u = msd_signal::decimate(&u, factor)?;
-        y = msd_signal::decimate(&y, factor)?;
-        dt *= factor as f64;
-        guess = fit(&u, &y, dt)?;
+        u = msd_signal::decimate(&u, 2)?;
+        y = msd_signal::decimate(&y, 2)?;
+        dt *= 2.0;
     }
-    Ok(guess)
+    match (best, last_error) {
+        (Some((_, p)), _) => Ok(p),
+        (None, Some(e)) => Err(e),
+        (None, None) => Err(IdentError::NotIdentifiable {
+            reason: "the ARX initial guess found no candidate; give an initial guess".into(),
+        }),
+    }
+}
+
+/// Shortest decimated record the cascade fits.
+const MIN_DECIMATED: usize = 100;
+
+/// Output error of a candidate on the full-rate data, means removed (so an unknown sensor
+/// offset does not decide), +∞ if it cannot be simulated.
+fn output_error(data: &DataSet, candidate: &Parameters) -> f64 {
+    let Ok(x) = simulate(
+        candidate,
+        &data.excitation,
+        InitialState::REST,
+        &Backend::EXACT,
+    ) else {
+        return f64::INFINITY;
+    };
+    let n = x.len() as f64;
+    let (mx, my) = (
+        x.iter().sum::<f64>() / n,
+        data.output.iter().sum::<f64>() / n,
+    );
+    let sse: f64 = x
+        .iter()
+        .zip(&data.output)
+        .map(|(a, b)| ((b - my) - (a - mx)).powi(2))
+        .sum();
+    if sse.is_finite() { sse } else { f64::INFINITY }
 }
 
 /// Regressor row k: (−yₖ₋₁, −yₖ₋₂, uₖ, uₖ₋₁, uₖ₋₂, 1).

@@ -8,12 +8,15 @@ mod arx;
 mod data;
 mod error;
 mod estimate;
+mod frequency;
 mod metrics;
 mod params;
+mod residuals;
 mod sensitivity;
 mod simulate;
 mod synthetic;
 mod uncertainty;
+mod validation;
 
 pub use arx::arx_initial_guess;
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
@@ -22,9 +25,15 @@ pub use estimate::{
     Estimate, EstimationOptions, FixedParameters, GuessSource, Method, MultistartSettings,
     ParameterBounds, estimate,
 };
+pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
 pub use metrics::FitMetrics;
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
+pub use residuals::{
+    CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, autocorrelation,
+    cross_correlation, ljung_box, residual_analysis,
+};
 pub use sensitivity::{SensitivitySample, sensitivities};
 pub use simulate::{Backend, simulate, simulate_into};
 pub use synthetic::{PaperExperiment, synthetic_data};
 pub use uncertainty::{Interval, Uncertainty};
+pub use validation::{Validation, validate_model};

@@ -1,0 +1,302 @@
+//! Validation, residual diagnostics and the frequency-consistency check.
+
+use msd_ident::{
+    Backend, DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
+    InitialState, PaperExperiment, Parameters, ResidualOptions, autocorrelation, cross_correlation,
+    estimate, frequency_check, ljung_box, residual_analysis, validate_model,
+};
+use msd_ode::{Ode45Options, SVector, ode45};
+use msd_signal::{gaussian_noise, paper_identification_input};
+
+#[test]
+fn paper_validation_reproduces_the_paper() {
+    let e = PaperExperiment::generate(1).expect("data");
+    let fit = estimate(&e.identification, &EstimationOptions::fast()).expect("estimate");
+    let v = validate_model(
+        &fit.parameters,
+        &e.validation,
+        InitialState::REST,
+        0.0,
+        &Backend::EXACT,
+        &ResidualOptions::default(),
+    )
+    .expect("validate");
+    assert!(
+        (v.fit.r_squared - 0.9949).abs() <= 0.003,
+        "R²_val = {}",
+        v.fit.r_squared
+    );
+    let a = &v.residual_analysis;
+    assert!(a.whiteness_passed, "{}", a.verdict);
+    assert!(a.cross_correlation_passed, "{}", a.verdict);
+    // And on the identification data too.
+    let a = residual_analysis(
+        &fit.residuals,
+        e.identification.excitation.samples(),
+        &ResidualOptions::default(),
+    )
+    .expect("analysis");
+    assert!(
+        a.whiteness_passed && a.cross_correlation_passed,
+        "{}",
+        a.verdict
+    );
+}
+
+#[test]
+fn ljung_box_of_a_hand_computed_series() {
+    // x = (1, −1, 2, 0, −2): mean 0, c₀ = 10, r₁ = −3/10, r₂ = −2/10.
+    let x = [1.0, -1.0, 2.0, 0.0, -2.0];
+    let r = autocorrelation(&x, 2);
+    assert!(
+        (r[1] + 0.3).abs() < 1e-15 && (r[2] + 0.2).abs() < 1e-15,
+        "{r:?}"
+    );
+    let lb = ljung_box(&r, 5);
+    // Q = 5·7·(0.09/4 + 0.04/3) = 1.254166…; χ²₂ survival e^{−Q/2}.
+    let q = 35.0 * (0.09 / 4.0 + 0.04 / 3.0);
+    assert!((lb.q - q).abs() < 1e-12, "{}", lb.q);
+    assert!(
+        (lb.p_value - (-q / 2.0).exp()).abs() < 1e-12,
+        "{}",
+        lb.p_value
+    );
+}
+
+#[test]
+fn correlations_at_known_lags() {
+    // Alternating ±1: rₖ = (−1)ᵏ (N − k)/N.
+    let n = 50;
+    let x: Vec<f64> = (0..n)
+        .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
+        .collect();
+    let r = autocorrelation(&x, 5);
+    for (k, rk) in r.iter().enumerate() {
+        let expected = if k % 2 == 0 { 1.0 } else { -1.0 } * (n - k) as f64 / n as f64;
+        assert!((rk - expected).abs() < 1e-12, "lag {k}: {rk} vs {expected}");
+    }
+    // A copy of white noise delayed by 3 samples correlates at τ = +3 only.
+    let u = gaussian_noise(9, "u", 1.0, 4000).expect("noise");
+    let mut e = vec![0.0; 4000];
+    e[3..].copy_from_slice(&u[..3997]);
+    let rho = cross_correlation(&e, &u, 5);
+    for (i, value) in rho.iter().enumerate() {
+        let tau = i as i64 - 5;
+        if tau == 3 {
+            assert!(*value > 0.99, "{value}");
+        } else {
+            assert!(value.abs() < 4.0 / (4000f64).sqrt(), "τ = {tau}: {value}");
+        }
+    }
+}
+
+/// On white residuals the Ljung–Box p-value falls below 0.01 in about 1 % of repeats:
+/// with 400 repeats the count is Binomial(400, 0.01), mean 4, std 2; we allow ≤ 4 + 3·2.
+#[test]
+fn ljung_box_false_alarm_rate_is_its_level() {
+    let mut alarms = 0;
+    for seed in 0..400 {
+        let e = gaussian_noise(seed, "white", 1.0, 1000).expect("noise");
+        let r = autocorrelation(&e, 25);
+        if ljung_box(&r, e.len()).p_value < 0.01 {
+            alarms += 1;
+        }
+    }
+    assert!(alarms <= 10, "{alarms} alarms in 400");
+}
+
+#[test]
+fn a_wrong_stiffness_fails_the_tests() {
+    let e = PaperExperiment::generate(1).expect("data");
+    let wrong = Parameters {
+        stiffness: 0.8 * 120.0,
+        ..Parameters::PAPER
+    };
+    let v = validate_model(
+        &wrong,
+        &e.validation,
+        InitialState::REST,
+        0.0,
+        &Backend::EXACT,
+        &ResidualOptions::default(),
+    )
+    .expect("validate");
+    let a = &v.residual_analysis;
+    assert!(
+        !(a.whiteness_passed && a.cross_correlation_passed),
+        "{}",
+        a.verdict
+    );
+    assert!(
+        a.verdict.contains("not adequate") || a.verdict.contains("correlated"),
+        "{}",
+        a.verdict
+    );
+    let check = frequency_check(
+        &e.validation,
+        &wrong,
+        None,
+        &FrequencyCheckOptions::default(),
+    )
+    .expect("check");
+    assert!(!check.consistent, "{}", check.verdict);
+    assert!(check.verdict.starts_with("Inconsistent"));
+}
+
+#[test]
+fn coulomb_friction_is_detected_by_the_residuals() {
+    // m x'' + c x' + F_c sign(x') + k x = F, F_c = 0.5 N: a linear model cannot follow it.
+    let p = Parameters::PAPER;
+    let input =
+        Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501).expect("input");
+    let mut rhs = |t: f64, y: &SVector<f64, 2>, d: &mut SVector<f64, 2>| {
+        let friction = 0.5 * (y[1] / 1e-3).tanh();
+        d[0] = y[1];
+        d[1] = (input.value(t) - p.damping * y[1] - friction - p.stiffness * y[0]) / p.mass;
+    };
+    let options = Ode45Options {
+        rel_tol: 1e-8,
+        abs_tol: 1e-11,
+        ..Ode45Options::default()
+    };
+    let sol = ode45(&mut rhs, input.times(), &SVector::zeros(), &options).expect("solve");
+    let noise = gaussian_noise(1, "identification", 0.0025, 7501).expect("noise");
+    let y: Vec<f64> = sol.y.iter().zip(&noise).map(|(s, e)| s[0] + e).collect();
+    let data = DataSet::new("coulomb", input, y).expect("data");
+    let fit = estimate(&data, &EstimationOptions::fast()).expect("estimate");
+    let a = residual_analysis(
+        &fit.residuals,
+        data.excitation.samples(),
+        &ResidualOptions::default(),
+    )
+    .expect("analysis");
+    assert!(
+        !(a.whiteness_passed && a.cross_correlation_passed),
+        "{}",
+        a.verdict
+    );
+}
+
+#[test]
+fn frequency_check_agrees_with_the_time_domain_estimates() {
+    for seed in [1, 2, 3] {
+        let e = PaperExperiment::generate(seed).expect("data");
+        let fit = estimate(&e.identification, &EstimationOptions::fast()).expect("estimate");
+        let check = frequency_check(
+            &e.validation,
+            &fit.parameters,
+            Some(&fit.uncertainty),
+            &FrequencyCheckOptions::default(),
+        )
+        .expect("check");
+        let u = &fit.uncertainty;
+        let fn_error = check.natural_frequency_hz / u.natural_frequency_hz.value - 1.0;
+        let zeta_error = check.damping_ratio / u.damping_ratio.value - 1.0;
+        assert!(fn_error.abs() <= 0.01, "seed {seed}: fn off by {fn_error}");
+        assert!(
+            zeta_error.abs() <= 0.20,
+            "seed {seed}: ζ off by {zeta_error}"
+        );
+        assert!(check.consistent, "{}", check.verdict);
+        assert_eq!(check.frequency_hz.len(), check.empirical_magnitude.len());
+        assert_eq!(check.frequency_hz.len(), check.model_phase_deg.len());
+        // Band is where the chirp (0.2…3 Hz) drives the plant.
+        assert!(
+            check.band_hz[0] < 0.3 && check.band_hz[1] > 2.5,
+            "{:?}",
+            check.band_hz
+        );
+    }
+}
+
+#[test]
+fn bad_input_for_the_diagnostics() {
+    let e = [0.0; 60];
+    let err = residual_analysis(&e, &[0.0; 59], &ResidualOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IdentError::LengthMismatch {
+                expected: 60,
+                got: 59,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let err = residual_analysis(&e, &e, &ResidualOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IdentError::TooFewSamples {
+                got: 60,
+                needed: 101,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let mut x = vec![0.0; 200];
+    x[17] = f64::NAN;
+    let err = residual_analysis(&x, &[0.0; 200], &ResidualOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IdentError::NonFiniteSample {
+                field: "residual",
+                index: 17,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let err = residual_analysis(
+        &[0.0; 200],
+        &[0.0; 200],
+        &ResidualOptions {
+            max_lag: 0,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IdentError::InvalidParameter {
+                name: "max_lag",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let err = residual_analysis(
+        &[0.0; 200],
+        &[0.0; 200],
+        &ResidualOptions {
+            confidence: 1.0,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            IdentError::InvalidParameter {
+                name: "confidence",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // A constant input has no frequency response to measure.
+    let flat = Excitation::from_samples(0.0, 0.01, vec![1.0; 500]).expect("input");
+    let data = DataSet::new("flat", flat, vec![0.0; 500]).expect("data");
+    let err = frequency_check(
+        &data,
+        &Parameters::PAPER,
+        None,
+        &FrequencyCheckOptions::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(err, IdentError::NotIdentifiable { .. }), "{err}");
+}
