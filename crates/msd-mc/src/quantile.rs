@@ -10,6 +10,20 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Where the `level` percentile of n sorted values lies: the 0-based rank of the lower
+/// neighbour and the interpolation fraction towards the next.
+fn position(n: usize, level: f64) -> (usize, f64) {
+    let h = n as f64 * level / 100.0 - 0.5;
+    if h <= 0.0 {
+        (0, 0.0)
+    } else if h >= (n - 1) as f64 {
+        (n - 1, 0.0)
+    } else {
+        let floor = h.floor();
+        (floor as usize, h - floor)
+    }
+}
+
 /// The `levels` percentiles (ascending, in [0, 100]) of `values` (finite, non-empty),
 /// written to `out`. Reorders `values`.
 pub(crate) fn percentiles_in_place(values: &mut [f64], levels: &[f64], out: &mut [f64]) {
@@ -18,15 +32,7 @@ pub(crate) fn percentiles_in_place(values: &mut [f64], levels: &[f64], out: &mut
     // values[..start] hold the `start` smallest values, in some order.
     let mut start = 0;
     for (level, slot) in levels.iter().zip(out.iter_mut()) {
-        let h = n as f64 * level / 100.0 - 0.5;
-        let (rank, fraction) = if h <= 0.0 {
-            (0, 0.0)
-        } else if h >= (n - 1) as f64 {
-            (n - 1, 0.0)
-        } else {
-            let floor = h.floor();
-            (floor as usize, h - floor)
-        };
+        let (rank, fraction) = position(n, *level);
         let rank = rank.max(start);
         let (_, x, _) = values[start..].select_nth_unstable_by(rank - start, f64::total_cmp);
         let x = *x;
