@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::quantile::percentiles_in_place;
+use crate::quantile::{key, percentiles_of_keys};
 
 /// Bytes of the per-thread column-gather scratch the engine aims at.
 const GATHER_BYTES: usize = 1 << 20;
@@ -134,19 +134,19 @@ where
             .par_chunks_mut(g * l)
             .enumerate()
             .for_each_init(
-                || vec![0.0; good.len() * g],
+                || vec![0i64; good.len() * g],
                 |column, (block, out)| {
                     let c0 = block * g;
                     let cols = out.len() / l;
                     for (k, &i) in good.iter().enumerate() {
                         let row = &rows[i * width + c0..i * width + c0 + cols];
                         for (j, &v) in row.iter().enumerate() {
-                            column[j * good.len() + k] = v;
+                            column[j * good.len() + k] = key(v);
                         }
                     }
                     for j in 0..cols {
                         let values = &mut column[j * good.len()..(j + 1) * good.len()];
-                        percentiles_in_place(values, levels, &mut out[j * l..(j + 1) * l]);
+                        percentiles_of_keys(values, levels, &mut out[j * l..(j + 1) * l]);
                     }
                 },
             );

@@ -4,7 +4,8 @@
 //! For n sorted values x₍₁₎ ≤ … ≤ x₍ₙ₎, x₍ᵢ₎ is taken as the 100·(i − ½)/n percentile;
 //! between these points the percentile is interpolated linearly, below the first it is
 //! x₍₁₎ and above the last x₍ₙ₎ (MATLAB's `prctile`, Hyndman & Fan's definition 5). The
-//! order statistics are found by selection (`select_nth_unstable`), not a full sort, so
+//! order statistics are found by selection (`select_nth_unstable` on integer keys that
+//! order like `f64::total_cmp`), not a full sort, so
 //! one time column of N values costs O(N) per level; the result depends only on the
 //! multiset of values, never on their order.
 
@@ -24,29 +25,43 @@ fn position(n: usize, level: f64) -> (usize, f64) {
     }
 }
 
-/// The `levels` percentiles (ascending, in [0, 100]) of `values` (finite, non-empty),
-/// written to `out`. Reorders `values`.
-pub(crate) fn percentiles_in_place(values: &mut [f64], levels: &[f64], out: &mut [f64]) {
-    let n = values.len();
+/// The integer key of `x` whose order is `f64::total_cmp`'s (an involution: applied
+/// twice it gives back the bits).
+pub(crate) fn key(x: f64) -> i64 {
+    let bits = x.to_bits() as i64;
+    bits ^ (((bits >> 63) as u64) >> 1) as i64
+}
+
+fn value(key: i64) -> f64 {
+    f64::from_bits((key ^ (((key >> 63) as u64) >> 1) as i64) as u64)
+}
+
+/// The `levels` percentiles (ascending, in [0, 100]) of the values whose [`key`]s are
+/// `keys` (finite, non-empty), written to `out`. Reorders `keys`. Selecting on integer
+/// keys is exact and about twice as fast as on `f64::total_cmp`.
+pub(crate) fn percentiles_of_keys(keys: &mut [i64], levels: &[f64], out: &mut [f64]) {
+    let n = keys.len();
     debug_assert!(n > 0 && levels.len() == out.len());
-    // values[..start] hold the `start` smallest values, in some order.
+    // keys[..start] hold the `start` smallest keys, in some order.
     let mut start = 0;
     for (level, slot) in levels.iter().zip(out.iter_mut()) {
         let (rank, fraction) = position(n, *level);
         let rank = rank.max(start);
-        let (_, x, _) = values[start..].select_nth_unstable_by(rank - start, f64::total_cmp);
-        let x = *x;
+        let x = value(*keys[start..].select_nth_unstable(rank - start).1);
         start = rank;
         *slot = if fraction > 0.0 {
-            let next = values[rank + 1..]
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min);
+            let next = value(keys[rank + 1..].iter().copied().fold(i64::MAX, i64::min));
             x + fraction * (next - x)
         } else {
             x
         };
     }
+}
+
+/// As [`percentiles_of_keys`], for plain values.
+pub(crate) fn percentiles(values: &[f64], levels: &[f64], out: &mut [f64]) {
+    let mut keys: Vec<i64> = values.iter().map(|&v| key(v)).collect();
+    percentiles_of_keys(&mut keys, levels, out);
 }
 
 /// Mean, standard deviation, extremes and percentiles of a scalar across the samples.
@@ -75,9 +90,8 @@ impl Summary {
         } else {
             0.0
         };
-        let mut sorted = values.to_vec();
         let mut out = vec![0.0; levels.len()];
-        percentiles_in_place(&mut sorted, levels, &mut out);
+        percentiles(values, levels, &mut out);
         Self {
             mean,
             std,
@@ -105,13 +119,24 @@ mod tests {
     /// MATLAB: prctile(1:10, [0 5 10 50 72 95 100]) = [1 1 1.5 5.5 7.7 10 10].
     #[test]
     fn matches_matlab_prctile() {
-        let mut v: Vec<f64> = (1..=10).rev().map(f64::from).collect();
+        let v: Vec<f64> = (1..=10).rev().map(f64::from).collect();
         let levels = [0.0, 5.0, 10.0, 50.0, 72.0, 95.0, 100.0];
         let mut out = [0.0; 7];
-        percentiles_in_place(&mut v, &levels, &mut out);
+        percentiles(&v, &levels, &mut out);
         let expected = [1.0, 1.0, 1.5, 5.5, 7.7, 10.0, 10.0];
         for (a, b) in out.iter().zip(expected) {
             assert!((a - b).abs() < 1e-12, "{out:?}");
+        }
+    }
+
+    #[test]
+    fn keys_order_like_total_cmp_and_round_trip() {
+        let xs = [-f64::MAX, -2.5, -1e-300, -0.0, 0.0, 1e-300, 3.0, f64::MAX];
+        for w in xs.windows(2) {
+            assert!(key(w[0]) < key(w[1]));
+        }
+        for x in xs {
+            assert_eq!(value(key(x)).to_bits(), x.to_bits());
         }
     }
 

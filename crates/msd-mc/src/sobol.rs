@@ -20,7 +20,7 @@
 //! by the inverse CDF of uniforms in (0, 1). Rows run in parallel on a local pool and are
 //! reduced in row order, so results do not depend on the thread count.
 
-use crate::quantile::percentiles_in_place;
+use crate::quantile::percentiles;
 use crate::{McError, Result, sample_rng};
 use rand::Rng;
 use rayon::prelude::*;
@@ -296,13 +296,13 @@ where
     });
     let alpha = 100.0 * (1.0 - options.confidence) / 2.0;
     let interval = |k: usize, i: usize, which: usize, estimate: f64| {
-        let mut values: Vec<f64> = replicates.iter().map(|rep| rep[k * d + i][which]).collect();
+        let values: Vec<f64> = replicates.iter().map(|rep| rep[k * d + i][which]).collect();
         let r = values.len() as f64;
         let mean = values.iter().sum::<f64>() / r;
         let std_error = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (r - 1.0)).sqrt();
         let mut ci = [0.0; 2];
         if values.iter().all(|v| v.is_finite()) {
-            percentiles_in_place(&mut values, &[alpha, 100.0 - alpha], &mut ci);
+            percentiles(&values, &[alpha, 100.0 - alpha], &mut ci);
         } else {
             ci = [f64::NAN; 2];
         }
