@@ -4,9 +4,10 @@ use crate::engine::{self, MemoryPlan};
 use crate::{McError, McOptions, Result, Sampling, Summary, draw::Sampler};
 use msd_ident::{Backend, Excitation, Parameters, simulate, simulate_into};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 /// Pointwise percentiles of the simulated responses, and what they say.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Band {
     /// Sample times.
     pub times: Vec<f64>,
