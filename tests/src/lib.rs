@@ -1,3 +1,117 @@
-//! Cross-crate end-to-end tests of the msd toolkit.
+//! Cross-crate end-to-end tests of the msd toolkit, and the helpers they share.
 //!
-//! The library part is intentionally empty; the tests live in `tests/tests/`.
+//! The tests live in `tests/tests/`; this library gives them the workspace paths, an
+//! in-process way to run an experiment into a temporary folder, and checks of the files
+//! an experiment writes (PNG decodes, SVG parses).
+
+use std::path::{Path, PathBuf};
+use xtask::{RunOptions, RunSummary, XtaskError, run_experiment};
+
+/// The workspace root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from(".."))
+}
+
+/// A shipped config, e.g. `config("paper.toml")`.
+pub fn config(name: &str) -> PathBuf {
+    root().join("configs").join(name)
+}
+
+/// A finished run and the temporary folder that holds its output (kept alive with it).
+pub struct Run {
+    /// The temporary parent folder.
+    pub dir: tempfile::TempDir,
+    /// What the run returned.
+    pub summary: RunSummary,
+}
+
+impl Run {
+    /// The output folder.
+    pub fn out(&self) -> &Path {
+        &self.summary.out_dir
+    }
+
+    /// A number of results.json by its dotted path, e.g. `"estimate.mass.value"`.
+    pub fn number(&self, path: &str) -> f64 {
+        lookup(&self.summary.results, path)
+            .and_then(serde_json::Value::as_f64)
+            .unwrap_or_else(|| panic!("results.json has no number at {path}"))
+    }
+
+    /// A boolean of results.json by its dotted path.
+    pub fn flag(&self, path: &str) -> bool {
+        lookup(&self.summary.results, path)
+            .and_then(serde_json::Value::as_bool)
+            .unwrap_or_else(|| panic!("results.json has no boolean at {path}"))
+    }
+}
+
+/// The value at a dotted path of a JSON document.
+pub fn lookup<'a>(value: &'a serde_json::Value, path: &str) -> Option<&'a serde_json::Value> {
+    path.split('.').try_fold(value, |v, key| v.get(key))
+}
+
+/// Runs `config` in-process into a fresh temporary folder.
+pub fn run_in_temp(
+    config: &Path,
+    seed: Option<u64>,
+    threads: Option<usize>,
+) -> Result<Run, XtaskError> {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let options = RunOptions {
+        out: Some(dir.path().join("out")),
+        seed,
+        threads,
+        progress: false,
+    };
+    let summary = run_experiment(config, &options)?;
+    Ok(Run { dir, summary })
+}
+
+/// `results.json` with the wall times and the recorded thread counts removed: what must
+/// be identical between runs of the same config and seed.
+pub fn without_timings(results: &serde_json::Value) -> serde_json::Value {
+    let mut v = results.clone();
+    if let Some(map) = v.as_object_mut() {
+        map.remove("timings_ms");
+        for section in ["experiment", "monte_carlo"] {
+            if let Some(s) = map.get_mut(section).and_then(|s| s.as_object_mut()) {
+                s.remove("threads");
+            }
+        }
+        if let Some(c) = map
+            .get_mut("config")
+            .and_then(|c| c.get_mut("monte_carlo"))
+            .and_then(|m| m.as_object_mut())
+        {
+            c.remove("threads");
+        }
+    }
+    v
+}
+
+/// Decodes a PNG and returns its size.
+pub fn decode_png(path: &Path) -> (u32, u32) {
+    let image =
+        image::open(path).unwrap_or_else(|e| panic!("{} does not decode: {e}", path.display()));
+    (image.width(), image.height())
+}
+
+/// Parses an SVG as XML and returns the number of elements.
+pub fn parse_svg(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let doc = roxmltree::Document::parse(&text)
+        .unwrap_or_else(|e| panic!("{} does not parse: {e}", path.display()));
+    assert_eq!(
+        doc.root_element().tag_name().name(),
+        "svg",
+        "{}",
+        path.display()
+    );
+    doc.descendants()
+        .filter(roxmltree::Node::is_element)
+        .count()
+}

@@ -1,0 +1,221 @@
+//! `cargo xtask experiment`, end to end, in-process: the paper config reproduces the
+//! paper, runs are reproducible for any thread count, the real Silverbox record runs,
+//! and every kind of bad input is refused with exit status 2 and nothing written.
+
+use msd_tests::{Run, config, decode_png, parse_svg, run_in_temp, without_timings};
+use std::sync::OnceLock;
+
+/// The paper config with its own seed and threads, run once for all tests here.
+fn paper() -> &'static Run {
+    static RUN: OnceLock<Run> = OnceLock::new();
+    RUN.get_or_init(|| {
+        run_in_temp(&config("paper.toml"), None, None).expect("the paper config runs")
+    })
+}
+
+#[test]
+fn paper_config_reproduces_the_papers_findings() {
+    let run = paper();
+    // m, c, k within 4 Cramér–Rao (Gauss–Newton) standard deviations of the truth.
+    for (name, truth) in [("mass", 2.5), ("damping", 1.8), ("stiffness", 120.0)] {
+        let value = run.number(&format!("estimate.{name}.value"));
+        let se = run.number(&format!("estimate.{name}.standard_error"));
+        assert!(se > 0.0, "{name}: standard error {se}");
+        assert!(
+            (value - truth).abs() < 4.0 * se,
+            "{name} = {value} is more than 4 standard errors ({se}) from {truth}"
+        );
+        assert_eq!(run.number(&format!("truth.{name}")), truth);
+    }
+    // R² on both records as the paper's 0.9907 and 0.9949.
+    let r2_id = run.number("identification.r2");
+    let r2_val = run.number("validation.r2");
+    assert!(
+        (r2_id - 0.9907).abs() < 0.003,
+        "identification R² = {r2_id}"
+    );
+    assert!((r2_val - 0.9949).abs() < 0.003, "validation R² = {r2_val}");
+    // White residuals, independent of the input.
+    assert!(run.flag("residuals.whiteness_passed"));
+    assert!(run.flag("residuals.cross_correlation_passed"));
+    let p = run.number("residuals.ljung_box.p_value");
+    assert!(p > 0.01, "Ljung–Box p = {p}");
+    // The 90 % Monte Carlo band holds most of the measurements.
+    let coverage = run.number("monte_carlo.coverage");
+    assert!(coverage > 0.8, "coverage {coverage}");
+    assert_eq!(run.number("monte_carlo.samples"), 1000.0);
+    assert_eq!(run.number("monte_carlo.threads"), 2.0);
+    // The paper's method throughout.
+    let r = &run.summary.results;
+    assert_eq!(r["estimate"]["method"], "nelder_mead");
+    assert_eq!(r["estimate"]["backend"], "ode45");
+    assert_eq!(r["validation"]["backend"], "ode45");
+    assert_eq!(r["monte_carlo"]["backend"], "ode45");
+    assert_eq!(r["experiment"]["seed"], 1);
+    // The frequency check finds the plant's resonance.
+    let fn_hz = run.number("frequency_check.natural_frequency_hz");
+    assert!((fn_hz / 1.1027 - 1.0).abs() < 0.01, "fn = {fn_hz}");
+    let zeta = run.number("frequency_check.damping_ratio");
+    assert!((zeta / 0.051962 - 1.0).abs() < 0.3, "ζ = {zeta}");
+}
+
+#[test]
+fn paper_results_json_has_every_required_key() {
+    let run = paper();
+    let numbers = [
+        "estimate.mass.value",
+        "estimate.damping.value",
+        "estimate.stiffness.value",
+        "estimate.natural_frequency_hz.value",
+        "estimate.damping_ratio.value",
+        "estimate.iterations",
+        "estimate.evaluations",
+        "truth.mass",
+        "truth.damping",
+        "truth.stiffness",
+        "identification.r2",
+        "identification.fit_percent",
+        "identification.residual_rms",
+        "validation.r2",
+        "validation.fit_percent",
+        "validation.residual_rms",
+        "residuals.ljung_box.q",
+        "residuals.ljung_box.p_value",
+        "frequency_check.natural_frequency_hz",
+        "frequency_check.damping_ratio",
+        "monte_carlo.samples",
+        "monte_carlo.threads",
+        "monte_carlo.coverage",
+        "timings_ms.total",
+        "timings_ms.data",
+        "timings_ms.estimation",
+        "timings_ms.validation",
+        "timings_ms.residuals",
+        "timings_ms.frequency_check",
+        "timings_ms.monte_carlo",
+        "timings_ms.figures",
+        "timings_ms.report",
+    ];
+    for key in numbers {
+        assert!(run.number(key).is_finite(), "{key}");
+    }
+    for name in [
+        "mass",
+        "damping",
+        "stiffness",
+        "natural_frequency_hz",
+        "damping_ratio",
+    ] {
+        let ci = &run.summary.results["estimate"][name]["ci95"];
+        let ci = ci
+            .as_array()
+            .unwrap_or_else(|| panic!("estimate.{name}.ci95"));
+        assert_eq!(ci.len(), 2);
+        let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
+        let value = run.number(&format!("estimate.{name}.value"));
+        assert!(lo < value && value < hi, "{name}: {lo} < {value} < {hi}");
+    }
+    for key in [
+        "estimate.method",
+        "estimate.backend",
+        "experiment.crate_version",
+    ] {
+        assert!(
+            msd_tests::lookup(&run.summary.results, key).is_some_and(|v| v.is_string()),
+            "{key}"
+        );
+    }
+    for key in [
+        "residuals.whiteness_passed",
+        "residuals.cross_correlation_passed",
+    ] {
+        let _ = run.flag(key);
+    }
+    // The config as read is in the file.
+    assert_eq!(run.summary.results["config"]["plant"]["stiffness"], 120.0);
+    // The file on disk is the document returned, byte for byte.
+    let on_disk = std::fs::read_to_string(run.out().join("results.json")).unwrap();
+    let expected = serde_json::to_string_pretty(&run.summary.results).unwrap() + "\n";
+    assert!(on_disk == expected, "results.json differs from the returned document");
+}
+
+#[test]
+fn paper_writes_every_output_file() {
+    let run = paper();
+    let out = run.out();
+    for file in [
+        "results.json",
+        "report.md",
+        "identification.csv",
+        "validation.csv",
+        "residual_correlation.csv",
+        "frf.csv",
+    ] {
+        let len = std::fs::metadata(out.join(file))
+            .map(|m| m.len())
+            .unwrap_or(0);
+        assert!(len > 100, "{file} is missing or empty");
+    }
+    for figure in [
+        "fig2_identification",
+        "fig3_validation",
+        "fig4_monte_carlo",
+        "residual_correlation",
+        "frf_bode",
+    ] {
+        let (w, h) = decode_png(&out.join(format!("{figure}.png")));
+        assert!(w >= 800 && h >= 500, "{figure}.png is {w}×{h}");
+        assert!(
+            parse_svg(&out.join(format!("{figure}.svg"))) > 50,
+            "{figure}.svg"
+        );
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for embedded in [
+        "fig2_identification.png",
+        "fig3_validation.png",
+        "fig4_monte_carlo.png",
+    ] {
+        assert!(
+            report.contains(&format!("]({embedded})")),
+            "report.md embeds {embedded}"
+        );
+    }
+    // The time series: header and one row per sample.
+    let validation = std::fs::read_to_string(out.join("validation.csv")).unwrap();
+    let mut lines = validation.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "t,input,measured,model,residual,true_response,band_lower,band_median,band_upper,band_nominal"
+        )
+    );
+    assert_eq!(lines.count(), 7501);
+    // Only the finished folder remains beside it: no staging folder left behind.
+    let parent: Vec<_> = std::fs::read_dir(run.dir.path()).unwrap().collect();
+    assert_eq!(parent.len(), 1);
+}
+
+#[test]
+fn same_config_and_seed_give_identical_results_for_any_thread_count() {
+    let reference = without_timings(&paper().summary.results);
+    let again = run_in_temp(&config("paper.toml"), Some(1), Some(2)).expect("runs");
+    assert_eq!(
+        without_timings(&again.summary.results),
+        reference,
+        "a second run differs"
+    );
+    let one = run_in_temp(&config("paper.toml"), Some(1), Some(1)).expect("runs");
+    assert_eq!(one.number("monte_carlo.threads"), 1.0);
+    assert_eq!(
+        without_timings(&one.summary.results),
+        reference,
+        "1 thread differs from 2"
+    );
+    // The CSV files do not depend on the thread count either.
+    for file in ["validation.csv", "identification.csv"] {
+        let a = std::fs::read(paper().out().join(file)).unwrap();
+        let b = std::fs::read(one.out().join(file)).unwrap();
+        assert!(a == b, "{file} differs between 1 and 2 threads");
+    }
+}

@@ -1,0 +1,1070 @@
+//! Experiment configs: TOML read with serde, unknown keys refused, every value checked
+//! and any error reported as one line naming the file, the line and the field.
+//!
+//! A config describes either a **synthetic** experiment (sections `plant`, `time`,
+//! `noise`, `identification`, `validation`: data generated from a known plant) or a
+//! **measured** one (section `data`: a CSV file with input and output columns). Both
+//! share `estimation`, `residuals`, `frequency_check`, `monte_carlo` and `output`. The
+//! shipped configs in `configs/` document every field in their comments.
+//!
+//! ```
+//! let text = r#"
+//!     name = "tiny"
+//!     [plant]
+//!     mass = 2.5
+//!     damping = 1.8
+//!     stiffness = 120.0
+//!     [time]
+//!     duration = 2.0
+//!     dt = 0.01
+//!     [noise]
+//!     sigma = 0.001
+//!     [identification.input]
+//!     kind = "step"
+//!     amplitude = 1.0
+//!     time = 0.1
+//!     [validation.input]
+//!     kind = "sine"
+//!     amplitude = 1.0
+//!     frequency = 1.0
+//! "#;
+//! let config = xtask::config::Config::from_toml_str(text, "tiny.toml")?;
+//! assert_eq!(config.seed, 1);
+//! assert_eq!(config.time.unwrap().samples(), 201);
+//! # Ok::<(), xtask::XtaskError>(())
+//! ```
+
+use crate::{Result, XtaskError};
+use msd_ident::{
+    Backend, EstimationOptions, FixedParameters, InitialState, MIN_SAMPLES, Method,
+    MultistartSettings, ParameterBounds, Parameters,
+};
+use msd_opt::{LevenbergMarquardtOptions, NelderMeadOptions};
+use msd_signal::Signal;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::path::{Path, PathBuf};
+
+/// A whole experiment config.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// Name of the experiment; outputs go to `target/experiments/<name>/`.
+    pub name: String,
+    /// One sentence for the report. By default empty.
+    #[serde(default)]
+    pub description: String,
+    /// Seed of every random draw (noise, Monte Carlo, multistart). By default 1.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// The true plant (synthetic experiments).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plant: Option<Plant>,
+    /// The time grid of both synthetic records.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<TimeGrid>,
+    /// Measurement noise of the synthetic records.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<Noise>,
+    /// The identification input (synthetic experiments).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub identification: Option<InputSection>,
+    /// The validation input (synthetic) and how the model is simulated on it.
+    #[serde(default)]
+    pub validation: ValidationSection,
+    /// A measured record (instead of `plant`, `time`, `noise`, `identification`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub data: Option<DataSection>,
+    /// How θ = (m, c, k) is estimated.
+    #[serde(default)]
+    pub estimation: EstimationSection,
+    /// Residual diagnostics.
+    #[serde(default)]
+    pub residuals: ResidualSection,
+    /// Frequency-domain consistency check.
+    #[serde(default)]
+    pub frequency_check: FrequencySection,
+    /// Monte Carlo robustness band on the validation input.
+    #[serde(default)]
+    pub monte_carlo: MonteCarloSection,
+    /// What is written.
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+/// The true plant of a synthetic experiment.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plant {
+    /// Mass m, kg (> 0).
+    pub mass: f64,
+    /// Damping c, N·s/m (≥ 0).
+    pub damping: f64,
+    /// Stiffness k, N/m (> 0).
+    pub stiffness: f64,
+    /// State at the start of both records. By default at rest.
+    #[serde(default)]
+    pub initial_state: InitialState,
+}
+
+impl Plant {
+    /// The physical parameters.
+    pub fn parameters(&self) -> Parameters {
+        Parameters {
+            mass: self.mass,
+            damping: self.damping,
+            stiffness: self.stiffness,
+        }
+    }
+}
+
+/// A uniform time grid `start, start + dt, …, start + duration` (both ends included).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeGrid {
+    /// First instant, s. By default 0.
+    #[serde(default)]
+    pub start: f64,
+    /// Length of the record, s (≥ dt).
+    pub duration: f64,
+    /// Sampling interval, s (> 0).
+    pub dt: f64,
+}
+
+impl TimeGrid {
+    /// Number of samples: ⌊duration/dt⌋ + 1 (both ends included when dt divides the
+    /// duration).
+    pub fn samples(&self) -> usize {
+        (self.duration / self.dt * (1.0 + 1e-12)).floor() as usize + 1
+    }
+}
+
+/// Measurement noise: white Gaussian on the displacement.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Noise {
+    /// Standard deviation σ, in the output unit (≥ 0).
+    pub sigma: f64,
+}
+
+/// An input section: `[identification.input]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InputSection {
+    /// The excitation, any msd-signal [`Signal`].
+    pub input: Signal,
+}
+
+/// The `[validation]` section.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ValidationSection {
+    /// The validation input (synthetic experiments only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub input: Option<Signal>,
+    /// Simulator for the validation prediction. By default the estimation backend.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub backend: Option<Backend>,
+}
+
+/// θ₀: `"auto"` (the ARX guess) or a table `{ mass, damping, stiffness }`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum InitialGuess {
+    /// The automatic ARX guess.
+    #[default]
+    Auto,
+    /// Given values.
+    Given(Parameters),
+}
+
+impl Serialize for InitialGuess {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            InitialGuess::Auto => s.serialize_str("auto"),
+            InitialGuess::Given(p) => p.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for InitialGuess {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = InitialGuess;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(r#""auto" or a table { mass, damping, stiffness }"#)
+            }
+            fn visit_str<E: serde::de::Error>(
+                self,
+                v: &str,
+            ) -> std::result::Result<Self::Value, E> {
+                if v == "auto" {
+                    Ok(InitialGuess::Auto)
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
+                }
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> std::result::Result<Self::Value, A::Error> {
+                Parameters::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(InitialGuess::Given)
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+/// The `[estimation]` section: msd-ident's [`EstimationOptions`] in TOML.
+///
+/// By default Levenberg–Marquardt on the exact simulator from the automatic guess.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct EstimationSection {
+    /// `"nelder_mead"` (the paper's) or `"levenberg_marquardt"`. By default the latter.
+    pub method: Method,
+    /// `{ kind = "ode45", rel_tol, abs_tol }` or `{ kind = "exact", hold }`. By default
+    /// exact with a cubic hold.
+    pub backend: Backend,
+    /// θ₀, `"auto"` or `{ mass, damping, stiffness }`. By default `"auto"`.
+    pub initial_guess: InitialGuess,
+    /// Known parameters, held fixed. By default none.
+    pub fixed: FixedParameters,
+    /// Bounds `[low, high]` per parameter. By default none.
+    pub bounds: ParameterBounds,
+    /// State at the start of the estimation record. By default at rest.
+    pub initial_state: InitialState,
+    /// Estimate the initial state too. By default false.
+    pub estimate_initial_state: bool,
+    /// Constant sensor offset. By default 0.
+    pub offset: f64,
+    /// Estimate the offset too. By default false.
+    pub estimate_offset: bool,
+    /// Nelder–Mead settings. By default fminsearch's.
+    pub nelder_mead: NelderMeadOptions,
+    /// Levenberg–Marquardt settings. By default MINPACK's.
+    pub levenberg_marquardt: LevenbergMarquardtOptions,
+    /// Multistart (off unless given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub multistart: Option<MultistartSettings>,
+}
+
+impl Default for EstimationSection {
+    fn default() -> Self {
+        let o = EstimationOptions::default();
+        Self {
+            method: o.method,
+            backend: o.backend,
+            initial_guess: InitialGuess::Auto,
+            fixed: o.fixed,
+            bounds: o.bounds,
+            initial_state: o.initial_state,
+            estimate_initial_state: o.estimate_initial_state,
+            offset: o.offset,
+            estimate_offset: o.estimate_offset,
+            nelder_mead: o.nelder_mead,
+            levenberg_marquardt: o.levenberg_marquardt,
+            multistart: o.multistart,
+        }
+    }
+}
+
+impl EstimationSection {
+    /// As msd-ident's options; the multistart seed is taken from `seed` unless given.
+    pub fn options(&self) -> EstimationOptions {
+        EstimationOptions {
+            method: self.method,
+            backend: self.backend,
+            initial_guess: match self.initial_guess {
+                InitialGuess::Auto => None,
+                InitialGuess::Given(p) => Some(p),
+            },
+            fixed: self.fixed,
+            bounds: self.bounds,
+            initial_state: self.initial_state,
+            estimate_initial_state: self.estimate_initial_state,
+            offset: self.offset,
+            estimate_offset: self.estimate_offset,
+            nelder_mead: self.nelder_mead.clone(),
+            levenberg_marquardt: self.levenberg_marquardt.clone(),
+            multistart: self.multistart,
+        }
+    }
+}
+
+/// The `[residuals]` section.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ResidualSection {
+    /// Largest lag of the correlation tests. By default 25 (MATLAB's `resid`).
+    pub max_lag: usize,
+    /// Confidence of the correlation bands. By default 0.99 (MATLAB's `resid`).
+    pub confidence: f64,
+}
+
+impl Default for ResidualSection {
+    fn default() -> Self {
+        Self {
+            max_lag: 25,
+            confidence: 0.99,
+        }
+    }
+}
+
+/// Which record the frequency check uses.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RecordChoice {
+    /// The identification record.
+    Identification,
+    /// The validation record (the default: a chirp or multisine is broadband).
+    #[default]
+    Validation,
+}
+
+impl RecordChoice {
+    /// "identification" or "validation".
+    pub fn name(&self) -> &'static str {
+        match self {
+            RecordChoice::Identification => "identification",
+            RecordChoice::Validation => "validation",
+        }
+    }
+}
+
+/// The `[frequency_check]` section: msd-ident's `FrequencyCheckOptions` plus the
+/// record to use.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrequencySection {
+    /// Run the check. By default true.
+    pub enabled: bool,
+    /// The record: "validation" (by default) or "identification".
+    pub data: RecordChoice,
+    /// Fit band in Hz; by default chosen from the input's power.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub band_hz: Option<[f64; 2]>,
+    /// Share of the input's peak DFT power that marks a frequency as excited.
+    /// By default 0.01.
+    pub power_threshold: f64,
+    /// Allowed relative difference of fn between data and model. By default 0.01.
+    pub frequency_tolerance: f64,
+    /// Allowed relative difference of ζ between data and model. By default 0.2.
+    pub damping_tolerance: f64,
+    /// Allowed normalised output error of the model in the band. By default 0.25.
+    pub max_relative_error: f64,
+}
+
+impl Default for FrequencySection {
+    fn default() -> Self {
+        let o = msd_ident::FrequencyCheckOptions::default();
+        Self {
+            enabled: true,
+            data: RecordChoice::Validation,
+            band_hz: o.band_hz,
+            power_threshold: o.power_threshold,
+            frequency_tolerance: o.frequency_tolerance,
+            damping_tolerance: o.damping_tolerance,
+            max_relative_error: o.max_relative_error,
+        }
+    }
+}
+
+impl FrequencySection {
+    /// As msd-ident's options.
+    pub fn options(&self) -> msd_ident::FrequencyCheckOptions {
+        msd_ident::FrequencyCheckOptions {
+            band_hz: self.band_hz,
+            power_threshold: self.power_threshold,
+            frequency_tolerance: self.frequency_tolerance,
+            damping_tolerance: self.damping_tolerance,
+            max_relative_error: self.max_relative_error,
+        }
+    }
+}
+
+/// The `[monte_carlo]` section.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MonteCarloSection {
+    /// Run the Monte Carlo stage. By default true.
+    pub enabled: bool,
+    /// Number of parameter draws. By default 1000 (the paper).
+    pub samples: usize,
+    /// Half-width of the uniform draw around θ̂, as a fraction. By default 0.10 (±10 %).
+    pub spread: f64,
+    /// Lower and upper percentile of the band, in percent. By default [5, 95] (90 %).
+    pub percentiles: [f64; 2],
+    /// Worker threads. By default 2 (`--threads` overrides).
+    pub threads: usize,
+    /// Simulator of the draws. By default the validation backend.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub backend: Option<Backend>,
+}
+
+impl Default for MonteCarloSection {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            samples: 1000,
+            spread: 0.10,
+            percentiles: [5.0, 95.0],
+            threads: 2,
+            backend: None,
+        }
+    }
+}
+
+/// The `[output]` section.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSection {
+    /// Output folder, relative to the current directory. By default
+    /// `target/experiments/<name>` in the workspace (`--out` overrides).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dir: Option<PathBuf>,
+}
+
+/// A CSV column: its header name (a string) or its 0-based index (an integer).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Column {
+    /// By header name.
+    Name(String),
+    /// By 0-based position.
+    Index(usize),
+}
+
+impl std::fmt::Display for Column {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Column::Name(n) => write!(f, "`{n}`"),
+            Column::Index(i) => write!(f, "#{i}"),
+        }
+    }
+}
+
+impl Serialize for Column {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            Column::Name(n) => s.serialize_str(n),
+            Column::Index(i) => s.serialize_u64(*i as u64),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Column {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Column;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a column name (string) or a 0-based column index (integer >= 0)")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<Column, E> {
+                Ok(Column::Name(v.to_string()))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<Column, E> {
+                usize::try_from(v)
+                    .map(Column::Index)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<Column, E> {
+                Ok(Column::Index(v as usize))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
+}
+
+/// Which columns a preprocessing step touches.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Columns {
+    /// Input and output. The default.
+    #[default]
+    Both,
+    /// The input only.
+    Input,
+    /// The output only.
+    Output,
+}
+
+/// One preprocessing step, applied to the whole record in order, before the ranges are
+/// cut.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Preprocess {
+    /// Subtract the mean.
+    RemoveMean {
+        /// Columns to treat. By default both.
+        #[serde(default)]
+        columns: Columns,
+    },
+    /// Subtract the least-squares straight line.
+    DetrendLinear {
+        /// Columns to treat. By default both.
+        #[serde(default)]
+        columns: Columns,
+    },
+    /// Centred moving average over `window` samples (odd, ≥ 1).
+    MovingAverage {
+        /// Window length in samples.
+        window: usize,
+        /// Columns to treat. By default both.
+        #[serde(default)]
+        columns: Columns,
+    },
+    /// Anti-aliased decimation of both columns by an integer factor (the time step
+    /// grows by the factor).
+    Decimate {
+        /// The factor (≥ 1).
+        factor: usize,
+    },
+}
+
+/// A part of the record: `range = [start, end)` in samples (0-based, the first data row
+/// is 0) or `time = [t_start, t_end)` in seconds from the first sample's time.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Range {
+    /// Sample indices `[start, end)` of the file's data rows.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<[usize; 2]>,
+    /// Times `[start, end)`, in seconds on the record's own time axis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<[f64; 2]>,
+    /// Leading samples used only to settle the initial state, not scored (validation).
+    /// By default 0.
+    #[serde(default)]
+    pub initial_samples: usize,
+}
+
+/// A measured record in a CSV file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DataSection {
+    /// The CSV file, relative to the config file.
+    pub path: PathBuf,
+    /// The input (force) column.
+    pub input: Column,
+    /// The output (displacement) column.
+    pub output: Column,
+    /// A time column (s); give this or `sample_rate`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<Column>,
+    /// Sampling rate, Hz; give this or `time`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample_rate: Option<f64>,
+    /// Field delimiter. By default `","`.
+    #[serde(default = "default_delimiter")]
+    pub delimiter: char,
+    /// Whether the first (non-skipped) line holds column names. By default true.
+    #[serde(default = "default_true")]
+    pub header: bool,
+    /// Lines to skip at the top of the file (before the header). By default 0.
+    #[serde(default)]
+    pub skip_lines: usize,
+    /// Unit of the input column after scaling, for the report. By default "N".
+    #[serde(default = "default_input_unit")]
+    pub input_unit: String,
+    /// Unit of the output column after scaling, for the report. By default "m".
+    #[serde(default = "default_output_unit")]
+    pub output_unit: String,
+    /// Factor applied to the input column on reading (e.g. 1e-3 for mN → N). By default 1.
+    #[serde(default = "default_one")]
+    pub input_scale: f64,
+    /// Factor applied to the output column on reading (e.g. 1e-3 for mm → m). By default 1.
+    #[serde(default = "default_one")]
+    pub output_scale: f64,
+    /// Preprocessing steps, in order. By default none.
+    #[serde(default)]
+    pub preprocessing: Vec<Preprocess>,
+    /// The part used for estimation. By default the whole record.
+    #[serde(default)]
+    pub estimation: Range,
+    /// The part used for validation. By default the estimation part.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub validation: Option<Range>,
+}
+
+fn default_delimiter() -> char {
+    ','
+}
+fn default_true() -> bool {
+    true
+}
+fn default_one() -> f64 {
+    1.0
+}
+fn default_input_unit() -> String {
+    "N".into()
+}
+fn default_output_unit() -> String {
+    "m".into()
+}
+
+/// What kind of experiment a config describes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// Data generated from a known plant.
+    Synthetic,
+    /// Data read from a file.
+    Measured,
+}
+
+impl Config {
+    /// Reads, parses and checks a config file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| XtaskError::config(path, format!("cannot read the config file: {e}")))?;
+        Self::from_toml_str(&text, path)
+    }
+
+    /// Parses and checks a config from its text; `file` names it in errors.
+    pub fn from_toml_str(text: &str, file: impl AsRef<Path>) -> Result<Self> {
+        let file = file.as_ref();
+        let config: Config = toml::from_str(text).map_err(|e| {
+            let location = e
+                .span()
+                .map(|s| {
+                    let (line, column) = line_column(text, s.start);
+                    format!(":{line}:{column}")
+                })
+                .unwrap_or_default();
+            XtaskError::Config {
+                file: format!("{}{location}", file.display()),
+                message: e.message().trim().replace('\n', " "),
+            }
+        })?;
+        config.validate().map_err(|(field, message)| {
+            let line = locate_key(text, &field)
+                .map(|l| format!(":{l}"))
+                .unwrap_or_default();
+            XtaskError::Config {
+                file: format!("{}{line}", file.display()),
+                message: format!("{field}{message}"),
+            }
+        })?;
+        Ok(config)
+    }
+
+    /// Synthetic or measured.
+    pub fn kind(&self) -> Kind {
+        if self.data.is_some() {
+            Kind::Measured
+        } else {
+            Kind::Synthetic
+        }
+    }
+
+    /// The validation backend: `[validation] backend`, else the estimation backend.
+    pub fn validation_backend(&self) -> Backend {
+        self.validation.backend.unwrap_or(self.estimation.backend)
+    }
+
+    /// The Monte Carlo backend: `[monte_carlo] backend`, else the validation backend.
+    pub fn monte_carlo_backend(&self) -> Backend {
+        self.monte_carlo
+            .backend
+            .unwrap_or_else(|| self.validation_backend())
+    }
+
+    /// Checks every value; on failure returns the field path and the rest of the
+    /// message (starting with " = value: expected …" or ": …").
+    fn validate(&self) -> std::result::Result<(), (String, String)> {
+        let err = |field: &str, message: String| Err((field.to_string(), message));
+        if self.name.trim().is_empty()
+            || self
+                .name
+                .chars()
+                .any(|c| !(c.is_alphanumeric() || "-_.".contains(c)))
+            || self.name.starts_with('.')
+        {
+            return err(
+                "name",
+                format!(
+                    " = {:?}: expected a non-empty folder name of letters, digits, '-', '_' or '.'",
+                    self.name
+                ),
+            );
+        }
+        match self.kind() {
+            Kind::Synthetic => self.validate_synthetic()?,
+            Kind::Measured => self.validate_measured()?,
+        }
+        self.validate_estimation()?;
+        if let Some(b) = &self.validation.backend {
+            check_backend("validation.backend", b)?;
+        }
+        let r = &self.residuals;
+        if r.max_lag == 0 {
+            return err("residuals.max_lag", " = 0: expected an integer >= 1".into());
+        }
+        if !(r.confidence > 0.0 && r.confidence < 1.0) {
+            return err(
+                "residuals.confidence",
+                format!(" = {}: expected a probability in (0, 1)", r.confidence),
+            );
+        }
+        let f = &self.frequency_check;
+        if f.enabled {
+            if !(f.power_threshold > 0.0 && f.power_threshold < 1.0) {
+                return err(
+                    "frequency_check.power_threshold",
+                    format!(" = {}: expected a fraction in (0, 1)", f.power_threshold),
+                );
+            }
+            check_positive("frequency_check.frequency_tolerance", f.frequency_tolerance)?;
+            check_positive("frequency_check.damping_tolerance", f.damping_tolerance)?;
+            check_positive("frequency_check.max_relative_error", f.max_relative_error)?;
+            if let Some([a, b]) = f.band_hz
+                && !(a.is_finite() && b.is_finite() && 0.0 <= a && a < b)
+            {
+                return err(
+                    "frequency_check.band_hz",
+                    format!(" = [{a}, {b}]: expected 0 <= low < high (Hz)"),
+                );
+            }
+        }
+        let mc = &self.monte_carlo;
+        if mc.enabled {
+            if mc.samples < 2 {
+                return err(
+                    "monte_carlo.samples",
+                    format!(" = {}: expected an integer >= 2", mc.samples),
+                );
+            }
+            if !(mc.spread.is_finite() && mc.spread > 0.0 && mc.spread < 1.0) {
+                return err(
+                    "monte_carlo.spread",
+                    format!(
+                        " = {}: expected a fraction in (0, 1), e.g. 0.10 for ±10 %",
+                        mc.spread
+                    ),
+                );
+            }
+            let [lo, hi] = mc.percentiles;
+            if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi && hi <= 100.0) {
+                return err(
+                    "monte_carlo.percentiles",
+                    format!(" = [{lo}, {hi}]: expected two percentages 0 <= low < high <= 100"),
+                );
+            }
+            if mc.threads == 0 {
+                return err(
+                    "monte_carlo.threads",
+                    " = 0: expected an integer >= 1".into(),
+                );
+            }
+            if let Some(b) = &mc.backend {
+                check_backend("monte_carlo.backend", b)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_synthetic(&self) -> std::result::Result<(), (String, String)> {
+        let missing = |field: &str, what: &str| {
+            Err((
+                field.to_string(),
+                format!(
+                    ": missing section: expected {what} (or a [data] section for measured data)"
+                ),
+            ))
+        };
+        let Some(plant) = &self.plant else {
+            return missing("plant", "the true plant { mass, damping, stiffness }");
+        };
+        let Some(time) = &self.time else {
+            return missing("time", "the time grid { duration, dt }");
+        };
+        let Some(noise) = &self.noise else {
+            return missing("noise", "the noise level { sigma }");
+        };
+        let Some(identification) = &self.identification else {
+            return missing(
+                "identification",
+                "the identification input [identification.input]",
+            );
+        };
+        let Some(validation_input) = &self.validation.input else {
+            return missing(
+                "validation.input",
+                "the validation input [validation.input]",
+            );
+        };
+        check_positive("plant.mass", plant.mass)?;
+        check_non_negative("plant.damping", plant.damping)?;
+        check_positive("plant.stiffness", plant.stiffness)?;
+        check_finite(
+            "plant.initial_state.displacement",
+            plant.initial_state.displacement,
+        )?;
+        check_finite("plant.initial_state.velocity", plant.initial_state.velocity)?;
+        check_finite("time.start", time.start)?;
+        check_positive("time.dt", time.dt)?;
+        check_positive("time.duration", time.duration)?;
+        if time.duration < time.dt {
+            return Err((
+                "time.duration".into(),
+                format!(
+                    " = {}: expected at least one step dt = {} (the record would hold one sample)",
+                    time.duration, time.dt
+                ),
+            ));
+        }
+        let n = time.samples();
+        if n < MIN_SAMPLES {
+            return Err((
+                "time.duration".into(),
+                format!(
+                    " = {}: gives {n} samples at dt = {}: expected at least {MIN_SAMPLES}",
+                    time.duration, time.dt
+                ),
+            ));
+        }
+        if n > 50_000_000 {
+            return Err((
+                "time.dt".into(),
+                format!(
+                    " = {}: gives {n} samples: expected at most 50 000 000",
+                    time.dt
+                ),
+            ));
+        }
+        check_non_negative("noise.sigma", noise.sigma)?;
+        if let Err(e) = identification.input.validate() {
+            return Err(("identification.input".into(), format!(": {e}")));
+        }
+        if let Err(e) = validation_input.validate() {
+            return Err(("validation.input".into(), format!(": {e}")));
+        }
+        Ok(())
+    }
+
+    fn validate_measured(&self) -> std::result::Result<(), (String, String)> {
+        for (field, present) in [
+            ("plant", self.plant.is_some()),
+            ("time", self.time.is_some()),
+            ("noise", self.noise.is_some()),
+            ("identification", self.identification.is_some()),
+            ("validation.input", self.validation.input.is_some()),
+        ] {
+            if present {
+                return Err((
+                    field.into(),
+                    ": not allowed with a [data] section: a config describes either synthetic or measured data".into(),
+                ));
+            }
+        }
+        let Some(d) = &self.data else { return Ok(()) };
+        if d.path.as_os_str().is_empty() {
+            return Err(("data.path".into(), " = \"\": expected a CSV file".into()));
+        }
+        match (&d.time, d.sample_rate) {
+            (None, None) => {
+                return Err((
+                    "data".into(),
+                    ": neither `time` nor `sample_rate` given: expected exactly one".into(),
+                ));
+            }
+            (Some(_), Some(_)) => {
+                return Err((
+                    "data.sample_rate".into(),
+                    ": both `time` and `sample_rate` given: expected exactly one".into(),
+                ));
+            }
+            (None, Some(fs)) => check_positive("data.sample_rate", fs)?,
+            (Some(_), None) => {}
+        }
+        check_finite_nonzero("data.input_scale", d.input_scale)?;
+        check_finite_nonzero("data.output_scale", d.output_scale)?;
+        for (i, step) in d.preprocessing.iter().enumerate() {
+            match step {
+                Preprocess::MovingAverage { window, .. } if *window == 0 || window % 2 == 0 => {
+                    return Err((
+                        format!("data.preprocessing[{i}].window"),
+                        format!(" = {window}: expected an odd integer >= 1"),
+                    ));
+                }
+                Preprocess::Decimate { factor } if *factor == 0 => {
+                    return Err((
+                        format!("data.preprocessing[{i}].factor"),
+                        " = 0: expected an integer >= 1".into(),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        for (name, range) in [
+            ("data.estimation", Some(&d.estimation)),
+            ("data.validation", d.validation.as_ref()),
+        ] {
+            let Some(r) = range else { continue };
+            match (r.range, r.time) {
+                (Some(_), Some(_)) => {
+                    return Err((
+                        format!("{name}.time"),
+                        ": both `range` and `time` given: expected at most one".into(),
+                    ));
+                }
+                (Some([a, b]), None) if a >= b => {
+                    return Err((
+                        format!("{name}.range"),
+                        format!(" = [{a}, {b}]: expected start < end"),
+                    ));
+                }
+                (None, Some([a, b])) if !(a.is_finite() && b.is_finite() && a < b) => {
+                    return Err((
+                        format!("{name}.time"),
+                        format!(" = [{a}, {b}]: expected finite start < end (s)"),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_estimation(&self) -> std::result::Result<(), (String, String)> {
+        let e = &self.estimation;
+        check_backend("estimation.backend", &e.backend)?;
+        if let InitialGuess::Given(p) = &e.initial_guess {
+            check_positive("estimation.initial_guess.mass", p.mass)?;
+            check_non_negative("estimation.initial_guess.damping", p.damping)?;
+            check_positive("estimation.initial_guess.stiffness", p.stiffness)?;
+        }
+        if let Err(err) = e.options().validate() {
+            let text = err.to_string();
+            let text = text.strip_prefix("invalid ").unwrap_or(&text);
+            return Err(("estimation".into(), format!(": {text}")));
+        }
+        Ok(())
+    }
+}
+
+fn check_backend(field: &str, b: &Backend) -> std::result::Result<(), (String, String)> {
+    b.validate().map_err(|e| {
+        let text = e.to_string();
+        (field.to_string(), format!(": {text}"))
+    })
+}
+
+fn check_positive(field: &str, v: f64) -> std::result::Result<(), (String, String)> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err((
+            field.into(),
+            format!(" = {v}: expected a finite number > 0"),
+        ))
+    }
+}
+
+fn check_non_negative(field: &str, v: f64) -> std::result::Result<(), (String, String)> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err((
+            field.into(),
+            format!(" = {v}: expected a finite number >= 0"),
+        ))
+    }
+}
+
+fn check_finite(field: &str, v: f64) -> std::result::Result<(), (String, String)> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err((field.into(), format!(" = {v}: expected a finite number")))
+    }
+}
+
+fn check_finite_nonzero(field: &str, v: f64) -> std::result::Result<(), (String, String)> {
+    if v.is_finite() && v != 0.0 {
+        Ok(())
+    } else {
+        Err((
+            field.into(),
+            format!(" = {v}: expected a finite, non-zero factor"),
+        ))
+    }
+}
+
+/// 1-based line and column of byte `offset` in `text`.
+pub(crate) fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let column = before
+        .rfind('\n')
+        .map_or(before.chars().count(), |p| before[p + 1..].chars().count())
+        + 1;
+    (line, column)
+}
+
+/// The 1-based line where the dotted key `path` (e.g. `plant.mass`) is set, found by a
+/// plain scan of table headers and `key =` lines; `None` when it cannot be told.
+pub(crate) fn locate_key(text: &str, path: &str) -> Option<usize> {
+    let path = path.split('[').next().unwrap_or(path);
+    let mut table = String::new();
+    let mut table_line = None;
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        if line.starts_with('[') {
+            let name = line
+                .trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string();
+            if name == path {
+                table_line = Some(i + 1);
+            }
+            table = name;
+            continue;
+        }
+        if let Some((key, _)) = line.split_once('=') {
+            let key = key.trim().trim_matches('"');
+            let full = if table.is_empty() {
+                key.to_string()
+            } else {
+                format!("{table}.{key}")
+            };
+            if full == path {
+                return Some(i + 1);
+            }
+            // `initial_state = { displacement = … }` and friends: the parent key's line.
+            if path.starts_with(&format!("{full}.")) && line.contains('{') {
+                return Some(i + 1);
+            }
+        }
+    }
+    table_line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locates_keys_in_tables() {
+        let text = "name = \"x\"\n[plant]\nmass = -1\n\n[estimation.backend]\nkind = \"ode45\"\n";
+        assert_eq!(locate_key(text, "name"), Some(1));
+        assert_eq!(locate_key(text, "plant.mass"), Some(3));
+        assert_eq!(locate_key(text, "estimation.backend"), Some(5));
+        assert_eq!(locate_key(text, "estimation.backend.kind"), Some(6));
+        assert_eq!(locate_key(text, "monte_carlo.samples"), None);
+    }
+
+    #[test]
+    fn line_and_column_are_one_based() {
+        assert_eq!(line_column("ab\ncd", 0), (1, 1));
+        assert_eq!(line_column("ab\ncd", 4), (2, 2));
+    }
+}

@@ -1,0 +1,478 @@
+//! The data stage: synthetic records generated from the config's plant, or a measured
+//! record read from a CSV file, preprocessed and cut into estimation and validation
+//! parts.
+//!
+//! CSV files: one column each for the input and the output (by header name or 0-based
+//! index), a time column or a sample rate, any delimiter, `#` comment lines, extra
+//! columns ignored. Every bad cell is reported with the file, its line and the column.
+
+use crate::config::{Column, Columns, Config, DataSection, Kind, Preprocess, Range};
+use crate::{Result, XtaskError};
+use msd_ident::{DataSet, Excitation, Parameters, synthetic_data};
+use std::io::BufRead;
+use std::path::{Path, PathBuf};
+
+/// Both records of an experiment and what is known about them.
+#[derive(Debug, Clone)]
+pub struct ExperimentData {
+    /// Synthetic or measured.
+    pub kind: Kind,
+    /// The estimation record.
+    pub identification: DataSet,
+    /// The validation record.
+    pub validation: DataSet,
+    /// Noise-free identification response (synthetic only).
+    pub identification_truth: Option<Vec<f64>>,
+    /// Noise-free validation response (synthetic only).
+    pub validation_truth: Option<Vec<f64>>,
+    /// The true plant (synthetic only).
+    pub truth: Option<Parameters>,
+    /// Leading validation samples that only settle the initial state (not scored).
+    pub validation_initial_samples: usize,
+    /// Where the data came from, for the report.
+    pub source: Source,
+}
+
+/// Where the data came from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Source {
+    /// Generated from the config's plant with the seed.
+    Synthetic {
+        /// Noise standard deviation.
+        sigma: f64,
+    },
+    /// Read from a CSV file.
+    Measured {
+        /// The file, resolved against the config's folder.
+        path: PathBuf,
+        /// Data rows read.
+        rows: usize,
+        /// Sampling interval after preprocessing, s.
+        dt: f64,
+        /// Sample ranges `[start, end)` of the estimation and validation parts, in the
+        /// preprocessed record.
+        estimation_range: [usize; 2],
+        /// See `estimation_range`.
+        validation_range: [usize; 2],
+    },
+}
+
+/// Generates or loads the records that `config` describes; `config_path` resolves a
+/// data file's relative path and names the config in errors.
+pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<ExperimentData> {
+    match (&config.data, config.kind()) {
+        (Some(d), Kind::Measured) => load_measured(d, config_path),
+        _ => synthetic(config, config_path, seed),
+    }
+}
+
+fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<ExperimentData> {
+    let missing = |what: &str| XtaskError::config(config_path, format!("{what}: missing section"));
+    let plant = config.plant.ok_or_else(|| missing("plant"))?;
+    let time = config.time.ok_or_else(|| missing("time"))?;
+    let noise = config.noise.ok_or_else(|| missing("noise"))?;
+    let id_input = config
+        .identification
+        .as_ref()
+        .ok_or_else(|| missing("identification"))?
+        .input
+        .clone();
+    let val_input = config
+        .validation
+        .input
+        .clone()
+        .ok_or_else(|| missing("validation.input"))?;
+    let n = time.samples();
+    let bad = |field: &'static str| {
+        move |e: msd_ident::IdentError| XtaskError::config(config_path, format!("{field}: {e}"))
+    };
+    let id_exc = Excitation::from_signal(id_input, time.start, time.dt, n)
+        .map_err(bad("identification.input"))?;
+    let val_exc = Excitation::from_signal(val_input, time.start, time.dt, n)
+        .map_err(bad("validation.input"))?;
+    let truth = plant.parameters();
+    let (identification, id_truth) = synthetic_data(
+        "identification",
+        &truth,
+        id_exc,
+        plant.initial_state,
+        noise.sigma,
+        seed,
+        "identification",
+    )
+    .map_err(|e| XtaskError::run("data", e))?;
+    let (validation, val_truth) = synthetic_data(
+        "validation",
+        &truth,
+        val_exc,
+        plant.initial_state,
+        noise.sigma,
+        seed,
+        "validation",
+    )
+    .map_err(|e| XtaskError::run("data", e))?;
+    Ok(ExperimentData {
+        kind: Kind::Synthetic,
+        identification,
+        validation,
+        identification_truth: Some(id_truth),
+        validation_truth: Some(val_truth),
+        truth: Some(truth),
+        validation_initial_samples: 0,
+        source: Source::Synthetic { sigma: noise.sigma },
+    })
+}
+
+/// The columns of a CSV file as read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// Time stamps (from the time column, or i/fs).
+    pub time: Vec<f64>,
+    /// The input column (scaled).
+    pub input: Vec<f64>,
+    /// The output column (scaled).
+    pub output: Vec<f64>,
+    /// Sampling interval, s.
+    pub dt: f64,
+}
+
+fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> {
+    let base = config_path.parent().unwrap_or(Path::new(""));
+    let path = base.join(&d.path);
+    let record = read_csv(d, &path)?;
+    let rows = record.input.len();
+    let (record, factor) = preprocess(record, &d.preprocessing, &path)?;
+    let n = record.input.len();
+    let est = resolve_range(&d.estimation, &record, rows, factor, "data.estimation")
+        .map_err(|m| XtaskError::config(config_path, m))?;
+    let val_spec = d.validation.unwrap_or(d.estimation);
+    let val = resolve_range(&val_spec, &record, rows, factor, "data.validation")
+        .map_err(|m| XtaskError::config(config_path, m))?;
+    if d.estimation.initial_samples != 0 {
+        return Err(XtaskError::config(
+            config_path,
+            format!(
+                "data.estimation.initial_samples = {}: only for data.validation; set estimation.estimate_initial_state = true instead",
+                d.estimation.initial_samples
+            ),
+        ));
+    }
+    let initial = val_spec.initial_samples;
+    if initial + msd_ident::MIN_SAMPLES > val[1] - val[0] {
+        return Err(XtaskError::config(
+            config_path,
+            format!(
+                "data.validation.initial_samples = {initial}: expected fewer than the {} samples of the validation range less {}",
+                val[1] - val[0],
+                msd_ident::MIN_SAMPLES
+            ),
+        ));
+    }
+    let make = |name: &str, [a, b]: [usize; 2]| -> Result<DataSet> {
+        let excitation =
+            Excitation::from_samples(record.time[a], record.dt, record.input[a..b].to_vec())
+                .map_err(|e| XtaskError::data(&path, e.to_string()))?;
+        let mut set = DataSet::new(name, excitation, record.output[a..b].to_vec())
+            .map_err(|e| XtaskError::data(&path, format!("{name} range {a}..{b}: {e}")))?;
+        set.input_unit = d.input_unit.clone();
+        set.output_unit = d.output_unit.clone();
+        Ok(set)
+    };
+    let identification = make("identification", est)?;
+    let validation = make("validation", val)?;
+    debug_assert!(val[1] <= n && est[1] <= n);
+    Ok(ExperimentData {
+        kind: Kind::Measured,
+        identification,
+        validation,
+        identification_truth: None,
+        validation_truth: None,
+        truth: None,
+        validation_initial_samples: initial,
+        source: Source::Measured {
+            path,
+            rows,
+            dt: record.dt,
+            estimation_range: est,
+            validation_range: val,
+        },
+    })
+}
+
+/// Reads the input, output and (optional) time columns of a CSV file.
+///
+/// Errors name the file, the 1-based line and the column: a missing file, a missing
+/// column, an empty or non-numeric cell, NaN or infinity, time that does not increase
+/// or is not uniform (within 1 % of the mean step).
+pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
+    let file = std::fs::File::open(path).map_err(|e| {
+        XtaskError::data(
+            path,
+            format!("cannot open the data file (data.path = {:?}): {e}", d.path),
+        )
+    })?;
+    let mut reader = std::io::BufReader::new(file);
+    let mut line = String::new();
+    for _ in 0..d.skip_lines {
+        line.clear();
+        reader
+            .read_line(&mut line)
+            .map_err(|e| XtaskError::data(path, format!("cannot read: {e}")))?;
+    }
+    if !d.delimiter.is_ascii() {
+        return Err(XtaskError::data(
+            path,
+            format!(
+                "delimiter {:?}: expected a single ASCII character",
+                d.delimiter
+            ),
+        ));
+    }
+    let mut csv = csv::ReaderBuilder::new()
+        .delimiter(d.delimiter as u8)
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(reader);
+    let line_of = |pos: Option<&csv::Position>| pos.map_or(0, |p| p.line() as usize + d.skip_lines);
+    let mut records = csv.records();
+    let header: Option<(Vec<String>, usize)> = if d.header {
+        match records.next() {
+            Some(Ok(r)) => Some((
+                r.iter().map(str::to_string).collect(),
+                line_of(r.position()),
+            )),
+            Some(Err(e)) => return Err(XtaskError::data(path, csv_error(&e, d.skip_lines))),
+            None => {
+                return Err(XtaskError::data(
+                    path,
+                    "the file is empty: expected a header line and data rows",
+                ));
+            }
+        }
+    } else {
+        None
+    };
+    let find = |role: &str, c: &Column| -> Result<usize> {
+        match (c, &header) {
+            (Column::Index(i), _) => Ok(*i),
+            (Column::Name(name), Some((names, line))) => names
+                .iter()
+                .position(|h| h == name)
+                .ok_or_else(|| {
+                    let found: Vec<String> = names
+                        .iter()
+                        .filter(|h| !h.is_empty())
+                        .map(|h| format!("`{h}`"))
+                        .collect();
+                    XtaskError::data(
+                        path,
+                        format!(
+                            "line {line}: no {role} column named `{name}` (data.{role}): the header has {}",
+                            found.join(", ")
+                        ),
+                    )
+                }),
+            (Column::Name(name), None) => Err(XtaskError::data(
+                path,
+                format!("data.{role} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"),
+            )),
+        }
+    };
+    let input_col = find("input", &d.input)?;
+    let output_col = find("output", &d.output)?;
+    let time_col = d.time.as_ref().map(|c| find("time", c)).transpose()?;
+    let columns: Vec<(&str, usize, Column)> = [
+        Some(("input", input_col, d.input.clone())),
+        Some(("output", output_col, d.output.clone())),
+        time_col.zip(d.time.clone()).map(|(i, c)| ("time", i, c)),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+
+    let (mut time, mut input, mut output) = (Vec::new(), Vec::new(), Vec::new());
+    let mut previous_line = 0;
+    for r in records {
+        let r = r.map_err(|e| XtaskError::data(path, csv_error(&e, d.skip_lines)))?;
+        let line = line_of(r.position());
+        previous_line = line;
+        if r.iter().all(str::is_empty) {
+            continue; // a blank line
+        }
+        for (role, index, column) in &columns {
+            let cell = r.get(*index).ok_or_else(|| {
+                XtaskError::data(
+                    path,
+                    format!(
+                        "line {line}: the row has {} fields, no {role} column {column} (index {index})",
+                        r.len()
+                    ),
+                )
+            })?;
+            let value = parse_cell(cell).map_err(|why| {
+                XtaskError::data(path, format!("line {line}, {role} column {column}: {why}"))
+            })?;
+            match *role {
+                "input" => input.push(value * d.input_scale),
+                "output" => output.push(value * d.output_scale),
+                _ => time.push(value),
+            }
+        }
+        if let (Some(_), [.., a, b]) = (time_col, time.as_slice())
+            && b <= a
+        {
+            return Err(XtaskError::data(
+                path,
+                format!(
+                    "line {line}, time column: {b} s is not after the previous {a} s: expected increasing time"
+                ),
+            ));
+        }
+    }
+    let _ = previous_line;
+    if input.len() < msd_ident::MIN_SAMPLES {
+        return Err(XtaskError::data(
+            path,
+            format!(
+                "{} data rows: expected at least {}",
+                input.len(),
+                msd_ident::MIN_SAMPLES
+            ),
+        ));
+    }
+    let dt = match d.sample_rate {
+        Some(fs) => {
+            let dt = 1.0 / fs;
+            time = (0..input.len()).map(|i| i as f64 * dt).collect();
+            dt
+        }
+        None => {
+            let n = time.len();
+            let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
+            if let Some(i) = time
+                .windows(2)
+                .position(|w| ((w[1] - w[0]) - dt).abs() > 0.01 * dt)
+            {
+                return Err(XtaskError::data(
+                    path,
+                    format!(
+                        "data row {} (0-based), time column: step {} s: expected a uniform step of {dt} s (within 1 %)",
+                        i + 1,
+                        time[i + 1] - time[i]
+                    ),
+                ));
+            }
+            // Regularise small jitter (e.g. printed with few digits) onto the uniform grid.
+            let t0 = time[0];
+            time = (0..n).map(|i| t0 + i as f64 * dt).collect();
+            dt
+        }
+    };
+    Ok(Record {
+        time,
+        input,
+        output,
+        dt,
+    })
+}
+
+fn csv_error(e: &csv::Error, skip: usize) -> String {
+    match e.position() {
+        Some(p) => format!("line {}: malformed CSV: {e}", p.line() as usize + skip),
+        None => format!("malformed CSV: {e}"),
+    }
+}
+
+fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
+    let cell = cell.trim().trim_matches('"');
+    if cell.is_empty() {
+        return Err("empty cell: expected a number".into());
+    }
+    match cell.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("{v}: expected a finite number")),
+        Err(_) => Err(format!("`{cell}` is not a number")),
+    }
+}
+
+/// Applies the preprocessing steps in order; returns the record and the total
+/// decimation factor.
+fn preprocess(mut r: Record, steps: &[Preprocess], path: &Path) -> Result<(Record, usize)> {
+    let mut factor = 1;
+    let fail = |i: usize, e: msd_signal::SignalError| {
+        XtaskError::data(path, format!("data.preprocessing[{i}]: {e}"))
+    };
+    for (i, step) in steps.iter().enumerate() {
+        let apply = |r: &mut Record,
+                     columns: Columns,
+                     f: &dyn Fn(&[f64]) -> msd_signal::Result<Vec<f64>>|
+         -> Result<()> {
+            if columns != Columns::Output {
+                r.input = f(&r.input).map_err(|e| fail(i, e))?;
+            }
+            if columns != Columns::Input {
+                r.output = f(&r.output).map_err(|e| fail(i, e))?;
+            }
+            Ok(())
+        };
+        match *step {
+            Preprocess::RemoveMean { columns } => apply(&mut r, columns, &msd_signal::remove_mean)?,
+            Preprocess::DetrendLinear { columns } => {
+                apply(&mut r, columns, &msd_signal::detrend_linear)?
+            }
+            Preprocess::MovingAverage { window, columns } => {
+                apply(&mut r, columns, &|x| msd_signal::moving_average(x, window))?
+            }
+            Preprocess::Decimate { factor: f } => {
+                apply(&mut r, Columns::Both, &|x| msd_signal::decimate(x, f))?;
+                r.time = r.time.iter().step_by(f).copied().collect();
+                r.dt *= f as f64;
+                factor *= f;
+            }
+        }
+    }
+    Ok((r, factor))
+}
+
+/// A [`Range`] as sample indices `[start, end)` of the preprocessed record.
+fn resolve_range(
+    range: &Range,
+    r: &Record,
+    rows: usize,
+    factor: usize,
+    field: &str,
+) -> std::result::Result<[usize; 2], String> {
+    let n = r.input.len();
+    let [a, b] = match (range.range, range.time) {
+        (Some([a, b]), _) => {
+            if b > rows {
+                return Err(format!(
+                    "{field}.range = [{a}, {b}]: outside the data: expected 0 <= start < end <= {rows} (data rows in the file)"
+                ));
+            }
+            [a.div_ceil(factor), b.div_ceil(factor)]
+        }
+        (None, Some([ta, tb])) => {
+            let t0 = r.time[0];
+            let t_end = t0 + (n as f64) * r.dt;
+            if ta < t0 - 1e-9 * r.dt || tb > t_end + 1e-9 * r.dt {
+                return Err(format!(
+                    "{field}.time = [{ta}, {tb}]: outside the data: expected {t0} <= start < end <= {t_end} s"
+                ));
+            }
+            let index = |t: f64| (((t - t0) / r.dt) - 1e-9).ceil().max(0.0) as usize;
+            [index(ta), index(tb).min(n)]
+        }
+        (None, None) => [0, n],
+    };
+    if b.saturating_sub(a) < msd_ident::MIN_SAMPLES {
+        return Err(format!(
+            "{field}: [{a}, {b}) holds {} samples: expected at least {}",
+            b.saturating_sub(a),
+            msd_ident::MIN_SAMPLES
+        ));
+    }
+    Ok([a, b])
+}

@@ -1,0 +1,86 @@
+//! The one error type of xtask, split by who has to act: the user (a bad config or bad
+//! data, exit status 2) or the toolkit (a failure during the run, exit status 1).
+
+use std::path::Path;
+
+/// Everything that can stop `cargo xtask experiment`.
+///
+/// Each message is one line that names the file (and line, column or field), the value
+/// found and what was expected.
+///
+/// ```
+/// use xtask::XtaskError;
+/// let e = XtaskError::config("configs/x.toml", "plant.mass = -2.5: expected a finite number > 0");
+/// assert_eq!(e.exit_code(), 2);
+/// assert_eq!(e.to_string(), "configs/x.toml: plant.mass = -2.5: expected a finite number > 0");
+/// ```
+#[derive(Debug, thiserror::Error)]
+pub enum XtaskError {
+    /// The config file cannot be read, parsed or has a value out of range.
+    #[error("{file}: {message}")]
+    Config {
+        /// The config file (as given).
+        file: String,
+        /// What is wrong, naming line/column or field, the value and what was expected.
+        message: String,
+    },
+    /// A measured data file cannot be read or holds bad values.
+    #[error("{file}: {message}")]
+    Data {
+        /// The data file (as given in the config, resolved).
+        file: String,
+        /// What is wrong, naming line and column, the value and what was expected.
+        message: String,
+    },
+    /// A stage failed while running (estimation, simulation, plotting, writing).
+    #[error("{stage} failed: {message}")]
+    Run {
+        /// The stage that failed.
+        stage: &'static str,
+        /// Why.
+        message: String,
+    },
+}
+
+impl XtaskError {
+    /// A config error for `file`.
+    pub fn config(file: impl AsRef<Path>, message: impl Into<String>) -> Self {
+        Self::Config {
+            file: file.as_ref().display().to_string(),
+            message: message.into(),
+        }
+    }
+
+    /// A data error for `file`.
+    pub fn data(file: impl AsRef<Path>, message: impl Into<String>) -> Self {
+        Self::Data {
+            file: file.as_ref().display().to_string(),
+            message: message.into(),
+        }
+    }
+
+    /// A failure of `stage`.
+    pub fn run(stage: &'static str, message: impl std::fmt::Display) -> Self {
+        Self::Run {
+            stage,
+            message: message.to_string(),
+        }
+    }
+
+    /// The process exit status: 2 for a bad config or bad data, 1 for a failure during
+    /// the run.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Self::Config { .. } | Self::Data { .. } => 2,
+            Self::Run { .. } => 1,
+        }
+    }
+
+    /// Whether the user has to fix their input (config or data).
+    pub fn is_input_error(&self) -> bool {
+        self.exit_code() == 2
+    }
+}
+
+/// Shorthand for results of xtask.
+pub type Result<T, E = XtaskError> = std::result::Result<T, E>;

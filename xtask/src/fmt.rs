@@ -1,0 +1,87 @@
+//! Number and unit formatting shared by the summary, the report and the figures.
+
+/// `v` with `digits` significant digits: fixed notation for moderate magnitudes,
+/// scientific otherwise.
+///
+/// ```
+/// use xtask::fmt::sig;
+/// assert_eq!(sig(2.503149, 5), "2.5031");
+/// assert_eq!(sig(120.0, 5), "120.00");
+/// assert_eq!(sig(0.0519621, 4), "0.05196");
+/// assert_eq!(sig(1.5e-7, 3), "1.50e-7");
+/// assert_eq!(sig(0.0, 3), "0");
+/// ```
+pub fn sig(v: f64, digits: usize) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = digits.max(1);
+    let e = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&e) {
+        return format!("{:.*e}", digits - 1, v);
+    }
+    let decimals = (digits as i32 - 1 - e).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// Units of m, c and k for data with these input and output units: kg, N·s/m and
+/// N/m for newtons and metres, else the general `in·s²/out`, `in·s/out`, `in/out`.
+///
+/// ```
+/// assert_eq!(xtask::fmt::parameter_units("N", "m"), ["kg", "N·s/m", "N/m"]);
+/// assert_eq!(xtask::fmt::parameter_units("V", "V"), ["V·s²/V", "V·s/V", "V/V"]);
+/// ```
+pub fn parameter_units(input: &str, output: &str) -> [String; 3] {
+    if input == "N" && output == "m" {
+        return ["kg".into(), "N·s/m".into(), "N/m".into()];
+    }
+    [
+        format!("{input}·s²/{output}"),
+        format!("{input}·s/{output}"),
+        format!("{input}/{output}"),
+    ]
+}
+
+/// The displayed output unit and the factor to it: millimetres for metres, else as is.
+pub fn display_output(unit: &str) -> (f64, String) {
+    if unit == "m" {
+        (1e3, "mm".into())
+    } else {
+        (1.0, unit.to_string())
+    }
+}
+
+/// Milliseconds of a duration, with one decimal below 10 ms.
+pub fn millis(d: std::time::Duration) -> String {
+    let ms = d.as_secs_f64() * 1e3;
+    if ms < 10.0 {
+        format!("{ms:.1}")
+    } else {
+        format!("{ms:.0}")
+    }
+}
+
+/// The shortest form of `v` after rounding to 9 significant digits ("0.002", "15").
+///
+/// ```
+/// assert_eq!(xtask::fmt::short(0.0020000000000000005), "0.002");
+/// assert_eq!(xtask::fmt::short(15.0), "15");
+/// ```
+pub fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let scale = 10f64.powi(8 - v.abs().log10().floor() as i32);
+    format!("{}", (v * scale).round() / scale)
+}
+
+/// The optimiser's proper name.
+pub fn method_name(method: msd_ident::Method) -> &'static str {
+    match method {
+        msd_ident::Method::NelderMead => "Nelder–Mead",
+        msd_ident::Method::LevenbergMarquardt => "Levenberg–Marquardt",
+    }
+}

@@ -1,0 +1,380 @@
+//! The stages of an experiment, each timed: data → estimation → validation → residual
+//! diagnostics → frequency check → Monte Carlo. Writing (figures, CSV, report,
+//! results.json) is [`crate::output`]'s job.
+
+use crate::config::{Config, Kind, RecordChoice};
+use crate::data::{self, ExperimentData};
+use crate::progress::Progress;
+use crate::{Result, XtaskError};
+use msd_ident::{
+    Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, InitialState,
+    Method, Parameters, ResidualOptions, estimate, frequency_check, residual_analysis,
+    validate_model,
+};
+use msd_mc::{McOptions, Sampling, monte_carlo_band_with_progress};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Everything an experiment produced, in memory.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The config as read.
+    pub config: Config,
+    /// The config file as given.
+    pub config_path: PathBuf,
+    /// The seed used (`--seed` or the config's).
+    pub seed: u64,
+    /// Worker threads of the parallel stages (`--threads` or the config's).
+    pub threads: usize,
+    /// Both records.
+    pub data: ExperimentData,
+    /// The estimate on the identification record.
+    pub estimate: Estimate,
+    /// The prediction on the validation record.
+    pub validation: ValidationOutcome,
+    /// Residual diagnostics of the identification residuals.
+    pub residuals: Option<msd_ident::ResidualAnalysis>,
+    /// Frequency-domain consistency check on the identification record.
+    pub frequency: Option<msd_ident::FrequencyCheck>,
+    /// Monte Carlo band on the validation record.
+    pub monte_carlo: Option<MonteCarloOutcome>,
+    /// Wall time of each stage, in order.
+    pub timings: Vec<(&'static str, Duration)>,
+}
+
+/// The model's prediction on the validation record.
+#[derive(Debug, Clone)]
+pub struct ValidationOutcome {
+    /// The simulator used.
+    pub backend: Backend,
+    /// The initial state of the prediction (settled on the first samples for measured
+    /// data when asked).
+    pub initial_state: InitialState,
+    /// Model output on the whole validation record (offset included).
+    pub model_output: Vec<f64>,
+    /// Measurement minus model on the whole record.
+    pub residuals: Vec<f64>,
+    /// Samples at the start that only settled the initial state (not scored).
+    pub scored_from: usize,
+    /// Fit on the scored samples.
+    pub fit: FitMetrics,
+    /// Residual diagnostics of the scored validation residuals.
+    pub residual_analysis: Option<msd_ident::ResidualAnalysis>,
+    /// Fit of the noise-free true response (synthetic only): the ceiling R².
+    pub truth_fit: Option<FitMetrics>,
+}
+
+/// The Monte Carlo band on the validation record.
+#[derive(Debug, Clone)]
+pub struct MonteCarloOutcome {
+    /// Number of draws.
+    pub samples: usize,
+    /// Draws whose simulation failed (left out of the band).
+    pub failed_samples: usize,
+    /// Worker threads.
+    pub threads: usize,
+    /// ± spread of the uniform draw, as a fraction.
+    pub spread: f64,
+    /// Lower and upper percentiles, percent.
+    pub percentiles: [f64; 2],
+    /// Simulator of the draws.
+    pub backend: Backend,
+    /// The nominal prediction (θ̂).
+    pub nominal: Vec<f64>,
+    /// Pointwise lower percentile.
+    pub lower: Vec<f64>,
+    /// Pointwise median.
+    pub median: Vec<f64>,
+    /// Pointwise upper percentile.
+    pub upper: Vec<f64>,
+    /// Share of (scored) validation measurements inside the band.
+    pub coverage: f64,
+    /// Share of the noise-free true response inside the band (synthetic only).
+    pub truth_coverage: Option<f64>,
+}
+
+/// Options of a run that do not belong in the config.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunOptions {
+    /// Output folder instead of the config's (or `target/experiments/<name>`).
+    pub out: Option<PathBuf>,
+    /// Seed instead of the config's.
+    pub seed: Option<u64>,
+    /// Worker threads instead of the config's.
+    pub threads: Option<usize>,
+    /// Draw progress bars on stderr (only sensible on a terminal). By default false.
+    pub progress: bool,
+}
+
+/// Runs every computing stage of the experiment in `config_path`.
+pub fn run_stages(
+    config: Config,
+    config_path: &Path,
+    options: &RunOptions,
+    progress: &Progress,
+) -> Result<Outcome> {
+    let seed = options.seed.unwrap_or(config.seed);
+    let threads = options.threads.unwrap_or(config.monte_carlo.threads);
+    if threads == 0 {
+        return Err(XtaskError::config(
+            config_path,
+            "--threads 0: expected an integer >= 1",
+        ));
+    }
+    let mut timings = Vec::new();
+    let mut timed = |name: &'static str, started: Instant| timings.push((name, started.elapsed()));
+
+    progress.stage("data");
+    let t = Instant::now();
+    let data = data::load(&config, config_path, seed)?;
+    timed("data", t);
+
+    progress.stage("estimation");
+    let t = Instant::now();
+    let mut est_options = config.estimation.options();
+    if let Some(ms) = &mut est_options.multistart
+        && config.estimation.multistart.is_some()
+    {
+        ms.threads = threads;
+    }
+    let estimate = estimate(&data.identification, &est_options)
+        .map_err(|e| XtaskError::run("estimation", e))?;
+    timed("estimation", t);
+
+    progress.stage("validation");
+    let t = Instant::now();
+    let validation = validate(&config, &data, &estimate)?;
+    timed("validation", t);
+
+    progress.stage("residuals");
+    let t = Instant::now();
+    let residuals = Some(
+        residual_analysis(
+            &estimate.residuals,
+            data.identification.excitation.samples(),
+            &residual_options(&config),
+        )
+        .map_err(|e| XtaskError::run("residual analysis", e))?,
+    );
+    timed("residuals", t);
+
+    let frequency = if config.frequency_check.enabled {
+        progress.stage("frequency check");
+        let t = Instant::now();
+        let set = match config.frequency_check.data {
+            RecordChoice::Identification => &data.identification,
+            RecordChoice::Validation => &data.validation,
+        };
+        let check = frequency_check(
+            set,
+            &estimate.parameters,
+            Some(&estimate.uncertainty),
+            &config.frequency_check.options(),
+        )
+        .map_err(|e| XtaskError::run("frequency check", e))?;
+        timed("frequency_check", t);
+        Some(check)
+    } else {
+        None
+    };
+
+    let monte_carlo = if config.monte_carlo.enabled {
+        progress.stage("Monte Carlo");
+        let t = Instant::now();
+        let mc = monte_carlo(
+            &config,
+            &data,
+            &estimate,
+            &validation,
+            threads,
+            seed,
+            progress,
+        )?;
+        timed("monte_carlo", t);
+        Some(mc)
+    } else {
+        None
+    };
+
+    Ok(Outcome {
+        config,
+        config_path: config_path.to_path_buf(),
+        seed,
+        threads,
+        data,
+        estimate,
+        validation,
+        residuals,
+        frequency,
+        monte_carlo,
+        timings,
+    })
+}
+
+fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<ValidationOutcome> {
+    let backend = config.validation_backend();
+    let set = &data.validation;
+    let n0 = data.validation_initial_samples;
+    let initial_state = if n0 > 0 {
+        settle_initial_state(&est.parameters, set, n0, est.offset)?
+    } else {
+        config.estimation.initial_state
+    };
+    let options = residual_options(config);
+    let v = validate_model(
+        &est.parameters,
+        set,
+        initial_state,
+        est.offset,
+        &backend,
+        &options,
+    )
+    .map_err(|e| XtaskError::run("validation", e))?;
+    let (fit, analysis) = if n0 == 0 {
+        (v.fit, v.residual_analysis)
+    } else {
+        // Score only the samples after those that settled the initial state.
+        let fit = FitMetrics::new(&set.output[n0..], &v.model_output[n0..]);
+        let analysis = residual_analysis(
+            &v.residuals[n0..],
+            &set.excitation.samples()[n0..],
+            &options,
+        )
+        .map_err(|e| XtaskError::run("validation", e))?;
+        (fit, analysis)
+    };
+    let truth_fit = data
+        .validation_truth
+        .as_ref()
+        .map(|truth| FitMetrics::new(&set.output, truth));
+    Ok(ValidationOutcome {
+        backend,
+        initial_state,
+        model_output: v.model_output,
+        residuals: v.residuals,
+        scored_from: n0,
+        fit,
+        residual_analysis: Some(analysis),
+        truth_fit,
+    })
+}
+
+fn residual_options(config: &Config) -> ResidualOptions {
+    ResidualOptions {
+        max_lag: config.residuals.max_lag,
+        confidence: config.residuals.confidence,
+    }
+}
+
+/// The initial state that best explains the first `n` samples of `set` with the
+/// parameters held fixed (the benchmark's "first outputs set the initial state").
+fn settle_initial_state(
+    parameters: &Parameters,
+    set: &DataSet,
+    n: usize,
+    offset: f64,
+) -> Result<InitialState> {
+    let head = set
+        .slice(0, n)
+        .map_err(|e| XtaskError::run("validation", e))?;
+    let options = EstimationOptions {
+        method: Method::LevenbergMarquardt,
+        backend: Backend::EXACT,
+        initial_guess: Some(*parameters),
+        fixed: FixedParameters {
+            mass: Some(parameters.mass),
+            damping: Some(parameters.damping),
+            stiffness: Some(parameters.stiffness),
+        },
+        estimate_initial_state: true,
+        offset,
+        ..EstimationOptions::default()
+    };
+    estimate(&head, &options)
+        .map(|e| e.initial_state)
+        .map_err(|e| {
+            XtaskError::run(
+                "validation",
+                format!("settling the initial state on the first {n} samples: {e}"),
+            )
+        })
+}
+
+fn monte_carlo(
+    config: &Config,
+    data: &ExperimentData,
+    estimate: &Estimate,
+    validation: &ValidationOutcome,
+    threads: usize,
+    seed: u64,
+    progress: &Progress,
+) -> Result<MonteCarloOutcome> {
+    let mc = &config.monte_carlo;
+    let [p_lo, p_hi] = mc.percentiles;
+    let options = McOptions {
+        samples: mc.samples,
+        sampling: Sampling::Uniform {
+            percent: mc.spread * 100.0,
+        },
+        percentiles: vec![p_lo, 50.0, p_hi],
+        threads,
+        seed,
+        backend: config.monte_carlo_backend(),
+        initial_state: validation.initial_state,
+        ..McOptions::default()
+    };
+    let set = &data.validation;
+    let offset = estimate.offset;
+    // The band is of the model without the sensor offset: compare the measurements
+    // less the offset, then shift the curves back.
+    let measured: Vec<f64> = set.output.iter().map(|y| y - offset).collect();
+    progress.bar("Monte Carlo", mc.samples as u64);
+    let report = |done: usize, total: usize| {
+        progress.set_position((done * mc.samples / total.max(1)) as u64);
+    };
+    let band = monte_carlo_band_with_progress(
+        &estimate.parameters,
+        &set.excitation,
+        Some(&measured),
+        &options,
+        &report,
+    )
+    .map_err(|e| XtaskError::run("Monte Carlo", e))?;
+    let shift = |v: &[f64]| -> Vec<f64> { v.iter().map(|x| x + offset).collect() };
+    let lower = shift(band.lower());
+    let upper = shift(band.upper());
+    let median = band.median().map(shift).unwrap_or_default();
+    let nominal = shift(&band.nominal);
+    let n0 = validation.scored_from;
+    let inside = |y: &[f64]| {
+        let scored = y.len() - n0;
+        let count = (n0..y.len())
+            .filter(|&i| lower[i] <= y[i] && y[i] <= upper[i])
+            .count();
+        count as f64 / scored.max(1) as f64
+    };
+    let coverage = match band.coverage {
+        Some(c) if n0 == 0 => c,
+        _ => inside(&set.output),
+    };
+    let truth_coverage = data.validation_truth.as_deref().map(inside);
+    Ok(MonteCarloOutcome {
+        samples: band.samples,
+        failed_samples: band.failed_samples,
+        threads: band.threads,
+        spread: mc.spread,
+        percentiles: mc.percentiles,
+        backend: band.backend,
+        nominal,
+        lower,
+        median,
+        upper,
+        coverage,
+        truth_coverage,
+    })
+}
+
+/// Whether the experiment is synthetic.
+pub fn is_synthetic(outcome: &Outcome) -> bool {
+    outcome.data.kind == Kind::Synthetic
+}

@@ -1,0 +1,280 @@
+//! Figures, each written as PNG and SVG by plotters with the bundled DejaVu Sans font
+//! (no system fonts or libraries needed).
+//!
+//! - `fig2_identification`: excitation, measurement and model fit, residuals (the
+//!   paper's Figure 2);
+//! - `fig3_validation`: validation measurements, model prediction and, for synthetic
+//!   data, the true response (Figure 3);
+//! - `fig4_monte_carlo`: the Monte Carlo band, nominal prediction and measurements
+//!   (Figure 4);
+//! - `residual_correlation`: residual autocorrelation and residual–input
+//!   cross-correlation with their bands;
+//! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked.
+//!
+//! Long records are thinned for drawing only: lines keep each pixel column's minimum
+//! and maximum (so no peak is lost), markers are subsampled evenly.
+
+mod diagnostics;
+mod time;
+
+use crate::pipeline::Outcome;
+use crate::{Result, XtaskError};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+/// The font family every figure uses (DejaVu Sans, registered from the `dejavu` crate).
+pub const FONT: &str = "sans-serif";
+
+/// Blue of the measurements.
+pub(crate) const BLUE: RGBColor = RGBColor(31, 119, 180);
+/// Orange of the true response.
+pub(crate) const ORANGE: RGBColor = RGBColor(255, 127, 14);
+/// Red of the model.
+pub(crate) const RED: RGBColor = RGBColor(214, 39, 40);
+/// Gray of bands.
+pub(crate) const GRAY: RGBColor = RGBColor(150, 150, 150);
+/// Dark gray of grid lines and bounds.
+pub(crate) const DARK: RGBColor = RGBColor(60, 60, 60);
+
+/// Drawing result with the error as text.
+pub(crate) type Draw = std::result::Result<(), String>;
+
+/// Turns any plotters error into text.
+pub(crate) fn text<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+/// Registers the bundled font once per process.
+pub fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The bytes are a well-formed TTF shipped inside the crate; failure is impossible
+        // in practice and would only mean text is not drawn.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+        let _ = plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
+        let _ = plotters::style::register_font(FONT, FontStyle::Italic, dejavu::sans::oblique());
+        let _ = plotters::style::register_font(FONT, FontStyle::Oblique, dejavu::sans::oblique());
+    });
+}
+
+/// A figure that can draw itself on any plotters backend.
+pub(crate) trait Figure {
+    /// File name without extension.
+    fn name(&self) -> &'static str;
+    /// Size in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws the whole figure.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
+}
+
+/// Writes `figure` as `<name>.png` and `<name>.svg` into `dir`.
+pub(crate) fn save(figure: &impl Figure, dir: &Path) -> Result<()> {
+    let fail = |e: String| XtaskError::run("figures", format!("{}: {e}", figure.name()));
+    let png = dir.join(format!("{}.png", figure.name()));
+    {
+        let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();
+        root.fill(&WHITE).map_err(text).map_err(fail)?;
+        figure.draw(&root).map_err(fail)?;
+        root.present().map_err(text).map_err(fail)?;
+    }
+    let svg = dir.join(format!("{}.svg", figure.name()));
+    {
+        let root = SVGBackend::new(&svg, figure.size()).into_drawing_area();
+        root.fill(&WHITE).map_err(text).map_err(fail)?;
+        figure.draw(&root).map_err(fail)?;
+        root.present().map_err(text).map_err(fail)?;
+    }
+    Ok(())
+}
+
+/// Writes every figure the outcome supports; returns the base names written.
+pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
+    register_fonts();
+    let mut written = Vec::new();
+    let units = Units::of(outcome);
+    let f2 = time::Identification::new(outcome, &units);
+    save(&f2, dir)?;
+    written.push(f2.name());
+    let f3 = time::Validation::new(outcome, &units);
+    save(&f3, dir)?;
+    written.push(f3.name());
+    if let Some(f4) = time::MonteCarlo::new(outcome, &units) {
+        save(&f4, dir)?;
+        written.push(f4.name());
+    }
+    if let Some(r) = &outcome.residuals {
+        let f = diagnostics::Correlation::new(r);
+        save(&f, dir)?;
+        written.push(f.name());
+    }
+    if let Some(fc) = &outcome.frequency {
+        let f = diagnostics::Bode::new(
+            fc,
+            outcome.estimate.parameters,
+            &units,
+            outcome.config.frequency_check.data.name(),
+        );
+        save(&f, dir)?;
+        written.push(f.name());
+    }
+    Ok(written)
+}
+
+/// Display units: displacement in mm when the data are in metres.
+#[derive(Debug, Clone)]
+pub(crate) struct Units {
+    /// Factor from the output unit to the displayed one.
+    pub output_factor: f64,
+    /// Displayed output unit.
+    pub output: String,
+    /// Input unit.
+    pub input: String,
+}
+
+impl Units {
+    fn of(outcome: &Outcome) -> Self {
+        let set = &outcome.data.identification;
+        let (output_factor, output) = if set.output_unit == "m" {
+            (1e3, "mm".to_string())
+        } else {
+            (1.0, set.output_unit.clone())
+        };
+        Self {
+            output_factor,
+            output,
+            input: set.input_unit.clone(),
+        }
+    }
+}
+
+/// Title style.
+pub(crate) fn title_style() -> TextStyle<'static> {
+    (FONT, 24).into_font().style(FontStyle::Bold).color(&BLACK)
+}
+
+/// Axis description style.
+pub(crate) fn label_style() -> TextStyle<'static> {
+    (FONT, 19).into_font().color(&BLACK)
+}
+
+/// Tick label style.
+pub(crate) fn tick_style() -> TextStyle<'static> {
+    (FONT, 16).into_font().color(&DARK)
+}
+
+/// Legend style.
+pub(crate) fn legend_style() -> TextStyle<'static> {
+    (FONT, 16).into_font().color(&BLACK)
+}
+
+/// A tick label: the value rounded to 1e-9 relative, shortest form ("8", "0.03").
+pub(crate) fn tick(v: &f64) -> String {
+    if *v == 0.0 || !v.is_finite() {
+        return "0".into();
+    }
+    let scale = 10f64.powi(9 - v.abs().log10().floor() as i32);
+    let r = (v * scale).round() / scale;
+    if r.abs() >= 1e6 || r.abs() < 1e-4 {
+        format!("{r:e}")
+    } else {
+        format!("{r}")
+    }
+}
+
+/// Lower and upper limits of all values, widened by 5 % (and made non-degenerate).
+pub(crate) fn limits<'a>(series: impl IntoIterator<Item = &'a [f64]>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for s in series {
+        for &v in s {
+            if v.is_finite() {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+    }
+    if !lo.is_finite() || !hi.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let span = hi - lo;
+    let pad = if span > 0.0 {
+        0.05 * span
+    } else {
+        0.5 * lo.abs().max(1e-12)
+    };
+    (lo - pad, hi + pad)
+}
+
+/// At most about `max` points of the line (x, y) that keep each bucket's minimum and
+/// maximum in order, so the drawn envelope equals the full line's.
+pub(crate) fn thin_line(x: &[f64], y: &[f64], max: usize) -> Vec<(f64, f64)> {
+    let n = x.len().min(y.len());
+    if n <= max || max < 4 {
+        return x.iter().copied().zip(y.iter().copied()).take(n).collect();
+    }
+    let buckets = max / 2;
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for b in 0..buckets {
+        let (lo, hi) = (
+            b * n / buckets,
+            ((b + 1) * n / buckets).max(b * n / buckets + 1),
+        );
+        let slice = &y[lo..hi];
+        let (mut imin, mut imax) = (0, 0);
+        for (i, v) in slice.iter().enumerate() {
+            if *v < slice[imin] {
+                imin = i;
+            }
+            if *v > slice[imax] {
+                imax = i;
+            }
+        }
+        let (first, second) = if imin <= imax {
+            (imin, imax)
+        } else {
+            (imax, imin)
+        };
+        out.push((x[lo + first], y[lo + first]));
+        if second != first {
+            out.push((x[lo + second], y[lo + second]));
+        }
+    }
+    out
+}
+
+/// Every k-th point so that at most `max` markers are drawn.
+pub(crate) fn thin_points(x: &[f64], y: &[f64], max: usize) -> Vec<(f64, f64)> {
+    let n = x.len().min(y.len());
+    let step = n.div_ceil(max.max(1)).max(1);
+    (0..n).step_by(step).map(|i| (x[i], y[i])).collect()
+}
+
+/// `x` scaled by `factor`.
+pub(crate) fn scaled(x: &[f64], factor: f64) -> Vec<f64> {
+    x.iter().map(|v| v * factor).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_the_extremes() {
+        let x: Vec<f64> = (0..10_000).map(|i| i as f64).collect();
+        let y: Vec<f64> = x.iter().map(|t| (t * 0.37).sin() * t).collect();
+        let thin = thin_line(&x, &y, 1000);
+        assert!(thin.len() <= 1000);
+        let max = y.iter().copied().fold(f64::MIN, f64::max);
+        let min = y.iter().copied().fold(f64::MAX, f64::min);
+        assert!(thin.iter().any(|p| p.1 == max) && thin.iter().any(|p| p.1 == min));
+        assert!(thin.windows(2).all(|w| w[0].0 < w[1].0));
+    }
+
+    #[test]
+    fn limits_pad_and_survive_constants() {
+        assert_eq!(limits([&[0.0, 10.0][..]]), (-0.5, 10.5));
+        let (lo, hi) = limits([&[2.0, 2.0][..]]);
+        assert!(lo < 2.0 && hi > 2.0);
+    }
+}

@@ -1,0 +1,531 @@
+//! `report.md`: the run told for a person, with the figures embedded.
+
+use crate::config::Kind;
+use crate::fmt::{display_output, method_name, millis, parameter_units, short, sig};
+use crate::pipeline::Outcome;
+use crate::summary::stage_label;
+use msd_ident::Interval;
+use std::fmt::Write;
+use std::time::Duration;
+
+/// The paper's reported R² on the identification and validation data.
+pub const PAPER_R2: [f64; 2] = [0.9907, 0.9949];
+
+fn yes(b: bool) -> &'static str {
+    if b { "yes" } else { "**no**" }
+}
+
+/// The markdown report of `outcome`; `figures` are the base names written, `extra` the
+/// writing stages' timings so far and `elapsed` the run's wall time so far.
+pub fn markdown(
+    outcome: &Outcome,
+    figures: &[&str],
+    extra: &[(&'static str, Duration)],
+    elapsed: Duration,
+) -> String {
+    let o = outcome;
+    let e = &o.estimate;
+    let u = &e.uncertainty;
+    let id = &o.data.identification;
+    let units = parameter_units(&id.input_unit, &id.output_unit);
+    let (factor, out_unit) = display_output(&id.output_unit);
+    let has = |name: &str| figures.contains(&name);
+    let mut s = String::new();
+    let w = &mut s;
+
+    let _ = writeln!(w, "# Experiment `{}`\n", o.config.name);
+    if !o.config.description.is_empty() {
+        let _ = writeln!(w, "{}\n", o.config.description.trim());
+    }
+    let _ = writeln!(
+        w,
+        "Identification of mass *m*, damping *c* and stiffness *k* of m·x″ + c·x′ + k·x = F(t) from {}.\n",
+        match o.data.kind {
+            Kind::Synthetic => "synthetic data generated from a known plant".to_string(),
+            Kind::Measured => "a measured record".to_string(),
+        }
+    );
+    let config_file = o
+        .config_path
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let _ = writeln!(w, "| run | |\n|---|---|");
+    let _ = writeln!(w, "| config | `{config_file}` |");
+    let _ = writeln!(
+        w,
+        "| command | `cargo xtask experiment {}` |",
+        o.config_path.display()
+    );
+    if o.data.kind == Kind::Synthetic {
+        let _ = writeln!(w, "| seed | {} |", o.seed);
+    }
+    let _ = writeln!(w, "| toolkit version | {} |", crate::results::CRATE_VERSION);
+    let _ = writeln!(
+        w,
+        "| method | {} on {} |",
+        method_name(e.method),
+        e.backend.name()
+    );
+    let _ = writeln!(w, "| worker threads | {} |\n", o.threads);
+
+    // The story in one paragraph.
+    let _ = writeln!(w, "## In short\n");
+    let mut verdicts = vec![format!(
+        "The model explains {:.2} % of the variance of the identification data (R² = {:.4}) and {:.2} % of the validation data it never saw (R² = {:.4}).",
+        100.0 * e.fit.r_squared,
+        e.fit.r_squared,
+        100.0 * o.validation.fit.r_squared,
+        o.validation.fit.r_squared
+    )];
+    if let Some(t) = &o.data.truth {
+        let within: Vec<&str> = [
+            ("m", &u.mass, t.mass),
+            ("c", &u.damping, t.damping),
+            ("k", &u.stiffness, t.stiffness),
+        ]
+        .iter()
+        .filter(|(_, i, v)| i.contains(*v))
+        .map(|(n, _, _)| *n)
+        .collect();
+        verdicts.push(format!(
+            "The true values lie inside the 95 % intervals for {} of 3 parameters{}.",
+            within.len(),
+            if within.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", within.join(", "))
+            }
+        ));
+    }
+    if let Some(r) = &o.residuals {
+        verdicts.push(r.verdict.clone());
+    }
+    if let Some(f) = &o.frequency {
+        verdicts.push(f.verdict.clone());
+    }
+    if let Some(mc) = &o.monte_carlo {
+        verdicts.push(format!(
+            "With every parameter varied within ±{:.0} %, the {:.0} % Monte Carlo band holds {:.1} % of the validation measurements.",
+            mc.spread * 100.0,
+            mc.percentiles[1] - mc.percentiles[0],
+            mc.coverage * 100.0
+        ));
+    }
+    for warning in &u.warnings {
+        verdicts.push(format!("Warning: {warning}."));
+    }
+    let _ = writeln!(w, "{}\n", verdicts.join(" "));
+
+    // Data.
+    let _ = writeln!(w, "## Data\n");
+    match &o.data.source {
+        crate::data::Source::Synthetic { sigma } => {
+            let _ = writeln!(
+                w,
+                "Both records are simulated exactly from the true plant and corrupted with white Gaussian noise of σ = {} {} (independent seeded streams \"identification\" and \"validation\").\n",
+                sig(sigma * factor, 3),
+                out_unit
+            );
+        }
+        crate::data::Source::Measured {
+            path,
+            rows,
+            dt,
+            estimation_range,
+            validation_range,
+        } => {
+            let _ = writeln!(
+                w,
+                "File `{}`: {rows} rows, dt = {} s ({} Hz) after preprocessing. Estimation samples {}..{}, validation samples {}..{} (0-based, end excluded).\n",
+                path.file_name()
+                    .map(|f| f.to_string_lossy())
+                    .unwrap_or_default(),
+                sig(*dt, 6),
+                sig(1.0 / dt, 6),
+                estimation_range[0],
+                estimation_range[1],
+                validation_range[0],
+                validation_range[1]
+            );
+        }
+    }
+    let _ = writeln!(
+        w,
+        "| record | samples | t₀ [s] | dt [s] | duration [s] |\n|---|---|---|---|---|"
+    );
+    for d in [&o.data.identification, &o.data.validation] {
+        let _ = writeln!(
+            w,
+            "| {} | {} | {} | {} | {} |",
+            d.name,
+            d.len(),
+            short(d.excitation.t0()),
+            short(d.excitation.dt()),
+            short(d.excitation.dt() * (d.len() - 1) as f64)
+        );
+    }
+    let _ = writeln!(w);
+
+    // Parameters.
+    let _ = writeln!(w, "## Estimated parameters\n");
+    let truth = o.data.truth;
+    let header = if truth.is_some() {
+        "| quantity | true | estimate | standard error | 95 % interval | error / SE |\n|---|---|---|---|---|---|"
+    } else {
+        "| quantity | estimate | standard error | 95 % interval |\n|---|---|---|---|"
+    };
+    let _ = writeln!(w, "{header}");
+    let rows: [(String, Option<f64>, &Interval); 5] = [
+        (format!("m [{}]", units[0]), truth.map(|t| t.mass), &u.mass),
+        (
+            format!("c [{}]", units[1]),
+            truth.map(|t| t.damping),
+            &u.damping,
+        ),
+        (
+            format!("k [{}]", units[2]),
+            truth.map(|t| t.stiffness),
+            &u.stiffness,
+        ),
+        (
+            "fn [Hz]".into(),
+            truth.map(|t| t.natural_frequency_hz()),
+            &u.natural_frequency_hz,
+        ),
+        (
+            "ζ".into(),
+            truth.map(|t| t.damping_ratio()),
+            &u.damping_ratio,
+        ),
+    ];
+    for (name, true_value, i) in rows {
+        let interval = format!("[{}, {}]", sig(i.ci95[0], 5), sig(i.ci95[1], 5));
+        match true_value {
+            Some(t) => {
+                let z = if i.standard_error > 0.0 {
+                    (i.value - t) / i.standard_error
+                } else {
+                    0.0
+                };
+                let _ = writeln!(
+                    w,
+                    "| {name} | {} | {} | {} | {interval} | {z:+.2} |",
+                    sig(t, 5),
+                    sig(i.value, 5),
+                    sig(i.standard_error, 3)
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    w,
+                    "| {name} | {} | {} | {interval} |",
+                    sig(i.value, 5),
+                    sig(i.standard_error, 3)
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        w,
+        "\nωn = {} rad/s. Intervals: Gauss–Newton covariance σ̂²(JᵀJ)⁻¹ from the exact sensitivities (σ̂ = {} {}, {} degrees of freedom), Student's t; fn and ζ by the delta method.\n",
+        sig(e.parameters.natural_frequency(), 5),
+        sig(u.sigma * factor, 4),
+        out_unit,
+        u.degrees_of_freedom
+    );
+    let _ = writeln!(
+        w,
+        "Solver: {} on {} from θ₀ = ({}, {}, {}) ({}): {} iterations, {} cost evaluations{}, {}; final cost Σr² = {}. Condition number of the scaled JᵀJ: {}.\n",
+        method_name(e.method),
+        e.backend.name(),
+        sig(e.initial_guess.0.mass, 4),
+        sig(e.initial_guess.0.damping, 4),
+        sig(e.initial_guess.0.stiffness, 4),
+        match e.initial_guess.1 {
+            msd_ident::GuessSource::Given => "given",
+            msd_ident::GuessSource::Automatic => "automatic ARX guess",
+        },
+        e.iterations,
+        e.evaluations,
+        if e.jacobian_evaluations > 0 {
+            format!(", {} Jacobians", e.jacobian_evaluations)
+        } else {
+            String::new()
+        },
+        if e.converged {
+            format!("converged ({})", e.exit)
+        } else {
+            format!("**not converged** ({})", e.exit)
+        },
+        sig(e.cost, 5),
+        sig(u.condition_number, 3)
+    );
+    let names = &u.names;
+    if names.len() > 1 {
+        let _ = writeln!(w, "Correlation of the estimates:\n");
+        let _ = writeln!(w, "| | {} |", names.join(" | "));
+        let _ = writeln!(w, "|---|{}", "---|".repeat(names.len()));
+        for r in 0..names.len() {
+            let cells: Vec<String> = (0..names.len())
+                .map(|c| format!("{:+.3}", u.correlation[(r, c)]))
+                .collect();
+            let _ = writeln!(w, "| {} | {} |", names[r], cells.join(" | "));
+        }
+        let _ = writeln!(w);
+    }
+
+    // Fit.
+    let _ = writeln!(w, "## Fit\n");
+    let _ = writeln!(
+        w,
+        "| record | R² | fit % | RMS error [{out_unit}] |{}\n|---|---|---|---|{}",
+        if truth.is_some() {
+            " R² of the true response |"
+        } else {
+            ""
+        },
+        if truth.is_some() { "---|" } else { "" }
+    );
+    let ceiling = |t: &Option<Vec<f64>>, y: &[f64]| {
+        t.as_ref()
+            .map(|t| msd_ident::FitMetrics::new(y, t).r_squared)
+    };
+    for (name, fit, c) in [
+        (
+            "identification",
+            &e.fit,
+            ceiling(&o.data.identification_truth, &o.data.identification.output),
+        ),
+        (
+            "validation",
+            &o.validation.fit,
+            o.validation.truth_fit.map(|f| f.r_squared),
+        ),
+    ] {
+        let _ = writeln!(
+            w,
+            "| {name} | {:.5} | {:.2} | {} |{}",
+            fit.r_squared,
+            fit.fit_percent,
+            sig(fit.residual_rms * factor, 4),
+            c.map(|c| format!(" {c:.5} |")).unwrap_or_default()
+        );
+    }
+    if truth.is_some() {
+        let _ = writeln!(
+            w,
+            "\nThe R² of the true (noise-free) response is the best any model can reach on these noisy records. The paper reports R² = {} (identification) and {} (validation).",
+            PAPER_R2[0], PAPER_R2[1]
+        );
+    }
+    if o.validation.scored_from > 0 {
+        let _ = writeln!(
+            w,
+            "\nThe validation prediction starts from the initial state that best explains its first {} samples (parameters held); those samples are not scored.",
+            o.validation.scored_from
+        );
+    }
+    let _ = writeln!(w);
+    if has("fig2_identification") {
+        let _ = writeln!(
+            w,
+            "![Figure 2: excitation, measurement and model fit, residuals](fig2_identification.png)\n"
+        );
+        let _ = writeln!(
+            w,
+            "*Figure 2 — identification: the excitation (top), the measurement and the model's fit (middle), the residuals (bottom).*\n"
+        );
+    }
+    if has("fig3_validation") {
+        let _ = writeln!(w, "![Figure 3: validation](fig3_validation.png)\n");
+        let _ = writeln!(
+            w,
+            "*Figure 3 — validation on data never used for fitting: measurements, the model's prediction{}.*\n",
+            if o.data.validation_truth.is_some() {
+                " and the true response"
+            } else {
+                ""
+            }
+        );
+    }
+
+    // Residuals.
+    if let Some(r) = &o.residuals {
+        let _ = writeln!(w, "## Residual diagnostics\n");
+        let _ = writeln!(w, "{}\n", r.verdict);
+        let _ = writeln!(w, "| test | statistic | passed |\n|---|---|---|");
+        let _ = writeln!(
+            w,
+            "| whiteness (Ljung–Box, {} lags) | Q = {:.2}, p = {:.4} | {} |",
+            r.ljung_box.degrees_of_freedom,
+            r.ljung_box.q,
+            r.ljung_box.p_value,
+            yes(r.whiteness_passed)
+        );
+        let _ = writeln!(
+            w,
+            "| autocorrelation inside ±{:.4} | {} of {} lags outside, max \\|r\\| = {:.4} | {} |",
+            r.autocorrelation.bound,
+            r.autocorrelation.outside,
+            r.autocorrelation.lags.len().saturating_sub(1),
+            r.autocorrelation.max_abs,
+            yes(r.autocorrelation.passed)
+        );
+        let _ = writeln!(
+            w,
+            "| residual–input cross-correlation | max \\|ρ\\| = {:.4}, {} of {} lags outside ±{:.4} | {} |",
+            r.cross_correlation.max_abs,
+            r.cross_correlation.outside,
+            r.cross_correlation.lags.len(),
+            r.cross_correlation.bound,
+            yes(r.cross_correlation_passed)
+        );
+        if let Some(vr) = &o.validation.residual_analysis {
+            let _ = writeln!(
+                w,
+                "| validation residuals: Ljung–Box | Q = {:.2}, p = {:.4} | {} |",
+                vr.ljung_box.q,
+                vr.ljung_box.p_value,
+                yes(vr.whiteness_passed)
+            );
+            let _ = writeln!(
+                w,
+                "| validation residuals: input cross-correlation | max \\|ρ\\| = {:.4} | {} |",
+                vr.cross_correlation.max_abs,
+                yes(vr.cross_correlation_passed)
+            );
+        }
+        let _ = writeln!(w);
+        if has("residual_correlation") {
+            let _ = writeln!(w, "![Residual correlations](residual_correlation.png)\n");
+        }
+    }
+
+    // Frequency.
+    if let Some(f) = &o.frequency {
+        let _ = writeln!(w, "## Frequency-domain consistency\n");
+        let _ = writeln!(w, "{}\n", f.verdict);
+        let _ = writeln!(w, "| | fn [Hz] | ζ |\n|---|---|---|");
+        let _ = writeln!(
+            w,
+            "| single-mode fit to the {} data's DFT | {} | {} |",
+            o.config.frequency_check.data.name(),
+            sig(f.natural_frequency_hz, 5),
+            sig(f.damping_ratio, 4)
+        );
+        let _ = writeln!(
+            w,
+            "| identified model | {} | {} |",
+            sig(f.model_natural_frequency_hz, 5),
+            sig(f.model_damping_ratio, 4)
+        );
+        let _ = writeln!(
+            w,
+            "\nFit band {}–{} Hz; normalised output error of the model in the band {:.3}.\n",
+            sig(f.band_hz[0], 3),
+            sig(f.band_hz[1], 3),
+            f.model_relative_error
+        );
+        if has("frf_bode") {
+            let _ = writeln!(w, "![Bode plot](frf_bode.png)\n");
+        }
+    }
+
+    // Monte Carlo.
+    if let Some(mc) = &o.monte_carlo {
+        let _ = writeln!(w, "## Monte Carlo robustness\n");
+        let _ = writeln!(
+            w,
+            "{} parameter sets drawn independently and uniformly within ±{:.0} % of θ̂ ({} on the validation record, {} thread{}), each simulated on the validation input; the pointwise {:.0}th and {:.0}th percentiles form the band.\n",
+            mc.samples,
+            mc.spread * 100.0,
+            mc.backend.name(),
+            mc.threads,
+            if mc.threads == 1 { "" } else { "s" },
+            mc.percentiles[0],
+            mc.percentiles[1]
+        );
+        let widths: Vec<f64> = mc.upper.iter().zip(&mc.lower).map(|(h, l)| h - l).collect();
+        let mean = widths.iter().sum::<f64>() / widths.len().max(1) as f64;
+        let max = widths.iter().copied().fold(0.0, f64::max);
+        let _ = writeln!(w, "| quantity | value |\n|---|---|");
+        let _ = writeln!(
+            w,
+            "| measurements inside the band | {:.1} % |",
+            mc.coverage * 100.0
+        );
+        if let Some(tc) = mc.truth_coverage {
+            let _ = writeln!(w, "| true response inside the band | {:.1} % |", tc * 100.0);
+        }
+        let _ = writeln!(
+            w,
+            "| mean band width | {} {out_unit} |",
+            sig(mean * factor, 3)
+        );
+        let _ = writeln!(
+            w,
+            "| largest band width | {} {out_unit} |",
+            sig(max * factor, 3)
+        );
+        if mc.failed_samples > 0 {
+            let _ = writeln!(
+                w,
+                "| draws that failed to simulate | {} |",
+                mc.failed_samples
+            );
+        }
+        let _ = writeln!(w);
+        if has("fig4_monte_carlo") {
+            let _ = writeln!(w, "![Figure 4: Monte Carlo band](fig4_monte_carlo.png)\n");
+            let _ = writeln!(
+                w,
+                "*Figure 4 — Monte Carlo: the band of predictions under ±{:.0} % parameter variation, the nominal prediction and the measurements. The band is widest where the response is most sensitive to the parameters.*\n",
+                mc.spread * 100.0
+            );
+        }
+    }
+
+    // Timings and files.
+    let _ = writeln!(w, "## Timings\n");
+    let _ = writeln!(w, "| stage | time [ms] |\n|---|---|");
+    for (name, d) in o.timings.iter().chain(extra) {
+        let _ = writeln!(w, "| {} | {} |", stage_label(name), millis(*d));
+    }
+    let _ = writeln!(w, "| total before this report | {} |\n", millis(elapsed));
+    let _ = writeln!(w, "## Files\n");
+    let _ = writeln!(
+        w,
+        "- `results.json`: every number of this report, the config as read, the seed and version;"
+    );
+    let _ = writeln!(
+        w,
+        "- `identification.csv`, `validation.csv`: t, input, measured, model, residual{}{};",
+        if o.data.validation_truth.is_some() {
+            ", true response"
+        } else {
+            ""
+        },
+        if o.monte_carlo.is_some() {
+            ", Monte Carlo band (validation)"
+        } else {
+            ""
+        }
+    );
+    if o.residuals.is_some() {
+        let _ = writeln!(w, "- `residual_correlation.csv`: the correlation curves;");
+    }
+    if o.frequency.is_some() {
+        let _ = writeln!(w, "- `frf.csv`: the frequency responses;");
+    }
+    let _ = writeln!(
+        w,
+        "- figures as PNG and SVG: {}.",
+        figures
+            .iter()
+            .map(|f| format!("`{f}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    s
+}

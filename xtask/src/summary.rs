@@ -1,0 +1,198 @@
+//! The concise summary printed after a run: parameters with intervals, fit on both
+//! records, residual, frequency and Monte Carlo verdicts, and the time of each stage.
+
+use crate::fmt::{display_output, method_name, millis, parameter_units, sig};
+use crate::pipeline::Outcome;
+use std::fmt::Write;
+use std::path::Path;
+use std::time::Duration;
+
+/// The stage names as printed.
+pub(crate) fn stage_label(name: &str) -> &str {
+    match name {
+        "frequency_check" => "frequency check",
+        "monte_carlo" => "Monte Carlo",
+        other => other,
+    }
+}
+
+/// The summary text of a finished run whose report is in `out_dir`.
+pub fn text(
+    outcome: &Outcome,
+    extra: &[(&'static str, Duration)],
+    total: Duration,
+    out_dir: &Path,
+) -> String {
+    let o = outcome;
+    let e = &o.estimate;
+    let u = &e.uncertainty;
+    let set = &o.data.identification;
+    let units = parameter_units(&set.input_unit, &set.output_unit);
+    let (factor, out_unit) = display_output(&set.output_unit);
+    let mut s = String::new();
+    let kind = match o.data.kind {
+        crate::config::Kind::Synthetic => format!("synthetic data, seed {}", o.seed),
+        crate::config::Kind::Measured => "measured data".to_string(),
+    };
+    let _ = writeln!(s, "experiment `{}` ({kind})", o.config.name);
+    let _ = writeln!(
+        s,
+        "  {} on {} from θ0 = ({}, {}, {}){}: {} iterations, {} evaluations, {}",
+        method_name(e.method),
+        e.backend.name(),
+        sig(e.initial_guess.0.mass, 4),
+        sig(e.initial_guess.0.damping, 4),
+        sig(e.initial_guess.0.stiffness, 4),
+        if e.initial_guess.1 == msd_ident::GuessSource::Automatic {
+            " (automatic)"
+        } else {
+            ""
+        },
+        e.iterations,
+        e.evaluations,
+        if e.converged {
+            "converged".to_string()
+        } else {
+            format!("NOT converged ({})", e.exit)
+        }
+    );
+    let _ = writeln!(s);
+    let truth = o.data.truth;
+    let _ = writeln!(
+        s,
+        "  {:<14} {:>10} {:>11}   95 % interval",
+        "parameter",
+        if truth.is_some() { "true" } else { "" },
+        "estimate",
+    );
+    let rows = [
+        (format!("m [{}]", units[0]), truth.map(|t| t.mass), &u.mass),
+        (
+            format!("c [{}]", units[1]),
+            truth.map(|t| t.damping),
+            &u.damping,
+        ),
+        (
+            format!("k [{}]", units[2]),
+            truth.map(|t| t.stiffness),
+            &u.stiffness,
+        ),
+        (
+            "fn [Hz]".to_string(),
+            truth.map(|t| t.natural_frequency_hz()),
+            &u.natural_frequency_hz,
+        ),
+        (
+            "ζ [-]".to_string(),
+            truth.map(|t| t.damping_ratio()),
+            &u.damping_ratio,
+        ),
+    ];
+    for (name, true_value, i) in rows {
+        let _ = writeln!(
+            s,
+            "  {:<14} {:>10} {:>11}   [{}, {}]",
+            name,
+            true_value.map(|v| sig(v, 5)).unwrap_or_default(),
+            sig(i.value, 5),
+            sig(i.ci95[0], 5),
+            sig(i.ci95[1], 5)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  ωn = {} rad/s",
+        sig(e.parameters.natural_frequency(), 5)
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "  {:<14} {:>8} {:>7} {:>12}",
+        "data", "R²", "fit %", "RMS error"
+    );
+    let v = &o.validation;
+    for (name, fit) in [("identification", &e.fit), ("validation", &v.fit)] {
+        let _ = writeln!(
+            s,
+            "  {:<14} {:>8.5} {:>7.2} {:>9} {}",
+            name,
+            fit.r_squared,
+            fit.fit_percent,
+            sig(fit.residual_rms * factor, 4),
+            out_unit
+        );
+    }
+    if v.scored_from > 0 {
+        let _ = writeln!(
+            s,
+            "  (validation scored after the first {} samples, which set the initial state)",
+            v.scored_from
+        );
+    }
+    let _ = writeln!(s);
+    if let Some(r) = &o.residuals {
+        let _ = writeln!(
+            s,
+            "  residuals      Ljung–Box Q = {:.1} ({} dof), p = {:.3}: {}; {}",
+            r.ljung_box.q,
+            r.ljung_box.degrees_of_freedom,
+            r.ljung_box.p_value,
+            if r.whiteness_passed {
+                "white"
+            } else {
+                "NOT white"
+            },
+            if r.cross_correlation_passed {
+                "uncorrelated with the input"
+            } else {
+                "correlated with the input"
+            }
+        );
+    }
+    if let Some(f) = &o.frequency {
+        let _ = writeln!(
+            s,
+            "  frequency      data fn = {} Hz, ζ = {}; model fn = {} Hz, ζ = {}: {}",
+            sig(f.natural_frequency_hz, 5),
+            sig(f.damping_ratio, 3),
+            sig(f.model_natural_frequency_hz, 5),
+            sig(f.model_damping_ratio, 3),
+            if f.consistent {
+                "consistent"
+            } else {
+                "NOT consistent"
+            }
+        );
+    }
+    if let Some(mc) = &o.monte_carlo {
+        let _ = writeln!(
+            s,
+            "  Monte Carlo    {} draws within ±{:.0} % on {} thread{}: the {:.0} % band holds {:.1} % of the validation measurements",
+            mc.samples,
+            mc.spread * 100.0,
+            mc.threads,
+            if mc.threads == 1 { "" } else { "s" },
+            mc.percentiles[1] - mc.percentiles[0],
+            mc.coverage * 100.0
+        );
+    }
+    let times: Vec<String> = o
+        .timings
+        .iter()
+        .chain(extra)
+        .map(|(name, d)| format!("{} {}", stage_label(name), millis(*d)))
+        .collect();
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "  time [ms]      {} · total {}",
+        times.join(" · "),
+        millis(total)
+    );
+    let _ = writeln!(
+        s,
+        "  report         {}",
+        out_dir.join("report.md").display()
+    );
+    s
+}

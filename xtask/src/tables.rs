@@ -1,0 +1,129 @@
+//! CSV files of every time series and curve of a run (numbers in Rust's shortest
+//! round-trip form, so the files are exact and deterministic).
+//!
+//! - `identification.csv`: t, input, measured, model, residual (and true_response for
+//!   synthetic data);
+//! - `validation.csv`: the same on the validation record, plus the Monte Carlo band
+//!   (band_lower, band_median, band_upper, band_nominal) when it ran;
+//! - `residual_correlation.csv`: lag, autocorrelation, cross_correlation, bound;
+//! - `frf.csv`: frequency_hz and the empirical and model magnitude and phase.
+
+use crate::pipeline::Outcome;
+use std::fmt::Write;
+
+/// A CSV table: the header and columns of equal length (`None` cells are left empty).
+struct Table {
+    header: Vec<String>,
+    columns: Vec<Vec<Option<f64>>>,
+}
+
+impl Table {
+    fn new() -> Self {
+        Self {
+            header: Vec::new(),
+            columns: Vec::new(),
+        }
+    }
+
+    fn column(&mut self, name: impl Into<String>, values: &[f64]) {
+        self.header.push(name.into());
+        self.columns
+            .push(values.iter().copied().map(Some).collect());
+    }
+
+    fn sparse(&mut self, name: impl Into<String>, values: Vec<Option<f64>>) {
+        self.header.push(name.into());
+        self.columns.push(values);
+    }
+
+    fn render(&self) -> String {
+        let rows = self.columns.iter().map(Vec::len).max().unwrap_or(0);
+        let mut s = String::with_capacity(rows * 16 * self.columns.len().max(1));
+        s.push_str(&self.header.join(","));
+        s.push('\n');
+        for r in 0..rows {
+            for (c, column) in self.columns.iter().enumerate() {
+                if c > 0 {
+                    s.push(',');
+                }
+                if let Some(Some(v)) = column.get(r) {
+                    let _ = write!(s, "{v}");
+                }
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// The CSV files of `outcome` as (file name, contents).
+pub fn csv_files(outcome: &Outcome) -> Vec<(&'static str, String)> {
+    let o = outcome;
+    let mut files = Vec::new();
+
+    let d = &o.data.identification;
+    let mut t = Table::new();
+    t.column("t", d.excitation.times());
+    t.column("input", d.excitation.samples());
+    t.column("measured", &d.output);
+    t.column("model", &o.estimate.model_output);
+    t.column("residual", &o.estimate.residuals);
+    if let Some(truth) = &o.data.identification_truth {
+        t.column("true_response", truth);
+    }
+    files.push(("identification.csv", t.render()));
+
+    let d = &o.data.validation;
+    let mut t = Table::new();
+    t.column("t", d.excitation.times());
+    t.column("input", d.excitation.samples());
+    t.column("measured", &d.output);
+    t.column("model", &o.validation.model_output);
+    t.column("residual", &o.validation.residuals);
+    if let Some(truth) = &o.data.validation_truth {
+        t.column("true_response", truth);
+    }
+    if let Some(mc) = &o.monte_carlo {
+        t.column("band_lower", &mc.lower);
+        t.column("band_median", &mc.median);
+        t.column("band_upper", &mc.upper);
+        t.column("band_nominal", &mc.nominal);
+    }
+    files.push(("validation.csv", t.render()));
+
+    if let Some(r) = &o.residuals {
+        let cross = &r.cross_correlation;
+        let auto = &r.autocorrelation;
+        let mut t = Table::new();
+        let lags: Vec<f64> = cross.lags.iter().map(|&k| k as f64).collect();
+        t.column("lag", &lags);
+        t.sparse(
+            "autocorrelation",
+            cross
+                .lags
+                .iter()
+                .map(|&k| {
+                    auto.lags
+                        .iter()
+                        .position(|&a| a == k)
+                        .map(|i| auto.values[i])
+                })
+                .collect(),
+        );
+        t.column("cross_correlation", &cross.values);
+        t.column("bound", &vec![cross.bound; lags.len()]);
+        files.push(("residual_correlation.csv", t.render()));
+    }
+
+    if let Some(f) = &o.frequency {
+        let mut t = Table::new();
+        t.column("frequency_hz", &f.frequency_hz);
+        t.column("empirical_magnitude", &f.empirical_magnitude);
+        t.column("empirical_phase_deg", &f.empirical_phase_deg);
+        t.column("model_magnitude", &f.model_magnitude);
+        t.column("model_phase_deg", &f.model_phase_deg);
+        t.column("coherence", &f.coherence);
+        files.push(("frf.csv", t.render()));
+    }
+    files
+}
