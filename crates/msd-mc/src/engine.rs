@@ -38,9 +38,9 @@ pub struct MemoryPlan {
     pub gather_columns: usize,
     /// Bytes of the N × chunk response buffer.
     pub buffer_bytes: usize,
-    /// Upper bound of everything the engine allocates: the buffer, per-thread scratch
-    /// (a full response and a column block), per-sample draws and flags, and the
-    /// percentile output.
+    /// Upper bound of everything a band run allocates: the buffer, per-thread scratch
+    /// (a full response and a column block), per-sample draws, flags and summaries, and
+    /// the time series of the result.
     pub peak_bytes: usize,
 }
 
@@ -67,7 +67,9 @@ impl MemoryPlan {
         let gather_columns = (GATHER_BYTES / (8 * n)).clamp(1, 64);
         let buffer_bytes = 8 * n * chunk_points;
         let per_thread = 8 * points + 8 * n * gather_columns + 8 * levels * gather_columns;
-        let per_sample = 32 + 1; // an Option<Parameters> and an ok flag
+        // Draw (32), ok flag (1), index of a good sample (8), and the summaries' copies of
+        // the parameters, fn, ζ and their sort keys (48): rounded up.
+        let per_sample = 96;
         let outputs = 8 * points * (2 * levels + 4); // percentiles (twice: transposed), nominal, width, times, measured
         Self {
             samples,

@@ -11,6 +11,13 @@
 //! thread count. Work runs on a local rayon pool of the requested size (2 by default),
 //! never on the global pool.
 //!
+//! ## Memory
+//! Percentiles are exact (MATLAB `prctile` convention). The N × T responses are kept in
+//! a buffer of at most [`McOptions::max_buffer_bytes`] (256 MiB by default); when
+//! 8·N·T exceeds it, the time axis is processed in chunks and every sample is
+//! re-simulated once per chunk ([`MemoryPlan`]). The paper's N = 1000 × 7501 points is
+//! one pass (60 MB); N = 100 000 takes 23 passes with a peak of about 267 MiB.
+//!
 //! ```
 //! use msd_ident::{Backend, PaperExperiment, Parameters};
 //! use msd_mc::{McOptions, monte_carlo_band};
