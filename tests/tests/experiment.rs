@@ -136,7 +136,10 @@ fn paper_results_json_has_every_required_key() {
     // The file on disk is the document returned, byte for byte.
     let on_disk = std::fs::read_to_string(run.out().join("results.json")).unwrap();
     let expected = serde_json::to_string_pretty(&run.summary.results).unwrap() + "\n";
-    assert!(on_disk == expected, "results.json differs from the returned document");
+    assert!(
+        on_disk == expected,
+        "results.json differs from the returned document"
+    );
 }
 
 #[test]
@@ -218,4 +221,125 @@ fn same_config_and_seed_give_identical_results_for_any_thread_count() {
         let b = std::fs::read(one.out().join(file)).unwrap();
         assert!(a == b, "{file} differs between 1 and 2 threads");
     }
+}
+
+#[test]
+fn paper_fast_config_agrees_with_the_paper_method() {
+    let fast = run_in_temp(&config("paper-fast.toml"), None, None).expect("paper-fast runs");
+    let paper = paper();
+    let r = &fast.summary.results;
+    assert_eq!(r["estimate"]["method"], "levenberg_marquardt");
+    assert_eq!(r["estimate"]["backend"], "exact");
+    assert_eq!(r["monte_carlo"]["backend"], "exact");
+    // Same data: the two methods land on the same optimum, well within its uncertainty.
+    for name in ["mass", "damping", "stiffness"] {
+        let a = fast.number(&format!("estimate.{name}.value"));
+        let b = paper.number(&format!("estimate.{name}.value"));
+        let se = paper.number(&format!("estimate.{name}.standard_error"));
+        assert!(
+            (a - b).abs() < 0.1 * se,
+            "{name}: fast {a} vs paper {b} (se {se})"
+        );
+    }
+    assert!((fast.number("validation.r2") - 0.9949).abs() < 0.003);
+    assert!(fast.number("monte_carlo.coverage") > 0.8);
+}
+
+#[test]
+fn silverbox_config_runs_on_the_real_data_and_reports_the_validation_rms() {
+    let run = run_in_temp(&config("silverbox.toml"), None, None).expect("silverbox runs");
+    let r = &run.summary.results;
+    assert_eq!(r["experiment"]["kind"], "measured");
+    assert!(r.get("truth").is_none(), "no truth for measured data");
+    assert_eq!(r["data"]["source"]["rows"], 131072);
+    assert_eq!(
+        r["data"]["source"]["estimation_range"],
+        serde_json::json!([40650, 105712])
+    );
+    assert_eq!(
+        r["data"]["source"]["validation_range"],
+        serde_json::json!([105712, 127400])
+    );
+    assert_eq!(r["validation"]["scored_from_sample"], 50);
+    assert_eq!(r["estimate"]["initial_guess"]["source"], "automatic (ARX)");
+    // The validation RMS error (V) of a linear model on the multisine test: a few mV.
+    let rms = run.number("validation.residual_rms");
+    assert!(rms > 1e-3 && rms < 2e-2, "validation RMS error {rms} V");
+    assert!(run.number("validation.r2") > 0.95);
+    // The physical resonance of the circuit, from both the estimate and the spectrum.
+    let fn_model = run.number("estimate.natural_frequency_hz.value");
+    let fn_data = run.number("frequency_check.natural_frequency_hz");
+    assert!(fn_model > 50.0 && fn_model < 90.0, "fn = {fn_model} Hz");
+    assert!(
+        (fn_model / fn_data - 1.0).abs() < 0.02,
+        "model {fn_model} vs data {fn_data} Hz"
+    );
+    let summary = &run.summary.summary;
+    assert!(summary.contains("validation"), "{summary}");
+    assert!(
+        summary.contains(" V"),
+        "the RMS error is printed in volts: {summary}"
+    );
+    for figure in [
+        "fig2_identification",
+        "fig3_validation",
+        "fig4_monte_carlo",
+        "frf_bode",
+    ] {
+        decode_png(&run.out().join(format!("{figure}.png")));
+    }
+}
+
+/// A synthetic "lab measurement" in the template's layout: t, force, displacement.
+fn lab_csv(dir: &std::path::Path) {
+    use msd_ident::{Backend, Excitation, InitialState, Parameters, simulate};
+    let input = msd_signal::Signal::Sum {
+        terms: vec![
+            msd_signal::paper_validation_input(),
+            msd_signal::Signal::Step {
+                amplitude: 2.0,
+                time: 0.3,
+            },
+        ],
+    };
+    let exc = Excitation::from_signal(input, 0.0, 0.002, 7501).unwrap();
+    let x = simulate(
+        &Parameters::PAPER,
+        &exc,
+        InitialState::REST,
+        &Backend::EXACT,
+    )
+    .unwrap();
+    let noise = msd_signal::gaussian_noise(7, "lab", 0.001, x.len()).unwrap();
+    let mut text = String::from("# bench rig, synthetic\nt,force,displacement\n");
+    for i in 0..x.len() {
+        let line = format!(
+            "{:.3},{:.6},{:.7}\n",
+            exc.times()[i],
+            exc.samples()[i],
+            x[i] + noise[i] + 0.003
+        );
+        text.push_str(&line);
+    }
+    std::fs::write(dir.join("my-measurement.csv"), text).unwrap();
+}
+
+#[test]
+fn lab_template_works_on_a_users_own_file() {
+    let dir = tempfile::tempdir().unwrap();
+    lab_csv(dir.path());
+    let config_path = dir.path().join("my-experiment.toml");
+    std::fs::copy(config("lab-template.toml"), &config_path).unwrap();
+    let run = run_in_temp(&config_path, None, None).expect("the template runs on a lab file");
+    for (name, truth) in [("mass", 2.5), ("damping", 1.8), ("stiffness", 120.0)] {
+        let value = run.number(&format!("estimate.{name}.value"));
+        assert!(
+            (value / truth - 1.0).abs() < 0.05,
+            "{name} = {value}, truth {truth}"
+        );
+    }
+    let offset = run.number("estimate.offset");
+    assert!((offset - 0.003).abs() < 5e-4, "offset {offset}");
+    assert!(run.number("validation.r2") > 0.98);
+    assert_eq!(run.summary.results["validation"]["scored_from_sample"], 50);
 }

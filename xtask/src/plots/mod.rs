@@ -131,6 +131,10 @@ pub(crate) struct Units {
     pub output: String,
     /// Input unit.
     pub input: String,
+    /// What the output is called on axes ("displacement" for metres, else "output y").
+    pub output_name: &'static str,
+    /// What the input is called on axes ("force F" for newtons, else "input u").
+    pub input_name: &'static str,
 }
 
 impl Units {
@@ -145,6 +149,16 @@ impl Units {
             output_factor,
             output,
             input: set.input_unit.clone(),
+            output_name: if set.output_unit == "m" {
+                "displacement"
+            } else {
+                "output y"
+            },
+            input_name: if set.input_unit == "N" {
+                "force F"
+            } else {
+                "input u"
+            },
         }
     }
 }
@@ -171,7 +185,8 @@ pub(crate) fn legend_style() -> TextStyle<'static> {
 
 /// A tick label: the value rounded to 1e-9 relative, shortest form ("8", "0.03").
 pub(crate) fn tick(v: &f64) -> String {
-    if *v == 0.0 || !v.is_finite() {
+    // Axis ticks computed as sums land near, not on, zero.
+    if v.abs() < 1e-12 || !v.is_finite() {
         return "0".into();
     }
     let scale = 10f64.powi(9 - v.abs().log10().floor() as i32);

@@ -245,7 +245,7 @@ impl<'a> Identification<'a> {
         let excitation = Panel {
             title: "Excitation".into(),
             x_desc: x_desc.clone(),
-            y_desc: format!("force F [{}]", u.input),
+            y_desc: format!("{} [{}]", u.input_name, u.input),
             x_range: range,
             curves: vec![Curve {
                 label: "F(t)".into(),
@@ -262,7 +262,7 @@ impl<'a> Identification<'a> {
                 e.fit.r_squared, e.fit.fit_percent
             ),
             x_desc: x_desc.clone(),
-            y_desc: format!("displacement [{}]", u.output),
+            y_desc: format!("{} [{}]", u.output_name, u.output),
             x_range: range,
             curves: vec![
                 Curve {
@@ -283,8 +283,8 @@ impl<'a> Identification<'a> {
         };
         let residuals = Panel {
             title: format!(
-                "Residuals r = y − model (RMS {:.3} {})",
-                e.fit.residual_rms * u.output_factor,
+                "Residuals r = y − model (RMS {} {})",
+                crate::fmt::sig(e.fit.residual_rms * u.output_factor, 3),
                 u.output
             ),
             x_desc,
@@ -299,8 +299,21 @@ impl<'a> Identification<'a> {
             band: None,
             legend: None,
         };
+        let mut panels = [excitation, fit, residuals];
+        if zoom_range(o, t, 0).is_some() {
+            // A long record shows as envelopes: lines instead of markers.
+            for panel in &mut panels {
+                for c in &mut panel.curves {
+                    c.style = match c.style {
+                        Style::Points(color, _)
+                        | Style::Dashed(color, _)
+                        | Style::Line(color, _) => Style::Line(color, 1),
+                    };
+                }
+            }
+        }
         Self {
-            panels: [excitation, fit, residuals],
+            panels,
             title: format!(
                 "Identification — {} by {} on {}",
                 o.config.name,
@@ -363,14 +376,14 @@ impl<'a> Validation<'a> {
         });
         let panel = Panel {
             title: format!(
-                "Validation on data never used for fitting (R² = {:.4}, fit {:.1} %, RMS error {:.3} {})",
+                "Validation on data never used for fitting (R² = {:.4}, fit {:.1} %, RMS error {} {})",
                 v.fit.r_squared,
                 v.fit.fit_percent,
-                v.fit.residual_rms * u.output_factor,
+                crate::fmt::sig(v.fit.residual_rms * u.output_factor, 3),
                 u.output
             ),
             x_desc: "time t [s]".into(),
-            y_desc: format!("displacement [{}]", u.output),
+            y_desc: format!("{} [{}]", u.output_name, u.output),
             x_range: (t[0], t[t.len() - 1]),
             curves,
             band: None,
@@ -378,6 +391,28 @@ impl<'a> Validation<'a> {
         };
         let zoom = zoom_range(o, t, v.scored_from)
             .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
+        // A long record shows as envelopes: the measurement and the simulation error.
+        let panel = if zoom.is_some() {
+            Panel {
+                curves: vec![
+                    Curve {
+                        label: "measured".into(),
+                        x: t,
+                        y: scaled(&d.output, u.output_factor),
+                        style: Style::Line(BLUE, 1),
+                    },
+                    Curve {
+                        label: "simulation error (measured − model)".into(),
+                        x: t,
+                        y: scaled(&v.residuals, u.output_factor),
+                        style: Style::Line(RED, 1),
+                    },
+                ],
+                ..panel
+            }
+        } else {
+            panel
+        };
         Self {
             panel,
             zoom,
@@ -433,7 +468,7 @@ impl<'a> MonteCarlo<'a> {
                 mc.coverage * 100.0
             ),
             x_desc: "time t [s]".into(),
-            y_desc: format!("displacement [{}]", u.output),
+            y_desc: format!("{} [{}]", u.output_name, u.output),
             x_range: (t[0], t[t.len() - 1]),
             curves: vec![
                 Curve {
@@ -459,6 +494,24 @@ impl<'a> MonteCarlo<'a> {
         };
         let zoom = zoom_range(o, t, o.validation.scored_from)
             .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
+        // A long record shows as envelopes: lines instead of markers.
+        let panel = if zoom.is_some() {
+            let curves = panel
+                .curves
+                .into_iter()
+                .map(|c| Curve {
+                    style: match c.style {
+                        Style::Points(color, _)
+                        | Style::Dashed(color, _)
+                        | Style::Line(color, _) => Style::Line(color, 1),
+                    },
+                    ..c
+                })
+                .collect();
+            Panel { curves, ..panel }
+        } else {
+            panel
+        };
         Some(Self {
             panel,
             zoom,
