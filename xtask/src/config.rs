@@ -635,9 +635,19 @@ impl Config {
                     format!(":{line}:{column}")
                 })
                 .unwrap_or_default();
+            // A table-level error (e.g. a missing field) points at the table's header:
+            // name it.
+            let table = e
+                .span()
+                .and_then(|s| text.get(s.start..))
+                .and_then(|rest| rest.lines().next())
+                .map(str::trim)
+                .filter(|l| l.starts_with('['))
+                .map(|l| format!(" in {l}"))
+                .unwrap_or_default();
             XtaskError::Config {
                 file: format!("{}{location}", file.display()),
-                message: e.message().trim().replace('\n', " "),
+                message: format!("{}{table}", e.message().trim().replace('\n', " ")),
             }
         })?;
         config.validate().map_err(|(field, message)| {

@@ -1,0 +1,357 @@
+//! Every class of bad input is refused before anything is written: exit status 2 and
+//! one line naming the file, the line or field, the value and what was expected.
+
+use msd_tests::config;
+use std::path::{Path, PathBuf};
+use xtask::{RunOptions, run_experiment};
+
+/// A scratch folder holding the bad config (and data), with the output folder planned
+/// inside it.
+struct Case {
+    dir: tempfile::TempDir,
+}
+
+impl Case {
+    fn new() -> Self {
+        Self {
+            dir: tempfile::tempdir().unwrap(),
+        }
+    }
+
+    fn file(&self, name: &str, text: &str) -> PathBuf {
+        let path = self.dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    /// Runs `config` and checks the refusal: exit status 2, one line containing every
+    /// `expected` fragment, and nothing written.
+    fn refuses(&self, config: &Path, expected: &[&str]) {
+        let before: Vec<_> = listing(self.dir.path());
+        let out = self.dir.path().join("out");
+        let options = RunOptions {
+            out: Some(out.clone()),
+            ..RunOptions::default()
+        };
+        let err = run_experiment(config, &options).expect_err("bad input must be refused");
+        assert_eq!(err.exit_code(), 2, "{err}");
+        let message = err.to_string();
+        assert!(!message.contains('\n'), "one line: {message}");
+        for fragment in expected {
+            assert!(message.contains(fragment), "`{message}` lacks `{fragment}`");
+        }
+        assert!(!out.exists(), "an output folder was written for: {message}");
+        assert_eq!(
+            listing(self.dir.path()),
+            before,
+            "files appeared for: {message}"
+        );
+    }
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// The paper-fast config with `from` replaced by `to` (which must occur).
+fn paper_with(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(config("paper-fast.toml")).unwrap();
+    assert!(text.contains(from), "paper-fast.toml has no `{from}`");
+    text.replacen(from, to, 1)
+}
+
+#[test]
+fn unknown_key() {
+    let case = Case::new();
+    let c = case.file(
+        "c.toml",
+        &paper_with("seed = 1\n", "seed = 1\ncolour = \"red\"\n"),
+    );
+    case.refuses(
+        &c,
+        &["c.toml:", "unknown field `colour`", "expected one of"],
+    );
+    let c = case.file(
+        "d.toml",
+        &paper_with("[noise]\n", "[noise]\nsigma_mm = 2.5\n"),
+    );
+    case.refuses(
+        &c,
+        &["d.toml:", "unknown field `sigma_mm`", "expected `sigma`"],
+    );
+}
+
+#[test]
+fn wrong_type() {
+    let case = Case::new();
+    let c = case.file("c.toml", &paper_with("mass = 2.5 ", "mass = \"heavy\" "));
+    case.refuses(
+        &c,
+        &[
+            "c.toml:23:8",
+            "invalid type: string \"heavy\", expected f64",
+        ],
+    );
+}
+
+#[test]
+fn missing_field() {
+    let case = Case::new();
+    let c = case.file("c.toml", &paper_with("dt = 0.002 ", "# dt removed "));
+    case.refuses(&c, &["c.toml:", "missing field `dt`", "[time]"]);
+    let text = std::fs::read_to_string(config("paper-fast.toml")).unwrap();
+    let without_noise = text.replace("[noise]\nsigma = 0.0025", "");
+    let c = case.file("d.toml", &without_noise);
+    case.refuses(&c, &["d.toml", "noise: missing section"]);
+}
+
+#[test]
+fn negative_mass() {
+    let case = Case::new();
+    let c = case.file("c.toml", &paper_with("mass = 2.5 ", "mass = -2.5 "));
+    case.refuses(
+        &c,
+        &[
+            "c.toml:23",
+            "plant.mass = -2.5",
+            "expected a finite number > 0",
+        ],
+    );
+    let c = case.file(
+        "d.toml",
+        &paper_with(
+            "initial_guess = { mass = 2.0",
+            "initial_guess = { mass = -2.0",
+        ),
+    );
+    case.refuses(&c, &["d.toml", "estimation.initial_guess.mass = -2", "> 0"]);
+}
+
+#[test]
+fn non_positive_dt() {
+    let case = Case::new();
+    let c = case.file("c.toml", &paper_with("dt = 0.002 ", "dt = 0.0 "));
+    case.refuses(
+        &c,
+        &["c.toml:33", "time.dt = 0", "expected a finite number > 0"],
+    );
+    let c = case.file("d.toml", &paper_with("dt = 0.002 ", "dt = -0.002 "));
+    case.refuses(&c, &["time.dt = -0.002"]);
+}
+
+#[test]
+fn duration_shorter_than_dt() {
+    let case = Case::new();
+    let c = case.file(
+        "c.toml",
+        &paper_with("duration = 15.0 ", "duration = 0.001 "),
+    );
+    case.refuses(
+        &c,
+        &[
+            "c.toml:32",
+            "time.duration = 0.001",
+            "expected at least one step dt = 0.002",
+        ],
+    );
+}
+
+#[test]
+fn nan_in_config() {
+    let case = Case::new();
+    let c = case.file(
+        "c.toml",
+        &paper_with("stiffness = 120.0 ", "stiffness = nan "),
+    );
+    case.refuses(
+        &c,
+        &[
+            "c.toml:25",
+            "plant.stiffness = NaN",
+            "expected a finite number",
+        ],
+    );
+    let c = case.file("d.toml", &paper_with("sigma = 0.0025 ", "sigma = inf "));
+    case.refuses(&c, &["noise.sigma = inf", "expected a finite number >= 0"]);
+}
+
+#[test]
+fn missing_config_file() {
+    let case = Case::new();
+    let missing = case.dir.path().join("nope.toml");
+    case.refuses(&missing, &["nope.toml", "cannot read the config file"]);
+}
+
+/// A small, valid lab file: 100 rows at 100 Hz.
+const GOOD_CSV: &str = "t,force,displacement\n";
+
+fn good_rows() -> Vec<String> {
+    (0..100)
+        .map(|i| format!("{:.2},{},{}", i as f64 * 0.01, 1.0, 0.001 * (i % 7) as f64))
+        .collect()
+}
+
+fn csv_with(row: usize, replacement: &str) -> String {
+    let mut rows = good_rows();
+    rows[row] = replacement.to_string();
+    format!("{GOOD_CSV}{}\n", rows.join("\n"))
+}
+
+fn measured_config(path: &str, output: &str, estimation: &str) -> String {
+    format!(
+        "name = \"lab\"\n[data]\npath = \"{path}\"\ninput = \"force\"\noutput = \"{output}\"\ntime = \"t\"\n[data.estimation]\n{estimation}\n[monte_carlo]\nenabled = false\n"
+    )
+}
+
+#[test]
+fn missing_data_file() {
+    let case = Case::new();
+    let c = case.file(
+        "c.toml",
+        &measured_config("missing.csv", "displacement", ""),
+    );
+    case.refuses(
+        &c,
+        &["missing.csv", "cannot open the data file", "No such file"],
+    );
+}
+
+#[test]
+fn missing_csv_column() {
+    let case = Case::new();
+    case.file("data.csv", &csv_with(0, "0.00,1.0,0.0"));
+    let c = case.file("c.toml", &measured_config("data.csv", "disp", ""));
+    case.refuses(
+        &c,
+        &[
+            "data.csv",
+            "line 1",
+            "no output column named `disp`",
+            "`t`, `force`, `displacement`",
+        ],
+    );
+    let c = case.file(
+        "d.toml",
+        &measured_config("data.csv", "displacement", "").replace("input = \"force\"", "input = 7"),
+    );
+    case.refuses(&c, &["data.csv", "line 2", "no input column #7"]);
+}
+
+#[test]
+fn non_numeric_cell() {
+    let case = Case::new();
+    case.file("data.csv", &csv_with(48, "0.48,1.0,abc"));
+    let c = case.file("c.toml", &measured_config("data.csv", "displacement", ""));
+    case.refuses(
+        &c,
+        &[
+            "data.csv",
+            "line 50",
+            "output column `displacement`",
+            "`abc` is not a number",
+        ],
+    );
+    case.file("empty.csv", &csv_with(10, "0.10,,0.0"));
+    let c = case.file("d.toml", &measured_config("empty.csv", "displacement", ""));
+    case.refuses(
+        &c,
+        &["empty.csv", "line 12", "input column `force`", "empty cell"],
+    );
+}
+
+#[test]
+fn nan_in_data() {
+    let case = Case::new();
+    case.file("data.csv", &csv_with(48, "0.48,NaN,0.0"));
+    let c = case.file("c.toml", &measured_config("data.csv", "displacement", ""));
+    case.refuses(
+        &c,
+        &[
+            "data.csv",
+            "line 50",
+            "input column `force`",
+            "NaN: expected a finite number",
+        ],
+    );
+}
+
+#[test]
+fn non_monotonic_time() {
+    let case = Case::new();
+    case.file("data.csv", &csv_with(48, "0.30,1.0,0.0"));
+    let c = case.file("c.toml", &measured_config("data.csv", "displacement", ""));
+    case.refuses(
+        &c,
+        &[
+            "data.csv",
+            "line 50",
+            "time column",
+            "0.3 s is not after the previous 0.47 s",
+            "increasing",
+        ],
+    );
+}
+
+#[test]
+fn ranges_outside_the_data() {
+    let case = Case::new();
+    case.file("data.csv", &csv_with(0, "0.00,1.0,0.0"));
+    let c = case.file(
+        "c.toml",
+        &measured_config("data.csv", "displacement", "range = [0, 500]"),
+    );
+    case.refuses(
+        &c,
+        &[
+            "c.toml",
+            "data.estimation.range = [0, 500]",
+            "outside the data",
+            "<= 100",
+        ],
+    );
+    let c = case.file(
+        "d.toml",
+        &measured_config("data.csv", "displacement", "time = [0.5, 3.0]"),
+    );
+    case.refuses(
+        &c,
+        &[
+            "d.toml",
+            "data.estimation.time = [0.5, 3]",
+            "outside the data",
+            "<= 1 s",
+        ],
+    );
+    let c = case.file(
+        "e.toml",
+        &measured_config("data.csv", "displacement", "range = [50, 20]"),
+    );
+    case.refuses(
+        &c,
+        &["e.toml", "data.estimation.range = [50, 20]", "start < end"],
+    );
+}
+
+#[test]
+fn a_failed_run_leaves_a_previous_result_untouched() {
+    let case = Case::new();
+    let out = case.dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("results.json"), "{\"previous\": true}").unwrap();
+    let c = case.file("c.toml", &paper_with("mass = 2.5 ", "mass = 0.0 "));
+    let options = RunOptions {
+        out: Some(out.clone()),
+        ..RunOptions::default()
+    };
+    let err = run_experiment(&c, &options).unwrap_err();
+    assert_eq!(err.exit_code(), 2);
+    assert_eq!(
+        std::fs::read_to_string(out.join("results.json")).unwrap(),
+        "{\"previous\": true}"
+    );
+}
