@@ -46,14 +46,14 @@ impl Progress {
     /// Turns the line into a bar of `total` steps named `name`.
     pub fn bar(&self, name: &str, total: u64) {
         if let Some(bar) = &self.bar {
+            bar.set_length(total);
+            bar.set_position(0);
+            bar.set_message(name.to_string());
             bar.set_style(
                 ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({eta} left)")
                     .unwrap_or_else(|_| ProgressStyle::default_bar())
                     .progress_chars("=> "),
             );
-            bar.set_message(name.to_string());
-            bar.set_length(total);
-            bar.set_position(0);
         }
     }
 

@@ -303,7 +303,12 @@ impl Figure for Bode<'_> {
             .map_err(text)?
             .label("band of the single-mode fit")
             .legend(move |(x, y)| Rectangle::new([(x, y - 7), (x + 24, y + 7)], band.filled()));
-        draw_data(&mut chart, &f, &emp_mag, [b0, b1], true)?;
+        // Clamped to the axis: a line leaving the plot area would be drawn past it.
+        let clamped: Vec<f64> = emp_mag
+            .iter()
+            .map(|v| v.clamp(mlo * 0.7, mhi * 1.5))
+            .collect();
+        draw_data(&mut chart, &f, &clamped, [b0, b1], true)?;
         chart
             .draw_series(LineSeries::new(
                 dense.iter().copied().zip(dense_mag.iter().copied()),
@@ -372,7 +377,8 @@ impl Figure for Bode<'_> {
                 band.filled(),
             )))
             .map_err(text)?;
-        draw_data(&mut chart, &f, &emp_ph, [b0, b1], false)?;
+        let clamped: Vec<f64> = emp_ph.iter().map(|v| v.clamp(plo, phi)).collect();
+        draw_data(&mut chart, &f, &clamped, [b0, b1], false)?;
         chart
             .draw_series(LineSeries::new(
                 dense.iter().copied().zip(dense_ph.iter().copied()),
