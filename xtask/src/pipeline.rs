@@ -9,7 +9,7 @@ use crate::{Result, XtaskError};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, InitialState,
     Method, Parameters, ResidualOptions, estimate, frequency_check, residual_analysis,
-    validate_model,
+    simulate_into, validate_model,
 };
 use msd_mc::{McOptions, Sampling, monte_carlo_band_with_progress};
 use std::path::{Path, PathBuf};
@@ -32,6 +32,9 @@ pub struct Outcome {
     pub estimate: Estimate,
     /// The prediction on the validation record.
     pub validation: ValidationOutcome,
+    /// ode45 statistics (accepted steps, rejected steps, right-hand-side evaluations) of
+    /// one simulation of the identification record at θ̂, for the ode45 backend.
+    pub estimation_solver: Option<[usize; 3]>,
     /// Residual diagnostics of the identification residuals.
     pub residuals: Option<msd_ident::ResidualAnalysis>,
     /// Frequency-domain consistency check on the identification record.
@@ -62,6 +65,9 @@ pub struct ValidationOutcome {
     pub residual_analysis: Option<msd_ident::ResidualAnalysis>,
     /// Fit of the noise-free true response (synthetic only): the ceiling R².
     pub truth_fit: Option<FitMetrics>,
+    /// ode45 statistics of the prediction (accepted steps, rejected steps, right-hand-side
+    /// evaluations), for the ode45 backend.
+    pub solver: Option<[usize; 3]>,
 }
 
 /// The Monte Carlo band on the validation record.
@@ -139,6 +145,12 @@ pub fn run_stages(
     }
     let estimate = estimate(&data.identification, &est_options)
         .map_err(|e| XtaskError::run("estimation", e))?;
+    let estimation_solver = ode45_stats(
+        &estimate.parameters,
+        &data.identification.excitation,
+        estimate.initial_state,
+        &estimate.backend,
+    );
     timed("estimation", t);
 
     progress.stage("validation");
@@ -204,6 +216,7 @@ pub fn run_stages(
         data,
         estimate,
         validation,
+        estimation_solver,
         residuals,
         frequency,
         monte_carlo,
@@ -243,6 +256,7 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
         .map_err(|e| XtaskError::run("validation", e))?;
         (fit, analysis)
     };
+    let solver = ode45_stats(&est.parameters, &set.excitation, initial_state, &backend);
     let truth_fit = data
         .validation_truth
         .as_ref()
@@ -256,7 +270,22 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
         fit,
         residual_analysis: Some(analysis),
         truth_fit,
+        solver,
     })
+}
+
+/// The ode45 solver's statistics for one simulation (`None` for the exact backend).
+fn ode45_stats(
+    parameters: &Parameters,
+    excitation: &msd_ident::Excitation,
+    initial: InitialState,
+    backend: &Backend,
+) -> Option<[usize; 3]> {
+    let mut out = vec![0.0; excitation.len()];
+    simulate_into(parameters, excitation, initial, backend, &mut out)
+        .ok()
+        .flatten()
+        .map(|s| [s.accepted_steps, s.rejected_steps, s.rhs_evaluations])
 }
 
 fn residual_options(config: &Config) -> ResidualOptions {

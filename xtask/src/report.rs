@@ -261,6 +261,20 @@ pub fn markdown(
         sig(e.cost, 5),
         sig(u.condition_number, 3)
     );
+    if let Some([a, r, n]) = o.estimation_solver {
+        let _ = write!(
+            w,
+            "ode45 at θ̂ on the identification record: {a} accepted and {r} rejected steps, {n} right-hand-side evaluations"
+        );
+        match o.validation.solver {
+            Some([a, r, n]) => {
+                let _ = writeln!(w, "; on the validation record: {a}, {r} and {n}.\n");
+            }
+            None => {
+                let _ = writeln!(w, ".\n");
+            }
+        }
+    }
     let names = &u.names;
     if names.len() > 1 {
         let _ = writeln!(w, "Correlation of the estimates:\n");

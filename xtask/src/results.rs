@@ -32,6 +32,14 @@ fn parameters(p: &Parameters) -> Value {
     })
 }
 
+fn stats([accepted, rejected, evaluations]: [usize; 3]) -> Value {
+    json!({
+        "accepted_steps": accepted,
+        "rejected_steps": rejected,
+        "rhs_evaluations": evaluations,
+    })
+}
+
 fn ms(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e6).round() / 1e3
 }
@@ -128,6 +136,7 @@ pub fn to_json(
             "condition_number": u.condition_number,
             "correlation": { "names": u.names, "matrix": correlation },
             "warnings": u.warnings,
+            "ode45_at_estimate": o.estimation_solver.map(stats),
         }),
     );
     let truth_r2 = |truth: &Option<Vec<f64>>, measured: &[f64]| {
@@ -160,6 +169,7 @@ pub fn to_json(
             "initial_state": { "displacement": v.initial_state.displacement, "velocity": v.initial_state.velocity },
             "r2_of_true_response": v.truth_fit.map(|f| f.r_squared),
             "residuals": v.residual_analysis.as_ref().map(residuals_json),
+            "ode45": v.solver.map(stats),
         }),
     );
     if let Some(r) = &o.residuals {
