@@ -494,21 +494,36 @@ impl<'a> MonteCarlo<'a> {
         };
         let zoom = zoom_range(o, t, o.validation.scored_from)
             .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
-        // A long record shows as envelopes: lines instead of markers.
+        // A long record shows deviations from the nominal prediction: the band around
+        // zero and the measurements' departure from it.
         let panel = if zoom.is_some() {
-            let curves = panel
-                .curves
-                .into_iter()
-                .map(|c| Curve {
-                    style: match c.style {
-                        Style::Points(color, _)
-                        | Style::Dashed(color, _)
-                        | Style::Line(color, _) => Style::Line(color, 1),
-                    },
-                    ..c
-                })
-                .collect();
-            Panel { curves, ..panel }
+            let minus = |v: &[f64]| -> Vec<f64> {
+                v.iter()
+                    .zip(&mc.nominal)
+                    .map(|(a, n)| (a - n) * u.output_factor)
+                    .collect()
+            };
+            Panel {
+                title: format!(
+                    "Deviation from the nominal prediction: the {:.0} % band holds {:.1} % of the measurements",
+                    p_hi - p_lo,
+                    mc.coverage * 100.0
+                ),
+                y_desc: format!("deviation [{}]", u.output),
+                curves: vec![Curve {
+                    label: "measured − nominal".into(),
+                    x: t,
+                    y: minus(&d.output),
+                    style: Style::Line(BLUE, 1),
+                }],
+                band: Some(Band {
+                    label: format!("{p_lo:.0}–{p_hi:.0} percentile band − nominal"),
+                    x: t,
+                    lower: minus(&mc.lower),
+                    upper: minus(&mc.upper),
+                }),
+                ..panel
+            }
         } else {
             panel
         };
