@@ -368,3 +368,69 @@ fn other_seeds_reproduce_the_paper_too() {
         assert!(run.number("monte_carlo.coverage") > 0.8, "seed {seed}");
     }
 }
+
+#[test]
+fn measured_data_by_index_with_sample_rate_scaling_decimation_and_time_ranges() {
+    use msd_ident::{Backend, Excitation, InitialState, Parameters, simulate};
+    // 1 kHz, no header, semicolons, columns: a counter, displacement in mm, force in N.
+    let input = msd_signal::Signal::Chirp {
+        amplitude: 4.0,
+        f0: 0.2,
+        f1: 4.0,
+        duration: 12.0,
+        phase: 0.0,
+        sweep: msd_signal::Sweep::Linear,
+        t_start: 0.0,
+    };
+    let exc = Excitation::from_signal(input, 0.0, 0.001, 12_001).unwrap();
+    let x = simulate(
+        &Parameters::PAPER,
+        &exc,
+        InitialState::REST,
+        &Backend::EXACT,
+    )
+    .unwrap();
+    let noise = msd_signal::gaussian_noise(11, "bench", 0.0005, x.len()).unwrap();
+    let mut text = String::from("# logger v2\n");
+    for i in 0..x.len() {
+        text.push_str(&format!(
+            "{i};{:.5};{:.6}\n",
+            1e3 * (x[i] + noise[i]),
+            exc.samples()[i]
+        ));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bench.txt"), text).unwrap();
+    let config_text = r#"
+name = "bench"
+[data]
+path = "bench.txt"
+input = 2
+output = 1
+sample_rate = 1000.0
+delimiter = ";"
+header = false
+output_scale = 0.001
+preprocessing = [{ kind = "decimate", factor = 2 }]
+[data.estimation]
+time = [0.0, 8.0]
+[data.validation]
+time = [8.0, 12.0]
+initial_samples = 20
+[estimation]
+estimate_initial_state = false
+[monte_carlo]
+samples = 100
+"#;
+    std::fs::write(dir.path().join("bench.toml"), config_text).unwrap();
+    let run = run_in_temp(&dir.path().join("bench.toml"), None, None).expect("runs");
+    let r = &run.summary.results;
+    assert_eq!(r["data"]["identification"]["samples"], 4000);
+    assert_eq!(r["data"]["validation"]["samples"], 2000); // [8, 12) s: 12 s excluded
+    assert_eq!(r["data"]["identification"]["dt"], 0.002);
+    for (name, truth) in [("mass", 2.5), ("damping", 1.8), ("stiffness", 120.0)] {
+        let value = run.number(&format!("estimate.{name}.value"));
+        assert!((value / truth - 1.0).abs() < 0.03, "{name} = {value}");
+    }
+    assert!(run.number("validation.r2") > 0.99);
+}
