@@ -276,11 +276,16 @@ pub fn model_response(parameters: &Parameters, omega: f64) -> Complex64 {
         )
 }
 
+thread_local! {
+    /// FFT plans are costly for lengths with large prime factors (7501 = 13·577) and
+    /// are reused across calls on the same thread.
+    static PLANNER: std::cell::RefCell<FftPlanner<f64>> = std::cell::RefCell::new(FftPlanner::new());
+}
+
 fn dft(x: &[f64]) -> Vec<Complex64> {
     let mut buffer: Vec<Complex64> = x.iter().map(|&v| Complex64::new(v, 0.0)).collect();
-    FftPlanner::new()
-        .plan_fft_forward(buffer.len())
-        .process(&mut buffer);
+    let plan = PLANNER.with(|p| p.borrow_mut().plan_fft_forward(buffer.len()));
+    plan.process(&mut buffer);
     buffer
 }
 

@@ -68,7 +68,8 @@ pub fn sensitivities<F: FnMut(usize, &SensitivitySample)>(
     b[1] = 1.0 / m;
     b[3] = -1.0 / (m * m);
     let sim = ExactSimulator::new(&LtiModel { a, b }, excitation.dt(), hold)?;
-    let phi = sim.transition().fixed_view::<2, 2>(0, 0).into_owned();
+    let t = sim.transition();
+    let phi = [[t[(0, 0)], t[(0, 1)]], [t[(1, 0)], t[(1, 1)]]];
     let mut z0 = SVector::<f64, 8>::zeros();
     z0[0] = initial.displacement;
     z0[1] = initial.velocity;
@@ -76,16 +77,19 @@ pub fn sensitivities<F: FnMut(usize, &SensitivitySample)>(
         values: excitation.samples(),
         breakpoints: excitation.breakpoints(),
     };
-    // Φⁱ, advanced alongside the simulation.
-    let mut power = SMatrix::<f64, 2, 2>::identity();
+    // First row of Φⁱ, advanced alongside the simulation: (Φⁱ⁺¹)₀ = (Φⁱ)₀ Φ.
+    let mut row = [1.0, 0.0];
     sim.simulate_with(&z0, &input, |i, z| {
         if i > 0 {
-            power = phi * power;
+            row = [
+                row[0] * phi[0][0] + row[1] * phi[1][0],
+                row[0] * phi[0][1] + row[1] * phi[1][1],
+            ];
         }
         let sample = SensitivitySample {
             displacement: z[0],
             parameters: [z[2], z[4], z[6]],
-            initial_state: [power[(0, 0)], power[(0, 1)]],
+            initial_state: row,
         };
         output(i, &sample);
     })?;

@@ -81,6 +81,19 @@ pub enum OdeError {
         /// The value.
         value: f64,
     },
+    /// ‖A·dt‖ is too large for a matrix exponential: the model is far too stiff (or its
+    /// parameters absurd) for this sampling interval.
+    #[error(
+        "‖A·dt‖₁ = {norm:e} exceeds {limit:e}: the model is far too stiff for a step of {dt} s (check the parameters or sample faster)"
+    )]
+    ExponentialOutOfRange {
+        /// The 1-norm of the scaled augmented matrix.
+        norm: f64,
+        /// The largest accepted.
+        limit: f64,
+        /// The step.
+        dt: f64,
+    },
     /// A sampled input is unusable.
     #[error("invalid sampled input at sample {index} (value {value}): {reason}")]
     InvalidInput {

@@ -207,11 +207,21 @@ pub struct ExactSimulator<const N: usize> {
     dt: f64,
     hold: Hold,
     phi: SMatrix<f64, N, N>,
-    weights: [[SVector<f64, N>; 4]; 7],
+    /// Φ by rows, for the per-sample update written as plain loops (unrolled and
+    /// vectorised by the compiler, unlike a generic matrix product).
+    phi_rows: [[f64; N]; N],
+    /// Stencil weights: `weights[variant][node][component]`.
+    weights: [[[f64; N]; 4]; 7],
 }
 
 impl<const N: usize> ExactSimulator<N> {
+    /// Largest ‖[A·dt, b·dt; 0, shift]‖₁ accepted by [`ExactSimulator::new`].
+    pub const MAX_NORM: f64 = 1e12;
+
     /// Discretises `model` for step `dt` with the given hold.
+    ///
+    /// Fails with [`OdeError::ExponentialOutOfRange`] when ‖A·dt‖ exceeds
+    /// [`ExactSimulator::MAX_NORM`].
     pub fn new(model: &LtiModel<N>, dt: f64, hold: Hold) -> Result<Self, OdeError> {
         model.validate()?;
         if !(dt.is_finite() && dt > 0.0) {
@@ -233,6 +243,20 @@ impl<const N: usize> ExactSimulator<N> {
         for j in 0..D {
             aug[(N + j + 1, N + j)] = 1.0;
         }
+        // Scaling and squaring needs ~log2‖A·dt‖ squarings; beyond this limit the powers
+        // inside the Padé step overflow and the squaring count becomes meaningless (the
+        // computation would never end), so such a model is refused with an error. 1e12
+        // leaves room for very stiff plants (k = 1e8, m = 1e-3 at dt = 2 ms is ~2e8).
+        let norm = (0..size)
+            .map(|c| (0..size).map(|r| aug[(r, c)].abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        if norm.is_nan() || norm > Self::MAX_NORM {
+            return Err(OdeError::ExponentialOutOfRange {
+                norm,
+                limit: Self::MAX_NORM,
+                dt,
+            });
+        }
         let e = aug.exp();
         if let Some((index, &value)) = e.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(OdeError::NonFiniteModel {
@@ -248,11 +272,16 @@ impl<const N: usize> ExactSimulator<N> {
         let gamma: [SVector<f64, N>; 4] = std::array::from_fn(|j| {
             SVector::<f64, N>::from_fn(|r, _| factorial[j] * e[(r, N + D - j)])
         });
-        let weights = std::array::from_fn(|variant| stencil_weights(STENCILS[variant], &gamma));
+        let weights = std::array::from_fn(|variant| {
+            let w = stencil_weights(STENCILS[variant], &gamma);
+            std::array::from_fn(|node| std::array::from_fn(|r| w[node][r]))
+        });
+        let phi_rows = std::array::from_fn(|r| std::array::from_fn(|c| phi[(r, c)]));
         Ok(Self {
             dt,
             hold,
             phi,
+            phi_rows,
             weights,
         })
     }
@@ -327,8 +356,8 @@ impl<const N: usize> ExactSimulator<N> {
         }
         let values = input.values;
         let n = values.len();
-        let mut x = *x0;
-        output(0, &x);
+        let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
+        output(0, x0);
         if n == 1 {
             return Ok(());
         }
@@ -350,13 +379,38 @@ impl<const N: usize> ExactSimulator<N> {
         Ok(())
     }
 
+    /// One step x ← Φx + Σ_m w_m u_m, then `output(i, x)`.
+    #[inline(always)]
+    fn advance<F: FnMut(usize, &SVector<f64, N>)>(
+        &self,
+        x: &mut [f64; N],
+        w: &[[f64; N]; 4],
+        u: [f64; 4],
+        i: usize,
+        output: &mut F,
+    ) {
+        let mut next = [0.0; N];
+        for (r, row) in self.phi_rows.iter().enumerate() {
+            // The drive does not depend on x: it is summed off the state's dependency
+            // chain, so the loop runs at the speed of the bare recurrence x ← Φx + d.
+            let drive = (w[0][r] * u[0] + w[1][r] * u[1]) + (w[2][r] * u[2] + w[3][r] * u[3]);
+            let mut acc = 0.0;
+            for (p, xc) in row.iter().zip(x.iter()) {
+                acc += p * xc;
+            }
+            next[r] = acc + drive;
+        }
+        *x = next;
+        output(i, &SVector::<f64, N>::from(next));
+    }
+
     /// Simulates the intervals of the smooth piece [a, b] (a < b), whose end values are
     /// `a_value` (right value at a) and `b_value` (left value at b).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn simulate_piece<F: FnMut(usize, &SVector<f64, N>)>(
         &self,
-        x: &mut SVector<f64, N>,
+        x: &mut [f64; N],
         values: &[f64],
         a: usize,
         a_value: f64,
@@ -379,78 +433,74 @@ impl<const N: usize> ExactSimulator<N> {
         match (self.hold, nodes) {
             (Hold::Zero, _) => {
                 for i in a..b {
-                    *x = self.phi * *x + w[ZERO][0] * node(i);
-                    output(i + 1, x);
+                    self.advance(x, &w[ZERO], [node(i), 0.0, 0.0, 0.0], i + 1, output);
                 }
             }
             (Hold::First, _) | (Hold::Cubic, 2) => {
                 for i in a..b {
-                    *x = self.phi * *x + w[LINEAR][0] * node(i) + w[LINEAR][1] * node(i + 1);
-                    output(i + 1, x);
+                    self.advance(
+                        x,
+                        &w[LINEAR],
+                        [node(i), node(i + 1), 0.0, 0.0],
+                        i + 1,
+                        output,
+                    );
                 }
             }
             (Hold::Cubic, 3) => {
-                let u = [node(a), node(a + 1), node(a + 2)];
-                *x = self.phi * *x
-                    + w[QUAD_LEFT][0] * u[0]
-                    + w[QUAD_LEFT][1] * u[1]
-                    + w[QUAD_LEFT][2] * u[2];
-                output(a + 1, x);
-                *x = self.phi * *x
-                    + w[QUAD_RIGHT][0] * u[0]
-                    + w[QUAD_RIGHT][1] * u[1]
-                    + w[QUAD_RIGHT][2] * u[2];
-                output(a + 2, x);
+                let u = [node(a), node(a + 1), node(a + 2), 0.0];
+                self.advance(x, &w[QUAD_LEFT], u, a + 1, output);
+                self.advance(x, &w[QUAD_RIGHT], u, a + 2, output);
             }
             (Hold::Cubic, _) => {
-                let step = |x: &mut SVector<f64, N>, variant: usize, u: [f64; 4]| {
-                    let wv = &w[variant];
-                    let drive = (wv[0] * u[0] + wv[1] * u[1]) + (wv[2] * u[2] + wv[3] * u[3]);
-                    *x = self.phi * *x + drive;
-                };
                 // First interval: one-sided stencil a..a+3.
-                step(
+                self.advance(
                     x,
-                    CUBIC_LEFT,
+                    &w[CUBIC_LEFT],
                     [node(a), node(a + 1), node(a + 2), node(a + 3)],
+                    a + 1,
+                    output,
                 );
-                output(a + 1, x);
                 // Interior intervals i = a+1 ..= b−2: centred stencil i−1..i+2.
                 let interior_end = b - 2; // inclusive
                 if a < interior_end {
                     let i = a + 1;
-                    step(
+                    self.advance(
                         x,
-                        CUBIC_CENTRED,
+                        &w[CUBIC_CENTRED],
                         [node(i - 1), node(i), node(i + 1), node(i + 2)],
+                        i + 1,
+                        output,
                     );
-                    output(i + 1, x);
                 }
                 // Fast path: every node strictly inside the piece.
-                let wc = &w[CUBIC_CENTRED];
-                // The input drive does not depend on the state, so it is summed off the
-                // state's dependency chain: the loop runs at the speed of x ← Φx + d.
                 for (i, u) in ((a + 2)..interior_end).zip(values[a + 1..].windows(4)) {
-                    let drive = (wc[0] * u[0] + wc[1] * u[1]) + (wc[2] * u[2] + wc[3] * u[3]);
-                    *x = self.phi * *x + drive;
-                    output(i + 1, x);
+                    self.advance(
+                        x,
+                        &w[CUBIC_CENTRED],
+                        [u[0], u[1], u[2], u[3]],
+                        i + 1,
+                        output,
+                    );
                 }
                 if interior_end >= a + 2 {
                     let i = interior_end;
-                    step(
+                    self.advance(
                         x,
-                        CUBIC_CENTRED,
+                        &w[CUBIC_CENTRED],
                         [node(i - 1), node(i), node(i + 1), node(i + 2)],
+                        i + 1,
+                        output,
                     );
-                    output(i + 1, x);
                 }
                 // Last interval: one-sided stencil b−3..b.
-                step(
+                self.advance(
                     x,
-                    CUBIC_RIGHT,
+                    &w[CUBIC_RIGHT],
                     [node(b - 3), node(b - 2), node(b - 1), node(b)],
+                    b,
+                    output,
                 );
-                output(b, x);
             }
         }
     }

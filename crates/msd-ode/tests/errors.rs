@@ -224,6 +224,23 @@ fn exact_simulator_rejects_bad_setup() {
         ),
         "{err:?}"
     );
+    // Absurdly stiff: ‖A·dt‖ ~ 1e80 would make scaling and squaring run forever.
+    let stiff = LtiModel {
+        a: SMatrix::<f64, 2, 2>::new(0.0, 1.0, -1e83, -1.0),
+        b: SVector::<f64, 2>::new(0.0, 1.0),
+    };
+    let err = ExactSimulator::new(&stiff, 0.002, Hold::Cubic).unwrap_err();
+    assert!(
+        matches!(err, OdeError::ExponentialOutOfRange { .. }),
+        "{err:?}"
+    );
+    // Very stiff but representable (k/m = 1e11) still works.
+    let very_stiff = LtiModel {
+        a: SMatrix::<f64, 2, 2>::new(0.0, 1.0, -1e11, -10.0),
+        b: SVector::<f64, 2>::new(0.0, 1.0),
+    };
+    let sim = ExactSimulator::new(&very_stiff, 0.002, Hold::Cubic).expect("stiff but fine");
+    assert!(sim.transition().iter().all(|v| v.is_finite()));
     let mut bad = model();
     bad.b[1] = f64::INFINITY;
     let err = ExactSimulator::new(&bad, 0.002, Hold::Cubic).unwrap_err();

@@ -103,35 +103,56 @@ impl LeastSquaresProblem for Residuals<'_> {
     fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
         let layout = self.cost.layout;
         let (theta, state, _) = layout.unpack(x);
-        let values = theta.to_array();
-        let free: Vec<usize> = layout.free().collect();
-        let nfree = free.len();
-        let has_state = layout.has_state();
-        let has_offset = layout.has_offset();
         self.jacobians += 1;
-        let result = sensitivities(
-            &theta,
-            &self.cost.data.excitation,
+        // ∂r/∂ln θ = −θ ∂x/∂θ; ∂r/∂(initial state) = −∂x/∂(initial state); ∂r/∂offset = −1.
+        let values = theta.to_array();
+        let ok = fill_jacobian(
+            self.cost.data,
+            layout,
+            theta,
             state,
             self.hold,
-            |i, s| {
-                for (column, &p) in free.iter().enumerate() {
-                    // ∂r/∂ln θ = −θ ∂x/∂θ
-                    out[(i, column)] = -values[p] * s.parameters[p];
-                }
-                let mut column = nfree;
-                if has_state {
-                    out[(i, column)] = -s.initial_state[0];
-                    out[(i, column + 1)] = -s.initial_state[1];
-                    column += 2;
-                }
-                if has_offset {
-                    out[(i, column)] = -1.0;
-                }
-            },
+            out,
+            |p| -values[p],
+            -1.0,
         );
-        result.is_ok() && out.iter().all(|v| v.is_finite())
+        ok && out.iter().all(|v| v.is_finite())
     }
+}
+
+#[allow(clippy::too_many_arguments)]
+/// Fills `out` (N × layout.len(), column-major) with the sensitivities of the model
+/// output, column j of parameter p scaled by `parameter_scale(p)`, the state and offset
+/// columns by `sign`.
+fn fill_jacobian(
+    data: &DataSet,
+    layout: &Layout,
+    theta: crate::Parameters,
+    state: crate::InitialState,
+    hold: Hold,
+    out: &mut DMatrix<f64>,
+    parameter_scale: impl Fn(usize) -> f64,
+    sign: f64,
+) -> bool {
+    let n = data.len();
+    debug_assert_eq!(out.shape(), (n, layout.len()));
+    let free: Vec<(usize, f64)> = layout.free().map(|p| (p, parameter_scale(p))).collect();
+    let nfree = free.len();
+    let (has_state, has_offset) = (layout.has_state(), layout.has_offset());
+    let columns = out.as_mut_slice();
+    let result = sensitivities(&theta, &data.excitation, state, hold, |i, s| {
+        for (column, &(p, scale)) in free.iter().enumerate() {
+            columns[column * n + i] = scale * s.parameters[p];
+        }
+        if has_state {
+            columns[nfree * n + i] = sign * s.initial_state[0];
+            columns[(nfree + 1) * n + i] = sign * s.initial_state[1];
+        }
+        if has_offset {
+            columns[(nfree + 2 * usize::from(has_state)) * n + i] = sign;
+        }
+    });
+    result.is_ok()
 }
 
 /// The Jacobian of the model output with respect to the raw estimated quantities
@@ -142,21 +163,21 @@ pub(crate) fn output_jacobian(
     v_raw: &[f64],
 ) -> crate::Result<DMatrix<f64>> {
     let (theta, state, _) = layout.unpack(v_raw);
-    let free: Vec<usize> = layout.free().collect();
+    theta.validate()?;
     let mut j = DMatrix::<f64>::zeros(data.len(), layout.len());
-    sensitivities(&theta, &data.excitation, state, Hold::Cubic, |i, s| {
-        for (column, &p) in free.iter().enumerate() {
-            j[(i, column)] = s.parameters[p];
-        }
-        let mut column = free.len();
-        if layout.has_state() {
-            j[(i, column)] = s.initial_state[0];
-            j[(i, column + 1)] = s.initial_state[1];
-            column += 2;
-        }
-        if layout.has_offset() {
-            j[(i, column)] = 1.0;
-        }
-    })?;
+    if !fill_jacobian(
+        data,
+        layout,
+        theta,
+        state,
+        Hold::Cubic,
+        &mut j,
+        |_| 1.0,
+        1.0,
+    ) {
+        return Err(crate::IdentError::EstimationFailed {
+            reason: "the sensitivities cannot be simulated at the estimate".into(),
+        });
+    }
     Ok(j)
 }
