@@ -10,6 +10,7 @@ mod error;
 mod estimate;
 mod frequency;
 mod metrics;
+mod nonlinear;
 mod params;
 mod residuals;
 mod sensitivity;
@@ -27,6 +28,13 @@ pub use estimate::{
 };
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
 pub use metrics::FitMetrics;
+pub use nonlinear::{
+    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, ModelStructure,
+    NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
+    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, bic_evidence,
+    compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
+    synthetic_nonlinear_data,
+};
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
 pub use residuals::{
     CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, autocorrelation,

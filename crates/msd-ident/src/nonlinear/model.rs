@@ -1,0 +1,291 @@
+//! The model structures (damping law × stiffness law) and their parameter vectors.
+
+use crate::{IdentError, Parameters, Result};
+use serde::{Deserialize, Serialize};
+
+/// The damping force f_d(x').
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DampingLaw {
+    /// c·x'.
+    Viscous,
+    /// F_c·sign(x') + c·x', the sign regularised as tanh(x'/v_s) (see the module doc).
+    CoulombViscous,
+    /// c₂·x'|x'| + c·x'.
+    QuadraticViscous,
+}
+
+/// The spring force f_s(x).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StiffnessLaw {
+    /// k·x.
+    Linear,
+    /// k·x + k₃·x³ (Duffing).
+    Cubic,
+}
+
+/// One candidate model m·x'' + f_d(x') + f_s(x) = F(t): a damping law and a stiffness
+/// law. A set of candidates is data (e.g. a list in a config), not code.
+///
+/// ```
+/// use msd_ident::{DampingLaw, ModelStructure, StiffnessLaw};
+/// let s = ModelStructure { damping: DampingLaw::CoulombViscous, stiffness: StiffnessLaw::Cubic };
+/// assert_eq!(s.parameter_names(), ["mass", "damping", "stiffness", "coulomb_force", "cubic_stiffness"]);
+/// assert_eq!(s.name(), "coulomb_viscous+cubic");
+/// assert_eq!(ModelStructure::all().len(), 6);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelStructure {
+    /// The damping law.
+    pub damping: DampingLaw,
+    /// The stiffness law.
+    pub stiffness: StiffnessLaw,
+}
+
+impl Default for ModelStructure {
+    /// The linear model.
+    fn default() -> Self {
+        Self::LINEAR
+    }
+}
+
+impl std::fmt::Display for ModelStructure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl ModelStructure {
+    /// The linear model m·x'' + c·x' + k·x = F: the baseline of every comparison.
+    pub const LINEAR: ModelStructure = ModelStructure {
+        damping: DampingLaw::Viscous,
+        stiffness: StiffnessLaw::Linear,
+    };
+
+    /// All six combinations, linear first.
+    pub fn all() -> Vec<ModelStructure> {
+        let mut v = Vec::with_capacity(6);
+        for stiffness in [StiffnessLaw::Linear, StiffnessLaw::Cubic] {
+            for damping in [
+                DampingLaw::Viscous,
+                DampingLaw::CoulombViscous,
+                DampingLaw::QuadraticViscous,
+            ] {
+                v.push(ModelStructure { damping, stiffness });
+            }
+        }
+        v
+    }
+
+    /// A short name, `damping+stiffness` in snake case (e.g. `viscous+linear`).
+    pub fn name(&self) -> String {
+        let d = match self.damping {
+            DampingLaw::Viscous => "viscous",
+            DampingLaw::CoulombViscous => "coulomb_viscous",
+            DampingLaw::QuadraticViscous => "quadratic_viscous",
+        };
+        let s = match self.stiffness {
+            StiffnessLaw::Linear => "linear",
+            StiffnessLaw::Cubic => "cubic",
+        };
+        format!("{d}+{s}")
+    }
+
+    /// Whether this is the linear model.
+    pub fn is_linear(&self) -> bool {
+        *self == Self::LINEAR
+    }
+
+    /// Names of the parameters in vector order: mass, damping, stiffness, then
+    /// `coulomb_force` or `quadratic_damping`, then `cubic_stiffness`.
+    pub fn parameter_names(&self) -> Vec<&'static str> {
+        let mut names = vec!["mass", "damping", "stiffness"];
+        match self.damping {
+            DampingLaw::Viscous => {}
+            DampingLaw::CoulombViscous => names.push("coulomb_force"),
+            DampingLaw::QuadraticViscous => names.push("quadratic_damping"),
+        }
+        if self.stiffness == StiffnessLaw::Cubic {
+            names.push("cubic_stiffness");
+        }
+        names
+    }
+
+    /// Number of parameters (3 to 5).
+    pub fn parameter_count(&self) -> usize {
+        3 + usize::from(self.damping != DampingLaw::Viscous)
+            + usize::from(self.stiffness == StiffnessLaw::Cubic)
+    }
+}
+
+/// The parameters of one [`ModelStructure`]: a small vector in the order of
+/// [`ModelStructure::parameter_names`].
+///
+/// ```
+/// use msd_ident::{DampingLaw, ModelStructure, NonlinearParameters, Parameters, StiffnessLaw};
+/// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
+/// let p = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 4000.0])?;
+/// assert_eq!(p.cubic_stiffness(), 4000.0);
+/// assert_eq!(p.coulomb_force(), 0.0); // absent terms are zero
+/// assert_eq!(p.linear_part(), Parameters::PAPER);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NonlinearParameters {
+    /// The model structure.
+    pub structure: ModelStructure,
+    /// The values, in the order of [`ModelStructure::parameter_names`].
+    pub values: Vec<f64>,
+}
+
+impl NonlinearParameters {
+    /// Checked constructor: the right number of values, m > 0, c ≥ 0, k > 0, and finite
+    /// nonlinear coefficients of either sign. A softening spring has k₃ < 0; F_c < 0 or
+    /// c₂ < 0 would feed energy in and is not physical, but is allowed so that an
+    /// estimator can step across 0 when the true coefficient is 0 (the comparison then
+    /// judges the term by its interval and by BIC).
+    pub fn new(structure: ModelStructure, values: Vec<f64>) -> Result<Self> {
+        let p = Self { structure, values };
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// The linear parameters with zero nonlinear coefficients.
+    pub fn from_linear(structure: ModelStructure, linear: &Parameters) -> Self {
+        let mut values = vec![0.0; structure.parameter_count()];
+        values[..3].copy_from_slice(&linear.to_array());
+        Self { structure, values }
+    }
+
+    /// Checks the count and ranges (see [`NonlinearParameters::new`]).
+    pub fn validate(&self) -> Result<()> {
+        let expected = self.structure.parameter_count();
+        if self.values.len() != expected {
+            return Err(IdentError::LengthMismatch {
+                what: "nonlinear parameter vector",
+                expected,
+                got: self.values.len(),
+            });
+        }
+        self.linear_part().validate()?;
+        for (name, &value) in self.names().iter().zip(&self.values).skip(3) {
+            if !value.is_finite() {
+                return Err(IdentError::InvalidParameter {
+                    name,
+                    value,
+                    expected: "a finite number",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The parameter names.
+    pub fn names(&self) -> Vec<&'static str> {
+        self.structure.parameter_names()
+    }
+
+    /// The value named `name`, if the structure has it.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.names()
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| self.values[i])
+    }
+
+    /// Mass m.
+    pub fn mass(&self) -> f64 {
+        self.values[0]
+    }
+
+    /// Viscous damping c.
+    pub fn damping(&self) -> f64 {
+        self.values[1]
+    }
+
+    /// Linear stiffness k.
+    pub fn stiffness(&self) -> f64 {
+        self.values[2]
+    }
+
+    /// Coulomb friction force F_c (0 when the structure has none).
+    pub fn coulomb_force(&self) -> f64 {
+        self.get("coulomb_force").unwrap_or(0.0)
+    }
+
+    /// Quadratic damping c₂ (0 when the structure has none).
+    pub fn quadratic_damping(&self) -> f64 {
+        self.get("quadratic_damping").unwrap_or(0.0)
+    }
+
+    /// Cubic stiffness k₃ (0 when the structure has none).
+    pub fn cubic_stiffness(&self) -> f64 {
+        self.get("cubic_stiffness").unwrap_or(0.0)
+    }
+
+    /// m, c, k as linear [`Parameters`].
+    pub fn linear_part(&self) -> Parameters {
+        Parameters {
+            mass: self.values[0],
+            damping: self.values[1],
+            stiffness: self.values[2],
+        }
+    }
+}
+
+impl std::fmt::Display for NonlinearParameters {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parts: Vec<String> = self
+            .names()
+            .iter()
+            .zip(&self.values)
+            .map(|(n, v)| format!("{n} = {v:.6}"))
+            .collect();
+        write!(f, "{}: {}", self.structure, parts.join(", "))
+    }
+}
+
+/// The forces of one parameter vector, unpacked for the right-hand side.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Forces {
+    pub mass: f64,
+    pub damping: f64,
+    pub stiffness: f64,
+    pub coulomb: f64,
+    pub quadratic: f64,
+    pub cubic: f64,
+    /// 1/v_s (0 when there is no Coulomb term).
+    pub inverse_smoothing: f64,
+}
+
+impl Forces {
+    pub fn new(p: &NonlinearParameters, smoothing_velocity: f64) -> Self {
+        let coulomb = p.coulomb_force();
+        Self {
+            mass: p.mass(),
+            damping: p.damping(),
+            stiffness: p.stiffness(),
+            coulomb,
+            quadratic: p.quadratic_damping(),
+            cubic: p.cubic_stiffness(),
+            inverse_smoothing: if coulomb != 0.0 {
+                1.0 / smoothing_velocity
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// x'' = (F − f_d(v) − f_s(x))/m.
+    #[inline]
+    pub fn acceleration(&self, force: f64, x: f64, v: f64) -> f64 {
+        let damping = self.damping * v
+            + self.quadratic * v * v.abs()
+            + self.coulomb * (v * self.inverse_smoothing).tanh();
+        let spring = self.stiffness * x + self.cubic * x * x * x;
+        (force - damping - spring) / self.mass
+    }
+}

@@ -1,0 +1,279 @@
+//! Nonlinear damping/stiffness models and model selection (issue 11).
+//!
+//! Synthetic tests use the paper's inputs (step + multi-level sinusoid for
+//! identification, chirp + small step for validation) at 2 ms over 15 s, σ = 2.5 mm,
+//! and plants built on the paper's m = 2.5, c = 1.8, k = 120 whose nonlinear forces are
+//! a sizeable fraction of the linear ones at the response's RMS amplitude (x_rms ≈
+//! 5.5 cm, x'_rms ≈ 0.38 m/s): F_c = 0.5 N, c₂ = 3 N·s²/m², k₃ = 3000 N/m³. Every
+//! parameter must lie within 4 estimated standard errors of the truth, and the
+//! comparison over all six structures must pick the generating one by BIC.
+//!
+//! The Silverbox test estimates on the first 8192 samples of the official training
+//! range (one multisine realisation; ode45 on all 65 062 would take too long for a
+//! test) and validates on the official multisine test range; means of the whole record
+//! removed (as the benchmark README and configs/silverbox.toml do).
+
+use msd_ident::{
+    ComparisonOptions, DampingLaw, DataSet, Excitation, IdentError, ModelStructure,
+    NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
+    NonlinearSimulation, StiffnessLaw, ValidationStart, compare_models, estimate_nonlinear,
+    synthetic_nonlinear_data,
+};
+use msd_signal::{paper_identification_input, paper_validation_input};
+use std::time::Instant;
+
+const DT: f64 = 0.002;
+const SAMPLES: usize = 7501;
+const SIGMA: f64 = 0.0025;
+
+fn structure(damping: DampingLaw, stiffness: StiffnessLaw) -> ModelStructure {
+    ModelStructure { damping, stiffness }
+}
+
+/// The plant of each structure: the paper's m, c, k plus the nonlinear terms.
+fn plant(s: ModelStructure) -> NonlinearParameters {
+    let mut values = vec![2.5, 1.8, 120.0];
+    match s.damping {
+        DampingLaw::Viscous => {}
+        DampingLaw::CoulombViscous => values.push(0.5),
+        DampingLaw::QuadraticViscous => values.push(3.0),
+    }
+    if s.stiffness == StiffnessLaw::Cubic {
+        values.push(3000.0);
+    }
+    NonlinearParameters::new(s, values).expect("valid plant")
+}
+
+fn experiment(truth: &NonlinearParameters, seed: u64) -> Result<(DataSet, DataSet), IdentError> {
+    let sim = NonlinearSimulation::default();
+    let id = Excitation::from_signal(paper_identification_input(), 0.0, DT, SAMPLES)?;
+    let val = Excitation::from_signal(paper_validation_input(), 0.0, DT, SAMPLES)?;
+    Ok((
+        synthetic_nonlinear_data(
+            "identification",
+            truth,
+            id,
+            &sim,
+            SIGMA,
+            seed,
+            "identification",
+        )?,
+        synthetic_nonlinear_data("validation", truth, val, &sim, SIGMA, seed, "validation")?,
+    ))
+}
+
+/// Estimates, compares all six structures, checks the parameters and the selection.
+fn recovers_and_selects(generating: ModelStructure, seed: u64) -> Result<(), IdentError> {
+    let started = Instant::now();
+    let truth = plant(generating);
+    let (id, val) = experiment(&truth, seed)?;
+    let comparison = compare_models(
+        &id,
+        &val,
+        &ModelStructure::all(),
+        &ComparisonOptions::default(),
+    )?;
+    println!("generating model {generating}, seed {seed}:\n{comparison}");
+    let row = comparison
+        .row(generating)
+        .expect("the generating model is a candidate");
+    for ((name, interval), value) in row.names.iter().zip(&row.intervals).zip(&truth.values) {
+        let z = (interval.value - value) / interval.standard_error;
+        println!(
+            "  {name}: {:.5} ± {:.5} (truth {value}, z = {z:.2})",
+            interval.value, interval.standard_error
+        );
+        assert!(
+            z.abs() < 4.0,
+            "{generating}: {name} = {} ± {} is {z:.1} SE from the truth {value}",
+            interval.value,
+            interval.standard_error
+        );
+    }
+    assert_eq!(
+        comparison.best().structure,
+        generating,
+        "the comparison picked {} instead of the generating {generating}",
+        comparison.best().structure
+    );
+    println!("  ({:.2?})", started.elapsed());
+    Ok(())
+}
+
+#[test]
+fn linear_plant_recovered_and_linear_model_kept() -> Result<(), IdentError> {
+    recovers_and_selects(ModelStructure::LINEAR, 1)
+}
+
+#[test]
+fn linear_plant_other_seed_no_overfitting() -> Result<(), IdentError> {
+    recovers_and_selects(ModelStructure::LINEAR, 2)
+}
+
+#[test]
+fn coulomb_viscous_plant_recovered_and_selected() -> Result<(), IdentError> {
+    recovers_and_selects(
+        structure(DampingLaw::CoulombViscous, StiffnessLaw::Linear),
+        3,
+    )
+}
+
+#[test]
+fn quadratic_viscous_plant_recovered_and_selected() -> Result<(), IdentError> {
+    recovers_and_selects(
+        structure(DampingLaw::QuadraticViscous, StiffnessLaw::Linear),
+        4,
+    )
+}
+
+#[test]
+fn duffing_plant_recovered_and_selected() -> Result<(), IdentError> {
+    recovers_and_selects(structure(DampingLaw::Viscous, StiffnessLaw::Cubic), 5)
+}
+
+#[test]
+fn coulomb_duffing_plant_recovered_and_selected() -> Result<(), IdentError> {
+    recovers_and_selects(
+        structure(DampingLaw::CoulombViscous, StiffnessLaw::Cubic),
+        6,
+    )
+}
+
+#[test]
+fn quadratic_duffing_plant_recovered_and_selected() -> Result<(), IdentError> {
+    recovers_and_selects(
+        structure(DampingLaw::QuadraticViscous, StiffnessLaw::Cubic),
+        7,
+    )
+}
+
+#[test]
+fn nelder_mead_and_multistart_agree_with_levenberg_marquardt() -> Result<(), IdentError> {
+    let duffing = structure(DampingLaw::Viscous, StiffnessLaw::Cubic);
+    let truth = plant(duffing);
+    let (id, _) = experiment(&truth, 8)?;
+    let lm = estimate_nonlinear(&id, duffing, &NonlinearOptions::default())?;
+    let nm = estimate_nonlinear(
+        &id,
+        duffing,
+        &NonlinearOptions {
+            method: NonlinearMethod::NelderMead,
+            linear_start: Some(lm.linear_start),
+            ..NonlinearOptions::default()
+        },
+    )?;
+    let ms = estimate_nonlinear(
+        &id,
+        duffing,
+        &NonlinearOptions {
+            linear_start: Some(lm.linear_start),
+            multistart: Some(NonlinearMultistart {
+                starts: 4,
+                ..NonlinearMultistart::default()
+            }),
+            ..NonlinearOptions::default()
+        },
+    )?;
+    println!("LM:\n{lm}NM:\n{nm}multistart:\n{ms}");
+    assert_eq!(ms.starts, 4);
+    for other in [&nm, &ms] {
+        assert!(
+            other.sse <= lm.sse * (1.0 + 1e-6),
+            "SSE {} vs LM {}",
+            other.sse,
+            lm.sse
+        );
+        for (a, b) in other.intervals.iter().zip(&lm.intervals) {
+            assert!(
+                (a.value - b.value).abs() < 0.05 * b.standard_error,
+                "{} vs {} (SE {})",
+                a.value,
+                b.value,
+                b.standard_error
+            );
+            assert!((a.standard_error / b.standard_error - 1.0).abs() < 0.05);
+        }
+    }
+    Ok(())
+}
+
+/// The Silverbox record (means of the whole record removed): (input V1, output V2).
+fn silverbox() -> (Vec<f64>, Vec<f64>) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/real/silverbox/SNLS80mV.csv"
+    );
+    let text = std::fs::read_to_string(path).expect("the Silverbox CSV");
+    let (mut u, mut y) = (Vec::new(), Vec::new());
+    for line in text.lines().skip(1) {
+        let mut fields = line.split(',');
+        let (Some(a), Some(b)) = (fields.next(), fields.next()) else {
+            continue;
+        };
+        u.push(a.trim().parse::<f64>().expect("V1"));
+        y.push(b.trim().parse::<f64>().expect("V2"));
+    }
+    for v in [&mut u, &mut y] {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        v.iter_mut().for_each(|x| *x -= mean);
+    }
+    (u, y)
+}
+
+fn slice(u: &[f64], y: &[f64], start: usize, end: usize, name: &str) -> DataSet {
+    let dt = 1.0 / 610.3515625;
+    let excitation = Excitation::from_samples(0.0, dt, u[start..end].to_vec()).expect("input");
+    DataSet::new(name, excitation, y[start..end].to_vec()).expect("data")
+}
+
+#[test]
+fn silverbox_cubic_stiffness_beats_linear_on_the_multisine_test() -> Result<(), IdentError> {
+    let started = Instant::now();
+    let (u, y) = silverbox();
+    assert_eq!(u.len(), 131_072);
+    let train = slice(
+        &u,
+        &y,
+        40_650,
+        40_650 + 8192,
+        "silverbox train (first 8192)",
+    );
+    let test = slice(&u, &y, 105_712, 127_400, "silverbox test_multisine");
+    let options = ComparisonOptions {
+        estimation: NonlinearOptions {
+            estimate_initial_state: true,
+            ..NonlinearOptions::default()
+        },
+        validation_start: ValidationStart::FitInitialState { samples: 50 },
+        ..ComparisonOptions::default()
+    };
+    let duffing = structure(DampingLaw::Viscous, StiffnessLaw::Cubic);
+    let comparison = compare_models(&train, &test, &[ModelStructure::LINEAR, duffing], &options)?;
+    println!("Silverbox:\n{comparison}");
+    let linear = comparison.row(ModelStructure::LINEAR).expect("linear row");
+    let cubic = comparison.row(duffing).expect("cubic row");
+    for row in [linear, cubic] {
+        println!("{}: {}", row.structure, row.parameters);
+        for (name, i) in row.names.iter().zip(&row.intervals) {
+            println!("  {name} = {:.6e} ± {:.2e}", i.value, i.standard_error);
+        }
+    }
+    println!(
+        "Silverbox validation RMS on test_multisine [105762, 127400): linear {:.3} mV, cubic {:.3} mV ({:.2?})",
+        1e3 * linear.validation_rms,
+        1e3 * cubic.validation_rms,
+        started.elapsed()
+    );
+    assert_eq!(comparison.best().structure, duffing);
+    assert!(
+        cubic.parameters.cubic_stiffness() > 0.0,
+        "a hardening spring"
+    );
+    assert!(
+        cubic.validation_rms < 0.5 * linear.validation_rms,
+        "cubic {} vs linear {}",
+        cubic.validation_rms,
+        linear.validation_rms
+    );
+    Ok(())
+}
