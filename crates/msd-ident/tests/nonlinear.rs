@@ -16,8 +16,8 @@
 use msd_ident::{
     ComparisonOptions, DampingLaw, DataSet, Excitation, IdentError, ModelStructure,
     NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, StiffnessLaw, ValidationStart, compare_models, estimate_nonlinear,
-    synthetic_nonlinear_data,
+    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, compare_models,
+    estimate_nonlinear, synthetic_nonlinear_data,
 };
 use msd_signal::{paper_identification_input, paper_validation_input};
 use std::time::Instant;
@@ -195,6 +195,61 @@ fn nelder_mead_and_multistart_agree_with_levenberg_marquardt() -> Result<(), Ide
         }
     }
     Ok(())
+}
+
+#[test]
+fn invalid_inputs_are_rejected_with_their_context() {
+    let duffing = structure(DampingLaw::Viscous, StiffnessLaw::Cubic);
+    let err = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0]).unwrap_err();
+    assert_eq!(
+        err,
+        IdentError::LengthMismatch {
+            what: "nonlinear parameter vector",
+            expected: 4,
+            got: 3
+        }
+    );
+    let err = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, f64::NAN]).unwrap_err();
+    assert!(matches!(
+        err,
+        IdentError::InvalidParameter {
+            name: "cubic_stiffness",
+            ..
+        }
+    ));
+    let err = NonlinearParameters::new(duffing, vec![-2.5, 1.8, 120.0, 1.0]).unwrap_err();
+    assert!(matches!(
+        err,
+        IdentError::InvalidParameter { name: "mass", .. }
+    ));
+    let bad = NonlinearSimulation {
+        smoothing_velocity: SmoothingVelocity::Relative(0.0),
+        ..NonlinearSimulation::default()
+    };
+    assert_eq!(
+        bad.validate().unwrap_err().to_string(),
+        "invalid smoothing_velocity.relative = 0: expected a finite number > 0"
+    );
+}
+
+#[test]
+fn structures_are_named_and_counted() {
+    let all = ModelStructure::all();
+    let names: Vec<String> = all.iter().map(|s| s.name()).collect();
+    assert_eq!(
+        names,
+        [
+            "viscous+linear",
+            "coulomb_viscous+linear",
+            "quadratic_viscous+linear",
+            "viscous+cubic",
+            "coulomb_viscous+cubic",
+            "quadratic_viscous+cubic"
+        ]
+    );
+    let counts: Vec<usize> = all.iter().map(|s| s.parameter_count()).collect();
+    assert_eq!(counts, [3, 4, 4, 4, 5, 5]);
+    assert!(all[0].is_linear());
 }
 
 /// The Silverbox record (means of the whole record removed): (input V1, output V2).

@@ -133,8 +133,15 @@ pub struct NonlinearEstimate {
     /// estimated): σ̂²·D(JᵀJ)⁻¹D with J the Jacobian in the scaled parameters and D
     /// the derivative of the physical by the scaled parameters.
     pub covariance: DMatrix<f64>,
+    /// Correlation matrix of the estimated quantities (same order as `covariance`).
+    pub correlation: DMatrix<f64>,
+    /// Condition number of JᵀJ with its columns scaled to unit norm (unit-free; large
+    /// values mean nearly collinear sensitivities, i.e. poorly separable terms).
+    pub condition_number: f64,
     /// σ̂ = √(SSE/(N − p)).
     pub sigma: f64,
+    /// N − p.
+    pub degrees_of_freedom: usize,
     /// Number of estimated quantities p (parameters plus initial state).
     pub estimated: usize,
     /// Σ(y − ŷ)².
@@ -559,8 +566,18 @@ pub fn estimate_nonlinear(
         .ok_or_else(|| IdentError::NotIdentifiable {
             reason: format!("{structure}: JᵀJ is singular at the estimate"),
         })?;
+    let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
+    let normalised = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
+    let eigenvalues = normalised.symmetric_eigen().eigenvalues;
+    let (low, high) = eigenvalues
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
+    let condition_number = if low > 0.0 { high / low } else { f64::INFINITY };
     let d = scaling.derivative(&best.z);
     let covariance = DMatrix::from_fn(p, p, |r, c| sigma2 * d[r] * inverse[(r, c)] * d[c]);
+    let correlation = DMatrix::from_fn(p, p, |r, c| {
+        covariance[(r, c)] / (covariance[(r, r)] * covariance[(c, c)]).sqrt()
+    });
     let t = StudentsT::new(0.0, 1.0, dof as f64)
         .map_err(|e| IdentError::EstimationFailed {
             reason: format!("Student's t with {dof} degrees of freedom: {e}"),
@@ -592,7 +609,10 @@ pub fn estimate_nonlinear(
         initial_state,
         initial_state_intervals,
         covariance,
+        correlation,
+        condition_number,
         sigma: sigma2.sqrt(),
+        degrees_of_freedom: dof,
         estimated: p,
         sse,
         model_output,

@@ -43,6 +43,17 @@
 //! residual–input cross-correlation; the verdict grades the BIC margin on Kass &
 //! Raftery's scale (> 10 very strong, 6–10 strong, 2–6 positive).
 //!
+//! ## For a driver (the xtask)
+//! A config can name one model (a [`ModelStructure`], e.g.
+//! `{ damping = "quadratic_viscous", stiffness = "cubic" }`) for [`estimate_nonlinear`],
+//! or a list of them for [`compare_models`]; [`NonlinearOptions`] and
+//! [`ComparisonOptions`] deserialize with defaults for every field. A [`Comparison`]
+//! prints as a Markdown table plus the verdict (`Display`), serializes for a
+//! results file, and each [`ComparisonRow`] carries the validation output and residuals
+//! (scored from `scored_from`) for a figure comparing the candidates' residuals.
+//! Candidates that fail (e.g. a negative c₂ estimate whose prediction diverges) are
+//! listed in [`Comparison::failures`] instead of aborting the comparison.
+//!
 //! ```
 //! use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, DampingLaw, Excitation,
 //!     ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation,

@@ -150,7 +150,9 @@ pub fn simulate_nonlinear(
 ) -> Result<(Vec<f64>, Stats)> {
     parameters.validate()?;
     options.validate()?;
-    if parameters.coulomb_force() != 0.0 && !(smoothing_velocity.is_finite() && smoothing_velocity > 0.0) {
+    if parameters.coulomb_force() != 0.0
+        && !(smoothing_velocity.is_finite() && smoothing_velocity > 0.0)
+    {
         return Err(IdentError::InvalidParameter {
             name: "smoothing_velocity",
             value: smoothing_velocity,
