@@ -68,9 +68,10 @@ impl Default for NonlinearMultistart {
 /// | `linear_start` | `None`: the fast linear estimate (LM, exact simulation, ARX guess) |
 /// | `initial_state` | at rest |
 /// | `estimate_initial_state` | false |
-/// | `levenberg_marquardt` | MINPACK defaults, central differences with relative step 1e-4, at most 60 evaluations per parameter |
+/// | `levenberg_marquardt` | MINPACK defaults with central differences (relative step 1e-4) and at most 20·(p + 1) evaluations when `max_evaluations` is `None` |
 /// | `nelder_mead` | fminsearch defaults with relative tolerances 1e-8 |
 /// | `multistart` | `None` |
+/// | `dissipative_damping` | true: F_c ≥ 0, c₂ ≥ 0 |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct NonlinearOptions {
@@ -91,6 +92,10 @@ pub struct NonlinearOptions {
     pub nelder_mead: NelderMeadOptions,
     /// Multistart, or `None` for one local run. By default `None`.
     pub multistart: Option<NonlinearMultistart>,
+    /// Keep F_c ≥ 0 and c₂ ≥ 0 (dissipative friction) by bounds in Levenberg–Marquardt
+    /// and in the multistart box; Nelder–Mead runs unbounded. Without it an estimate may
+    /// take a negative coefficient, whose prediction can diverge. By default true.
+    pub dissipative_damping: bool,
 }
 
 impl Default for NonlinearOptions {
@@ -114,6 +119,7 @@ impl Default for NonlinearOptions {
                 ..NelderMeadOptions::default()
             },
             multistart: None,
+            dissipative_damping: true,
         }
     }
 }
@@ -400,6 +406,29 @@ pub fn estimate_nonlinear(
         });
     }
     let z0 = scaling.to_z(&start, options.initial_state);
+    // Indices of F_c or c₂ in z, bounded below by 0 when dissipative damping is asked.
+    let dissipative: Vec<usize> = if options.dissipative_damping {
+        structure
+            .parameter_names()
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| matches!(**n, "coulomb_force" | "quadratic_damping"))
+            .map(|(i, _)| i)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut lm_options = options.levenberg_marquardt.clone();
+    if lm_options.max_evaluations.is_none() {
+        lm_options.max_evaluations = Some(20 * (p + 1));
+    }
+    if !dissipative.is_empty() && lm_options.bounds.is_none() {
+        let mut lower = vec![f64::NEG_INFINITY; p];
+        for &i in &dissipative {
+            lower[i] = 0.0;
+        }
+        lm_options.bounds = Some(Bounds::new(lower, vec![f64::INFINITY; p])?);
+    }
     let sim = options.simulation;
     let local = |z_start: &[f64]| -> std::result::Result<Local, msd_opt::OptError> {
         match options.method {
@@ -407,11 +436,7 @@ pub fn estimate_nonlinear(
                 let mut problem = ResidualFn::new(n, |z: &[f64], out: &mut [f64]| {
                     residuals_at(&scaling, data, &sim, smoothing, z, out)
                 });
-                let mut lm = options.levenberg_marquardt.clone();
-                if lm.max_evaluations.is_none() {
-                    lm.max_evaluations = Some(20 * (p + 1));
-                }
-                let r = levenberg_marquardt(&mut problem, z_start, &lm)?;
+                let r = levenberg_marquardt(&mut problem, z_start, &lm_options)?;
                 Ok(Local {
                     z: r.x,
                     cost: r.cost,
@@ -465,6 +490,9 @@ pub fn estimate_nonlinear(
                 };
                 lower[i] -= w;
                 upper[i] += w;
+            }
+            for &i in &dissipative {
+                lower[i] = lower[i].max(0.0);
             }
             let bounds = Bounds::new(lower, upper)?;
             let design = MultistartOptions {

@@ -32,7 +32,8 @@
 //! F_c/s, c₂/s, k₃/s (which may be 0, and k₃ negative) with s making the nonlinear force
 //! comparable to the linear one at the output's RMS amplitude (s = c·v_rms for F_c,
 //! c/v_rms for c₂, k/x_rms² for k₃, v_rms = x_rms·ωₙ). Levenberg–Marquardt with central
-//! differences (default) or Nelder–Mead, optionally multistart. The covariance is
+//! differences (default; F_c ≥ 0 and c₂ ≥ 0 kept by bounds, see
+//! [`NonlinearOptions::dissipative_damping`]) or Nelder–Mead, optionally multistart. The covariance is
 //! σ̂²·D(JᵀJ)⁻¹D from the central-difference Jacobian at the optimum (D: the chain rule
 //! from the scaled to the physical parameters), with Student-t 95 % intervals.
 //!
@@ -51,8 +52,9 @@
 //! prints as a Markdown table plus the verdict (`Display`), serializes for a
 //! results file, and each [`ComparisonRow`] carries the validation output and residuals
 //! (scored from `scored_from`) for a figure comparing the candidates' residuals.
-//! Candidates that fail (e.g. a negative c₂ estimate whose prediction diverges) are
-//! listed in [`Comparison::failures`] instead of aborting the comparison.
+//! Candidates that fail (e.g. with `dissipative_damping = false`, a negative c₂ estimate
+//! whose prediction diverges) are listed in [`Comparison::failures`] instead of
+//! aborting the comparison.
 //!
 //! ```
 //! use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, DampingLaw, Excitation,
