@@ -242,7 +242,7 @@ impl std::fmt::Display for NonlinearParameters {
             .names()
             .iter()
             .zip(&self.values)
-            .map(|(n, v)| format!("{n} = {v:.6}"))
+            .map(|(n, v)| format!("{n} = {v:.6e}"))
             .collect();
         write!(f, "{}: {}", self.structure, parts.join(", "))
     }
