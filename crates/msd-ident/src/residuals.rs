@@ -162,7 +162,7 @@ pub fn cross_correlation(e: &[f64], u: &[f64], max_lag: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Ljung–Box statistic of the autocorrelation `r` (r[0] = 1) of a series of length `n`.
+/// Ljung–Box statistic of the autocorrelation `r` (with `r[0] = 1`) of a series of length `n`.
 ///
 /// ```
 /// let lb = msd_ident::ljung_box(&[1.0, 0.5, 0.25], 4);

@@ -59,7 +59,7 @@ impl<const N: usize> Solution<N> {
     }
 }
 
-/// Solves y' = f(t, y), y(t_span[0]) = y0, as MATLAB's `ode45(f, t_span, y0, options)`.
+/// Solves y' = f(t, y), `y(t_span[0]) = y0`, as MATLAB's `ode45(f, t_span, y0, options)`.
 ///
 /// With two entries in `t_span` the solution is returned at every step (refined by
 /// `options.refine`); with more, exactly at the given times, which must be strictly

@@ -1,14 +1,14 @@
 //! Optimisation for parameter identification, knowing nothing of the problems it
 //! solves:
 //!
-//! - [`nelder_mead`]: the Nelder–Mead simplex search of MATLAB's `fminsearch`, step
+//! - [`nelder_mead`](crate::nelder_mead()): the Nelder–Mead simplex search of MATLAB's `fminsearch`, step
 //!   for step (initial simplex, coefficients, order of tests, stopping rule,
 //!   counts), with an optional `Display = 'iter'` trace and, off by default,
 //!   relative tolerances, Gao–Han adaptive coefficients and bounds.
-//! - [`levenberg_marquardt`]: MINPACK's `lmder` (Moré's trust-region
+//! - [`levenberg_marquardt`](crate::levenberg_marquardt()): MINPACK's `lmder` (Moré's trust-region
 //!   Levenberg–Marquardt with QR and Givens rotations) plus box bounds and finite
 //!   differences; the result carries the Jacobian at the solution.
-//! - [`multistart`]: seeded Latin-hypercube or Halton starting points, refined by
+//! - [`multistart`](crate::multistart()): seeded Latin-hypercube or Halton starting points, refined by
 //!   either method on a local rayon pool, ranked; identical for any thread count.
 //!
 //! Bad input is an [`OptError`]; a run that stops early is a result with an exit

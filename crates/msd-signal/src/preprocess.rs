@@ -146,7 +146,7 @@ const DECIMATE_HALF_TAPS_PER_FACTOR: usize = 8;
 /// Cut-off of the decimation filter as a fraction of the new Nyquist frequency.
 const DECIMATE_CUTOFF: f64 = 0.8;
 
-/// Low-pass filters `x` and keeps every `factor`-th sample (x[0], x[factor], …).
+/// Low-pass filters `x` and keeps every `factor`-th sample (`x[0]`, `x[factor]`, …).
 ///
 /// ## The anti-alias filter
 /// A zero-phase FIR low-pass: a Hamming-windowed sinc with cut-off at 0.8 × the new

@@ -46,7 +46,7 @@ use crate::error::{Result, SignalError, check_data, positive, same_length};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Window {
-    /// Periodic Hann, w[n] = ½·(1 − cos(2πn/L)) (as scipy's `welch`). The default.
+    /// Periodic Hann, `w[n] = ½·(1 − cos(2πn/L))` (as scipy's `welch`). The default.
     #[default]
     Hann,
     /// No taper (w = 1).
