@@ -14,6 +14,7 @@
 //! # Ok::<(), xtask::XtaskError>(())
 //! ```
 
+pub mod bench;
 pub mod config;
 pub mod data;
 mod error;

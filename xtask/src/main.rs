@@ -33,6 +33,26 @@ enum Command {
     /// results.json.
     #[command(long_about = EXPERIMENT_HELP)]
     Experiment(ExperimentArgs),
+    /// Measure the paper experiment's speed: one table (median, min–max, multiple of the
+    /// floor) printed and written to target/bench/bench.json and bench.md. Builds and
+    /// runs the measurements in release mode (the first build takes a few minutes).
+    Bench(BenchArgs),
+    /// The measuring half of `bench`, run in release by `bench` itself.
+    #[command(hide = true)]
+    BenchRun(BenchArgs),
+    /// Runs a config's stages once (no figures) and prints the peak memory in MiB.
+    #[command(hide = true)]
+    BenchPeakMemory {
+        /// The experiment config.
+        config: PathBuf,
+    },
+}
+
+#[derive(Debug, clap::Args)]
+struct BenchArgs {
+    /// Fewer repetitions per row (about a third of the time).
+    #[arg(long)]
+    quick: bool,
 }
 
 const EXPERIMENT_HELP: &str = "\
@@ -97,6 +117,12 @@ fn try_main() -> Result<(), XtaskError> {
             Ok(())
         }
         Some(Command::Experiment(args)) => experiment(args),
+        Some(Command::Bench(args)) => bench_in_release(&args),
+        Some(Command::BenchRun(args)) => bench_run(&args),
+        Some(Command::BenchPeakMemory { config }) => {
+            println!("{:.1}", xtask::bench::pipeline_peak_memory(&config)?);
+            Ok(())
+        }
     }
 }
 
@@ -118,5 +144,61 @@ fn experiment(args: ExperimentArgs) -> Result<(), XtaskError> {
             XtaskError::run("experiment", format!("internal error: {why}"))
         })??;
     print!("{}", run.summary);
+    Ok(())
+}
+
+/// `bench`: build xtask in release and run `bench-run` there (the dev profile would
+/// measure unoptimised code).
+fn bench_in_release(args: &BenchArgs) -> Result<(), XtaskError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    eprintln!("building xtask in release (thin LTO; the first build takes a few minutes) …");
+    let mut command = std::process::Command::new(cargo);
+    command.current_dir(xtask::project_root()).args([
+        "run",
+        "--release",
+        "--quiet",
+        "-p",
+        "xtask",
+        "--",
+        "bench-run",
+    ]);
+    if args.quick {
+        command.arg("--quick");
+    }
+    let status = command
+        .status()
+        .map_err(|e| XtaskError::run("bench", format!("running cargo: {e}")))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(XtaskError::run(
+            "bench",
+            format!("the release run failed ({status})"),
+        ))
+    }
+}
+
+/// `bench-run`: measure, print the table, write target/bench/.
+fn bench_run(args: &BenchArgs) -> Result<(), XtaskError> {
+    use xtask::bench::{BenchOptions, out_dir, run, write};
+    let options = if args.quick {
+        BenchOptions::quick()
+    } else {
+        BenchOptions::default()
+    };
+    if cfg!(debug_assertions) {
+        eprintln!(
+            "warning: bench-run in a debug build measures unoptimised code; use `cargo xtask bench`"
+        );
+    }
+    let report = run(&options)?;
+    let dir = out_dir();
+    write(&report, &dir)?;
+    print!("{}", report.text());
+    println!(
+        "written: {} and {}",
+        dir.join("bench.json").display(),
+        dir.join("bench.md").display()
+    );
     Ok(())
 }
