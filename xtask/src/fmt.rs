@@ -45,6 +45,38 @@ pub fn parameter_units(input: &str, output: &str) -> [String; 3] {
     ]
 }
 
+/// The rows of every parameter table: name with unit, the true value (synthetic data only)
+/// and the estimate with its interval, for m, c, k, fn and ζ.
+pub fn parameter_rows<'a>(
+    u: &'a msd_ident::Uncertainty,
+    truth: Option<msd_ident::Parameters>,
+    units: &[String; 3],
+) -> [(String, Option<f64>, &'a msd_ident::Interval); 5] {
+    [
+        (format!("m [{}]", units[0]), truth.map(|t| t.mass), &u.mass),
+        (
+            format!("c [{}]", units[1]),
+            truth.map(|t| t.damping),
+            &u.damping,
+        ),
+        (
+            format!("k [{}]", units[2]),
+            truth.map(|t| t.stiffness),
+            &u.stiffness,
+        ),
+        (
+            "fn [Hz]".into(),
+            truth.map(|t| t.natural_frequency_hz()),
+            &u.natural_frequency_hz,
+        ),
+        (
+            "ζ [-]".into(),
+            truth.map(|t| t.damping_ratio()),
+            &u.damping_ratio,
+        ),
+    ]
+}
+
 /// The displayed output unit and the factor to it: millimetres for metres, else as is.
 pub fn display_output(unit: &str) -> (f64, String) {
     if unit == "m" {

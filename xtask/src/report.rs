@@ -1,10 +1,11 @@
 //! `report.md`: the run told for a person, with the figures embedded.
 
 use crate::config::Kind;
-use crate::fmt::{display_output, method_name, millis, parameter_units, short, sig};
+use crate::fmt::{
+    display_output, method_name, millis, parameter_rows, parameter_units, short, sig,
+};
 use crate::pipeline::Outcome;
 use crate::summary::stage_label;
-use msd_ident::Interval;
 use std::fmt::Write;
 use std::time::Duration;
 
@@ -176,29 +177,7 @@ pub fn markdown(
         "| quantity | estimate | standard error | 95 % interval |\n|---|---|---|---|"
     };
     let _ = writeln!(w, "{header}");
-    let rows: [(String, Option<f64>, &Interval); 5] = [
-        (format!("m [{}]", units[0]), truth.map(|t| t.mass), &u.mass),
-        (
-            format!("c [{}]", units[1]),
-            truth.map(|t| t.damping),
-            &u.damping,
-        ),
-        (
-            format!("k [{}]", units[2]),
-            truth.map(|t| t.stiffness),
-            &u.stiffness,
-        ),
-        (
-            "fn [Hz]".into(),
-            truth.map(|t| t.natural_frequency_hz()),
-            &u.natural_frequency_hz,
-        ),
-        (
-            "ζ".into(),
-            truth.map(|t| t.damping_ratio()),
-            &u.damping_ratio,
-        ),
-    ];
+    let rows = parameter_rows(u, truth, &units);
     for (name, true_value, i) in rows {
         let interval = format!("[{}, {}]", sig(i.ci95[0], 5), sig(i.ci95[1], 5));
         match true_value {

@@ -1,7 +1,7 @@
 //! The concise summary printed after a run: parameters with intervals, fit on both
 //! records, residual, frequency and Monte Carlo verdicts, and the time of each stage.
 
-use crate::fmt::{display_output, method_name, millis, parameter_units, sig};
+use crate::fmt::{display_output, method_name, millis, parameter_rows, parameter_units, sig};
 use crate::pipeline::Outcome;
 use std::fmt::Write;
 use std::path::Path;
@@ -65,29 +65,7 @@ pub fn text(
         if truth.is_some() { "true" } else { "" },
         "estimate",
     );
-    let rows = [
-        (format!("m [{}]", units[0]), truth.map(|t| t.mass), &u.mass),
-        (
-            format!("c [{}]", units[1]),
-            truth.map(|t| t.damping),
-            &u.damping,
-        ),
-        (
-            format!("k [{}]", units[2]),
-            truth.map(|t| t.stiffness),
-            &u.stiffness,
-        ),
-        (
-            "fn [Hz]".to_string(),
-            truth.map(|t| t.natural_frequency_hz()),
-            &u.natural_frequency_hz,
-        ),
-        (
-            "ζ [-]".to_string(),
-            truth.map(|t| t.damping_ratio()),
-            &u.damping_ratio,
-        ),
-    ];
+    let rows = parameter_rows(u, truth, &units);
     for (name, true_value, i) in rows {
         let _ = writeln!(
             s,
