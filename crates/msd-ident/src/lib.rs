@@ -44,9 +44,11 @@
 //! ```
 
 mod arx;
+mod correlation;
 mod data;
 mod error;
 mod estimate;
+mod fft;
 mod frequency;
 mod metrics;
 mod nonlinear;
@@ -59,6 +61,7 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
+pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};
 pub use estimate::{
@@ -76,8 +79,7 @@ pub use nonlinear::{
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
 pub use residuals::{
-    CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, autocorrelation,
-    cross_correlation, ljung_box, residual_analysis,
+    CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, ljung_box, residual_analysis,
 };
 pub use sensitivity::{SensitivitySample, sensitivities};
 pub use simulate::{Backend, simulate, simulate_into};
