@@ -9,7 +9,9 @@
 //!   (Figure 4);
 //! - `residual_correlation`: residual autocorrelation and residual–input
 //!   cross-correlation with their bands;
-//! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked.
+//! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked;
+//! - `nonlinear_residuals` (with `[nonlinear]`): the validation residuals of every
+//!   candidate model over time, their RMS in the legend.
 //!
 //! The house style of a chart (mesh, legend box, figure title) is one helper each here:
 //! [`house_mesh`], [`draw_legend`] and [`suptitle`].
@@ -18,6 +20,7 @@
 //! and maximum (so no peak is lost), markers are subsampled evenly.
 
 mod diagnostics;
+mod models;
 mod time;
 
 use crate::pipeline::Outcome;
@@ -121,6 +124,10 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
             &units,
             outcome.config.frequency_check.data.name(),
         );
+        save(&f, dir)?;
+        written.push(f.name());
+    }
+    if let Some(f) = models::residuals(outcome, &units) {
         save(&f, dir)?;
         written.push(f.name());
     }
