@@ -14,7 +14,7 @@
 //!   candidate model over time, their RMS in the legend.
 //!
 //! The house style of a chart (mesh, legend box, figure title) is one helper each here:
-//! [`house_mesh`], [`draw_legend`] and [`suptitle`].
+//! `house_mesh`, `draw_legend` and `suptitle`.
 //!
 //! Long records are thinned for drawing only: lines keep each pixel column's minimum
 //! and maximum (so no peak is lost), markers are subsampled evenly.
