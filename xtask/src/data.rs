@@ -91,26 +91,12 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
     let val_exc = Excitation::from_signal(val_input, time.start, time.dt, n)
         .map_err(bad("validation.input"))?;
     let truth = plant.parameters();
-    let (identification, id_truth) = synthetic_data(
-        "identification",
-        &truth,
-        id_exc,
-        plant.initial_state,
-        noise.sigma,
-        seed,
-        "identification",
-    )
-    .map_err(|e| XtaskError::run("data", e))?;
-    let (validation, val_truth) = synthetic_data(
-        "validation",
-        &truth,
-        val_exc,
-        plant.initial_state,
-        noise.sigma,
-        seed,
-        "validation",
-    )
-    .map_err(|e| XtaskError::run("data", e))?;
+    let record = |name: &'static str, excitation: Excitation| {
+        plant_record(&plant, name, excitation, noise.sigma, seed)
+            .map_err(|e| XtaskError::run("data", e))
+    };
+    let (identification, id_truth) = record("identification", id_exc)?;
+    let (validation, val_truth) = record("validation", val_exc)?;
     Ok(ExperimentData {
         kind: Kind::Synthetic,
         identification,
@@ -121,6 +107,44 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
         validation_initial_samples: 0,
         source: Source::Synthetic { sigma: noise.sigma },
     })
+}
+
+/// One noisy record of the plant and its noise-free response: the exact simulation of a
+/// linear plant, or ode45 (msd-ident's default nonlinear simulation, RelTol 1e-8) for a
+/// plant with nonlinear terms; the noise from the stream named `name` of `seed`.
+fn plant_record(
+    plant: &crate::config::Plant,
+    name: &str,
+    excitation: Excitation,
+    sigma: f64,
+    seed: u64,
+) -> msd_ident::Result<(DataSet, Vec<f64>)> {
+    let Some(nonlinear) = plant.nonlinear() else {
+        return synthetic_data(
+            name,
+            &plant.parameters(),
+            excitation,
+            plant.initial_state,
+            sigma,
+            seed,
+            name,
+        );
+    };
+    let simulation = msd_ident::NonlinearSimulation::default();
+    let smoothing =
+        simulation.resolve_smoothing_velocity(&nonlinear, &excitation, plant.initial_state)?;
+    let (truth, _) = msd_ident::simulate_nonlinear(
+        &nonlinear,
+        &excitation,
+        plant.initial_state,
+        &simulation,
+        smoothing,
+    )?;
+    let mut y = truth.clone();
+    if sigma > 0.0 {
+        msd_signal::NoiseStream::new(seed, name, sigma)?.add_to(&mut y);
+    }
+    Ok((DataSet::new(name, excitation, y)?, truth))
 }
 
 /// The columns of a CSV file as read.

@@ -75,8 +75,8 @@ pub use metrics::FitMetrics;
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, ModelStructure,
     NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, bic_evidence,
-    compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
+    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, assess_estimate,
+    bic_evidence, compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
     synthetic_nonlinear_data,
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
