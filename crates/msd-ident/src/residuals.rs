@@ -157,7 +157,12 @@ pub fn residual_analysis(
         });
     }
     let n = residuals.len();
-    let needed = 4 * options.max_lag + 1;
+    // 4·max_lag + 1 without overflow: a huge max_lag is simply too many lags.
+    let needed = options
+        .max_lag
+        .checked_mul(4)
+        .and_then(|v| v.checked_add(1))
+        .unwrap_or(usize::MAX);
     if n < needed {
         return Err(IdentError::TooFewSamples {
             got: n,

@@ -27,8 +27,13 @@
 //!   assumes one mode and a linear plant; the continuous-time form of the transient term
 //!   is accurate while ω·dt ≪ 1.
 //! - Verdict: consistent when the fitted fn and ζ agree with the model's within
-//!   `frequency_tolerance` and `damping_tolerance` (relative), and the model explains the
-//!   DFT in the band (normalised output error below `max_relative_error`).
+//!   `frequency_tolerance` and `damping_tolerance` (relative; ζ relative to the larger of
+//!   the model's ζ and the resolution floor 1/(2·fn·T), so that a lightly or un-damped
+//!   model compares finitely), and the model explains the DFT in the band (normalised
+//!   output error below `max_relative_error`).
+//! - Refusals ([`IdentError::NotIdentifiable`]): an input without power above DC (or
+//!   below the FFT's rounding of the output), and data without a resonance in the band
+//!   (an over-damped plant: the fit runs off to ζ ≥ 1 or out of the band).
 
 mod mode_fit;
 mod spectra;
@@ -68,6 +73,44 @@ impl Default for FrequencyCheckOptions {
             damping_tolerance: 0.2,
             max_relative_error: 0.25,
         }
+    }
+}
+
+impl FrequencyCheckOptions {
+    /// Checks every option.
+    pub fn validate(&self) -> Result<()> {
+        let invalid = |name, value, expected| {
+            Err(IdentError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        if let Some([low, high]) = self.band_hz {
+            if !(low.is_finite() && low >= 0.0) {
+                return invalid("band_hz[0]", low, "a finite frequency >= 0 Hz");
+            }
+            if !(high.is_finite() && high > low) {
+                return invalid("band_hz[1]", high, "a finite frequency above band_hz[0]");
+            }
+        }
+        if !(self.power_threshold > 0.0 && self.power_threshold <= 1.0) {
+            return invalid(
+                "power_threshold",
+                self.power_threshold,
+                "a share of the peak power in (0, 1]",
+            );
+        }
+        for (name, value) in [
+            ("frequency_tolerance", self.frequency_tolerance),
+            ("damping_tolerance", self.damping_tolerance),
+            ("max_relative_error", self.max_relative_error),
+        ] {
+            if !(value.is_finite() && value > 0.0) {
+                return invalid(name, value, "a finite number > 0");
+            }
+        }
+        Ok(())
     }
 }
 
@@ -127,6 +170,7 @@ pub fn frequency_check(
     options: &FrequencyCheckOptions,
 ) -> Result<FrequencyCheck> {
     parameters.validate()?;
+    options.validate()?;
     let n = smooth_length(data.len());
     let dt = data.excitation.dt();
     let fs = 1.0 / dt;
@@ -142,7 +186,18 @@ pub fn frequency_check(
     // Relative to the signal's energy (Parseval: Σ|U_k|² = N Σu²), so FFT rounding of a
     // constant input does not count as excitation.
     let energy: f64 = u.iter().map(|v| v * v).sum::<f64>() * n as f64;
-    if peak_power.is_nan() || peak_power <= 1e-24 * energy {
+    // The shared FFT leaks rounding of the output into the input's spectrum: at most
+    // c·ε·log₂N·√N·‖z‖₂ per line (normwise FFT error, c = 10), z = (u − ū) + i(y − ȳ).
+    let centred = |x: &[f64]| {
+        let mean = x.iter().sum::<f64>() / n as f64;
+        x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>()
+    };
+    let leak = 10.0
+        * f64::EPSILON
+        * (n as f64).log2().max(1.0)
+        * (n as f64).sqrt()
+        * (centred(u) + centred(y)).sqrt();
+    if peak_power.is_nan() || peak_power <= 1e-24 * energy || peak_power <= leak * leak {
         return Err(IdentError::NotIdentifiable {
             reason: "the input has no power above DC: no frequency response can be measured".into(),
         });
@@ -195,6 +250,16 @@ pub fn frequency_check(
     let fit = nelder_mead(objective, &x0, &nm)?;
     let (wn, zeta) = (fit.x[0].exp(), fit.x[1].exp());
     let natural_frequency_hz = wn / (2.0 * PI);
+    if !(zeta < 1.0 && (omega[0]..=omega[omega.len() - 1]).contains(&wn)) {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "no resonance in the band {:.4}–{:.4} Hz: the single-mode fit needs an underdamped mode inside it (the fit ran off to fn = {natural_frequency_hz:.4e} Hz, ζ = {zeta:.3e}; the model's ζ is {:.3})",
+                band[0],
+                band[1],
+                parameters.damping_ratio()
+            ),
+        });
+    }
 
     // The model's output error in the band, with the transient term fitted for it.
     let model_h: Vec<Complex64> = omega
@@ -239,7 +304,12 @@ pub fn frequency_check(
     let model_fn = parameters.natural_frequency_hz();
     let model_zeta = parameters.damping_ratio();
     let frequency_error = (natural_frequency_hz - model_fn) / model_fn;
-    let damping_error = (zeta - model_zeta) / model_zeta;
+    // Relative to the model's ζ, but never below the resolution floor ζ_res = 1/(2·fn·T),
+    // whose half-power bandwidth is one DFT line (so an undamped model, ζ = 0, compares
+    // finitely).
+    let record_seconds = n as f64 * dt;
+    let damping_floor = 1.0 / (2.0 * model_fn * record_seconds);
+    let damping_error = (zeta - model_zeta) / model_zeta.max(damping_floor);
     let consistent = frequency_error.abs() <= options.frequency_tolerance
         && damping_error.abs() <= options.damping_tolerance
         && model_relative_error <= options.max_relative_error;
