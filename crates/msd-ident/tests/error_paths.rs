@@ -32,13 +32,13 @@ fn chirp_data() -> DataSet {
     DataSet::new("chirp", exc, y).unwrap()
 }
 
-/// θ₀ absurdly stiff for the sampling interval: ‖A·dt‖ = k/m·dt = 2e15, beyond what
-/// a matrix exponential can take (1e12), at θ₀ and at every point of Nelder–Mead's
-/// initial simplex (5 % away).
+/// θ₀ absurdly stiff for the sampling interval: ωn·dt = √(k/m)·dt = 2e13, beyond what a
+/// matrix exponential can take (a balanced ‖A·dt‖ of 1e12), at θ₀ and at every point of
+/// Nelder–Mead's initial simplex (5 % away).
 const ABSURD: Parameters = Parameters {
-    mass: 1e-12,
+    mass: 1e-20,
     damping: 1.0,
-    stiffness: 1e6,
+    stiffness: 1e12,
 };
 
 #[test]
