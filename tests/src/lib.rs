@@ -49,6 +49,21 @@ impl Run {
     }
 }
 
+/// Asserts that `dir/results.json` is `results` byte for byte (pretty-printed, with a
+/// final newline): comparing the documents then compares the files, since the floats are
+/// written in shortest round-trip form. (Parsing the file back is not exact: serde_json's
+/// default float parser may be off by one ulp.)
+pub fn assert_results_file_is(dir: &Path, results: &serde_json::Value) {
+    let on_disk = std::fs::read_to_string(dir.join("results.json"))
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    let expected = serde_json::to_string_pretty(results).expect("serialisable") + "\n";
+    assert!(
+        on_disk == expected,
+        "{}/results.json differs from the returned document",
+        dir.display()
+    );
+}
+
 /// The value at a dotted path of a JSON document.
 pub fn lookup<'a>(value: &'a serde_json::Value, path: &str) -> Option<&'a serde_json::Value> {
     path.split('.').try_fold(value, |v, key| v.get(key))

@@ -273,9 +273,7 @@ fn a_killed_run_leaves_only_hidden_leftovers_that_the_next_run_removes() {
 
     let run = case.run().expect("the next run succeeds");
     assert_eq!(listing(case.dir.path()), ["out", "tiny.toml"]);
-    let written = std::fs::read_to_string(case.out().join("results.json")).unwrap();
-    let expected = serde_json::to_string_pretty(&run.results).unwrap() + "\n";
-    assert!(written == expected, "results.json is not the new run's");
+    msd_tests::assert_results_file_is(&case.out(), &run.results);
 }
 
 /// A kill between moving the previous result aside and moving the new one in leaves
