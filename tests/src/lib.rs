@@ -49,6 +49,21 @@ impl Run {
     }
 }
 
+/// Asserts that `dir/results.json` is `results` byte for byte (pretty-printed, with a
+/// final newline): comparing the documents then compares the files, since the floats are
+/// written in shortest round-trip form. (Parsing the file back is not exact: serde_json's
+/// default float parser may be off by one ulp.)
+pub fn assert_results_file_is(dir: &Path, results: &serde_json::Value) {
+    let on_disk = std::fs::read_to_string(dir.join("results.json"))
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    let expected = serde_json::to_string_pretty(results).expect("serialisable") + "\n";
+    assert!(
+        on_disk == expected,
+        "{}/results.json differs from the returned document",
+        dir.display()
+    );
+}
+
 /// The value at a dotted path of a JSON document.
 pub fn lookup<'a>(value: &'a serde_json::Value, path: &str) -> Option<&'a serde_json::Value> {
     path.split('.').try_fold(value, |v, key| v.get(key))
@@ -91,6 +106,25 @@ pub fn without_timings(results: &serde_json::Value) -> serde_json::Value {
         }
     }
     v
+}
+
+/// A small synthetic experiment (4 s at 5 ms, 801 samples; 50 Monte Carlo draws on the
+/// exact simulator): a whole run in a fraction of a second, even in debug.
+pub const TINY_CONFIG: &str = include_str!("../fixtures/tiny.toml");
+
+/// The names in a folder, sorted (hidden ones included).
+pub fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| {
+            e.expect("a folder entry")
+                .file_name()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
 }
 
 /// Decodes a PNG and returns its size.

@@ -134,12 +134,7 @@ fn paper_results_json_has_every_required_key() {
     // The config as read is in the file.
     assert_eq!(run.summary.results["config"]["plant"]["stiffness"], 120.0);
     // The file on disk is the document returned, byte for byte.
-    let on_disk = std::fs::read_to_string(run.out().join("results.json")).unwrap();
-    let expected = serde_json::to_string_pretty(&run.summary.results).unwrap() + "\n";
-    assert!(
-        on_disk == expected,
-        "results.json differs from the returned document"
-    );
+    msd_tests::assert_results_file_is(run.out(), &run.summary.results);
 }
 
 #[test]

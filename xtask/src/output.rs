@@ -1,9 +1,104 @@
 //! Atomic output: everything is written into a hidden staging folder next to the
 //! target, which replaces the target only once it is complete. A failed run (an error or
 //! a panic) removes the staging folder and leaves any previous target untouched.
+//!
+//! A run that is killed (Ctrl-C, `kill -9`, a power cut) cannot clean up: it leaves its
+//! hidden staging folder `.<name>.partial-<pid>-<n>` beside the target (the target itself
+//! is untouched, or complete). The next run into the same target removes such leftovers
+//! of processes that are no longer running, and puts back a previous result that a kill
+//! caught while it was moved aside (`.<name>.old-<pid>`).
+//!
+//! For tests of these failure paths, [`inject_fault`] makes this thread's writes fail as
+//! a full disk, a panic or a kill would.
 
 use crate::{Result, XtaskError};
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
+
+/// A fault for tests of the failure paths, armed on the current thread by
+/// [`inject_fault`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Fault {
+    /// Writing `file` (a name given to [`Staging::write`]) stores half of its bytes and
+    /// then fails as a full disk does (`ENOSPC`, "No space left on device").
+    DiskFull {
+        /// The file name inside the output folder, e.g. `"results.json"`.
+        file: String,
+    },
+    /// Writing `file` panics, as a bug in a writer would.
+    Panic {
+        /// The file name inside the output folder.
+        file: String,
+    },
+    /// Writing `file` ends the whole process after half of its bytes, as `kill -9` would:
+    /// exit status 137, no destructor runs, the staging folder stays behind.
+    Kill {
+        /// The file name inside the output folder.
+        file: String,
+    },
+    /// Moving the finished staging folder onto the target fails (after a previous
+    /// target was moved aside), as a rename across a vanished or full file system would.
+    Commit,
+}
+
+thread_local! {
+    static FAULT: RefCell<Option<Fault>> = const { RefCell::new(None) };
+}
+
+/// Arms `fault` for the output written on this thread until the returned guard is
+/// dropped. Only tests use this.
+///
+/// ```
+/// use xtask::output::{Fault, Staging, inject_fault};
+/// let root = tempfile::tempdir().unwrap();
+/// let staging = Staging::new(&root.path().join("run"))?;
+/// let _fault = inject_fault(Fault::DiskFull { file: "a.txt".into() });
+/// let err = staging.write("a.txt", b"hello").unwrap_err();
+/// assert!(err.to_string().contains("cannot write a.txt"));
+/// # Ok::<(), xtask::XtaskError>(())
+/// ```
+pub fn inject_fault(fault: Fault) -> FaultGuard {
+    FAULT.with(|f| *f.borrow_mut() = Some(fault));
+    FaultGuard { _private: () }
+}
+
+/// Disarms the fault of [`inject_fault`] when dropped.
+#[derive(Debug)]
+pub struct FaultGuard {
+    _private: (),
+}
+
+impl Drop for FaultGuard {
+    fn drop(&mut self) {
+        FAULT.with(|f| *f.borrow_mut() = None);
+    }
+}
+
+impl Fault {
+    /// The file it targets (`None` for `Commit`).
+    fn file(&self) -> Option<&str> {
+        match self {
+            Fault::DiskFull { file } | Fault::Panic { file } | Fault::Kill { file } => Some(file),
+            Fault::Commit => None,
+        }
+    }
+}
+
+/// The armed fault, if it is `Commit` (`file` = `None`) or targets `file`.
+fn armed(file: Option<&str>) -> Option<Fault> {
+    FAULT.with(|f| f.borrow().clone().filter(|fault| fault.file() == file))
+}
+
+fn no_space() -> std::io::Error {
+    #[cfg(unix)]
+    {
+        std::io::Error::from_raw_os_error(28) // ENOSPC
+    }
+    #[cfg(not(unix))]
+    {
+        std::io::Error::from(std::io::ErrorKind::StorageFull)
+    }
+}
 
 /// A staging folder that becomes `target` on [`Staging::commit`] and disappears if
 /// dropped before.
@@ -55,6 +150,7 @@ impl Staging {
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
         std::fs::create_dir_all(parent).map_err(|e| fail("cannot create the parent of", e))?;
+        recover_leftovers(parent, &name, target);
         let unique = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map(|d| d.as_nanos())
@@ -80,8 +176,21 @@ impl Staging {
 
     /// Writes `bytes` to `name` inside the staging folder.
     pub fn write(&self, name: &str, bytes: &[u8]) -> Result<()> {
-        std::fs::write(self.dir.join(name), bytes)
-            .map_err(|e| XtaskError::run("write", format!("cannot write {name}: {e}")))
+        let path = self.dir.join(name);
+        let fail =
+            |e: std::io::Error| XtaskError::run("write", format!("cannot write {name}: {e}"));
+        match armed(Some(name)) {
+            Some(Fault::DiskFull { .. }) => {
+                std::fs::write(&path, &bytes[..bytes.len() / 2]).map_err(fail)?;
+                Err(fail(no_space()))
+            }
+            Some(Fault::Panic { .. }) => panic!("injected fault: a panic while writing {name}"),
+            Some(Fault::Kill { .. }) => {
+                let _ = std::fs::write(&path, &bytes[..bytes.len() / 2]);
+                std::process::exit(137)
+            }
+            _ => std::fs::write(path, bytes).map_err(fail),
+        }
     }
 
     /// Moves the staging folder onto the target, replacing a previous one.
@@ -108,7 +217,11 @@ impl Staging {
         } else {
             None
         };
-        if let Err(e) = std::fs::rename(&self.dir, &self.target) {
+        let moved = match armed(None) {
+            Some(_) => Err(no_space()),
+            None => std::fs::rename(&self.dir, &self.target),
+        };
+        if let Err(e) = moved {
             if let Some(old) = &old {
                 let _ = std::fs::rename(old, &self.target);
             }
@@ -125,6 +238,51 @@ impl Staging {
             let _ = std::fs::remove_dir_all(old);
         }
         Ok(())
+    }
+}
+
+/// Cleans up after killed runs into `target` (named `name`, in `parent`): removes the
+/// staging folders of processes that no longer run, and puts back a previous result that
+/// a kill left moved aside (or removes it when the target is there). Best effort: a
+/// leftover that cannot be removed is left alone; nothing of a running process is touched.
+fn recover_leftovers(parent: &Path, name: &str, target: &Path) {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    let partial = format!(".{name}.partial-");
+    let old = format!(".{name}.old-");
+    for entry in entries.flatten() {
+        let file_name = entry.file_name().to_string_lossy().into_owned();
+        let (rest, is_old) = if let Some(rest) = file_name.strip_prefix(&partial) {
+            (rest, false)
+        } else if let Some(rest) = file_name.strip_prefix(&old) {
+            (rest, true)
+        } else {
+            continue;
+        };
+        let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
+        if pid.is_none_or(process_is_running) {
+            continue;
+        }
+        let path = entry.path();
+        if is_old && !target.exists() {
+            let _ = std::fs::rename(&path, target);
+        } else {
+            let _ = std::fs::remove_dir_all(&path);
+        }
+    }
+}
+
+/// Whether process `pid` is running (this one always is). Where that cannot be told
+/// (outside Linux), every process counts as running, so nothing is removed.
+fn process_is_running(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return true;
+    }
+    if cfg!(target_os = "linux") {
+        Path::new("/proc").join(pid.to_string()).exists()
+    } else {
+        true
     }
 }
 

@@ -12,6 +12,9 @@
 //! x is driven by the last of a chain of integrators whose initial values select the
 //! monomial. The Lagrange coefficients of each stencil are folded into the Γⱼ once, so the
 //! per-sample update is Φ xᵢ plus at most four weighted samples, with no allocation.
+//! The augmented matrix is balanced first (a diagonal similarity by powers of two, which
+//! rounds nothing), so neither the accuracy nor the stiffness limit depends on the units
+//! of the state or the input.
 //!
 //! Holds: [`Hold::Zero`] (u constant at uᵢ, what a naive `lsim` does), [`Hold::First`]
 //! (linear between samples, O(dt²) input error), [`Hold::Cubic`] (cubic through four
@@ -219,12 +222,14 @@ pub struct ExactSimulator<const N: usize> {
 }
 
 impl<const N: usize> ExactSimulator<N> {
-    /// Largest ‖[A·dt, b·dt; 0, shift]‖₁ accepted by [`ExactSimulator::new`].
+    /// Largest ‖D⁻¹[A·dt, b·dt; 0, shift]D‖₁ accepted by [`ExactSimulator::new`], with D
+    /// the diagonal balancing of the augmented matrix (so the limit does not depend on
+    /// the units of the state or the input).
     pub const MAX_NORM: f64 = 1e12;
 
     /// Discretises `model` for step `dt` with the given hold.
     ///
-    /// Fails with [`OdeError::ExponentialOutOfRange`] when ‖A·dt‖ exceeds
+    /// Fails with [`OdeError::ExponentialOutOfRange`] when the balanced ‖A·dt‖ exceeds
     /// [`ExactSimulator::MAX_NORM`].
     pub fn new(model: &LtiModel<N>, dt: f64, hold: Hold) -> Result<Self, OdeError> {
         model.validate()?;
@@ -247,10 +252,16 @@ impl<const N: usize> ExactSimulator<N> {
         for j in 0..D {
             aug[(N + j + 1, N + j)] = 1.0;
         }
-        // Scaling and squaring needs ~log2‖A·dt‖ squarings; beyond this limit the powers
+        // Balance first: the state and input may be in any units (a sensitivity ∂x/∂m of a
+        // 1 µg mass is ~1e9 times x), which scales rows and columns by powers of ten that
+        // say nothing about how hard the exponential is. With D from `balance`,
+        // e^M = D e^{D⁻¹MD} D⁻¹, exactly (D holds powers of two).
+        let scale = balance(&mut aug);
+        // Scaling and squaring needs ~log2‖M‖ squarings; beyond this limit the powers
         // inside the Padé step overflow and the squaring count becomes meaningless (the
         // computation would never end), so such a model is refused with an error. 1e12
-        // leaves room for very stiff plants (k = 1e8, m = 1e-3 at dt = 2 ms is ~2e8).
+        // leaves room for very stiff plants (k = 1e8, m = 1e-3 at dt = 2 ms: the balanced
+        // norm is about ωn·dt ≈ 6e2).
         let norm = (0..size)
             .map(|c| (0..size).map(|r| aug[(r, c)].abs()).sum::<f64>())
             .fold(0.0, f64::max);
@@ -261,7 +272,12 @@ impl<const N: usize> ExactSimulator<N> {
                 dt,
             });
         }
-        let e = aug.exp();
+        let mut e = aug.exp();
+        for r in 0..size {
+            for c in 0..size {
+                e[(r, c)] *= scale[r] / scale[c];
+            }
+        }
         if let Some((index, &value)) = e.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(OdeError::NonFiniteModel {
                 name: "a",
@@ -532,4 +548,50 @@ fn stencil_weights<const N: usize>(
         }
     }
     weights
+}
+
+/// Balances `m` in place by a diagonal similarity D⁻¹ M D with powers of two on the
+/// diagonal (Parlett & Reinsch 1969, as LAPACK's `gebal` without permutations): each
+/// row and column pair is scaled until their off-diagonal 1-norms are within a factor
+/// of two. Returns the diagonal of D. Exact: scaling by powers of two rounds nothing.
+fn balance(m: &mut DMatrix<f64>) -> Vec<f64> {
+    let n = m.nrows();
+    let mut d = vec![1.0; n];
+    for _sweep in 0..64 {
+        let mut done = true;
+        for i in 0..n {
+            let (mut c, mut r) = (0.0, 0.0);
+            for j in (0..n).filter(|&j| j != i) {
+                c += m[(j, i)].abs();
+                r += m[(i, j)].abs();
+            }
+            if c == 0.0 || r == 0.0 || !(c + r).is_finite() {
+                continue;
+            }
+            let total = c + r;
+            let mut f = 1.0;
+            while c < r / 2.0 {
+                c *= 2.0;
+                r /= 2.0;
+                f *= 2.0;
+            }
+            while c >= r * 2.0 {
+                c /= 2.0;
+                r *= 2.0;
+                f /= 2.0;
+            }
+            if c + r < 0.95 * total {
+                done = false;
+                d[i] *= f;
+                for j in 0..n {
+                    m[(i, j)] /= f;
+                    m[(j, i)] *= f;
+                }
+            }
+        }
+        if done {
+            break;
+        }
+    }
+    d
 }

@@ -118,6 +118,16 @@ pub enum OptError {
         /// rayon's message.
         message: String,
     },
+    /// The local run of one start panicked on a worker thread (a bug in the cost or
+    /// residual function, or in a solver); the panic was caught and the other starts'
+    /// results discarded.
+    #[error("multistart: the local run of start {start} panicked: {message}")]
+    WorkerPanicked {
+        /// Index of the start whose run panicked (the lowest such index).
+        start: usize,
+        /// The panic message (`"non-string panic payload"` when it was not text).
+        message: String,
+    },
 }
 
 /// Checks a starting point: non-empty and finite.

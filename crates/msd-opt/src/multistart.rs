@@ -184,9 +184,15 @@ pub fn starting_points(
 /// Runs `local` from every starting point and returns all results, best first
 /// (ties keep start order).
 ///
+/// A panic inside `local` does not unwind through the pool: it is caught on the worker
+/// and returned as [`OptError::WorkerPanicked`] (the other starts still run, their
+/// results are discarded).
+///
 /// # Errors
-/// Invalid options or bounds, a thread pool that cannot be built, or
-/// [`OptError::LocalSolver`] with the lowest-index start whose local run failed.
+/// Invalid options or bounds, a thread pool that cannot be built
+/// ([`OptError::ThreadPool`]), [`OptError::WorkerPanicked`] or
+/// [`OptError::LocalSolver`] with the lowest-index start whose local run panicked or
+/// failed.
 pub fn multistart<T, L>(
     bounds: &Bounds,
     options: &MultistartOptions,
@@ -197,19 +203,19 @@ where
     L: Fn(&[f64]) -> Result<T, OptError> + Sync,
 {
     let points = starting_points(bounds, options)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| OptError::ThreadPool {
-            threads: options.threads,
-            message: e.to_string(),
-        })?;
-    let outcomes: Vec<Result<T, OptError>> =
-        pool.install(|| points.par_iter().map(|x0| local(x0)).collect());
+    let pool = pool(options.threads, None)?;
+    let outcomes: Vec<Result<T, OptError>> = pool.install(|| {
+        points
+            .par_iter()
+            .enumerate()
+            .map(|(start, x0)| caught(start, || local(x0)))
+            .collect()
+    });
     let mut ranked = Vec::with_capacity(points.len());
     for (start, (x0, outcome)) in points.into_iter().zip(outcomes).enumerate() {
         match outcome {
             Ok(result) => ranked.push(StartResult { start, x0, result }),
+            Err(e @ OptError::WorkerPanicked { .. }) => return Err(e),
             Err(e) => {
                 return Err(OptError::LocalSolver {
                     start,
@@ -224,6 +230,35 @@ where
     };
     ranked.sort_by(|a, b| key(a).total_cmp(&key(b)));
     Ok(ranked)
+}
+
+/// A local rayon pool of `threads` workers (with `stack_size` bytes of stack each, when
+/// given; rayon's default otherwise).
+fn pool(threads: usize, stack_size: Option<usize>) -> Result<rayon::ThreadPool, OptError> {
+    let mut builder = rayon::ThreadPoolBuilder::new().num_threads(threads);
+    if let Some(bytes) = stack_size {
+        builder = builder.stack_size(bytes);
+    }
+    builder.build().map_err(|e| OptError::ThreadPool {
+        threads,
+        message: e.to_string(),
+    })
+}
+
+/// Runs the local work of `start`, turning a panic into [`OptError::WorkerPanicked`].
+///
+/// `AssertUnwindSafe`: after a panic nothing of that start's run is used again (its
+/// result is the error), and the whole multistart returns an error, so no broken
+/// invariant of the caller's closure is observed through this call.
+fn caught<T>(start: usize, work: impl FnOnce() -> Result<T, OptError>) -> Result<T, OptError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)).unwrap_or_else(|payload| {
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "non-string panic payload".into());
+        Err(OptError::WorkerPanicked { start, message })
+    })
 }
 
 fn first_primes(n: usize) -> Vec<u64> {
@@ -263,6 +298,27 @@ mod tests {
         assert_eq!(radical_inverse(1, 2), 0.5);
         assert_eq!(radical_inverse(3, 2), 0.75);
         assert_eq!(radical_inverse(5, 3), 2.0 / 3.0 + 1.0 / 9.0);
+    }
+
+    /// rayon's pool fails to build only when a worker thread cannot be spawned; a stack
+    /// of 2⁶⁰ bytes cannot be mapped on any machine (it exceeds the 48-bit address space),
+    /// so the spawn fails and the error names the pool size and rayon's reason.
+    #[test]
+    fn a_pool_whose_threads_cannot_be_spawned_is_a_thread_pool_error() {
+        let err = pool(3, Some(1 << 60)).expect_err("a 2^60-byte stack cannot be mapped");
+        match &err {
+            OptError::ThreadPool { threads, message } => {
+                assert_eq!(*threads, 3);
+                assert!(!message.is_empty());
+            }
+            other => panic!("expected ThreadPool, got {other:?}"),
+        }
+        assert!(
+            err.to_string()
+                .starts_with("multistart: could not build a thread pool of 3 threads: "),
+            "{err}"
+        );
+        assert!(pool(3, None).is_ok());
     }
 
     #[test]
