@@ -162,14 +162,17 @@ where
                             for j in 0..cols {
                                 let from = &block[(c0 + j) * LANES..(c0 + j) * LANES + lanes];
                                 let to = j * n + b * LANES;
-                                columns[to..to + lanes].copy_from_slice(from);
+                                // + 0.0 turns −0.0 into +0.0: f64 order = key order.
+                                for (t, &f) in columns[to..to + lanes].iter_mut().zip(from) {
+                                    *t = f + 0.0;
+                                }
                             }
                         }
                     } else {
                         for (k, &i) in good.iter().enumerate() {
                             let base = (i / LANES) * LANES * width + c0 * LANES + i % LANES;
                             for j in 0..cols {
-                                columns[j * good.len() + k] = blocks[base + j * LANES];
+                                columns[j * good.len() + k] = blocks[base + j * LANES] + 0.0;
                             }
                         }
                     }

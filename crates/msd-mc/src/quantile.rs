@@ -75,7 +75,7 @@ pub(crate) struct ColumnTracker {
     previous: Vec<(f64, f64)>,
     has_previous: bool,
     /// Per level: the search window (as keys) and the counts of one pass.
-    windows: Vec<(i64, i64)>,
+    windows: Vec<(f64, f64)>,
     below: Vec<usize>,
     inside: Vec<usize>,
     /// Per level: candidate keys of the current column.
@@ -91,7 +91,7 @@ impl ColumnTracker {
             ranks: levels.iter().map(|&level| position(n, level)).collect(),
             previous: vec![(0.0, 0.0); l],
             has_previous: false,
-            windows: vec![(0, 0); l],
+            windows: vec![(0.0, 0.0); l],
             below: vec![0; l],
             inside: vec![0; l],
             candidates: vec![vec![0; n]; l],
@@ -104,26 +104,34 @@ impl ColumnTracker {
         self.has_previous = false;
     }
 
-    /// The percentiles of `column` (finite values, the same samples in the same order as
-    /// the previous column given, whose largest per-sample change to this one is
-    /// `max_change`) into `out`. Allocates nothing.
+    /// The percentiles of `column` (finite values, no −0.0 — add 0.0 to turn it into
+    /// +0.0 — the same samples in the same order as the previous column given, whose
+    /// largest per-sample change to this one is `max_change`) into `out`. Allocates
+    /// nothing.
     pub(crate) fn percentiles(&mut self, column: &[f64], max_change: f64, out: &mut [f64]) {
         debug_assert!(column.len() == self.keys.len() && out.len() == self.ranks.len());
+        debug_assert!(
+            column
+                .iter()
+                .all(|v| v.is_finite() && v.to_bits() != (-0.0f64).to_bits())
+        );
         if self.has_previous {
             for (window, &(low, high)) in self.windows.iter_mut().zip(&self.previous) {
-                *window = (key(low - max_change), key(high + max_change));
+                *window = (low - max_change, high + max_change);
             }
-            // One tight pass per level, the counters in registers (branch-free).
+            // Counting is a vectorised compare per level; collecting visits the few
+            // values inside a window (a rarely taken branch). Without −0.0 (see above),
+            // f64 order is the keys' order.
             for (l, &(lo, hi)) in self.windows.iter().enumerate() {
-                let candidates = &mut self.candidates[l][..column.len()];
-                let (mut below, mut inside) = (0usize, 0usize);
+                self.below[l] = column.iter().filter(|&&v| v < lo).count();
+                let candidates = &mut self.candidates[l];
+                let mut inside = 0;
                 for &v in column {
-                    let k = key(v);
-                    below += usize::from(k < lo);
-                    candidates[inside.min(column.len() - 1)] = k;
-                    inside += usize::from(lo <= k && k <= hi);
+                    if lo <= v && v <= hi {
+                        candidates[inside] = key(v);
+                        inside += 1;
+                    }
                 }
-                self.below[l] = below;
                 self.inside[l] = inside;
             }
         }
@@ -256,6 +264,7 @@ mod tests {
                 if step % 97 == 3 {
                     *v = (*v * 4.0).round() / 4.0; // heavy ties
                 }
+                *v += 0.0; // −0.0 → +0.0, as the engine gathers them
             }
             let change = column
                 .iter()
