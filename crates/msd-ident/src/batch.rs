@@ -57,8 +57,8 @@ impl BatchSimulator {
     /// Simulates the parameter sets of `parameters` (at most [`LANES`]; `None` leaves a
     /// lane empty) from `initial`, writing the displacement at the samples `range` to
     /// `out[(t − range.start)·LANES + lane]`. Returns which lanes succeeded: a lane fails
-    /// for `None`, invalid parameters, or a model too stiff for the step; failed lanes'
-    /// values in `out` are meaningless.
+    /// for `None`, invalid parameters, a model too stiff for the step, or a state that
+    /// overflows (by `range.end`); failed lanes' values in `out` are meaningless.
     ///
     /// # Panics
     /// If `parameters` has more than [`LANES`] entries, `range` goes beyond the
@@ -99,6 +99,10 @@ impl BatchSimulator {
         };
         store(0, stepper.state());
         stepper.advance(&self.schedule, range.end.saturating_sub(1), store);
-        ok
+        // Once a lane overflows its state stays non-finite (every component sums over all
+        // of them), so the last state tells which lanes failed, as simulate's
+        // NonFiniteState would.
+        let last = stepper.state();
+        std::array::from_fn(|lane| ok[lane] && (0..2).all(|r| last[r][lane].is_finite()))
     }
 }

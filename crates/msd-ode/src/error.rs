@@ -61,10 +61,12 @@ pub enum OdeError {
         /// Steps taken.
         steps: usize,
     },
-    /// The right-hand side or the state became NaN or infinite.
+    /// The right-hand side or the state became NaN or infinite (ode45), or the state of
+    /// the exact simulator overflowed (an unstable model or a huge input).
     #[error("non-finite state or derivative at t = {t} (component {component})")]
     NonFiniteState {
-        /// Time at which it was detected.
+        /// Time at which it was detected (for the exact simulator, i·dt from the first
+        /// sample, i the first sample whose state is not finite).
         t: f64,
         /// The first non-finite component.
         component: usize,

@@ -351,6 +351,10 @@ impl<const N: usize> ExactSimulator<N> {
     /// Simulates from `x0`, handing each sample's state to `output(i, x)`; allocates
     /// nothing.
     ///
+    /// A state that overflows (an unstable model, or an input too large for the model)
+    /// is [`OdeError::NonFiniteState`] naming the first such sample; `output` has then
+    /// seen non-finite states and its results must be discarded.
+    ///
     /// ```
     /// # use msd_ode::{ExactSimulator, Hold, LtiModel, SampledInput, SMatrix, SVector, Breakpoint};
     /// # let model = LtiModel { a: SMatrix::<f64, 2, 2>::new(0.0, 1.0, -48.0, -0.72), b: SVector::<f64, 2>::new(0.0, 0.4) };
@@ -374,12 +378,40 @@ impl<const N: usize> ExactSimulator<N> {
         if let Some((index, &value)) = x0.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(OdeError::NonFiniteInitialState { index, value });
         }
+        let last = self.run(x0, input, &mut output);
+        if last.iter().all(|v| v.is_finite()) {
+            return Ok(());
+        }
+        // The state overflowed (an unstable model, or a huge input). Once a component is
+        // not finite every component is NaN from the next step on (each is a sum over all
+        // of them), so the final state tells; a second pass, only now, finds the first
+        // sample for the error.
+        let mut first: Option<(usize, usize)> = None;
+        self.run(x0, input, &mut |i, x: &SVector<f64, N>| {
+            if first.is_none() {
+                first = x.iter().position(|v| !v.is_finite()).map(|c| (i, c));
+            }
+        });
+        let (index, component) = first.unwrap_or((input.values.len() - 1, 0));
+        Err(OdeError::NonFiniteState {
+            t: index as f64 * self.dt,
+            component,
+        })
+    }
+
+    /// The simulation proper, on checked input; returns the final state.
+    fn run<F: FnMut(usize, &SVector<f64, N>)>(
+        &self,
+        x0: &SVector<f64, N>,
+        input: &SampledInput<'_>,
+        output: &mut F,
+    ) -> [f64; N] {
         let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
         output(0, x0);
         for_each_step(input, self.hold, |variant, u, i| {
-            self.advance(&mut x, &self.weights[variant], u, i, &mut output)
+            self.advance(&mut x, &self.weights[variant], u, i, output)
         });
-        Ok(())
+        x
     }
 
     /// One step x ← Φx + Σ_m w_m u_m, then `output(i, x)`.

@@ -143,7 +143,7 @@ impl Bounds {
             let (l, u) = (self.lower[i], self.upper[i]);
             *zi = match (l.is_finite(), u.is_finite()) {
                 (true, true) if u > l => {
-                    let s = (2.0 * (xi - l) / (u - l) - 1.0).clamp(-1.0, 1.0);
+                    let s = sine_of(xi, l, u);
                     // 2π + asin keeps z away from zero, so fminsearch's 5 % initial
                     // step is not replaced by its tiny zero-coordinate step.
                     2.0 * std::f64::consts::PI + s.asin()
@@ -161,13 +161,28 @@ impl Bounds {
         for (i, (xi, &zi)) in x.iter_mut().zip(z).enumerate() {
             let (l, u) = (self.lower[i], self.upper[i]);
             *xi = match (l.is_finite(), u.is_finite()) {
-                (true, true) => (l + (u - l) * (zi.sin() + 1.0) * 0.5).clamp(l, u),
+                (true, true) if (u - l).is_finite() => {
+                    (l + (u - l) * (zi.sin() + 1.0) * 0.5).clamp(l, u)
+                }
+                // A box wider than the largest double: the same map about the midpoint.
+                (true, true) => (0.5 * l + 0.5 * u + (0.5 * u - 0.5 * l) * zi.sin()).clamp(l, u),
                 (true, false) => l + zi * zi,
                 (false, true) => u - zi * zi,
                 (false, false) => zi,
             };
         }
     }
+}
+
+/// sin z of the point `x` of [l, u] under x = l + (u − l)(sin z + 1)/2, in [−1, 1]; for a
+/// box wider than the largest double, computed about the midpoint.
+fn sine_of(x: f64, l: f64, u: f64) -> f64 {
+    let s = if (u - l).is_finite() {
+        2.0 * (x - l) / (u - l) - 1.0
+    } else {
+        (x - (0.5 * l + 0.5 * u)) / (0.5 * u - 0.5 * l)
+    };
+    s.clamp(-1.0, 1.0)
 }
 
 #[cfg(test)]
@@ -199,6 +214,25 @@ mod tests {
             let z = [k as f64 * 0.37, k as f64 * 1e3];
             b.box_from_unbounded(&z, &mut x);
             assert!(b.contains(&x), "{x:?}");
+        }
+    }
+
+    /// [−f64::MAX, 1e300]: u − l overflows, yet the map stays finite and inside.
+    #[test]
+    fn a_box_wider_than_the_largest_double_maps_finitely() {
+        let b = Bounds::new(vec![-f64::MAX, 0.0], vec![1e300, f64::MAX]).unwrap();
+        let x = [0.0, 1.0];
+        let (mut z, mut back) = ([0.0; 2], [0.0; 2]);
+        b.unbounded_from_box(&x, &mut z);
+        assert!(z.iter().all(|v| v.is_finite()), "{z:?}");
+        b.box_from_unbounded(&z, &mut back);
+        assert!(b.contains(&back), "{back:?}");
+        for k in -50..50 {
+            b.box_from_unbounded(&[k as f64 * 0.7, k as f64 * 0.3], &mut back);
+            assert!(
+                back.iter().all(|v| v.is_finite()) && b.contains(&back),
+                "{back:?}"
+            );
         }
     }
 

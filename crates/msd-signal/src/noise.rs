@@ -38,7 +38,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use rand_distr::{Distribution, StandardNormal};
 
-use crate::error::{Result, non_negative};
+use crate::error::{Result, SignalError, non_negative};
 
 /// FNV-1a 64-bit hash of `name`'s UTF-8 bytes: the ChaCha stream number of a named stream.
 ///
@@ -85,9 +85,21 @@ pub struct NoiseStream {
 }
 
 impl NoiseStream {
-    /// A new stream; `sigma` must be finite and ≥ 0 (σ = 0 gives zeros).
+    /// Largest σ accepted: a standard normal draw never exceeds 16 in magnitude (the
+    /// ziggurat's tail from a 53-bit uniform), so σ·z stays finite with a wide margin.
+    pub const MAX_SIGMA: f64 = 1e300;
+
+    /// A new stream; `sigma` must be finite, ≥ 0 and at most [`NoiseStream::MAX_SIGMA`]
+    /// (σ = 0 gives zeros).
     pub fn new(seed: u64, stream: &str, sigma: f64) -> Result<Self> {
         non_negative(|| "sigma".into(), sigma)?;
+        if sigma > Self::MAX_SIGMA {
+            return Err(SignalError::InvalidParameter {
+                parameter: "sigma".into(),
+                value: sigma,
+                expected: "a finite value in 0 ..= 1e300",
+            });
+        }
         Ok(NoiseStream {
             rng: stream_rng(seed, stream),
             sigma,
@@ -122,7 +134,7 @@ impl NoiseStream {
 
 /// `n` samples of N(0, σ²) white noise from stream `stream` of `seed`.
 ///
-/// Errors if `sigma` is NaN, infinite or negative.
+/// Errors if `sigma` is NaN, infinite, negative or above [`NoiseStream::MAX_SIGMA`].
 ///
 /// ```
 /// let e = msd_signal::gaussian_noise(7, "identification", 0.0025, 4)?;

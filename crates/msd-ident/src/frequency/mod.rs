@@ -300,6 +300,25 @@ pub fn frequency_check(
         .iter()
         .map(|&f| model_response(parameters, 2.0 * PI * f))
         .collect();
+    // Absurd (valid but huge) parameters overflow k − mω²: say so rather than print NaN.
+    if let Some(bad) = model_h
+        .iter()
+        .chain(&model_curve)
+        .find(|h| !(h.re.is_finite() && h.im.is_finite()))
+    {
+        return Err(IdentError::InvalidParameter {
+            name: "parameters (model frequency response)",
+            value: if bad.re.is_finite() { bad.im } else { bad.re },
+            expected: "m, c, k whose response 1/(k − mω² + jcω) is finite over the band",
+        });
+    }
+    if !model_relative_error.is_finite() {
+        return Err(IdentError::InvalidParameter {
+            name: "parameters (model relative error)",
+            value: model_relative_error,
+            expected: "a model whose prediction of the record's spectrum is finite",
+        });
+    }
 
     let model_fn = parameters.natural_frequency_hz();
     let model_zeta = parameters.damping_ratio();

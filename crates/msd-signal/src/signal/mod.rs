@@ -197,13 +197,20 @@ fn window_check(
 ) -> Result<()> {
     finite(|| format!("{path}amplitude"), amplitude)?;
     non_negative(|| format!("{path}frequency"), frequency)?;
+    at_most_max_frequency(|| format!("{path}frequency"), frequency)?;
     finite(|| format!("{path}phase"), phase)?;
     finite(|| format!("{path}t_on"), t_on)?;
     if let Some(off) = t_off {
         finite(|| format!("{path}t_off"), off)?;
         if off <= t_on {
+            // The window's path (e.g. `segments[0]`), or `t_off` for a top-level sine.
+            let window = path.trim_end_matches('.');
             return Err(SignalError::ReversedWindow {
-                parameter: path.trim_end_matches('.').to_string(),
+                parameter: if window.is_empty() {
+                    "t_off".to_string()
+                } else {
+                    window.to_string()
+                },
                 t_on,
                 t_off: off,
             });
@@ -212,13 +219,32 @@ fn window_check(
     Ok(())
 }
 
+/// `InvalidParameter` unless `frequency` ≤ [`Signal::MAX_FREQUENCY`].
+fn at_most_max_frequency(parameter: impl Fn() -> String, frequency: f64) -> Result<()> {
+    if frequency <= Signal::MAX_FREQUENCY {
+        Ok(())
+    } else {
+        Err(SignalError::InvalidParameter {
+            parameter: parameter(),
+            value: frequency,
+            expected: "a frequency of at most 1e12 Hz",
+        })
+    }
+}
+
 impl Signal {
+    /// Highest frequency accepted, Hz: far above any mechanical or electrical test
+    /// signal, and low enough that every phase 2π·f·t stays finite for |t| ≤ 1e280 s.
+    pub const MAX_FREQUENCY: f64 = 1e12;
+
     /// Checks every parameter (recursively), naming the first bad one by its path,
     /// e.g. `terms[1].segments[0].t_off`.
     ///
-    /// Rejects NaN and infinite values, negative frequencies, non-positive durations,
-    /// `f0` or `f1` ≤ 0 for a logarithmic chirp, reversed windows and overlapping
-    /// stepped-sine segments.
+    /// Rejects NaN and infinite values, negative frequencies and frequencies above
+    /// [`Signal::MAX_FREQUENCY`], non-positive durations, `f0` or `f1` ≤ 0 for a
+    /// logarithmic chirp, a sweep whose phase would overflow, reversed windows,
+    /// overlapping stepped-sine segments, and sums or gains whose peak amplitude would
+    /// overflow. A signal that passes is finite at every |t| ≤ 1e280 s.
     ///
     /// ```
     /// use msd_signal::{Signal, SignalError, Sweep};
@@ -284,10 +310,23 @@ impl Signal {
                         positive(|| format!("{path}f1"), *f1)?;
                     }
                 }
+                at_most_max_frequency(|| format!("{path}f0"), *f0)?;
+                at_most_max_frequency(|| format!("{path}f1"), *f1)?;
                 positive(|| format!("{path}duration"), *duration)?;
                 finite(|| format!("{path}phase"), *phase)?;
                 finite(|| format!("{path}t_start"), *t_start)?;
-                finite(|| format!("{path}t_start + duration"), t_start + duration)
+                finite(|| format!("{path}t_start + duration"), t_start + duration)?;
+                // The phase grows monotonically over the sweep: finite at its end, finite
+                // throughout.
+                let end = chirp::phase(*sweep, *f0, *f1, *duration, *duration);
+                if !end.is_finite() {
+                    return Err(SignalError::InvalidParameter {
+                        parameter: format!("{path}duration"),
+                        value: *duration,
+                        expected: "a sweep whose phase stays finite (fewer than ~1e300 cycles, f1/f0 finite)",
+                    });
+                }
+                Ok(())
             }
             // Checked when built (their constructors and deserialisers validate).
             Signal::Multisine(_) | Signal::Prbs(_) => Ok(()),
@@ -295,12 +334,45 @@ impl Signal {
                 for (i, term) in terms.iter().enumerate() {
                     term.validate_at(&format!("{path}terms[{i}]."))?;
                 }
+                let peak = self.peak();
+                if !peak.is_finite() {
+                    return Err(SignalError::InvalidParameter {
+                        parameter: format!("{path}terms"),
+                        value: peak,
+                        expected: "terms whose peak amplitudes add up to a finite value",
+                    });
+                }
                 Ok(())
             }
             Signal::Scaled { gain, signal } => {
                 finite(|| format!("{path}gain"), *gain)?;
-                signal.validate_at(&format!("{path}signal."))
+                signal.validate_at(&format!("{path}signal."))?;
+                if !self.peak().is_finite() {
+                    return Err(SignalError::InvalidParameter {
+                        parameter: format!("{path}gain"),
+                        value: *gain,
+                        expected: "a gain that keeps the peak amplitude finite",
+                    });
+                }
+                Ok(())
             }
+        }
+    }
+
+    /// An upper bound of |u(t)| over all t (for checking that sums stay finite).
+    fn peak(&self) -> f64 {
+        match self {
+            Signal::Constant { value } => value.abs(),
+            Signal::Step { amplitude, .. }
+            | Signal::Sine { amplitude, .. }
+            | Signal::Chirp { amplitude, .. } => amplitude.abs(),
+            Signal::SteppedSine { segments } => {
+                segments.iter().fold(0.0, |m, s| m.max(s.amplitude.abs()))
+            }
+            Signal::Multisine(m) => m.line_amplitude() * m.harmonics().len() as f64,
+            Signal::Prbs(p) => p.spec().amplitude.abs(),
+            Signal::Sum { terms } => terms.iter().map(Signal::peak).sum(),
+            Signal::Scaled { gain, signal } => gain.abs() * signal.peak(),
         }
     }
 
@@ -437,7 +509,8 @@ impl Signal {
     /// Listed: steps; both ends of every sine, segment and chirp window and the start of a
     /// multisine or PRBS (even where the value does not jump, as the slope does); every
     /// PRBS chip edge where the level changes. The list is complete; a listed point
-    /// with `left == right` is a kink.
+    /// with `left == right` is a kink. It can be long (a fast PRBS over a long span):
+    /// [`Signal::max_breakpoints`] bounds its length without listing.
     ///
     /// ```
     /// use msd_signal::paper_identification_input;
@@ -493,6 +566,33 @@ impl Signal {
             Signal::Prbs(p) => p.collect_times(t0, t1, out),
             Signal::Sum { terms } => terms.iter().for_each(|s| s.collect_times(t0, t1, out)),
             Signal::Scaled { signal, .. } => signal.collect_times(t0, t1, out),
+        }
+    }
+
+    /// An upper bound on the number of breakpoints in `[t0, t1]`, that is on the length
+    /// of [`Signal::breakpoints`]`(t0, t1)`, computed without listing them.
+    ///
+    /// It is small for every signal but a PRBS, whose chip edges grow with the span over
+    /// the clock period (a 1 ns clock over 15 s has 1.5e10 of them): callers that sample
+    /// a signal on a grid can refuse one that would list far more breakpoints than the
+    /// grid has samples, instead of listing them.
+    ///
+    /// ```
+    /// use msd_signal::{Prbs, PrbsSpec, Signal};
+    /// let fast = Signal::Prbs(Prbs::new(PrbsSpec { clock_period: 1e-9, ..PrbsSpec::default() })?);
+    /// assert!(fast.max_breakpoints(0.0, 15.0) > 1e10);
+    /// assert!(msd_signal::paper_identification_input().max_breakpoints(0.0, 15.0) <= 5.0);
+    /// # Ok::<(), msd_signal::SignalError>(())
+    /// ```
+    pub fn max_breakpoints(&self, t0: f64, t1: f64) -> f64 {
+        match self {
+            Signal::Constant { .. } => 0.0,
+            Signal::Step { .. } | Signal::Multisine(_) => 1.0,
+            Signal::Sine { .. } | Signal::Chirp { .. } => 2.0,
+            Signal::SteppedSine { segments } => 2.0 * segments.len() as f64,
+            Signal::Prbs(p) => p.max_times(t0, t1),
+            Signal::Sum { terms } => terms.iter().map(|s| s.max_breakpoints(t0, t1)).sum(),
+            Signal::Scaled { signal, .. } => signal.max_breakpoints(t0, t1),
         }
     }
 

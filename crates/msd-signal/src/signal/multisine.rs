@@ -159,6 +159,20 @@ impl MultisineSpec {
             });
         }
         non_negative(|| "rms".into(), self.rms)?;
+        if self.rms > 1e300 {
+            return Err(SignalError::InvalidParameter {
+                parameter: "rms".into(),
+                value: self.rms,
+                expected: "a value in 0 ..= 1e300 (so the lines add up to a finite value)",
+            });
+        }
+        if self.f_max > super::Signal::MAX_FREQUENCY {
+            return Err(SignalError::InvalidParameter {
+                parameter: "f_max".into(),
+                value: self.f_max,
+                expected: "a frequency of at most 1e12 Hz",
+            });
+        }
         finite(|| "t_start".into(), self.t_start)?;
         if let Some(c) = &self.crest_factor_reduction
             && !(c.clip_ratio > 0.0 && c.clip_ratio < 1.0)

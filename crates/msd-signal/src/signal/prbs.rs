@@ -230,9 +230,11 @@ impl Prbs {
         let from = ((t0.max(start) - start) / self.spec.clock_period)
             .floor()
             .max(1.0);
-        // An unbounded interval lists one period of edges rather than looping forever.
+        // Up to the chip of t1 (edge times stop advancing where the clock period is below
+        // the resolution of t, so the times alone do not end the loop); an unbounded
+        // interval lists one period of edges rather than looping forever.
         let last = if t1.is_finite() {
-            f64::INFINITY
+            ((t1 - start) / self.spec.clock_period).ceil() + 1.0
         } else {
             from + self.period as f64
         };
@@ -245,7 +247,28 @@ impl Prbs {
             if t >= t0 && self.level(i) != self.level(i - 1.0) {
                 out.push(t);
             }
+            // Beyond 2⁵³ chips from the start, chip indices (and their edge times) are
+            // no longer distinct doubles: nothing further can be listed.
+            if i + 1.0 == i {
+                break;
+            }
             i += 1.0;
         }
+    }
+
+    /// Chip edges in `[t0, t1]`, plus the start: an upper bound on what
+    /// `collect_times` lists, without listing.
+    pub(crate) fn max_times(&self, t0: f64, t1: f64) -> f64 {
+        let start = self.spec.t_start;
+        if t1 < start || t1 < t0 {
+            return 0.0;
+        }
+        let span = t1 - t0.max(start);
+        let chips = if t1.is_finite() {
+            (span / self.spec.clock_period).ceil()
+        } else {
+            self.period as f64
+        };
+        chips.min(2f64.powi(53)) + 2.0
     }
 }

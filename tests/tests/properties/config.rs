@@ -1,0 +1,374 @@
+//! Experiment configs: random mutations of the shipped `configs/*.toml` (a field or a
+//! table deleted, a line duplicated, a value retyped or out of range, an unknown key
+//! added) are accepted with finite values or refused with one line that names the
+//! file and the line or the field; a few mutated small configs run end to end, and a run
+//! that fails writes nothing and exits with the status of its class.
+
+use crate::{cases, wild_f64};
+use msd_tests::{TINY_CONFIG, config, listing};
+use proptest::prelude::*;
+use toml::{Table, Value};
+use xtask::config::Config;
+use xtask::{RunOptions, XtaskError, run_experiment};
+
+/// A step of a path into a TOML document.
+#[derive(Debug, Clone, PartialEq)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+/// Every path in `value` (tables, arrays and leaves), depth first.
+fn paths(value: &Value, prefix: &mut Vec<Step>, out: &mut Vec<Vec<Step>>) {
+    match value {
+        Value::Table(t) => {
+            for (k, v) in t {
+                prefix.push(Step::Key(k.clone()));
+                out.push(prefix.clone());
+                paths(v, prefix, out);
+                prefix.pop();
+            }
+        }
+        Value::Array(a) => {
+            for (i, v) in a.iter().enumerate() {
+                prefix.push(Step::Index(i));
+                out.push(prefix.clone());
+                paths(v, prefix, out);
+                prefix.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The value at `path`'s parent and the last step, to edit in place.
+fn parent_mut<'a>(root: &'a mut Value, path: &[Step]) -> Option<(&'a mut Value, Step)> {
+    let (last, init) = path.split_last()?;
+    let mut v = root;
+    for step in init {
+        v = match (v, step) {
+            (Value::Table(t), Step::Key(k)) => t.get_mut(k)?,
+            (Value::Array(a), Step::Index(i)) => a.get_mut(*i)?,
+            _ => return None,
+        };
+    }
+    Some((v, last.clone()))
+}
+
+/// What a mutation does at the path it picks.
+#[derive(Debug, Clone)]
+enum Kind {
+    /// Remove the key (or array element).
+    Delete,
+    /// Replace the value by one of another type.
+    Retype(u8),
+    /// Replace a number by a wild float.
+    Float(f64),
+    /// Replace a number by a wild integer.
+    Integer(i64),
+    /// Add an unknown key to the table at (or around) the path.
+    Unknown,
+}
+
+/// One mutation: which path (an index, taken modulo the number of paths) and what.
+#[derive(Debug, Clone)]
+struct Mutation {
+    at: usize,
+    kind: Kind,
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    let kind = prop_oneof![
+        2 => Just(Kind::Delete),
+        2 => (0u8..6).prop_map(Kind::Retype),
+        3 => wild_f64().prop_map(Kind::Float),
+        2 => prop_oneof![
+            Just(0i64), Just(-1i64), Just(i64::MAX), Just(i64::MIN), -1000i64..1000
+        ].prop_map(Kind::Integer),
+        1 => Just(Kind::Unknown),
+    ];
+    (any::<usize>(), kind).prop_map(|(at, kind)| Mutation { at, kind })
+}
+
+fn retyped(which: u8) -> Value {
+    match which {
+        0 => Value::String("x".into()),
+        1 => Value::Integer(7),
+        2 => Value::Float(0.5),
+        3 => Value::Boolean(true),
+        4 => Value::Array(vec![Value::Integer(1), Value::String("two".into())]),
+        _ => {
+            let mut t = Table::new();
+            t.insert("a".into(), Value::Integer(1));
+            Value::Table(t)
+        }
+    }
+}
+
+/// Applies `m` to `doc`; returns the names along the path it touched (for checking that
+/// an error names the place), or `None` if it could not apply.
+fn apply(doc: &mut Value, m: &Mutation) -> Option<Vec<String>> {
+    let mut all = Vec::new();
+    paths(doc, &mut Vec::new(), &mut all);
+    let path = all.get(m.at % all.len().max(1))?.clone();
+    let names: Vec<String> = path
+        .iter()
+        .filter_map(|s| match s {
+            Step::Key(k) => Some(k.clone()),
+            Step::Index(_) => None,
+        })
+        .collect();
+    let (parent, last) = parent_mut(doc, &path)?;
+    let slot: &mut Value = match (&mut *parent, &last) {
+        (Value::Table(t), Step::Key(k)) => {
+            if matches!(m.kind, Kind::Delete) {
+                t.remove(k);
+                return Some(names);
+            }
+            if matches!(m.kind, Kind::Unknown) {
+                t.insert("not_a_field".into(), Value::Integer(1));
+                return Some([names, vec!["not_a_field".into()]].concat());
+            }
+            t.get_mut(k)?
+        }
+        (Value::Array(a), Step::Index(i)) => {
+            if matches!(m.kind, Kind::Delete) {
+                a.remove(*i);
+                return Some(names);
+            }
+            a.get_mut(*i)?
+        }
+        _ => return None,
+    };
+    match m.kind {
+        Kind::Retype(w) => *slot = retyped(w),
+        Kind::Float(x) if matches!(slot, Value::Float(_) | Value::Integer(_)) => {
+            *slot = Value::Float(x)
+        }
+        Kind::Integer(i) if matches!(slot, Value::Float(_) | Value::Integer(_)) => {
+            *slot = Value::Integer(i)
+        }
+        Kind::Unknown if matches!(slot, Value::Table(_)) => {
+            if let Value::Table(t) = slot {
+                t.insert("not_a_field".into(), Value::Integer(1));
+            }
+            return Some([names, vec!["not_a_field".into()]].concat());
+        }
+        _ => return None, // a number mutation on a non-number: leave it
+    }
+    Some(names)
+}
+
+/// Duplicates the `which`-th `key = value` line of `text` (a duplicate key).
+fn duplicate_line(text: &str, which: usize) -> (String, Option<String>) {
+    let lines: Vec<&str> = text.lines().collect();
+    let candidates: Vec<usize> = (0..lines.len())
+        .filter(|&i| lines[i].contains(" = ") && !lines[i].trim_start().starts_with('#'))
+        .collect();
+    let Some(&i) = candidates.get(which % candidates.len().max(1)) else {
+        return (text.to_string(), None);
+    };
+    let key = lines[i]
+        .split(" = ")
+        .next()
+        .unwrap_or("")
+        .trim()
+        .to_string();
+    let mut out: Vec<&str> = lines[..=i].to_vec();
+    out.push(lines[i]);
+    out.extend(&lines[i + 1..]);
+    (out.join("\n") + "\n", Some(key))
+}
+
+fn shipped(name: &str) -> Value {
+    let text = std::fs::read_to_string(config(name)).unwrap();
+    Value::Table(toml::from_str::<Table>(&text).unwrap())
+}
+
+/// A refused config: exit status 2, one line, the file named first, and the place: a
+/// line number after the file name, or one of the touched keys.
+fn refusal_is_specific(e: &XtaskError, touched: &[String]) -> Result<(), TestCaseError> {
+    prop_assert_eq!(e.exit_code(), 2, "{}", e);
+    prop_assert!(matches!(e, XtaskError::Config { .. }), "{e:?}");
+    let text = e.to_string();
+    prop_assert!(!text.contains('\n'), "more than one line: {text}");
+    prop_assert!(text.starts_with("mutated.toml"), "{text}");
+    let rest = &text["mutated.toml".len()..];
+    let has_line = rest.starts_with(':') && rest[1..].starts_with(|c: char| c.is_ascii_digit());
+    let names_key = touched.iter().any(|k| text.contains(k.as_str()));
+    prop_assert!(
+        has_line || names_key,
+        "names no line and none of {touched:?}: {text}"
+    );
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(cases(384))]
+
+    /// Mutated shipped configs through parsing and validation.
+    #[test]
+    fn mutated_configs_are_valid_or_refused_with_the_place(
+        which in 0usize..4,
+        mutations in prop::collection::vec(mutation(), 1..4),
+        duplicate in proptest::option::of(any::<usize>()),
+    ) {
+        let name = ["paper.toml", "paper-fast.toml", "silverbox.toml", "lab-template.toml"][which];
+        let mut doc = shipped(name);
+        let mut touched = Vec::new();
+        for m in &mutations {
+            if let Some(names) = apply(&mut doc, m) {
+                touched.extend(names);
+            }
+        }
+        let mut text = toml::to_string(&doc).unwrap();
+        if let Some(which) = duplicate {
+            let (t, key) = duplicate_line(&text, which);
+            text = t;
+            touched.extend(key);
+        }
+        match Config::from_toml_str(&text, "mutated.toml") {
+            Ok(config) => {
+                let debug = format!("{config:?}");
+                let bad = debug
+                    .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                    .find(|t| *t == "NaN" || *t == "inf");
+                prop_assert!(bad.is_none(), "an accepted config holds {bad:?}: {text}");
+            }
+            Err(e) => refusal_is_specific(&e, &touched)?,
+        }
+    }
+}
+
+/// Numeric paths of the tiny config that a full run may see changed.
+const TINY_NUMBERS: [&str; 12] = [
+    "plant.mass",
+    "plant.damping",
+    "plant.stiffness",
+    "time.duration",
+    "time.dt",
+    "noise.sigma",
+    "identification.input.amplitude",
+    "identification.input.f0",
+    "identification.input.f1",
+    "validation.input.amplitude",
+    "validation.input.time",
+    "monte_carlo.samples",
+];
+
+/// Multiplies the number at a dotted `path` of `doc` by `factor`.
+fn scale_at(doc: &mut Table, path: &str, factor: f64) {
+    let mut parts: Vec<&str> = path.split('.').collect();
+    let leaf = parts.pop().unwrap();
+    let mut t = doc;
+    for p in parts {
+        t = t.get_mut(p).and_then(Value::as_table_mut).unwrap();
+    }
+    let v = t.get_mut(leaf).unwrap();
+    let scaled = match &*v {
+        Value::Integer(i) => Value::Integer((*i as f64 * factor).round() as i64),
+        Value::Float(x) => Value::Float(*x * factor),
+        other => other.clone(),
+    };
+    *v = scaled;
+}
+
+/// The dotted paths of every `null` in a JSON document (NaN and ±∞ become null when
+/// serialised, so a new null is a smuggled non-finite number).
+fn nulls(v: &serde_json::Value, path: &str, out: &mut Vec<String>) {
+    match v {
+        serde_json::Value::Null => out.push(path.to_string()),
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                nulls(x, &format!("{path}.{k}"), out);
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                nulls(x, &format!("{path}[{i}]"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The nulls of the unmutated tiny config's results.json (optional values not set).
+fn baseline_nulls() -> &'static Vec<String> {
+    static NULLS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    NULLS.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("tiny.toml");
+        std::fs::write(&path, TINY_CONFIG).unwrap();
+        let options = RunOptions {
+            out: Some(dir.path().join("out")),
+            ..RunOptions::default()
+        };
+        let run = run_experiment(&path, &options).expect("the tiny config runs");
+        let mut found = Vec::new();
+        nulls(&run.results, "", &mut found);
+        found
+    })
+}
+
+proptest! {
+    #![proptest_config(cases(12))]
+
+    /// A few whole runs of the tiny config with numbers scaled by 1e-2 … 1e2, zeroed or
+    /// negated: a success holds no non-finite number (no new null in results.json, no
+    /// NaN or inf in the summary and the CSV files); a failure has the exit status of its
+    /// class and leaves nothing behind.
+    #[test]
+    fn mutated_small_configs_run_or_fail_cleanly(
+        changes in prop::collection::vec(
+            (0usize..TINY_NUMBERS.len(), prop::sample::select(vec![0.01, 0.1, 10.0, 100.0, 0.0, -1.0])),
+            1..3,
+        ),
+    ) {
+        let mut doc: Table = toml::from_str(TINY_CONFIG).unwrap();
+        for (i, factor) in &changes {
+            scale_at(&mut doc, TINY_NUMBERS[*i], *factor);
+        }
+        let text = toml::to_string(&doc).unwrap();
+        // Keep each run small: at most 100 000 samples per record.
+        if let Ok(c) = Config::from_toml_str(&text, "tiny.toml")
+            && c.time.is_some_and(|t| t.samples() > 100_000)
+        {
+            return Ok(());
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("tiny.toml");
+        std::fs::write(&path, &text).unwrap();
+        let out = dir.path().join("out");
+        let options = RunOptions { out: Some(out.clone()), ..RunOptions::default() };
+        match run_experiment(&path, &options) {
+            Ok(run) => {
+                let mut found = Vec::new();
+                nulls(&run.results, "", &mut found);
+                let smuggled: Vec<&String> = found.iter()
+                    .filter(|p| !baseline_nulls().contains(p))
+                    .collect();
+                prop_assert!(smuggled.is_empty(), "non-finite numbers at {smuggled:?} for {changes:?}");
+                for name in ["identification.csv", "validation.csv", "frf.csv", "report.md"] {
+                    let body = std::fs::read_to_string(out.join(name)).unwrap();
+                    let bad = body
+                        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                        .find(|t| *t == "NaN" || *t == "inf");
+                    prop_assert!(bad.is_none(), "{name} holds {bad:?} for {changes:?}");
+                }
+            }
+            Err(e) => {
+                let text = e.to_string();
+                prop_assert!(!text.contains('\n'), "{text}");
+                match &e {
+                    XtaskError::Config { file, .. } => {
+                        prop_assert_eq!(e.exit_code(), 2);
+                        prop_assert!(file.contains("tiny.toml"), "{text}");
+                    }
+                    XtaskError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
+                    XtaskError::Data { .. } => prop_assert!(false, "no data file here: {text}"),
+                }
+                prop_assert_eq!(listing(dir.path()), vec!["tiny.toml".to_string()], "{}", text);
+            }
+        }
+    }
+}

@@ -1,0 +1,89 @@
+//! Property tests: generated bad input thrown at every public entry point that takes
+//! user input. The property, everywhere: never a panic, never a NaN (or infinity) in an
+//! output that claims success, and every refusal a specific error that names the place
+//! (field path, line, column or parameter) and the value.
+//!
+//! - [`config`]: random mutations of the shipped `configs/*.toml` (deleted, duplicated,
+//!   retyped, out-of-range and unknown fields) through `Config::from_toml_str`, and a few
+//!   full runs of mutated small configs (exit status and nothing written on failure);
+//! - [`csv`]: measured CSV files with truncated rows, empty cells, text, NaN/inf, huge
+//!   values, wrong delimiters, a BOM, CRLF line endings, no header, … through a whole run;
+//! - [`signal`]: msd-signal `Signal` trees, multisines and PRBS with wild parameters;
+//! - [`solvers`]: msd-ode `Ode45Options` and the exact simulator, msd-opt Nelder–Mead,
+//!   Levenberg–Marquardt and multistart options, msd-ident simulation, residual and
+//!   frequency-check options.
+//!
+//! CI runs a bounded number of cases per property (about 40 s in all in the debug test
+//! profile). For a longer run set `PROPTEST_CASES`, which replaces every property's case
+//! count:
+//!
+//! ```sh
+//! PROPTEST_CASES=10000 cargo test -p msd-tests --test properties
+//! ```
+
+mod config;
+mod csv;
+mod signal;
+mod solvers;
+
+use proptest::prelude::*;
+
+/// The proptest configuration of a property: `default` cases, or `PROPTEST_CASES` when
+/// set; shrinking bounded to a minute so that a failing full run reports in time.
+pub fn cases(default: u32) -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default);
+    ProptestConfig {
+        cases,
+        max_shrink_time: 60_000,
+        ..ProptestConfig::default()
+    }
+}
+
+/// Floats a user might type, or a bug might produce: ordinary values of both signs,
+/// zero and −0, NaN, ±∞, the extremes of f64 (largest, smallest normal, subnormal),
+/// huge and tiny magnitudes, and arbitrary bit patterns.
+pub fn wild_f64() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => -1e3..1e3f64,
+        3 => prop::sample::select(vec![
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MAX,
+            f64::MIN,
+            f64::MIN_POSITIVE,
+            5e-324,
+            1e300,
+            -1e300,
+            1e-300,
+            1e12,
+            -1e12,
+            1e-12,
+        ]),
+        1 => any::<f64>(),
+    ]
+}
+
+/// Counts that a user might type: small ones, zero, and huge ones.
+pub fn wild_count() -> impl Strategy<Value = usize> {
+    prop_oneof![
+        4 => 0usize..50,
+        1 => prop::sample::select(vec![usize::MAX, usize::MAX / 2, 1 << 40, 1 << 20]),
+    ]
+}
+
+/// The text of a panic payload.
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "a non-string panic".into())
+}
