@@ -193,8 +193,10 @@ pub struct TimeGrid {
 impl TimeGrid {
     /// Number of samples: ⌊duration/dt⌋ + 1 (both ends included when dt divides the
     /// duration).
+    /// Saturates at `usize::MAX` for absurd grids (the config's sample limit then
+    /// refuses them by name).
     pub fn samples(&self) -> usize {
-        (self.duration / self.dt * (1.0 + 1e-12)).floor() as usize + 1
+        ((self.duration / self.dt * (1.0 + 1e-12)).floor() as usize).saturating_add(1)
     }
 }
 

@@ -311,7 +311,7 @@ fn line_named(text: &str) -> Option<usize> {
 }
 
 proptest! {
-    #![proptest_config(cases(64))]
+    #![proptest_config(cases(256))]
 
     #[test]
     fn damaged_csv_files_are_refused_at_the_damage_or_run_cleanly(

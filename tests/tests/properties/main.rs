@@ -13,9 +13,9 @@
 //!   Levenberg–Marquardt and multistart options, msd-ident simulation, residual and
 //!   frequency-check options.
 //!
-//! CI runs a bounded number of cases per property (about 40 s in all in the debug test
-//! profile). For a longer run set `PROPTEST_CASES`, which replaces every property's case
-//! count:
+//! CI runs a bounded number of cases per property (see each `cases(…)`). For a longer run
+//! set `PROPTEST_CASES`, which replaces every property's case count (the full-run
+//! property, whose cases are whole experiments, takes a twentieth of it):
 //!
 //! ```sh
 //! PROPTEST_CASES=10000 cargo test -p msd-tests --test properties
@@ -31,10 +31,16 @@ use proptest::prelude::*;
 /// The proptest configuration of a property: `default` cases, or `PROPTEST_CASES` when
 /// set; shrinking bounded to a minute so that a failing full run reports in time.
 pub fn cases(default: u32) -> ProptestConfig {
+    scaled_cases(default, 1)
+}
+
+/// As [`cases`], with `PROPTEST_CASES / divisor` (at least `default`) when set: for
+/// properties whose cases are whole experiment runs.
+pub fn scaled_cases(default: u32, divisor: u32) -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES")
         .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default);
+        .and_then(|v| v.parse::<u32>().ok())
+        .map_or(default, |n| (n / divisor).max(default));
     ProptestConfig {
         cases,
         max_shrink_time: 60_000,

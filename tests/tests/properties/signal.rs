@@ -125,7 +125,7 @@ fn finite_on(u: &Signal, t0: f64, t1: f64) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(cases(256))]
+    #![proptest_config(cases(1024))]
 
     /// validate() decides: an accepted signal is finite over any record that starts
     /// where its times are (a 20 s span from its earliest time and from 0), and a refused

@@ -230,7 +230,8 @@ pub struct LevenbergMarquardtResult {
     /// ‖r(x)‖₂.
     pub residual_norm: f64,
     /// Sum of squares ‖r(x)‖² (not halved), comparable with a Nelder–Mead cost
-    /// written as Σ rᵢ².
+    /// written as Σ rᵢ². +∞ when ‖r‖ exceeds √f64::MAX ≈ 1.34e154 (a start far from any
+    /// fit); `residual_norm` is always finite.
     pub cost: f64,
     /// Jacobian at `x` (m×n), e.g. for the covariance `s²·(JᵀJ)⁻¹`.
     pub jacobian: DMatrix<f64>,
