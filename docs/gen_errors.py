@@ -152,6 +152,7 @@ out += [
     "| a panic while writing | unwinds; the staging folder is removed on the way; a previous result untouched | — (panic) |",
     "| the process killed midway (`kill -9`, power cut) | the target untouched (or complete); a hidden staging folder is left, and the next run into the same target removes it (and puts back a previous result a kill left moved aside), leaving those of running processes alone | — (killed) |",
     "| a panic in a multistart worker (msd-opt) | caught on the worker: `OptError::WorkerPanicked` naming the start and the panic message (through estimation: `estimation failed: multistart: the local run of start N panicked: …`) | 1 |",
+    "| a panic in the caller's Sobol model on a worker (msd-mc) | caught on the worker: `McError::WorkerPanicked` naming the lowest sample row and the panic message, the same for any thread count; the pool stays usable (`crates/msd-mc/tests/mc/errors.rs`) | — (library) |",
     "",
     "## Property tests",
     "",
