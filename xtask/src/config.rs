@@ -4,8 +4,9 @@
 //! A config describes either a **synthetic** experiment (sections `plant`, `time`,
 //! `noise`, `identification`, `validation`: data generated from a known plant) or a
 //! **measured** one (section `data`: a CSV file with input and output columns). Both
-//! share `estimation`, `residuals`, `frequency_check`, `monte_carlo` and `output`. The
-//! shipped configs in `configs/` document every field in their comments.
+//! share `estimation`, `residuals`, `frequency_check`, `monte_carlo`, `output` and the
+//! optional `nonlinear` ([`NonlinearSection`]: nonlinear models and their comparison).
+//! The shipped configs in `configs/` document every field in their comments.
 //!
 //! ```
 //! let text = r#"
@@ -43,6 +44,9 @@ use msd_opt::{LevenbergMarquardtOptions, NelderMeadOptions};
 use msd_signal::Signal;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::{Path, PathBuf};
+
+mod nonlinear;
+pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
 
 /// A whole experiment config.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -86,6 +90,9 @@ pub struct Config {
     /// Monte Carlo robustness band on the validation input.
     #[serde(default)]
     pub monte_carlo: MonteCarloSection,
+    /// Nonlinear models: one estimated, or several compared (off unless given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nonlinear: Option<NonlinearSection>,
     /// What is written.
     #[serde(default)]
     pub output: OutputSection,
@@ -108,16 +115,65 @@ pub struct Plant {
     /// State at the start of both records. By default at rest.
     #[serde(default)]
     pub initial_state: InitialState,
+    /// Coulomb friction force F_c, N (≥ 0; not with `quadratic_damping`). By default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub coulomb_force: f64,
+    /// Quadratic damping c₂ of c₂·x'|x'|, N·s²/m² (≥ 0; not with `coulomb_force`). By
+    /// default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub quadratic_damping: f64,
+    /// Cubic stiffness k₃ of k₃·x³, N/m³ (either sign). By default 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cubic_stiffness: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Plant {
-    /// The physical parameters.
+    /// The physical parameters (the linear part).
     pub fn parameters(&self) -> Parameters {
         Parameters {
             mass: self.mass,
             damping: self.damping,
             stiffness: self.stiffness,
         }
+    }
+
+    /// The plant as a nonlinear model when it has a nonlinear term (its data are then
+    /// simulated by ode45), else `None`.
+    ///
+    /// ```
+    /// let plant: xtask::config::Plant =
+    ///     toml::from_str("mass = 2.5\ndamping = 1.8\nstiffness = 120.0\ncubic_stiffness = 3000.0").unwrap();
+    /// assert_eq!(plant.nonlinear().unwrap().structure.name(), "viscous+cubic");
+    /// ```
+    pub fn nonlinear(&self) -> Option<msd_ident::NonlinearParameters> {
+        use msd_ident::{DampingLaw, ModelStructure, StiffnessLaw};
+        let (damping, extra) = if self.coulomb_force != 0.0 {
+            (DampingLaw::CoulombViscous, Some(self.coulomb_force))
+        } else if self.quadratic_damping != 0.0 {
+            (DampingLaw::QuadraticViscous, Some(self.quadratic_damping))
+        } else {
+            (DampingLaw::Viscous, None)
+        };
+        let cubic = (self.cubic_stiffness != 0.0).then_some(self.cubic_stiffness);
+        if extra.is_none() && cubic.is_none() {
+            return None;
+        }
+        let structure = ModelStructure {
+            damping,
+            stiffness: if cubic.is_some() {
+                StiffnessLaw::Cubic
+            } else {
+                StiffnessLaw::Linear
+            },
+        };
+        let mut values = vec![self.mass, self.damping, self.stiffness];
+        values.extend(extra);
+        values.extend(cubic);
+        Some(msd_ident::NonlinearParameters { structure, values })
     }
 }
 
@@ -774,6 +830,9 @@ impl Config {
                 check_backend("monte_carlo.backend", b)?;
             }
         }
+        if let Some(n) = &self.nonlinear {
+            n.validate(&self.estimation)?;
+        }
         Ok(())
     }
 
@@ -810,6 +869,18 @@ impl Config {
         check_positive("plant.mass", plant.mass)?;
         check_non_negative("plant.damping", plant.damping)?;
         check_positive("plant.stiffness", plant.stiffness)?;
+        check_non_negative("plant.coulomb_force", plant.coulomb_force)?;
+        check_non_negative("plant.quadratic_damping", plant.quadratic_damping)?;
+        check_finite("plant.cubic_stiffness", plant.cubic_stiffness)?;
+        if plant.coulomb_force != 0.0 && plant.quadratic_damping != 0.0 {
+            return Err((
+                "plant.quadratic_damping".into(),
+                format!(
+                    " = {}: given with coulomb_force = {}: expected at most one nonlinear damping term (no model structure has both)",
+                    plant.quadratic_damping, plant.coulomb_force
+                ),
+            ));
+        }
         check_finite(
             "plant.initial_state.displacement",
             plant.initial_state.displacement,

@@ -9,7 +9,6 @@
 use crate::config::{Column, Columns, Config, DataSection, Kind, Preprocess, Range};
 use crate::{Result, XtaskError};
 use msd_ident::{DataSet, Excitation, Parameters, synthetic_data};
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 /// Both records of an experiment and what is known about them.
@@ -91,26 +90,12 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
     let val_exc = Excitation::from_signal(val_input, time.start, time.dt, n)
         .map_err(bad("validation.input"))?;
     let truth = plant.parameters();
-    let (identification, id_truth) = synthetic_data(
-        "identification",
-        &truth,
-        id_exc,
-        plant.initial_state,
-        noise.sigma,
-        seed,
-        "identification",
-    )
-    .map_err(|e| XtaskError::run("data", e))?;
-    let (validation, val_truth) = synthetic_data(
-        "validation",
-        &truth,
-        val_exc,
-        plant.initial_state,
-        noise.sigma,
-        seed,
-        "validation",
-    )
-    .map_err(|e| XtaskError::run("data", e))?;
+    let record = |name: &'static str, excitation: Excitation| {
+        plant_record(&plant, name, excitation, noise.sigma, seed)
+            .map_err(|e| XtaskError::run("data", e))
+    };
+    let (identification, id_truth) = record("identification", id_exc)?;
+    let (validation, val_truth) = record("validation", val_exc)?;
     Ok(ExperimentData {
         kind: Kind::Synthetic,
         identification,
@@ -121,6 +106,44 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
         validation_initial_samples: 0,
         source: Source::Synthetic { sigma: noise.sigma },
     })
+}
+
+/// One noisy record of the plant and its noise-free response: the exact simulation of a
+/// linear plant, or ode45 (msd-ident's default nonlinear simulation, RelTol 1e-8) for a
+/// plant with nonlinear terms; the noise from the stream named `name` of `seed`.
+fn plant_record(
+    plant: &crate::config::Plant,
+    name: &str,
+    excitation: Excitation,
+    sigma: f64,
+    seed: u64,
+) -> msd_ident::Result<(DataSet, Vec<f64>)> {
+    let Some(nonlinear) = plant.nonlinear() else {
+        return synthetic_data(
+            name,
+            &plant.parameters(),
+            excitation,
+            plant.initial_state,
+            sigma,
+            seed,
+            name,
+        );
+    };
+    let simulation = msd_ident::NonlinearSimulation::default();
+    let smoothing =
+        simulation.resolve_smoothing_velocity(&nonlinear, &excitation, plant.initial_state)?;
+    let (truth, _) = msd_ident::simulate_nonlinear(
+        &nonlinear,
+        &excitation,
+        plant.initial_state,
+        &simulation,
+        smoothing,
+    )?;
+    let mut y = truth.clone();
+    if sigma > 0.0 {
+        msd_signal::NoiseStream::new(seed, name, sigma)?.add_to(&mut y);
+    }
+    Ok((DataSet::new(name, excitation, y)?, truth))
 }
 
 /// The columns of a CSV file as read.
@@ -211,14 +234,23 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
             format!("cannot open the data file (data.path = {:?}): {e}", d.path),
         )
     })?;
-    let mut reader = std::io::BufReader::new(file);
-    let mut line = String::new();
-    for _ in 0..d.skip_lines {
-        line.clear();
-        reader
-            .read_line(&mut line)
-            .map_err(|e| XtaskError::data(path, format!("cannot read: {e}")))?;
-    }
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
+        .map_err(|e| XtaskError::data(path, format!("cannot read: {e}")))?;
+    // Line numbers come from byte offsets (the csv crate's own count is off by one
+    // with CRLF line endings): line of byte b = 1 + number of '\n' before b.
+    let newlines: Vec<usize> = bytes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
+        .collect();
+    let start = if d.skip_lines == 0 {
+        0
+    } else {
+        newlines
+            .get(d.skip_lines - 1)
+            .map_or(bytes.len(), |&i| i + 1)
+    };
     if !d.delimiter.is_ascii() {
         return Err(XtaskError::data(
             path,
@@ -234,8 +266,15 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
         .flexible(true)
         .comment(Some(b'#'))
         .trim(csv::Trim::All)
-        .from_reader(reader);
-    let line_of = |pos: Option<&csv::Position>| pos.map_or(0, |p| p.line() as usize + d.skip_lines);
+        .from_reader(&bytes[start..]);
+    let line_of = |pos: Option<&csv::Position>| {
+        pos.map_or(0, |p| {
+            let byte = start + p.byte() as usize;
+            // With CRLF the csv crate puts a record's start on the previous line's
+            // '\n' (after its '\r'), hence ≤: that newline ends the previous line.
+            1 + newlines.partition_point(|&i| i <= byte)
+        })
+    };
     let mut records = csv.records();
     let header: Option<(Vec<String>, usize)> = if d.header {
         match records.next() {
@@ -243,7 +282,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                 r.iter().map(str::to_string).collect(),
                 line_of(r.position()),
             )),
-            Some(Err(e)) => return Err(XtaskError::data(path, csv_error(&e, d.skip_lines))),
+            Some(Err(e)) => return Err(XtaskError::data(path, csv_error(&e, &line_of))),
             None => {
                 return Err(XtaskError::data(
                     path,
@@ -293,13 +332,30 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
     .collect();
 
     let (mut time, mut input, mut output) = (Vec::new(), Vec::new(), Vec::new());
-    let mut previous_line = 0;
+    // More fields than the header (or the first data row) has: a decimal comma or a
+    // wrong delimiter would shift the columns, so the row is refused.
+    let mut fields = header.as_ref().map(|(names, _)| names.len());
     for r in records {
-        let r = r.map_err(|e| XtaskError::data(path, csv_error(&e, d.skip_lines)))?;
+        let r = r.map_err(|e| XtaskError::data(path, csv_error(&e, &line_of)))?;
         let line = line_of(r.position());
-        previous_line = line;
         if r.iter().all(str::is_empty) {
             continue; // a blank line
+        }
+        let expected = *fields.get_or_insert(r.len());
+        if r.len() > expected {
+            return Err(XtaskError::data(
+                path,
+                format!(
+                    "line {line}: the row has {} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {:?})?",
+                    r.len(),
+                    if header.is_some() {
+                        "header"
+                    } else {
+                        "first row"
+                    },
+                    d.delimiter
+                ),
+            ));
         }
         for (role, index, column) in &columns {
             let cell = r.get(*index).ok_or_else(|| {
@@ -314,9 +370,23 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
             let value = parse_cell(cell).map_err(|why| {
                 XtaskError::data(path, format!("line {line}, {role} column {column}: {why}"))
             })?;
+            let scale = match *role {
+                "input" => d.input_scale,
+                "output" => d.output_scale,
+                _ => 1.0,
+            };
+            let scaled = value * scale;
+            if !scaled.is_finite() {
+                return Err(XtaskError::data(
+                    path,
+                    format!(
+                        "line {line}, {role} column {column}: {value} × the scale {scale} (data.{role}_scale) overflows: expected a finite value"
+                    ),
+                ));
+            }
             match *role {
-                "input" => input.push(value * d.input_scale),
-                "output" => output.push(value * d.output_scale),
+                "input" => input.push(scaled),
+                "output" => output.push(scaled),
                 _ => time.push(value),
             }
         }
@@ -331,7 +401,6 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
             ));
         }
     }
-    let _ = previous_line;
     if input.len() < msd_ident::MIN_SAMPLES {
         return Err(XtaskError::data(
             path,
@@ -378,9 +447,9 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
     })
 }
 
-fn csv_error(e: &csv::Error, skip: usize) -> String {
+fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) -> String {
     match e.position() {
-        Some(p) => format!("line {}: malformed CSV: {e}", p.line() as usize + skip),
+        Some(p) => format!("line {}: malformed CSV: {e}", line_of(Some(p))),
         None => format!("malformed CSV: {e}"),
     }
 }

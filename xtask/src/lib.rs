@@ -3,7 +3,8 @@
 //!
 //! The one task is `experiment`: read a TOML config ([`config`]), generate or load the
 //! data ([`data`]), run the stages ([`pipeline`]: estimation, validation, residual
-//! diagnostics, frequency check, Monte Carlo), and write figures ([`plots`]), CSV
+//! diagnostics, frequency check, Monte Carlo, and nonlinear models ([`nonlinear`]) when
+//! asked), and write figures ([`plots`]), CSV
 //! tables ([`tables`]), a report ([`report`]) and `results.json` ([`results`]) into
 //! `target/experiments/<name>/` atomically ([`output`]).
 //!
@@ -19,6 +20,7 @@ pub mod config;
 pub mod data;
 mod error;
 pub mod fmt;
+pub mod nonlinear;
 pub mod output;
 pub mod pipeline;
 pub mod plots;

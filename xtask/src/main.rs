@@ -61,18 +61,21 @@ Run an experiment config end to end and write its results.
 Stages: generate (synthetic) or load (measured CSV) data; estimate m, c, k; validate on \
 fresh data; residual diagnostics (autocorrelation, Ljung–Box, residual–input \
 cross-correlation); frequency-consistency check (H1 estimate vs the model); Monte Carlo \
-band on the validation input.
+band on the validation input; with a [nonlinear] section, nonlinear models (Coulomb or \
+quadratic damping, cubic stiffness) estimated or compared by BIC.
 
 The config (TOML, unknown keys refused) has either synthetic sections [plant], [time], \
 [noise], [identification.input], [validation.input] or a [data] section for a measured CSV \
-file, plus optional [estimation], [residuals], [frequency_check], [monte_carlo], [output]. \
+file, plus optional [estimation], [residuals], [frequency_check], [monte_carlo], [output], \
+[nonlinear]. \
 The configs in configs/ document every field; configs/lab-template.toml is the template \
 for your own measurement.
 
 Outputs, written atomically into target/experiments/<name>/ (or --out): report.md (with \
 the figures), results.json (every number), identification.csv, validation.csv, \
 residual_correlation.csv, frf.csv, and the figures fig2_identification, fig3_validation, \
-fig4_monte_carlo, residual_correlation, frf_bode as PNG and SVG. A failed run writes \
+fig4_monte_carlo, residual_correlation, frf_bode as PNG and SVG (with [nonlinear] also \
+nonlinear.csv and the figure nonlinear_residuals). A failed run writes \
 nothing and leaves a previous result untouched.
 
 Prints a summary on stdout; shows progress on stderr only when it is a terminal and \

@@ -1,5 +1,6 @@
 //! The stages of an experiment, each timed: data → estimation → validation → residual
-//! diagnostics → frequency check → Monte Carlo. Writing (figures, CSV, report,
+//! diagnostics → frequency check → Monte Carlo → nonlinear models (when the config has
+//! a `[nonlinear]` section, [`crate::nonlinear`]). Writing (figures, CSV, report,
 //! results.json) is [`crate::output`]'s job.
 
 use crate::config::{Config, Kind, RecordChoice};
@@ -41,6 +42,8 @@ pub struct Outcome {
     pub frequency: Option<msd_ident::FrequencyCheck>,
     /// Monte Carlo band on the validation record.
     pub monte_carlo: Option<MonteCarloOutcome>,
+    /// Nonlinear models estimated or compared (`[nonlinear]`).
+    pub nonlinear: Option<crate::nonlinear::NonlinearOutcome>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
 }
@@ -208,6 +211,25 @@ pub fn run_stages(
         None
     };
 
+    let nonlinear = match &config.nonlinear {
+        Some(section) => {
+            progress.stage("nonlinear models");
+            let t = Instant::now();
+            let n = crate::nonlinear::run(
+                section,
+                &config,
+                &data,
+                &estimate,
+                validation.fit.residual_rms,
+                seed,
+                threads,
+            )?;
+            timed("nonlinear", t);
+            Some(n)
+        }
+        None => None,
+    };
+
     Ok(Outcome {
         config,
         config_path: config_path.to_path_buf(),
@@ -220,6 +242,7 @@ pub fn run_stages(
         residuals,
         frequency,
         monte_carlo,
+        nonlinear,
         timings,
     })
 }

@@ -9,6 +9,8 @@ use crate::summary::stage_label;
 use std::fmt::Write;
 use std::time::Duration;
 
+mod nonlinear;
+
 /// The paper's reported R² on the identification and validation data.
 pub const PAPER_R2: [f64; 2] = [0.9907, 0.9949];
 
@@ -124,7 +126,13 @@ pub fn markdown(
         crate::data::Source::Synthetic { sigma } => {
             let _ = writeln!(
                 w,
-                "Both records are simulated exactly from the true plant and corrupted with white Gaussian noise of σ = {} {} (independent seeded streams \"identification\" and \"validation\").\n",
+                "Both records are simulated {} and corrupted with white Gaussian noise of σ = {} {} (independent seeded streams \"identification\" and \"validation\").\n",
+                match o.config.plant.as_ref().and_then(|p| p.nonlinear()) {
+                    Some(p) => format!(
+                        "by ode45 (RelTol 1e-8) from the true plant with nonlinear terms ({p})"
+                    ),
+                    None => "exactly from the true plant".to_string(),
+                },
                 sig(sigma * factor, 3),
                 out_unit
             );
@@ -479,6 +487,10 @@ pub fn markdown(
         }
     }
 
+    if let Some(n) = &o.nonlinear {
+        nonlinear::section(w, o, n, has("nonlinear_residuals"));
+    }
+
     // Timings and files.
     let _ = writeln!(w, "## Timings\n");
     let _ = writeln!(w, "| stage | time [ms] |\n|---|---|");
@@ -510,6 +522,12 @@ pub fn markdown(
     }
     if o.frequency.is_some() {
         let _ = writeln!(w, "- `frf.csv`: the frequency responses;");
+    }
+    if o.nonlinear.is_some() {
+        let _ = writeln!(
+            w,
+            "- `nonlinear.csv`: each nonlinear candidate's validation prediction and residuals;"
+        );
     }
     let _ = writeln!(
         w,

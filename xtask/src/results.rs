@@ -208,6 +208,9 @@ pub fn to_json(
             }),
         );
     }
+    if let Some(n) = &o.nonlinear {
+        root.insert("nonlinear".into(), nonlinear_json(n));
+    }
     let mut timings = Map::new();
     for (name, d) in o.timings.iter().chain(extra_timings) {
         timings.insert((*name).to_string(), json!(ms(*d)));
@@ -266,4 +269,70 @@ fn frequency_json(f: &msd_ident::FrequencyCheck) -> Value {
         map.insert("points".into(), json!(f.frequency_hz.len()));
     }
     v
+}
+
+/// The `nonlinear` object: the candidates ranked by BIC (rank 1 first), each with its
+/// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores
+/// and residual tests; the verdict, failures and, for synthetic data, the true plant.
+fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
+    let c = &n.comparison;
+    let rows: Vec<Value> = c
+        .rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let parameters: Map<String, Value> = r
+                .names
+                .iter()
+                .zip(&r.intervals)
+                .map(|(name, iv)| (name.clone(), interval(iv)))
+                .collect();
+            json!({
+                "rank": i + 1,
+                "model": r.structure.name(),
+                "damping": r.structure.damping,
+                "stiffness": r.structure.stiffness,
+                "parameters": parameters,
+                "estimated": r.estimated,
+                "samples": r.samples,
+                "sse": r.sse,
+                "aic": r.aic,
+                "bic": r.bic,
+                "delta_bic": r.delta_bic,
+                "validation": {
+                    "residual_rms": r.validation_rms,
+                    "fit_percent": r.validation.fit_percent,
+                    "r2": r.validation.r_squared,
+                    "scored_from_sample": r.scored_from,
+                    "whiteness_p_value": r.whiteness_p,
+                    "whiteness_passed": r.whiteness_passed,
+                    "cross_correlation_passed": r.cross_correlation_passed,
+                },
+                "converged": r.converged,
+                "simulations": r.simulations,
+            })
+        })
+        .collect();
+    let failures: Vec<Value> = c
+        .failures
+        .iter()
+        .map(|f| json!({ "model": f.structure.name(), "reason": f.reason }))
+        .collect();
+    json!({
+        "mode": if n.comparison_asked { "comparison" } else { "model" },
+        "rows": rows,
+        "best": c.rows.first().map(|r| r.structure.name()),
+        "verdict": c.verdict,
+        "failures": failures,
+        "linear_stage_validation_rms": n.linear_validation_rms,
+        "plant": n.plant.as_ref().map(|p| {
+            let values: Map<String, Value> = p
+                .names()
+                .iter()
+                .zip(&p.values)
+                .map(|(name, v)| ((*name).to_string(), json!(v)))
+                .collect();
+            json!({ "model": p.structure.name(), "parameters": values })
+        }),
+    })
 }

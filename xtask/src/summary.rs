@@ -12,6 +12,7 @@ pub(crate) fn stage_label(name: &str) -> &str {
     match name {
         "frequency_check" => "frequency check",
         "monte_carlo" => "Monte Carlo",
+        "nonlinear" => "nonlinear models",
         other => other,
     }
 }
@@ -154,6 +155,13 @@ pub fn text(
             mc.coverage * 100.0
         );
     }
+    if let Some(n) = &o.nonlinear {
+        let _ = writeln!(
+            s,
+            "  nonlinear      {}",
+            nonlinear_line(n, factor, &out_unit)
+        );
+    }
     let times: Vec<String> = o
         .timings
         .iter()
@@ -173,4 +181,50 @@ pub fn text(
         out_dir.join("report.md").display()
     );
     s
+}
+
+/// One line on the nonlinear models: the winner, its BIC margin and validation RMS
+/// against the linear model's (or the one model's scores).
+fn nonlinear_line(n: &crate::nonlinear::NonlinearOutcome, factor: f64, unit: &str) -> String {
+    let c = &n.comparison;
+    let best = c.best();
+    let rms = |v: f64| format!("{} {unit}", sig(v * factor, 4));
+    let mut line = if !n.comparison_asked {
+        format!(
+            "{}: validation RMS {} vs {} for the linear estimate; residuals {}",
+            best.structure,
+            rms(best.validation_rms),
+            rms(n.linear_validation_rms),
+            if best.whiteness_passed {
+                "white"
+            } else {
+                "NOT white"
+            }
+        )
+    } else if let Some(runner) = c.rows.get(1) {
+        let linear = c.rows.iter().find(|r| r.structure.is_linear());
+        format!(
+            "{} ranks first of {} by BIC (ΔBIC {:.1} over {}: {}); validation RMS {}{}",
+            best.structure,
+            c.rows.len(),
+            runner.delta_bic,
+            runner.structure,
+            msd_ident::bic_evidence(runner.delta_bic),
+            rms(best.validation_rms),
+            linear
+                .filter(|l| !l.structure.eq(&best.structure))
+                .map(|l| format!(" vs {} linear", rms(l.validation_rms)))
+                .unwrap_or_default()
+        )
+    } else {
+        format!(
+            "only {} could be ranked: validation RMS {}",
+            best.structure,
+            rms(best.validation_rms)
+        )
+    };
+    if !c.failures.is_empty() {
+        line.push_str(&format!("; {} not ranked", c.failures.len()));
+    }
+    line
 }

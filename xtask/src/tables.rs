@@ -6,7 +6,10 @@
 //! - `validation.csv`: the same on the validation record, plus the Monte Carlo band
 //!   (band_lower, band_median, band_upper, band_nominal) when it ran;
 //! - `residual_correlation.csv`: lag, autocorrelation, cross_correlation, bound;
-//! - `frf.csv`: frequency_hz and the empirical and model magnitude and phase.
+//! - `frf.csv`: frequency_hz and the empirical and model magnitude and phase;
+//! - `nonlinear.csv` (with `[nonlinear]`): t, input, measured on the validation record,
+//!   then `model_<name>` and `residual_<name>` of each candidate in rank order (e.g.
+//!   `residual_viscous+cubic`).
 
 use crate::pipeline::Outcome;
 use std::fmt::Write;
@@ -124,6 +127,19 @@ pub fn csv_files(outcome: &Outcome) -> Vec<(&'static str, String)> {
         t.column("model_phase_deg", &f.model_phase_deg);
         t.column("coherence", &f.coherence);
         files.push(("frf.csv", t.render()));
+    }
+
+    if let Some(n) = &o.nonlinear {
+        let d = &o.data.validation;
+        let mut t = Table::new();
+        t.column("t", d.excitation.times());
+        t.column("input", d.excitation.samples());
+        t.column("measured", &d.output);
+        for r in &n.comparison.rows {
+            t.column(format!("model_{}", r.structure), &r.validation_output);
+            t.column(format!("residual_{}", r.structure), &r.validation_residuals);
+        }
+        files.push(("nonlinear.csv", t.render()));
     }
     files
 }

@@ -44,9 +44,12 @@
 //! ```
 
 mod arx;
+mod batch;
+mod correlation;
 mod data;
 mod error;
 mod estimate;
+mod fft;
 mod frequency;
 mod metrics;
 mod nonlinear;
@@ -59,6 +62,8 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
+pub use batch::{BatchSimulator, LANES};
+pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};
 pub use estimate::{
@@ -70,14 +75,13 @@ pub use metrics::FitMetrics;
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, ModelStructure,
     NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, bic_evidence,
-    compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
+    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, assess_estimate,
+    bic_evidence, compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
     synthetic_nonlinear_data,
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
 pub use residuals::{
-    CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, autocorrelation,
-    cross_correlation, ljung_box, residual_analysis,
+    CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, ljung_box, residual_analysis,
 };
 pub use sensitivity::{SensitivitySample, sensitivities};
 pub use simulate::{Backend, simulate, simulate_into};

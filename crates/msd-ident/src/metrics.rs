@@ -28,6 +28,7 @@ pub struct FitMetrics {
 
 impl FitMetrics {
     /// Computes the metrics of `model` against `measured` (equal lengths, non-empty).
+    /// For a constant measurement R² and fit % are 1 and 100 for an exact match, else 0.
     pub fn new(measured: &[f64], model: &[f64]) -> Self {
         debug_assert_eq!(measured.len(), model.len());
         let n = measured.len();
@@ -38,9 +39,18 @@ impl FitMetrics {
             .zip(model)
             .map(|(y, m)| (y - m).powi(2))
             .sum();
+        // A constant measurement (SST = 0) has no variance to explain: as scikit-learn's
+        // r2_score, R² = 1 (fit 100 %) for an exact match and 0 otherwise, never 0/0.
+        let (r_squared, fit_percent) = if sst > 0.0 {
+            (1.0 - sse / sst, 100.0 * (1.0 - (sse / sst).sqrt()))
+        } else if sse == 0.0 {
+            (1.0, 100.0)
+        } else {
+            (0.0, 0.0)
+        };
         Self {
-            r_squared: 1.0 - sse / sst,
-            fit_percent: 100.0 * (1.0 - (sse / sst).sqrt()),
+            r_squared,
+            fit_percent,
             residual_rms: (sse / n as f64).sqrt(),
             sse,
             samples: n,

@@ -106,81 +106,6 @@ pub struct ResidualAnalysis {
     pub verdict: String,
 }
 
-/// Sample autocorrelation r₀…r_L of `x` (mean removed, normalised by lag 0).
-///
-/// ```
-/// let r = msd_ident::autocorrelation(&[1.0, -1.0, 1.0, -1.0], 2);
-/// assert_eq!(r, vec![1.0, -0.75, 0.5]);
-/// ```
-pub fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
-    let n = x.len();
-    let mean = x.iter().sum::<f64>() / n as f64;
-    let xc: Vec<f64> = x.iter().map(|v| v - mean).collect();
-    let c0 = dot(&xc, &xc);
-    (0..=max_lag)
-        .map(|k| {
-            if k >= n || c0 == 0.0 {
-                return if k == 0 { 1.0 } else { 0.0 };
-            }
-            dot(&xc[k..], &xc[..n - k]) / c0
-        })
-        .collect()
-}
-
-/// Sample cross-correlation ρ(τ) of e(t) with u(t − τ) for τ = −L…L.
-///
-/// ```
-/// // y is x delayed by one sample: the correlation peaks at τ = 1.
-/// let x = [0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0];
-/// let y = [0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0];
-/// let rho = msd_ident::cross_correlation(&y, &x, 2);
-/// let best = rho.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
-/// assert_eq!(best as i64 - 2, 1);
-/// ```
-pub fn cross_correlation(e: &[f64], u: &[f64], max_lag: usize) -> Vec<f64> {
-    let n = e.len().min(u.len());
-    let me = e[..n].iter().sum::<f64>() / n as f64;
-    let mu = u[..n].iter().sum::<f64>() / n as f64;
-    let ec: Vec<f64> = e[..n].iter().map(|v| v - me).collect();
-    let uc: Vec<f64> = u[..n].iter().map(|v| v - mu).collect();
-    let norm = (dot(&ec, &ec) * dot(&uc, &uc)).sqrt();
-    let l = max_lag as i64;
-    (-l..=l)
-        .map(|tau| {
-            if norm == 0.0 || tau.unsigned_abs() as usize >= n {
-                return 0.0;
-            }
-            let shift = tau.unsigned_abs() as usize;
-            // Σₜ e(t)·u(t − τ) over the overlap, written as one contiguous dot product.
-            let s = if tau >= 0 {
-                dot(&ec[shift..], &uc[..n - shift])
-            } else {
-                dot(&ec[..n - shift], &uc[shift..])
-            };
-            s / norm
-        })
-        .collect()
-}
-
-/// Dot product with four accumulators (so it vectorises).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    debug_assert_eq!(a.len(), b.len());
-    let mut acc = [0.0f64; 4];
-    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = ca
-        .remainder()
-        .iter()
-        .zip(cb.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    for (x, y) in ca.zip(cb) {
-        for k in 0..4 {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
-}
-
 /// Ljung–Box statistic of the autocorrelation `r` (with `r[0] = 1`) of a series of length `n`.
 ///
 /// ```
@@ -232,7 +157,12 @@ pub fn residual_analysis(
         });
     }
     let n = residuals.len();
-    let needed = 4 * options.max_lag + 1;
+    // 4·max_lag + 1 without overflow: a huge max_lag is simply too many lags.
+    let needed = options
+        .max_lag
+        .checked_mul(4)
+        .and_then(|v| v.checked_add(1))
+        .unwrap_or(usize::MAX);
     if n < needed {
         return Err(IdentError::TooFewSamples {
             got: n,
@@ -247,13 +177,12 @@ pub fn residual_analysis(
     let z = normal.inverse_cdf(1.0 - alpha / 2.0);
     let bound = z / (n as f64).sqrt();
 
-    let r = autocorrelation(residuals, options.max_lag);
+    let (r, rho) = crate::correlation::correlations(residuals, input, options.max_lag);
     let lb = ljung_box(&r, n);
     let whiteness_passed = lb.p_value >= alpha;
     let auto_outside = r.iter().skip(1).filter(|v| v.abs() > bound).count();
     let auto_max = r.iter().skip(1).fold(0.0f64, |m, v| m.max(v.abs()));
 
-    let rho = cross_correlation(residuals, input, options.max_lag);
     let judged = rho.len() as f64;
     let z_family = normal.inverse_cdf(1.0 - alpha / (2.0 * judged));
     let family_bound = z_family / (n as f64).sqrt();

@@ -1,6 +1,6 @@
 //! Synthetic test data: the response of a known plant plus seeded Gaussian noise.
 
-use crate::{Backend, DataSet, Excitation, InitialState, Parameters, Result, simulate};
+use crate::{Backend, DataSet, Excitation, IdentError, InitialState, Parameters, Result, simulate};
 use msd_signal::{NoiseStream, paper_identification_input, paper_validation_input};
 
 /// Simulates `plant` (exactly) on `excitation` from `initial` and adds white Gaussian
@@ -29,6 +29,13 @@ pub fn synthetic_data(
 ) -> Result<(DataSet, Vec<f64>)> {
     let truth = simulate(plant, &excitation, initial, &Backend::EXACT)?;
     let mut y = truth.clone();
+    if !(sigma.is_finite() && sigma >= 0.0) {
+        return Err(IdentError::InvalidParameter {
+            name: "sigma",
+            value: sigma,
+            expected: "a finite noise standard deviation >= 0",
+        });
+    }
     if sigma > 0.0 {
         NoiseStream::new(seed, stream, sigma)?.add_to(&mut y);
     }

@@ -209,6 +209,86 @@ fn frequency_check_agrees_with_the_time_domain_estimates() {
     }
 }
 
+/// The Bode arrays come from one FFT and the three-tap Hann kernel in frequency: they
+/// must equal msd-signal's one-segment Hann H1 up to FFT rounding. The per-bin bound is the
+/// normwise FFT error c·ε·log₂N·√N·‖x‖₂ (c = 10 allows for Bluestein's extra transforms),
+/// propagated through H = Y/U.
+#[test]
+fn bode_arrays_equal_the_one_segment_hann_h1() {
+    let e = PaperExperiment::generate(2).expect("data");
+    let data = &e.validation;
+    let check = frequency_check(
+        data,
+        &Parameters::PAPER,
+        None,
+        &FrequencyCheckOptions::default(),
+    )
+    .expect("check");
+    // The check transforms the first N' = 7500 samples (the largest 7-smooth length).
+    let used = check.samples_used;
+    assert_eq!(used, 7500);
+    let (u, y) = (&data.excitation.samples()[..used], &data.output[..used]);
+    let n = used as f64;
+    let fs = 1.0 / data.excitation.dt();
+    let welch = msd_signal::WelchOptions {
+        window: msd_signal::Window::Hann,
+        detrend: msd_signal::Detrend::Mean,
+        ..msd_signal::WelchOptions::default()
+    };
+    let h1 = msd_signal::h1_estimate(u, y, fs, &welch).expect("h1");
+    let psd_u = msd_signal::welch_psd(u, fs, &welch).expect("psd");
+    assert_eq!(h1.averages, 1);
+    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let fft_error = |x: &[f64]| 10.0 * f64::EPSILON * n.log2() * n.sqrt() * norm(x);
+    // |U_w[k]| from the one-sided PSD: S = 2|U_w|²/(fs·Σw²) off DC and Nyquist, Σw² = 3N/8.
+    let window_power = 3.0 * n / 8.0;
+    assert!(!check.frequency_hz.is_empty());
+    for (i, &f) in check.frequency_hz.iter().enumerate() {
+        let k = i + 1;
+        assert!((h1.frequency[k] - f).abs() <= 1e-12 * f, "bin {k}: {f} Hz");
+        let u_abs = (psd_u.values[k] * fs * window_power / 2.0).sqrt();
+        let h = h1.h[k];
+        let allowed = (fft_error(y) + h.norm() * fft_error(u)) / u_abs * 2.0;
+        let ours = msd_signal::Complex64::from_polar(
+            check.empirical_magnitude[i],
+            check.empirical_phase_deg[i].to_radians(),
+        );
+        assert!(
+            (ours - h).norm() <= allowed,
+            "bin {k} ({f} Hz): {ours} vs {h}, allowed {allowed:e}"
+        );
+        assert!((check.coherence[i] - h1.coherence[k]).abs() <= 1e-9);
+    }
+}
+
+/// residual_analysis computes both correlation sequences with one FFT pair; they must
+/// equal the direct sums of `autocorrelation` and `cross_correlation` up to FFT rounding
+/// (normwise c·ε·log₂M with M = 8192; c = 10 and log₂M → 14 are generous).
+#[test]
+fn residual_analysis_correlations_equal_the_direct_sums() {
+    let n = 7501;
+    let e = gaussian_noise(5, "e", 1.0, n).expect("noise");
+    // A coloured, offset input correlated with e at lag 3, so no value is trivially zero.
+    let w = gaussian_noise(5, "w", 1.0, n).expect("noise");
+    let u: Vec<f64> = (0..n)
+        .map(|t| 2.0 + w[t] + if t >= 3 { 0.5 * e[t - 3] } else { 0.0 })
+        .collect();
+    let options = ResidualOptions::default();
+    let a = residual_analysis(&e, &u, &options).expect("analysis");
+    let direct_auto = autocorrelation(&e, options.max_lag);
+    let direct_cross = cross_correlation(&e, &u, options.max_lag);
+    let bound = 10.0 * f64::EPSILON * 14.0;
+    for (x, y) in a.autocorrelation.values.iter().zip(&direct_auto) {
+        assert!((x - y).abs() <= bound, "{x} vs {y}");
+    }
+    for (x, y) in a.cross_correlation.values.iter().zip(&direct_cross) {
+        assert!((x - y).abs() <= bound, "{x} vs {y}");
+    }
+    // The planted lag: u(t) carries 0.5·e(t − 3), which e(t) meets in u(t − τ) at τ = −3.
+    let at = |tau: i64| a.cross_correlation.values[(tau + options.max_lag as i64) as usize];
+    assert!(at(-3) > 0.3, "ρ(−3) = {}", at(-3));
+}
+
 #[test]
 fn bad_input_for_the_diagnostics() {
     let e = [0.0; 60];

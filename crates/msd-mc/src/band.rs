@@ -2,7 +2,7 @@
 
 use crate::engine::{self, MemoryPlan};
 use crate::{McError, McOptions, Result, Sampling, Summary, draw::Sampler};
-use msd_ident::{Backend, Excitation, Parameters, simulate, simulate_into};
+use msd_ident::{Backend, BatchSimulator, Excitation, LANES, Parameters, simulate, simulate_into};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -151,6 +151,11 @@ pub fn monte_carlo_band_with_progress(
     let sampler = Sampler::new(nominal, &options.sampling)?;
     let pool = crate::pool(options.threads)?;
     let nominal_response = simulate(nominal, excitation, initial, backend)?;
+    // The exact backend steps LANES samples together on a once-built input schedule.
+    let batch = match backend {
+        Backend::Exact { hold } => Some(BatchSimulator::new(excitation, *hold)?),
+        Backend::Ode45 { .. } => None,
+    };
     let plan = MemoryPlan::new(
         n,
         points,
@@ -164,10 +169,35 @@ pub fn monte_carlo_band_with_progress(
             .into_par_iter()
             .map(|i| sampler.draw(options.seed, i))
             .collect();
-        let out = engine::run(&plan, levels, progress, |i, scratch| match &draws[i] {
-            Some(p) => simulate_into(p, excitation, initial, backend, scratch).is_ok(),
-            None => false,
-        });
+        let lanes = |b: usize| &draws[b * LANES..((b + 1) * LANES).min(n)];
+        let out = match (backend, &batch) {
+            (Backend::Exact { .. }, Some(batch)) => engine::run(
+                &plan,
+                levels,
+                progress,
+                || (),
+                |_, b, range, out, ok| {
+                    let flags = batch.simulate_lanes(lanes(b), initial, range, out);
+                    ok.copy_from_slice(&flags);
+                },
+            ),
+            _ => engine::run(
+                &plan,
+                levels,
+                progress,
+                || vec![0.0; points],
+                |scratch, b, range, out, ok| {
+                    for (lane, draw) in lanes(b).iter().enumerate() {
+                        ok[lane] = draw.is_some_and(|p| {
+                            simulate_into(&p, excitation, initial, backend, scratch).is_ok()
+                        });
+                        for (t, v) in range.clone().zip(&scratch[range.clone()]) {
+                            out[(t - range.start) * LANES + lane] = *v;
+                        }
+                    }
+                },
+            ),
+        };
         (draws, out)
     });
 

@@ -2,13 +2,15 @@
 //!
 //! ## The algorithm
 //! The N × T responses would need 8·N·T bytes (6 GB for N = 100 000, T = 7501), so the
-//! time axis is cut into chunks of `chunk_points` = ⌊budget / 8N⌋ columns. For each
-//! chunk every sample is simulated in full (in a per-thread scratch of T values) and only
-//! the chunk's columns are kept, in an N × chunk buffer; then the chunk's percentiles are
-//! computed exactly, column by column, in parallel blocks of columns. So the buffer never
-//! exceeds the budget, the percentiles are exact (no streaming approximation), and the
-//! price is `passes` = ⌈T / chunk_points⌉ simulations per sample — one pass whenever
-//! 8·N·T fits the budget (N ≤ 4473 at T = 7501 and the default 256 MiB).
+//! time axis is cut into chunks of `chunk_points` = ⌊budget / 8N⌋ columns. Samples are
+//! simulated in blocks of [`LANES`] (stepped together by the exact backend) and each
+//! block keeps only the chunk's columns, time-major within the block
+//! (`buffer[block][t][lane]`), so a time column is gathered from N/8 runs of 8 contiguous
+//! values. Then the chunk's percentiles are computed exactly, column by column, in
+//! parallel blocks of columns. So the buffer never exceeds the budget, the percentiles
+//! are exact (no streaming approximation), and the price is `passes` =
+//! ⌈T / chunk_points⌉ simulations per sample — one pass whenever 8·N·T fits the budget
+//! (N ≤ 4473 at T = 7501 and the default 256 MiB).
 //!
 //! Every value written depends only on its sample index and its time index, and
 //! percentiles are functions of the multiset of a column, so the result is bit-for-bit
@@ -18,7 +20,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::quantile::{key, percentiles_of_keys};
+use crate::quantile::ColumnTracker;
+pub(crate) use msd_ident::LANES;
 
 /// Bytes of the per-thread column-gather scratch the engine aims at.
 const GATHER_BYTES: usize = 1 << 20;
@@ -36,7 +39,7 @@ pub struct MemoryPlan {
     pub passes: usize,
     /// Columns gathered per parallel percentile task.
     pub gather_columns: usize,
-    /// Bytes of the N × chunk response buffer.
+    /// Bytes of the N × chunk response buffer (N rounded up to a multiple of [`LANES`]).
     pub buffer_bytes: usize,
     /// Upper bound of everything a band run allocates: the buffer, per-thread scratch
     /// (a full response and a column block), per-sample draws, flags and summaries, and
@@ -61,7 +64,7 @@ impl MemoryPlan {
         levels: usize,
         max_buffer_bytes: usize,
     ) -> Self {
-        let n = samples.max(1);
+        let n = samples.max(1).next_multiple_of(LANES);
         let chunk_points = (max_buffer_bytes / (8 * n)).clamp(1, points.max(1));
         let passes = points.div_ceil(chunk_points);
         let gather_columns = (GATHER_BYTES / (8 * n)).clamp(1, 64);
@@ -89,22 +92,28 @@ pub(crate) struct EngineOutput {
     pub(crate) ok: Vec<bool>,
 }
 
-/// Runs `simulate(i, scratch)` (fills the full response of sample i, returns success)
-/// for every sample, `plan.passes` times, on the current rayon pool, and returns the
-/// pointwise `levels` percentiles over the successful samples.
-pub(crate) fn run<F>(
+/// Runs `simulate(scratch, block, range, out, ok)` (`scratch` made per worker by
+/// `scratch()`) for every block of [`LANES`] samples (block b
+/// holds samples b·LANES …; it writes sample b·LANES + lane's response at the samples
+/// `range` to `out[(t − range.start)·LANES + lane]` and its success to `ok[lane]`),
+/// `plan.passes` times, on the current rayon pool, and returns the pointwise `levels`
+/// percentiles over the successful samples. Lanes past the last sample are ignored.
+pub(crate) fn run<S, I, F>(
     plan: &MemoryPlan,
     levels: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
+    scratch: I,
     simulate: F,
 ) -> EngineOutput
 where
-    F: Fn(usize, &mut [f64]) -> bool + Sync,
+    I: Fn() -> S + Sync + Send,
+    F: Fn(&mut S, usize, std::ops::Range<usize>, &mut [f64], &mut [bool]) + Sync,
 {
     let (n, points, l) = (plan.samples, plan.points, levels.len());
-    let mut buffer = vec![0.0; n * plan.chunk_points];
+    let padded = n.next_multiple_of(LANES);
+    let mut buffer = vec![0.0; padded * plan.chunk_points];
     debug_assert_eq!(8 * buffer.len(), plan.buffer_bytes);
-    let mut ok = vec![false; n];
+    let mut ok = vec![false; padded];
     let mut transposed = vec![0.0; points * l]; // time-major: levels of point t at t·l
     let total = n * plan.passes;
     let done = AtomicUsize::new(0);
@@ -112,43 +121,72 @@ where
         let start = pass * plan.chunk_points;
         let end = (start + plan.chunk_points).min(points);
         let width = end - start;
-        let rows = &mut buffer[..n * width];
-        rows.par_chunks_mut(width)
-            .zip(ok.par_iter_mut())
+        let blocks = &mut buffer[..padded * width];
+        blocks
+            .par_chunks_mut(LANES * width)
+            .zip(ok.par_chunks_mut(LANES))
             .enumerate()
-            .for_each_init(
-                || vec![0.0; points],
-                |scratch, (i, (row, flag))| {
-                    *flag = simulate(i, scratch);
-                    if *flag {
-                        row.copy_from_slice(&scratch[start..end]);
-                    }
+            .for_each_init(&scratch, |scratch, (b, (block, flags))| {
+                simulate(scratch, b, start..end, block, flags);
+                let real = LANES.min(n - b * LANES);
+                flags[real..].fill(false);
+                // One call per simulation, as documented (the lanes finish together).
+                for _ in 0..real {
                     progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                },
-            );
+                }
+            });
         let good: Vec<usize> = (0..n).filter(|&i| ok[i]).collect();
         if good.is_empty() {
             break;
         }
-        let rows = &buffer[..n * width];
+        let blocks = &buffer[..padded * width];
         let g = plan.gather_columns;
+        let all_good = good.len() == n;
         transposed[start * l..end * l]
             .par_chunks_mut(g * l)
             .enumerate()
             .for_each_init(
-                || vec![0i64; good.len() * g],
-                |column, (block, out)| {
-                    let c0 = block * g;
+                || {
+                    let tracker = ColumnTracker::new(levels, good.len());
+                    (vec![0.0; good.len() * g], tracker)
+                },
+                |(columns, tracker), (chunk, out)| {
+                    let c0 = chunk * g;
                     let cols = out.len() / l;
-                    for (k, &i) in good.iter().enumerate() {
-                        let row = &rows[i * width + c0..i * width + c0 + cols];
-                        for (j, &v) in row.iter().enumerate() {
-                            column[j * good.len() + k] = key(v);
+                    let columns = &mut columns[..good.len() * cols];
+                    // columns[j·G + k]: sample good[k] at column c0 + j (G = good samples).
+                    if all_good {
+                        // Block by block: 8 contiguous values per column.
+                        for (b, block) in blocks.chunks_exact(LANES * width).enumerate() {
+                            let lanes = LANES.min(n - b * LANES);
+                            for j in 0..cols {
+                                let from = &block[(c0 + j) * LANES..(c0 + j) * LANES + lanes];
+                                let to = j * n + b * LANES;
+                                // + 0.0 turns −0.0 into +0.0: f64 order = key order.
+                                for (t, &f) in columns[to..to + lanes].iter_mut().zip(from) {
+                                    *t = f + 0.0;
+                                }
+                            }
+                        }
+                    } else {
+                        for (k, &i) in good.iter().enumerate() {
+                            let base = (i / LANES) * LANES * width + c0 * LANES + i % LANES;
+                            for j in 0..cols {
+                                columns[j * good.len() + k] = blocks[base + j * LANES] + 0.0;
+                            }
                         }
                     }
-                    for j in 0..cols {
-                        let values = &mut column[j * good.len()..(j + 1) * good.len()];
-                        percentiles_of_keys(values, levels, &mut out[j * l..(j + 1) * l]);
+                    tracker.reset();
+                    let mut previous: Option<&[f64]> = None;
+                    for (j, column) in columns.chunks_exact(good.len()).enumerate() {
+                        let change = previous.map_or(f64::INFINITY, |p| {
+                            p.iter()
+                                .zip(column)
+                                .map(|(a, b)| (a - b).abs())
+                                .fold(0.0, f64::max)
+                        });
+                        tracker.percentiles(column, change, &mut out[j * l..(j + 1) * l]);
+                        previous = Some(column);
                     }
                 },
             );
@@ -156,6 +194,7 @@ where
     let percentiles = (0..l)
         .map(|k| (0..points).map(|t| transposed[t * l + k]).collect())
         .collect();
+    ok.truncate(n);
     EngineOutput { percentiles, ok }
 }
 
@@ -167,12 +206,14 @@ mod tests {
 
     /// Response of sample i at time j: a_j + b_j·u with u ~ U(0, 1) from sample i's
     /// generator, so the q-th percentile is a_j + b_j·q/100.
-    fn linear(i: usize, out: &mut [f64]) -> bool {
-        let u: f64 = sample_rng(11, i as u64).random();
-        for (j, v) in out.iter_mut().enumerate() {
-            *v = j as f64 + (1.0 + j as f64) * u;
+    fn linear(b: usize, range: std::ops::Range<usize>, out: &mut [f64], ok: &mut [bool]) {
+        for lane in 0..LANES {
+            let u: f64 = sample_rng(11, (b * LANES + lane) as u64).random();
+            for j in range.clone() {
+                out[(j - range.start) * LANES + lane] = j as f64 + (1.0 + j as f64) * u;
+            }
+            ok[lane] = true;
         }
-        true
     }
 
     fn run_with(n: usize, threads: usize, budget: usize) -> (MemoryPlan, EngineOutput) {
@@ -182,7 +223,15 @@ mod tests {
             .num_threads(threads)
             .build()
             .unwrap();
-        let out = pool.install(|| run(&plan, &levels, &|_, _| {}, linear));
+        let out = pool.install(|| {
+            run(
+                &plan,
+                &levels,
+                &|_, _| {},
+                || (),
+                |_, b, r, o, k| linear(b, r, o, k),
+            )
+        });
         (plan, out)
     }
 
@@ -213,7 +262,8 @@ mod tests {
         assert_eq!(one.passes, 1);
         for (threads, budget) in [(2, 8 * n * 7), (8, 8 * n), (3, 8 * n * 40)] {
             let (plan, out) = run_with(n, threads, budget);
-            assert_eq!(plan.passes, 40usize.div_ceil(budget / (8 * n)));
+            let chunk = (budget / (8 * n.next_multiple_of(LANES))).max(1);
+            assert_eq!(plan.passes, 40usize.div_ceil(chunk));
             assert_eq!(out.percentiles, reference.percentiles, "{threads} threads");
         }
     }

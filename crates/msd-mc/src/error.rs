@@ -100,6 +100,15 @@ pub enum McError {
         /// Rayon's message.
         reason: String,
     },
+    /// The caller's model function panicked inside a worker thread; the panic was caught
+    /// and the run abandoned.
+    #[error("the model function panicked at sample row {row}: {message}")]
+    WorkerPanicked {
+        /// Sample row whose evaluation panicked (the lowest such row).
+        row: usize,
+        /// The panic message (`"non-string panic payload"` when it was not text).
+        message: String,
+    },
     /// A Sobol option or input distribution is out of range.
     #[error("invalid {name} = {value}: expected {expected}")]
     InvalidOption {

@@ -54,14 +54,41 @@ pub use sobol_msd::{MSD_QUANTITIES, MsdSobolOptions, msd_sobol};
 
 /// A local rayon pool of `threads` workers.
 pub(crate) fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    pool_with_stack(threads, None)
+}
+
+/// As [`pool`], with `stack_size` bytes of stack per worker when given.
+fn pool_with_stack(threads: usize, stack_size: Option<usize>) -> Result<rayon::ThreadPool> {
     if threads == 0 {
         return Err(McError::ZeroThreads);
     }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| McError::ThreadPool {
-            threads,
-            reason: e.to_string(),
-        })
+    let mut builder = rayon::ThreadPoolBuilder::new().num_threads(threads);
+    if let Some(bytes) = stack_size {
+        builder = builder.stack_size(bytes);
+    }
+    builder.build().map_err(|e| McError::ThreadPool {
+        threads,
+        reason: e.to_string(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// rayon's pool fails to build only when a worker cannot be spawned; a 2⁶⁰-byte stack
+    /// cannot be mapped (it exceeds the 48-bit address space), so the spawn fails.
+    #[test]
+    fn a_pool_whose_threads_cannot_be_spawned_is_a_thread_pool_error() {
+        let err = pool_with_stack(3, Some(1 << 60)).expect_err("cannot map 2^60 bytes");
+        assert!(
+            matches!(&err, McError::ThreadPool { threads: 3, reason } if !reason.is_empty()),
+            "{err:?}"
+        );
+        assert!(
+            err.to_string()
+                .starts_with("could not build a pool of 3 threads: ")
+        );
+        assert!(pool(3).is_ok());
+    }
 }

@@ -277,7 +277,20 @@ where
     let outputs: Vec<Result<Vec<f64>>> = pool.install(|| {
         (0..n)
             .into_par_iter()
-            .map(|row| evaluate_row(&model, inputs, q, options.seed, row))
+            .map(|row| {
+                // A panic in the caller's model becomes an error, never a torn-down pool.
+                let run = || evaluate_row(&model, inputs, q, options.seed, row);
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).unwrap_or_else(
+                    |payload| {
+                        let message = payload
+                            .downcast_ref::<&str>()
+                            .map(|s| (*s).to_string())
+                            .or_else(|| payload.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "non-string panic payload".into());
+                        Err(McError::WorkerPanicked { row, message })
+                    },
+                )
+            })
             .collect()
     });
     let outputs: Vec<Vec<f64>> = outputs.into_iter().collect::<Result<_>>()?;

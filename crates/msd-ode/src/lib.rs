@@ -49,7 +49,7 @@ pub mod tableau;
 
 pub use dopri::{Solution, ode45, ode45_with};
 pub use error::OdeError;
-pub use lti::{Breakpoint, ExactSimulator, Hold, LtiModel, SampledInput};
+pub use lti::{Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, SampledInput};
 pub use nalgebra::{SMatrix, SVector};
 pub use options::{Ode45Options, Stats};
 pub use system::{OdeSystem, SliceSystem};

@@ -24,6 +24,10 @@
 //! falls back to one-sided stencils, then to quadratic or linear ones in pieces too short
 //! for four samples.
 
+mod lockstep;
+
+pub use lockstep::{InputSchedule, Lockstep};
+
 use crate::OdeError;
 use nalgebra::{DMatrix, SMatrix, SVector};
 
@@ -402,28 +406,11 @@ impl<const N: usize> ExactSimulator<N> {
         input: &SampledInput<'_>,
         output: &mut F,
     ) -> [f64; N] {
-        let values = input.values;
-        let n = values.len();
         let mut x: [f64; N] = std::array::from_fn(|i| x0[i]);
         output(0, x0);
-        if n == 1 {
-            return x;
-        }
-        let mut bps = input.breakpoints.iter().peekable();
-        let mut a = 0usize;
-        let mut a_value = values[0];
-        if let Some(bp) = bps.next_if(|bp| bp.index == 0) {
-            a_value = bp.right;
-        }
-        while a < n - 1 {
-            let (b, b_value, b_right) = match bps.next() {
-                Some(bp) => (bp.index, bp.left, bp.right),
-                None => (n - 1, values[n - 1], values[n - 1]),
-            };
-            self.simulate_piece(&mut x, values, a, a_value, b, b_value, output);
-            a = b;
-            a_value = b_right;
-        }
+        for_each_step(input, self.hold, |variant, u, i| {
+            self.advance(&mut x, &self.weights[variant], u, i, output)
+        });
         x
     }
 
@@ -451,105 +438,115 @@ impl<const N: usize> ExactSimulator<N> {
         *x = next;
         output(i, &SVector::<f64, N>::from(next));
     }
+}
 
-    /// Simulates the intervals of the smooth piece [a, b] (a < b), whose end values are
-    /// `a_value` (right value at a) and `b_value` (left value at b).
-    #[allow(clippy::too_many_arguments)]
-    #[inline]
-    fn simulate_piece<F: FnMut(usize, &SVector<f64, N>)>(
-        &self,
-        x: &mut [f64; N],
-        values: &[f64],
-        a: usize,
-        a_value: f64,
-        b: usize,
-        b_value: f64,
-        output: &mut F,
-    ) {
-        debug_assert!(a < b && b < values.len());
-        let node = |j: usize| -> f64 {
-            if j == a {
-                a_value
-            } else if j == b {
-                b_value
-            } else {
-                values[j]
-            }
+/// Visits every step of `input` (validated) in order: `visit(variant, nodes, i)` for the
+/// step from sample i − 1 to sample i, with the stencil variant the hold and the
+/// breakpoints call for and the stencil's node values.
+#[inline]
+fn for_each_step<V: FnMut(usize, [f64; 4], usize)>(
+    input: &SampledInput<'_>,
+    hold: Hold,
+    mut visit: V,
+) {
+    let values = input.values;
+    let n = values.len();
+    if n == 1 {
+        return;
+    }
+    let mut bps = input.breakpoints.iter().peekable();
+    let mut a = 0usize;
+    let mut a_value = values[0];
+    if let Some(bp) = bps.next_if(|bp| bp.index == 0) {
+        a_value = bp.right;
+    }
+    while a < n - 1 {
+        let (b, b_value, b_right) = match bps.next() {
+            Some(bp) => (bp.index, bp.left, bp.right),
+            None => (n - 1, values[n - 1], values[n - 1]),
         };
-        let nodes = b - a + 1;
-        let w = &self.weights;
-        match (self.hold, nodes) {
-            (Hold::Zero, _) => {
-                for i in a..b {
-                    self.advance(x, &w[ZERO], [node(i), 0.0, 0.0, 0.0], i + 1, output);
-                }
+        visit_piece(hold, values, a, a_value, b, b_value, &mut visit);
+        a = b;
+        a_value = b_right;
+    }
+}
+
+/// Visits the intervals of the smooth piece [a, b] (a < b), whose end values are
+/// `a_value` (right value at a) and `b_value` (left value at b): `visit(variant, nodes,
+/// i)` for the step into sample i, with the stencil variant and its node values.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn visit_piece<V: FnMut(usize, [f64; 4], usize)>(
+    hold: Hold,
+    values: &[f64],
+    a: usize,
+    a_value: f64,
+    b: usize,
+    b_value: f64,
+    visit: &mut V,
+) {
+    debug_assert!(a < b && b < values.len());
+    let node = |j: usize| -> f64 {
+        if j == a {
+            a_value
+        } else if j == b {
+            b_value
+        } else {
+            values[j]
+        }
+    };
+    let nodes = b - a + 1;
+    match (hold, nodes) {
+        (Hold::Zero, _) => {
+            for i in a..b {
+                visit(ZERO, [node(i), 0.0, 0.0, 0.0], i + 1);
             }
-            (Hold::First, _) | (Hold::Cubic, 2) => {
-                for i in a..b {
-                    self.advance(
-                        x,
-                        &w[LINEAR],
-                        [node(i), node(i + 1), 0.0, 0.0],
-                        i + 1,
-                        output,
-                    );
-                }
+        }
+        (Hold::First, _) | (Hold::Cubic, 2) => {
+            for i in a..b {
+                visit(LINEAR, [node(i), node(i + 1), 0.0, 0.0], i + 1);
             }
-            (Hold::Cubic, 3) => {
-                let u = [node(a), node(a + 1), node(a + 2), 0.0];
-                self.advance(x, &w[QUAD_LEFT], u, a + 1, output);
-                self.advance(x, &w[QUAD_RIGHT], u, a + 2, output);
-            }
-            (Hold::Cubic, _) => {
-                // First interval: one-sided stencil a..a+3.
-                self.advance(
-                    x,
-                    &w[CUBIC_LEFT],
-                    [node(a), node(a + 1), node(a + 2), node(a + 3)],
-                    a + 1,
-                    output,
-                );
-                // Interior intervals i = a+1 ..= b−2: centred stencil i−1..i+2.
-                let interior_end = b - 2; // inclusive
-                if a < interior_end {
-                    let i = a + 1;
-                    self.advance(
-                        x,
-                        &w[CUBIC_CENTRED],
-                        [node(i - 1), node(i), node(i + 1), node(i + 2)],
-                        i + 1,
-                        output,
-                    );
-                }
-                // Fast path: every node strictly inside the piece.
-                for (i, u) in ((a + 2)..interior_end).zip(values[a + 1..].windows(4)) {
-                    self.advance(
-                        x,
-                        &w[CUBIC_CENTRED],
-                        [u[0], u[1], u[2], u[3]],
-                        i + 1,
-                        output,
-                    );
-                }
-                if interior_end >= a + 2 {
-                    let i = interior_end;
-                    self.advance(
-                        x,
-                        &w[CUBIC_CENTRED],
-                        [node(i - 1), node(i), node(i + 1), node(i + 2)],
-                        i + 1,
-                        output,
-                    );
-                }
-                // Last interval: one-sided stencil b−3..b.
-                self.advance(
-                    x,
-                    &w[CUBIC_RIGHT],
-                    [node(b - 3), node(b - 2), node(b - 1), node(b)],
-                    b,
-                    output,
+        }
+        (Hold::Cubic, 3) => {
+            let u = [node(a), node(a + 1), node(a + 2), 0.0];
+            visit(QUAD_LEFT, u, a + 1);
+            visit(QUAD_RIGHT, u, a + 2);
+        }
+        (Hold::Cubic, _) => {
+            // First interval: one-sided stencil a..a+3.
+            visit(
+                CUBIC_LEFT,
+                [node(a), node(a + 1), node(a + 2), node(a + 3)],
+                a + 1,
+            );
+            // Interior intervals i = a+1 ..= b−2: centred stencil i−1..i+2.
+            let interior_end = b - 2; // inclusive
+            if a < interior_end {
+                let i = a + 1;
+                visit(
+                    CUBIC_CENTRED,
+                    [node(i - 1), node(i), node(i + 1), node(i + 2)],
+                    i + 1,
                 );
             }
+            // Fast path: every node strictly inside the piece.
+            for (i, u) in ((a + 2)..interior_end).zip(values[a + 1..].windows(4)) {
+                visit(CUBIC_CENTRED, [u[0], u[1], u[2], u[3]], i + 1);
+            }
+            if interior_end >= a + 2 {
+                let i = interior_end;
+                visit(
+                    CUBIC_CENTRED,
+                    [node(i - 1), node(i), node(i + 1), node(i + 2)],
+                    i + 1,
+                );
+            }
+            // Last interval: one-sided stencil b−3..b.
+            visit(
+                CUBIC_RIGHT,
+                [node(b - 3), node(b - 2), node(b - 1), node(b)],
+                b,
+            );
         }
     }
 }

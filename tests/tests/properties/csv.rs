@@ -348,6 +348,10 @@ proptest! {
                             Expect::RefusedHereOrNext => named == Some(line) || named == Some(line + 1),
                             _ => named == Some(line),
                         };
+                        // A huge cell before the damage whose scaled value overflows is
+                        // refused first, at its own (earlier) line.
+                        let ok = ok || (message.contains("overflows") && output_scale > 1.0
+                            && named.is_some_and(|n| n < line));
                         prop_assert!(ok, "expected line {line}: {message} ({damages:?})");
                     }
                     (_, Some((line, _))) => prop_assert!(false, "expected a data error at line {line}: {message} ({damages:?})"),
@@ -374,7 +378,6 @@ proptest! {
 /// value read successfully, and the run later refuses "output sample 17 is inf" without
 /// the line.
 #[test]
-#[ignore = "bug: xtask::data::read_csv returns Ok with output = inf for a cell 1e300 with data.output_scale = 1e12 (value * scale overflows after the finite check); expected a data error naming the line, the value and the scale"]
 fn a_scaled_value_that_overflows_is_refused_at_its_line() {
     let (mut text, _) = build(&[]);
     text = text.replacen("0.00,0.000000,", "0.00,0.000000,1e300\n#", 1);
@@ -395,7 +398,6 @@ fn a_scaled_value_that_overflows_is_refused_at_its_line() {
 
 /// With CRLF line endings the reader names the line before the damaged one.
 #[test]
-#[ignore = "bug: xtask data reader with CRLF line endings reports every line one too low (a text cell on line 7 is reported as 'line 6'; with LF: 'line 7'); expected the same line numbers as with LF"]
 fn crlf_line_endings_name_the_right_line() {
     let (text, expected) = build(&[Damage::Cell {
         r: 5,
@@ -411,7 +413,6 @@ fn crlf_line_endings_name_the_right_line() {
 /// A decimal comma in a comma-separated file splits a cell in two: the row has more
 /// fields than the header, and every later column shifts by one.
 #[test]
-#[ignore = "bug: xtask data reader accepts a row with more fields than the header: `0.05,1,5,0.0012` (a decimal comma in the force column) is read as force = 1, displacement = 5, the fourth field ignored, and the run succeeds on wrong data; expected a data error naming the line and the field count (a decimal comma or a wrong delimiter?)"]
 fn a_decimal_comma_is_refused_at_its_line() {
     let (text, _) = build(&[Damage::Cell {
         r: 5,

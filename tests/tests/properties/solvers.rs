@@ -397,7 +397,6 @@ fn ident_error_is_specific(e: &IdentError) -> bool {
 /// leaves no excited frequency and the band search indexes an empty list; a NaN
 /// tolerance makes every comparison false and reaches the verdict text ("±NaN %").
 #[test]
-#[ignore = "bug: msd-ident frequency_check does not validate FrequencyCheckOptions: power_threshold = NaN or 2.0 panics (index out of bounds in the band search); frequency_tolerance/damping_tolerance/max_relative_error = NaN or negative return Ok with 'allowed ±NaN %' in the verdict; band_hz = [0, inf] returns Ok with band_hz [0, inf]; expected InvalidParameter naming the option"]
 fn frequency_check_refuses_invalid_options() {
     let with = |change: fn(&mut FrequencyCheckOptions)| {
         let mut o = FrequencyCheckOptions::default();
@@ -440,7 +439,6 @@ fn frequency_check_refuses_invalid_options() {
 /// A valid but extreme model: k − m·ω² overflows and 1/(−∞ + j·0) is NaN in the model's
 /// frequency response.
 #[test]
-#[ignore = "bug: msd-ident frequency_check with Parameters { mass: 1.8e308, damping: 0, stiffness: 1.8e308 } (valid by Parameters::validate) returns Ok with NaN in model_magnitude (model_response overflows); expected finite values or an error naming the parameters"]
 fn frequency_check_of_an_extreme_model_has_no_nan() {
     let parameters = Parameters {
         mass: f64::MAX,
@@ -461,7 +459,6 @@ fn frequency_check_of_an_extreme_model_has_no_nan() {
 /// A lag count near usize::MAX overflows 4·max_lag + 1 (a panic in builds with overflow
 /// checks, a wrapped count and a huge allocation without).
 #[test]
-#[ignore = "bug: msd-ident residual_analysis with ResidualOptions::max_lag = usize::MAX (or any > usize::MAX/4) overflows `4 * options.max_lag + 1` (panic with overflow checks); the xtask config accepts residuals.max_lag up to i64::MAX; expected TooFewSamples or InvalidParameter naming max_lag"]
 fn residual_analysis_refuses_a_huge_max_lag() {
     let data = short_record();
     let e: Vec<f64> = msd_signal::gaussian_noise(5, "r", 1.0, data.len()).unwrap();

@@ -1,8 +1,8 @@
 //! Diagnostic figures: residual correlations and the frequency-response (Bode) check.
 
 use super::{
-    BLUE, DARK, Draw, FONT, Figure, GRAY, RED, Units, label_style, legend_style, text, thin_line,
-    tick, tick_style, title_style,
+    BLUE, DARK, Draw, Figure, GRAY, RED, Units, draw_legend, house_mesh, suptitle, text, thin_line,
+    tick, title_style,
 };
 use msd_ident::{CorrelationTest, FrequencyCheck, ResidualAnalysis};
 use plotters::coord::Shift;
@@ -52,17 +52,11 @@ fn stems<DB: DrawingBackend>(
         .y_label_area_size(86)
         .build_cartesian_2d((first - 0.8)..(last + 0.8), lo..hi)
         .map_err(text)?;
-    chart
-        .configure_mesh()
+    house_mesh(&mut chart.configure_mesh())
         .x_desc("lag k [samples]")
         .y_desc(y_desc)
         .x_label_formatter(&tick)
         .y_label_formatter(&tick)
-        .axis_desc_style(label_style())
-        .label_style(tick_style())
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(215, 215, 215))
-        .axis_style(DARK)
         .draw()
         .map_err(text)?;
     let fill = RGBColor(120, 170, 220).mix(0.25);
@@ -103,15 +97,7 @@ fn stems<DB: DrawingBackend>(
             "correlation (test FAILED)"
         })
         .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.88))
-        .border_style(GRAY)
-        .label_font(legend_style())
-        .margin(12)
-        .draw()
-        .map_err(text)
+    draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
 }
 
 impl Figure for Correlation<'_> {
@@ -123,12 +109,7 @@ impl Figure for Correlation<'_> {
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let a = self.analysis;
-        let area = root
-            .titled(
-                "Residual diagnostics (identification data)",
-                (FONT, 28).into_font().style(FontStyle::Bold).color(&BLACK),
-            )
-            .map_err(text)?;
+        let area = suptitle(root, "Residual diagnostics (identification data)")?;
         let h = area.dim_in_pixel().1 as i32;
         let (top, bottom) = area.split_vertically(h / 2);
         stems(
@@ -201,15 +182,13 @@ impl Figure for Bode<'_> {
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let c = self.check;
-        let area = root
-            .titled(
-                &format!(
-                    "Frequency response: H1 estimate from the {} data vs the identified model",
-                    self.data_name
-                ),
-                (FONT, 28).into_font().style(FontStyle::Bold).color(&BLACK),
-            )
-            .map_err(text)?;
+        let area = suptitle(
+            root,
+            &format!(
+                "Frequency response: H1 estimate from the {} data vs the identified model",
+                self.data_name
+            ),
+        )?;
         let h = area.dim_in_pixel().1 as i32;
         let (top, bottom) = area.split_vertically(h * 55 / 100);
         // Positive frequencies with finite values only (a log axis).
@@ -281,15 +260,9 @@ impl Figure for Bode<'_> {
             .y_label_area_size(96)
             .build_cartesian_2d((f0..f1).log_scale(), ((mlo * 0.7)..(mhi * 1.5)).log_scale())
             .map_err(text)?;
-        chart
-            .configure_mesh()
+        house_mesh(&mut chart.configure_mesh())
             .x_desc("frequency f [Hz]")
             .y_desc(format!("|H(f)| [{unit}]"))
-            .axis_desc_style(label_style())
-            .label_style(tick_style())
-            .light_line_style(RGBColor(238, 238, 238))
-            .bold_line_style(RGBColor(215, 215, 215))
-            .axis_style(DARK)
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .x_label_formatter(&|v| format!("{v}"))
             .draw()
@@ -331,15 +304,7 @@ impl Figure for Bode<'_> {
                     PathElement::new(vec![(x, y), (x + 10, y)], BLACK.stroke_width(2))
                 });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .background_style(WHITE.mix(0.88))
-            .border_style(GRAY)
-            .label_font(legend_style())
-            .margin(12)
-            .draw()
-            .map_err(text)?;
+        draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)?;
 
         let (plo, phi) = mod_ph
             .iter()
@@ -358,16 +323,10 @@ impl Figure for Bode<'_> {
             .y_label_area_size(96)
             .build_cartesian_2d((f0..f1).log_scale(), plo..phi)
             .map_err(text)?;
-        chart
-            .configure_mesh()
+        house_mesh(&mut chart.configure_mesh())
             .x_desc("frequency f [Hz]")
             .y_desc("phase ∠H(f) [°]")
             .y_label_formatter(&tick)
-            .axis_desc_style(label_style())
-            .label_style(tick_style())
-            .light_line_style(RGBColor(238, 238, 238))
-            .bold_line_style(RGBColor(215, 215, 215))
-            .axis_style(DARK)
             .x_label_formatter(&|v| format!("{v}"))
             .draw()
             .map_err(text)?;

@@ -9,17 +9,25 @@
 //!   (Figure 4);
 //! - `residual_correlation`: residual autocorrelation and residual–input
 //!   cross-correlation with their bands;
-//! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked.
+//! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked;
+//! - `nonlinear_residuals` (with `[nonlinear]`): the validation residuals of every
+//!   candidate model over time, their RMS in the legend.
+//!
+//! The house style of a chart (mesh, legend box, figure title) is one helper each here:
+//! `house_mesh`, `draw_legend` and `suptitle`.
 //!
 //! Long records are thinned for drawing only: lines keep each pixel column's minimum
 //! and maximum (so no peak is lost), markers are subsampled evenly.
 
 mod diagnostics;
+mod models;
 mod time;
 
 use crate::pipeline::Outcome;
 use crate::{Result, XtaskError};
+use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
@@ -97,10 +105,10 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
     let f2 = time::Identification::new(outcome, &units);
     save(&f2, dir)?;
     written.push(f2.name());
-    let f3 = time::Validation::new(outcome, &units);
+    let f3 = time::validation(outcome, &units);
     save(&f3, dir)?;
     written.push(f3.name());
-    if let Some(f4) = time::MonteCarlo::new(outcome, &units) {
+    if let Some(f4) = time::monte_carlo(outcome, &units) {
         save(&f4, dir)?;
         written.push(f4.name());
     }
@@ -116,6 +124,10 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
             &units,
             outcome.config.frequency_check.data.name(),
         );
+        save(&f, dir)?;
+        written.push(f.name());
+    }
+    if let Some(f) = models::residuals(outcome, &units) {
         save(&f, dir)?;
         written.push(f.name());
     }
@@ -196,6 +208,51 @@ pub(crate) fn tick(v: &f64) -> String {
     } else {
         format!("{r}")
     }
+}
+
+/// The house style of a chart's mesh: axis descriptions, tick labels, light and bold
+/// grid lines and the axes.
+pub(crate) fn house_mesh<'m, 'a, 'b, X, Y, XT, YT, DB>(
+    mesh: &'m mut MeshStyle<'a, 'b, X, Y, DB>,
+) -> &'m mut MeshStyle<'a, 'b, X, Y, DB>
+where
+    X: Ranged<ValueType = XT> + ValueFormatter<XT>,
+    Y: Ranged<ValueType = YT> + ValueFormatter<YT>,
+    DB: DrawingBackend,
+{
+    mesh.axis_desc_style(label_style())
+        .label_style(tick_style())
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .axis_style(DARK)
+}
+
+/// Draws the legend of `chart` at `position` in a light box.
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Draw {
+    chart
+        .configure_series_labels()
+        .position(position)
+        .background_style(WHITE.mix(0.88))
+        .border_style(GRAY)
+        .label_font(legend_style())
+        .margin(12)
+        .draw()
+        .map_err(text)
+}
+
+/// The figure's title above everything; returns the area below it.
+pub(crate) fn suptitle<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+) -> Result<DrawingArea<DB, Shift>, String> {
+    root.titled(
+        title,
+        (FONT, 28).into_font().style(FontStyle::Bold).color(&BLACK),
+    )
+    .map_err(text)
 }
 
 /// Lower and upper limits of all values, widened by 5 % (and made non-degenerate).

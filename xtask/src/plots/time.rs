@@ -1,8 +1,8 @@
 //! The time-domain figures: the paper's Figures 2, 3 and 4.
 
 use super::{
-    BLUE, DARK, Draw, FONT, Figure, GRAY, ORANGE, RED, Units, label_style, legend_style, limits,
-    scaled, text, thin_line, thin_points, tick, tick_style, title_style,
+    BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, Units, draw_legend, house_mesh, limits, scaled,
+    suptitle, text, thin_line, thin_points, tick, title_style,
 };
 use crate::pipeline::Outcome;
 use plotters::coord::Shift;
@@ -63,7 +63,7 @@ fn window<'a>(x: &'a [f64], y: &[f64], range: (f64, f64)) -> (&'a [f64], Vec<f64
 
 impl<'a> Panel<'a> {
     /// The same panel restricted to the times in `range`.
-    fn zoomed(&self, range: (f64, f64), title: String) -> Panel<'a> {
+    pub(crate) fn zoomed(&self, range: (f64, f64), title: String) -> Panel<'a> {
         Panel {
             title,
             x_desc: self.x_desc.clone(),
@@ -117,15 +117,9 @@ impl<'a> Panel<'a> {
             .y_label_area_size(86)
             .build_cartesian_2d(self.x_range.0..self.x_range.1, lo..hi)
             .map_err(text)?;
-        chart
-            .configure_mesh()
+        house_mesh(&mut chart.configure_mesh())
             .x_desc(self.x_desc.as_str())
             .y_desc(self.y_desc.as_str())
-            .axis_desc_style(label_style())
-            .label_style(tick_style())
-            .light_line_style(RGBColor(238, 238, 238))
-            .bold_line_style(RGBColor(215, 215, 215))
-            .axis_style(DARK)
             .x_labels(12)
             .y_labels(7)
             .x_label_formatter(&tick)
@@ -193,22 +187,24 @@ impl<'a> Panel<'a> {
             }
         }
         if let Some(position) = self.legend.clone() {
-            chart
-                .configure_series_labels()
-                .position(position)
-                .background_style(WHITE.mix(0.88))
-                .border_style(GRAY)
-                .label_font(legend_style())
-                .margin(12)
-                .draw()
-                .map_err(text)?;
+            draw_legend(&mut chart, position)?;
         }
         Ok(())
     }
 }
 
+/// The measurements of a record, in display units.
+fn measured<'a>(t: &'a [f64], y: &[f64], u: &Units, style: Style) -> Curve<'a> {
+    Curve {
+        label: "measured".into(),
+        x: t,
+        y: scaled(y, u.output_factor),
+        style,
+    }
+}
+
 /// The zoom window of a long record, or `None` when the whole record is readable.
-fn zoom_range(outcome: &Outcome, x: &[f64], from: usize) -> Option<(f64, f64)> {
+pub(crate) fn zoom_range(outcome: &Outcome, x: &[f64], from: usize) -> Option<(f64, f64)> {
     let fnat = outcome.estimate.parameters.natural_frequency_hz();
     let (first, last) = (*x.first()?, *x.last()?);
     if (last - first) * fnat <= ZOOM_PERIODS || !fnat.is_finite() {
@@ -216,17 +212,6 @@ fn zoom_range(outcome: &Outcome, x: &[f64], from: usize) -> Option<(f64, f64)> {
     }
     let start = x[from.min(x.len() - 1)];
     Some((start, (start + ZOOM_WINDOW_PERIODS / fnat).min(last)))
-}
-
-fn suptitle<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    title: &str,
-) -> Result<DrawingArea<DB, Shift>, String> {
-    root.titled(
-        title,
-        (FONT, 28).into_font().style(FontStyle::Bold).color(&BLACK),
-    )
-    .map_err(text)
 }
 
 /// Figure 2: excitation (top), measurement and model fit (middle), residuals (bottom).
@@ -265,12 +250,7 @@ impl<'a> Identification<'a> {
             y_desc: format!("{} [{}]", u.output_name, u.output),
             x_range: range,
             curves: vec![
-                Curve {
-                    label: "measured".into(),
-                    x: t,
-                    y: scaled(&d.output, u.output_factor),
-                    style: Style::Points(BLUE, 2),
-                },
+                measured(t, &d.output, u, Style::Points(BLUE, 2)),
                 Curve {
                     label: "model fit".into(),
                     x: t,
@@ -342,88 +322,21 @@ impl Figure for Identification<'_> {
     }
 }
 
-/// Figure 3: validation measurements, model prediction, true response.
-pub(crate) struct Validation<'a> {
-    panel: Panel<'a>,
-    zoom: Option<Panel<'a>>,
-    title: String,
+/// A figure of one time panel, with a zoomed copy below it for a long record.
+pub(crate) struct PanelFigure<'a> {
+    /// File name without extension.
+    pub name: &'static str,
+    /// The figure's title.
+    pub title: String,
+    /// The whole record.
+    pub panel: Panel<'a>,
+    /// A window of it, for a long record.
+    pub zoom: Option<Panel<'a>>,
 }
 
-impl<'a> Validation<'a> {
-    pub(crate) fn new(o: &'a Outcome, u: &Units) -> Self {
-        let d = &o.data.validation;
-        let v = &o.validation;
-        let t = d.excitation.times();
-        let mut curves = vec![Curve {
-            label: "measured".into(),
-            x: t,
-            y: scaled(&d.output, u.output_factor),
-            style: Style::Points(BLUE, 2),
-        }];
-        if let Some(truth) = &o.data.validation_truth {
-            curves.push(Curve {
-                label: "true response".into(),
-                x: t,
-                y: scaled(truth, u.output_factor),
-                style: Style::Line(ORANGE, 3),
-            });
-        }
-        curves.push(Curve {
-            label: "model prediction".into(),
-            x: t,
-            y: scaled(&v.model_output, u.output_factor),
-            style: Style::Dashed(BLACK, 2),
-        });
-        let panel = Panel {
-            title: format!(
-                "Validation on data never used for fitting (R² = {:.4}, fit {:.1} %, RMS error {} {})",
-                v.fit.r_squared,
-                v.fit.fit_percent,
-                crate::fmt::sig(v.fit.residual_rms * u.output_factor, 3),
-                u.output
-            ),
-            x_desc: "time t [s]".into(),
-            y_desc: format!("{} [{}]", u.output_name, u.output),
-            x_range: (t[0], t[t.len() - 1]),
-            curves,
-            band: None,
-            legend: Some(SeriesLabelPosition::UpperRight),
-        };
-        let zoom = zoom_range(o, t, v.scored_from)
-            .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
-        // A long record shows as envelopes: the measurement and the simulation error.
-        let panel = if zoom.is_some() {
-            Panel {
-                curves: vec![
-                    Curve {
-                        label: "measured".into(),
-                        x: t,
-                        y: scaled(&d.output, u.output_factor),
-                        style: Style::Line(BLUE, 1),
-                    },
-                    Curve {
-                        label: "simulation error (measured − model)".into(),
-                        x: t,
-                        y: scaled(&v.residuals, u.output_factor),
-                        style: Style::Line(RED, 1),
-                    },
-                ],
-                ..panel
-            }
-        } else {
-            panel
-        };
-        Self {
-            panel,
-            zoom,
-            title: format!("Validation — {}", o.config.name),
-        }
-    }
-}
-
-impl Figure for Validation<'_> {
+impl Figure for PanelFigure<'_> {
     fn name(&self) -> &'static str {
-        "fig3_validation"
+        self.name
     }
     fn size(&self) -> (u32, u32) {
         if self.zoom.is_some() {
@@ -443,119 +356,144 @@ impl Figure for Validation<'_> {
                 zoom.draw(&bottom)
             }
         }
+    }
+}
+
+/// Figure 3: validation measurements, model prediction, true response.
+pub(crate) fn validation<'a>(o: &'a Outcome, u: &Units) -> PanelFigure<'a> {
+    let d = &o.data.validation;
+    let v = &o.validation;
+    let t = d.excitation.times();
+    let mut curves = vec![measured(t, &d.output, u, Style::Points(BLUE, 2))];
+    if let Some(truth) = &o.data.validation_truth {
+        curves.push(Curve {
+            label: "true response".into(),
+            x: t,
+            y: scaled(truth, u.output_factor),
+            style: Style::Line(ORANGE, 3),
+        });
+    }
+    curves.push(Curve {
+        label: "model prediction".into(),
+        x: t,
+        y: scaled(&v.model_output, u.output_factor),
+        style: Style::Dashed(BLACK, 2),
+    });
+    let panel = Panel {
+        title: format!(
+            "Validation on data never used for fitting (R² = {:.4}, fit {:.1} %, RMS error {} {})",
+            v.fit.r_squared,
+            v.fit.fit_percent,
+            crate::fmt::sig(v.fit.residual_rms * u.output_factor, 3),
+            u.output
+        ),
+        x_desc: "time t [s]".into(),
+        y_desc: format!("{} [{}]", u.output_name, u.output),
+        x_range: (t[0], t[t.len() - 1]),
+        curves,
+        band: None,
+        legend: Some(SeriesLabelPosition::UpperRight),
+    };
+    let zoom = zoom_range(o, t, v.scored_from)
+        .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
+    // A long record shows as envelopes: the measurement and the simulation error.
+    let panel = if zoom.is_some() {
+        Panel {
+            curves: vec![
+                measured(t, &d.output, u, Style::Line(BLUE, 1)),
+                Curve {
+                    label: "simulation error (measured − model)".into(),
+                    x: t,
+                    y: scaled(&v.residuals, u.output_factor),
+                    style: Style::Line(RED, 1),
+                },
+            ],
+            ..panel
+        }
+    } else {
+        panel
+    };
+    PanelFigure {
+        name: "fig3_validation",
+        panel,
+        zoom,
+        title: format!("Validation — {}", o.config.name),
     }
 }
 
 /// Figure 4: Monte Carlo band, nominal prediction, measurements.
-pub(crate) struct MonteCarlo<'a> {
-    panel: Panel<'a>,
-    zoom: Option<Panel<'a>>,
-    title: String,
-}
-
-impl<'a> MonteCarlo<'a> {
-    pub(crate) fn new(o: &'a Outcome, u: &Units) -> Option<Self> {
-        let mc = o.monte_carlo.as_ref()?;
-        let d = &o.data.validation;
-        let t = d.excitation.times();
-        let [p_lo, p_hi] = mc.percentiles;
-        let panel = Panel {
+pub(crate) fn monte_carlo<'a>(o: &'a Outcome, u: &Units) -> Option<PanelFigure<'a>> {
+    let mc = o.monte_carlo.as_ref()?;
+    let d = &o.data.validation;
+    let t = d.excitation.times();
+    let [p_lo, p_hi] = mc.percentiles;
+    let panel = Panel {
+        title: format!(
+            "{:.0} % band of {} draws within ±{:.0} % of the estimate: it holds {:.1} % of the measurements",
+            p_hi - p_lo,
+            mc.samples,
+            mc.spread * 100.0,
+            mc.coverage * 100.0
+        ),
+        x_desc: "time t [s]".into(),
+        y_desc: format!("{} [{}]", u.output_name, u.output),
+        x_range: (t[0], t[t.len() - 1]),
+        curves: vec![
+            measured(t, &d.output, u, Style::Points(BLUE, 2)),
+            Curve {
+                label: "nominal prediction (estimate)".into(),
+                x: t,
+                y: scaled(&mc.nominal, u.output_factor),
+                style: Style::Line(BLACK, 2),
+            },
+        ],
+        band: Some(Band {
+            label: format!("{p_lo:.0}–{p_hi:.0} percentile band"),
+            x: t,
+            lower: scaled(&mc.lower, u.output_factor),
+            upper: scaled(&mc.upper, u.output_factor),
+        }),
+        legend: Some(SeriesLabelPosition::UpperRight),
+    };
+    let zoom = zoom_range(o, t, o.validation.scored_from)
+        .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
+    // A long record shows deviations from the nominal prediction: the band around
+    // zero and the measurements' departure from it.
+    let panel = if zoom.is_some() {
+        let minus = |v: &[f64]| -> Vec<f64> {
+            v.iter()
+                .zip(&mc.nominal)
+                .map(|(a, n)| (a - n) * u.output_factor)
+                .collect()
+        };
+        Panel {
             title: format!(
-                "{:.0} % band of {} draws within ±{:.0} % of the estimate: it holds {:.1} % of the measurements",
+                "Deviation from the nominal prediction: the {:.0} % band holds {:.1} % of the measurements",
                 p_hi - p_lo,
-                mc.samples,
-                mc.spread * 100.0,
                 mc.coverage * 100.0
             ),
-            x_desc: "time t [s]".into(),
-            y_desc: format!("{} [{}]", u.output_name, u.output),
-            x_range: (t[0], t[t.len() - 1]),
-            curves: vec![
-                Curve {
-                    label: "measured".into(),
-                    x: t,
-                    y: scaled(&d.output, u.output_factor),
-                    style: Style::Points(BLUE, 2),
-                },
-                Curve {
-                    label: "nominal prediction (estimate)".into(),
-                    x: t,
-                    y: scaled(&mc.nominal, u.output_factor),
-                    style: Style::Line(BLACK, 2),
-                },
-            ],
-            band: Some(Band {
-                label: format!("{p_lo:.0}–{p_hi:.0} percentile band"),
+            y_desc: format!("deviation [{}]", u.output),
+            curves: vec![Curve {
+                label: "measured − nominal".into(),
                 x: t,
-                lower: scaled(&mc.lower, u.output_factor),
-                upper: scaled(&mc.upper, u.output_factor),
+                y: minus(&d.output),
+                style: Style::Line(BLUE, 1),
+            }],
+            band: Some(Band {
+                label: format!("{p_lo:.0}–{p_hi:.0} percentile band − nominal"),
+                x: t,
+                lower: minus(&mc.lower),
+                upper: minus(&mc.upper),
             }),
-            legend: Some(SeriesLabelPosition::UpperRight),
-        };
-        let zoom = zoom_range(o, t, o.validation.scored_from)
-            .map(|r| panel.zoomed(r, format!("Zoom: {:.2} s … {:.2} s", r.0, r.1)));
-        // A long record shows deviations from the nominal prediction: the band around
-        // zero and the measurements' departure from it.
-        let panel = if zoom.is_some() {
-            let minus = |v: &[f64]| -> Vec<f64> {
-                v.iter()
-                    .zip(&mc.nominal)
-                    .map(|(a, n)| (a - n) * u.output_factor)
-                    .collect()
-            };
-            Panel {
-                title: format!(
-                    "Deviation from the nominal prediction: the {:.0} % band holds {:.1} % of the measurements",
-                    p_hi - p_lo,
-                    mc.coverage * 100.0
-                ),
-                y_desc: format!("deviation [{}]", u.output),
-                curves: vec![Curve {
-                    label: "measured − nominal".into(),
-                    x: t,
-                    y: minus(&d.output),
-                    style: Style::Line(BLUE, 1),
-                }],
-                band: Some(Band {
-                    label: format!("{p_lo:.0}–{p_hi:.0} percentile band − nominal"),
-                    x: t,
-                    lower: minus(&mc.lower),
-                    upper: minus(&mc.upper),
-                }),
-                ..panel
-            }
-        } else {
-            panel
-        };
-        Some(Self {
-            panel,
-            zoom,
-            title: format!("Monte Carlo robustness — {}", o.config.name),
-        })
-    }
-}
-
-impl Figure for MonteCarlo<'_> {
-    fn name(&self) -> &'static str {
-        "fig4_monte_carlo"
-    }
-    fn size(&self) -> (u32, u32) {
-        if self.zoom.is_some() {
-            (1400, 1100)
-        } else {
-            (1400, 720)
+            ..panel
         }
-    }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
-        let area = suptitle(root, &self.title)?;
-        match &self.zoom {
-            None => self.panel.draw(&area),
-            Some(zoom) => {
-                let h = area.dim_in_pixel().1 as i32;
-                let (top, bottom) = area.split_vertically(h / 2);
-                self.panel.draw(&top)?;
-                zoom.draw(&bottom)
-            }
-        }
-    }
+    } else {
+        panel
+    };
+    Some(PanelFigure {
+        name: "fig4_monte_carlo",
+        panel,
+        zoom,
+        title: format!("Monte Carlo robustness — {}", o.config.name),
+    })
 }

@@ -161,22 +161,41 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
             why: "more samples than estimated quantities",
         });
     }
-    let theta0 = clamp_to_bounds(&layout.apply_fixed(&guess), options);
+    let mut theta0 = clamp_to_bounds(&layout.apply_fixed(&guess), options);
+    let mut notes = Vec::new();
+    if log && theta0.damping <= 0.0 && options.fixed.as_array()[1].is_none() {
+        // Levenberg–Marquardt works on ln c: start an undamped guess at ζ = 1 %.
+        theta0.damping = 0.02 * (theta0.mass * theta0.stiffness).sqrt();
+        notes.push(format!(
+            "the damping guess 0 was replaced by {:.4e} (ζ = 1 %): Levenberg–Marquardt works on ln c",
+            theta0.damping
+        ));
+    }
     let v0 = layout.pack(&theta0, options.initial_state, options.offset);
     let hold = match options.backend {
         Backend::Exact { hold } => hold,
         Backend::Ode45 { .. } => Hold::Cubic,
     };
 
+    // fminsearch's tolerances are absolute: against parameters far below 1 (m = 1e-6 kg
+    // in SI units) they would stop the search at once. Relative tolerances then.
+    let mut nm_options = nelder_mead_options(options, &layout);
+    let scale = theta0.mass.min(theta0.stiffness);
+    if options.method == Method::NelderMead
+        && !nm_options.relative_tolerances
+        && scale < 100.0 * nm_options.x_tolerance
+    {
+        nm_options.relative_tolerances = true;
+        notes.push(format!(
+            "Nelder–Mead used relative tolerances: the absolute TolX = {:e} is coarse against parameters of size {scale:.3e}",
+            nm_options.x_tolerance
+        ));
+    }
     let local = |start: &[f64]| -> std::result::Result<Local, msd_opt::OptError> {
         match options.method {
             Method::NelderMead => {
                 let mut cost = Cost::new(data, &layout, options.backend);
-                let r = nelder_mead(
-                    |v| cost.sse(v),
-                    start,
-                    &nelder_mead_options(options, &layout),
-                )?;
+                let r = nelder_mead(|v| cost.sse(v), start, &nm_options)?;
                 Ok(Local {
                     converged: r.exit == msd_opt::NelderMeadExit::Converged,
                     exit: r.exit.to_string(),
@@ -264,7 +283,7 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
         .collect();
     let fit = FitMetrics::new(&data.output, &model_output);
     let jacobian = output_jacobian(data, &raw_layout, &v_raw)?;
-    let uncertainty = from_jacobian(
+    let mut uncertainty = from_jacobian(
         &jacobian,
         sse,
         raw_layout.names(),
@@ -272,6 +291,19 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
         &parameters,
         raw_layout.parameter_columns(),
     )?;
+    // Is it a minimum? A Gauss–Newton step from the estimate that moves some quantity by
+    // more than one standard error means the optimiser stopped short.
+    let mut converged = best.converged;
+    if let Some((name, ratio)) = gauss_newton_distance(&jacobian, &residuals, &uncertainty)
+        && ratio > 1.0
+    {
+        converged = false;
+        notes.push(format!(
+            "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {}); try Levenberg–Marquardt, multistart or a better guess",
+            best.exit
+        ));
+    }
+    uncertainty.warnings.extend(notes);
     Ok(Estimate {
         parameters,
         initial_state,
@@ -284,7 +316,7 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
         evaluations: best.evaluations,
         jacobian_evaluations: best.jacobians,
         exit: best.exit,
-        converged: best.converged,
+        converged,
         starts,
         wall_time: started.elapsed(),
         fit,
@@ -360,4 +392,24 @@ fn multistart_box(
     // Valid by construction: finite and lower < upper.
     let bounds = Bounds { lower, upper };
     (bounds, pick)
+}
+
+/// The Gauss–Newton step δ = (JᵀJ)⁻¹Jᵀr from the estimate, as the largest |δᵢ|/σᵢ over
+/// the estimated quantities with its name; `None` if it cannot be formed.
+fn gauss_newton_distance(
+    jacobian: &nalgebra::DMatrix<f64>,
+    residuals: &[f64],
+    uncertainty: &crate::Uncertainty,
+) -> Option<(&'static str, f64)> {
+    let r = nalgebra::DVector::from_column_slice(residuals);
+    let step = jacobian
+        .tr_mul(jacobian)
+        .cholesky()?
+        .solve(&jacobian.tr_mul(&r));
+    (0..step.len())
+        .filter_map(|i| {
+            let se = uncertainty.covariance[(i, i)].sqrt();
+            (se > 0.0).then(|| (uncertainty.names[i], step[i].abs() / se))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
 }

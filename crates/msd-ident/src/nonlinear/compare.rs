@@ -359,9 +359,46 @@ fn score(
     estimation: &NonlinearOptions,
     options: &ComparisonOptions,
 ) -> Result<ComparisonRow> {
-    let n = identification.len();
     let e = estimate_nonlinear(identification, structure, estimation)?;
-    let scored = predict(&e, validation, options)?;
+    assess_estimate(&e, validation, options)
+}
+
+/// Scores one estimate as [`compare_models`] scores each candidate: SSE, AIC and BIC on
+/// its identification data, then the prediction of `validation` (started as
+/// `options.validation_start` says) with its fit and residual tests. `delta_bic` is 0.
+///
+/// For a driver that estimates a single model ([`estimate_nonlinear`]) and wants the
+/// same row as a comparison would give it.
+///
+/// ```
+/// use msd_ident::{assess_estimate, estimate_nonlinear, synthetic_nonlinear_data,
+///     ComparisonOptions, DampingLaw, Excitation, ModelStructure, NonlinearOptions,
+///     NonlinearParameters, NonlinearSimulation, StiffnessLaw};
+/// use msd_signal::{paper_identification_input, paper_validation_input};
+/// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
+/// let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;
+/// let sim = NonlinearSimulation::default();
+/// let id = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
+/// let val = Excitation::from_signal(paper_validation_input(), 0.0, 0.004, 2001)?;
+/// let id = synthetic_nonlinear_data("id", &plant, id, &sim, 0.0025, 3, "id")?;
+/// let val = synthetic_nonlinear_data("val", &plant, val, &sim, 0.0025, 3, "val")?;
+/// let e = estimate_nonlinear(&id, duffing, &NonlinearOptions::default())?;
+/// let row = assess_estimate(&e, &val, &ComparisonOptions::default())?;
+/// assert_eq!(row.structure, duffing);
+/// assert_eq!(row.samples, 2001);
+/// assert!(row.validation_rms < 2.0 * 0.0025); // about the noise level
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn assess_estimate(
+    estimate: &NonlinearEstimate,
+    validation: &DataSet,
+    options: &ComparisonOptions,
+) -> Result<ComparisonRow> {
+    options.residuals.validate()?;
+    let e = estimate;
+    let structure = e.parameters.structure;
+    let n = e.residuals.len();
+    let scored = predict(e, validation, options)?;
     let from = scored.from;
     let measured = &validation.output[from..];
     let fit = FitMetrics::new(measured, &scored.output[from..]);
@@ -398,7 +435,7 @@ fn score(
         scored_from: from,
         converged: e.converged,
         simulations: e.simulations,
-        parameters: e.parameters,
+        parameters: e.parameters.clone(),
     })
 }
 

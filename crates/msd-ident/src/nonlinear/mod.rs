@@ -46,7 +46,8 @@
 //!
 //! ## For a driver (the xtask)
 //! A config can name one model (a [`ModelStructure`], e.g.
-//! `{ damping = "quadratic_viscous", stiffness = "cubic" }`) for [`estimate_nonlinear`],
+//! `{ damping = "quadratic_viscous", stiffness = "cubic" }`) for [`estimate_nonlinear`]
+//! (scored on validation data like a comparison's row by [`assess_estimate`]),
 //! or a list of them for [`compare_models`]; [`NonlinearOptions`] and
 //! [`ComparisonOptions`] deserialize with defaults for every field. A [`Comparison`]
 //! prints as a Markdown table plus the verdict (`Display`), serializes for a
@@ -77,8 +78,8 @@ mod model;
 mod simulate;
 
 pub use compare::{
-    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, ValidationStart, bic_evidence,
-    compare_models, fit_initial_state,
+    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, ValidationStart,
+    assess_estimate, bic_evidence, compare_models, fit_initial_state,
 };
 pub use estimate::{
     NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, estimate_nonlinear,

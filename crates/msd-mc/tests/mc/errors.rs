@@ -186,3 +186,41 @@ fn bad_sobol_options_are_rejected() {
         })
     ));
 }
+
+/// A panic in the caller's model inside a worker becomes `WorkerPanicked`, naming the
+/// lowest row that panicked whatever the thread count, instead of tearing down the pool.
+#[test]
+fn a_panicking_model_is_an_error_not_a_crash() {
+    let inputs = [Distribution::Uniform {
+        low: 0.0,
+        high: 1.0,
+    }; 2];
+    let model = |x: &[f64]| -> Vec<f64> {
+        assert!(x[0] < 0.95, "model blew up at x0 = {}", x[0]);
+        vec![x[0] + x[1]]
+    };
+    let mut rows = Vec::new();
+    for threads in [1, 2] {
+        let options = SobolOptions {
+            samples: 200,
+            threads,
+            ..SobolOptions::default()
+        };
+        match sobol_indices(model, &inputs, &["y"], &options) {
+            Err(McError::WorkerPanicked { row, message }) => {
+                assert!(message.contains("model blew up"), "{message}");
+                rows.push(row);
+            }
+            other => panic!("{threads} threads: {other:?}"),
+        }
+    }
+    assert_eq!(rows[0], rows[1]);
+    // The pool is still usable afterwards.
+    let fine = sobol_indices(
+        |x: &[f64]| vec![x[0]],
+        &inputs,
+        &["y"],
+        &SobolOptions::default(),
+    );
+    assert!(fine.is_ok());
+}

@@ -1,0 +1,22 @@
+//! One FFT planner per thread for the crate's transforms.
+//!
+//! rustfft plans are costly to make for lengths with large prime factors (7501 = 13·577)
+//! and are reused across calls on the same thread.
+
+use rustfft::{Fft, FftPlanner};
+use std::cell::RefCell;
+use std::sync::Arc;
+
+thread_local! {
+    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
+}
+
+/// The forward FFT of length `len` (unnormalised: X_k = Σ x_t e^{−2πikt/N}).
+pub(crate) fn forward(len: usize) -> Arc<dyn Fft<f64>> {
+    PLANNER.with(|p| p.borrow_mut().plan_fft_forward(len))
+}
+
+/// The inverse FFT of length `len` (unnormalised: no 1/N).
+pub(crate) fn inverse(len: usize) -> Arc<dyn Fft<f64>> {
+    PLANNER.with(|p| p.borrow_mut().plan_fft_inverse(len))
+}

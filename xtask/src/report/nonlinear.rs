@@ -1,0 +1,127 @@
+//! The report's section on nonlinear models: the ranking table and verdict, every
+//! candidate's parameters with their intervals, and the residual figure.
+
+use crate::fmt::{parameter_units, sig};
+use crate::nonlinear::NonlinearOutcome;
+use crate::pipeline::Outcome;
+use std::fmt::Write;
+
+/// Units of the parameters named `names` for data in `input` and `output` units.
+fn units(names: &[String], input: &str, output: &str) -> Vec<String> {
+    let linear = parameter_units(input, output);
+    let newton_metre = input == "N" && output == "m";
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| match name.as_str() {
+            _ if i < 3 => linear[i].clone(),
+            "coulomb_force" => input.to_string(),
+            "quadratic_damping" if newton_metre => "N·s²/m²".into(),
+            "quadratic_damping" => format!("{input}·s²/{output}²"),
+            "cubic_stiffness" if newton_metre => "N/m³".into(),
+            _ => format!("{input}/{output}³"),
+        })
+        .collect()
+}
+
+/// Appends the section to `w`; `has_figure` says whether `nonlinear_residuals` was drawn.
+pub(super) fn section(w: &mut String, o: &Outcome, n: &NonlinearOutcome, has_figure: bool) {
+    let c = &n.comparison;
+    let id = &o.data.identification;
+    let options = o.config.nonlinear.as_ref();
+    let _ = writeln!(w, "## Beyond linear: nonlinear models\n");
+    let _ = writeln!(
+        w,
+        "{} m·x″ + f_d(x′) + f_s(x) = F(t), estimated by output error on the identification record ({} samples; {} on ode45 with RelTol {:e} and AbsTol {:e}, from the linear estimate) and predicting the validation record{}. {}\n",
+        if n.comparison_asked {
+            "Candidate models"
+        } else {
+            "One model"
+        },
+        id.len(),
+        match options.map(|s| s.method) {
+            Some(msd_ident::NonlinearMethod::NelderMead) => "Nelder–Mead",
+            _ => "Levenberg–Marquardt",
+        },
+        options.map_or(1e-8, |s| s.simulation.rel_tol),
+        options.map_or(1e-12, |s| s.simulation.abs_tol),
+        match c.rows.first().map(|r| r.scored_from) {
+            Some(k) if k > 0 => format!(
+                " from the initial state fitted to its first {k} samples, which are not scored"
+            ),
+            _ => " from rest".to_string(),
+        },
+        if n.comparison_asked {
+            "The linear model is always a candidate; the ranking is by BIC = N·ln(SSE/N) + p·ln N on the identification record (AIC = N·ln(SSE/N) + 2p beside it), p counting the estimated initial state too."
+        } else {
+            "Scored as a comparison would score it (SSE, AIC, BIC on the identification record)."
+        }
+    );
+    if let Some(p) = &n.plant {
+        let values: Vec<String> = p
+            .names()
+            .iter()
+            .zip(&p.values)
+            .map(|(name, v)| format!("{name} = {}", sig(*v, 5)))
+            .collect();
+        let _ = writeln!(
+            w,
+            "The data were simulated from a plant with nonlinear terms, model `{}`: {}.\n",
+            p.structure,
+            values.join(", ")
+        );
+    }
+    let _ = writeln!(w, "{c}");
+    if c.rows.len() > 1 && !c.best().whiteness_passed {
+        let _ = writeln!(
+            w,
+            "BIC assumes independent residuals; the best model's are not white, so the BIC margins overstate the evidence: weigh the validation RMS errors as well.\n"
+        );
+    }
+    let _ = writeln!(
+        w,
+        "Parameters of each candidate (95 % intervals from the Gauss–Newton covariance, Student's t):\n"
+    );
+    let with_truth = n.plant.is_some();
+    let _ = writeln!(
+        w,
+        "| model | parameter | estimate | standard error | 95 % interval |{}\n|---|---|---|---|---|{}",
+        if with_truth { " true |" } else { "" },
+        if with_truth { "---|" } else { "" }
+    );
+    for r in &c.rows {
+        let units = units(&r.names, &id.input_unit, &id.output_unit);
+        for ((name, iv), unit) in r.names.iter().zip(&r.intervals).zip(&units) {
+            let truth = n
+                .plant
+                .as_ref()
+                .map(|p| p.get(name).map(|v| sig(v, 5)).unwrap_or_else(|| "0".into()));
+            let _ = writeln!(
+                w,
+                "| {} | {name} [{unit}] | {} | {} | [{}, {}] |{}",
+                r.structure,
+                sig(iv.value, 5),
+                sig(iv.standard_error, 3),
+                sig(iv.ci95[0], 5),
+                sig(iv.ci95[1], 5),
+                truth.map(|t| format!(" {t} |")).unwrap_or_default()
+            );
+        }
+    }
+    let _ = writeln!(w);
+    if has_figure {
+        let _ = writeln!(
+            w,
+            "![Validation residuals of the candidate models](nonlinear_residuals.png)\n"
+        );
+        let _ = writeln!(
+            w,
+            "*Validation residuals (measured − model) of each candidate over time, with their RMS in the legend{}.*\n",
+            if c.rows.len() > 1 {
+                "; the best-ranked drawn last, on top"
+            } else {
+                ""
+            }
+        );
+    }
+}
