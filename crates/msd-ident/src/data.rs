@@ -39,13 +39,25 @@ impl Excitation {
     /// A breakpoint within 1e-9·dt of a sample instant is placed on it with its left and
     /// right values (exact for the exact solver). One between samples cannot be
     /// represented by samples; its two neighbouring samples are marked so that no
-    /// higher-order stencil crosses it (first-order accurate there).
+    /// higher-order stencil crosses it (first-order accurate there). A signal with more
+    /// than about two breakpoints per sample interval (a PRBS clocked faster than the
+    /// grid) is refused.
     pub fn from_signal(signal: Signal, t0: f64, dt: f64, n: usize) -> Result<Self> {
         check_grid(t0, dt, n)?;
         signal.validate()?;
+        let t_end = t0 + dt * (n - 1) as f64;
+        // More jumps than samples (a PRBS clocked faster than the grid) cannot be
+        // represented by samples, and listing them could take forever: refuse first.
+        let edges = signal.max_breakpoints(t0, t_end);
+        if !(edges <= (2 * n + 16) as f64) {
+            return Err(IdentError::InvalidParameter {
+                name: "signal breakpoints (a PRBS clock_period below the sampling interval?)",
+                value: edges,
+                expected: "at most about two jumps or kinks per sample interval",
+            });
+        }
         let samples = signal.sample(t0, dt, n);
         check_finite("input", &samples)?;
-        let t_end = t0 + dt * (n - 1) as f64;
         let mut breakpoints: Vec<Breakpoint> = Vec::new();
         let mut push = |bp: Breakpoint| match breakpoints.last_mut() {
             Some(last) if last.index == bp.index => {

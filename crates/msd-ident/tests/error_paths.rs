@@ -171,7 +171,6 @@ fn synthetic_data_refuses_a_negative_or_nan_noise_level() {
 /// 4e6 here, 4e9 for a 1 ns clock, where `cargo xtask experiment` hangs and grows).
 /// msd-signal's `Signal::max_breakpoints` says how many there are before listing.
 #[test]
-#[ignore = "bug: msd-ident Excitation::from_signal with a PRBS of clock_period 1e-6 s on a 5 ms grid (4 s) returns Ok after listing 4e6 chip edges; with 1e-9 s a config run hangs (>30 s, memory growing); expected a refusal naming the clock period (e.g. when Signal::max_breakpoints(t0, t_end) exceeds the number of samples)"]
 fn a_prbs_far_faster_than_the_sampling_is_refused() {
     let prbs = msd_signal::Prbs::new(msd_signal::PrbsSpec {
         order: 10,
