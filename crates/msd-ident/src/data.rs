@@ -49,7 +49,7 @@ impl Excitation {
         // More jumps than samples (a PRBS clocked faster than the grid) cannot be
         // represented by samples, and listing them could take forever: refuse first.
         let edges = signal.max_breakpoints(t0, t_end);
-        if !(edges <= (2 * n + 16) as f64) {
+        if edges.is_nan() || edges > (2 * n + 16) as f64 {
             return Err(IdentError::InvalidParameter {
                 name: "signal breakpoints (a PRBS clock_period below the sampling interval?)",
                 value: edges,
