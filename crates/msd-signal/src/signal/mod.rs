@@ -308,6 +308,16 @@ impl Signal {
                     Sweep::Logarithmic => {
                         positive(|| format!("{path}f0"), *f0)?;
                         positive(|| format!("{path}f1"), *f1)?;
+                        // ln(f1/f0) must exist: the ratio may not underflow to 0 or
+                        // overflow (e.g. f1 = 5e-324 Hz against f0 = 200 Hz).
+                        let ratio = f1 / f0;
+                        if !(ratio.is_normal() && ratio.is_finite()) {
+                            return Err(SignalError::InvalidParameter {
+                                parameter: format!("{path}f1"),
+                                value: *f1,
+                                expected: "a logarithmic sweep whose ratio f1/f0 is a normal, finite number",
+                            });
+                        }
                     }
                 }
                 at_most_max_frequency(|| format!("{path}f0"), *f0)?;
