@@ -50,7 +50,9 @@ fn sweeps_whose_phase_overflows_are_refused() {
         t_start: 0.0,
     };
     refused(&chirp(1e12, 1e12, 1e300, Sweep::Linear), "duration");
-    refused(&chirp(1e-300, 1e12, 10.0, Sweep::Logarithmic), "duration");
+    // f1/f0 overflows (1e312) or underflows to 0: ln(f1/f0) does not exist.
+    refused(&chirp(1e-300, 1e12, 10.0, Sweep::Logarithmic), "f1");
+    refused(&chirp(219.5, 5e-324, 69.7, Sweep::Logarithmic), "f1");
     let ok = chirp(1e-3, 1e12, 10.0, Sweep::Logarithmic);
     ok.validate().unwrap();
     for i in 0..=1000 {
