@@ -27,11 +27,15 @@
 //! - A step budget (`max_steps`) exists as a safety net.
 //! - Only the scalar `AbsTol` is supported; events and `NonNegative` are not.
 
+mod step;
+mod stepper;
+
 use crate::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::system::OdeSystem;
-use crate::tableau::{A, C, E, INTERPOLANT};
 use nalgebra::SVector;
+use step::Core;
+pub use stepper::{Ode45Stepper, TimeGrid};
 
 /// Sampled solution of an initial-value problem.
 #[derive(Debug, Clone, PartialEq)]
@@ -121,203 +125,33 @@ where
     F: FnMut(f64, &SVector<f64, N>),
 {
     options.validate()?;
-    validate_span(t_span)?;
+    let grid = TimeGrid::new(t_span)?;
+    if t_span.len() > 2 {
+        let mut stepper = Ode45Stepper::new(system, grid, y0, options)?;
+        stepper.advance(system, t_span.len(), |i, y| output(t_span[i], y))?;
+        return Ok(stepper.stats());
+    }
     if let Some((index, &value)) = y0.iter().enumerate().find(|(_, v)| !v.is_finite()) {
         return Err(OdeError::NonFiniteInitialState { index, value });
     }
-
-    let t0 = t_span[0];
-    let tfinal = t_span[t_span.len() - 1];
-    let tdir = (tfinal - t0).signum();
-    let htspan = (tfinal - t0).abs();
-    let rtol = options.rel_tol;
-    let threshold = options.abs_tol / rtol;
-    let hmax = options.max_step.unwrap_or(0.1 * htspan);
-    const POW: f64 = 1.0 / 5.0;
-
-    let mut stats = Stats::default();
-    let mut k = [SVector::<f64, N>::zeros(); 7];
-    let mut t = t0;
-    let mut y = *y0;
-    system.rhs(t, &y, &mut k[0]);
-    stats.rhs_evaluations += 1;
-    if let Some(component) = first_non_finite(&k[0]) {
-        return Err(OdeError::NonFiniteState { t, component });
-    }
-
-    output(t0, &y);
-    let dense_grid = t_span.len() > 2;
-    let mut next = 1; // next grid index to output
-
-    // Initial step, as ode45.m.
-    let mut hmin = 16.0 * eps_of(t);
-    let mut absh = match options.initial_step {
-        Some(htry) => hmax.min(hmin.max(htry)),
-        None => {
-            let mut absh = hmax.min(htspan);
-            let rh = scaled_norm(&k[0], &y, &y, threshold) / (0.8 * rtol.powf(POW));
-            if absh * rh > 1.0 {
-                absh = 1.0 / rh;
-            }
-            absh.max(hmin)
-        }
-    };
-
-    let mut done = false;
-    let mut ynew = y;
+    // Two entries: every step, refined.
+    let mut core = Core::new(system, t_span[0], t_span[1], y0, options)?;
+    output(t_span[0], y0);
     let mut stage = SVector::<f64, N>::zeros();
-    while !done {
-        hmin = 16.0 * eps_of(t);
-        absh = hmax.min(hmin.max(absh));
-        let mut h = tdir * absh;
-        if 1.1 * absh >= (tfinal - t).abs() {
-            h = tfinal - t;
-            absh = h.abs();
-            done = true;
+    loop {
+        core.step(system)?;
+        let poly = core.interpolant();
+        let (t, tnew, h) = (core.t, core.tnew, core.h);
+        for r in 1..options.refine {
+            let tref = t + (tnew - t) * (r as f64 / options.refine as f64);
+            poly.eval_into(&mut stage, (tref - t) / h);
+            output(tref, &stage);
         }
-
-        let mut nofailed = true;
-        let (tnew, err) = loop {
-            // Stages 2..6 (index 1..5) at t + c_i h.
-            for i in 1..6 {
-                stage.copy_from(&y);
-                for (j, kj) in k.iter().enumerate().take(i) {
-                    let a = A[i][j];
-                    if a != 0.0 {
-                        stage.axpy(h * a, kj, 1.0);
-                    }
-                }
-                system.rhs(t + C[i] * h, &stage, &mut k[i]);
-            }
-            let mut tnew = t + C[6] * h;
-            if done {
-                tnew = tfinal;
-            }
-            let hb = h; // ynew uses the unpurified h, as ode45.m
-            h = tnew - t; // purify h
-            ynew.copy_from(&y);
-            for (j, kj) in k.iter().enumerate().take(6) {
-                let b = A[6][j];
-                if b != 0.0 {
-                    ynew.axpy(hb * b, kj, 1.0);
-                }
-            }
-            system.rhs(tnew, &ynew, &mut k[6]);
-            stats.rhs_evaluations += 6;
-
-            // Error estimate, as ode45.m with NormControl off.
-            stage.fill(0.0);
-            for (j, kj) in k.iter().enumerate() {
-                if E[j] != 0.0 {
-                    stage.axpy(E[j], kj, 1.0);
-                }
-            }
-            let err = absh * scaled_norm(&stage, &y, &ynew, threshold);
-            if err <= rtol {
-                break (tnew, err);
-            }
-            // Failed step (also when err is NaN: the right-hand side was not finite).
-            stats.rejected_steps += 1;
-            if absh <= hmin {
-                if !err.is_finite() {
-                    let component = first_non_finite(&ynew)
-                        .or_else(|| first_non_finite(&k[6]))
-                        .unwrap_or(0);
-                    return Err(OdeError::NonFiniteState { t, component });
-                }
-                return Err(OdeError::StepSizeUnderflow { t, step: absh });
-            }
-            if nofailed && err.is_finite() {
-                nofailed = false;
-                absh = hmin.max(absh * 0.1f64.max(0.8 * (rtol / err).powf(POW)));
-            } else {
-                nofailed = false;
-                absh = hmin.max(0.5 * absh);
-            }
-            h = tdir * absh;
-            done = false;
-        };
-        stats.accepted_steps += 1;
-        debug_assert!(err.is_finite() && ynew.iter().all(|v| v.is_finite()));
-
-        // Output.
-        if dense_grid {
-            if next < t_span.len() && tdir * (tnew - t_span[next]) >= 0.0 {
-                let poly = Interpolant::new(&y, h, &k);
-                while next < t_span.len() {
-                    let tout = t_span[next];
-                    if tdir * (tnew - tout) < 0.0 {
-                        break;
-                    }
-                    if tout == tnew {
-                        output(tout, &ynew);
-                    } else {
-                        poly.eval_into(&mut stage, (tout - t) / h);
-                        output(tout, &stage);
-                    }
-                    next += 1;
-                }
-            }
-        } else {
-            let poly = Interpolant::new(&y, h, &k);
-            for r in 1..options.refine {
-                let tref = t + (tnew - t) * (r as f64 / options.refine as f64);
-                poly.eval_into(&mut stage, (tref - t) / h);
-                output(tref, &stage);
-            }
-            output(tnew, &ynew);
+        output(tnew, &core.ynew);
+        if core.done {
+            return Ok(core.stats);
         }
-
-        if done {
-            break;
-        }
-        if stats.accepted_steps >= options.max_steps {
-            return Err(OdeError::TooManySteps {
-                t: tnew,
-                steps: stats.accepted_steps,
-            });
-        }
-        if nofailed {
-            let temp = 1.25 * (err / rtol).powf(POW);
-            absh = if temp > 0.2 { absh / temp } else { 5.0 * absh };
-        }
-        t = tnew;
-        y = ynew;
-        k[0] = k[6];
-    }
-    Ok(stats)
-}
-
-/// ode45's `ntrp45` for one step, as a polynomial in s = (t − tₙ)/h:
-/// y(s) = yₙ + q₀ s + q₁ s² + q₂ s³ + q₃ s⁴ with q_j = h Σᵢ BIᵢⱼ kᵢ, evaluated by Horner.
-/// Building it costs one pass over the stages per step; each output point then costs
-/// four multiply-adds per component.
-struct Interpolant<const N: usize> {
-    y: SVector<f64, N>,
-    q: [SVector<f64, N>; 4],
-}
-
-impl<const N: usize> Interpolant<N> {
-    #[inline]
-    fn new(y: &SVector<f64, N>, h: f64, k: &[SVector<f64, N>; 7]) -> Self {
-        let q = std::array::from_fn(|j| {
-            let mut qj = SVector::<f64, N>::zeros();
-            for (row, ki) in INTERPOLANT.iter().zip(k.iter()) {
-                if row[j] != 0.0 {
-                    qj.axpy(h * row[j], ki, 1.0);
-                }
-            }
-            qj
-        });
-        Self { y: *y, q }
-    }
-
-    #[inline]
-    fn eval_into(&self, out: &mut SVector<f64, N>, s: f64) {
-        for i in 0..N {
-            let p = ((self.q[3][i] * s + self.q[2][i]) * s + self.q[1][i]) * s + self.q[0][i];
-            out[i] = self.y[i] + p * s;
-        }
+        core.advance()?;
     }
 }
 
