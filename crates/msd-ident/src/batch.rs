@@ -1,108 +1,246 @@
-//! Many parameter sets on one excitation, [`LANES`] at a time (the exact backend).
+//! Many parameter sets on one excitation, [`LANES`] at a time, streamed along the record.
 
-use crate::{Excitation, InitialState, Parameters, Result};
-use msd_ode::{ExactSimulator, Hold, InputSchedule, Lockstep, SampledInput};
-use std::ops::Range;
+use crate::simulate::ode45_rhs;
+use crate::{Backend, Excitation, InitialState, Parameters, Result};
+use msd_ode::{
+    ExactSimulator, Hold, InputSchedule, Lockstep, Ode45Options, Ode45Stepper, SampledInput,
+    TimeGrid,
+};
 
-/// Parameter sets a [`BatchSimulator`] steps together.
+/// Parameter sets a [`BatchRun`] steps together.
 pub const LANES: usize = 8;
 
-/// The exact simulation of many parameter sets on one excitation, as a Monte Carlo run
-/// needs it: the excitation's stencils are worked out (and checked) once, and
-/// [`LANES`] parameter sets are stepped together, each giving bit for bit what
-/// [`simulate`](crate::simulate) with [`Backend::Exact`](crate::Backend::Exact) gives.
+/// The simulation of many parameter sets on one excitation, as a Monte Carlo run needs
+/// it: what every run shares is prepared (and checked) once — the input's stencils for
+/// the exact backend, the time grid for ode45 — and [`LANES`] parameter sets at a time
+/// are advanced along the record in stretches ([`BatchRun`]), so a caller can keep a
+/// short window of every response instead of whole responses. Every lane gives bit for
+/// bit what [`simulate`](crate::simulate) gives for its parameters with the same backend.
 ///
 /// ```
 /// use msd_ident::{simulate, Backend, BatchSimulator, Excitation, InitialState, Parameters, LANES};
-/// use msd_ode::Hold;
 /// use msd_signal::paper_validation_input;
 /// let input = Excitation::from_signal(paper_validation_input(), 0.0, 0.002, 7501)?;
-/// let batch = BatchSimulator::new(&input, Hold::Cubic)?;
+/// let batch = BatchSimulator::new(&input, &Backend::EXACT)?;
 /// let mut sets = [None; LANES];
 /// sets[0] = Some(Parameters::PAPER);
 /// sets[1] = Some(Parameters::new(2.6, 1.7, 125.0)?);
 /// let mut out = vec![0.0; 7501 * LANES]; // time-major: out[t·LANES + lane]
-/// let ok = batch.simulate_lanes(&sets, InitialState::REST, 0..7501, &mut out);
+/// let ok = batch.simulate_lanes(&sets, InitialState::REST, &mut out);
 /// assert_eq!(&ok[..3], &[true, true, false]);
 /// let alone = simulate(&sets[1].unwrap(), &input, InitialState::REST, &Backend::EXACT)?;
 /// assert!((0..7501).all(|t| out[t * LANES + 1] == alone[t]));
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct BatchSimulator {
-    schedule: InputSchedule,
-    dt: f64,
-    hold: Hold,
+pub struct BatchSimulator<'a> {
+    excitation: &'a Excitation,
+    kind: Kind<'a>,
 }
 
-impl BatchSimulator {
-    /// The batch simulator of `excitation` with the given hold.
-    pub fn new(excitation: &Excitation, hold: Hold) -> Result<Self> {
-        let input = SampledInput {
-            values: excitation.samples(),
-            breakpoints: excitation.breakpoints(),
+#[derive(Debug, Clone)]
+enum Kind<'a> {
+    Exact {
+        schedule: InputSchedule,
+        hold: Hold,
+    },
+    Ode45 {
+        grid: TimeGrid<'a>,
+        options: Ode45Options,
+    },
+}
+
+impl<'a> BatchSimulator<'a> {
+    /// The batch simulator of `excitation` with `backend` (checked).
+    pub fn new(excitation: &'a Excitation, backend: &Backend) -> Result<Self> {
+        backend.validate()?;
+        let kind = match *backend {
+            Backend::Exact { hold } => {
+                let input = SampledInput {
+                    values: excitation.samples(),
+                    breakpoints: excitation.breakpoints(),
+                };
+                Kind::Exact {
+                    schedule: InputSchedule::new(&input, hold)?,
+                    hold,
+                }
+            }
+            Backend::Ode45 { rel_tol, abs_tol } => Kind::Ode45 {
+                grid: TimeGrid::new(excitation.times())?,
+                options: backend.ode45_options(rel_tol, abs_tol),
+            },
         };
-        Ok(Self {
-            schedule: InputSchedule::new(&input, hold)?,
-            dt: excitation.dt(),
-            hold,
-        })
+        Ok(Self { excitation, kind })
     }
 
     /// Number of samples of the excitation.
     pub fn samples(&self) -> usize {
-        self.schedule.samples()
+        self.excitation.len()
     }
 
-    /// Simulates the parameter sets of `parameters` (at most [`LANES`]; `None` leaves a
-    /// lane empty) from `initial`, writing the displacement at the samples `range` to
-    /// `out[(t − range.start)·LANES + lane]`. Returns which lanes succeeded: a lane fails
-    /// for `None`, invalid parameters, a model too stiff for the step, or a state that
-    /// overflows (by `range.end`); failed lanes' values in `out` are meaningless.
+    /// Starts the parameter sets of `parameters` (at most [`LANES`]; `None` leaves a
+    /// lane empty, and it counts as failed) from `initial`, at sample 0.
     ///
     /// # Panics
-    /// If `parameters` has more than [`LANES`] entries, `range` goes beyond the
-    /// excitation, or `out` is shorter than `range.len()·LANES` (programming errors).
-    pub fn simulate_lanes(
-        &self,
-        parameters: &[Option<Parameters>],
-        initial: InitialState,
-        range: Range<usize>,
-        out: &mut [f64],
-    ) -> [bool; LANES] {
+    /// If `parameters` has more than [`LANES`] entries (a programming error).
+    pub fn start(&self, parameters: &[Option<Parameters>], initial: InitialState) -> BatchRun<'a> {
         assert!(
             parameters.len() <= LANES,
             "more than {LANES} parameter sets"
         );
-        assert!(range.end <= self.samples() && range.start <= range.end);
-        assert!(out.len() >= range.len() * LANES, "output buffer too short");
-        let sims: [Option<ExactSimulator<2>>; LANES] = std::array::from_fn(|lane| {
+        let set = |lane: usize| {
             let p = parameters.get(lane).copied().flatten()?;
-            p.validate().ok()?;
-            ExactSimulator::new(&p.state_space(), self.dt, self.hold).ok()
-        });
-        let ok = sims.each_ref().map(Option::is_some);
-        // Empty lanes run a copy of a good one; their output is ignored.
-        let Some(filler) = sims.iter().flatten().next() else {
-            return ok;
+            p.validate().ok().map(|()| p)
         };
-        let lanes = sims.each_ref().map(|s| s.as_ref().unwrap_or(filler));
         let x0 = initial.vector();
-        let Ok(mut stepper) = Lockstep::<2, LANES>::new(lanes, [x0; LANES]) else {
-            return [false; LANES];
-        };
-        let mut store = |t: usize, x: &[[f64; LANES]; 2]| {
-            if range.contains(&t) {
-                let at = (t - range.start) * LANES;
-                out[at..at + LANES].copy_from_slice(&x[0]);
+        let lanes = match &self.kind {
+            Kind::Exact { hold, .. } => {
+                let sims: [Option<ExactSimulator<2>>; LANES] = std::array::from_fn(|lane| {
+                    ExactSimulator::new(&set(lane)?.state_space(), self.excitation.dt(), *hold).ok()
+                });
+                let ok = sims.each_ref().map(Option::is_some);
+                // Empty lanes run a copy of a good one; their output is not used.
+                let stepper = sims.iter().flatten().next().and_then(|filler| {
+                    let lanes = sims.each_ref().map(|s| s.as_ref().unwrap_or(filler));
+                    Lockstep::<2, LANES>::new(lanes, [x0; LANES]).ok()
+                });
+                Lanes::Exact {
+                    ok: if stepper.is_some() {
+                        ok
+                    } else {
+                        [false; LANES]
+                    },
+                    stepper: stepper.map(Box::new),
+                }
             }
+            Kind::Ode45 { grid, options } => Lanes::Ode45(Box::new(std::array::from_fn(|lane| {
+                let p = set(lane)?;
+                let mut rhs = ode45_rhs(&p, self.excitation);
+                let stepper = Ode45Stepper::new(&mut rhs, *grid, &x0, options).ok()?;
+                Some((p, stepper))
+            }))),
         };
-        store(0, stepper.state());
-        stepper.advance(&self.schedule, range.end.saturating_sub(1), store);
-        // Once a lane overflows its state stays non-finite (every component sums over all
-        // of them), so the last state tells which lanes failed, as simulate's
-        // NonFiniteState would.
-        let last = stepper.state();
-        std::array::from_fn(|lane| ok[lane] && (0..2).all(|r| last[r][lane].is_finite()))
+        BatchRun { lanes, next: 0 }
+    }
+
+    /// The whole record of up to [`LANES`] parameter sets at once: [`start`](Self::start)
+    /// then [`BatchRun::advance`] to the end, into `out[t·LANES + lane]`.
+    ///
+    /// # Panics
+    /// If `parameters` has more than [`LANES`] entries or `out` is shorter than
+    /// `samples()·LANES` (programming errors).
+    pub fn simulate_lanes(
+        &self,
+        parameters: &[Option<Parameters>],
+        initial: InitialState,
+        out: &mut [f64],
+    ) -> [bool; LANES] {
+        self.start(parameters, initial)
+            .advance(self, self.samples(), out)
+    }
+}
+
+/// Up to [`LANES`] parameter sets part-way along the record of a [`BatchSimulator`].
+#[derive(Debug, Clone)]
+pub struct BatchRun<'a> {
+    lanes: Lanes<'a>,
+    next: usize,
+}
+
+#[derive(Debug, Clone)]
+enum Lanes<'a> {
+    Exact {
+        /// `None` when no lane is good.
+        stepper: Option<Box<Lockstep<2, LANES>>>,
+        ok: [bool; LANES],
+    },
+    Ode45(Box<[Option<(Parameters, Ode45Stepper<'a, 2>)>; LANES]>),
+}
+
+impl BatchRun<'_> {
+    /// Bytes a run holds, at most, on the heap and inline, with either backend.
+    ///
+    /// ```
+    /// assert!(msd_ident::BatchRun::MAX_BYTES < 8 << 10);
+    /// ```
+    pub const MAX_BYTES: usize = {
+        let exact = size_of::<Lockstep<2, LANES>>();
+        let ode45 = size_of::<[Option<(Parameters, Ode45Stepper<'static, 2>)>; LANES]>();
+        size_of::<Self>() + if exact > ode45 { exact } else { ode45 }
+    };
+
+    /// The next sample to be produced (0 after [`BatchSimulator::start`]).
+    pub fn next_sample(&self) -> usize {
+        self.next
+    }
+
+    /// Produces the samples from [`next_sample`](Self::next_sample) up to `until`
+    /// (clamped to the record), writing sample t of lane l to
+    /// `out[(t − next_sample)·LANES + l]`, and returns which lanes are still good. A lane
+    /// fails, for good, on a `None` or invalid parameter set, a model too stiff for the
+    /// step (exact), a state that overflows, or a solver error (ode45); a failed lane's
+    /// values are +∞. Allocates nothing.
+    ///
+    /// # Panics
+    /// If `batch` is not the simulator that started the run (a different backend) or
+    /// `out` is too short (programming errors).
+    pub fn advance(
+        &mut self,
+        batch: &BatchSimulator<'_>,
+        until: usize,
+        out: &mut [f64],
+    ) -> [bool; LANES] {
+        let (start, until) = (self.next, until.min(batch.samples()).max(self.next));
+        assert!(
+            out.len() >= (until - start) * LANES,
+            "output buffer too short"
+        );
+        let ok = match (&mut self.lanes, &batch.kind) {
+            (Lanes::Exact { stepper: None, .. }, Kind::Exact { .. }) => [false; LANES],
+            (
+                Lanes::Exact {
+                    stepper: Some(stepper),
+                    ok,
+                },
+                Kind::Exact { schedule, .. },
+            ) => {
+                let mut store = |t: usize, x: &[[f64; LANES]; 2]| {
+                    let at = (t - start) * LANES;
+                    out[at..at + LANES].copy_from_slice(&x[0]);
+                };
+                if start == 0 && until > 0 {
+                    store(0, stepper.state());
+                }
+                stepper.advance(schedule, until.saturating_sub(1), store);
+                // Once a lane overflows its state stays non-finite (every component sums
+                // over all of them), so the state at the end tells which lanes failed.
+                let last = stepper.state();
+                for (lane, good) in ok.iter_mut().enumerate() {
+                    *good &= (0..2).all(|r| last[r][lane].is_finite());
+                }
+                *ok
+            }
+            (Lanes::Ode45(lanes), Kind::Ode45 { .. }) => std::array::from_fn(|lane| {
+                let Some((p, stepper)) = &mut lanes[lane] else {
+                    return false;
+                };
+                let mut rhs = ode45_rhs(p, batch.excitation);
+                let done = stepper.advance(&mut rhs, until, |t, y| {
+                    out[(t - start) * LANES + lane] = y[0]
+                });
+                if done.is_err() {
+                    lanes[lane] = None;
+                }
+                done.is_ok()
+            }),
+            _ => panic!("a batch run advanced by a simulator of another backend"),
+        };
+        for (lane, _) in ok.iter().enumerate().filter(|(_, good)| !**good) {
+            for t in 0..until - start {
+                out[t * LANES + lane] = f64::INFINITY;
+            }
+        }
+        self.next = until;
+        ok
     }
 }

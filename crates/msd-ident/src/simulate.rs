@@ -63,7 +63,7 @@ impl Backend {
         Ok(())
     }
 
-    fn ode45_options(&self, rel_tol: f64, abs_tol: f64) -> Ode45Options {
+    pub(crate) fn ode45_options(&self, rel_tol: f64, abs_tol: f64) -> Ode45Options {
         Ode45Options {
             rel_tol,
             abs_tol,
@@ -150,11 +150,7 @@ pub fn simulate_into(
         }
         Backend::Ode45 { rel_tol, abs_tol } => {
             let options = backend.ode45_options(rel_tol, abs_tol);
-            let (m, c, k) = (parameters.mass, parameters.damping, parameters.stiffness);
-            let mut rhs = |t: f64, y: &SVector<f64, 2>, d: &mut SVector<f64, 2>| {
-                d[0] = y[1];
-                d[1] = (excitation.value(t) - c * y[1] - k * y[0]) / m;
-            };
+            let mut rhs = ode45_rhs(parameters, excitation);
             let mut i = 0;
             let stats = ode45_with(&mut rhs, excitation.times(), &x0, &options, |_, y| {
                 out[i] = y[0];
@@ -163,5 +159,18 @@ pub fn simulate_into(
             debug_assert_eq!(i, out.len());
             Ok(Some(stats))
         }
+    }
+}
+
+/// The model's right-hand side for ode45, the force evaluated as a continuous function
+/// of time (one definition, so that every ode45 path gives the same bits).
+pub(crate) fn ode45_rhs<'e>(
+    parameters: &Parameters,
+    excitation: &'e Excitation,
+) -> impl FnMut(f64, &SVector<f64, 2>, &mut SVector<f64, 2>) + 'e {
+    let (m, c, k) = (parameters.mass, parameters.damping, parameters.stiffness);
+    move |t, y, d| {
+        d[0] = y[1];
+        d[1] = (excitation.value(t) - c * y[1] - k * y[0]) / m;
     }
 }

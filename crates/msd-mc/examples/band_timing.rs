@@ -1,6 +1,7 @@
 //! Wall and CPU time of the paper's Monte Carlo band (N = 1000, validation input) for
-//! each backend on 1 and 2 threads: medians of repeated runs. CPU time (user + system,
-//! all threads, from /proc/self/stat on Linux) is less disturbed by other load on a
+//! each backend on 1 and 2 threads: medians of repeated runs, the four configurations
+//! taken in turn. CPU time (user + system, all threads, from /proc/self/stat on Linux,
+//! in ticks of 10 ms: a median over many runs) is less disturbed by other load on a
 //! shared machine than wall time.
 //!
 //! `cargo run --release -p msd-mc --example band_timing [runs]`
@@ -37,38 +38,55 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let runs: usize = std::env::args().nth(1).map_or(Ok(15), |a| a.parse())?;
     let experiment = PaperExperiment::generate(0)?;
     let validation = &experiment.validation;
-    for backend in [Backend::EXACT, Backend::PAPER] {
-        for threads in [1, 2] {
-            let options = McOptions {
+    let configs: Vec<McOptions> = [Backend::EXACT, Backend::PAPER]
+        .into_iter()
+        .flat_map(|backend| {
+            [1, 2].map(|threads| McOptions {
                 samples: 1000,
                 threads,
                 backend,
                 ..McOptions::default()
-            };
-            let band = || {
-                monte_carlo_band(
-                    &Parameters::PAPER,
-                    &validation.excitation,
-                    Some(&validation.output),
-                    &options,
-                )
-            };
-            band()?; // warm-up
-            let (mut wall, mut cpu) = (Vec::new(), Vec::new());
-            let cpu_start = cpu_seconds();
-            for _ in 0..runs {
-                let t = Instant::now();
-                std::hint::black_box(band()?);
-                wall.push(t.elapsed().as_secs_f64() * 1e3);
-            }
-            cpu.push((cpu_seconds() - cpu_start) / runs as f64 * 1e3);
-            println!(
-                "{:<6} {threads} thread(s): wall median {:7.1} ms, CPU {:7.1} ms per run",
-                backend.name(),
-                median(wall),
-                median(cpu)
-            );
+            })
+        })
+        .collect();
+    let band = |options: &McOptions| {
+        monte_carlo_band(
+            &Parameters::PAPER,
+            &validation.excitation,
+            Some(&validation.output),
+            options,
+        )
+    };
+    for options in &configs {
+        band(options)?; // warm-up
+    }
+    // Round-robin, so that the machine's drift falls on every configuration alike.
+    let (mut wall, mut cpu) = (
+        vec![Vec::new(); configs.len()],
+        vec![Vec::new(); configs.len()],
+    );
+    for _ in 0..runs {
+        for (k, options) in configs.iter().enumerate() {
+            let (t, c) = (Instant::now(), cpu_seconds());
+            std::hint::black_box(band(options)?);
+            wall[k].push(t.elapsed().as_secs_f64() * 1e3);
+            cpu[k].push((cpu_seconds() - c) * 1e3);
         }
     }
+    for (k, options) in configs.iter().enumerate() {
+        println!(
+            "{:<6} {} thread(s): wall median {:7.1} ms, CPU median {:7.1} ms per run",
+            options.backend.name(),
+            options.threads,
+            median(wall[k].clone()),
+            median(cpu[k].clone())
+        );
+    }
+    let speedup = |k: usize| median(wall[k].clone()) / median(wall[k + 1].clone());
+    println!(
+        "2-thread speed-up: exact {:.2}, ode45 {:.2}",
+        speedup(0),
+        speedup(2)
+    );
     Ok(())
 }

@@ -1,8 +1,8 @@
 //! Monte Carlo robustness band: N parameter samples around θ̂ re-simulate a given input.
 
-use crate::engine::{self, MemoryPlan};
+use crate::engine::{self, MemoryPlan, Restart};
 use crate::{McError, McOptions, Result, Sampling, Summary, draw::Sampler};
-use msd_ident::{Backend, BatchSimulator, Excitation, LANES, Parameters, simulate, simulate_into};
+use msd_ident::{Backend, BatchSimulator, Excitation, LANES, Parameters, simulate};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -72,12 +72,12 @@ impl std::fmt::Display for Band {
             .collect();
         writeln!(
             f,
-            "Monte Carlo band: {} samples ({} failed), {} threads, {} backend, {} pass(es)",
+            "Monte Carlo band: {} samples ({} failed), {} threads, {} backend, {} time chunk(s)",
             self.samples,
             self.failed_samples,
             self.threads,
             self.backend.name(),
-            self.memory.passes
+            self.memory.chunks
         )?;
         writeln!(f, "  percentiles: {} %", levels.join(", "))?;
         if let Some(c) = self.coverage {
@@ -118,8 +118,9 @@ pub fn monte_carlo_band(
     monte_carlo_band_with_progress(nominal, excitation, measured, options, &|_, _| {})
 }
 
-/// As [`monte_carlo_band`], calling `progress(done, total)` after each simulation
-/// (from the worker threads, in no particular order; `total` = N × passes).
+/// As [`monte_carlo_band`], calling `progress(done, total)` each time a block of up to
+/// 8 samples has been simulated through a time chunk (from the worker threads; `done`
+/// counts samples × chunks, `total` = N × chunks).
 ///
 /// ## The algorithm
 /// Sample i draws its parameters from its own generator ([`sample_rng`](crate::sample_rng)
@@ -151,11 +152,7 @@ pub fn monte_carlo_band_with_progress(
     let sampler = Sampler::new(nominal, &options.sampling)?;
     let pool = crate::pool(options.threads)?;
     let nominal_response = simulate(nominal, excitation, initial, backend)?;
-    // The exact backend steps LANES samples together on a once-built input schedule.
-    let batch = match backend {
-        Backend::Exact { hold } => Some(BatchSimulator::new(excitation, *hold)?),
-        Backend::Ode45 { .. } => None,
-    };
+    let batch = BatchSimulator::new(excitation, backend)?;
     let plan = MemoryPlan::new(
         n,
         points,
@@ -164,49 +161,44 @@ pub fn monte_carlo_band_with_progress(
         options.max_buffer_bytes,
     );
 
-    let (draws, out) = pool.install(|| {
-        let draws: Vec<Option<Parameters>> = (0..n)
+    let drawn: Vec<Option<Parameters>> = pool.install(|| {
+        (0..n)
             .into_par_iter()
             .map(|i| sampler.draw(options.seed, i))
-            .collect();
-        let lanes = |b: usize| &draws[b * LANES..((b + 1) * LANES).min(n)];
-        let out = match (backend, &batch) {
-            (Backend::Exact { .. }, Some(batch)) => engine::run(
+            .collect()
+    });
+    let (draws, out) = pool.install(|| {
+        let mut draws = drawn.clone();
+        // A sample that fails after its values entered a percentile (an overflow or a
+        // solver failure late in the record: never for a physical plant on a sane
+        // input) is left out and the band run again, until no sample fails late.
+        loop {
+            let lanes = |b: usize| &draws[(b * LANES).min(n)..((b + 1) * LANES).min(n)];
+            let run = engine::run(
                 &plan,
                 levels,
                 progress,
-                || (),
-                |_, b, range, out, ok| {
-                    let flags = batch.simulate_lanes(lanes(b), initial, range, out);
-                    ok.copy_from_slice(&flags);
-                },
-            ),
-            _ => engine::run(
-                &plan,
-                levels,
-                progress,
-                || vec![0.0; points],
-                |scratch, b, range, out, ok| {
-                    for (lane, draw) in lanes(b).iter().enumerate() {
-                        ok[lane] = draw.is_some_and(|p| {
-                            simulate_into(&p, excitation, initial, backend, scratch).is_ok()
-                        });
-                        for (t, v) in range.clone().zip(&scratch[range.clone()]) {
-                            out[(t - range.start) * LANES + lane] = *v;
+                |b| batch.start(lanes(b), initial),
+                |run, until, out| run.advance(&batch, until, out),
+            );
+            match run {
+                Ok(out) => break (draws, out),
+                Err(Restart(ok)) => {
+                    for (draw, ok) in draws.iter_mut().zip(ok) {
+                        if !ok {
+                            *draw = None;
                         }
                     }
-                },
-            ),
-        };
-        (draws, out)
+                }
+            }
+        }
     });
-
     let good: Vec<Parameters> = (0..n)
         .filter(|&i| out.ok[i])
         .filter_map(|i| draws[i])
         .collect();
     if good.is_empty() {
-        let first = match draws[0] {
+        let first = match drawn[0] {
             None => format!("non-physical draw after {} redraws", crate::MAX_REDRAWS),
             Some(p) => simulate(&p, excitation, initial, backend)
                 .err()

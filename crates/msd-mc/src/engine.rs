@@ -1,30 +1,37 @@
-//! The bounded-memory, thread-count-independent percentile engine behind the band.
+//! The streaming, thread-count-independent percentile engine behind the band.
 //!
 //! ## The algorithm
-//! The N × T responses would need 8·N·T bytes (6 GB for N = 100 000, T = 7501), so the
-//! time axis is cut into chunks of `chunk_points` = ⌊budget / 8N⌋ columns. Samples are
-//! simulated in blocks of [`LANES`] (stepped together by the exact backend) and each
-//! block keeps only the chunk's columns, time-major within the block
-//! (`buffer[block][t][lane]`), so a time column is gathered from N/8 runs of 8 contiguous
-//! values. Then the chunk's percentiles are computed exactly, column by column, in
-//! parallel blocks of columns. So the buffer never exceeds the budget, the percentiles
-//! are exact (no streaming approximation), and the price is `passes` =
-//! ⌈T / chunk_points⌉ simulations per sample — one pass whenever 8·N·T fits the budget
-//! (N ≤ 4473 at T = 7501 and the default 256 MiB).
+//! Nothing of size N × T is ever stored. The samples are simulated in blocks of
+//! [`LANES`], each block keeping its simulator's state, and the time axis is walked in
+//! chunks of `chunk_points` columns: every block advances one chunk into a chunk buffer
+//! (`buffer[block][t][lane]`, so a time column is N/8 runs of 8 contiguous values), and
+//! the chunk's percentiles are then computed exactly, column after column, by one
+//! tracker per level that narrows each column's search with the previous columns
+//! ([`LevelTracker`]). Two chunk buffers alternate so that the percentiles of chunk c
+//! (one task per level) run while chunk c + 1 is simulated (in parallel over blocks):
+//! `rayon::join`, whose idle thread takes simulation blocks. Memory is two chunk buffers plus the blocks'
+//! states — about 0.3 MiB per 1000 samples — whatever T, and every sample is simulated
+//! exactly once.
 //!
-//! Every value written depends only on its sample index and its time index, and
-//! percentiles are functions of the multiset of a column, so the result is bit-for-bit
+//! Every value written depends only on its sample index and its time index, and the
+//! percentiles of a level are computed in column order by one task, so the result is bit-for-bit
 //! the same for any thread count and any chunking.
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use crate::quantile::ColumnTracker;
+use crate::tracker::LevelTracker;
 pub(crate) use msd_ident::LANES;
 
-/// Bytes of the per-thread column-gather scratch the engine aims at.
-const GATHER_BYTES: usize = 1 << 20;
+/// Samples per group: a group is simulated by one task and its values at one time are
+/// contiguous in the chunk buffer (`buffer[group][t][sample]`).
+pub(crate) const GROUP: usize = 8 * LANES;
+
+/// Bytes of the two chunk buffers the engine aims at: small enough to stay in cache.
+const CACHE_BYTES: usize = 1 << 20;
+/// Fewest columns per chunk unless the budget forbids (fork–join overhead per chunk).
+const MIN_CHUNK_POINTS: usize = 16;
 
 /// How a run uses memory: the chunking of the time axis and the bytes it allocates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -33,29 +40,29 @@ pub struct MemoryPlan {
     pub samples: usize,
     /// T, points per response.
     pub points: usize,
-    /// Time columns kept per pass.
+    /// Time columns per chunk.
     pub chunk_points: usize,
-    /// Simulation passes over all samples: ⌈T / chunk_points⌉.
-    pub passes: usize,
-    /// Columns gathered per parallel percentile task.
-    pub gather_columns: usize,
-    /// Bytes of the N × chunk response buffer (N rounded up to a multiple of [`LANES`]).
+    /// Chunks of the time axis: ⌈T / chunk_points⌉ (every sample is simulated once).
+    pub chunks: usize,
+    /// Bytes of the two N × chunk buffers (N rounded up to a multiple of [`LANES`]).
     pub buffer_bytes: usize,
-    /// Upper bound of everything a band run allocates: the buffer, per-thread scratch
-    /// (a full response and a column block), per-sample draws, flags and summaries, and
-    /// the time series of the result.
+    /// Bytes of the simulators' states, all blocks.
+    pub state_bytes: usize,
+    /// Upper bound of everything a band run allocates: the buffers, the states, the
+    /// tracker, per-sample draws, flags and summaries, and the result's time series.
     pub peak_bytes: usize,
 }
 
 impl MemoryPlan {
-    /// The plan for N `samples` of `points` values on `threads` threads with `levels`
-    /// percentile levels and a response buffer of at most `max_buffer_bytes` (≥ 8·N).
+    /// The plan for N `samples` of `points` values with `levels` percentile levels and
+    /// chunk buffers of at most `max_buffer_bytes` (≥ 16·N) together. `threads` does not
+    /// change the plan (the pipeline has one percentile task and a shared simulation).
     ///
     /// ```
     /// use msd_mc::MemoryPlan;
     /// let plan = MemoryPlan::new(100_000, 7501, 2, 3, 256 << 20);
-    /// assert_eq!((plan.chunk_points, plan.passes), (335, 23));
-    /// assert!(plan.peak_bytes < 300 << 20);
+    /// assert_eq!((plan.chunk_points, plan.chunks), (16, 469));
+    /// assert!(plan.peak_bytes < 128 << 20);
     /// ```
     pub fn new(
         samples: usize,
@@ -64,138 +71,165 @@ impl MemoryPlan {
         levels: usize,
         max_buffer_bytes: usize,
     ) -> Self {
-        let n = samples.max(1).next_multiple_of(LANES);
-        let chunk_points = (max_buffer_bytes / (8 * n)).clamp(1, points.max(1));
-        let passes = points.div_ceil(chunk_points);
-        let gather_columns = (GATHER_BYTES / (8 * n)).clamp(1, 64);
-        let buffer_bytes = 8 * n * chunk_points;
-        let per_thread = 8 * points + 8 * n * gather_columns + 8 * levels * gather_columns;
-        // Draw (32), ok flag (1), index of a good sample (8), and the summaries' copies of
-        // the parameters, fn, ζ and their sort keys (48): rounded up.
+        let _ = threads;
+        let n = samples.max(1).next_multiple_of(GROUP);
+        let affordable = (max_buffer_bytes / (16 * n)).max(1);
+        let wanted = (CACHE_BYTES / (16 * n)).max(MIN_CHUNK_POINTS);
+        let chunk_points = wanted.min(affordable).clamp(1, points.max(1));
+        let chunks = points.div_ceil(chunk_points);
+        let buffer_bytes = 16 * n * chunk_points;
+        let state_bytes = (n / LANES) * (msd_ident::BatchRun::MAX_BYTES + 16);
+        // Tracker: keys and candidates per level, the previous column (8 per value).
+        let tracker = 8 * n * (levels + 2);
+        // Draw (32), ok flag (1), and the summaries' copies of the parameters, fn, ζ
+        // and their sort keys (48): rounded up.
         let per_sample = 96;
-        let outputs = 8 * points * (2 * levels + 4); // percentiles (twice: transposed), nominal, width, times, measured
+        let outputs = 8 * points * (2 * levels + 4); // percentiles (twice), nominal, width, times, measured
         Self {
             samples,
             points,
             chunk_points,
-            passes,
-            gather_columns,
+            chunks,
             buffer_bytes,
-            peak_bytes: buffer_bytes + threads * per_thread + n * per_sample + outputs,
+            state_bytes,
+            peak_bytes: buffer_bytes + state_bytes + tracker + n * per_sample + outputs,
         }
     }
 }
 
-/// Output of the engine: the percentiles (level-major) and which samples succeeded.
+/// The percentiles (level-major) over the good samples and which samples were good.
 pub(crate) struct EngineOutput {
     pub(crate) percentiles: Vec<Vec<f64>>,
     pub(crate) ok: Vec<bool>,
 }
 
-/// Runs `simulate(scratch, block, range, out, ok)` (`scratch` made per worker by
-/// `scratch()`) for every block of [`LANES`] samples (block b
-/// holds samples b·LANES …; it writes sample b·LANES + lane's response at the samples
-/// `range` to `out[(t − range.start)·LANES + lane]` and its success to `ok[lane]`),
-/// `plan.passes` times, on the current rayon pool, and returns the pointwise `levels`
-/// percentiles over the successful samples. Lanes past the last sample are ignored.
+/// A sample failed after the percentiles of earlier columns had counted it: the run
+/// must be repeated without it. Holds which samples were good as far as the run went.
+pub(crate) struct Restart(pub(crate) Vec<bool>);
+
+/// Runs the band's simulations and percentiles. `start(b)` makes the state of block b
+/// (samples b·LANES …); `advance(state, until, out)` produces its samples up to time
+/// index `until` into `out[(t − from)·LANES + lane]` and returns which lanes are still
+/// good (failed lanes' values must be +∞; lanes past the last sample must fail).
+/// Returns the `levels` percentiles over the samples good at the end, or a
+/// [`Restart`] when a sample failed after its values entered a percentile.
 pub(crate) fn run<S, I, F>(
     plan: &MemoryPlan,
     levels: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
-    scratch: I,
-    simulate: F,
-) -> EngineOutput
+    start: I,
+    advance: F,
+) -> Result<EngineOutput, Restart>
 where
-    I: Fn() -> S + Sync + Send,
-    F: Fn(&mut S, usize, std::ops::Range<usize>, &mut [f64], &mut [bool]) + Sync,
+    S: Send,
+    I: Fn(usize) -> S + Sync,
+    F: Fn(&mut S, usize, &mut [f64]) -> [bool; LANES] + Sync,
 {
-    let (n, points, l) = (plan.samples, plan.points, levels.len());
-    let padded = n.next_multiple_of(LANES);
-    let mut buffer = vec![0.0; padded * plan.chunk_points];
-    debug_assert_eq!(8 * buffer.len(), plan.buffer_bytes);
-    let mut ok = vec![false; padded];
-    let mut transposed = vec![0.0; points * l]; // time-major: levels of point t at t·l
-    let total = n * plan.passes;
+    let (n, points, width) = (plan.samples, plan.points, plan.chunk_points);
+    let padded = n.next_multiple_of(GROUP);
+    let stride = GROUP * width;
+    let mut buffers = [vec![0.0; padded * width], vec![0.0; padded * width]];
+    debug_assert_eq!(16 * buffers[0].len(), plan.buffer_bytes);
+    let mut states: Vec<Option<S>> = (0..padded / LANES).map(|_| None).collect();
+    let mut ok = vec![true; padded];
+    let total = n * plan.chunks;
     let done = AtomicUsize::new(0);
-    for pass in 0..plan.passes {
-        let start = pass * plan.chunk_points;
-        let end = (start + plan.chunk_points).min(points);
-        let width = end - start;
-        let blocks = &mut buffer[..padded * width];
-        blocks
-            .par_chunks_mut(LANES * width)
-            .zip(ok.par_chunks_mut(LANES))
-            .enumerate()
-            .for_each_init(&scratch, |scratch, (b, (block, flags))| {
-                simulate(scratch, b, start..end, block, flags);
-                let real = LANES.min(n - b * LANES);
-                flags[real..].fill(false);
-                // One call per simulation, as documented (the lanes finish together).
-                for _ in 0..real {
-                    progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-                }
-            });
-        let good: Vec<usize> = (0..n).filter(|&i| ok[i]).collect();
-        if good.is_empty() {
-            break;
-        }
-        let blocks = &buffer[..padded * width];
-        let g = plan.gather_columns;
-        let all_good = good.len() == n;
-        transposed[start * l..end * l]
-            .par_chunks_mut(g * l)
+
+    let simulate = |chunk: usize, buffer: &mut [f64], states: &mut [Option<S>], ok: &mut [bool]| {
+        let end = ((chunk + 1) * width).min(points);
+        let w = end - chunk * width;
+        buffer
+            .par_chunks_mut(stride)
+            .zip(states.par_chunks_mut(GROUP / LANES))
+            .zip(ok.par_chunks_mut(GROUP))
             .enumerate()
             .for_each_init(
-                || {
-                    let tracker = ColumnTracker::new(levels, good.len());
-                    (vec![0.0; good.len() * g], tracker)
-                },
-                |(columns, tracker), (chunk, out)| {
-                    let c0 = chunk * g;
-                    let cols = out.len() / l;
-                    let columns = &mut columns[..good.len() * cols];
-                    // columns[j·G + k]: sample good[k] at column c0 + j (G = good samples).
-                    if all_good {
-                        // Block by block: 8 contiguous values per column.
-                        for (b, block) in blocks.chunks_exact(LANES * width).enumerate() {
-                            let lanes = LANES.min(n - b * LANES);
-                            for j in 0..cols {
-                                let from = &block[(c0 + j) * LANES..(c0 + j) * LANES + lanes];
-                                let to = j * n + b * LANES;
-                                // + 0.0 turns −0.0 into +0.0: f64 order = key order.
-                                for (t, &f) in columns[to..to + lanes].iter_mut().zip(from) {
-                                    *t = f + 0.0;
-                                }
+                || vec![0.0; LANES * width],
+                |scratch, (g, ((group, states), flags))| {
+                    for (k, (state, flags)) in states
+                        .iter_mut()
+                        .zip(flags.chunks_exact_mut(LANES))
+                        .enumerate()
+                    {
+                        let b = g * (GROUP / LANES) + k;
+                        let state = state.get_or_insert_with(|| start(b));
+                        let good = advance(state, end, &mut scratch[..LANES * w]);
+                        for (flag, good) in flags.iter_mut().zip(good) {
+                            *flag &= good;
+                        }
+                        // Into the group's rows; + 0.0 turns −0.0 into +0.0, so that f64
+                        // order is the keys' order.
+                        for (row, values) in group
+                            .chunks_exact_mut(GROUP)
+                            .zip(scratch.chunks_exact(LANES))
+                        {
+                            for (to, v) in row[k * LANES..(k + 1) * LANES].iter_mut().zip(values) {
+                                *to = v + 0.0;
                             }
                         }
-                    } else {
-                        for (k, &i) in good.iter().enumerate() {
-                            let base = (i / LANES) * LANES * width + c0 * LANES + i % LANES;
-                            for j in 0..cols {
-                                columns[j * good.len() + k] = blocks[base + j * LANES] + 0.0;
-                            }
+                        let real = LANES.min(n.saturating_sub(b * LANES));
+                        if real > 0 {
+                            progress(done.fetch_add(real, Ordering::Relaxed) + real, total);
                         }
-                    }
-                    tracker.reset();
-                    let mut previous: Option<&[f64]> = None;
-                    for (j, column) in columns.chunks_exact(good.len()).enumerate() {
-                        let change = previous.map_or(f64::INFINITY, |p| {
-                            p.iter()
-                                .zip(column)
-                                .map(|(a, b)| (a - b).abs())
-                                .fold(0.0, f64::max)
-                        });
-                        tracker.percentiles(column, change, &mut out[j * l..(j + 1) * l]);
-                        previous = Some(column);
                     }
                 },
             );
+    };
+
+    simulate(0, &mut buffers[0], &mut states, &mut ok);
+    // Failures in the first chunk cost nothing: no percentile has been taken yet.
+    let good = ok[..n].iter().filter(|&&g| g).count();
+    if good == 0 {
+        ok.truncate(n);
+        return Ok(EngineOutput {
+            percentiles: vec![Vec::new(); levels.len()],
+            ok,
+        });
     }
-    let percentiles = (0..l)
-        .map(|k| (0..points).map(|t| transposed[t * l + k]).collect())
+    let mut trackers: Vec<LevelTracker> = levels
+        .iter()
+        .map(|&level| LevelTracker::new(level, good, padded))
         .collect();
+    let mut percentiles = vec![vec![0.0; points]; levels.len()];
+    let mut last = vec![f64::INFINITY; padded]; // the previous chunk's last column
+    let expected = ok.clone();
+    for chunk in 0..plan.chunks {
+        let (first, second) = buffers.split_at_mut(1);
+        let (current, next) = if chunk % 2 == 0 {
+            (&first[0], &mut second[0])
+        } else {
+            (&second[0], &mut first[0])
+        };
+        let t0 = chunk * width;
+        let w = (t0 + width).min(points) - t0;
+        rayon::join(
+            || {
+                trackers
+                    .par_iter_mut()
+                    .zip(percentiles.par_iter_mut())
+                    .for_each(|(tracker, out)| {
+                        tracker.chunk(current, stride, &last, &mut out[t0..t0 + w])
+                    });
+            },
+            || {
+                if chunk + 1 < plan.chunks {
+                    simulate(chunk + 1, next, &mut states, &mut ok);
+                }
+            },
+        );
+        if ok != expected {
+            ok.truncate(n);
+            return Err(Restart(ok));
+        }
+        for (to, group) in last
+            .chunks_exact_mut(GROUP)
+            .zip(current.chunks_exact(stride))
+        {
+            to.copy_from_slice(&group[(w - 1) * GROUP..w * GROUP]);
+        }
+    }
     ok.truncate(n);
-    EngineOutput { percentiles, ok }
+    Ok(EngineOutput { percentiles, ok })
 }
 
 #[cfg(test)]
@@ -206,14 +240,22 @@ mod tests {
 
     /// Response of sample i at time j: a_j + b_j·u with u ~ U(0, 1) from sample i's
     /// generator, so the q-th percentile is a_j + b_j·q/100.
-    fn linear(b: usize, range: std::ops::Range<usize>, out: &mut [f64], ok: &mut [bool]) {
-        for lane in 0..LANES {
-            let u: f64 = sample_rng(11, (b * LANES + lane) as u64).random();
-            for j in range.clone() {
-                out[(j - range.start) * LANES + lane] = j as f64 + (1.0 + j as f64) * u;
+    struct Linear {
+        block: usize,
+        next: usize,
+    }
+
+    fn linear(n: usize, state: &mut Linear, until: usize, out: &mut [f64]) -> [bool; LANES] {
+        let good = std::array::from_fn(|lane| state.block * LANES + lane < n);
+        for (lane, &ok) in good.iter().enumerate() {
+            let u: f64 = sample_rng(11, (state.block * LANES + lane) as u64).random();
+            for j in state.next..until {
+                let v = j as f64 + (1.0 + j as f64) * u;
+                out[(j - state.next) * LANES + lane] = if ok { v } else { f64::INFINITY };
             }
-            ok[lane] = true;
         }
+        state.next = until;
+        good
     }
 
     fn run_with(n: usize, threads: usize, budget: usize) -> (MemoryPlan, EngineOutput) {
@@ -228,11 +270,11 @@ mod tests {
                 &plan,
                 &levels,
                 &|_, _| {},
-                || (),
-                |_, b, r, o, k| linear(b, r, o, k),
+                |block| Linear { block, next: 0 },
+                |s, until, o| linear(n, s, until, o),
             )
         });
-        (plan, out)
+        (plan, out.ok().expect("no failures"))
     }
 
     /// The q-quantile estimate of N uniform draws has standard error √(q(1−q)/N)/f with
@@ -257,27 +299,71 @@ mod tests {
 
     #[test]
     fn chunking_and_threads_do_not_change_a_bit() {
-        let n = 300;
+        let n = 300; // not a multiple of LANES: the last block has padding lanes
         let (one, reference) = run_with(n, 1, 1 << 30);
-        assert_eq!(one.passes, 1);
-        for (threads, budget) in [(2, 8 * n * 7), (8, 8 * n), (3, 8 * n * 40)] {
+        assert_eq!(one.chunks, 1);
+        for (threads, budget) in [(2, 16 * 320 * 7), (8, 16 * 320), (3, 16 * 320 * 39)] {
             let (plan, out) = run_with(n, threads, budget);
-            let chunk = (budget / (8 * n.next_multiple_of(LANES))).max(1);
-            assert_eq!(plan.passes, 40usize.div_ceil(chunk));
+            let chunk = budget / (16 * 320); // 300 samples are 320 in groups of 64
+            assert_eq!(
+                (plan.chunk_points, plan.chunks),
+                (chunk, 40usize.div_ceil(chunk))
+            );
             assert_eq!(out.percentiles, reference.percentiles, "{threads} threads");
         }
     }
 
-    /// Paper-sized response, N = 100 000: the buffer and the whole plan stay far below
-    /// 1 GiB (the unchunked buffer alone would be 6.0 GB).
+    /// Samples 3 and 77 fail at time 25 (in the third chunk of 10): the run asks for a
+    /// restart naming exactly them; run again with them failed from the start, it gives
+    /// the percentiles of the other samples, as a run without them would.
+    #[test]
+    fn a_late_failure_asks_for_a_restart_without_the_sample() {
+        let (n, levels) = (200, [5.0, 50.0, 95.0]);
+        let plan = MemoryPlan::new(n, 40, 1, 3, 16 * 256 * 10);
+        assert_eq!(plan.chunks, 4);
+        let late = |i: usize| i == 3 || i == 77;
+        let run_without = |failed: &(dyn Fn(usize) -> bool + Sync), late_too: bool| {
+            run(
+                &plan,
+                &levels,
+                &|_, _| {},
+                |block| Linear { block, next: 0 },
+                |s, until, o| {
+                    let b = s.block;
+                    let mut good = linear(n, s, until, o);
+                    for (lane, g) in good.iter_mut().enumerate() {
+                        let i = b * LANES + lane;
+                        if failed(i) || (late_too && late(i) && until > 25) {
+                            *g = false;
+                            (0..o.len() / LANES).for_each(|t| o[t * LANES + lane] = f64::INFINITY);
+                        }
+                    }
+                    good
+                },
+            )
+        };
+        let Err(Restart(ok)) = run_without(&|_| false, true) else {
+            panic!("a failure after the first chunk must ask for a restart");
+        };
+        assert_eq!((0..n).filter(|&i| !ok[i]).collect::<Vec<_>>(), [3, 77]);
+        let again = run_without(&|i| i < n && !ok[i], true)
+            .ok()
+            .expect("no new failure");
+        let reference = run_without(&late, false).ok().expect("no failure");
+        assert_eq!(again.percentiles, reference.percentiles);
+        assert_eq!(again.ok, ok);
+    }
+
+    /// Paper-sized response, N = 100 000: the whole plan stays far below 1 GiB (the
+    /// responses alone would be 6.0 GB), on the default budget or a tiny one.
     #[test]
     fn memory_for_a_hundred_thousand_samples_is_bounded() {
         let default_budget = crate::McOptions::default().max_buffer_bytes;
-        for threads in [1, 2, 8] {
-            let plan = MemoryPlan::new(100_000, 7501, threads, 3, default_budget);
-            assert!(plan.buffer_bytes <= default_budget);
-            assert!(plan.peak_bytes < 300 << 20, "{plan:?}");
-            assert_eq!(plan.passes, 23);
+        for budget in [default_budget, 16 * 100_032] {
+            let plan = MemoryPlan::new(100_000, 7501, 2, 3, budget);
+            assert!(plan.buffer_bytes <= budget);
+            assert!(plan.peak_bytes < 128 << 20, "{plan:?}");
+            assert_eq!(plan.chunks, 7501usize.div_ceil(plan.chunk_points));
         }
     }
 }

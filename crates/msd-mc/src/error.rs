@@ -62,16 +62,16 @@ pub enum McError {
         /// Its value (negative or not finite), or the asymmetry.
         value: f64,
     },
-    /// The memory budget cannot hold even one time column of N samples.
+    /// The memory budget cannot hold the two chunk buffers of one time column each.
     #[error(
-        "memory budget {budget} bytes is below one time column of {samples} samples ({needed} bytes)"
+        "memory budget {budget} bytes is below two time columns of {samples} samples ({needed} bytes)"
     )]
     BudgetTooSmall {
         /// The budget.
         budget: usize,
         /// N.
         samples: usize,
-        /// Bytes for one column: 8·N.
+        /// Bytes for two columns: 16·N, N rounded up to a multiple of 64.
         needed: usize,
     },
     /// Measurements do not match the excitation's grid.

@@ -40,6 +40,7 @@ mod options;
 mod quantile;
 mod sobol;
 mod sobol_msd;
+mod tracker;
 
 pub use band::{Band, monte_carlo_band, monte_carlo_band_with_progress};
 pub use draw::{MAX_REDRAWS, sample_rng};

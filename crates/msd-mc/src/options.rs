@@ -77,7 +77,7 @@ impl Sampling {
 ///
 /// By default the paper's: N = 1000, p = 10 % uniform, percentiles 5/50/95 (the 90 %
 /// band), 2 threads, seed 0, the paper's ode45 (RelTol 1e-6, AbsTol 1e-9) from rest, and
-/// a 256 MiB budget for the response buffer.
+/// a 256 MiB budget for the chunk buffers.
 ///
 /// ```
 /// use msd_mc::McOptions;
@@ -110,8 +110,9 @@ pub struct McOptions {
     pub backend: Backend,
     /// Initial state of every simulation. By default at rest.
     pub initial_state: InitialState,
-    /// Upper bound in bytes of the N × T response buffer; beyond it the time axis is
-    /// processed in chunks, re-simulating per chunk. By default 256 MiB.
+    /// Upper bound in bytes of the two N × chunk buffers the responses stream through
+    /// (the engine wants about 1 MiB; a smaller budget means shorter chunks, never a
+    /// different result). At least 16·N (N rounded up to 64). By default 256 MiB.
     pub max_buffer_bytes: usize,
 }
 
@@ -142,7 +143,7 @@ impl McOptions {
         self.sampling.validate()?;
         validate_percentiles(&self.percentiles)?;
         self.backend.validate()?;
-        let needed = 8 * self.samples;
+        let needed = 16 * self.samples.next_multiple_of(crate::engine::GROUP);
         if self.max_buffer_bytes < needed {
             return Err(McError::BudgetTooSmall {
                 budget: self.max_buffer_bytes,

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 
 /// Where the `level` percentile of n sorted values lies: the 0-based rank of the lower
 /// neighbour and the interpolation fraction towards the next.
-fn position(n: usize, level: f64) -> (usize, f64) {
+pub(crate) fn position(n: usize, level: f64) -> (usize, f64) {
     let h = n as f64 * level / 100.0 - 0.5;
     if h <= 0.0 {
         (0, 0.0)
@@ -58,111 +58,8 @@ pub(crate) fn percentiles_of_keys(keys: &mut [i64], levels: &[f64], out: &mut [f
     }
 }
 
-/// Percentiles of successive time columns, exact, using the previous column to narrow
-/// the search.
-///
-/// Order statistics are 1-Lipschitz in the sup norm: if no sample moves by more than D
-/// between two columns, no order statistic does either. So the r-th smallest value of a
-/// column lies within D of the previous column's r-th smallest, and one pass that counts
-/// the values below that window and collects the few inside finds it by a selection among
-/// the few. The pass's counts prove the window held the wanted ranks; if not (the first
-/// column, or rounding at the window's edge) the column falls back to a full selection.
-/// Either way the result is exactly that of [`percentiles_of_keys`].
-pub(crate) struct ColumnTracker {
-    /// Per level: the rank of its lower order statistic and the interpolation fraction.
-    ranks: Vec<(usize, f64)>,
-    /// Per level: the previous column's values at the level's rank and the next rank.
-    previous: Vec<(f64, f64)>,
-    has_previous: bool,
-    /// Per level: the search window (as keys) and the counts of one pass.
-    windows: Vec<(f64, f64)>,
-    below: Vec<usize>,
-    inside: Vec<usize>,
-    /// Per level: candidate keys of the current column.
-    candidates: Vec<Vec<i64>>,
-    keys: Vec<i64>,
-}
-
-impl ColumnTracker {
-    /// A tracker for `levels` (ascending, in [0, 100]) and columns of `n` values.
-    pub(crate) fn new(levels: &[f64], n: usize) -> Self {
-        let l = levels.len();
-        Self {
-            ranks: levels.iter().map(|&level| position(n, level)).collect(),
-            previous: vec![(0.0, 0.0); l],
-            has_previous: false,
-            windows: vec![(0.0, 0.0); l],
-            below: vec![0; l],
-            inside: vec![0; l],
-            candidates: vec![vec![0; n]; l],
-            keys: vec![0; n],
-        }
-    }
-
-    /// Forgets the previous column (the next column is searched in full).
-    pub(crate) fn reset(&mut self) {
-        self.has_previous = false;
-    }
-
-    /// The percentiles of `column` (finite values, no −0.0 — add 0.0 to turn it into
-    /// +0.0 — the same samples in the same order as the previous column given, whose
-    /// largest per-sample change to this one is `max_change`) into `out`. Allocates
-    /// nothing.
-    pub(crate) fn percentiles(&mut self, column: &[f64], max_change: f64, out: &mut [f64]) {
-        debug_assert!(column.len() == self.keys.len() && out.len() == self.ranks.len());
-        debug_assert!(
-            column
-                .iter()
-                .all(|v| v.is_finite() && v.to_bits() != (-0.0f64).to_bits())
-        );
-        if self.has_previous {
-            for (window, &(low, high)) in self.windows.iter_mut().zip(&self.previous) {
-                *window = (low - max_change, high + max_change);
-            }
-            // Counting is a vectorised compare per level; collecting visits the few
-            // values inside a window (a rarely taken branch). Without −0.0 (see above),
-            // f64 order is the keys' order.
-            for (l, &(lo, hi)) in self.windows.iter().enumerate() {
-                self.below[l] = column.iter().filter(|&&v| v < lo).count();
-                let candidates = &mut self.candidates[l];
-                let mut inside = 0;
-                for &v in column {
-                    if lo <= v && v <= hi {
-                        candidates[inside] = key(v);
-                        inside += 1;
-                    }
-                }
-                self.inside[l] = inside;
-            }
-        }
-        let mut keys_ready = false;
-        for (l, &(rank, fraction)) in self.ranks.iter().enumerate() {
-            let needed = if fraction > 0.0 { rank + 1 } else { rank };
-            let (b, m) = (self.below[l], self.inside[l]);
-            let (x, next) = if self.has_previous && b <= rank && needed < b + m {
-                order_statistics(&mut self.candidates[l][..m], rank - b, needed - b)
-            } else {
-                if !keys_ready {
-                    for (k, &v) in self.keys.iter_mut().zip(column) {
-                        *k = key(v);
-                    }
-                    keys_ready = true;
-                }
-                order_statistics(&mut self.keys, rank, needed)
-            };
-            out[l] = if fraction > 0.0 {
-                x + fraction * (next - x)
-            } else {
-                x
-            };
-            self.previous[l] = (x, next);
-        }
-        self.has_previous = true;
-    }
-}
-
 /// The values of ranks `rank` and `next` (`rank ≤ next ≤ rank + 1`) among `keys`.
-fn order_statistics(keys: &mut [i64], rank: usize, next: usize) -> (f64, f64) {
+pub(crate) fn order_statistics(keys: &mut [i64], rank: usize, next: usize) -> (f64, f64) {
     let x = *keys.select_nth_unstable(rank).1;
     let y = if next == rank {
         x
@@ -240,47 +137,6 @@ mod tests {
         let expected = [1.0, 1.0, 1.5, 5.5, 7.7, 10.0, 10.0];
         for (a, b) in out.iter().zip(expected) {
             assert!((a - b).abs() < 1e-12, "{out:?}");
-        }
-    }
-
-    /// The tracker gives exactly the full selection's results, column after column,
-    /// whether the columns move slowly (narrow windows), jump (fallback), or tie.
-    #[test]
-    fn tracker_equals_full_selection() {
-        use rand::{Rng, SeedableRng};
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        let (n, levels) = (257, [0.0, 5.0, 50.0, 72.5, 95.0, 100.0]);
-        let mut tracker = ColumnTracker::new(&levels, n);
-        let mut column: Vec<f64> = (0..n).map(|_| rng.random::<f64>()).collect();
-        let mut previous = column.clone();
-        for step in 0..300 {
-            let scale = match step % 50 {
-                0 => 10.0, // a jump
-                1 => 0.0,  // no change at all
-                _ => 1e-3,
-            };
-            for v in &mut column {
-                *v += scale * (rng.random::<f64>() - 0.5);
-                if step % 97 == 3 {
-                    *v = (*v * 4.0).round() / 4.0; // heavy ties
-                }
-                *v += 0.0; // −0.0 → +0.0, as the engine gathers them
-            }
-            let change = column
-                .iter()
-                .zip(&previous)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            let mut fast = [0.0; 6];
-            tracker.percentiles(&column, change, &mut fast);
-            let mut full = [0.0; 6];
-            percentiles(&column, &levels, &mut full);
-            assert_eq!(
-                fast.map(f64::to_bits),
-                full.map(f64::to_bits),
-                "step {step}"
-            );
-            previous.clone_from(&column);
         }
     }
 

@@ -66,14 +66,18 @@ fn assert_same(a: &Band, b: &Band) {
 #[test]
 fn identical_for_1_2_and_8_threads_any_chunking_and_repeated_runs() {
     let reference = paper_band(1, 5, 256 << 20);
-    assert_eq!(reference.memory.passes, 1);
     for threads in [2, 8] {
         assert_same(&reference, &paper_band(threads, 5, 256 << 20));
     }
-    // 1000 columns per pass: 8 passes over the 7501 points.
-    let chunked = paper_band(2, 5, 8 * 200 * 1000);
-    assert_eq!(chunked.memory.passes, 8);
+    // 100 columns per chunk (200 samples are 256 in groups of 64): 76 chunks, where the
+    // default makes 30; and one column per chunk: 7501.
+    assert_eq!(reference.memory.chunks, 30);
+    let chunked = paper_band(2, 5, 16 * 256 * 100);
+    assert_eq!(chunked.memory.chunks, 76);
     assert_same(&reference, &chunked);
+    let column_by_column = paper_band(2, 5, 16 * 256);
+    assert_eq!(column_by_column.memory.chunks, 7501);
+    assert_same(&reference, &column_by_column);
     assert_same(&reference, &paper_band(1, 5, 256 << 20));
     let other_seed = paper_band(2, 6, 256 << 20);
     assert_ne!(reference.percentiles, other_seed.percentiles);
@@ -123,24 +127,27 @@ fn non_physical_covariance_draws_are_redrawn() {
     assert!(band.natural_frequency_hz.std < 1e-12); // m and k fixed (rounding only)
 }
 
+/// Progress counts samples × chunks: one call per block of 8 samples per chunk, ending
+/// at the total.
 #[test]
-fn progress_reports_every_simulation() {
+fn progress_reports_every_block_and_chunk() {
     let step = Excitation::from_samples(0.0, 0.01, vec![1.0; 100]).unwrap();
     let options = McOptions {
-        max_buffer_bytes: 8 * 300 * 30, // 30 columns per pass: 4 passes
+        max_buffer_bytes: 16 * 320 * 30, // 300 samples are 320 in groups: 30 columns a chunk
         ..exact(300)
     };
     let calls = AtomicUsize::new(0);
     let last = AtomicUsize::new(0);
     let progress = |done: usize, total: usize| {
         assert_eq!(total, 1200);
+        assert!(done <= total);
         calls.fetch_add(1, Ordering::Relaxed);
         last.fetch_max(done, Ordering::Relaxed);
     };
     let band = monte_carlo_band_with_progress(&Parameters::PAPER, &step, None, &options, &progress)
         .unwrap();
-    assert_eq!(band.memory.passes, 4);
-    assert_eq!(calls.into_inner(), 1200);
+    assert_eq!(band.memory.chunks, 4);
+    assert_eq!(calls.into_inner(), 300usize.div_ceil(8) * 4);
     assert_eq!(last.into_inner(), 1200);
 }
 
@@ -151,7 +158,7 @@ fn display_names_the_run() {
     let text = band.to_string();
     assert!(
         text.starts_with(
-            "Monte Carlo band: 50 samples (0 failed), 2 threads, exact backend, 1 pass(es)"
+            "Monte Carlo band: 50 samples (0 failed), 2 threads, exact backend, 1 time chunk(s)"
         ),
         "{text}"
     );

@@ -83,11 +83,11 @@ fn bad_band_options_are_rejected_with_their_reason() {
         McError::NotPositiveSemidefinite { pivot: 1, .. }
     ));
     assert_eq!(
-        with(&|o| o.max_buffer_bytes = 79),
+        with(&|o| o.max_buffer_bytes = 1023),
         McError::BudgetTooSmall {
-            budget: 79,
+            budget: 1023,
             samples: 10,
-            needed: 80
+            needed: 1024
         }
     );
 }
