@@ -11,12 +11,14 @@
 //! thread count. Work runs on a local rayon pool of the requested size (2 by default),
 //! never on the global pool.
 //!
-//! ## Memory
-//! Percentiles are exact (MATLAB `prctile` convention). The N × T responses are kept in
-//! a buffer of at most [`McOptions::max_buffer_bytes`] (256 MiB by default); when
-//! 8·N·T exceeds it, the time axis is processed in chunks and every sample is
-//! re-simulated once per chunk ([`MemoryPlan`]). The paper's N = 1000 × 7501 points is
-//! one pass (60 MB); N = 100 000 takes 23 passes with a peak of about 267 MiB.
+//! ## Memory and speed
+//! Percentiles are exact (MATLAB `prctile` convention) and no N × T matrix of responses
+//! is ever stored: every sample is simulated once, its simulator's state kept, and the
+//! time axis is walked in cache-sized chunks ([`MemoryPlan`]) whose percentiles are
+//! tracked level by level while the next chunk is simulated. The paper's N = 1000 × 7501
+//! points needs about 2 MiB of buffers and 0.5 MiB of states; N = 100 000 about
+//! 75 MiB in all. [`McOptions::max_buffer_bytes`] bounds the buffers (a smaller budget
+//! means shorter chunks, never a different result).
 //!
 //! ```
 //! use msd_ident::{Backend, PaperExperiment, Parameters};
