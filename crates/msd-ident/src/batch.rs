@@ -190,11 +190,42 @@ impl BatchRun<'_> {
         until: usize,
         out: &mut [f64],
     ) -> [bool; LANES] {
+        self.advance_strided(batch, until, out, LANES)
+    }
+
+    /// As [`advance`](Self::advance), writing sample t of lane l to
+    /// `out[(t − next_sample)·stride + l]`: the lanes' values at one time are
+    /// [`LANES`] contiguous values, `stride` (≥ [`LANES`]) apart from one time to the
+    /// next, so a caller can write straight into a wider time-major table.
+    ///
+    /// ```
+    /// use msd_ident::{Backend, BatchSimulator, Excitation, InitialState, Parameters, LANES};
+    /// let input = Excitation::from_samples(0.0, 0.01, vec![1.0; 100])?;
+    /// let batch = BatchSimulator::new(&input, &Backend::EXACT)?;
+    /// let sets = [Some(Parameters::PAPER); LANES];
+    /// let mut table = vec![0.0; 100 * 2 * LANES]; // two runs side by side
+    /// batch.start(&sets, InitialState::REST).advance_strided(&batch, 100, &mut table[LANES..], 2 * LANES);
+    /// let mut alone = vec![0.0; 100 * LANES];
+    /// batch.start(&sets, InitialState::REST).advance(&batch, 100, &mut alone);
+    /// assert!((0..100).all(|t| table[t * 2 * LANES + LANES] == alone[t * LANES]));
+    /// # Ok::<(), msd_ident::IdentError>(())
+    /// ```
+    ///
+    /// # Panics
+    /// If `stride` < [`LANES`], or as [`advance`](Self::advance).
+    pub fn advance_strided(
+        &mut self,
+        batch: &BatchSimulator<'_>,
+        until: usize,
+        out: &mut [f64],
+        stride: usize,
+    ) -> [bool; LANES] {
+        assert!(stride >= LANES, "stride below {LANES}");
         let (start, until) = (self.next, until.min(batch.samples()).max(self.next));
-        assert!(
-            out.len() >= (until - start) * LANES,
-            "output buffer too short"
-        );
+        let needed = (until - start)
+            .checked_sub(1)
+            .map_or(0, |last| last * stride + LANES);
+        assert!(out.len() >= needed, "output buffer too short");
         let ok = match (&mut self.lanes, &batch.kind) {
             (Lanes::Exact { stepper: None, .. }, Kind::Exact { .. }) => [false; LANES],
             (
@@ -205,7 +236,7 @@ impl BatchRun<'_> {
                 Kind::Exact { schedule, .. },
             ) => {
                 let mut store = |t: usize, x: &[[f64; LANES]; 2]| {
-                    let at = (t - start) * LANES;
+                    let at = (t - start) * stride;
                     out[at..at + LANES].copy_from_slice(&x[0]);
                 };
                 if start == 0 && until > 0 {
@@ -226,7 +257,7 @@ impl BatchRun<'_> {
                 };
                 let mut rhs = ode45_rhs(p, batch.excitation);
                 let done = stepper.advance(&mut rhs, until, |t, y| {
-                    out[(t - start) * LANES + lane] = y[0]
+                    out[(t - start) * stride + lane] = y[0]
                 });
                 if done.is_err() {
                     lanes[lane] = None;
@@ -237,7 +268,7 @@ impl BatchRun<'_> {
         };
         for (lane, _) in ok.iter().enumerate().filter(|(_, good)| !**good) {
             for t in 0..until - start {
-                out[t * LANES + lane] = f64::INFINITY;
+                out[t * stride + lane] = f64::INFINITY;
             }
         }
         self.next = until;

@@ -167,32 +167,31 @@ pub fn monte_carlo_band_with_progress(
             .map(|i| sampler.draw(options.seed, i))
             .collect()
     });
-    let (draws, out) = pool.install(|| {
-        let mut draws = drawn.clone();
-        // A sample that fails after its values entered a percentile (an overflow or a
-        // solver failure late in the record: never for a physical plant on a sane
-        // input) is left out and the band run again, until no sample fails late.
-        loop {
-            let lanes = |b: usize| &draws[(b * LANES).min(n)..((b + 1) * LANES).min(n)];
-            let run = engine::run(
-                &plan,
-                levels,
-                progress,
-                |b| batch.start(lanes(b), initial),
-                |run, until, out| run.advance(&batch, until, out),
-            );
-            match run {
-                Ok(out) => break (draws, out),
-                Err(Restart(ok)) => {
-                    for (draw, ok) in draws.iter_mut().zip(ok) {
-                        if !ok {
-                            *draw = None;
-                        }
+    // A sample that fails after its values entered a percentile (an overflow or a
+    // solver failure late in the record: never for a physical plant on a sane input)
+    // is left out and the band run again, until no sample fails late.
+    let mut draws = drawn.clone();
+    let out = loop {
+        let lanes = |b: usize| &draws[(b * LANES).min(n)..((b + 1) * LANES).min(n)];
+        let run = engine::run(
+            &pool,
+            &plan,
+            levels,
+            progress,
+            |b| batch.start(lanes(b), initial),
+            |run, until, out, stride| run.advance_strided(&batch, until, out, stride),
+        );
+        match run {
+            Ok(out) => break out,
+            Err(Restart(ok)) => {
+                for (draw, ok) in draws.iter_mut().zip(ok) {
+                    if !ok {
+                        *draw = None;
                     }
                 }
             }
         }
-    });
+    };
     let good: Vec<Parameters> = (0..n)
         .filter(|&i| out.ok[i])
         .filter_map(|i| draws[i])

@@ -17,10 +17,11 @@
 //! percentiles of a level are computed in column order by one task, so the result is bit-for-bit
 //! the same for any thread count and any chunking.
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, RwLock};
 
+use crate::barrier::SpinBarrier;
 use crate::tracker::LevelTracker;
 pub(crate) use msd_ident::LANES;
 
@@ -97,6 +98,9 @@ impl MemoryPlan {
     }
 }
 
+/// A level's tracker and its percentile at every time.
+type Level = (LevelTracker, Vec<f64>);
+
 /// The percentiles (level-major) over the good samples and which samples were good.
 pub(crate) struct EngineOutput {
     pub(crate) percentiles: Vec<Vec<f64>>,
@@ -108,12 +112,22 @@ pub(crate) struct EngineOutput {
 pub(crate) struct Restart(pub(crate) Vec<bool>);
 
 /// Runs the band's simulations and percentiles. `start(b)` makes the state of block b
-/// (samples b·LANES …); `advance(state, until, out)` produces its samples up to time
-/// index `until` into `out[(t − from)·LANES + lane]` and returns which lanes are still
-/// good (failed lanes' values must be +∞; lanes past the last sample must fail).
+/// (samples b·LANES …); `advance(state, until, out, stride)` produces its samples up
+/// to time index `until` into `out[(t − from)·stride + lane]` and returns which lanes
+/// are still good (failed lanes' values must be +∞; lanes past the last sample must fail).
 /// Returns the `levels` percentiles over the samples good at the end, or a
 /// [`Restart`] when a sample failed after its values entered a percentile.
+///
+/// Runs on every thread of `pool` at once ([`rayon::ThreadPool::broadcast`]): in
+/// phase p the workers take, one at a time from a shared counter, the level trackers
+/// of chunk p − 1 and the simulation groups of chunk p, then meet at a
+/// [`SpinBarrier`]. A panic in one worker stops the others and is resumed here.
+///
+/// Nothing else may run on `pool` meanwhile (the band's pool is its own): a worker
+/// busy elsewhere would keep the others waiting at the barrier, and two broadcasts
+/// on one pool would wait on each other for ever. Call it from outside the pool.
 pub(crate) fn run<S, I, F>(
+    pool: &rayon::ThreadPool,
     plan: &MemoryPlan,
     levels: &[f64],
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -123,112 +137,144 @@ pub(crate) fn run<S, I, F>(
 where
     S: Send,
     I: Fn(usize) -> S + Sync,
-    F: Fn(&mut S, usize, &mut [f64]) -> [bool; LANES] + Sync,
+    F: Fn(&mut S, usize, &mut [f64], usize) -> [bool; LANES] + Sync,
 {
-    let (n, points, width) = (plan.samples, plan.points, plan.chunk_points);
+    let (n, points, width, chunks) = (plan.samples, plan.points, plan.chunk_points, plan.chunks);
     let padded = n.next_multiple_of(GROUP);
-    let stride = GROUP * width;
-    let mut buffers = [vec![0.0; padded * width], vec![0.0; padded * width]];
-    debug_assert_eq!(16 * buffers[0].len(), plan.buffer_bytes);
-    let mut states: Vec<Option<S>> = (0..padded / LANES).map(|_| None).collect();
-    let mut ok = vec![true; padded];
-    let total = n * plan.chunks;
-    let done = AtomicUsize::new(0);
+    let (groups, l) = (padded / GROUP, levels.len());
+    let per_group = GROUP / LANES;
+    let states: Vec<Mutex<Vec<Option<S>>>> = (0..groups)
+        .map(|_| Mutex::new((0..per_group).map(|_| None).collect()))
+        .collect();
+    // Two chunk buffers, a region per group laid out [t][sample]; chunk c in buffer c % 2.
+    let buffers: [Vec<RwLock<Vec<f64>>>; 2] = std::array::from_fn(|_| {
+        (0..groups)
+            .map(|_| RwLock::new(vec![0.0; GROUP * width]))
+            .collect()
+    });
+    debug_assert_eq!(16 * groups * GROUP * width, plan.buffer_bytes);
+    let ok: Vec<AtomicBool> = (0..padded).map(|_| AtomicBool::new(true)).collect();
+    // Per level: its tracker (made once the first chunk has settled the good samples)
+    // and its percentiles.
+    let trackers: Vec<Mutex<Option<Level>>> = (0..l).map(|_| Mutex::new(None)).collect();
+    let (restart, no_good) = (AtomicBool::new(false), AtomicBool::new(false));
+    // The first phase in which a reason to stop arose. After barrier p the workers stop
+    // if it is ≤ p: a worker already in phase p + 1 may raise it, but then with p + 1,
+    // so that every worker takes the same decision at every barrier.
+    let stop = AtomicUsize::new(usize::MAX);
+    let (total, done) = (n * chunks, AtomicUsize::new(0));
 
-    let simulate = |chunk: usize, buffer: &mut [f64], states: &mut [Option<S>], ok: &mut [bool]| {
-        let end = ((chunk + 1) * width).min(points);
-        let w = end - chunk * width;
-        buffer
-            .par_chunks_mut(stride)
-            .zip(states.par_chunks_mut(GROUP / LANES))
-            .zip(ok.par_chunks_mut(GROUP))
-            .enumerate()
-            .for_each_init(
-                || vec![0.0; LANES * width],
-                |scratch, (g, ((group, states), flags))| {
-                    for (k, (state, flags)) in states
-                        .iter_mut()
-                        .zip(flags.chunks_exact_mut(LANES))
-                        .enumerate()
-                    {
-                        let b = g * (GROUP / LANES) + k;
-                        let state = state.get_or_insert_with(|| start(b));
-                        let good = advance(state, end, &mut scratch[..LANES * w]);
-                        for (flag, good) in flags.iter_mut().zip(good) {
-                            *flag &= good;
-                        }
-                        // Into the group's rows; + 0.0 turns −0.0 into +0.0, so that f64
-                        // order is the keys' order.
-                        for (row, values) in group
-                            .chunks_exact_mut(GROUP)
-                            .zip(scratch.chunks_exact(LANES))
-                        {
-                            for (to, v) in row[k * LANES..(k + 1) * LANES].iter_mut().zip(values) {
-                                *to = v + 0.0;
-                            }
-                        }
-                        let real = LANES.min(n.saturating_sub(b * LANES));
-                        if real > 0 {
-                            progress(done.fetch_add(real, Ordering::Relaxed) + real, total);
-                        }
-                    }
-                },
-            );
+    // Phase p: the trackers of chunk p − 1 (p ≥ 1), then the groups of chunk p (p < chunks);
+    // items are numbered across phases, phase p's from bases[p].
+    let trackers_in = |p: usize| if p >= 1 { l } else { 0 };
+    let groups_in = |p: usize| if p < chunks { groups } else { 0 };
+    let bases: Vec<usize> = std::iter::once(0)
+        .chain((0..=chunks).scan(0, |sum, p| {
+            *sum += trackers_in(p) + groups_in(p);
+            Some(*sum)
+        }))
+        .collect();
+    let span = |chunk: usize| {
+        (
+            chunk * width,
+            ((chunk + 1) * width).min(points) - chunk * width,
+        )
     };
 
-    simulate(0, &mut buffers[0], &mut states, &mut ok);
-    // Failures in the first chunk cost nothing: no percentile has been taken yet.
-    let good = ok[..n].iter().filter(|&&g| g).count();
-    if good == 0 {
-        ok.truncate(n);
-        return Ok(EngineOutput {
-            percentiles: vec![Vec::new(); levels.len()],
-            ok,
-        });
-    }
-    let mut trackers: Vec<LevelTracker> = levels
-        .iter()
-        .map(|&level| LevelTracker::new(level, good, padded))
-        .collect();
-    let mut percentiles = vec![vec![0.0; points]; levels.len()];
-    let mut last = vec![f64::INFINITY; padded]; // the previous chunk's last column
-    let expected = ok.clone();
-    for chunk in 0..plan.chunks {
-        let (first, second) = buffers.split_at_mut(1);
-        let (current, next) = if chunk % 2 == 0 {
-            (&first[0], &mut second[0])
-        } else {
-            (&second[0], &mut first[0])
-        };
-        let t0 = chunk * width;
-        let w = (t0 + width).min(points) - t0;
-        rayon::join(
-            || {
-                trackers
-                    .par_iter_mut()
-                    .zip(percentiles.par_iter_mut())
-                    .for_each(|(tracker, out)| {
-                        tracker.chunk(current, stride, &last, &mut out[t0..t0 + w])
-                    });
-            },
-            || {
-                if chunk + 1 < plan.chunks {
-                    simulate(chunk + 1, next, &mut states, &mut ok);
+    let simulate = |chunk: usize, g: usize| {
+        let (t0, w) = span(chunk);
+        let mut states = states[g].lock().expect("no worker panicked");
+        let mut buffer = buffers[chunk % 2][g].write().expect("no worker panicked");
+        for (k, state) in states.iter_mut().enumerate() {
+            let b = g * per_group + k;
+            let state = state.get_or_insert_with(|| start(b));
+            // Straight into the group's rows: sample t of lane l at [t·GROUP + k·LANES + l].
+            let good = advance(state, t0 + w, &mut buffer[k * LANES..], GROUP);
+            for (flag, good) in ok[b * LANES..(b + 1) * LANES].iter().zip(good) {
+                // A failure in the first chunk is free: no percentile has been taken.
+                if !good && flag.swap(false, Ordering::Relaxed) && chunk > 0 {
+                    restart.store(true, Ordering::Relaxed);
+                    stop.fetch_min(chunk, Ordering::Relaxed); // phase `chunk`
                 }
-            },
-        );
-        if ok != expected {
-            ok.truncate(n);
-            return Err(Restart(ok));
+            }
+            let real = LANES.min(n.saturating_sub(b * LANES));
+            if real > 0 {
+                progress(done.fetch_add(real, Ordering::Relaxed) + real, total);
+            }
         }
-        for (to, group) in last
-            .chunks_exact_mut(GROUP)
-            .zip(current.chunks_exact(stride))
-        {
-            to.copy_from_slice(&group[(w - 1) * GROUP..w * GROUP]);
+    };
+    let track = |chunk: usize, k: usize| {
+        let mut slot = trackers[k].lock().expect("no worker panicked");
+        if slot.is_none() {
+            // The flags are settled: the first chunk is done.
+            let good = ok[..n].iter().filter(|f| f.load(Ordering::Relaxed)).count();
+            if good == 0 {
+                no_good.store(true, Ordering::Relaxed);
+                stop.fetch_min(chunk + 1, Ordering::Relaxed); // phase `chunk + 1`
+                return;
+            }
+            *slot = Some((
+                LevelTracker::new(levels[k], good, padded),
+                vec![0.0; points],
+            ));
         }
+        let (tracker, out) = slot.as_mut().expect("made above");
+        let guards: Vec<_> = buffers[chunk % 2]
+            .iter()
+            .map(|b| b.read().expect("no worker panicked"))
+            .collect();
+        let regions: Vec<&[f64]> = guards.iter().map(|g| g.as_slice()).collect();
+        let (t0, w) = span(chunk);
+        tracker.chunk(&regions, &mut out[t0..t0 + w]);
+    };
+
+    let next = AtomicUsize::new(0);
+    let barrier = SpinBarrier::new(pool.current_num_threads());
+    let panicked: Mutex<Option<Box<dyn std::any::Any + Send>>> = Mutex::new(None);
+    let worker = || {
+        let mut held = None; // an item claimed for a later phase
+        for p in 0..=chunks {
+            loop {
+                let i = held
+                    .take()
+                    .unwrap_or_else(|| next.fetch_add(1, Ordering::Relaxed));
+                if i >= bases[p + 1] {
+                    held = Some(i);
+                    break;
+                }
+                match i - bases[p] {
+                    k if k < trackers_in(p) => track(p - 1, k),
+                    j => simulate(p, j - trackers_in(p)),
+                }
+            }
+            if !barrier.wait() || stop.load(Ordering::Relaxed) <= p {
+                return;
+            }
+        }
+    };
+    pool.broadcast(|_| {
+        if let Err(payload) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(worker)) {
+            barrier.abort();
+            panicked
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get_or_insert(payload);
+        }
+    });
+    if let Some(payload) = panicked.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        std::panic::resume_unwind(payload);
     }
-    ok.truncate(n);
+    let ok: Vec<bool> = ok[..n].iter().map(|f| f.load(Ordering::Relaxed)).collect();
+    if restart.into_inner() {
+        return Err(Restart(ok));
+    }
+    let percentiles = trackers
+        .into_iter()
+        .map(|t| {
+            let slot = t.into_inner().expect("no worker panicked");
+            slot.map_or_else(Vec::new, |(_, out)| out)
+        })
+        .collect();
     Ok(EngineOutput { percentiles, ok })
 }
 
@@ -245,17 +291,53 @@ mod tests {
         next: usize,
     }
 
-    fn linear(n: usize, state: &mut Linear, until: usize, out: &mut [f64]) -> [bool; LANES] {
+    fn linear(
+        n: usize,
+        state: &mut Linear,
+        until: usize,
+        out: &mut [f64],
+        stride: usize,
+    ) -> [bool; LANES] {
         let good = std::array::from_fn(|lane| state.block * LANES + lane < n);
         for (lane, &ok) in good.iter().enumerate() {
             let u: f64 = sample_rng(11, (state.block * LANES + lane) as u64).random();
             for j in state.next..until {
                 let v = j as f64 + (1.0 + j as f64) * u;
-                out[(j - state.next) * LANES + lane] = if ok { v } else { f64::INFINITY };
+                out[(j - state.next) * stride + lane] = if ok { v } else { f64::INFINITY };
             }
         }
         state.next = until;
         good
+    }
+
+    /// The engine on [`linear`], sample i failing from the stretch ending at `until`
+    /// where `fails(i, until)`.
+    fn run_failing(
+        pool: &rayon::ThreadPool,
+        plan: &MemoryPlan,
+        levels: &[f64],
+        n: usize,
+        fails: &(dyn Fn(usize, usize) -> bool + Sync),
+    ) -> Result<EngineOutput, Restart> {
+        let start = |block| Linear { block, next: 0 };
+        run(
+            pool,
+            plan,
+            levels,
+            &|_, _| {},
+            start,
+            |s, until, o, stride| {
+                let (b, rows) = (s.block, until - s.next);
+                let mut good = linear(n, s, until, o, stride);
+                for (lane, g) in good.iter_mut().enumerate() {
+                    if fails(b * LANES + lane, until) {
+                        *g = false;
+                        (0..rows).for_each(|t| o[t * stride + lane] = f64::INFINITY);
+                    }
+                }
+                good
+            },
+        )
     }
 
     fn run_with(n: usize, threads: usize, budget: usize) -> (MemoryPlan, EngineOutput) {
@@ -265,15 +347,14 @@ mod tests {
             .num_threads(threads)
             .build()
             .unwrap();
-        let out = pool.install(|| {
-            run(
-                &plan,
-                &levels,
-                &|_, _| {},
-                |block| Linear { block, next: 0 },
-                |s, until, o| linear(n, s, until, o),
-            )
-        });
+        let out = run(
+            &pool,
+            &plan,
+            &levels,
+            &|_, _| {},
+            |block| Linear { block, next: 0 },
+            |s, until, o, stride| linear(n, s, until, o, stride),
+        );
         (plan, out.ok().expect("no failures"))
     }
 
@@ -322,25 +403,13 @@ mod tests {
         let plan = MemoryPlan::new(n, 40, 1, 3, 16 * 256 * 10);
         assert_eq!(plan.chunks, 4);
         let late = |i: usize| i == 3 || i == 77;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
         let run_without = |failed: &(dyn Fn(usize) -> bool + Sync), late_too: bool| {
-            run(
-                &plan,
-                &levels,
-                &|_, _| {},
-                |block| Linear { block, next: 0 },
-                |s, until, o| {
-                    let b = s.block;
-                    let mut good = linear(n, s, until, o);
-                    for (lane, g) in good.iter_mut().enumerate() {
-                        let i = b * LANES + lane;
-                        if failed(i) || (late_too && late(i) && until > 25) {
-                            *g = false;
-                            (0..o.len() / LANES).for_each(|t| o[t * LANES + lane] = f64::INFINITY);
-                        }
-                    }
-                    good
-                },
-            )
+            let fails = |i: usize, until: usize| failed(i) || (late_too && late(i) && until > 25);
+            run_failing(&pool, &plan, &levels, n, &fails)
         };
         let Err(Restart(ok)) = run_without(&|_| false, true) else {
             panic!("a failure after the first chunk must ask for a restart");
@@ -352,6 +421,43 @@ mod tests {
         let reference = run_without(&late, false).ok().expect("no failure");
         assert_eq!(again.percentiles, reference.percentiles);
         assert_eq!(again.ok, ok);
+    }
+
+    /// Every worker must leave at the same barrier when a run stops (a sample failing
+    /// late; no good sample at all), however fast each sees the others: a worker that
+    /// left one barrier early would leave the rest waiting for ever. Repeated on 2, 3 and
+    /// 8 workers under a watchdog, so that a regression fails instead of hanging.
+    #[test]
+    fn every_worker_stops_at_the_same_barrier() {
+        let (done, finished) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let (n, levels) = (200, [5.0, 50.0, 95.0]);
+            let plan = MemoryPlan::new(n, 40, 1, 3, 16 * 256 * 10);
+            for threads in [2, 3, 8] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                for round in 0..30 {
+                    let fails = |i: usize, until: usize| match round % 2 {
+                        0 => i == 5 && until > 15, // late: a restart
+                        _ => true,                 // every sample: no good one
+                    };
+                    let out = run_failing(&pool, &plan, &levels, n, &fails);
+                    match (round % 2, out) {
+                        (0, Err(Restart(ok))) => assert!(!ok[5] && ok[4]),
+                        (1, Ok(out)) => {
+                            assert!(out.ok.iter().all(|g| !g) && out.percentiles[0].is_empty())
+                        }
+                        (_, other) => panic!("round {round}: {}", other.is_ok()),
+                    }
+                }
+            }
+            done.send(()).unwrap();
+        });
+        finished
+            .recv_timeout(std::time::Duration::from_secs(120))
+            .expect("the workers must not wait for ever");
     }
 
     /// Paper-sized response, N = 100 000: the whole plan stays far below 1 GiB (the

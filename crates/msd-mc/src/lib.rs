@@ -35,6 +35,7 @@
 //! ```
 
 mod band;
+mod barrier;
 mod draw;
 mod engine;
 mod error;

@@ -25,10 +25,11 @@ pub(crate) fn position(n: usize, level: f64) -> (usize, f64) {
     }
 }
 
-/// The integer key of `x` whose order is `f64::total_cmp`'s (an involution: applied
-/// twice it gives back the bits).
+/// The integer key of `x` whose order is `f64::total_cmp`'s, −0.0 counted as +0.0 (so
+/// that on values that are not NaN it is the order of `<`; [`value`] gives the value
+/// back, zeros as +0.0).
 pub(crate) fn key(x: f64) -> i64 {
-    let bits = x.to_bits() as i64;
+    let bits = (x + 0.0).to_bits() as i64;
     bits ^ (((bits >> 63) as u64) >> 1) as i64
 }
 
@@ -141,14 +142,25 @@ mod tests {
     }
 
     #[test]
-    fn keys_order_like_total_cmp_and_round_trip() {
-        let xs = [-f64::MAX, -2.5, -1e-300, -0.0, 0.0, 1e-300, 3.0, f64::MAX];
+    fn keys_order_like_less_than_and_round_trip() {
+        let xs = [
+            -f64::MAX,
+            -2.5,
+            -1e-300,
+            0.0,
+            1e-300,
+            3.0,
+            f64::MAX,
+            f64::INFINITY,
+        ];
         for w in xs.windows(2) {
             assert!(key(w[0]) < key(w[1]));
         }
         for x in xs {
             assert_eq!(value(key(x)).to_bits(), x.to_bits());
         }
+        assert_eq!(key(-0.0), key(0.0)); // as -0.0 == 0.0
+        assert_eq!(value(key(-0.0)).to_bits(), 0.0f64.to_bits());
     }
 
     #[test]

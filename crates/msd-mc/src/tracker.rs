@@ -21,14 +21,13 @@
 use crate::engine::{GROUP, LANES};
 use crate::quantile::{key, order_statistics, position};
 
-/// One time column of a chunk buffer laid out `data[group][t][sample]` with
-/// [`GROUP`] samples per group and `stride` values from one group to the next: sample
-/// g·GROUP + s at column `index` is `data[g·stride + index·GROUP + s]`. A column is
-/// N/GROUP contiguous runs, which the hardware prefetches.
+/// One time column of a chunk whose groups of [`GROUP`] samples are laid out
+/// `groups[g][t·GROUP + s]` (time-major within a group): sample g·GROUP + s at column
+/// `index` is `groups[g][index·GROUP + s]`. A column is N/GROUP contiguous runs, which
+/// the hardware prefetches.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Column<'a> {
-    pub(crate) data: &'a [f64],
-    pub(crate) stride: usize,
+    pub(crate) groups: &'a [&'a [f64]],
     pub(crate) index: usize,
 }
 
@@ -36,14 +35,14 @@ impl<'a> Column<'a> {
     /// The values of block `b` (samples b·LANES …).
     fn block(self, b: usize) -> &'a [f64; LANES] {
         let (g, k) = (b / (GROUP / LANES), b % (GROUP / LANES));
-        self.data[g * self.stride + self.index * GROUP + k * LANES..]
+        self.groups[g][self.index * GROUP + k * LANES..]
             .first_chunk::<LANES>()
             .expect("b < blocks, index < width")
     }
 
     /// The column's values, [`LANES`] at a time.
     fn blocks(self) -> impl Iterator<Item = &'a [f64; LANES]> {
-        self.data.chunks_exact(self.stride).flat_map(move |group| {
+        self.groups.iter().flat_map(move |group| {
             let run: &[f64; GROUP] = group[self.index * GROUP..]
                 .first_chunk()
                 .expect("index < width");
@@ -76,6 +75,8 @@ pub(crate) struct LevelTracker {
     before: (f64, f64),
     margin: f64,
     seen: usize,
+    /// The last column of the previous chunk, group after group.
+    last: Vec<f64>,
     /// Candidate keys of the current column (one spare slot: collecting writes one past).
     candidates: Vec<i64>,
     /// Blocks of the current column with a value inside the window.
@@ -98,6 +99,7 @@ impl LevelTracker {
             before: (0.0, 0.0),
             margin: 0.0,
             seen: 0,
+            last: vec![f64::INFINITY; padded],
             candidates: vec![0; padded + 1],
             blocks: vec![0; padded / LANES],
             keys: vec![0; padded],
@@ -105,45 +107,39 @@ impl LevelTracker {
         }
     }
 
-    /// The percentiles of the first `out.len()` columns of the chunk `data` (laid out
-    /// as [`Column`] says, `stride` values per group), which follows the chunk whose
-    /// last column is `last` (a chunk of one column, stride [`GROUP`]; ignored before
-    /// the first chunk), into `out`. Values finite or +∞, never −0.0 (add 0.0 to turn
-    /// it into +0.0). Allocates nothing.
-    pub(crate) fn chunk(&mut self, data: &[f64], stride: usize, last: &[f64], out: &mut [f64]) {
-        debug_assert!(
-            data.len() == self.keys.len() / GROUP * stride && out.len() * GROUP <= stride
-        );
-        debug_assert_eq!(last.len(), self.keys.len());
-        for (j, out) in out.iter_mut().enumerate() {
-            let column = Column {
-                data,
-                stride,
-                index: j,
-            };
-            let previous = match j {
-                0 => Column {
-                    data: last,
-                    stride: GROUP,
-                    index: 0,
-                },
-                _ => Column {
-                    data,
-                    stride,
-                    index: j - 1,
-                },
-            };
-            *out = self.column(column, previous);
+    /// The percentiles of the first `out.len()` columns of a chunk (its groups laid out
+    /// as [`Column`] says), the chunk after the one given last, into `out`. Values
+    /// finite or +∞ (−0.0 counts as +0.0, as `<` has it).
+    pub(crate) fn chunk(&mut self, groups: &[&[f64]], out: &mut [f64]) {
+        debug_assert!(groups.len() * GROUP == self.keys.len());
+        debug_assert!(groups.iter().all(|g| g.len() >= out.len() * GROUP));
+        let last = std::mem::take(&mut self.last);
+        {
+            let previous: Vec<&[f64]> = last.chunks_exact(GROUP).collect();
+            for (j, out) in out.iter_mut().enumerate() {
+                let column = Column { groups, index: j };
+                let previous = match j {
+                    0 => Column {
+                        groups: &previous,
+                        index: 0,
+                    },
+                    _ => Column {
+                        groups,
+                        index: j - 1,
+                    },
+                };
+                *out = self.column(column, previous);
+            }
+        }
+        self.last = last;
+        let final_column = out.len() - 1;
+        for (to, group) in self.last.chunks_exact_mut(GROUP).zip(groups) {
+            to.copy_from_slice(&group[final_column * GROUP..(final_column + 1) * GROUP]);
         }
     }
 
     fn column(&mut self, column: Column<'_>, previous: Column<'_>) -> f64 {
-        debug_assert!(
-            column
-                .blocks()
-                .flatten()
-                .all(|v| !v.is_nan() && v.to_bits() != (-0.0f64).to_bits())
-        );
+        debug_assert!(column.blocks().flatten().all(|v| !v.is_nan()));
         let mut found = None;
         if self.seen > 0 {
             let (x, next) = self.previous;
@@ -276,7 +272,6 @@ mod tests {
             .collect();
         let mut column: Vec<f64> = (0..good).map(|_| rng.random::<f64>()).collect();
         let (width, chunks) = (37, 9);
-        let mut last = vec![f64::INFINITY; padded];
         for chunk in 0..chunks {
             let mut data = vec![f64::INFINITY; padded * width]; // data[group][t][sample]
             let mut expected = vec![vec![0.0; width]; levels.len()];
@@ -292,7 +287,9 @@ mod tests {
                     if step % 97 == 3 {
                         *v = (*v * 4.0).round() / 4.0; // heavy ties
                     }
-                    *v += 0.0; // −0.0 → +0.0, as the engine writes them
+                    if step % 89 == 5 && i % 3 == 0 {
+                        *v = -0.0; // signed zeros among the values
+                    }
                     data[((i / GROUP) * width + j) * GROUP + i % GROUP] = *v;
                 }
                 let mut row = [0.0; 6];
@@ -301,14 +298,12 @@ mod tests {
                     expected[k][j] = value;
                 }
             }
+            let groups: Vec<&[f64]> = data.chunks_exact(width * GROUP).collect();
             for (k, tracker) in trackers.iter_mut().enumerate() {
                 let mut got = vec![0.0; width];
-                tracker.chunk(&data, width * GROUP, &last, &mut got);
+                tracker.chunk(&groups, &mut got);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(&got), bits(&expected[k]), "chunk {chunk}, level {k}");
-            }
-            for (g, to) in last.chunks_exact_mut(GROUP).enumerate() {
-                to.copy_from_slice(&data[(g * width + width - 1) * GROUP..][..GROUP]);
             }
         }
         for tracker in &trackers {
