@@ -102,6 +102,7 @@ impl MemoryPlan {
 type Level = (LevelTracker, Vec<f64>);
 
 /// The percentiles (level-major) over the good samples and which samples were good.
+#[derive(Debug)]
 pub(crate) struct EngineOutput {
     pub(crate) percentiles: Vec<Vec<f64>>,
     pub(crate) ok: Vec<bool>,
@@ -109,6 +110,7 @@ pub(crate) struct EngineOutput {
 
 /// A sample failed after the percentiles of earlier columns had counted it: the run
 /// must be repeated without it. Holds which samples were good as far as the run went.
+#[derive(Debug)]
 pub(crate) struct Restart(pub(crate) Vec<bool>);
 
 /// Runs the band's simulations and percentiles. `start(b)` makes the state of block b
@@ -453,6 +455,53 @@ mod tests {
                     }
                 }
             }
+            done.send(()).unwrap();
+        });
+        finished
+            .recv_timeout(std::time::Duration::from_secs(120))
+            .expect("the workers must not wait for ever");
+    }
+
+    /// A panic in one worker (here the progress callback, which is the caller's code)
+    /// stops the others at their next barrier, and the panic reaches the caller with its
+    /// message; the pool can be used again.
+    #[test]
+    fn a_panicking_worker_stops_the_run_and_the_panic_resumes() {
+        let (done, finished) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let (n, levels) = (300, [50.0]);
+            let plan = MemoryPlan::new(n, 40, 1, 1, 16 * 320 * 4);
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(3)
+                .build()
+                .unwrap();
+            let progress = |done: usize, _: usize| assert!(done < 500, "progress refused {done}");
+            let start = |block| Linear { block, next: 0 };
+            let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                run(
+                    &pool,
+                    &plan,
+                    &levels,
+                    &progress,
+                    start,
+                    |s, until, o, stride| linear(n, s, until, o, stride),
+                )
+            }))
+            .expect_err("the callback's panic reaches the caller");
+            let message = panicked
+                .downcast_ref::<String>()
+                .cloned()
+                .unwrap_or_default();
+            assert!(message.starts_with("progress refused"), "{message}");
+            let again = run(
+                &pool,
+                &plan,
+                &levels,
+                &|_, _| {},
+                start,
+                |s, until, o, stride| linear(n, s, until, o, stride),
+            );
+            assert!(again.is_ok());
             done.send(()).unwrap();
         });
         finished
