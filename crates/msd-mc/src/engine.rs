@@ -357,7 +357,7 @@ mod tests {
             |block| Linear { block, next: 0 },
             |s, until, o, stride| linear(n, s, until, o, stride),
         );
-        (plan, out.ok().expect("no failures"))
+        (plan, out.expect("no failures"))
     }
 
     /// The q-quantile estimate of N uniform draws has standard error √(q(1−q)/N)/f with
@@ -420,7 +420,7 @@ mod tests {
         let again = run_without(&|i| i < n && !ok[i], true)
             .ok()
             .expect("no new failure");
-        let reference = run_without(&late, false).ok().expect("no failure");
+        let reference = run_without(&late, false).expect("no failure");
         assert_eq!(again.percentiles, reference.percentiles);
         assert_eq!(again.ok, ok);
     }
