@@ -417,9 +417,7 @@ mod tests {
             panic!("a failure after the first chunk must ask for a restart");
         };
         assert_eq!((0..n).filter(|&i| !ok[i]).collect::<Vec<_>>(), [3, 77]);
-        let again = run_without(&|i| i < n && !ok[i], true)
-            .ok()
-            .expect("no new failure");
+        let again = run_without(&|i| i < n && !ok[i], true).expect("no new failure");
         let reference = run_without(&late, false).expect("no failure");
         assert_eq!(again.percentiles, reference.percentiles);
         assert_eq!(again.ok, ok);
