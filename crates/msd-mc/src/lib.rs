@@ -16,8 +16,8 @@
 //! is ever stored: every sample is simulated once, its simulator's state kept, and the
 //! time axis is walked in cache-sized chunks ([`MemoryPlan`]) whose percentiles are
 //! tracked level by level while the next chunk is simulated. The paper's N = 1000 × 7501
-//! points needs about 2 MiB of buffers and 0.5 MiB of states; N = 100 000 about
-//! 75 MiB in all. [`McOptions::max_buffer_bytes`] bounds the buffers (a smaller budget
+//! points needs 1 MiB of buffers and 0.5 MiB of states (2.2 MiB in all, against 60 MB
+//! for the whole N × T matrix); N = 100 000 about 110 MiB in all. [`McOptions::max_buffer_bytes`] bounds the buffers (a smaller budget
 //! means shorter chunks, never a different result).
 //!
 //! ```
