@@ -5,10 +5,12 @@
 //! [`LANES`] (stepped together), eight blocks to a group of [`GROUP`] samples, each
 //! block keeping its simulator's state; the time axis is walked in chunks of
 //! `chunk_points` columns. For each chunk every group is advanced into its region of a
-//! chunk buffer, laid out `[t][sample]` within the group so that a time column is N/64
-//! contiguous runs, and the chunk's percentiles are computed exactly, column after
-//! column, by one tracker per level that narrows each column's search with the previous
-//! columns ([`LevelTracker`]). Two chunk buffers alternate: in phase p the level
+//! chunk buffer, one row per time holding the group's values and their envelopes
+//! (smallest and largest value of the group and of each block, see
+//! [`ROW`]), and the chunk's percentiles are computed exactly,
+//! column after column, by one tracker per level that narrows each column's search with
+//! the previous columns and skips the blocks its window does not cut
+//! ([`LevelTracker`]). Two chunk buffers alternate: in phase p the level
 //! trackers of chunk p − 1 and the groups of chunk p are all independent tasks.
 //!
 //! ## The parallel schedule
@@ -30,12 +32,16 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, RwLock};
 
 use crate::barrier::SpinBarrier;
-use crate::tracker::LevelTracker;
+use crate::tracker::{LevelTracker, ROW, Region, TrackerCounts, VALUES, write_envelopes};
 pub(crate) use msd_ident::LANES;
 
 /// Samples per group: a group is simulated by one task and its values at one time are
 /// contiguous in the chunk buffer (`buffer[group][t][sample]`).
 pub(crate) const GROUP: usize = 8 * LANES;
+
+/// Bytes the two chunk buffers take per group of [`GROUP`] samples and column: its
+/// values and its envelopes, twice (1408: 22 a sample).
+pub(crate) const GROUP_COLUMN_BYTES: usize = 2 * 8 * ROW;
 
 /// Bytes of the two chunk buffers the engine aims at: small enough to stay in cache.
 const CACHE_BYTES: usize = 1 << 20;
@@ -53,7 +59,8 @@ pub struct MemoryPlan {
     pub chunk_points: usize,
     /// Chunks of the time axis: ⌈T / chunk_points⌉ (every sample is simulated once).
     pub chunks: usize,
-    /// Bytes of the two N × chunk buffers (N rounded up to a multiple of [`LANES`]).
+    /// Bytes of the two N × chunk buffers with the blocks' envelopes (N rounded up to a
+    /// multiple of 64).
     pub buffer_bytes: usize,
     /// Bytes of the simulators' states, all blocks.
     pub state_bytes: usize,
@@ -64,7 +71,7 @@ pub struct MemoryPlan {
 
 impl MemoryPlan {
     /// The plan for N `samples` of `points` values with `levels` percentile levels and
-    /// chunk buffers of at most `max_buffer_bytes` (≥ 16·N) together. `threads` does not
+    /// chunk buffers of at most `max_buffer_bytes` (≥ 22·N) together. `threads` does not
     /// change the plan (the pipeline has one percentile task and a shared simulation).
     ///
     /// ```
@@ -82,14 +89,16 @@ impl MemoryPlan {
     ) -> Self {
         let _ = threads;
         let n = samples.max(1).next_multiple_of(GROUP);
-        let affordable = (max_buffer_bytes / (16 * n)).max(1);
-        let wanted = (CACHE_BYTES / (16 * n)).max(MIN_CHUNK_POINTS);
+        let column = GROUP_COLUMN_BYTES * (n / GROUP);
+        let affordable = (max_buffer_bytes / column).max(1);
+        let wanted = (CACHE_BYTES / column).max(MIN_CHUNK_POINTS);
         let chunk_points = wanted.min(affordable).clamp(1, points.max(1));
         let chunks = points.div_ceil(chunk_points);
-        let buffer_bytes = 16 * n * chunk_points;
+        let buffer_bytes = column * chunk_points;
         let state_bytes = (n / LANES) * (msd_ident::BatchRun::MAX_BYTES + 16);
-        // Tracker: keys and candidates per level, the previous column (8 per value).
-        let tracker = 8 * n * (levels + 2);
+        // Per level's tracker: keys and candidates (8 bytes a value each), listed blocks
+        // (4 bytes a block) and the previous column with its envelopes (10.25 a value).
+        let tracker = levels * (27 * n + 8);
         // Draw (32), ok flag (1), and the summaries' copies of the parameters, fn, ζ
         // and their sort keys (48): rounded up.
         let per_sample = 96;
@@ -114,6 +123,8 @@ type Level = (LevelTracker, Vec<f64>);
 pub(crate) struct EngineOutput {
     pub(crate) percentiles: Vec<Vec<f64>>,
     pub(crate) ok: Vec<bool>,
+    /// How each level's tracker found its order statistics.
+    pub(crate) counts: Vec<TrackerCounts>,
 }
 
 /// A sample failed after the percentiles of earlier columns had counted it: the run
@@ -156,13 +167,14 @@ where
     let states: Vec<Mutex<Vec<Option<S>>>> = (0..groups)
         .map(|_| Mutex::new((0..per_group).map(|_| None).collect()))
         .collect();
-    // Two chunk buffers, a region per group laid out [t][sample]; chunk c in buffer c % 2.
-    let buffers: [Vec<RwLock<Vec<f64>>>; 2] = std::array::from_fn(|_| {
+    // Two chunk buffers, a region of rows (envelopes and values, see `tracker`) per
+    // group; chunk c in buffer c % 2.
+    let buffers: [Vec<RwLock<Region>>; 2] = std::array::from_fn(|_| {
         (0..groups)
-            .map(|_| RwLock::new(vec![0.0; GROUP * width]))
+            .map(|_| RwLock::new(Region::new(width)))
             .collect()
     });
-    debug_assert_eq!(16 * groups * GROUP * width, plan.buffer_bytes);
+    debug_assert_eq!(GROUP_COLUMN_BYTES * groups * width, plan.buffer_bytes);
     let ok: Vec<AtomicBool> = (0..padded).map(|_| AtomicBool::new(true)).collect();
     // Per level: its tracker (made once the first chunk has settled the good samples)
     // and its percentiles.
@@ -194,12 +206,14 @@ where
     let simulate = |chunk: usize, g: usize| {
         let (t0, w) = span(chunk);
         let mut states = states[g].lock().expect("no worker panicked");
-        let mut buffer = buffers[chunk % 2][g].write().expect("no worker panicked");
+        let mut region = buffers[chunk % 2][g].write().expect("no worker panicked");
+        let buffer = region.rows_mut();
         for (k, state) in states.iter_mut().enumerate() {
             let b = g * per_group + k;
             let state = state.get_or_insert_with(|| start(b));
-            // Straight into the group's rows: sample t of lane l at [t·GROUP + k·LANES + l].
-            let good = advance(state, t0 + w, &mut buffer[k * LANES..], GROUP);
+            // Straight into the group's rows: sample t of lane l at
+            // [t·ROW + VALUES + k·LANES + l].
+            let good = advance(state, t0 + w, &mut buffer[VALUES + k * LANES..], ROW);
             for (flag, good) in ok[b * LANES..(b + 1) * LANES].iter().zip(good) {
                 // A failure in the first chunk is free: no percentile has been taken.
                 if !good && flag.swap(false, Ordering::Relaxed) && chunk > 0 {
@@ -212,6 +226,7 @@ where
                 progress(done.fetch_add(real, Ordering::Relaxed) + real, total);
             }
         }
+        write_envelopes(buffer, w);
     };
     let track = |chunk: usize, k: usize| {
         let mut slot = trackers[k].lock().expect("no worker panicked");
@@ -233,7 +248,7 @@ where
             .iter()
             .map(|b| b.read().expect("no worker panicked"))
             .collect();
-        let regions: Vec<&[f64]> = guards.iter().map(|g| g.as_slice()).collect();
+        let regions: Vec<&[f64]> = guards.iter().map(|g| g.rows()).collect();
         let (t0, w) = span(chunk);
         tracker.chunk(&regions, &mut out[t0..t0 + w]);
     };
@@ -278,14 +293,18 @@ where
     if restart.into_inner() {
         return Err(Restart(ok));
     }
-    let percentiles = trackers
+    let (percentiles, counts) = trackers
         .into_iter()
-        .map(|t| {
-            let slot = t.into_inner().expect("no worker panicked");
-            slot.map_or_else(Vec::new, |(_, out)| out)
+        .map(|t| match t.into_inner().expect("no worker panicked") {
+            Some((tracker, out)) => (out, tracker.counts),
+            None => (Vec::new(), TrackerCounts::default()),
         })
-        .collect();
-    Ok(EngineOutput { percentiles, ok })
+        .unzip();
+    Ok(EngineOutput {
+        percentiles,
+        ok,
+        counts,
+    })
 }
 
 #[cfg(test)]
@@ -393,12 +412,12 @@ mod tests {
         let n = 300; // not a multiple of LANES: the last block has padding lanes
         let (one, reference) = run_with(n, 1, 1 << 30);
         assert_eq!(one.chunks, 1);
-        for (threads, budget) in [(2, 16 * 320 * 7), (8, 16 * 320), (3, 16 * 320 * 39)] {
+        for (threads, columns) in [(2, 7), (8, 1), (3, 39)] {
+            let budget = GROUP_COLUMN_BYTES * 5 * columns; // 300 samples are 5 groups of 64
             let (plan, out) = run_with(n, threads, budget);
-            let chunk = budget / (16 * 320); // 300 samples are 320 in groups of 64
             assert_eq!(
                 (plan.chunk_points, plan.chunks),
-                (chunk, 40usize.div_ceil(chunk))
+                (columns, 40usize.div_ceil(columns))
             );
             assert_eq!(out.percentiles, reference.percentiles, "{threads} threads");
         }
@@ -410,7 +429,7 @@ mod tests {
     #[test]
     fn a_late_failure_asks_for_a_restart_without_the_sample() {
         let (n, levels) = (200, [5.0, 50.0, 95.0]);
-        let plan = MemoryPlan::new(n, 40, 1, 3, 16 * 256 * 10);
+        let plan = MemoryPlan::new(n, 40, 1, 3, GROUP_COLUMN_BYTES * 4 * 10);
         assert_eq!(plan.chunks, 4);
         let late = |i: usize| i == 3 || i == 77;
         let pool = rayon::ThreadPoolBuilder::new()
@@ -440,7 +459,7 @@ mod tests {
         let (done, finished) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let (n, levels) = (200, [5.0, 50.0, 95.0]);
-            let plan = MemoryPlan::new(n, 40, 1, 3, 16 * 256 * 10);
+            let plan = MemoryPlan::new(n, 40, 1, 3, GROUP_COLUMN_BYTES * 4 * 10);
             for threads in [2, 3, 8] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -476,7 +495,7 @@ mod tests {
         let (done, finished) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let (n, levels) = (300, [50.0]);
-            let plan = MemoryPlan::new(n, 40, 1, 1, 16 * 320 * 4);
+            let plan = MemoryPlan::new(n, 40, 1, 1, GROUP_COLUMN_BYTES * 5 * 4);
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(3)
                 .build()
@@ -520,7 +539,7 @@ mod tests {
     #[test]
     fn memory_for_a_hundred_thousand_samples_is_bounded() {
         let default_budget = crate::McOptions::default().max_buffer_bytes;
-        for budget in [default_budget, 16 * 100_032] {
+        for budget in [default_budget, GROUP_COLUMN_BYTES * 1563] {
             let plan = MemoryPlan::new(100_000, 7501, 2, 3, budget);
             assert!(plan.buffer_bytes <= budget);
             assert!(plan.peak_bytes < 160 << 20, "{plan:?}");

@@ -71,7 +71,7 @@ pub enum McError {
         budget: usize,
         /// N.
         samples: usize,
-        /// Bytes for two columns: 16·N, N rounded up to a multiple of 64.
+        /// Bytes for two columns with their envelopes: 1408 per group of 64 samples.
         needed: usize,
     },
     /// Measurements do not match the excitation's grid.

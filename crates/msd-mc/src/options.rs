@@ -112,7 +112,7 @@ pub struct McOptions {
     pub initial_state: InitialState,
     /// Upper bound in bytes of the two N × chunk buffers the responses stream through
     /// (the engine wants about 1 MiB; a smaller budget means shorter chunks, never a
-    /// different result). At least 16·N (N rounded up to 64). By default 256 MiB.
+    /// different result). At least 1408 bytes per 64 samples (22·N). By default 256 MiB.
     pub max_buffer_bytes: usize,
 }
 
@@ -143,7 +143,8 @@ impl McOptions {
         self.sampling.validate()?;
         validate_percentiles(&self.percentiles)?;
         self.backend.validate()?;
-        let needed = 16 * self.samples.next_multiple_of(crate::engine::GROUP);
+        let groups = self.samples.div_ceil(crate::engine::GROUP);
+        let needed = crate::engine::GROUP_COLUMN_BYTES * groups;
         if self.max_buffer_bytes < needed {
             return Err(McError::BudgetTooSmall {
                 budget: self.max_buffer_bytes,

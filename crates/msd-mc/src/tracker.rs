@@ -5,14 +5,21 @@
 //! A level needs the r-th and (r+1)-th smallest values of each column. One pass over
 //! the column counts the values below a window and collects those inside; if the counts
 //! show that the window holds ranks r and r + 1, they are found by a selection among
-//! the few collected. The window is first predicted from the last two columns (the
-//! order statistics' last move extrapolated, widened by a margin that follows the recent
-//! prediction errors: up at once, down by halves). If the counts refuse it, the second
-//! window is proven: order statistics are 1-Lipschitz in the sup norm, so if no sample
-//! moved by more than D since the previous column, neither did any order statistic, and
-//! the previous values ± D hold them (rounding at the edges would show in the counts).
-//! Failing both (the first column), a selection over the whole column. The counts prove
-//! every answer, so the result is always exactly the full selection's
+//! the few collected. The pass looks at each block of [`LANES`] samples first as a
+//! whole, by its envelope (its smallest and largest value at that time, written beside
+//! the values when the block was simulated): a block wholly below the window counts
+//! [`LANES`] at once, a block wholly above counts nothing, and only the blocks the
+//! window cuts are looked at value by value. The band simulates similar samples side by
+//! side (see [`order`](crate::order)), so the window cuts few blocks.
+//!
+//! The window is first predicted from the last two columns (the order statistics' last
+//! move extrapolated, widened by a margin that follows the recent prediction errors: up
+//! at once, down by halves). If the counts refuse it, the second window is proven: order
+//! statistics are 1-Lipschitz in the sup norm, so if no sample moved by more than D
+//! since the previous column, neither did any order statistic, and the previous values
+//! ± D hold them (rounding at the edges would show in the counts). Failing both (the
+//! first column), a selection over the whole column. The counts prove every answer, so
+//! the result is always exactly the full selection's
 //! ([`percentiles_of_keys`](crate::quantile::percentiles_of_keys)).
 //!
 //! Levels do not depend on each other, so each has its own tracker and they run as
@@ -21,10 +28,82 @@
 use crate::engine::{GROUP, LANES};
 use crate::quantile::{key, order_statistics, position};
 
-/// One time column of a chunk whose groups of [`GROUP`] samples are laid out
-/// `groups[g][t·GROUP + s]` (time-major within a group): sample g·GROUP + s at column
-/// `index` is `groups[g][index·GROUP + s]`. A column is N/GROUP contiguous runs, which
-/// the hardware prefetches.
+/// Blocks of [`LANES`] samples in a group.
+const BLOCKS: usize = GROUP / LANES;
+
+/// A group's row at one time: its envelopes and its values, one cache line per part
+/// (rows start on a 64-byte boundary): the group's minimum and maximum (then padding),
+/// the blocks' minima, the blocks' maxima, and the [`GROUP`] values, sample after
+/// sample. A tracker walking the columns reads every group's rows in order, a stream
+/// the hardware prefetches, and most often only the first line of a row.
+pub(crate) const ROW: usize = 3 * BLOCKS + GROUP;
+const GROUP_MIN: usize = 0;
+const GROUP_MAX: usize = 1;
+const MINS: usize = BLOCKS;
+const MAXS: usize = 2 * BLOCKS;
+/// Where a row's values start.
+pub(crate) const VALUES: usize = 3 * BLOCKS;
+
+/// A group's rows for a chunk of time columns (see [`ROW`]), 64-byte aligned.
+#[derive(Debug)]
+pub(crate) struct Region {
+    data: Vec<f64>,
+    start: usize,
+    len: usize,
+}
+
+impl Region {
+    /// Rows for `width` columns, zeroed.
+    pub(crate) fn new(width: usize) -> Self {
+        let len = width * ROW;
+        let data = vec![0.0; len + 7];
+        let address = data.as_ptr() as usize;
+        let start = (address.next_multiple_of(64) - address) / size_of::<f64>();
+        Self { data, start, len }
+    }
+
+    /// The rows.
+    pub(crate) fn rows(&self) -> &[f64] {
+        &self.data[self.start..self.start + self.len]
+    }
+
+    /// The rows, to write.
+    pub(crate) fn rows_mut(&mut self) -> &mut [f64] {
+        &mut self.data[self.start..self.start + self.len]
+    }
+}
+
+/// Writes the envelopes of the first `columns` rows of a group's `rows` from the values
+/// written there.
+pub(crate) fn write_envelopes(rows: &mut [f64], columns: usize) {
+    debug_assert!(rows.len() >= columns * ROW);
+    // Values are finite or +∞, never NaN: plain comparisons are min and max, and
+    // halving the lanes vectorises.
+    fn halve<const M: usize>(v: &[f64], pick: fn(f64, f64) -> f64) -> [f64; M] {
+        std::array::from_fn(|i| pick(v[i], v[i + M]))
+    }
+    let min = |a: f64, b: f64| if b < a { b } else { a };
+    let max = |a: f64, b: f64| if b > a { b } else { a };
+    for row in rows.chunks_exact_mut(ROW).take(columns) {
+        let (envelopes, values) = row.split_at_mut(VALUES);
+        let (mut low, mut high) = ([f64::INFINITY; BLOCKS], [f64::NEG_INFINITY; BLOCKS]);
+        for (k, v) in values.chunks_exact(LANES).enumerate() {
+            let (l, h) = (halve::<4>(v, min), halve::<4>(v, max));
+            let (l, h) = (halve::<2>(&l, min), halve::<2>(&h, max));
+            (low[k], high[k]) = (min(l[0], l[1]), max(h[0], h[1]));
+        }
+        envelopes[MINS..MAXS].copy_from_slice(&low);
+        envelopes[MAXS..].copy_from_slice(&high);
+        let (l, h) = (halve::<4>(&low, min), halve::<4>(&high, max));
+        let (l, h) = (halve::<2>(&l, min), halve::<2>(&h, max));
+        envelopes[GROUP_MIN] = min(l[0], l[1]);
+        envelopes[GROUP_MAX] = max(h[0], h[1]);
+    }
+}
+
+/// One time column of a chunk whose groups of [`GROUP`] samples are laid out in rows
+/// ([`ROW`]): sample g·GROUP + s at column `index` is
+/// `groups[g][index·ROW + VALUES + s]`.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Column<'a> {
     pub(crate) groups: &'a [&'a [f64]],
@@ -32,22 +111,24 @@ pub(crate) struct Column<'a> {
 }
 
 impl<'a> Column<'a> {
+    /// Group `g`'s row.
+    fn row(self, g: usize) -> &'a [f64; ROW] {
+        self.groups[g][self.index * ROW..]
+            .first_chunk()
+            .expect("index < columns")
+    }
+
     /// The values of block `b` (samples b·LANES …).
     fn block(self, b: usize) -> &'a [f64; LANES] {
-        let (g, k) = (b / (GROUP / LANES), b % (GROUP / LANES));
-        self.groups[g][self.index * GROUP + k * LANES..]
-            .first_chunk::<LANES>()
-            .expect("b < blocks, index < width")
+        let (g, k) = (b / BLOCKS, b % BLOCKS);
+        self.row(g)[VALUES + k * LANES..]
+            .first_chunk()
+            .expect("k < BLOCKS")
     }
 
     /// The column's values, [`LANES`] at a time.
     fn blocks(self) -> impl Iterator<Item = &'a [f64; LANES]> {
-        self.groups.iter().flat_map(move |group| {
-            let run: &[f64; GROUP] = group[self.index * GROUP..]
-                .first_chunk()
-                .expect("index < width");
-            run.as_chunks::<LANES>().0
-        })
+        (0..self.groups.len()).flat_map(move |g| self.row(g)[VALUES..].as_chunks::<LANES>().0)
     }
 }
 
@@ -62,6 +143,10 @@ pub(crate) struct TrackerCounts {
     pub(crate) full: usize,
     /// Values collected inside accepted windows, all columns.
     pub(crate) candidates: usize,
+    /// Windows searched (one or two a column, none for a full selection).
+    pub(crate) searches: usize,
+    /// Blocks looked at value by value (the window cut their envelope), all searches.
+    pub(crate) cut_blocks: usize,
 }
 
 /// The tracker of one percentile level (see the module documentation).
@@ -75,9 +160,11 @@ pub(crate) struct LevelTracker {
     before: (f64, f64),
     margin: f64,
     seen: usize,
-    /// The last column of the previous chunk, group after group.
+    /// The last column of the previous chunk: its groups' rows.
     last: Vec<f64>,
-    /// Candidate keys of the current column (one spare slot: collecting writes one past).
+    /// Values inside the window, collected (spare slots: collecting writes past the end).
+    inside: Vec<f64>,
+    /// Their keys.
     candidates: Vec<i64>,
     /// Blocks of the current column with a value inside the window.
     blocks: Vec<u32>,
@@ -99,23 +186,24 @@ impl LevelTracker {
             before: (0.0, 0.0),
             margin: 0.0,
             seen: 0,
-            last: vec![f64::INFINITY; padded],
-            candidates: vec![0; padded + 1],
+            last: vec![f64::INFINITY; (padded / GROUP) * ROW],
+            inside: vec![0.0; padded + LANES],
+            candidates: vec![0; padded],
             blocks: vec![0; padded / LANES],
             keys: vec![0; padded],
             counts: TrackerCounts::default(),
         }
     }
 
-    /// The percentiles of the first `out.len()` columns of a chunk (its groups laid out
-    /// as [`Column`] says), the chunk after the one given last, into `out`. Values
+    /// The percentiles of the first `out.len()` columns of a chunk (its groups' rows,
+    /// envelopes written), the chunk after the one given last, into `out`. Values
     /// finite or +∞ (−0.0 counts as +0.0, as `<` has it).
     pub(crate) fn chunk(&mut self, groups: &[&[f64]], out: &mut [f64]) {
         debug_assert!(groups.len() * GROUP == self.keys.len());
-        debug_assert!(groups.iter().all(|g| g.len() >= out.len() * GROUP));
+        debug_assert!(groups.iter().all(|g| g.len() >= out.len() * ROW));
         let last = std::mem::take(&mut self.last);
         {
-            let previous: Vec<&[f64]> = last.chunks_exact(GROUP).collect();
+            let previous: Vec<&[f64]> = last.chunks_exact(ROW).collect();
             for (j, out) in out.iter_mut().enumerate() {
                 let column = Column { groups, index: j };
                 let previous = match j {
@@ -133,8 +221,8 @@ impl LevelTracker {
         }
         self.last = last;
         let final_column = out.len() - 1;
-        for (to, group) in self.last.chunks_exact_mut(GROUP).zip(groups) {
-            to.copy_from_slice(&group[final_column * GROUP..(final_column + 1) * GROUP]);
+        for (to, group) in self.last.chunks_exact_mut(ROW).zip(groups) {
+            to.copy_from_slice(&group[final_column * ROW..][..ROW]);
         }
     }
 
@@ -193,38 +281,51 @@ impl LevelTracker {
 
     /// The order statistics (rank, needed) of `column` if `window` holds them.
     fn search(&mut self, column: Column<'_>, (lo, hi): (f64, f64)) -> Option<(f64, f64)> {
-        // One pass, written for SIMD: per lane a compare, a mask and an add for the
-        // count below; per block the count inside, summed pairwise, and the block's
-        // index kept (without a branch) when it is not zero.
-        let one_if = |c: bool| if c { 1.0 } else { 0.0 };
-        let mut below = [0.0f64; LANES];
+        // The envelopes: a group or block wholly below counts its size at once, one
+        // wholly above nothing; the blocks the window cuts are listed.
+        let mut b = 0;
         let mut listed = 0;
-        for (b, block) in column.blocks().enumerate() {
-            let mut inside = [0.0f64; LANES];
-            for lane in 0..LANES {
-                let v = block[lane];
-                below[lane] += one_if(v < lo);
-                inside[lane] = one_if((lo <= v) & (v <= hi));
+        for g in 0..column.groups.len() {
+            let row = column.row(g);
+            if row[GROUP_MAX] < lo {
+                b += GROUP;
+                continue;
             }
-            let [i0, i1, i2, i3, i4, i5, i6, i7] = inside;
-            let hits = ((i0 + i4) + (i2 + i6)) + ((i1 + i5) + (i3 + i7));
-            self.blocks[listed] = b as u32;
-            listed += usize::from(hits > 0.0);
+            if hi < row[GROUP_MIN] {
+                continue;
+            }
+            for k in 0..BLOCKS {
+                let (min, max) = (row[MINS + k], row[MAXS + k]);
+                b += LANES * usize::from(max < lo);
+                self.blocks[listed] = (g * BLOCKS + k) as u32;
+                listed += usize::from((lo <= max) & (min <= hi));
+            }
         }
-        let b = below.iter().sum::<f64>() as usize;
+        self.counts.cut_blocks += listed;
+        self.counts.searches += 1;
         if b > self.rank {
             return None;
         }
-        // Collecting, from the listed blocks only.
+        // The listed blocks value by value: counting below (per lane, in f64, which
+        // vectorises), collecting inside (without a branch; keys only for the kept).
+        let one_if = |c: bool| if c { 1.0 } else { 0.0 };
+        let mut below = [0.0f64; LANES];
         let mut m = 0;
         for &block in &self.blocks[..listed] {
             let values = column.block(block as usize);
+            for (count, &v) in below.iter_mut().zip(values) {
+                *count += one_if(v < lo);
+            }
             for &v in values {
-                self.candidates[m] = key(v);
+                self.inside[m] = v;
                 m += usize::from((lo <= v) & (v <= hi));
             }
         }
-        if self.needed >= b + m {
+        b += below.iter().sum::<f64>() as usize;
+        for (k, &v) in self.candidates.iter_mut().zip(&self.inside[..m]) {
+            *k = key(v);
+        }
+        if b > self.rank || self.needed >= b + m {
             return None;
         }
         self.counts.candidates += m;
@@ -260,9 +361,23 @@ mod tests {
     /// Every level's tracker gives exactly the full selection's results, column after
     /// column and across chunks, whether the columns move slowly (narrow windows), drift
     /// steadily (predicted windows), jump (fallbacks), stand still or tie; with +∞
-    /// padding.
+    /// padding; with the samples in a random order or sorted.
     #[test]
     fn trackers_equal_full_selection() {
+        for sorted in [false, true] {
+            let counts = track_and_compare(sorted);
+            for c in &counts {
+                assert!(c.predicted > 0 && c.lipschitz > 0 && c.full >= 1, "{c:?}");
+            }
+            // Both paths taken: some blocks cut, others counted or skipped whole (32
+            // blocks a column, 4 of them padding).
+            let cut: usize = counts.iter().map(|c| c.cut_blocks).sum();
+            let searched: usize = counts.iter().map(|c| 32 * c.searches).sum();
+            assert!(cut > 0 && cut < searched / 2, "{counts:?}");
+        }
+    }
+
+    fn track_and_compare(sorted: bool) -> Vec<TrackerCounts> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         let (good, levels) = (253usize, [0.0, 5.0, 50.0, 72.5, 95.0, 100.0]);
         let padded = good.next_multiple_of(GROUP);
@@ -270,10 +385,16 @@ mod tests {
             .iter()
             .map(|&l| LevelTracker::new(l, good, padded))
             .collect();
-        let mut column: Vec<f64> = (0..good).map(|_| rng.random::<f64>()).collect();
+        let mut column: Vec<f64> = (0..good)
+            .map(|i| match sorted {
+                true => i as f64 / 10.0,
+                false => rng.random::<f64>(),
+            })
+            .collect();
         let (width, chunks) = (37, 9);
         for chunk in 0..chunks {
-            let mut data = vec![f64::INFINITY; padded * width]; // data[group][t][sample]
+            // A region of rows per group.
+            let mut data = vec![f64::INFINITY; (padded / GROUP) * width * ROW];
             let mut expected = vec![vec![0.0; width]; levels.len()];
             for j in 0..width {
                 let step = chunk * width + j;
@@ -290,7 +411,7 @@ mod tests {
                     if step % 89 == 5 && i % 3 == 0 {
                         *v = -0.0; // signed zeros among the values
                     }
-                    data[((i / GROUP) * width + j) * GROUP + i % GROUP] = *v;
+                    data[((i / GROUP) * width + j) * ROW + VALUES + i % GROUP] = *v;
                 }
                 let mut row = [0.0; 6];
                 percentiles(&column, &levels, &mut row);
@@ -298,18 +419,27 @@ mod tests {
                     expected[k][j] = value;
                 }
             }
-            let groups: Vec<&[f64]> = data.chunks_exact(width * GROUP).collect();
+            for region in data.chunks_exact_mut(width * ROW) {
+                write_envelopes(region, width);
+            }
+            let groups: Vec<&[f64]> = data.chunks_exact(width * ROW).collect();
             for (k, tracker) in trackers.iter_mut().enumerate() {
-                let mut got = vec![0.0; width];
+                // The last chunk is shorter than the buffer.
+                let columns = if chunk + 1 == chunks {
+                    width - 5
+                } else {
+                    width
+                };
+                let mut got = vec![0.0; columns];
                 tracker.chunk(&groups, &mut got);
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(bits(&got), bits(&expected[k]), "chunk {chunk}, level {k}");
+                assert_eq!(
+                    bits(&got),
+                    bits(&expected[k][..columns]),
+                    "sorted {sorted}, chunk {chunk}, level {k}"
+                );
             }
         }
-        for tracker in &trackers {
-            let c = tracker.counts;
-            assert_eq!(c.predicted + c.lipschitz + c.full, width * chunks);
-            assert!(c.predicted > 0 && c.lipschitz > 0 && c.full >= 1, "{c:?}");
-        }
+        trackers.iter().map(|t| t.counts).collect()
     }
 }

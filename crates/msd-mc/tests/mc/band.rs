@@ -69,13 +69,13 @@ fn identical_for_1_2_and_8_threads_any_chunking_and_repeated_runs() {
     for threads in [2, 8] {
         assert_same(&reference, &paper_band(threads, 5, 256 << 20));
     }
-    // 100 columns per chunk (200 samples are 256 in groups of 64): 76 chunks, where the
-    // default makes 30; and one column per chunk: 7501.
-    assert_eq!(reference.memory.chunks, 30);
-    let chunked = paper_band(2, 5, 16 * 256 * 100);
+    // 100 columns per chunk (200 samples are 4 groups of 64, 1408 bytes each a column):
+    // 76 chunks, where the default makes 41; and one column per chunk: 7501.
+    assert_eq!(reference.memory.chunks, 41);
+    let chunked = paper_band(2, 5, 1408 * 4 * 100);
     assert_eq!(chunked.memory.chunks, 76);
     assert_same(&reference, &chunked);
-    let column_by_column = paper_band(2, 5, 16 * 256);
+    let column_by_column = paper_band(2, 5, 1408 * 4);
     assert_eq!(column_by_column.memory.chunks, 7501);
     assert_same(&reference, &column_by_column);
     assert_same(&reference, &paper_band(1, 5, 256 << 20));
@@ -133,7 +133,7 @@ fn non_physical_covariance_draws_are_redrawn() {
 fn progress_reports_every_block_and_chunk() {
     let step = Excitation::from_samples(0.0, 0.01, vec![1.0; 100]).unwrap();
     let options = McOptions {
-        max_buffer_bytes: 16 * 320 * 30, // 300 samples are 320 in groups: 30 columns a chunk
+        max_buffer_bytes: 1408 * 5 * 30, // 300 samples are 5 groups: 30 columns a chunk
         ..exact(300)
     };
     let calls = AtomicUsize::new(0);

@@ -83,11 +83,11 @@ fn bad_band_options_are_rejected_with_their_reason() {
         McError::NotPositiveSemidefinite { pivot: 1, .. }
     ));
     assert_eq!(
-        with(&|o| o.max_buffer_bytes = 1023),
+        with(&|o| o.max_buffer_bytes = 1407),
         McError::BudgetTooSmall {
-            budget: 1023,
+            budget: 1407,
             samples: 10,
-            needed: 1024
+            needed: 1408 // a group of 64: 64 values and 24 envelope values, twice
         }
     );
 }
