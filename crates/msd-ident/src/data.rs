@@ -3,7 +3,7 @@
 
 use crate::{IdentError, Result};
 use msd_ode::Breakpoint;
-use msd_signal::Signal;
+use msd_signal::{PreparedSignal, Signal};
 
 /// Smallest record the estimators accept.
 pub const MIN_SAMPLES: usize = 10;
@@ -31,6 +31,8 @@ pub struct Excitation {
     times: Vec<f64>,
     breakpoints: Vec<Breakpoint>,
     signal: Option<Signal>,
+    /// The signal prepared for evaluation at any time (the ode45 force).
+    prepared: Option<PreparedSignal>,
 }
 
 impl Excitation {
@@ -97,6 +99,7 @@ impl Excitation {
             samples,
             times,
             breakpoints,
+            prepared: Some(signal.prepare()),
             signal: Some(signal),
         })
     }
@@ -113,6 +116,7 @@ impl Excitation {
             times,
             breakpoints: Vec::new(),
             signal: None,
+            prepared: None,
         })
     }
 
@@ -159,7 +163,7 @@ impl Excitation {
     /// The force at any time: the signal when known, else linear interpolation of the
     /// samples (held constant outside the record).
     pub fn value(&self, t: f64) -> f64 {
-        match &self.signal {
+        match &self.prepared {
             Some(s) => s.value(t),
             None => {
                 let position = (t - self.t0) / self.dt;
@@ -203,6 +207,7 @@ impl Excitation {
             times: self.times[start..end].to_vec(),
             breakpoints,
             signal: self.signal.clone(),
+            prepared: self.prepared.clone(),
         })
     }
 }

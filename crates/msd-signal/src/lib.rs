@@ -77,7 +77,7 @@ pub use preprocess::{
 pub use rustfft::num_complex::Complex64;
 pub use signal::{
     Breakpoint, ClippingOptions, LineSelection, Multisine, MultisineSpec, PhaseScheme, Prbs,
-    PrbsSpec, Signal, SineSegment, Sweep,
+    PrbsSpec, PreparedSignal, Signal, SineSegment, Sweep,
 };
 pub use spectral::{
     CrossSpectrum, Detrend, FrequencyResponseEstimate, Spectrum, WelchOptions, Window, coherence,

@@ -127,6 +127,20 @@ fn finite_on(u: &Signal, t0: f64, t1: f64) -> Result<(), TestCaseError> {
 proptest! {
     #![proptest_config(cases(1024))]
 
+    /// A prepared signal computes exactly what the signal does, bit for bit, for any
+    /// parameters (valid or not: NaN where the signal gives NaN) at any time.
+    #[test]
+    fn prepared_signals_equal_the_signal_bit_for_bit(
+        u in signal(),
+        times in prop::collection::vec(wild_f64(), 1..40),
+    ) {
+        let prepared = u.prepare();
+        for t in times.into_iter().chain((0..=200).map(|i| -1.0 + 0.1 * i as f64)) {
+            prop_assert_eq!(prepared.value(t).to_bits(), u.value(t).to_bits(), "u({})", t);
+            prop_assert_eq!(prepared.left_limit(t).to_bits(), u.left_limit(t).to_bits(), "u({}⁻)", t);
+        }
+    }
+
     /// validate() decides: an accepted signal is finite over any record that starts
     /// where its times are (a 20 s span from its earliest time and from 0), and a refused
     /// one names the parameter.

@@ -23,7 +23,7 @@ pub enum Sweep {
 }
 
 /// Below this |ln r| a logarithmic sweep is treated as constant frequency.
-const FLAT_LOG_RATIO: f64 = 1e-12;
+pub(crate) const FLAT_LOG_RATIO: f64 = 1e-12;
 
 /// Phase θ(τ) in radians, without the user's phase offset.
 #[inline]

@@ -37,6 +37,7 @@
 pub(crate) mod chirp;
 pub(crate) mod multisine;
 pub(crate) mod prbs;
+mod prepared;
 
 use std::f64::consts::TAU;
 
@@ -46,6 +47,7 @@ use crate::error::{Result, SignalError, finite, non_negative, positive};
 pub use chirp::Sweep;
 pub use multisine::{ClippingOptions, LineSelection, Multisine, MultisineSpec, PhaseScheme};
 pub use prbs::{Prbs, PrbsSpec};
+pub use prepared::PreparedSignal;
 
 /// An excitation signal u(t). See the [module docs](self) for the conventions.
 ///
