@@ -27,12 +27,14 @@
 //! - A step budget (`max_steps`) exists as a safety net.
 //! - Only the scalar `AbsTol` is supported; events and `NonNegative` are not.
 
+mod lanes;
 mod step;
 mod stepper;
 
 use crate::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::system::OdeSystem;
+pub use lanes::{LaneSystem, Ode45Lanes};
 use nalgebra::SVector;
 use step::Core;
 pub use stepper::{Ode45Stepper, TimeGrid};

@@ -47,7 +47,7 @@ mod options;
 mod system;
 pub mod tableau;
 
-pub use dopri::{Ode45Stepper, Solution, TimeGrid, ode45, ode45_with};
+pub use dopri::{LaneSystem, Ode45Lanes, Ode45Stepper, Solution, TimeGrid, ode45, ode45_with};
 pub use error::OdeError;
 pub use lti::{Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, SampledInput};
 pub use nalgebra::{SMatrix, SVector};

@@ -9,7 +9,7 @@ use crate::system::OdeSystem;
 use crate::tableau::{A, C, E, INTERPOLANT};
 use nalgebra::SVector;
 
-const POW: f64 = 1.0 / 5.0;
+pub(crate) const POW: f64 = 1.0 / 5.0;
 
 /// The solver between two steps: (t, y) and the stages of the last step, the step-size
 /// state, and — after [`Core::step`] — the accepted step to (tnew, ynew).
