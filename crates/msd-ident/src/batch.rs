@@ -1,10 +1,9 @@
 //! Many parameter sets on one excitation, [`LANES`] at a time, streamed along the record.
 
-use crate::simulate::ode45_rhs;
 use crate::{Backend, Excitation, InitialState, Parameters, Result};
 use msd_ode::{
-    ExactSimulator, Hold, InputSchedule, Lockstep, Ode45Options, Ode45Stepper, SampledInput,
-    TimeGrid,
+    ExactSimulator, Hold, InputSchedule, LaneSystem, Lockstep, Ode45Lanes, Ode45Options,
+    SampledInput, TimeGrid,
 };
 
 /// Parameter sets a [`BatchRun`] steps together.
@@ -113,12 +112,18 @@ impl<'a> BatchSimulator<'a> {
                     stepper: stepper.map(Box::new),
                 }
             }
-            Kind::Ode45 { grid, options } => Lanes::Ode45(Box::new(std::array::from_fn(|lane| {
-                let p = set(lane)?;
-                let mut rhs = ode45_rhs(&p, self.excitation);
-                let stepper = Ode45Stepper::new(&mut rhs, *grid, &x0, options).ok()?;
-                Some((p, stepper))
-            }))),
+            Kind::Ode45 { grid, options } => {
+                let sets: [Option<Parameters>; LANES] = std::array::from_fn(set);
+                let mut plants = Plants {
+                    // Empty lanes get a harmless plant; their values are not used.
+                    parameters: sets.map(|p| p.map_or([1.0, 0.0, 1.0], |p| p.to_array())),
+                    excitation: self.excitation,
+                };
+                let y0 = std::array::from_fn(|r| [x0[r]; LANES]);
+                let used = sets.map(|p| p.is_some());
+                let lanes = Ode45Lanes::new(&mut plants, *grid, &y0, used, options);
+                Lanes::Ode45(Box::new((lanes, plants)))
+            }
         };
         BatchRun { lanes, next: 0 }
     }
@@ -154,7 +159,33 @@ enum Lanes<'a> {
         stepper: Option<Box<Lockstep<2, LANES>>>,
         ok: [bool; LANES],
     },
-    Ode45(Box<[Option<(Parameters, Ode45Stepper<'a, 2>)>; LANES]>),
+    Ode45(Box<(Ode45Lanes<'a, 2, LANES>, Plants<'a>)>),
+}
+
+/// The right-hand sides of [`LANES`] plants driven by one excitation, as
+/// `simulate`'s ode45 right-hand side computes each: x'' = (F(t) − c·x' − k·x)/m.
+#[derive(Debug, Clone)]
+struct Plants<'a> {
+    /// (m, c, k) of each lane.
+    parameters: [[f64; 3]; LANES],
+    excitation: &'a Excitation,
+}
+
+impl LaneSystem<2, LANES> for Plants<'_> {
+    fn rhs(
+        &mut self,
+        active: &[bool; LANES],
+        t: &[f64; LANES],
+        y: &[[f64; LANES]; 2],
+        dydt: &mut [[f64; LANES]; 2],
+    ) {
+        let mut force = [0.0; LANES];
+        self.excitation.values(t, active, &mut force);
+        for (lane, &[m, c, k]) in self.parameters.iter().enumerate() {
+            dydt[0][lane] = y[1][lane];
+            dydt[1][lane] = (force[lane] - c * y[1][lane] - k * y[0][lane]) / m;
+        }
+    }
 }
 
 impl BatchRun<'_> {
@@ -165,7 +196,7 @@ impl BatchRun<'_> {
     /// ```
     pub const MAX_BYTES: usize = {
         let exact = size_of::<Lockstep<2, LANES>>();
-        let ode45 = size_of::<[Option<(Parameters, Ode45Stepper<'static, 2>)>; LANES]>();
+        let ode45 = size_of::<(Ode45Lanes<'static, 2, LANES>, Plants<'static>)>();
         size_of::<Self>() + if exact > ode45 { exact } else { ode45 }
     };
 
@@ -251,19 +282,12 @@ impl BatchRun<'_> {
                 }
                 *ok
             }
-            (Lanes::Ode45(lanes), Kind::Ode45 { .. }) => std::array::from_fn(|lane| {
-                let Some((p, stepper)) = &mut lanes[lane] else {
-                    return false;
-                };
-                let mut rhs = ode45_rhs(p, batch.excitation);
-                let done = stepper.advance(&mut rhs, until, |t, y| {
-                    out[(t - start) * stride + lane] = y[0]
-                });
-                if done.is_err() {
-                    lanes[lane] = None;
-                }
-                done.is_ok()
-            }),
+            (Lanes::Ode45(run), Kind::Ode45 { .. }) => {
+                let (lanes, plants) = &mut **run;
+                lanes.advance(plants, until, 0, |lane, t, x| {
+                    out[(t - start) * stride + lane] = x
+                })
+            }
             _ => panic!("a batch run advanced by a simulator of another backend"),
         };
         for (lane, _) in ok.iter().enumerate().filter(|(_, good)| !**good) {

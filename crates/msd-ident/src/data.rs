@@ -181,6 +181,30 @@ impl Excitation {
         }
     }
 
+    /// [`value`](Self::value) at the times `t[l]` of the lanes with `active[l]`, into
+    /// `out[l]` (the others are left as they are), each bit for bit `value(t[l])`: a
+    /// known signal is evaluated once for all the times (faster than one call each).
+    ///
+    /// ```
+    /// use msd_ident::Excitation;
+    /// use msd_signal::paper_validation_input;
+    /// let e = Excitation::from_signal(paper_validation_input(), 0.0, 0.002, 7501)?;
+    /// let mut out = [0.0; 3];
+    /// e.values(&[0.5, 1.0, 3.3], &[true; 3], &mut out);
+    /// assert_eq!(out[2], e.value(3.3));
+    /// # Ok::<(), msd_ident::IdentError>(())
+    /// ```
+    pub fn values<const B: usize>(&self, t: &[f64; B], active: &[bool; B], out: &mut [f64; B]) {
+        match &self.prepared {
+            Some(s) => s.values(t, active, out),
+            None => {
+                for l in (0..B).filter(|&l| active[l]) {
+                    out[l] = self.value(t[l]);
+                }
+            }
+        }
+    }
+
     /// The samples `range` as a new excitation starting at their first time.
     pub fn slice(&self, start: usize, end: usize) -> Result<Self> {
         if start >= end || end > self.len() {
