@@ -41,7 +41,7 @@ use crate::tableau::{A, C, E, INTERPOLANT};
 /// assert_eq!(out[0], [-1.0, -2.0, -3.0, -4.0]);
 /// ```
 pub trait LaneSystem<const N: usize, const B: usize> {
-    /// Writes f_l(t[l], y[·][l]) into `dydt[·][l]` for every lane l with `active[l]`;
+    /// Writes `f_l(t[l], y[·][l])` into `dydt[·][l]` for every lane l with `active[l]`;
     /// the other lanes' entries are not used (leave them, or fill them with anything).
     fn rhs(
         &mut self,
@@ -64,7 +64,11 @@ enum Status {
 }
 
 /// B systems integrated by ode45 on one output grid, one stretch at a time, side by
-/// side (see the [module documentation](self)): [`advance`](Self::advance) hands out
+/// side. One solve waits on floating-point latency (each stage needs the previous
+/// one's right-hand side); B solves stepped together fill the pipeline: in each round
+/// every lane with work attempts one step under its own step-size control, and the
+/// stages, new states and error estimates of all lanes are computed in loops that
+/// vectorise. [`advance`](Self::advance) hands out
 /// one state component of every lane at the grid points up to an index and keeps the
 /// solvers' states. Lane l's values are bit for bit those of an
 /// [`Ode45Stepper`](crate::Ode45Stepper) on lane l's system alone, however the grid is
