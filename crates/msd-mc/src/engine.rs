@@ -15,9 +15,11 @@
 //!
 //! ## The parallel schedule
 //! Every worker of the pool runs the same loop over the phases ([`run`], on
-//! `rayon::broadcast`): it takes the phase's tasks one at a time from a shared counter
-//! (trackers first: they are the longest) and then waits for the others at a
-//! [`SpinBarrier`]. Waiting by spinning instead of sleeping matters on a virtual
+//! `rayon::broadcast`): it takes the phase's tasks one at a time, each claimed by one
+//! atomic exchange — trackers first (they are the longest), starting with a tracker of
+//! its own, then its own share of the groups (their simulator states and chunk regions
+//! stay in its core's cache), then whatever the others left — and then waits for the
+//! others at a [`SpinBarrier`]. Waiting by spinning instead of sleeping matters on a virtual
 //! machine, where a worker put to sleep between two chunks was measured to miss whole
 //! chunks. Memory is two chunk buffers (about 1 MiB for N = 1000) and the blocks'
 //! states (about 0.5 KiB per sample) whatever T, and every sample is simulated once.
@@ -115,6 +117,11 @@ impl MemoryPlan {
     }
 }
 
+/// An atomic counter alone on its cache line (workers claim items on separate lines).
+#[derive(Default)]
+#[repr(align(64))]
+struct Padded(AtomicUsize);
+
 /// A level's tracker and its percentile at every time.
 type Level = (LevelTracker, Vec<f64>);
 
@@ -140,8 +147,8 @@ pub(crate) struct Restart(pub(crate) Vec<bool>);
 /// [`Restart`] when a sample failed after its values entered a percentile.
 ///
 /// Runs on every thread of `pool` at once ([`rayon::ThreadPool::broadcast`]): in
-/// phase p the workers take, one at a time from a shared counter, the level trackers
-/// of chunk p − 1 and the simulation groups of chunk p, then meet at a
+/// phase p the workers take, one at a time, the level trackers of chunk p − 1 and the
+/// simulation groups of chunk p, then meet at a
 /// [`SpinBarrier`]. A panic in one worker stops the others and is resumed here.
 ///
 /// Nothing else may run on `pool` meanwhile (the band's pool is its own): a worker
@@ -186,16 +193,9 @@ where
     let stop = AtomicUsize::new(usize::MAX);
     let (total, done) = (n * chunks, AtomicUsize::new(0));
 
-    // Phase p: the trackers of chunk p − 1 (p ≥ 1), then the groups of chunk p (p < chunks);
-    // items are numbered across phases, phase p's from bases[p].
+    // Phase p: the trackers of chunk p − 1 (p ≥ 1), then the groups of chunk p (p < chunks).
     let trackers_in = |p: usize| if p >= 1 { l } else { 0 };
     let groups_in = |p: usize| if p < chunks { groups } else { 0 };
-    let bases: Vec<usize> = std::iter::once(0)
-        .chain((0..=chunks).scan(0, |sum, p| {
-            *sum += trackers_in(p) + groups_in(p);
-            Some(*sum)
-        }))
-        .collect();
     let span = |chunk: usize| {
         (
             chunk * width,
@@ -253,23 +253,40 @@ where
         tracker.chunk(&regions, &mut out[t0..t0 + w]);
     };
 
-    let next = AtomicUsize::new(0);
-    let barrier = SpinBarrier::new(pool.current_num_threads());
+    // claimed[i]: 1 + the last phase in which item i (trackers 0..l, then the groups)
+    // was taken; a worker takes an item at most once a phase, by raising it to p + 1.
+    let claimed: Vec<Padded> = (0..l + groups).map(|_| Padded::default()).collect();
+    let threads = pool.current_num_threads();
+    let barrier = SpinBarrier::new(threads);
     let panicked: Mutex<Option<Box<dyn std::any::Any + Send>>> = Mutex::new(None);
-    let worker = || {
-        let mut held = None; // an item claimed for a later phase
+    let worker = |w: usize| {
+        // Each worker starts with a tracker of its own and its own share of the groups
+        // (their states and chunk regions stay in its cache), then helps with the rest.
+        let own = (groups * w / threads)..(groups * (w + 1) / threads);
+        let others = (0..groups).rev().filter(|g| !own.contains(g));
+        let trackers = (0..l).map(|k| (k + w) % l);
+        let order: Vec<usize> = trackers
+            .chain(own.clone().chain(others).map(|g| l + g))
+            .collect();
         for p in 0..=chunks {
-            loop {
-                let i = held
-                    .take()
-                    .unwrap_or_else(|| next.fetch_add(1, Ordering::Relaxed));
-                if i >= bases[p + 1] {
-                    held = Some(i);
-                    break;
+            for &i in &order {
+                let available = if i < l {
+                    trackers_in(p) > 0
+                } else {
+                    groups_in(p) > 0
+                };
+                let taken = claimed[i].0.load(Ordering::Relaxed);
+                if !available || taken > p {
+                    continue;
                 }
-                match i - bases[p] {
-                    k if k < trackers_in(p) => track(p - 1, k),
-                    j => simulate(p, j - trackers_in(p)),
+                let won = claimed[i]
+                    .0
+                    .compare_exchange(taken, p + 1, Ordering::AcqRel, Ordering::Relaxed)
+                    .is_ok();
+                match (won, i < l) {
+                    (false, _) => {}
+                    (true, true) => track(p - 1, i),
+                    (true, false) => simulate(p, i - l),
                 }
             }
             if !barrier.wait() || stop.load(Ordering::Relaxed) <= p {
@@ -277,8 +294,9 @@ where
             }
         }
     };
-    pool.broadcast(|_| {
-        if let Err(payload) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(worker)) {
+    pool.broadcast(|context| {
+        let work = || worker(context.index());
+        if let Err(payload) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
             barrier.abort();
             panicked
                 .lock()
