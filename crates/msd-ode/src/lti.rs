@@ -429,8 +429,8 @@ impl<const N: usize> ExactSimulator<N> {
             // The drive does not depend on x: it is summed off the state's dependency
             // chain, so the loop runs at the speed of the bare recurrence x ← Φx + d.
             let drive = (w[0][r] * u[0] + w[1][r] * u[1]) + (w[2][r] * u[2] + w[3][r] * u[3]);
-            let mut acc = 0.0;
-            for (p, xc) in row.iter().zip(x.iter()) {
+            let mut acc = row[0] * x[0];
+            for (p, xc) in row.iter().zip(x.iter()).skip(1) {
                 acc += p * xc;
             }
             next[r] = acc + drive;

@@ -163,8 +163,8 @@ impl<const N: usize, const B: usize> Lockstep<N, B> {
                 for l in 0..B {
                     let drive = (w[0][r][l] * u[0] + w[1][r][l] * u[1])
                         + (w[2][r][l] * u[2] + w[3][r][l] * u[3]);
-                    let mut acc = 0.0;
-                    for c in 0..N {
+                    let mut acc = self.phi[r][0][l] * self.x[0][l];
+                    for c in 1..N {
                         acc += self.phi[r][c][l] * self.x[c][l];
                     }
                     next_r[l] = acc + drive;
