@@ -401,14 +401,17 @@ impl<'a, const N: usize, const B: usize> Ode45Lanes<'a, N, B> {
     /// The held step's `ntrp45` polynomial for one component: q_j = h·Σᵢ BIᵢⱼ kᵢ,
     /// summed as `Interpolant::new` sums them.
     fn interpolant(&self, lane: usize, component: usize) -> [f64; 4] {
+        // The rows with an entry in columns 1..4 (column 0 has row 0 only): fixed
+        // loops over constants, unrolled, so no test of a coefficient is left.
+        const ROWS: [usize; 6] = [0, 2, 3, 4, 5, 6];
+        debug_assert!((1..7).all(|r| INTERPOLANT[r][0] == 0.0 && (r != 1 || INTERPOLANT[1] == [0.0; 4])));
         let h = self.h[lane];
         let k: [f64; 7] = std::array::from_fn(|i| self.k[i][component][lane]);
         let mut q = [0.0; 4];
-        for (row, k) in INTERPOLANT.iter().zip(k) {
-            for (q, &b) in q.iter_mut().zip(row) {
-                if b != 0.0 {
-                    *q += h * b * k;
-                }
+        q[0] += h * INTERPOLANT[0][0] * k[0];
+        for (j, q) in q.iter_mut().enumerate().skip(1) {
+            for r in ROWS {
+                *q += h * INTERPOLANT[r][j] * k[r];
             }
         }
         q

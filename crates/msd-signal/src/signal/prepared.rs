@@ -50,27 +50,58 @@ impl Sine {
 #[derive(Debug, Clone, PartialEq)]
 enum Node {
     Constant(f64),
-    Step {
-        amplitude: f64,
-        time: f64,
-    },
+    Step { amplitude: f64, time: f64 },
     Sine(Sine),
     SteppedSine(Vec<Sine>),
-    Chirp {
-        amplitude: f64,
-        phase: f64,
-        t_start: f64,
-        /// t_start + duration.
-        t_end: f64,
-        sweep: Phase,
-    },
+    Chirp(Chirp),
     Multisine(Multisine),
     Prbs(Prbs),
     Sum(Vec<Node>),
-    Scaled {
-        gain: f64,
-        node: Box<Node>,
-    },
+    Scaled { gain: f64, node: Box<Node> },
+}
+
+/// A chirp term: `amplitude`·sin(θ(t − `t_start`) + `phase`) on [t_start, t_end).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Chirp {
+    amplitude: f64,
+    phase: f64,
+    t_start: f64,
+    /// t_start + duration.
+    t_end: f64,
+    sweep: Phase,
+}
+
+impl Chirp {
+    #[inline(always)]
+    fn value(&self, t: f64, left: bool) -> f64 {
+        if in_window(t, self.t_start, Some(self.t_end), left) {
+            self.amplitude * (self.sweep.phase(t - self.t_start) + self.phase).sin()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A step term: `amplitude`·H(t − `time`).
+#[inline(always)]
+fn step(amplitude: f64, time: f64, t: f64, left: bool) -> f64 {
+    let on = if left { t > time } else { t >= time };
+    if on { amplitude } else { 0.0 }
+}
+
+/// `out[l] = value(t[l])` for the lanes with `active[l]`.
+#[inline(always)]
+fn each<const B: usize>(
+    t: &[f64; B],
+    active: &[bool; B],
+    out: &mut [f64; B],
+    value: impl Fn(f64) -> f64,
+) {
+    for ((out, &t), &on) in out.iter_mut().zip(t).zip(active) {
+        if on {
+            *out = value(t);
+        }
+    }
 }
 
 /// A chirp's phase θ(τ) with its constants computed once, as `chirp::phase` computes it.
@@ -169,13 +200,13 @@ impl Node {
                 phase,
                 sweep,
                 t_start,
-            } => Node::Chirp {
+            } => Node::Chirp(Chirp {
                 amplitude: *amplitude,
                 phase: *phase,
                 t_start: *t_start,
                 t_end: t_start + duration,
                 sweep: Phase::new(*sweep, *f0, *f1, *duration),
-            },
+            }),
             Signal::Multisine(m) => Node::Multisine(m.clone()),
             Signal::Prbs(p) => Node::Prbs(p.clone()),
             Signal::Sum { terms } => Node::Sum(terms.iter().map(Node::new).collect()),
@@ -200,10 +231,7 @@ impl Node {
     fn leaf(&self, t: f64, left: bool) -> f64 {
         match self {
             Node::Constant(value) => *value,
-            Node::Step { amplitude, time } => {
-                let on = if left { t > *time } else { t >= *time };
-                if on { *amplitude } else { 0.0 }
-            }
+            Node::Step { amplitude, time } => step(*amplitude, *time, t, left),
             Node::Sine(s) => {
                 if in_window(t, s.t_on, s.t_off, left) {
                     s.value(t)
@@ -216,19 +244,7 @@ impl Node {
                 .filter(|s| in_window(t, s.t_on, s.t_off, left))
                 .map(|s| s.value(t))
                 .sum(),
-            Node::Chirp {
-                amplitude,
-                phase,
-                t_start,
-                t_end,
-                sweep,
-            } => {
-                if in_window(t, *t_start, Some(*t_end), left) {
-                    amplitude * (sweep.phase(t - t_start) + phase).sin()
-                } else {
-                    0.0
-                }
-            }
+            Node::Chirp(c) => c.value(t, left),
             Node::Multisine(m) => m.eval(t, left),
             Node::Prbs(p) => p.eval(t, left),
             Node::Sum(_) | Node::Scaled { .. } => self.eval(t, left),
@@ -256,8 +272,9 @@ impl Node {
                 let mut term = [0.0; B];
                 for node in terms {
                     node.eval_lanes(t, active, left, &mut term);
-                    for l in lanes() {
-                        sum[l] += term[l];
+                    // Every lane (inactive ones add what they hold): vectorises.
+                    for (sum, term) in sum.iter_mut().zip(&term) {
+                        *sum += term;
                     }
                 }
                 for l in lanes() {
@@ -283,11 +300,12 @@ impl Node {
                     out[l] = sum;
                 }
             }
-            leaf => {
-                for l in lanes() {
-                    out[l] = leaf.leaf(t[l], left);
-                }
+            // The common leaves matched once for all lanes.
+            Node::Chirp(c) => each(t, active, out, |t| c.value(t, left)),
+            Node::Step { amplitude, time } => {
+                each(t, active, out, |t| step(*amplitude, *time, t, left))
             }
+            leaf => each(t, active, out, |t| leaf.leaf(t, left)),
         }
     }
 }
