@@ -404,7 +404,9 @@ impl<'a, const N: usize, const B: usize> Ode45Lanes<'a, N, B> {
         // The rows with an entry in columns 1..4 (column 0 has row 0 only): fixed
         // loops over constants, unrolled, so no test of a coefficient is left.
         const ROWS: [usize; 6] = [0, 2, 3, 4, 5, 6];
-        debug_assert!((1..7).all(|r| INTERPOLANT[r][0] == 0.0 && (r != 1 || INTERPOLANT[1] == [0.0; 4])));
+        debug_assert!(
+            (1..7).all(|r| INTERPOLANT[r][0] == 0.0 && (r != 1 || INTERPOLANT[1] == [0.0; 4]))
+        );
         let h = self.h[lane];
         let k: [f64; 7] = std::array::from_fn(|i| self.k[i][component][lane]);
         let mut q = [0.0; 4];
