@@ -10,6 +10,10 @@
 //!   hold of the input exactly (zero-, first- or cubic-order), with jumps at sample
 //!   instants represented exactly.
 //!
+//! For Monte Carlo work, both also run many systems of one family side by side, each
+//! lane bit for bit the single solver: [`Ode45Lanes`] (ode45, each lane with its own
+//! step-size control) and [`Lockstep`] (exact simulation on one input).
+//!
 //! ```
 //! use msd_ode::{ode45, ExactSimulator, Hold, LtiModel, Ode45Options, SampledInput, SMatrix, SVector};
 //!
