@@ -77,28 +77,37 @@ impl Region {
 /// written there.
 pub(crate) fn write_envelopes(rows: &mut [f64], columns: usize) {
     debug_assert!(rows.len() >= columns * ROW);
-    // Values are finite or +∞, never NaN: plain comparisons are min and max, and
-    // halving the lanes vectorises.
-    fn halve<const M: usize>(v: &[f64], pick: fn(f64, f64) -> f64) -> [f64; M] {
-        std::array::from_fn(|i| pick(v[i], v[i + M]))
-    }
-    let min = |a: f64, b: f64| if b < a { b } else { a };
-    let max = |a: f64, b: f64| if b > a { b } else { a };
+    // Values are finite or +∞, never NaN.
     for row in rows.chunks_exact_mut(ROW).take(columns) {
         let (envelopes, values) = row.split_at_mut(VALUES);
-        let (mut low, mut high) = ([f64::INFINITY; BLOCKS], [f64::NEG_INFINITY; BLOCKS]);
+        let (mut low, mut high) = ([0.0; BLOCKS], [0.0; BLOCKS]);
         for (k, v) in values.chunks_exact(LANES).enumerate() {
-            let (l, h) = (halve::<4>(v, min), halve::<4>(v, max));
-            let (l, h) = (halve::<2>(&l, min), halve::<2>(&h, max));
-            (low[k], high[k]) = (min(l[0], l[1]), max(h[0], h[1]));
+            let v: &[f64; LANES] = v.try_into().expect("LANES values");
+            (low[k], high[k]) = (smallest(v), largest(v));
         }
         envelopes[MINS..MAXS].copy_from_slice(&low);
         envelopes[MAXS..].copy_from_slice(&high);
-        let (l, h) = (halve::<4>(&low, min), halve::<4>(&high, max));
-        let (l, h) = (halve::<2>(&l, min), halve::<2>(&h, max));
-        envelopes[GROUP_MIN] = min(l[0], l[1]);
-        envelopes[GROUP_MAX] = max(h[0], h[1]);
+        envelopes[GROUP_MIN] = smallest(&low);
+        envelopes[GROUP_MAX] = largest(&high);
     }
+}
+
+/// The smallest of 8 values that are not NaN (`<` is then min), by halving: vectorises.
+#[inline(always)]
+fn smallest(v: &[f64; 8]) -> f64 {
+    let min = |a: f64, b: f64| if b < a { b } else { a };
+    let h: [f64; 4] = std::array::from_fn(|i| min(v[i], v[i + 4]));
+    let q: [f64; 2] = std::array::from_fn(|i| min(h[i], h[i + 2]));
+    min(q[0], q[1])
+}
+
+/// The largest of 8 values that are not NaN, as [`smallest`].
+#[inline(always)]
+fn largest(v: &[f64; 8]) -> f64 {
+    let max = |a: f64, b: f64| if b > a { b } else { a };
+    let h: [f64; 4] = std::array::from_fn(|i| max(v[i], v[i + 4]));
+    let q: [f64; 2] = std::array::from_fn(|i| max(h[i], h[i + 2]));
+    max(q[0], q[1])
 }
 
 /// One time column of a chunk whose groups of [`GROUP`] samples are laid out in rows
