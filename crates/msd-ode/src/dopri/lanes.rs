@@ -324,10 +324,13 @@ impl<'a, const N: usize, const B: usize> Ode45Lanes<'a, N, B> {
             let (t, tnew, h) = (self.t[lane], self.tnew[lane], self.h[lane]);
             // The step's points below `until`: interpolated, but a point on the step's
             // end (only the last can be) takes the new state.
+            // A step holds a few points: a forward scan (as `Ode45Stepper`'s) beats a
+            // binary search, and costs no more than interpolating what it passes.
             let from = self.next[lane];
-            let end = from
-                + self.grid[from..until.max(from)]
-                    .partition_point(|&tout| tdir * (tnew - tout) >= 0.0);
+            let mut end = from;
+            while end < until && tdir * (tnew - self.grid[end]) >= 0.0 {
+                end += 1;
+            }
             let on_end = end > from && self.grid[end - 1] == tnew;
             let inside = if on_end { end - 1 } else { end };
             if inside > from {
