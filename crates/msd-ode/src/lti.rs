@@ -272,7 +272,7 @@ impl<const N: usize> ExactSimulator<N> {
                 dt,
             });
         }
-        let mut e = aug.exp();
+        let mut e = exponential(&aug);
         for r in 0..size {
             for c in 0..size {
                 e[(r, c)] *= scale[r] / scale[c];
@@ -580,6 +580,27 @@ fn stencil_weights<const N: usize>(
         }
     }
     weights
+}
+
+/// e^M. The two sizes the toolkit discretises — 6 (a 2-state plant) and 12 (with its
+/// six sensitivity states) — are computed on fixed-size matrices: no allocation, and
+/// nalgebra's own products instead of `matrixmultiply`'s, which picks its kernel (with
+/// or without FMA, AVX-512 or not) by the CPU it runs on: Φ and Γ no longer depend on
+/// that choice. Other sizes take the heap path.
+fn exponential(m: &DMatrix<f64>) -> DMatrix<f64> {
+    // `exp` is implemented for each fixed size, not for a generic one.
+    macro_rules! fixed {
+        ($s:literal) => {{
+            let e = SMatrix::<f64, $s, $s>::from_fn(|r, c| m[(r, c)]).exp();
+            DMatrix::from_fn($s, $s, |r, c| e[(r, c)])
+        }};
+    }
+    debug_assert!(m.is_square());
+    match m.nrows() {
+        6 => fixed!(6),
+        12 => fixed!(12),
+        _ => m.exp(),
+    }
 }
 
 /// Balances `m` in place by a diagonal similarity D⁻¹ M D with powers of two on the
