@@ -380,3 +380,47 @@ fn bad_input_for_the_diagnostics() {
     .unwrap_err();
     assert!(matches!(err, IdentError::NotIdentifiable { .. }), "{err}");
 }
+
+/// An over-damped damper (c = 60 N·s/m on the paper's m and k: ζ = 1.73) under a
+/// 0.2–4 Hz chirp has no resonance to fit. On such records the single-mode fit can run
+/// off below its band instead of to ζ ≥ 1 (seed 1 here: fn = 0.16 Hz, ζ = 6e-16); that
+/// was once reported as a measured mode, "NOT consistent" with the model. Every such
+/// fit is refused as no resonance.
+#[test]
+fn an_overdamped_record_has_no_resonance_whichever_way_the_fit_runs_off() {
+    use msd_ident::{InitialState, synthetic_data};
+    let plant = Parameters::new(2.5, 60.0, 120.0).expect("a plant");
+    let chirp = msd_signal::Signal::Chirp {
+        amplitude: 5.0,
+        f0: 0.2,
+        f1: 4.0,
+        duration: 4.0,
+        phase: 0.0,
+        sweep: msd_signal::Sweep::Linear,
+        t_start: 0.0,
+    };
+    for seed in 1..=6 {
+        let excitation = Excitation::from_signal(chirp.clone(), 0.0, 0.005, 801).expect("input");
+        let (data, _) = synthetic_data(
+            "overdamped",
+            &plant,
+            excitation,
+            InitialState::REST,
+            0.001,
+            seed,
+            "identification",
+        )
+        .expect("data");
+        let result = frequency_check(&data, &plant, None, &FrequencyCheckOptions::default());
+        match result {
+            Err(IdentError::NotIdentifiable { reason }) => {
+                assert!(reason.contains("no resonance"), "seed {seed}: {reason}")
+            }
+            Ok(check) => panic!(
+                "seed {seed}: reported a mode at fn = {} Hz, ζ = {}",
+                check.natural_frequency_hz, check.damping_ratio
+            ),
+            Err(other) => panic!("seed {seed}: {other}"),
+        }
+    }
+}

@@ -33,7 +33,8 @@
 //!   output error below `max_relative_error`).
 //! - Refusals ([`IdentError::NotIdentifiable`]): an input without power above DC (or
 //!   below the FFT's rounding of the output), and data without a resonance (an
-//!   over-damped plant: the fit runs off to ζ ≥ 1, or beyond the Nyquist frequency).
+//!   over-damped plant: the fit runs off to ζ ≥ 1, or to a natural frequency outside the
+//!   fit band, such as fn → 0).
 
 mod mode_fit;
 mod spectra;
@@ -250,10 +251,13 @@ pub fn frequency_check(
     let fit = nelder_mead(objective, &x0, &nm)?;
     let (wn, zeta) = (fit.x[0].exp(), fit.x[1].exp());
     let natural_frequency_hz = wn / (2.0 * PI);
-    if !(zeta < 1.0 && wn > 0.0 && wn < PI * fs) {
+    // The fit sees the response only inside its band (below Nyquist): a mode it reports
+    // elsewhere, or with ζ ≥ 1, is where the optimiser ran off to, not a resonance.
+    let in_band = band[0] <= natural_frequency_hz && natural_frequency_hz <= band[1];
+    if !(zeta < 1.0 && wn > 0.0 && wn < PI * fs && in_band) {
         return Err(IdentError::NotIdentifiable {
             reason: format!(
-                "no resonance near the band {:.4}–{:.4} Hz: the single-mode fit needs an underdamped mode below the Nyquist frequency (the fit ran off to fn = {natural_frequency_hz:.4e} Hz, ζ = {zeta:.3e}; the model's ζ is {:.3})",
+                "no resonance in the band {:.4}–{:.4} Hz: the single-mode fit needs an underdamped mode inside the band it fits (the fit ran off to fn = {natural_frequency_hz:.4e} Hz, ζ = {zeta:.3e}; the model's ζ is {:.3})",
                 band[0],
                 band[1],
                 parameters.damping_ratio()
