@@ -2,7 +2,9 @@
 //! paper, runs are reproducible for any thread count, the real Silverbox record runs,
 //! and every kind of bad input is refused with exit status 2 and nothing written.
 
-use msd_tests::{Run, config, decode_png, parse_svg, run_in_temp, without_timings};
+use msd_tests::{
+    Run, TINY_CONFIG, config, decode_png, listing, lookup, parse_svg, run_in_temp, without_timings,
+};
 use std::sync::OnceLock;
 
 /// The paper config with its own seed and threads, run once for all tests here.
@@ -428,4 +430,44 @@ samples = 100
         assert!((value / truth - 1.0).abs() < 0.03, "{name} = {value}");
     }
     assert!(run.number("validation.r2") > 0.99);
+}
+
+/// A damper past critical damping (ζ ≈ 1.7: c = 60 N·s/m on the paper's m and k) has no
+/// resonance for the frequency check to fit. The run still succeeds, identifies the
+/// damping within 4 standard errors, and says in the summary, the report and
+/// results.json that the check was skipped and why; it writes no FRF file or figure.
+#[test]
+fn an_overdamped_damper_runs_with_the_frequency_check_skipped() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let text = TINY_CONFIG.replace("damping = 1.8", "damping = 60.0");
+    assert_ne!(text, TINY_CONFIG, "the fixture's damping line");
+    let path = dir.path().join("overdamped.toml");
+    std::fs::write(&path, text).expect("the config");
+    let run = run_in_temp(&path, None, None).expect("an over-damped damper runs");
+
+    let (c, se) = (
+        run.number("estimate.damping.value"),
+        run.number("estimate.damping.standard_error"),
+    );
+    assert!((c - 60.0).abs() < 4.0 * se, "c = {c} ± {se}");
+    assert!(run.number("estimate.damping_ratio.value") > 1.0);
+
+    assert!(run.flag("frequency_check.skipped"));
+    let reason = lookup(&run.summary.results, "frequency_check.reason")
+        .and_then(serde_json::Value::as_str)
+        .expect("a reason");
+    assert!(reason.contains("no resonance"), "{reason}");
+    assert!(run.summary.results.get("monte_carlo").is_some());
+    assert!(
+        run.summary
+            .summary
+            .contains(&format!("frequency      skipped: {reason}")),
+        "{}",
+        run.summary.summary
+    );
+    let report = std::fs::read_to_string(run.out().join("report.md")).expect("report.md");
+    assert!(report.contains(&format!("Skipped: {reason}.")));
+    let files = listing(run.out());
+    assert!(files.iter().all(|f| !f.starts_with("frf")), "{files:?}");
+    assert!(files.contains(&"fig4_monte_carlo.png".to_string()));
 }

@@ -8,9 +8,9 @@ use crate::data::{self, ExperimentData};
 use crate::progress::Progress;
 use crate::{Result, XtaskError};
 use msd_ident::{
-    Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, InitialState,
-    Method, Parameters, ResidualOptions, estimate, frequency_check, residual_analysis,
-    simulate_into, validate_model,
+    Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, IdentError,
+    InitialState, Method, Parameters, ResidualOptions, estimate, frequency_check,
+    residual_analysis, simulate_into, validate_model,
 };
 use msd_mc::{McOptions, Sampling, monte_carlo_band_with_progress};
 use std::path::{Path, PathBuf};
@@ -40,6 +40,10 @@ pub struct Outcome {
     pub residuals: Option<msd_ident::ResidualAnalysis>,
     /// Frequency-domain consistency check on the identification record.
     pub frequency: Option<msd_ident::FrequencyCheck>,
+    /// Why the frequency check, though enabled, could not be done on these data (no
+    /// resonance in the band — an over-damped plant — or no input power above DC): the
+    /// check's reason, in words. The run goes on without it.
+    pub frequency_skipped: Option<String>,
     /// Monte Carlo band on the validation record.
     pub monte_carlo: Option<MonteCarloOutcome>,
     /// Nonlinear models estimated or compared (`[nonlinear]`).
@@ -173,7 +177,7 @@ pub fn run_stages(
     );
     timed("residuals", t);
 
-    let frequency = if config.frequency_check.enabled {
+    let (frequency, frequency_skipped) = if config.frequency_check.enabled {
         progress.stage("frequency check");
         let t = Instant::now();
         let set = match config.frequency_check.data {
@@ -185,12 +189,17 @@ pub fn run_stages(
             &estimate.parameters,
             Some(&estimate.uncertainty),
             &config.frequency_check.options(),
-        )
-        .map_err(|e| XtaskError::run("frequency check", e))?;
+        );
         timed("frequency_check", t);
-        Some(check)
+        match check {
+            Ok(check) => (Some(check), None),
+            // A damper past critical damping has no resonance to fit: the other
+            // stages still stand, so the run goes on and says why.
+            Err(IdentError::NotIdentifiable { reason }) => (None, Some(reason)),
+            Err(e) => return Err(XtaskError::run("frequency check", e)),
+        }
     } else {
-        None
+        (None, None)
     };
 
     let monte_carlo = if config.monte_carlo.enabled {
@@ -241,6 +250,7 @@ pub fn run_stages(
         estimation_solver,
         residuals,
         frequency,
+        frequency_skipped,
         monte_carlo,
         nonlinear,
         timings,

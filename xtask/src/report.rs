@@ -107,6 +107,9 @@ pub fn markdown(
     if let Some(f) = &o.frequency {
         verdicts.push(f.verdict.clone());
     }
+    if let Some(reason) = &o.frequency_skipped {
+        verdicts.push(format!("The frequency-domain check was skipped: {reason}."));
+    }
     if let Some(mc) = &o.monte_carlo {
         verdicts.push(format!(
             "With every parameter varied within ±{:.0} %, the {:.0} % Monte Carlo band holds {:.1} % of the validation measurements.",
@@ -431,6 +434,15 @@ pub fn markdown(
         if has("frf_bode") {
             let _ = writeln!(w, "![Bode plot](frf_bode.png)\n");
         }
+    }
+    if let Some(reason) = &o.frequency_skipped {
+        let _ = writeln!(w, "## Frequency-domain consistency\n");
+        let _ = writeln!(
+            w,
+            "Skipped: {reason}. The check fits one underdamped mode (ζ < 1) to the record's \
+             spectrum; a plant at or past critical damping has no resonance to fit, and the \
+             time-domain results above stand without it.\n"
+        );
     }
 
     // Monte Carlo.

@@ -178,6 +178,12 @@ pub fn to_json(
     if let Some(f) = &o.frequency {
         root.insert("frequency_check".into(), frequency_json(f));
     }
+    if let Some(reason) = &o.frequency_skipped {
+        root.insert(
+            "frequency_check".into(),
+            json!({ "skipped": true, "reason": reason }),
+        );
+    }
     if let Some(mc) = &o.monte_carlo {
         let width: f64 = mc
             .upper

@@ -143,6 +143,9 @@ pub fn text(
             }
         );
     }
+    if let Some(reason) = &o.frequency_skipped {
+        let _ = writeln!(s, "  frequency      skipped: {reason}");
+    }
     if let Some(mc) = &o.monte_carlo {
         let _ = writeln!(
             s,
