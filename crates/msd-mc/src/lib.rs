@@ -19,7 +19,8 @@
 //! simulated side by side, so that a level's search skips whole blocks of them by their
 //! smallest and largest value. The paper's N = 1000 × 7501 points needs 1 MiB of
 //! buffers and 0.5 MiB of states (2.2 MiB in all, against 60 MB for the whole N × T
-//! matrix); N = 100 000 about 120 MiB in all. [`McOptions::max_buffer_bytes`] bounds
+//! matrix); N = 100 000 about 134 MiB in all (its run peaks at 137 MiB of resident
+//! memory, program included: `tests/memory.rs`). [`McOptions::max_buffer_bytes`] bounds
 //! the buffers (a smaller budget
 //! means shorter chunks, never a different result).
 //!
