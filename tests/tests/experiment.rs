@@ -55,6 +55,7 @@ fn paper_config_reproduces_the_papers_findings() {
     assert_eq!(r["monte_carlo"]["backend"], "ode45");
     assert_eq!(r["experiment"]["seed"], 1);
     // The frequency check finds the plant's resonance.
+    assert!(!run.flag("frequency_check.skipped"));
     let fn_hz = run.number("frequency_check.natural_frequency_hz");
     assert!((fn_hz / 1.1027 - 1.0).abs() < 0.01, "fn = {fn_hz}");
     let zeta = run.number("frequency_check.damping_ratio");

@@ -73,9 +73,11 @@ for your own measurement.
 
 Outputs, written atomically into target/experiments/<name>/ (or --out): report.md (with \
 the figures), results.json (every number), identification.csv, validation.csv, \
-residual_correlation.csv, frf.csv, and the figures fig2_identification, fig3_validation, \
-fig4_monte_carlo, residual_correlation, frf_bode as PNG and SVG (with [nonlinear] also \
-nonlinear.csv and the figure nonlinear_residuals). A failed run writes \
+residual_correlation.csv, and the figures fig2_identification, fig3_validation, \
+fig4_monte_carlo, residual_correlation as PNG and SVG; frf.csv and the figure frf_bode when \
+the frequency check measured (it is skipped, saying why, on data without a resonance in \
+the excited band, such as a damper at or past critical damping); with [nonlinear] also \
+nonlinear.csv and the figure nonlinear_residuals. A failed run writes \
 nothing and leaves a previous result untouched.
 
 Prints a summary on stdout; shows progress on stderr only when it is a terminal and \

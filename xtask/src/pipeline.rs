@@ -38,11 +38,13 @@ pub struct Outcome {
     pub estimation_solver: Option<[usize; 3]>,
     /// Residual diagnostics of the identification residuals.
     pub residuals: Option<msd_ident::ResidualAnalysis>,
-    /// Frequency-domain consistency check on the identification record.
+    /// Frequency-domain consistency check on the record `[frequency_check] data` names
+    /// (validation by default).
     pub frequency: Option<msd_ident::FrequencyCheck>,
     /// Why the frequency check, though enabled, could not be done on these data (no
-    /// resonance in the band — an over-damped plant — or no input power above DC): the
-    /// check's reason, in words. The run goes on without it.
+    /// resonance in the excited band — an over-damped plant, or a mode outside the band —
+    /// or no input power above DC): the check's reason, in words. The run goes on
+    /// without it.
     pub frequency_skipped: Option<String>,
     /// Monte Carlo band on the validation record.
     pub monte_carlo: Option<MonteCarloOutcome>,

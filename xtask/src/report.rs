@@ -440,8 +440,10 @@ pub fn markdown(
         let _ = writeln!(
             w,
             "Skipped: {reason}. The check fits one underdamped mode (ζ < 1) to the record's \
-             spectrum; a plant at or past critical damping has no resonance to fit, and the \
-             time-domain results above stand without it.\n"
+             spectrum where the input excites it; without such a resonance there (a damper \
+             at or past critical damping, a mode outside the excited band) or without input \
+             power it has nothing to measure, and the time-domain results above stand \
+             without it.\n"
         );
     }
 

@@ -270,6 +270,8 @@ fn residuals_json(r: &msd_ident::ResidualAnalysis) -> Value {
 fn frequency_json(f: &msd_ident::FrequencyCheck) -> Value {
     let mut v = serde_json::to_value(f).unwrap_or(Value::Null);
     if let Value::Object(map) = &mut v {
+        // One shape whether measured or skipped (then {"skipped": true, "reason": …}).
+        map.insert("skipped".into(), json!(false));
         // The curves go to frf.csv; keep the scalars here.
         map.retain(|_, value| !value.is_array() || value.as_array().is_some_and(|a| a.len() <= 2));
         map.insert("points".into(), json!(f.frequency_hz.len()));

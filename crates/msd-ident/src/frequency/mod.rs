@@ -33,8 +33,8 @@
 //!   output error below `max_relative_error`).
 //! - Refusals ([`IdentError::NotIdentifiable`]): an input without power above DC (or
 //!   below the FFT's rounding of the output), and data without a resonance (an
-//!   over-damped plant: the fit runs off to ζ ≥ 1, or to a natural frequency outside the
-//!   fit band, such as fn → 0).
+//!   over-damped plant: the fit runs off to ζ ≥ 1, or outside the fitted frequency lines
+//!   to a mode narrower than their spacing, 2ζ·fn < 1/T, such as fn → 0 with ζ → 0).
 
 mod mode_fit;
 mod spectra;
@@ -251,18 +251,37 @@ pub fn frequency_check(
     let fit = nelder_mead(objective, &x0, &nm)?;
     let (wn, zeta) = (fit.x[0].exp(), fit.x[1].exp());
     let natural_frequency_hz = wn / (2.0 * PI);
-    // The fit sees the response only inside its band (below Nyquist): a mode it reports
-    // elsewhere, or with ζ ≥ 1, is where the optimiser ran off to, not a resonance.
-    let in_band = band[0] <= natural_frequency_hz && natural_frequency_hz <= band[1];
-    if !(zeta < 1.0 && wn > 0.0 && wn < PI * fs && in_band) {
-        return Err(IdentError::NotIdentifiable {
-            reason: format!(
-                "no resonance in the band {:.4}–{:.4} Hz: the single-mode fit needs an underdamped mode inside the band it fits (the fit ran off to fn = {natural_frequency_hz:.4e} Hz, ζ = {zeta:.3e}; the model's ζ is {:.3})",
-                band[0],
-                band[1],
-                parameters.damping_ratio()
-            ),
-        });
+    // The fit sees the response only at its lines, f_lo … f_hi (below Nyquist). A mode
+    // with ζ ≥ 1 has no resonance. A mode outside the lines is measured through its skirt,
+    // which shows its damping only if its bandwidth 2ζ·fn spans at least one line
+    // spacing 1/T; narrower (fn → 0 with ζ → 0 on an over-damped record), it is where the
+    // optimiser ran off to, not a resonance.
+    let lines = [bins[0] as f64 * df, bins[bins.len() - 1] as f64 * df];
+    let inside = lines[0] <= natural_frequency_hz && natural_frequency_hz <= lines[1];
+    let resolved = 2.0 * zeta * natural_frequency_hz >= df;
+    let reaches = inside || resolved;
+    if !(zeta < 1.0 && wn > 0.0 && wn < PI * fs && reaches) {
+        let number = |v: f64| match v.abs() {
+            a if !a.is_finite() => "unbounded".to_string(),
+            a if (1e-3..1e4).contains(&a) => format!("{v:.4}"),
+            _ => format!("{v:.3e}"),
+        };
+        let (f, z, model) = (
+            number(natural_frequency_hz),
+            number(zeta),
+            parameters.damping_ratio(),
+        );
+        let (lo, hi) = (lines[0], lines[1]);
+        let reason = if zeta >= 1.0 || !zeta.is_finite() {
+            format!(
+                "no resonance in the data: the single-mode fit at {lo:.4}–{hi:.4} Hz ran off to ζ = {z} ≥ 1 (fn = {f} Hz), an over-damped response (the model's ζ is {model:.3})"
+            )
+        } else {
+            format!(
+                "no resonance at the fitted frequencies {lo:.4}–{hi:.4} Hz: the fit ran off to fn = {f} Hz, ζ = {z}, a mode outside them and narrower (2ζ·fn) than their spacing {df:.4} Hz (the model's ζ is {model:.3}); excite the resonance or widen the band"
+            )
+        };
+        return Err(IdentError::NotIdentifiable { reason });
     }
 
     // The model's output error in the band, with the transient term fitted for it.
