@@ -195,7 +195,8 @@ pub fn run_stages(
         timed("frequency_check", t);
         match check {
             Ok(check) => (Some(check), None),
-            // A damper past critical damping has no resonance to fit: the other
+            // Nothing to measure (no resonance in the excited band — a damper past
+            // critical damping, a mode the input misses — or no input power): the other
             // stages still stand, so the run goes on and says why.
             Err(IdentError::NotIdentifiable { reason }) => (None, Some(reason)),
             Err(e) => return Err(XtaskError::run("frequency check", e)),
