@@ -122,7 +122,7 @@ for crate, enum in CRATES:
     out.append("")
 
 out += [
-    "## `xtask` (the CLI): exit status",
+    "## `msd run` and `cargo xtask experiment` (the CLI): exit status",
     "",
     "| class | cause | what the user sees | exit |",
     "|---|---|---|---|",
@@ -130,7 +130,7 @@ out += [
     "| `Data` | missing file, missing CSV column, short row, empty or non-numeric cell, NaN or infinity, non-monotonic or non-uniform time, range outside the data | one line `file: line L, column …: value …, expected …`; nothing written | 2 |",
     "| `Run` | a stage failed (estimation did not converge to a usable point, a simulation failed, a worker panicked, an output could not be written) | `stage failed: message`; the partial output folder is removed | 1 |",
     "",
-    "Tests: `tests/tests/bad_input.rs` (every config and data class), `xtask/tests/cli.rs` (exit codes",
+    "Tests: `tests/tests/bad_input.rs` (every config and data class), `xtask/tests/cli.rs` and `crates/msd-experiment/tests/cli.rs` (exit codes",
     "and nothing written on the real binary), `tests/tests/properties/` (generated configs and CSV",
     "files, below).",
     "",
@@ -138,7 +138,7 @@ out += [
     "",
     "A run computes everything first, then writes into a hidden staging folder beside the target",
     "(`.<name>.partial-<pid>-<n>`) and moves it onto the target only when complete. Each fault class",
-    "is tested in `tests/tests/faults.rs` (writes, with the test-only `xtask::output::inject_fault`",
+    "is tested in `tests/tests/faults.rs` (writes, with the test-only `msd_experiment::output::inject_fault`",
     "hook for a full disk, a panic, a kill and a failed final move) and `crates/msd-opt/tests/faults.rs`",
     "(a panic inside a multistart worker).",
     "",

@@ -4,8 +4,8 @@
 //! in-process way to run an experiment into a temporary folder, and checks of the files
 //! an experiment writes (PNG decodes, SVG parses).
 
+use msd_experiment::{ExperimentError, RunOptions, RunSummary, run_experiment};
 use std::path::{Path, PathBuf};
-use xtask::{RunOptions, RunSummary, XtaskError, run_experiment};
 
 /// The workspace root.
 pub fn root() -> PathBuf {
@@ -74,13 +74,13 @@ pub fn run_in_temp(
     config: &Path,
     seed: Option<u64>,
     threads: Option<usize>,
-) -> Result<Run, XtaskError> {
+) -> Result<Run, ExperimentError> {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let options = RunOptions {
         out: Some(dir.path().join("out")),
         seed,
         threads,
-        progress: false,
+        ..RunOptions::default()
     };
     let summary = run_experiment(config, &options)?;
     Ok(Run { dir, summary })

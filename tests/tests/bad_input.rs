@@ -1,9 +1,9 @@
 //! Every class of bad input is refused before anything is written: exit status 2 and
 //! one line naming the file, the line or field, the value and what was expected.
 
+use msd_experiment::{RunOptions, run_experiment};
 use msd_tests::config;
 use std::path::{Path, PathBuf};
-use xtask::{RunOptions, run_experiment};
 
 /// A scratch folder holding the bad config (and data), with the output folder planned
 /// inside it.

@@ -3,10 +3,10 @@
 //! error (exit status 1) or, for a kill, in leftovers the next run cleans up; never in a
 //! partial output folder, and a previous result survives every one of them.
 
+use msd_experiment::output::{Fault, inject_fault};
+use msd_experiment::{ExperimentError, RunOptions, run_experiment};
 use msd_tests::{TINY_CONFIG, listing};
 use std::path::{Path, PathBuf};
-use xtask::output::{Fault, inject_fault};
-use xtask::{RunOptions, XtaskError, run_experiment};
 
 /// A scratch folder with the tiny config in it; runs write to `<dir>/out`.
 struct Case {
@@ -24,7 +24,7 @@ impl Case {
         self.dir.path().join("out")
     }
 
-    fn run_into(&self, out: &Path) -> Result<xtask::RunSummary, XtaskError> {
+    fn run_into(&self, out: &Path) -> Result<msd_experiment::RunSummary, ExperimentError> {
         let options = RunOptions {
             out: Some(out.to_path_buf()),
             ..RunOptions::default()
@@ -32,7 +32,7 @@ impl Case {
         run_experiment(&self.dir.path().join("tiny.toml"), &options)
     }
 
-    fn run(&self) -> Result<xtask::RunSummary, XtaskError> {
+    fn run(&self) -> Result<msd_experiment::RunSummary, ExperimentError> {
         self.run_into(&self.out())
     }
 
@@ -53,7 +53,7 @@ impl Case {
 
 /// A run failure: exit status 1, one line starting with the stage, containing
 /// `fragments`.
-fn assert_run_failure(err: &XtaskError, fragments: &[&str]) {
+fn assert_run_failure(err: &ExperimentError, fragments: &[&str]) {
     assert_eq!(err.exit_code(), 1, "{err}");
     let message = err.to_string();
     assert!(!message.contains('\n'), "one line: {message}");

@@ -4,11 +4,11 @@
 //! for; results, report, CSV and figure are written; configs without the section are
 //! unaffected; and every bad form of the section is refused before anything is written.
 
+use msd_experiment::{RunOptions, run_experiment};
 use msd_tests::{Run, config, decode_png, lookup, parse_svg, run_in_temp, without_timings};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
-use xtask::{RunOptions, run_experiment};
 
 /// configs/paper-nonlinear.toml (quadratic damping + cubic spring, all six compared),
 /// run once for the tests here.

@@ -5,11 +5,11 @@
 //! that fails writes nothing and exits with the status of its class.
 
 use crate::{cases, scaled_cases, wild_f64};
+use msd_experiment::config::Config;
+use msd_experiment::{ExperimentError, RunOptions, run_experiment};
 use msd_tests::{TINY_CONFIG, config, listing};
 use proptest::prelude::*;
 use toml::{Table, Value};
-use xtask::config::Config;
-use xtask::{RunOptions, XtaskError, run_experiment};
 
 /// A step of a path into a TOML document.
 #[derive(Debug, Clone, PartialEq)]
@@ -187,9 +187,9 @@ fn shipped(name: &str) -> Value {
 
 /// A refused config: exit status 2, one line, the file named first, and the place: a
 /// line number after the file name, or one of the touched keys.
-fn refusal_is_specific(e: &XtaskError, touched: &[String]) -> Result<(), TestCaseError> {
+fn refusal_is_specific(e: &ExperimentError, touched: &[String]) -> Result<(), TestCaseError> {
     prop_assert_eq!(e.exit_code(), 2, "{}", e);
-    prop_assert!(matches!(e, XtaskError::Config { .. }), "{e:?}");
+    prop_assert!(matches!(e, ExperimentError::Config { .. }), "{e:?}");
     let text = e.to_string();
     prop_assert!(!text.contains('\n'), "more than one line: {text}");
     prop_assert!(text.starts_with("mutated.toml"), "{text}");
@@ -403,12 +403,12 @@ proptest! {
                 let text = e.to_string();
                 prop_assert!(!text.contains('\n'), "{text}");
                 match &e {
-                    XtaskError::Config { file, .. } => {
+                    ExperimentError::Config { file, .. } => {
                         prop_assert_eq!(e.exit_code(), 2);
                         prop_assert!(file.contains("tiny.toml"), "{text}");
                     }
-                    XtaskError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
-                    XtaskError::Data { .. } => prop_assert!(false, "no data file here: {text}"),
+                    ExperimentError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
+                    ExperimentError::Data { .. } => prop_assert!(false, "no data file here: {text}"),
                 }
                 prop_assert_eq!(listing(dir.path()), vec!["tiny.toml".to_string()], "{}", text);
             }

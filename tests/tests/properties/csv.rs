@@ -7,11 +7,11 @@
 //! that succeeds.
 
 use crate::cases;
+use msd_experiment::{ExperimentError, RunOptions, run_experiment};
 use msd_ident::{Backend, Excitation, InitialState, Parameters};
 use msd_tests::listing;
 use proptest::prelude::*;
 use std::sync::OnceLock;
-use xtask::{RunOptions, XtaskError, run_experiment};
 
 const ROWS: usize = 801;
 
@@ -261,7 +261,13 @@ fn config_text(output_scale: f64) -> String {
 
 /// Writes `text` as data.csv and the lab config beside it in a new folder, and runs it
 /// into `out/` there.
-fn run_lab(text: &str, output_scale: f64) -> (tempfile::TempDir, xtask::Result<xtask::RunSummary>) {
+fn run_lab(
+    text: &str,
+    output_scale: f64,
+) -> (
+    tempfile::TempDir,
+    msd_experiment::Result<msd_experiment::RunSummary>,
+) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("data.csv"), text).unwrap();
     std::fs::write(dir.path().join("lab.toml"), config_text(output_scale)).unwrap();
@@ -340,7 +346,7 @@ proptest! {
                 prop_assert_eq!(listing(dir.path()), vec!["data.csv".to_string(), "lab.toml".to_string()],
                     "something was written: {}", message);
                 match (&e, expected) {
-                    (XtaskError::Data { file, .. }, Some((line, how))) => {
+                    (ExperimentError::Data { file, .. }, Some((line, how))) => {
                         prop_assert_eq!(e.exit_code(), 2);
                         prop_assert!(file.ends_with("data.csv"), "{message}");
                         let named = line_named(&message);
@@ -357,13 +363,13 @@ proptest! {
                     (_, Some((line, _))) => prop_assert!(false, "expected a data error at line {line}: {message} ({damages:?})"),
                     // Harmless-looking damage refused: only for extreme values (a huge
                     // finite number, a scale that overflows), with the place named.
-                    (XtaskError::Data { .. } | XtaskError::Config { .. }, None) => {
+                    (ExperimentError::Data { .. } | ExperimentError::Config { .. }, None) => {
                         prop_assert_eq!(e.exit_code(), 2);
                         prop_assert!(message.contains("line ") || message.contains("sample "), "no place: {message}");
                         prop_assert!(damages.iter().any(|d| matches!(d, Damage::Cell { .. })) || output_scale > 1.0,
                             "refused without damage: {message} ({damages:?})");
                     }
-                    (XtaskError::Run { .. }, None) => {
+                    (ExperimentError::Run { .. }, None) => {
                         prop_assert_eq!(e.exit_code(), 1);
                         prop_assert!(damages.iter().any(|d| matches!(d, Damage::Cell { .. })) || output_scale > 1.0,
                             "a clean file failed to run: {message} ({damages:?})");
@@ -385,9 +391,9 @@ fn a_scaled_value_that_overflows_is_refused_at_its_line() {
     let path = dir.path().join("data.csv");
     std::fs::write(&path, text).unwrap();
     std::fs::write(dir.path().join("lab.toml"), config_text(1e12)).unwrap();
-    let config = xtask::config::Config::load(&dir.path().join("lab.toml")).unwrap();
+    let config = msd_experiment::config::Config::load(&dir.path().join("lab.toml")).unwrap();
     let section = config.data.as_ref().unwrap();
-    match xtask::data::read_csv(section, &path) {
+    match msd_experiment::data::read_csv(section, &path) {
         Ok(r) => panic!(
             "accepted; first output value {}",
             r.output.first().copied().unwrap_or(f64::NAN)

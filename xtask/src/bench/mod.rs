@@ -18,14 +18,14 @@
 //! use xtask::bench::{BenchOptions, run};
 //! let report = run(&BenchOptions::quick())?;
 //! println!("{}", report.text());
-//! # Ok::<(), xtask::XtaskError>(())
+//! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
 pub mod harness;
 pub mod report;
 mod rows;
 
-use crate::{Result, XtaskError, project_root};
+use crate::{ExperimentError, Result, project_root};
 use harness::{Budget, Samples, measure_batched};
 use msd_ident::{Backend, Excitation, InitialState, PaperExperiment, Parameters, simulate_into};
 use report::{Report, Row, Target, load_average, machine};
@@ -86,7 +86,7 @@ pub fn out_dir() -> PathBuf {
 pub fn run(options: &BenchOptions) -> Result<Report> {
     let mut machine = machine();
     let experiment =
-        PaperExperiment::generate(1).map_err(|e| XtaskError::run("bench: paper data", e))?;
+        PaperExperiment::generate(1).map_err(|e| ExperimentError::run("bench: paper data", e))?;
     let budget = &options.budget;
     let floor_start = floor(budget, &experiment.identification.excitation);
 
@@ -144,13 +144,13 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
 
 /// Writes `bench.json` and `bench.md` into `dir` (created if missing).
 pub fn write(report: &Report, dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| XtaskError::run("bench: write", e))?;
+    std::fs::create_dir_all(dir).map_err(|e| ExperimentError::run("bench: write", e))?;
     let json = serde_json::to_string_pretty(&report.json())
-        .map_err(|e| XtaskError::run("bench: write", e))?;
+        .map_err(|e| ExperimentError::run("bench: write", e))?;
     std::fs::write(dir.join("bench.json"), format!("{json}\n"))
-        .map_err(|e| XtaskError::run("bench: write", e))?;
+        .map_err(|e| ExperimentError::run("bench: write", e))?;
     std::fs::write(dir.join("bench.md"), report.markdown())
-        .map_err(|e| XtaskError::run("bench: write", e))?;
+        .map_err(|e| ExperimentError::run("bench: write", e))?;
     Ok(())
 }
 
@@ -236,7 +236,8 @@ pub fn pipeline_peak_memory(config: &Path) -> Result<f64> {
     let loaded = crate::config::Config::load(config)?;
     let progress = crate::progress::Progress::new(false);
     crate::pipeline::run_stages(loaded, config, &crate::RunOptions::default(), &progress)?;
-    report::peak_rss_mib().ok_or_else(|| XtaskError::run("bench", "no VmHWM in /proc/self/status"))
+    report::peak_rss_mib()
+        .ok_or_else(|| ExperimentError::run("bench", "no VmHWM in /proc/self/status"))
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 use super::harness::{Budget, measure, measure_batched};
 use super::report::{Row, Target, duration};
 use super::simulate_once;
-use crate::{Result, XtaskError, config::Config, pipeline, progress::Progress};
+use crate::{ExperimentError, Result, config::Config, pipeline, progress::Progress};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, InitialState,
     ModelStructure, NonlinearOptions, PaperExperiment, Parameters, ResidualOptions, estimate,
@@ -13,8 +13,8 @@ use msd_ident::{
 use msd_mc::{McOptions, monte_carlo_band};
 use std::path::Path;
 
-fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> XtaskError {
-    move |e| XtaskError::run(what, e)
+fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> ExperimentError {
+    move |e| ExperimentError::run(what, e)
 }
 
 /// One simulation (exact, ode45 RelTol 1e-6) and one cost evaluation (simulation + SSE)
@@ -202,7 +202,7 @@ pub fn monte_carlo(
                 Some(&set.output),
                 &options,
             )
-            .map_err(|e| XtaskError::run("bench: Monte Carlo", e))?;
+            .map_err(|e| ExperimentError::run("bench: Monte Carlo", e))?;
             let samples = measure(budget, || {
                 monte_carlo_band(
                     &Parameters::PAPER,
@@ -266,7 +266,7 @@ pub fn pipeline(budget: &Budget, out: &Path) -> Result<Vec<Row>> {
     }
     if let Some(outcome) = paper_outcome {
         let dir = out.join("figures");
-        std::fs::create_dir_all(&dir).map_err(|e| XtaskError::run("bench: figures", e))?;
+        std::fs::create_dir_all(&dir).map_err(|e| ExperimentError::run("bench: figures", e))?;
         let written = crate::plots::write_all(&outcome, &dir)?;
         let samples = measure(budget, || crate::plots::write_all(&outcome, &dir).ok());
         rows.push(

@@ -1,21 +1,21 @@
-//! The one error type of xtask, split by who has to act: the user (a bad config or bad
+//! The one error type of msd-experiment, split by who has to act: the user (a bad config or bad
 //! data, exit status 2) or the toolkit (a failure during the run, exit status 1).
 
 use std::path::Path;
 
-/// Everything that can stop `cargo xtask experiment`.
+/// Everything that can stop an experiment run (`msd run`, `cargo xtask experiment`).
 ///
 /// Each message is one line that names the file (and line, column or field), the value
 /// found and what was expected.
 ///
 /// ```
-/// use xtask::XtaskError;
-/// let e = XtaskError::config("configs/x.toml", "plant.mass = -2.5: expected a finite number > 0");
+/// use msd_experiment::ExperimentError;
+/// let e = ExperimentError::config("configs/x.toml", "plant.mass = -2.5: expected a finite number > 0");
 /// assert_eq!(e.exit_code(), 2);
 /// assert_eq!(e.to_string(), "configs/x.toml: plant.mass = -2.5: expected a finite number > 0");
 /// ```
 #[derive(Debug, thiserror::Error)]
-pub enum XtaskError {
+pub enum ExperimentError {
     /// The config file cannot be read, parsed or has a value out of range.
     #[error("{file}: {message}")]
     Config {
@@ -42,7 +42,7 @@ pub enum XtaskError {
     },
 }
 
-impl XtaskError {
+impl ExperimentError {
     /// A config error for `file`.
     pub fn config(file: impl AsRef<Path>, message: impl Into<String>) -> Self {
         Self::Config {
@@ -82,5 +82,5 @@ impl XtaskError {
     }
 }
 
-/// Shorthand for results of xtask.
-pub type Result<T, E = XtaskError> = std::result::Result<T, E>;
+/// Shorthand for results of msd-experiment.
+pub type Result<T, E = ExperimentError> = std::result::Result<T, E>;

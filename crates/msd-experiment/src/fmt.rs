@@ -4,7 +4,7 @@
 /// scientific otherwise.
 ///
 /// ```
-/// use xtask::fmt::sig;
+/// use msd_experiment::fmt::sig;
 /// assert_eq!(sig(2.503149, 5), "2.5031");
 /// assert_eq!(sig(120.0, 5), "120.00");
 /// assert_eq!(sig(0.0519621, 4), "0.05196");
@@ -31,8 +31,8 @@ pub fn sig(v: f64, digits: usize) -> String {
 /// N/m for newtons and metres, else the general `in·s²/out`, `in·s/out`, `in/out`.
 ///
 /// ```
-/// assert_eq!(xtask::fmt::parameter_units("N", "m"), ["kg", "N·s/m", "N/m"]);
-/// assert_eq!(xtask::fmt::parameter_units("V", "V"), ["V·s²/V", "V·s/V", "V/V"]);
+/// assert_eq!(msd_experiment::fmt::parameter_units("N", "m"), ["kg", "N·s/m", "N/m"]);
+/// assert_eq!(msd_experiment::fmt::parameter_units("V", "V"), ["V·s²/V", "V·s/V", "V/V"]);
 /// ```
 pub fn parameter_units(input: &str, output: &str) -> [String; 3] {
     if input == "N" && output == "m" {
@@ -99,8 +99,8 @@ pub fn millis(d: std::time::Duration) -> String {
 /// The shortest form of `v` after rounding to 9 significant digits ("0.002", "15").
 ///
 /// ```
-/// assert_eq!(xtask::fmt::short(0.0020000000000000005), "0.002");
-/// assert_eq!(xtask::fmt::short(15.0), "15");
+/// assert_eq!(msd_experiment::fmt::short(0.0020000000000000005), "0.002");
+/// assert_eq!(msd_experiment::fmt::short(15.0), "15");
 /// ```
 pub fn short(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {

@@ -70,7 +70,7 @@ pub fn to_json(
             "seed": o.seed,
             "threads": o.threads,
             "crate_version": CRATE_VERSION,
-            "crate": "xtask (msd-toolkit)",
+            "crate": "msd-experiment (msd-toolkit)",
         }),
     );
     root.insert(

@@ -5,7 +5,7 @@
 //!
 //! ```
 //! use msd_ident::{DampingLaw, ModelStructure, StiffnessLaw};
-//! use xtask::config::{Candidates, NonlinearSection};
+//! use msd_experiment::config::{Candidates, NonlinearSection};
 //! let section: NonlinearSection = toml::from_str(r#"
 //!     compare = [{ damping = "viscous", stiffness = "cubic" }]
 //!     max_evaluations = 200

@@ -29,13 +29,13 @@
 //!     amplitude = 1.0
 //!     frequency = 1.0
 //! "#;
-//! let config = xtask::config::Config::from_toml_str(text, "tiny.toml")?;
+//! let config = msd_experiment::config::Config::from_toml_str(text, "tiny.toml")?;
 //! assert_eq!(config.seed, 1);
 //! assert_eq!(config.time.unwrap().samples(), 201);
-//! # Ok::<(), xtask::XtaskError>(())
+//! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
-use crate::{Result, XtaskError};
+use crate::{ExperimentError, Result};
 use msd_ident::{
     Backend, EstimationOptions, FixedParameters, InitialState, MIN_SAMPLES, Method,
     MultistartSettings, ParameterBounds, Parameters,
@@ -145,7 +145,7 @@ impl Plant {
     /// simulated by ode45), else `None`.
     ///
     /// ```
-    /// let plant: xtask::config::Plant =
+    /// let plant: msd_experiment::config::Plant =
     ///     toml::from_str("mass = 2.5\ndamping = 1.8\nstiffness = 120.0\ncubic_stiffness = 3000.0").unwrap();
     /// assert_eq!(plant.nonlinear().unwrap().structure.name(), "viscous+cubic");
     /// ```
@@ -677,8 +677,9 @@ pub enum Kind {
 impl Config {
     /// Reads, parses and checks a config file.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| XtaskError::config(path, format!("cannot read the config file: {e}")))?;
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ExperimentError::config(path, format!("cannot read the config file: {e}"))
+        })?;
         Self::from_toml_str(&text, path)
     }
 
@@ -703,7 +704,7 @@ impl Config {
                 .filter(|l| l.starts_with('['))
                 .map(|l| format!(" in {l}"))
                 .unwrap_or_default();
-            XtaskError::Config {
+            ExperimentError::Config {
                 file: format!("{}{location}", file.display()),
                 message: format!("{}{table}", e.message().trim().replace('\n', " ")),
             }
@@ -712,7 +713,7 @@ impl Config {
             let line = locate_key(text, &field)
                 .map(|l| format!(":{l}"))
                 .unwrap_or_default();
-            XtaskError::Config {
+            ExperimentError::Config {
                 file: format!("{}{line}", file.display()),
                 message: format!("{field}{message}"),
             }

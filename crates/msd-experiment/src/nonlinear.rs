@@ -7,15 +7,15 @@
 //! to the first `data.validation.initial_samples` samples, which are then not scored.
 //!
 //! ```no_run
-//! use xtask::{RunOptions, run_experiment};
+//! use msd_experiment::{RunOptions, run_experiment};
 //! let run = run_experiment("configs/silverbox-models.toml".as_ref(), &RunOptions::default())?;
 //! println!("{}", run.results["nonlinear"]["verdict"]);
-//! # Ok::<(), xtask::XtaskError>(())
+//! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
 use crate::config::{Config, NonlinearSection};
 use crate::data::ExperimentData;
-use crate::{Result, XtaskError};
+use crate::{ExperimentError, Result};
 use msd_ident::{
     Comparison, ComparisonOptions, Estimate, NonlinearMultistart, NonlinearOptions,
     NonlinearParameters, ResidualOptions, ValidationStart, assess_estimate, compare_models,
@@ -93,7 +93,7 @@ pub fn run(
     seed: u64,
     threads: usize,
 ) -> Result<NonlinearOutcome> {
-    let fail = |e: msd_ident::IdentError| XtaskError::run("nonlinear models", e);
+    let fail = |e: msd_ident::IdentError| ExperimentError::run("nonlinear models", e);
     let options = options(section, config, data, estimate, seed, threads);
     let comparison = match section.model {
         None => compare_models(

@@ -57,7 +57,8 @@ pub fn markdown(
     let _ = writeln!(w, "| config | `{config_file}` |");
     let _ = writeln!(
         w,
-        "| command | `cargo xtask experiment {}` |",
+        "| command | `{} {}` |",
+        o.command,
         o.config_path.display()
     );
     if o.data.kind == Kind::Synthetic {

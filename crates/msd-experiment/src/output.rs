@@ -11,7 +11,7 @@
 //! For tests of these failure paths, [`inject_fault`] makes this thread's writes fail as
 //! a full disk, a panic or a kill would.
 
-use crate::{Result, XtaskError};
+use crate::{ExperimentError, Result};
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
@@ -49,13 +49,13 @@ thread_local! {
 /// dropped. Only tests use this.
 ///
 /// ```
-/// use xtask::output::{Fault, Staging, inject_fault};
+/// use msd_experiment::output::{Fault, Staging, inject_fault};
 /// let root = tempfile::tempdir().unwrap();
 /// let staging = Staging::new(&root.path().join("run"))?;
 /// let _fault = inject_fault(Fault::DiskFull { file: "a.txt".into() });
 /// let err = staging.write("a.txt", b"hello").unwrap_err();
 /// assert!(err.to_string().contains("cannot write a.txt"));
-/// # Ok::<(), xtask::XtaskError>(())
+/// # Ok::<(), msd_experiment::ExperimentError>(())
 /// ```
 pub fn inject_fault(fault: Fault) -> FaultGuard {
     FAULT.with(|f| *f.borrow_mut() = Some(fault));
@@ -106,12 +106,12 @@ fn no_space() -> std::io::Error {
 /// ```
 /// let root = tempfile::tempdir().unwrap();
 /// let target = root.path().join("run");
-/// let staging = xtask::output::Staging::new(&target)?;
+/// let staging = msd_experiment::output::Staging::new(&target)?;
 /// staging.write("a.txt", b"hello")?;
 /// assert!(!target.exists());
 /// staging.commit()?;
 /// assert_eq!(std::fs::read(target.join("a.txt")).unwrap(), b"hello");
-/// # Ok::<(), xtask::XtaskError>(())
+/// # Ok::<(), msd_experiment::ExperimentError>(())
 /// ```
 #[derive(Debug)]
 pub struct Staging {
@@ -124,12 +124,12 @@ impl Staging {
     /// Creates the staging folder beside `target` (creating `target`'s parent folders).
     pub fn new(target: &Path) -> Result<Self> {
         let fail = |what: &str, e: std::io::Error| {
-            XtaskError::run("write", format!("{what} {}: {e}", target.display()))
+            ExperimentError::run("write", format!("{what} {}: {e}", target.display()))
         };
         let name = target
             .file_name()
             .ok_or_else(|| {
-                XtaskError::run(
+                ExperimentError::run(
                     "write",
                     format!("output folder {} has no name", target.display()),
                 )
@@ -137,7 +137,7 @@ impl Staging {
             .to_string_lossy()
             .into_owned();
         if target.exists() && !target.is_dir() {
-            return Err(XtaskError::run(
+            return Err(ExperimentError::run(
                 "write",
                 format!(
                     "output {} exists and is not a folder: expected a folder to replace",
@@ -178,7 +178,7 @@ impl Staging {
     pub fn write(&self, name: &str, bytes: &[u8]) -> Result<()> {
         let path = self.dir.join(name);
         let fail =
-            |e: std::io::Error| XtaskError::run("write", format!("cannot write {name}: {e}"));
+            |e: std::io::Error| ExperimentError::run("write", format!("cannot write {name}: {e}"));
         match armed(Some(name)) {
             Some(Fault::DiskFull { .. }) => {
                 std::fs::write(&path, &bytes[..bytes.len() / 2]).map_err(fail)?;
@@ -205,7 +205,7 @@ impl Staging {
                 .dir
                 .with_file_name(format!(".{name}.old-{}", std::process::id()));
             std::fs::rename(&self.target, &old).map_err(|e| {
-                XtaskError::run(
+                ExperimentError::run(
                     "write",
                     format!(
                         "cannot move the previous {} aside: {e}",
@@ -225,7 +225,7 @@ impl Staging {
             if let Some(old) = &old {
                 let _ = std::fs::rename(old, &self.target);
             }
-            return Err(XtaskError::run(
+            return Err(ExperimentError::run(
                 "write",
                 format!(
                     "cannot move the results into {}: {e}",

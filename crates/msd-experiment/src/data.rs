@@ -7,7 +7,7 @@
 //! columns ignored. Every bad cell is reported with the file, its line and the column.
 
 use crate::config::{Column, Columns, Config, DataSection, Kind, Preprocess, Range};
-use crate::{Result, XtaskError};
+use crate::{ExperimentError, Result};
 use msd_ident::{DataSet, Excitation, Parameters, synthetic_data};
 use std::path::{Path, PathBuf};
 
@@ -66,7 +66,8 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<Experiment
 }
 
 fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<ExperimentData> {
-    let missing = |what: &str| XtaskError::config(config_path, format!("{what}: missing section"));
+    let missing =
+        |what: &str| ExperimentError::config(config_path, format!("{what}: missing section"));
     let plant = config.plant.ok_or_else(|| missing("plant"))?;
     let time = config.time.ok_or_else(|| missing("time"))?;
     let noise = config.noise.ok_or_else(|| missing("noise"))?;
@@ -83,7 +84,9 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
         .ok_or_else(|| missing("validation.input"))?;
     let n = time.samples();
     let bad = |field: &'static str| {
-        move |e: msd_ident::IdentError| XtaskError::config(config_path, format!("{field}: {e}"))
+        move |e: msd_ident::IdentError| {
+            ExperimentError::config(config_path, format!("{field}: {e}"))
+        }
     };
     let id_exc = Excitation::from_signal(id_input, time.start, time.dt, n)
         .map_err(bad("identification.input"))?;
@@ -92,7 +95,7 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
     let truth = plant.parameters();
     let record = |name: &'static str, excitation: Excitation| {
         plant_record(&plant, name, excitation, noise.sigma, seed)
-            .map_err(|e| XtaskError::run("data", e))
+            .map_err(|e| ExperimentError::run("data", e))
     };
     let (identification, id_truth) = record("identification", id_exc)?;
     let (validation, val_truth) = record("validation", val_exc)?;
@@ -167,12 +170,12 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
     let (record, factor) = preprocess(record, &d.preprocessing, &path)?;
     let n = record.input.len();
     let est = resolve_range(&d.estimation, &record, rows, factor, "data.estimation")
-        .map_err(|m| XtaskError::config(config_path, m))?;
+        .map_err(|m| ExperimentError::config(config_path, m))?;
     let val_spec = d.validation.unwrap_or(d.estimation);
     let val = resolve_range(&val_spec, &record, rows, factor, "data.validation")
-        .map_err(|m| XtaskError::config(config_path, m))?;
+        .map_err(|m| ExperimentError::config(config_path, m))?;
     if d.estimation.initial_samples != 0 {
-        return Err(XtaskError::config(
+        return Err(ExperimentError::config(
             config_path,
             format!(
                 "data.estimation.initial_samples = {}: only for data.validation; set estimation.estimate_initial_state = true instead",
@@ -182,7 +185,7 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
     }
     let initial = val_spec.initial_samples;
     if initial + msd_ident::MIN_SAMPLES > val[1] - val[0] {
-        return Err(XtaskError::config(
+        return Err(ExperimentError::config(
             config_path,
             format!(
                 "data.validation.initial_samples = {initial}: expected fewer than the {} samples of the validation range less {}",
@@ -194,9 +197,9 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
     let make = |name: &str, [a, b]: [usize; 2]| -> Result<DataSet> {
         let excitation =
             Excitation::from_samples(record.time[a], record.dt, record.input[a..b].to_vec())
-                .map_err(|e| XtaskError::data(&path, e.to_string()))?;
+                .map_err(|e| ExperimentError::data(&path, e.to_string()))?;
         let mut set = DataSet::new(name, excitation, record.output[a..b].to_vec())
-            .map_err(|e| XtaskError::data(&path, format!("{name} range {a}..{b}: {e}")))?;
+            .map_err(|e| ExperimentError::data(&path, format!("{name} range {a}..{b}: {e}")))?;
         set.input_unit = d.input_unit.clone();
         set.output_unit = d.output_unit.clone();
         Ok(set)
@@ -229,14 +232,14 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
 /// or is not uniform (within 1 % of the mean step).
 pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
     let file = std::fs::File::open(path).map_err(|e| {
-        XtaskError::data(
+        ExperimentError::data(
             path,
             format!("cannot open the data file (data.path = {:?}): {e}", d.path),
         )
     })?;
     let mut bytes = Vec::new();
     std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
-        .map_err(|e| XtaskError::data(path, format!("cannot read: {e}")))?;
+        .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
     // Line numbers come from byte offsets (the csv crate's own count is off by one
     // with CRLF line endings): line of byte b = 1 + number of '\n' before b.
     let newlines: Vec<usize> = bytes
@@ -252,7 +255,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
             .map_or(bytes.len(), |&i| i + 1)
     };
     if !d.delimiter.is_ascii() {
-        return Err(XtaskError::data(
+        return Err(ExperimentError::data(
             path,
             format!(
                 "delimiter {:?}: expected a single ASCII character",
@@ -282,9 +285,9 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                 r.iter().map(str::to_string).collect(),
                 line_of(r.position()),
             )),
-            Some(Err(e)) => return Err(XtaskError::data(path, csv_error(&e, &line_of))),
+            Some(Err(e)) => return Err(ExperimentError::data(path, csv_error(&e, &line_of))),
             None => {
-                return Err(XtaskError::data(
+                return Err(ExperimentError::data(
                     path,
                     "the file is empty: expected a header line and data rows",
                 ));
@@ -305,7 +308,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                         .filter(|h| !h.is_empty())
                         .map(|h| format!("`{h}`"))
                         .collect();
-                    XtaskError::data(
+                    ExperimentError::data(
                         path,
                         format!(
                             "line {line}: no {role} column named `{name}` (data.{role}): the header has {}",
@@ -313,7 +316,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                         ),
                     )
                 }),
-            (Column::Name(name), None) => Err(XtaskError::data(
+            (Column::Name(name), None) => Err(ExperimentError::data(
                 path,
                 format!("data.{role} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"),
             )),
@@ -336,14 +339,14 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
     // wrong delimiter would shift the columns, so the row is refused.
     let mut fields = header.as_ref().map(|(names, _)| names.len());
     for r in records {
-        let r = r.map_err(|e| XtaskError::data(path, csv_error(&e, &line_of)))?;
+        let r = r.map_err(|e| ExperimentError::data(path, csv_error(&e, &line_of)))?;
         let line = line_of(r.position());
         if r.iter().all(str::is_empty) {
             continue; // a blank line
         }
         let expected = *fields.get_or_insert(r.len());
         if r.len() > expected {
-            return Err(XtaskError::data(
+            return Err(ExperimentError::data(
                 path,
                 format!(
                     "line {line}: the row has {} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {:?})?",
@@ -359,7 +362,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
         }
         for (role, index, column) in &columns {
             let cell = r.get(*index).ok_or_else(|| {
-                XtaskError::data(
+                ExperimentError::data(
                     path,
                     format!(
                         "line {line}: the row has {} fields, no {role} column {column} (index {index})",
@@ -368,7 +371,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                 )
             })?;
             let value = parse_cell(cell).map_err(|why| {
-                XtaskError::data(path, format!("line {line}, {role} column {column}: {why}"))
+                ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
             })?;
             let scale = match *role {
                 "input" => d.input_scale,
@@ -377,7 +380,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
             };
             let scaled = value * scale;
             if !scaled.is_finite() {
-                return Err(XtaskError::data(
+                return Err(ExperimentError::data(
                     path,
                     format!(
                         "line {line}, {role} column {column}: {value} × the scale {scale} (data.{role}_scale) overflows: expected a finite value"
@@ -393,7 +396,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
         if let (Some(_), [.., a, b]) = (time_col, time.as_slice())
             && b <= a
         {
-            return Err(XtaskError::data(
+            return Err(ExperimentError::data(
                 path,
                 format!(
                     "line {line}, time column: {b} s is not after the previous {a} s: expected increasing time"
@@ -402,7 +405,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
         }
     }
     if input.len() < msd_ident::MIN_SAMPLES {
-        return Err(XtaskError::data(
+        return Err(ExperimentError::data(
             path,
             format!(
                 "{} data rows: expected at least {}",
@@ -424,7 +427,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                 .windows(2)
                 .position(|w| ((w[1] - w[0]) - dt).abs() > 0.01 * dt)
             {
-                return Err(XtaskError::data(
+                return Err(ExperimentError::data(
                     path,
                     format!(
                         "data row {} (0-based), time column: step {} s: expected a uniform step of {dt} s (within 1 %)",
@@ -471,7 +474,7 @@ fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
 fn preprocess(mut r: Record, steps: &[Preprocess], path: &Path) -> Result<(Record, usize)> {
     let mut factor = 1;
     let fail = |i: usize, e: msd_signal::SignalError| {
-        XtaskError::data(path, format!("data.preprocessing[{i}]: {e}"))
+        ExperimentError::data(path, format!("data.preprocessing[{i}]: {e}"))
     };
     for (i, step) in steps.iter().enumerate() {
         let apply = |r: &mut Record,

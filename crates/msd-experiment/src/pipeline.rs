@@ -6,7 +6,7 @@
 use crate::config::{Config, Kind, RecordChoice};
 use crate::data::{self, ExperimentData};
 use crate::progress::Progress;
-use crate::{Result, XtaskError};
+use crate::{ExperimentError, Result};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, IdentError,
     InitialState, Method, Parameters, ResidualOptions, estimate, frequency_check,
@@ -23,6 +23,8 @@ pub struct Outcome {
     pub config: Config,
     /// The config file as given.
     pub config_path: PathBuf,
+    /// The command that ran it, for the report (`msd run`, `cargo xtask experiment`).
+    pub command: String,
     /// The seed used (`--seed` or the config's).
     pub seed: u64,
     /// Worker threads of the parallel stages (`--threads` or the config's).
@@ -109,10 +111,22 @@ pub struct MonteCarloOutcome {
 }
 
 /// Options of a run that do not belong in the config.
+///
+/// ```
+/// let options = msd_experiment::RunOptions::default();
+/// assert_eq!(options.results_root, None); // outputs go to ./msd-results/<name>/
+/// assert_eq!(options.command, None); // the report names `msd run`
+/// ```
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunOptions {
-    /// Output folder instead of the config's (or `target/experiments/<name>`).
+    /// Output folder instead of the config's `output.dir` or `<results_root>/<name>`.
     pub out: Option<PathBuf>,
+    /// The folder under which a run writes `<name>/` when neither `out` nor the config's
+    /// `output.dir` is given. By default `msd-results` in the current folder;
+    /// `cargo xtask experiment` sets the workspace's `target/experiments`.
+    pub results_root: Option<PathBuf>,
+    /// The command the report shows before the config's path. By default `msd run`.
+    pub command: Option<String>,
     /// Seed instead of the config's.
     pub seed: Option<u64>,
     /// Worker threads instead of the config's.
@@ -131,7 +145,7 @@ pub fn run_stages(
     let seed = options.seed.unwrap_or(config.seed);
     let threads = options.threads.unwrap_or(config.monte_carlo.threads);
     if threads == 0 {
-        return Err(XtaskError::config(
+        return Err(ExperimentError::config(
             config_path,
             "--threads 0: expected an integer >= 1",
         ));
@@ -153,7 +167,7 @@ pub fn run_stages(
         ms.threads = threads;
     }
     let estimate = estimate(&data.identification, &est_options)
-        .map_err(|e| XtaskError::run("estimation", e))?;
+        .map_err(|e| ExperimentError::run("estimation", e))?;
     let estimation_solver = ode45_stats(
         &estimate.parameters,
         &data.identification.excitation,
@@ -175,7 +189,7 @@ pub fn run_stages(
             data.identification.excitation.samples(),
             &residual_options(&config),
         )
-        .map_err(|e| XtaskError::run("residual analysis", e))?,
+        .map_err(|e| ExperimentError::run("residual analysis", e))?,
     );
     timed("residuals", t);
 
@@ -199,7 +213,7 @@ pub fn run_stages(
             // critical damping, a mode the input misses — or no input power): the other
             // stages still stand, so the run goes on and says why.
             Err(IdentError::NotIdentifiable { reason }) => (None, Some(reason)),
-            Err(e) => return Err(XtaskError::run("frequency check", e)),
+            Err(e) => return Err(ExperimentError::run("frequency check", e)),
         }
     } else {
         (None, None)
@@ -245,6 +259,7 @@ pub fn run_stages(
     Ok(Outcome {
         config,
         config_path: config_path.to_path_buf(),
+        command: options.command.clone().unwrap_or_else(|| "msd run".into()),
         seed,
         threads,
         data,
@@ -278,7 +293,7 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
         &backend,
         &options,
     )
-    .map_err(|e| XtaskError::run("validation", e))?;
+    .map_err(|e| ExperimentError::run("validation", e))?;
     let (fit, analysis) = if n0 == 0 {
         (v.fit, v.residual_analysis)
     } else {
@@ -289,7 +304,7 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
             &set.excitation.samples()[n0..],
             &options,
         )
-        .map_err(|e| XtaskError::run("validation", e))?;
+        .map_err(|e| ExperimentError::run("validation", e))?;
         (fit, analysis)
     };
     let solver = ode45_stats(&est.parameters, &set.excitation, initial_state, &backend);
@@ -341,7 +356,7 @@ fn settle_initial_state(
 ) -> Result<InitialState> {
     let head = set
         .slice(0, n)
-        .map_err(|e| XtaskError::run("validation", e))?;
+        .map_err(|e| ExperimentError::run("validation", e))?;
     let options = EstimationOptions {
         method: Method::LevenbergMarquardt,
         backend: Backend::EXACT,
@@ -358,7 +373,7 @@ fn settle_initial_state(
     estimate(&head, &options)
         .map(|e| e.initial_state)
         .map_err(|e| {
-            XtaskError::run(
+            ExperimentError::run(
                 "validation",
                 format!("settling the initial state on the first {n} samples: {e}"),
             )
@@ -404,7 +419,7 @@ fn monte_carlo(
         &options,
         &report,
     )
-    .map_err(|e| XtaskError::run("Monte Carlo", e))?;
+    .map_err(|e| ExperimentError::run("Monte Carlo", e))?;
     let shift = |v: &[f64]| -> Vec<f64> { v.iter().map(|x| x + offset).collect() };
     let lower = shift(band.lower());
     let upper = shift(band.upper());

@@ -24,7 +24,7 @@ mod models;
 mod time;
 
 use crate::pipeline::Outcome;
-use crate::{Result, XtaskError};
+use crate::{ExperimentError, Result};
 use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::ValueFormatter;
@@ -79,7 +79,7 @@ pub(crate) trait Figure {
 
 /// Writes `figure` as `<name>.png` and `<name>.svg` into `dir`.
 pub(crate) fn save(figure: &impl Figure, dir: &Path) -> Result<()> {
-    let fail = |e: String| XtaskError::run("figures", format!("{}: {e}", figure.name()));
+    let fail = |e: String| ExperimentError::run("figures", format!("{}: {e}", figure.name()));
     let png = dir.join(format!("{}.png", figure.name()));
     {
         let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();

@@ -1,0 +1,114 @@
+//! The command line shared by `msd run` and `cargo xtask experiment`: the same
+//! arguments, help, messages and exit statuses (0 success, 2 bad config or data, 1 a
+//! failure during the run).
+//!
+//! ```
+//! use clap::Parser;
+//! use msd_experiment::cli::RunArgs;
+//! #[derive(Parser)]
+//! struct Cli {
+//!     #[command(flatten)]
+//!     run: RunArgs,
+//! }
+//! let cli = Cli::parse_from(["msd", "configs/paper.toml", "--seed", "7", "--quiet"]);
+//! assert_eq!(cli.run.seed, Some(7));
+//! assert!(cli.run.quiet);
+//! ```
+
+use crate::{ExperimentError, RunOptions, run_experiment};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The long help of the run command.
+pub const RUN_HELP: &str = "\
+Run an experiment config end to end and write its results.
+
+Stages: generate (synthetic) or load (measured CSV) data; estimate m, c, k; validate on \
+fresh data; residual diagnostics (autocorrelation, Ljung–Box, residual–input \
+cross-correlation); frequency-consistency check (H1 estimate vs the model); Monte Carlo \
+band on the validation input; with a [nonlinear] section, nonlinear models (Coulomb or \
+quadratic damping, cubic stiffness) estimated or compared by BIC.
+
+The config (TOML, unknown keys refused) has either synthetic sections [plant], [time], \
+[noise], [identification.input], [validation.input] or a [data] section for a measured CSV \
+file, plus optional [estimation], [residuals], [frequency_check], [monte_carlo], [output], \
+[nonlinear]. \
+The configs in configs/ document every field; configs/lab-template.toml is the template \
+for your own measurement.
+
+Outputs, written atomically into --out, or the config's output.dir, or <name>/ under the \
+results folder (msd-results/ in the current folder for `msd run`, target/experiments/ in \
+the workspace for `cargo xtask experiment`): report.md (with the figures), results.json \
+(every number), identification.csv, validation.csv, residual_correlation.csv, and the \
+figures fig2_identification, fig3_validation, fig4_monte_carlo, residual_correlation as PNG \
+and SVG; frf.csv and the figure frf_bode when the frequency check measured (it is skipped, \
+saying why, on data without a resonance in the excited band, such as a damper at or past \
+critical damping); with [nonlinear] also nonlinear.csv and the figure \
+nonlinear_residuals. A failed run writes nothing and leaves a previous result untouched.
+
+Prints a summary on stdout; shows progress on stderr only when it is a terminal and \
+--quiet is not given.
+
+Exit status: 0 on success, 2 for a bad config or bad data (the message names the file, \
+line or field, the value and what was expected), 1 for a failure during the run.";
+
+/// The arguments of one run.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RunArgs {
+    /// The experiment config (TOML), e.g. configs/paper.toml.
+    pub config: PathBuf,
+    /// Output folder [default: <name>/ under the results folder].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Seed of every random draw, instead of the config's `seed`.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
+    /// Worker threads of the Monte Carlo (and multistart), instead of the config's.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=1024))]
+    pub threads: Option<u64>,
+    /// Print nothing but the summary (no progress).
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl RunArgs {
+    /// The run's options; `results_root` and `command` as [`RunOptions`] documents them.
+    pub fn options(&self, results_root: Option<PathBuf>, command: &str) -> RunOptions {
+        RunOptions {
+            out: self.out.clone(),
+            results_root,
+            command: Some(command.to_string()),
+            seed: self.seed,
+            threads: self.threads.map(|t| t as usize),
+            progress: !self.quiet && std::io::stderr().is_terminal(),
+        }
+    }
+}
+
+/// Runs the experiment, prints its summary, and turns a panic inside the run into an
+/// error (exit status 1) rather than an abort.
+pub fn run(args: &RunArgs, options: &RunOptions) -> Result<(), ExperimentError> {
+    let outcome = std::panic::catch_unwind(|| run_experiment(&args.config, options));
+    let run = outcome.map_err(|panic| {
+        let why = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        ExperimentError::run("experiment", format!("internal error: {why}"))
+    })??;
+    print!("{}", run.summary);
+    Ok(())
+}
+
+/// Prints `result`'s error on stderr as `error: …` and gives the exit status.
+pub fn exit(result: Result<(), ExperimentError>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code())
+        }
+    }
+}

@@ -1,0 +1,147 @@
+//! The mass–spring–damper identification experiment as a library: a TOML config (or
+//! records you already hold in memory) in, a typed [`Outcome`] and a folder of results
+//! out.
+//!
+//! A run reads a config ([`config`]), generates or loads the data ([`data`]), runs the
+//! stages ([`pipeline`]: estimation, validation, residual diagnostics, frequency check,
+//! Monte Carlo, and nonlinear models ([`nonlinear`]) when asked), and writes figures
+//! ([`plots`]), CSV tables ([`tables`]), a report ([`report`]) and `results.json`
+//! ([`results`]) into one folder atomically ([`output`]).
+//!
+//! The same library is the `msd` command (`cargo install --path crates/msd-experiment`,
+//! then `msd run configs/paper.toml`) and `cargo xtask experiment` inside the workspace.
+//!
+//! ```no_run
+//! use msd_experiment::{RunOptions, run_experiment};
+//! let run = run_experiment("configs/paper.toml".as_ref(), &RunOptions::default())?;
+//! println!("{}", run.summary);
+//! # Ok::<(), msd_experiment::ExperimentError>(())
+//! ```
+
+pub mod cli;
+pub mod config;
+pub mod data;
+mod error;
+pub mod fmt;
+pub mod nonlinear;
+pub mod output;
+pub mod pipeline;
+pub mod plots;
+pub mod progress;
+pub mod report;
+pub mod results;
+pub mod summary;
+pub mod tables;
+
+pub use error::{ExperimentError, Result};
+pub use pipeline::{Outcome, RunOptions};
+
+use config::Config;
+use output::Staging;
+use progress::Progress;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What a finished run leaves the caller.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    /// The folder the results were written to.
+    pub out_dir: PathBuf,
+    /// The summary text (what the command prints).
+    pub summary: String,
+    /// The contents of `results.json`.
+    pub results: serde_json::Value,
+}
+
+/// The folder under which results go when neither `--out` nor `output.dir` says:
+/// `msd-results` in the current folder.
+pub const DEFAULT_RESULTS_ROOT: &str = "msd-results";
+
+/// Where a run writes: `--out`, else the config's `output.dir` (relative to the config
+/// file), else `<results_root>/<name>` (by default `msd-results/<name>` in the current
+/// folder).
+///
+/// ```
+/// use msd_experiment::{RunOptions, config::Config, output_dir};
+/// use std::path::Path;
+/// let text = "name = \"x\"\n[data]\npath = \"d.csv\"\ninput = 0\noutput = 1\nsample_rate = 10.0";
+/// let config = Config::from_toml_str(text, "lab/x.toml")?;
+/// let options = RunOptions::default();
+/// assert_eq!(output_dir(&config, Path::new("lab/x.toml"), &options), Path::new("msd-results/x"));
+/// # Ok::<(), msd_experiment::ExperimentError>(())
+/// ```
+pub fn output_dir(config: &Config, config_path: &Path, options: &RunOptions) -> PathBuf {
+    if let Some(out) = &options.out {
+        return out.clone();
+    }
+    if let Some(dir) = &config.output.dir {
+        return config_path.parent().unwrap_or(Path::new("")).join(dir);
+    }
+    options
+        .results_root
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_RESULTS_ROOT))
+        .join(&config.name)
+}
+
+/// Runs the experiment of `config_path` and writes its results.
+///
+/// Nothing is written unless every stage succeeds: a bad config or bad data fails before
+/// any folder is created, and a failure while writing removes the staging folder.
+pub fn run_experiment(config_path: &Path, options: &RunOptions) -> Result<RunSummary> {
+    let started = Instant::now();
+    let config = Config::load(config_path)?;
+    let progress = Progress::new(options.progress);
+    let result = run_and_write(config, config_path, options, &progress, started);
+    progress.finish();
+    result
+}
+
+fn run_and_write(
+    config: Config,
+    config_path: &Path,
+    options: &RunOptions,
+    progress: &Progress,
+    started: Instant,
+) -> Result<RunSummary> {
+    let target = output_dir(&config, config_path, options);
+    let outcome = pipeline::run_stages(config, config_path, options, progress)?;
+    write_outcome(&outcome, &target, progress, started)
+}
+
+/// Writes `outcome` into `target` atomically (figures, CSV tables, `report.md`,
+/// `results.json`) and returns the summary; `started` is when the run began (for the
+/// total time).
+pub fn write_outcome(
+    outcome: &Outcome,
+    target: &Path,
+    progress: &Progress,
+    started: Instant,
+) -> Result<RunSummary> {
+    progress.stage("figures");
+    let staging = Staging::new(target)?;
+    let t = Instant::now();
+    let figures = plots::write_all(outcome, staging.path())?;
+    let mut extra = vec![("figures", t.elapsed())];
+
+    progress.stage("report");
+    let t = Instant::now();
+    for (name, text) in tables::csv_files(outcome) {
+        staging.write(name, text.as_bytes())?;
+    }
+    let report = report::markdown(outcome, &figures, &extra, started.elapsed());
+    staging.write("report.md", report.as_bytes())?;
+    extra.push(("report", t.elapsed()));
+
+    let total = started.elapsed();
+    let json = results::to_json(outcome, &extra, total);
+    let text = serde_json::to_string_pretty(&json).map_err(|e| ExperimentError::run("write", e))?;
+    staging.write("results.json", format!("{text}\n").as_bytes())?;
+    staging.commit()?;
+    let summary = summary::text(outcome, &extra, total, target);
+    Ok(RunSummary {
+        out_dir: target.to_path_buf(),
+        summary,
+        results: json,
+    })
+}

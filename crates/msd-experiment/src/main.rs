@@ -1,0 +1,41 @@
+//! `msd`: identify the mass, damping and stiffness of a mass–spring–damper from
+//! vibration data, from any folder.
+//!
+//! `msd run configs/paper.toml` runs an experiment config and writes its results into
+//! `./msd-results/<name>/`; the same as `cargo xtask experiment` inside the workspace.
+
+use clap::{Parser, Subcommand};
+use msd_experiment::cli::{self, RunArgs};
+use std::process::ExitCode;
+
+/// msd: identify mass, damping and stiffness from vibration data.
+#[derive(Debug, Parser)]
+#[command(
+    name = "msd",
+    version,
+    about = "Identify the mass, damping and stiffness of a mass–spring–damper from vibration data",
+    long_about = "Identify the mass m, damping c and stiffness k of a mass–spring–damper from \
+vibration data.\n\nRun an experiment config:\n\n    msd run experiment.toml\n\n\
+It writes msd-results/<name>/ in the current folder with report.md, results.json, CSV files \
+and figures."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run an experiment config end to end: data, estimation, validation, residual
+    /// diagnostics, frequency check, Monte Carlo; write figures, CSV, report.md and
+    /// results.json.
+    #[command(long_about = cli::RUN_HELP)]
+    Run(RunArgs),
+}
+
+fn main() -> ExitCode {
+    let Cli { command } = Cli::parse();
+    match command {
+        Command::Run(args) => cli::exit(cli::run(&args, &args.options(None, "msd run"))),
+    }
+}
