@@ -721,6 +721,36 @@ impl Config {
         Ok(config)
     }
 
+    /// A config named `name` with every option at its default and no data sections: for
+    /// a Rust program that runs the stages on records it holds ([`crate::run_in_memory`]).
+    ///
+    /// ```
+    /// use msd_experiment::config::Config;
+    /// let mut config = Config::new("bench");
+    /// config.monte_carlo.samples = 200;
+    /// assert_eq!(config.seed, 1);
+    /// assert!(config.plant.is_none() && config.data.is_none());
+    /// ```
+    pub fn new(name: impl Into<String>) -> Self {
+        Self {
+            name: name.into(),
+            description: String::new(),
+            seed: default_seed(),
+            plant: None,
+            time: None,
+            noise: None,
+            identification: None,
+            validation: ValidationSection::default(),
+            data: None,
+            estimation: EstimationSection::default(),
+            residuals: ResidualSection::default(),
+            frequency_check: FrequencySection::default(),
+            monte_carlo: MonteCarloSection::default(),
+            nonlinear: None,
+            output: OutputSection::default(),
+        }
+    }
+
     /// Synthetic or measured.
     pub fn kind(&self) -> Kind {
         if self.data.is_some() {
@@ -765,6 +795,30 @@ impl Config {
             Kind::Synthetic => self.validate_synthetic()?,
             Kind::Measured => self.validate_measured()?,
         }
+        self.validate_options()
+    }
+
+    /// Checks the options of the stages (everything but the data sections), as
+    /// [`Config::validate`] does for a file; for a config built in Rust and run on
+    /// records in memory ([`crate::run_in_memory`]). Errors name the field.
+    ///
+    /// ```
+    /// let mut config = msd_experiment::config::Config::new("bench");
+    /// assert!(config.check_options().is_ok());
+    /// config.residuals.max_lag = 0;
+    /// let err = config.check_options().unwrap_err();
+    /// assert_eq!(err.to_string(), "config of bench: residuals.max_lag = 0: expected an integer >= 1");
+    /// ```
+    pub fn check_options(&self) -> Result<()> {
+        self.validate_options()
+            .map_err(|(field, message)| ExperimentError::Config {
+                file: format!("config of {}", self.name),
+                message: format!("{field}{message}"),
+            })
+    }
+
+    fn validate_options(&self) -> std::result::Result<(), (String, String)> {
+        let err = |field: &str, message: String| Err((field.to_string(), message));
         self.validate_estimation()?;
         if let Some(b) = &self.validation.backend {
             check_backend("validation.backend", b)?;

@@ -32,9 +32,41 @@ pub struct ExperimentData {
     pub source: Source,
 }
 
+impl ExperimentData {
+    /// Records a Rust program already holds: `identification` to estimate on,
+    /// `validation` to predict (it may be the same record). Nothing about the plant is
+    /// known, so the run reports them as measured data; no file is read.
+    ///
+    /// ```
+    /// use msd_experiment::data::ExperimentData;
+    /// use msd_ident::DataSet;
+    /// let t: Vec<f64> = (0..100).map(|i| i as f64 * 0.01).collect();
+    /// let force = vec![1.0; 100];
+    /// let x: Vec<f64> = t.iter().map(|t| 0.01 * (1.0 - (-t).exp())).collect();
+    /// let set = DataSet::from_columns("bench", &t, force, x)?;
+    /// let data = ExperimentData::in_memory(set.clone(), set);
+    /// assert!(data.truth.is_none());
+    /// # Ok::<(), msd_ident::IdentError>(())
+    /// ```
+    pub fn in_memory(identification: DataSet, validation: DataSet) -> Self {
+        Self {
+            kind: Kind::Measured,
+            identification,
+            validation,
+            identification_truth: None,
+            validation_truth: None,
+            truth: None,
+            validation_initial_samples: 0,
+            source: Source::InMemory,
+        }
+    }
+}
+
 /// Where the data came from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Source {
+    /// Given in memory by a Rust program ([`ExperimentData::in_memory`]).
+    InMemory,
     /// Generated from the config's plant with the seed.
     Synthetic {
         /// Noise standard deviation.

@@ -97,6 +97,36 @@ pub fn run_experiment(config_path: &Path, options: &RunOptions) -> Result<RunSum
     result
 }
 
+/// Runs the stages on records a Rust program already holds, with no file read: the
+/// options come from `config` (built with [`Config::new`] and set in Rust, or read from
+/// TOML; its data sections are not used), the records from `data`
+/// ([`data::ExperimentData::in_memory`]). `options.seed` and `options.threads` override
+/// the config's as on the command line. Write the outcome with [`write_outcome`].
+///
+/// ```
+/// use msd_experiment::{RunOptions, config::Config, data::ExperimentData, run_in_memory};
+/// // The paper's two records (m = 2.5 kg, c = 1.8 N·s/m, k = 120 N/m; σ = 2.5 mm).
+/// let paper = msd_ident::PaperExperiment::generate(1)?;
+/// let mut config = Config::new("paper-in-memory");
+/// config.monte_carlo.samples = 50;
+/// let data = ExperimentData::in_memory(paper.identification, paper.validation);
+/// let outcome = run_in_memory(config, data, &RunOptions::default())?;
+/// let [low, high] = outcome.estimate.uncertainty.mass.ci95;
+/// assert!(low < 2.5 && 2.5 < high, "[{low}, {high}]");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn run_in_memory(
+    config: Config,
+    data: data::ExperimentData,
+    options: &RunOptions,
+) -> Result<Outcome> {
+    config.check_options()?;
+    let progress = Progress::new(options.progress);
+    let outcome = pipeline::run_on_data(config, Path::new(""), data, options, &progress);
+    progress.finish();
+    outcome
+}
+
 fn run_and_write(
     config: Config,
     config_path: &Path,
@@ -106,13 +136,28 @@ fn run_and_write(
 ) -> Result<RunSummary> {
     let target = output_dir(&config, config_path, options);
     let outcome = pipeline::run_stages(config, config_path, options, progress)?;
-    write_outcome(&outcome, &target, progress, started)
+    write_timed(&outcome, &target, progress, started)
 }
 
-/// Writes `outcome` into `target` atomically (figures, CSV tables, `report.md`,
-/// `results.json`) and returns the summary; `started` is when the run began (for the
-/// total time).
-pub fn write_outcome(
+/// Writes `outcome` into the folder `target` atomically (figures, CSV tables,
+/// `report.md`, `results.json`; nothing is left behind if a write fails) and returns
+/// the summary the command prints.
+///
+/// ```no_run
+/// # fn outcome() -> msd_experiment::Outcome { unimplemented!() }
+/// let run = msd_experiment::write_outcome(&outcome(), "results/bench".as_ref())?;
+/// print!("{}", run.summary);
+/// # Ok::<(), msd_experiment::ExperimentError>(())
+/// ```
+pub fn write_outcome(outcome: &Outcome, target: &Path) -> Result<RunSummary> {
+    let computed: std::time::Duration = outcome.timings.iter().map(|(_, d)| *d).sum();
+    let now = Instant::now();
+    let started = now.checked_sub(computed).unwrap_or(now);
+    write_timed(outcome, target, &Progress::hidden(), started)
+}
+
+/// [`write_outcome`] with progress and the instant the run began (for the total time).
+fn write_timed(
     outcome: &Outcome,
     target: &Path,
     progress: &Progress,

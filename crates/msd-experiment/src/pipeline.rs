@@ -143,6 +143,26 @@ pub fn run_stages(
     progress: &Progress,
 ) -> Result<Outcome> {
     let seed = options.seed.unwrap_or(config.seed);
+    progress.stage("data");
+    let t = Instant::now();
+    let data = data::load(&config, config_path, seed)?;
+    let loaded = t.elapsed();
+    let mut outcome = run_on_data(config, config_path, data, options, progress)?;
+    outcome.timings.insert(0, ("data", loaded));
+    Ok(outcome)
+}
+
+/// Runs the stages after the data (estimation, validation, residuals, frequency check,
+/// Monte Carlo, nonlinear models) on records already loaded; `config_path` names the
+/// config in errors and the report (empty for a config built in Rust).
+pub fn run_on_data(
+    config: Config,
+    config_path: &Path,
+    data: ExperimentData,
+    options: &RunOptions,
+    progress: &Progress,
+) -> Result<Outcome> {
+    let seed = options.seed.unwrap_or(config.seed);
     let threads = options.threads.unwrap_or(config.monte_carlo.threads);
     if threads == 0 {
         return Err(ExperimentError::config(
@@ -152,11 +172,6 @@ pub fn run_stages(
     }
     let mut timings = Vec::new();
     let mut timed = |name: &'static str, started: Instant| timings.push((name, started.elapsed()));
-
-    progress.stage("data");
-    let t = Instant::now();
-    let data = data::load(&config, config_path, seed)?;
-    timed("data", t);
 
     progress.stage("estimation");
     let t = Instant::now();

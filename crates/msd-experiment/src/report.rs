@@ -54,13 +54,17 @@ pub fn markdown(
         .map(|f| f.to_string_lossy().into_owned())
         .unwrap_or_default();
     let _ = writeln!(w, "| run | |\n|---|---|");
-    let _ = writeln!(w, "| config | `{config_file}` |");
-    let _ = writeln!(
-        w,
-        "| command | `{} {}` |",
-        o.command,
-        o.config_path.display()
-    );
+    if config_file.is_empty() {
+        let _ = writeln!(w, "| config | built by the calling program (Rust API) |");
+    } else {
+        let _ = writeln!(w, "| config | `{config_file}` |");
+        let _ = writeln!(
+            w,
+            "| command | `{} {}` |",
+            o.command,
+            o.config_path.display()
+        );
+    }
     if o.data.kind == Kind::Synthetic {
         let _ = writeln!(w, "| seed | {} |", o.seed);
     }
@@ -127,6 +131,12 @@ pub fn markdown(
     // Data.
     let _ = writeln!(w, "## Data\n");
     match &o.data.source {
+        crate::data::Source::InMemory => {
+            let _ = writeln!(
+                w,
+                "Both records were given in memory by the calling program (no file was read).\n"
+            );
+        }
         crate::data::Source::Synthetic { sigma } => {
             let _ = writeln!(
                 w,

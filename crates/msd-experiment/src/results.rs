@@ -237,6 +237,7 @@ fn data_json(o: &Outcome) -> Value {
         })
     };
     let source = match &o.data.source {
+        crate::data::Source::InMemory => json!({ "kind": "in_memory" }),
         crate::data::Source::Synthetic { sigma } => {
             json!({ "kind": "synthetic", "noise_sigma": sigma,
             "noise_streams": ["identification", "validation"] })

@@ -33,6 +33,9 @@ pub fn text(
     let mut s = String::new();
     let kind = match o.data.kind {
         crate::config::Kind::Synthetic => format!("synthetic data, seed {}", o.seed),
+        crate::config::Kind::Measured if o.data.source == crate::data::Source::InMemory => {
+            "data given in memory".to_string()
+        }
         crate::config::Kind::Measured => "measured data".to_string(),
     };
     let _ = writeln!(s, "experiment `{}` ({kind})", o.config.name);
