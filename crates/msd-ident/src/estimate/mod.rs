@@ -7,6 +7,7 @@
 //! multistart. Every estimate comes with fit metrics and, from the exact sensitivities at
 //! θ̂, a Gauss–Newton covariance with confidence intervals.
 
+mod identifiability;
 mod layout;
 mod options;
 mod problem;
@@ -302,6 +303,10 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
             "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {}); try Levenberg–Marquardt, multistart or a better guess",
             best.exit
         ));
+    }
+    identifiability::check_mass(data, options, (&parameters, initial_state, offset))?;
+    if options.fixed.mass.is_none() {
+        notes.extend(identifiability::band_warning(data, &parameters));
     }
     uncertainty.warnings.extend(notes);
     Ok(Estimate {
