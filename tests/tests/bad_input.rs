@@ -180,6 +180,43 @@ fn nan_in_config() {
     case.refuses(&c, &["noise.sigma = inf", "expected a finite number >= 0"]);
 }
 
+/// The stage options are checked once, by the library that owns them (msd-ident,
+/// msd-mc), and the refusal names the TOML key and its line: the config and the library
+/// can no longer disagree on a limit.
+#[test]
+fn stage_options_are_refused_by_the_library_under_their_key() {
+    let case = Case::new();
+    let cases = [
+        (
+            "samples = 1000 ",
+            "samples = 0 ",
+            "c.toml:144: monte_carlo.samples = 0: the number of samples must be at least 1",
+        ),
+        (
+            "percentiles = [5.0, 95.0]",
+            "percentiles = [5.0, 50.0]",
+            "c.toml:146: monte_carlo.percentiles = [5, 50]: percentiles must be strictly increasing",
+        ),
+        (
+            "power_threshold = 0.01",
+            "power_threshold = 1.5",
+            "c.toml:135: frequency_check.power_threshold = 1.5: expected a share of the peak power in (0, 1]",
+        ),
+        (
+            "[estimation]\n",
+            "[estimation]\nfixed = { mass = -1.0 }\n",
+            "estimation.fixed.mass = -1: expected a finite number > 0",
+        ),
+    ];
+    for (from, to, expected) in cases {
+        let c = case.file("c.toml", &paper_with(from, to));
+        case.refuses(&c, &[expected]);
+    }
+    // The library allows a power threshold of 1 (only the peak line): so does the config.
+    let ok = paper_with("power_threshold = 0.01", "power_threshold = 1.0");
+    msd_experiment::config::Config::from_toml_str(&ok, "ok.toml").expect("1.0 is allowed");
+}
+
 #[test]
 fn missing_config_file() {
     let case = Case::new();

@@ -37,10 +37,9 @@
 
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Backend, EstimationOptions, FixedParameters, InitialState, MIN_SAMPLES, Method,
-    MultistartSettings, ParameterBounds, Parameters,
+    Backend, EstimationOptions, InitialState, MIN_SAMPLES, Parameters, ResidualOptions,
 };
-use msd_opt::{LevenbergMarquardtOptions, NelderMeadOptions};
+use msd_mc::{McOptions, Sampling};
 use msd_signal::Signal;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::{Path, PathBuf};
@@ -78,12 +77,12 @@ pub struct Config {
     /// A measured record (instead of `plant`, `time`, `noise`, `identification`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub data: Option<DataSection>,
-    /// How θ = (m, c, k) is estimated.
+    /// How θ = (m, c, k) is estimated: msd-ident's options, as they are.
     #[serde(default)]
-    pub estimation: EstimationSection,
-    /// Residual diagnostics.
+    pub estimation: EstimationOptions,
+    /// Residual diagnostics: msd-ident's options, as they are.
     #[serde(default)]
-    pub residuals: ResidualSection,
+    pub residuals: ResidualOptions,
     /// Frequency-domain consistency check.
     #[serde(default)]
     pub frequency_check: FrequencySection,
@@ -228,151 +227,6 @@ pub struct ValidationSection {
     pub backend: Option<Backend>,
 }
 
-/// θ₀: `"auto"` (the ARX guess) or a table `{ mass, damping, stiffness }`.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub enum InitialGuess {
-    /// The automatic ARX guess.
-    #[default]
-    Auto,
-    /// Given values.
-    Given(Parameters),
-}
-
-impl Serialize for InitialGuess {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        match self {
-            InitialGuess::Auto => s.serialize_str("auto"),
-            InitialGuess::Given(p) => p.serialize(s),
-        }
-    }
-}
-
-impl<'de> Deserialize<'de> for InitialGuess {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        struct Visitor;
-        impl<'de> serde::de::Visitor<'de> for Visitor {
-            type Value = InitialGuess;
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str(r#""auto" or a table { mass, damping, stiffness }"#)
-            }
-            fn visit_str<E: serde::de::Error>(
-                self,
-                v: &str,
-            ) -> std::result::Result<Self::Value, E> {
-                if v == "auto" {
-                    Ok(InitialGuess::Auto)
-                } else {
-                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
-                }
-            }
-            fn visit_map<A: serde::de::MapAccess<'de>>(
-                self,
-                map: A,
-            ) -> std::result::Result<Self::Value, A::Error> {
-                Parameters::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(InitialGuess::Given)
-            }
-        }
-        d.deserialize_any(Visitor)
-    }
-}
-
-/// The `[estimation]` section: msd-ident's [`EstimationOptions`] in TOML.
-///
-/// By default Levenberg–Marquardt on the exact simulator from the automatic guess.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct EstimationSection {
-    /// `"nelder_mead"` (the paper's) or `"levenberg_marquardt"`. By default the latter.
-    pub method: Method,
-    /// `{ kind = "ode45", rel_tol, abs_tol }` or `{ kind = "exact", hold }`. By default
-    /// exact with a cubic hold.
-    pub backend: Backend,
-    /// θ₀, `"auto"` or `{ mass, damping, stiffness }`. By default `"auto"`.
-    pub initial_guess: InitialGuess,
-    /// Known parameters, held fixed. By default none.
-    pub fixed: FixedParameters,
-    /// Bounds `[low, high]` per parameter. By default none.
-    pub bounds: ParameterBounds,
-    /// State at the start of the estimation record. By default at rest.
-    pub initial_state: InitialState,
-    /// Estimate the initial state too. By default false.
-    pub estimate_initial_state: bool,
-    /// Constant sensor offset. By default 0.
-    pub offset: f64,
-    /// Estimate the offset too. By default false.
-    pub estimate_offset: bool,
-    /// Nelder–Mead settings. By default fminsearch's.
-    pub nelder_mead: NelderMeadOptions,
-    /// Levenberg–Marquardt settings. By default MINPACK's.
-    pub levenberg_marquardt: LevenbergMarquardtOptions,
-    /// Multistart (off unless given).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub multistart: Option<MultistartSettings>,
-}
-
-impl Default for EstimationSection {
-    fn default() -> Self {
-        let o = EstimationOptions::default();
-        Self {
-            method: o.method,
-            backend: o.backend,
-            initial_guess: InitialGuess::Auto,
-            fixed: o.fixed,
-            bounds: o.bounds,
-            initial_state: o.initial_state,
-            estimate_initial_state: o.estimate_initial_state,
-            offset: o.offset,
-            estimate_offset: o.estimate_offset,
-            nelder_mead: o.nelder_mead,
-            levenberg_marquardt: o.levenberg_marquardt,
-            multistart: o.multistart,
-        }
-    }
-}
-
-impl EstimationSection {
-    /// As msd-ident's options; the multistart seed is taken from `seed` unless given.
-    pub fn options(&self) -> EstimationOptions {
-        EstimationOptions {
-            method: self.method,
-            backend: self.backend,
-            initial_guess: match self.initial_guess {
-                InitialGuess::Auto => None,
-                InitialGuess::Given(p) => Some(p),
-            },
-            fixed: self.fixed,
-            bounds: self.bounds,
-            initial_state: self.initial_state,
-            estimate_initial_state: self.estimate_initial_state,
-            offset: self.offset,
-            estimate_offset: self.estimate_offset,
-            nelder_mead: self.nelder_mead.clone(),
-            levenberg_marquardt: self.levenberg_marquardt.clone(),
-            multistart: self.multistart,
-        }
-    }
-}
-
-/// The `[residuals]` section.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ResidualSection {
-    /// Largest lag of the correlation tests. By default 25 (MATLAB's `resid`).
-    pub max_lag: usize,
-    /// Confidence of the correlation bands. By default 0.99 (MATLAB's `resid`).
-    pub confidence: f64,
-}
-
-impl Default for ResidualSection {
-    fn default() -> Self {
-        Self {
-            max_lag: 25,
-            confidence: 0.99,
-        }
-    }
-}
-
 /// Which record the frequency check uses.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -474,6 +328,42 @@ impl Default for MonteCarloSection {
             threads: 2,
             backend: None,
         }
+    }
+}
+
+impl MonteCarloSection {
+    /// As msd-mc's options: N = `samples`, uniform draws of ±`spread`, the band's
+    /// percentiles with the median between them, `threads`; the seed, backend and
+    /// initial state are the run's, set by the pipeline.
+    pub fn options(&self) -> McOptions {
+        let [low, high] = self.percentiles;
+        McOptions {
+            samples: self.samples,
+            sampling: Sampling::Uniform {
+                percent: self.spread * 100.0,
+            },
+            percentiles: vec![low, 50.0, high],
+            threads: self.threads,
+            ..McOptions::default()
+        }
+    }
+
+    /// msd-mc's refusal of [`MonteCarloSection::options`] as (TOML key, message).
+    fn refusal(&self, error: msd_mc::McError) -> (String, String) {
+        use msd_mc::McError::*;
+        let (key, value) = match error {
+            ZeroSamples => ("samples", self.samples.to_string()),
+            ZeroThreads => ("threads", self.threads.to_string()),
+            InvalidPercent { .. } => ("spread", self.spread.to_string()),
+            PercentileOutOfRange { .. } | UnorderedPercentiles { .. } => {
+                let [low, high] = self.percentiles;
+                ("percentiles", format!("[{low}, {high}]"))
+            }
+            _ => ("", String::new()),
+        };
+        let field = ["monte_carlo", key].join(".");
+        let field = field.trim_end_matches('.').to_string();
+        (field, format!(" = {value}: {error}"))
     }
 }
 
@@ -742,8 +632,8 @@ impl Config {
             identification: None,
             validation: ValidationSection::default(),
             data: None,
-            estimation: EstimationSection::default(),
-            residuals: ResidualSection::default(),
+            estimation: EstimationOptions::default(),
+            residuals: ResidualOptions::default(),
             frequency_check: FrequencySection::default(),
             monte_carlo: MonteCarloSection::default(),
             nonlinear: None,
@@ -818,71 +708,22 @@ impl Config {
     }
 
     fn validate_options(&self) -> std::result::Result<(), (String, String)> {
-        let err = |field: &str, message: String| Err((field.to_string(), message));
         self.validate_estimation()?;
         if let Some(b) = &self.validation.backend {
             check_backend("validation.backend", b)?;
         }
-        let r = &self.residuals;
-        if r.max_lag == 0 {
-            return err("residuals.max_lag", " = 0: expected an integer >= 1".into());
-        }
-        if !(r.confidence > 0.0 && r.confidence < 1.0) {
-            return err(
-                "residuals.confidence",
-                format!(" = {}: expected a probability in (0, 1)", r.confidence),
-            );
-        }
-        let f = &self.frequency_check;
-        if f.enabled {
-            if !(f.power_threshold > 0.0 && f.power_threshold < 1.0) {
-                return err(
-                    "frequency_check.power_threshold",
-                    format!(" = {}: expected a fraction in (0, 1)", f.power_threshold),
-                );
-            }
-            check_positive("frequency_check.frequency_tolerance", f.frequency_tolerance)?;
-            check_positive("frequency_check.damping_tolerance", f.damping_tolerance)?;
-            check_positive("frequency_check.max_relative_error", f.max_relative_error)?;
-            if let Some([a, b]) = f.band_hz
-                && !(a.is_finite() && b.is_finite() && 0.0 <= a && a < b)
-            {
-                return err(
-                    "frequency_check.band_hz",
-                    format!(" = [{a}, {b}]: expected 0 <= low < high (Hz)"),
-                );
-            }
+        self.residuals
+            .validate()
+            .map_err(|e| library_error("residuals", e))?;
+        if self.frequency_check.enabled {
+            self.frequency_check
+                .options()
+                .validate()
+                .map_err(|e| library_error("frequency_check", e))?;
         }
         let mc = &self.monte_carlo;
         if mc.enabled {
-            if mc.samples < 2 {
-                return err(
-                    "monte_carlo.samples",
-                    format!(" = {}: expected an integer >= 2", mc.samples),
-                );
-            }
-            if !(mc.spread.is_finite() && mc.spread > 0.0 && mc.spread < 1.0) {
-                return err(
-                    "monte_carlo.spread",
-                    format!(
-                        " = {}: expected a fraction in (0, 1), e.g. 0.10 for ±10 %",
-                        mc.spread
-                    ),
-                );
-            }
-            let [lo, hi] = mc.percentiles;
-            if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi && hi <= 100.0) {
-                return err(
-                    "monte_carlo.percentiles",
-                    format!(" = [{lo}, {hi}]: expected two percentages 0 <= low < high <= 100"),
-                );
-            }
-            if mc.threads == 0 {
-                return err(
-                    "monte_carlo.threads",
-                    " = 0: expected an integer >= 1".into(),
-                );
-            }
+            mc.options().validate().map_err(|e| mc.refusal(e))?;
             if let Some(b) = &mc.backend {
                 check_backend("monte_carlo.backend", b)?;
             }
@@ -923,9 +764,10 @@ impl Config {
                 "the validation input [validation.input]",
             );
         };
-        check_positive("plant.mass", plant.mass)?;
-        check_non_negative("plant.damping", plant.damping)?;
-        check_positive("plant.stiffness", plant.stiffness)?;
+        plant
+            .parameters()
+            .validate()
+            .map_err(|e| library_error("plant", e))?;
         check_non_negative("plant.coulomb_force", plant.coulomb_force)?;
         check_non_negative("plant.quadratic_damping", plant.quadratic_damping)?;
         check_finite("plant.cubic_stiffness", plant.cubic_stiffness)?;
@@ -1069,19 +911,30 @@ impl Config {
     }
 
     fn validate_estimation(&self) -> std::result::Result<(), (String, String)> {
-        let e = &self.estimation;
-        check_backend("estimation.backend", &e.backend)?;
-        if let InitialGuess::Given(p) = &e.initial_guess {
-            check_positive("estimation.initial_guess.mass", p.mass)?;
-            check_non_negative("estimation.initial_guess.damping", p.damping)?;
-            check_positive("estimation.initial_guess.stiffness", p.stiffness)?;
+        check_backend("estimation.backend", &self.estimation.backend)?;
+        self.estimation
+            .validate()
+            .map_err(|e| library_error("estimation", e))
+    }
+}
+
+/// msd-ident's refusal of an option as (TOML key, rest of the message): the option it
+/// names under `section`, else the section itself.
+fn library_error(section: &str, error: msd_ident::IdentError) -> (String, String) {
+    match error {
+        msd_ident::IdentError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => (
+            format!("{section}.{name}"),
+            format!(" = {value}: expected {expected}"),
+        ),
+        other => {
+            let text = other.to_string();
+            let text = text.strip_prefix("invalid ").unwrap_or(&text).to_string();
+            (section.to_string(), format!(": {text}"))
         }
-        if let Err(err) = e.options().validate() {
-            let text = err.to_string();
-            let text = text.strip_prefix("invalid ").unwrap_or(&text);
-            return Err(("estimation".into(), format!(": {text}")));
-        }
-        Ok(())
     }
 }
 

@@ -190,3 +190,8 @@ fn write_timed(
         results: json,
     })
 }
+
+/// The workspace README's Rust examples, compiled as doctests so they cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeExamples;

@@ -12,7 +12,7 @@ use msd_ident::{
     InitialState, Method, Parameters, ResidualOptions, estimate, frequency_check,
     residual_analysis, simulate_into, validate_model,
 };
-use msd_mc::{McOptions, Sampling, monte_carlo_band_with_progress};
+use msd_mc::{McOptions, monte_carlo_band_with_progress};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -175,7 +175,7 @@ pub fn run_on_data(
 
     progress.stage("estimation");
     let t = Instant::now();
-    let mut est_options = config.estimation.options();
+    let mut est_options = config.estimation.clone();
     if let Some(ms) = &mut est_options.multistart
         && config.estimation.multistart.is_some()
     {
@@ -405,18 +405,12 @@ fn monte_carlo(
     progress: &Progress,
 ) -> Result<MonteCarloOutcome> {
     let mc = &config.monte_carlo;
-    let [p_lo, p_hi] = mc.percentiles;
     let options = McOptions {
-        samples: mc.samples,
-        sampling: Sampling::Uniform {
-            percent: mc.spread * 100.0,
-        },
-        percentiles: vec![p_lo, 50.0, p_hi],
         threads,
         seed,
         backend: config.monte_carlo_backend(),
         initial_state: validation.initial_state,
-        ..McOptions::default()
+        ..mc.options()
     };
     let set = &data.validation;
     let offset = estimate.offset;

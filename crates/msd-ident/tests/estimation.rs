@@ -448,7 +448,13 @@ fn bad_input_is_a_specific_error() {
         ..Default::default()
     });
     assert!(
-        matches!(e, IdentError::InvalidParameter { name: "mass", .. }),
+        matches!(
+            e,
+            IdentError::InvalidParameter {
+                name: "initial_guess.mass",
+                ..
+            }
+        ),
         "{e}"
     );
 }

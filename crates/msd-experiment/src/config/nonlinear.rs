@@ -165,7 +165,7 @@ impl NonlinearSection {
     /// Checks every value; the error is the field path and the rest of the message.
     pub(super) fn validate(
         &self,
-        estimation: &super::EstimationSection,
+        estimation: &msd_ident::EstimationOptions,
     ) -> std::result::Result<(), (String, String)> {
         let err = |field: &str, message: String| Err((field.to_string(), message));
         match (&self.model, &self.compare) {

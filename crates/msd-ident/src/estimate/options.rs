@@ -109,13 +109,30 @@ impl Default for MultistartSettings {
 /// assert_eq!(paper.initial_guess, Some(Parameters { mass: 2.0, damping: 1.0, stiffness: 100.0 }));
 /// assert!(EstimationOptions::default().validate().is_ok());
 /// ```
-#[derive(Debug, Clone, PartialEq)]
+///
+/// In TOML (as the `[estimation]` section of an experiment config) every field is
+/// optional, unknown keys are refused, and `initial_guess` is `"auto"` or a table:
+///
+/// ```
+/// use msd_ident::{EstimationOptions, Method};
+/// let o: EstimationOptions = toml::from_str(
+///     "method = \"nelder_mead\"\ninitial_guess = { mass = 2.0, damping = 1.0, stiffness = 100.0 }",
+/// ).unwrap();
+/// assert_eq!(o.method, Method::NelderMead);
+/// assert_eq!(o.initial_guess.unwrap().stiffness, 100.0);
+/// let auto: EstimationOptions = toml::from_str("initial_guess = \"auto\"").unwrap();
+/// assert_eq!(auto, EstimationOptions::default());
+/// assert!(toml::from_str::<EstimationOptions>("metod = \"nelder_mead\"").is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct EstimationOptions {
     /// The optimiser. By default Levenberg–Marquardt.
     pub method: Method,
     /// The simulator inside the cost. By default exact with a cubic hold.
     pub backend: Backend,
-    /// θ₀; `None` for the automatic ARX guess. By default `None`.
+    /// θ₀; `None` (in TOML `"auto"`) for the automatic ARX guess. By default `None`.
+    #[serde(with = "auto_or_given")]
     pub initial_guess: Option<Parameters>,
     /// Known parameters. By default none.
     pub fixed: FixedParameters,
@@ -135,7 +152,41 @@ pub struct EstimationOptions {
     /// Levenberg–Marquardt settings. By default MINPACK-like.
     pub levenberg_marquardt: LevenbergMarquardtOptions,
     /// Multistart, off by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub multistart: Option<MultistartSettings>,
+}
+
+/// `initial_guess` in TOML: `"auto"` for `None`, or a table `{ mass, damping, stiffness }`.
+mod auto_or_given {
+    use crate::Parameters;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer, de};
+
+    pub fn serialize<S: Serializer>(guess: &Option<Parameters>, s: S) -> Result<S::Ok, S::Error> {
+        match guess {
+            None => s.serialize_str("auto"),
+            Some(p) => p.serialize(s),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Parameters>, D::Error> {
+        struct Visitor;
+        impl<'de> de::Visitor<'de> for Visitor {
+            type Value = Option<Parameters>;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(r#""auto" or a table { mass, damping, stiffness }"#)
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                match v {
+                    "auto" => Ok(None),
+                    _ => Err(E::invalid_value(de::Unexpected::Str(v), &self)),
+                }
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                Parameters::deserialize(de::value::MapAccessDeserializer::new(map)).map(Some)
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 impl Default for EstimationOptions {
@@ -185,7 +236,22 @@ impl EstimationOptions {
     pub fn validate(&self) -> Result<()> {
         self.backend.validate()?;
         if let Some(guess) = &self.initial_guess {
-            guess.validate()?;
+            guess.validate().map_err(|e| match e {
+                IdentError::InvalidParameter {
+                    name,
+                    value,
+                    expected,
+                } => IdentError::InvalidParameter {
+                    name: match name {
+                        "mass" => "initial_guess.mass",
+                        "damping" => "initial_guess.damping",
+                        _ => "initial_guess.stiffness",
+                    },
+                    value,
+                    expected,
+                },
+                other => other,
+            })?;
         }
         const NAMES: [&str; 3] = ["fixed.mass", "fixed.damping", "fixed.stiffness"];
         for (name, value) in NAMES.iter().zip(self.fixed.as_array()) {
