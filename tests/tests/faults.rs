@@ -3,7 +3,7 @@
 //! error (exit status 1) or, for a kill, in leftovers the next run cleans up; never in a
 //! partial output folder, and a previous result survives every one of them.
 
-use msd_experiment::output::{Fault, inject_fault};
+use msd_experiment::output::{Fault, MARKER, inject_fault};
 use msd_experiment::{ExperimentError, RunOptions, run_experiment};
 use msd_tests::{TINY_CONFIG, listing};
 use std::path::{Path, PathBuf};
@@ -37,8 +37,10 @@ impl Case {
     }
 
     /// A previous, complete result in `out/`.
+    /// A previous result: a folder with the marker a run writes.
     fn previous_result(&self) {
         std::fs::create_dir(self.out()).unwrap();
+        std::fs::write(self.out().join(MARKER), "").unwrap();
         std::fs::write(self.out().join("results.json"), "{\"previous\": true}\n").unwrap();
     }
 
@@ -47,7 +49,7 @@ impl Case {
             std::fs::read_to_string(self.out().join("results.json")).unwrap(),
             "{\"previous\": true}\n"
         );
-        assert_eq!(listing(&self.out()), ["results.json"]);
+        assert_eq!(listing(&self.out()), [MARKER, "results.json"]);
     }
 }
 
@@ -61,6 +63,49 @@ fn assert_run_failure(err: &ExperimentError, fragments: &[&str]) {
     for fragment in fragments {
         assert!(message.contains(fragment), "`{message}` lacks `{fragment}`");
     }
+}
+
+/// The lab template's folder used as the output: the measurement, the config and the
+/// notes must survive. The run is refused before anything is computed (exit 2, naming
+/// the folder and what to do), and nothing in the folder changes.
+#[test]
+fn a_folder_of_the_users_files_is_never_replaced() {
+    let case = Case::new();
+    let folder = case.dir.path().join("lab");
+    std::fs::create_dir(&folder).unwrap();
+    for (name, text) in [("measurement.csv", "t,force,x\n"), ("notes.txt", "rig 3\n")] {
+        std::fs::write(folder.join(name), text).unwrap();
+    }
+    std::fs::copy(
+        case.dir.path().join("tiny.toml"),
+        folder.join("experiment.toml"),
+    )
+    .unwrap();
+    let err = case
+        .run_into(&folder)
+        .expect_err("the folder holds the user's files");
+    assert_eq!(err.exit_code(), 2, "{err}");
+    let message = err.to_string();
+    for fragment in [
+        "lab",
+        "experiment.toml, measurement.csv, notes.txt",
+        "--out",
+    ] {
+        assert!(message.contains(fragment), "`{message}` lacks `{fragment}`");
+    }
+    assert_eq!(
+        listing(&folder),
+        ["experiment.toml", "measurement.csv", "notes.txt"]
+    );
+    assert_eq!(listing(case.dir.path()), ["lab", "tiny.toml"]);
+
+    // A previous result (its marker) is replaced as before, and so is an empty folder.
+    let empty = case.dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    case.run_into(&empty).expect("an empty folder is used");
+    assert!(listing(&empty).contains(&MARKER.to_string()));
+    case.run_into(&empty)
+        .expect("a previous result is replaced");
 }
 
 #[test]
@@ -78,7 +123,11 @@ fn an_output_path_that_is_a_file_is_refused() {
     let case = Case::new();
     std::fs::write(case.out(), "a file").unwrap();
     let err = case.run().expect_err("the target is a file");
-    assert_run_failure(&err, &["exists and is not a folder"]);
+    assert_eq!(err.exit_code(), 2, "{err}");
+    assert!(
+        err.to_string().contains("exists and is not a folder"),
+        "{err}"
+    );
     assert_eq!(std::fs::read_to_string(case.out()).unwrap(), "a file");
     assert_eq!(listing(case.dir.path()), ["out", "tiny.toml"]);
 }
@@ -285,6 +334,7 @@ fn a_previous_result_left_aside_by_a_kill_is_put_back() {
     let case = Case::new();
     let aside = case.dir.path().join(format!(".out.old-{}", dead_pid()));
     std::fs::create_dir(&aside).unwrap();
+    std::fs::write(aside.join(MARKER), "").unwrap();
     std::fs::write(aside.join("results.json"), "{\"previous\": true}\n").unwrap();
     let err = {
         let _fault = inject_fault(Fault::DiskFull {

@@ -45,7 +45,10 @@ figures fig2_identification, fig3_validation, fig4_monte_carlo, residual_correla
 and SVG; frf.csv and the figure frf_bode when the frequency check measured (it is skipped, \
 saying why, on data without a resonance in the excited band, such as a damper at or past \
 critical damping); with [nonlinear] also nonlinear.csv and the figure \
-nonlinear_residuals. A failed run writes nothing and leaves a previous result untouched.
+nonlinear_residuals. A failed run writes nothing and leaves a previous result untouched. \
+An existing output folder is replaced only when it is a previous result (it holds the \
+.msd-results marker a run writes) or empty: a folder of other files is refused (exit 2) \
+before anything is computed.
 
 Prints a summary on stdout; shows progress on stderr only when it is a terminal and \
 --quiet is not given.

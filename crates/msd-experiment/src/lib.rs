@@ -135,6 +135,7 @@ fn run_and_write(
     started: Instant,
 ) -> Result<RunSummary> {
     let target = output_dir(&config, config_path, options);
+    output::check_target(&target)?;
     let outcome = pipeline::run_stages(config, config_path, options, progress)?;
     write_timed(&outcome, &target, progress, started)
 }

@@ -100,6 +100,92 @@ fn no_space() -> std::io::Error {
     }
 }
 
+/// The marker file a run writes into every result folder. A run replaces an existing
+/// folder only when it holds this marker (a previous result) or nothing at all: never a
+/// folder of the user's own files.
+pub const MARKER: &str = ".msd-results";
+
+const MARKER_TEXT: &str =
+    "A results folder of the msd toolkit: the next run into this folder replaces it whole.\n";
+
+/// Checks, before anything is computed, that a run may write `target`: it does not exist,
+/// is an empty folder, or is a previous result (it holds [`MARKER`], or only the files
+/// runs wrote before the marker existed). Anything else is
+/// refused as a bad output choice (exit status 2), naming the folder, a few of the
+/// files that would be lost and what to do.
+///
+/// ```
+/// use msd_experiment::output::check_target;
+/// let root = tempfile::tempdir().unwrap();
+/// assert!(check_target(&root.path().join("new")).is_ok());
+/// std::fs::write(root.path().join("measurement.csv"), "t,f,x\n").unwrap();
+/// let err = check_target(root.path()).unwrap_err();
+/// assert_eq!(err.exit_code(), 2);
+/// assert!(err.to_string().contains("measurement.csv"));
+/// ```
+pub fn check_target(target: &Path) -> Result<()> {
+    if !target.exists() {
+        return Ok(());
+    }
+    let refuse = |message: String| Err(ExperimentError::config(target, message));
+    if !target.is_dir() {
+        return refuse(
+            "the output exists and is not a folder: expected a new, empty or previous result folder (choose another --out)".into(),
+        );
+    }
+    let entries = std::fs::read_dir(target).map_err(|e| {
+        ExperimentError::config(target, format!("cannot read the output folder: {e}"))
+    })?;
+    let mut names: Vec<String> = entries
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    if names.is_empty()
+        || names.iter().any(|n| n == MARKER)
+        || names.iter().all(|n| is_legacy_output(n))
+    {
+        return Ok(());
+    }
+    names.sort();
+    let shown = names.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+    let more = names.len().saturating_sub(3);
+    let more = if more > 0 {
+        format!(" and {more} more")
+    } else {
+        String::new()
+    };
+    refuse(format!(
+        "the output folder holds files a run did not write ({shown}{more}) and no {MARKER} marker: a run replaces its output folder whole, so it refuses this one; choose a new or empty folder with --out (or output.dir)"
+    ))
+}
+
+/// Whether `name` is a file that runs wrote before result folders had the marker (a
+/// folder of only such files is an old result, replaced as before).
+fn is_legacy_output(name: &str) -> bool {
+    const TABLES: [&str; 7] = [
+        "results.json",
+        "report.md",
+        "identification.csv",
+        "validation.csv",
+        "residual_correlation.csv",
+        "frf.csv",
+        "nonlinear.csv",
+    ];
+    const FIGURES: [&str; 6] = [
+        "fig2_identification",
+        "fig3_validation",
+        "fig4_monte_carlo",
+        "residual_correlation",
+        "frf_bode",
+        "nonlinear_residuals",
+    ];
+    TABLES.contains(&name)
+        || FIGURES.iter().any(|f| {
+            name.strip_prefix(f)
+                .is_some_and(|ext| ext == ".png" || ext == ".svg")
+        })
+}
+
 /// A staging folder that becomes `target` on [`Staging::commit`] and disappears if
 /// dropped before.
 ///
@@ -121,8 +207,10 @@ pub struct Staging {
 }
 
 impl Staging {
-    /// Creates the staging folder beside `target` (creating `target`'s parent folders).
+    /// Creates the staging folder beside `target` (creating `target`'s parent folders),
+    /// with the [`MARKER`] in it; refuses a `target` that [`check_target`] refuses.
     pub fn new(target: &Path) -> Result<Self> {
+        check_target(target)?;
         let fail = |what: &str, e: std::io::Error| {
             ExperimentError::run("write", format!("{what} {}: {e}", target.display()))
         };
@@ -136,15 +224,6 @@ impl Staging {
             })?
             .to_string_lossy()
             .into_owned();
-        if target.exists() && !target.is_dir() {
-            return Err(ExperimentError::run(
-                "write",
-                format!(
-                    "output {} exists and is not a folder: expected a folder to replace",
-                    target.display()
-                ),
-            ));
-        }
         let parent = target
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
@@ -157,11 +236,14 @@ impl Staging {
             .unwrap_or(0);
         let dir = parent.join(format!(".{name}.partial-{}-{unique}", std::process::id()));
         std::fs::create_dir(&dir).map_err(|e| fail("cannot create a staging folder for", e))?;
-        Ok(Self {
+        let staging = Self {
             dir,
             target: target.to_path_buf(),
             committed: false,
-        })
+        };
+        std::fs::write(staging.dir.join(MARKER), MARKER_TEXT)
+            .map_err(|e| fail("cannot write the marker of", e))?;
+        Ok(staging)
     }
 
     /// The staging folder (write here).
