@@ -106,6 +106,19 @@ fn a_folder_of_the_users_files_is_never_replaced() {
     assert!(listing(&empty).contains(&MARKER.to_string()));
     case.run_into(&empty)
         .expect("a previous result is replaced");
+    // A result written before the marker existed holds only files runs write.
+    let legacy = case.dir.path().join("legacy");
+    std::fs::create_dir(&legacy).unwrap();
+    for name in ["results.json", "report.md", "fig3_validation.svg"] {
+        std::fs::write(legacy.join(name), "").unwrap();
+    }
+    case.run_into(&legacy).expect("an old result is replaced");
+    std::fs::write(legacy.join("my-notes.md"), "").unwrap();
+    std::fs::remove_file(legacy.join(MARKER)).unwrap();
+    let err = case
+        .run_into(&legacy)
+        .expect_err("notes added to an old result");
+    assert!(err.to_string().contains("my-notes.md"), "{err}");
 }
 
 #[test]

@@ -140,10 +140,11 @@ pub fn check_target(target: &Path) -> Result<()> {
         .flatten()
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
-    if names.is_empty()
-        || names.iter().any(|n| n == MARKER)
-        || names.iter().all(|n| is_legacy_output(n))
-    {
+    if names.iter().any(|n| n == MARKER) {
+        return Ok(());
+    }
+    names.retain(|n| !is_legacy_output(n));
+    if names.is_empty() {
         return Ok(());
     }
     names.sort();
