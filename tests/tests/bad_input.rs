@@ -217,6 +217,34 @@ fn stage_options_are_refused_by_the_library_under_their_key() {
     msd_experiment::config::Config::from_toml_str(&ok, "ok.toml").expect("1.0 is allowed");
 }
 
+/// A `[low, high]` pair with a third value is refused by name and line, not read as its
+/// first two values.
+#[test]
+fn a_pair_with_extra_values_is_refused() {
+    let case = Case::new();
+    let cases = [
+        (
+            "percentiles = [5.0, 95.0]",
+            "percentiles = [5.0, 95.0, 99.0]",
+            "c.toml:146:15: monte_carlo.percentiles = [5.0, 95.0, 99.0]",
+        ),
+        (
+            "[estimation]\n",
+            "[estimation]\nbounds = { stiffness = [50.0, 200.0, 300.0] }\n",
+            "c.toml:92",
+        ),
+    ];
+    for (from, to, location) in cases {
+        let c = case.file("c.toml", &paper_with(from, to));
+        case.refuses(&c, &[location, "expected 2 values [low, high], got 3"]);
+    }
+    let c = case.file(
+        "m.toml",
+        &measured_config("d.csv", "x", "time = [0.0, 10.0, 99.0]"),
+    );
+    case.refuses(&c, &["m.toml:8", "expected 2 values [low, high], got 3"]);
+}
+
 #[test]
 fn missing_config_file() {
     let case = Case::new();

@@ -259,6 +259,7 @@ pub struct FrequencySection {
     pub data: RecordChoice,
     /// Fit band in Hz; by default chosen from the input's power.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, deserialize_with = "msd_ident::pair::optional")]
     pub band_hz: Option<[f64; 2]>,
     /// Share of the input's peak DFT power that marks a frequency as excited.
     /// By default 0.01.
@@ -310,6 +311,7 @@ pub struct MonteCarloSection {
     /// Half-width of the uniform draw around θ̂, as a fraction. By default 0.10 (±10 %).
     pub spread: f64,
     /// Lower and upper percentile of the band, in percent. By default [5, 95] (90 %).
+    #[serde(deserialize_with = "msd_ident::pair::exactly_two")]
     pub percentiles: [f64; 2],
     /// Worker threads. By default 2 (`--threads` overrides).
     pub threads: usize,
@@ -480,10 +482,18 @@ pub enum Preprocess {
 #[serde(deny_unknown_fields)]
 pub struct Range {
     /// Sample indices `[start, end)` of the file's data rows.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "msd_ident::pair::optional"
+    )]
     pub range: Option<[usize; 2]>,
     /// Times `[start, end)`, in seconds on the record's own time axis.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "msd_ident::pair::optional"
+    )]
     pub time: Option<[f64; 2]>,
     /// Leading samples used only to settle the initial state, not scored (validation).
     /// By default 0.
@@ -584,19 +594,26 @@ impl Config {
                     format!(":{line}:{column}")
                 })
                 .unwrap_or_default();
-            // A table-level error (e.g. a missing field) points at the table's header:
-            // name it.
-            let table = e
-                .span()
-                .and_then(|s| text.get(s.start..))
-                .and_then(|rest| rest.lines().next())
-                .map(str::trim)
-                .filter(|l| l.starts_with('['))
-                .map(|l| format!(" in {l}"))
-                .unwrap_or_default();
+            let message = e.message().trim().replace('\n', " ");
             ExperimentError::Config {
                 file: format!("{}{location}", file.display()),
-                message: format!("{}{table}", e.message().trim().replace('\n', " ")),
+                message: match e.span().map(|s| key_of_value(text, s.start)) {
+                    // A value's error names its key and the value as written.
+                    Some(Some((key, value))) => format!("{key} = {value}: {message}"),
+                    // A table-level error (e.g. a missing field) points at the table's
+                    // header: name it.
+                    _ => {
+                        let header = e
+                            .span()
+                            .and_then(|s| text.get(s.start..))
+                            .and_then(|rest| rest.lines().next())
+                            .map(str::trim)
+                            .filter(|l| l.starts_with('['))
+                            .map(|l| format!(" in {l}"))
+                            .unwrap_or_default();
+                        format!("{message}{header}")
+                    }
+                },
             }
         })?;
         config.validate().map_err(|(field, message)| {
@@ -984,6 +1001,35 @@ fn check_finite_nonzero(field: &str, v: f64) -> std::result::Result<(), (String,
             format!(" = {v}: expected a finite, non-zero factor"),
         ))
     }
+}
+
+/// The dotted key and the value text of a `key = value` line whose value starts at byte
+/// `offset` (the table header above gives the key's section); `None` when `offset` is not
+/// at such a value (a table header, a key, an inline table's inside).
+fn key_of_value(text: &str, offset: usize) -> Option<(String, String)> {
+    let line_start = text.get(..offset)?.rfind('\n').map_or(0, |i| i + 1);
+    let line_end = text[offset..].find('\n').map_or(text.len(), |i| offset + i);
+    let (key, value) = text[line_start..line_end].split_once('=')?;
+    let key = key.trim();
+    let starts_value = line_start
+        + text[line_start..line_end].find('=')?
+        + 1
+        + (value.len() - value.trim_start().len());
+    if starts_value != offset || key.is_empty() || key.starts_with('[') {
+        return None;
+    }
+    let value = value.split(" #").next().unwrap_or(value).trim().to_string();
+    let section = text[..line_start]
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('[') && !l.starts_with("[["))
+        .map(|l| l.trim_matches(|c| c == '[' || c == ']').trim().to_string());
+    let key = match section {
+        Some(section) => format!("{section}.{key}"),
+        None => key.to_string(),
+    };
+    Some((key, value))
 }
 
 /// 1-based line and column of byte `offset` in `text`.

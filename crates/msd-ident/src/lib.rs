@@ -53,6 +53,7 @@ mod fft;
 mod frequency;
 mod metrics;
 mod nonlinear;
+pub mod pair;
 mod params;
 mod residuals;
 mod sensitivity;
