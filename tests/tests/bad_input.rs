@@ -245,6 +245,36 @@ fn a_pair_with_extra_values_is_refused() {
     case.refuses(&c, &["m.toml:8", "expected 2 values [low, high], got 3"]);
 }
 
+/// A physical quantity's table written as an array would be read by position (m, c, k
+/// in that order): refused by name and line, whatever the order the user meant.
+#[test]
+fn a_table_written_as_an_array_is_refused() {
+    let case = Case::new();
+    let text = std::fs::read_to_string(config("paper-fast.toml")).unwrap();
+    let start = text
+        .find("[plant]")
+        .expect("paper-fast.toml has a [plant] section");
+    let end = start + text[start..].find("\n[").expect("a section after [plant]") + 1;
+    for replacement in [
+        "plant = [1.0, 2.0, 3.0]\n",
+        "[plant]\nmass = 2.5\ndamping = 1.8\nstiffness = 120.0\ninitial_state = [0.01, 0.0]\n",
+    ] {
+        let with = format!("{}{replacement}{}", &text[..start], &text[end..]);
+        let c = case.file("c.toml", &with);
+        let key = if replacement.starts_with("plant =") {
+            "plant = [1.0, 2.0, 3.0]"
+        } else {
+            "plant.initial_state = [0.01, 0.0]"
+        };
+        case.refuses(&c, &["c.toml:", key, "read by name"]);
+    }
+    let c = case.file(
+        "e.toml",
+        &paper_with("[estimation]\n", "[estimation]\nfixed = [2.5, 1.8, 120.0]\n"),
+    );
+    case.refuses(&c, &["estimation.fixed = [2.5, 1.8, 120.0]", "read by name"]);
+}
+
 #[test]
 fn missing_config_file() {
     let case = Case::new();

@@ -616,6 +616,17 @@ impl Config {
                 },
             }
         })?;
+        if let Some((key, value)) = table_written_as_array(text, &config) {
+            let line = locate_key(text, &key)
+                .map(|l| format!(":{l}"))
+                .unwrap_or_default();
+            return Err(ExperimentError::Config {
+                file: format!("{}{line}", file.display()),
+                message: format!(
+                    "{key} = {value}: expected a table of named values (e.g. {key} = {{ … }} or a [{key}] section); quantities are read by name, never by position"
+                ),
+            });
+        }
         config.validate().map_err(|(field, message)| {
             let line = locate_key(text, &field)
                 .map(|l| format!(":{l}"))
@@ -1001,6 +1012,41 @@ fn check_finite_nonzero(field: &str, v: f64) -> std::result::Result<(), (String,
             format!(" = {v}: expected a finite, non-zero factor"),
         ))
     }
+}
+
+/// The first key that the config's types read as a table of named fields but `text`
+/// gives as an array (`plant = [1, 2, 3]`, which serde would read by position: m, c, k in
+/// that order), with the array as written. Found by comparing the text with the config
+/// written back: no list of table keys to keep in step with the types.
+fn table_written_as_array(text: &str, config: &Config) -> Option<(String, toml::Value)> {
+    let given: toml::Table = toml::from_str(text).ok()?;
+    let read = toml::Table::try_from(config).ok()?;
+    first_array_for_table(&given, &read, "")
+}
+
+fn first_array_for_table(
+    given: &toml::Table,
+    read: &toml::Table,
+    prefix: &str,
+) -> Option<(String, toml::Value)> {
+    use toml::Value::{Array, Table};
+    given.iter().find_map(|(key, value)| {
+        let path = if prefix.is_empty() {
+            key.clone()
+        } else {
+            format!("{prefix}.{key}")
+        };
+        match (value, read.get(key)?) {
+            (Array(_), Table(_)) => Some((path, value.clone())),
+            (Table(g), Table(r)) => first_array_for_table(g, r, &path),
+            (Array(g), Array(r)) => g.iter().zip(r).find_map(|pair| match pair {
+                (Table(g), Table(r)) => first_array_for_table(g, r, &path),
+                (Array(_), Table(_)) => Some((path.clone(), value.clone())),
+                _ => None,
+            }),
+            _ => None,
+        }
+    })
 }
 
 /// The dotted key and the value text of a `key = value` line whose value starts at byte
