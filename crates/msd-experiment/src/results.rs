@@ -128,8 +128,9 @@ pub fn to_json(
             "evaluations": e.evaluations,
             "jacobian_evaluations": e.jacobian_evaluations,
             "starts": e.starts,
-            "exit": e.exit,
-            "converged": e.converged,
+            // The optimiser's own words; `converged` also asks for a minimum (see StopReason).
+            "exit": e.stop.optimiser_reason().to_string(),
+            "converged": e.stop.converged(),
             "cost": e.cost,
             "noise_sigma": u.sigma,
             "degrees_of_freedom": u.degrees_of_freedom,
@@ -316,7 +317,7 @@ fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
                     "whiteness_passed": r.whiteness_passed,
                     "cross_correlation_passed": r.cross_correlation_passed,
                 },
-                "converged": r.converged,
+                "converged": r.stop.converged(),
                 "simulations": r.simulations,
             })
         })

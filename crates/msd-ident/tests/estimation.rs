@@ -5,8 +5,9 @@ mod common;
 use common::{cramer_rao, crb_std};
 use msd_ident::{
     Backend, EstimationOptions, Excitation, FixedParameters, IdentError, InitialState, Method,
-    MultistartSettings, PaperExperiment, Parameters, estimate, synthetic_data,
+    MultistartSettings, PaperExperiment, Parameters, StopReason, estimate, synthetic_data,
 };
+use msd_opt::NelderMeadExit;
 use msd_signal::paper_identification_input;
 
 const TRUTH: Parameters = Parameters::PAPER;
@@ -33,7 +34,7 @@ fn both_methods_recover_the_paper_plant_within_four_crb_std() {
             "{name}: R² = {}",
             fit.fit.r_squared
         );
-        assert!(fit.converged, "{name}: {}", fit.exit);
+        assert!(fit.stop.converged(), "{name}: {}", fit.stop);
     }
     // The two methods find the same minimum: well within one CRB standard deviation.
     let (a, b) = (paper.parameters.to_array(), fast.parameters.to_array());
@@ -450,5 +451,43 @@ fn bad_input_is_a_specific_error() {
     assert!(
         matches!(e, IdentError::InvalidParameter { name: "mass", .. }),
         "{e}"
+    );
+}
+
+/// Nelder–Mead stopped after 5 iterations is far from the minimum: the estimate says
+/// so, with the optimiser's own reason inside, and the warning quotes that reason.
+#[test]
+fn a_run_stopped_early_is_stopped_short_with_the_optimisers_reason_inside() {
+    let experiment = PaperExperiment::generate(1).expect("data");
+    let mut options = EstimationOptions {
+        method: Method::NelderMead,
+        ..EstimationOptions::fast()
+    };
+    options.nelder_mead.max_iterations = Some(5);
+    let fit = estimate(&experiment.identification, &options).expect("an estimate");
+    let StopReason::StoppedShort {
+        exit,
+        quantity,
+        standard_errors,
+    } = &fit.stop
+    else {
+        panic!("expected StoppedShort, got {:?}", fit.stop);
+    };
+    assert_eq!(
+        **exit,
+        StopReason::NelderMead(NelderMeadExit::MaxIterations)
+    );
+    assert!(*standard_errors > 1.0, "{standard_errors}");
+    assert!(
+        ["mass", "damping", "stiffness"].contains(&quantity.as_str()),
+        "{quantity}"
+    );
+    assert!(!fit.stop.converged());
+    assert_eq!(fit.stop.optimiser_reason(), &**exit);
+    let quoted = format!("the optimiser stopped short: {exit}");
+    assert!(
+        fit.uncertainty.warnings.iter().any(|w| w.contains(&quoted)),
+        "{:?}",
+        fit.uncertainty.warnings
     );
 }

@@ -168,7 +168,7 @@ fn backends_match_the_step_response(label: &str, p: &Parameters, dt: f64, n: usi
 /// θ̂ within 4 Cramér–Rao standard deviations of the truth, every reported standard error
 /// within 25 % of the bound, everything finite, the optimiser converged.
 fn assert_near_truth(label: &str, e: &Estimate, truth: &Parameters, crb: &[f64; 3]) {
-    assert!(e.converged, "{label}: not converged: {}", e.exit);
+    assert!(e.stop.converged(), "{label}: not converged: {}", e.stop);
     let u = &e.uncertainty;
     let got = [&u.mass, &u.damping, &u.stiffness];
     for (i, name) in ["m", "c", "k"].iter().enumerate() {
@@ -377,7 +377,7 @@ fn levenberg_marquardt_from_a_zero_damping_guess() {
         &options(Method::LevenbergMarquardt, scaled(&case.plant, [0.8; 3])),
     );
     match result {
-        Ok(e) => assert!(e.converged, "{}", e.exit),
+        Ok(e) => assert!(e.stop.converged(), "{}", e.stop),
         Err(e) => assert!(e.to_string().contains("damping"), "{e}"),
     }
 }
@@ -778,7 +778,7 @@ fn nelder_mead_from_100_times_below_is_not_silently_wrong() {
         &options(Method::NelderMead, scaled(&case.plant, [0.01; 3])),
     );
     if let Ok(e) = e
-        && e.converged
+        && e.stop.converged()
     {
         assert_near_truth("×0.01, NM", &e, &case.plant, &crb);
     }

@@ -166,7 +166,11 @@ pub fn nonlinear(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Ro
                 "{} simulations, {} iterations{}",
                 e.simulations,
                 e.iterations,
-                if e.converged { "" } else { ", NOT converged" }
+                if e.stop.converged() {
+                    ""
+                } else {
+                    ", NOT converged"
+                }
             )),
         );
     }

@@ -5,7 +5,7 @@ use super::estimate::{NonlinearEstimate, NonlinearOptions, estimate_nonlinear};
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, simulate_nonlinear};
 use crate::{
-    DataSet, FitMetrics, IdentError, InitialState, Interval, ResidualOptions, Result,
+    DataSet, FitMetrics, IdentError, InitialState, Interval, ResidualOptions, Result, StopReason,
     residual_analysis,
 };
 use msd_opt::{LevenbergMarquardtOptions, ResidualFn, levenberg_marquardt};
@@ -80,8 +80,9 @@ pub struct ComparisonRow {
     pub validation_residuals: Vec<f64>,
     /// Index of the first scored validation sample.
     pub scored_from: usize,
-    /// Whether the estimator met its convergence test.
-    pub converged: bool,
+    /// Why the estimator stopped, and whether it met its convergence test
+    /// ([`StopReason::converged`]).
+    pub stop: StopReason,
     /// Simulations spent on the estimate.
     pub simulations: usize,
 }
@@ -433,7 +434,7 @@ pub fn assess_estimate(
         validation_output: scored.output,
         validation_residuals: scored.residuals,
         scored_from: from,
-        converged: e.converged,
+        stop: e.stop.clone(),
         simulations: e.simulations,
         parameters: e.parameters.clone(),
     })

@@ -2,13 +2,14 @@
 
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, simulate_nonlinear};
+use crate::local::Local;
 use crate::{
     DataSet, EstimationOptions, FitMetrics, IdentError, InitialState, Interval, Parameters, Result,
-    estimate,
+    StopReason, estimate,
 };
 use msd_opt::{
     Bounds, FiniteDifference, LevenbergMarquardtOptions, MultistartOptions, NelderMeadOptions,
-    RankedCost, ResidualFn, levenberg_marquardt, multistart, nelder_mead,
+    ResidualFn, levenberg_marquardt, multistart, nelder_mead,
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -170,10 +171,9 @@ pub struct NonlinearEstimate {
     pub iterations: usize,
     /// Simulations in total (all starts, finite differences and covariance included).
     pub simulations: usize,
-    /// Why the best run stopped.
-    pub exit: String,
-    /// Whether it met its convergence test.
-    pub converged: bool,
+    /// Why the best run stopped, and whether it met its convergence test
+    /// ([`StopReason::converged`]).
+    pub stop: StopReason,
     /// Wall-clock time.
     pub wall_time: Duration,
 }
@@ -191,7 +191,7 @@ impl std::fmt::Display for NonlinearEstimate {
         writeln!(
             f,
             "  SSE = {:.6e}, σ̂ = {:.4e}, fit {:.2} %, {} simulations, {:.2?}, {}",
-            self.sse, self.sigma, self.fit.fit_percent, self.simulations, self.wall_time, self.exit
+            self.sse, self.sigma, self.fit.fit_percent, self.simulations, self.wall_time, self.stop
         )
     }
 }
@@ -326,22 +326,6 @@ fn residuals_at(
     }
 }
 
-/// One local run's outcome, rankable by multistart.
-struct Local {
-    z: Vec<f64>,
-    cost: f64,
-    iterations: usize,
-    simulations: usize,
-    exit: String,
-    converged: bool,
-}
-
-impl RankedCost for Local {
-    fn ranked_cost(&self) -> f64 {
-        self.cost
-    }
-}
-
 /// Estimates the parameters of `structure` on `data` by output error.
 ///
 /// ## The algorithm
@@ -437,14 +421,7 @@ pub fn estimate_nonlinear(
                     residuals_at(&scaling, data, &sim, smoothing, z, out)
                 });
                 let r = levenberg_marquardt(&mut problem, z_start, &lm_options)?;
-                Ok(Local {
-                    z: r.x,
-                    cost: r.cost,
-                    iterations: r.iterations,
-                    simulations: r.evaluations + r.finite_difference_evaluations,
-                    exit: r.exit.to_string(),
-                    converged: r.exit.is_success(),
-                })
+                Ok(Local::levenberg_marquardt(r))
             }
             NonlinearMethod::NelderMead => {
                 let mut buffer = vec![0.0; n];
@@ -462,12 +439,8 @@ pub fn estimate_nonlinear(
                     &options.nelder_mead,
                 )?;
                 Ok(Local {
-                    z: r.x,
-                    cost: r.cost,
-                    iterations: r.iterations,
-                    simulations: count,
-                    exit: format!("{:?}", r.exit),
-                    converged: r.exit.exitflag() == 1,
+                    evaluations: count,
+                    ..Local::nelder_mead(r)
                 })
             }
         }
@@ -476,7 +449,7 @@ pub fn estimate_nonlinear(
     let (best, starts, mut simulations) = match &options.multistart {
         None => {
             let r = local(&z0)?;
-            let s = r.simulations;
+            let s = r.simulations();
             (r, 1, s)
         }
         Some(ms) => {
@@ -502,20 +475,14 @@ pub fn estimate_nonlinear(
                 ..MultistartOptions::default()
             };
             // A start that cannot even be simulated ranks last instead of failing all.
-            let tolerant = |z: &[f64]| {
-                Ok(local(z).unwrap_or_else(|e| Local {
-                    z: z.to_vec(),
-                    cost: f64::INFINITY,
-                    iterations: 0,
-                    simulations: 0,
-                    exit: format!("the local run failed: {e}"),
-                    converged: false,
-                }))
-            };
+            let tolerant = |z: &[f64]| Ok(local(z).unwrap_or_else(|e| Local::failed(z, e)));
             let mut results = multistart(&bounds, &design, tolerant)?;
             let nominal = local(&z0)?;
-            let total: usize =
-                results.iter().map(|r| r.result.simulations).sum::<usize>() + nominal.simulations;
+            let total: usize = results
+                .iter()
+                .map(|r| r.result.simulations())
+                .sum::<usize>()
+                + nominal.simulations();
             let count = results.len() + 1;
             let first = results.remove(0).result;
             let best = if nominal.cost <= first.cost {
@@ -526,18 +493,15 @@ pub fn estimate_nonlinear(
             (best, count, total)
         }
     };
-    if !best.cost.is_finite() {
-        return Err(IdentError::EstimationFailed {
-            reason: format!(
-                "{}: no start reached a finite cost ({})",
-                structure, best.exit
-            ),
-        });
-    }
+    let stop = best
+        .finished()
+        .map_err(|why| IdentError::EstimationFailed {
+            reason: format!("{structure}: no start reached a finite cost ({why})"),
+        })?;
 
     // Model output, residuals and the central-difference Jacobian at ẑ.
     let mut r0 = vec![0.0; n];
-    if !residuals_at(&scaling, data, &sim, smoothing, &best.z, &mut r0) {
+    if !residuals_at(&scaling, data, &sim, smoothing, &best.x, &mut r0) {
         return Err(IdentError::EstimationFailed {
             reason: format!("{structure}: the model cannot be simulated at the optimum"),
         });
@@ -550,11 +514,11 @@ pub fn estimate_nonlinear(
         .finite_difference_step
         .unwrap_or(1e-4);
     for j in 0..p {
-        let h = step * best.z[j].abs().max(1.0);
-        let mut z = best.z.clone();
-        z[j] = best.z[j] + h;
+        let h = step * best.x[j].abs().max(1.0);
+        let mut z = best.x.clone();
+        z[j] = best.x[j] + h;
         let ok_plus = residuals_at(&scaling, data, &sim, smoothing, &z, &mut plus);
-        z[j] = best.z[j] - h;
+        z[j] = best.x[j] - h;
         let ok_minus = residuals_at(&scaling, data, &sim, smoothing, &z, &mut minus);
         simulations += 2;
         let names = structure.parameter_names();
@@ -601,7 +565,7 @@ pub fn estimate_nonlinear(
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
     let condition_number = if low > 0.0 { high / low } else { f64::INFINITY };
-    let d = scaling.derivative(&best.z);
+    let d = scaling.derivative(&best.x);
     let covariance = DMatrix::from_fn(p, p, |r, c| sigma2 * d[r] * inverse[(r, c)] * d[c]);
     let correlation = DMatrix::from_fn(p, p, |r, c| {
         covariance[(r, c)] / (covariance[(r, r)] * covariance[(c, c)]).sqrt()
@@ -611,7 +575,7 @@ pub fn estimate_nonlinear(
             reason: format!("Student's t with {dof} degrees of freedom: {e}"),
         })?
         .inverse_cdf(0.975);
-    let (parameters, initial_state) = scaling.physical(&best.z);
+    let (parameters, initial_state) = scaling.physical(&best.x);
     let interval = |i: usize, value: f64| {
         let se = covariance[(i, i)].max(0.0).sqrt();
         Interval {
@@ -651,8 +615,7 @@ pub fn estimate_nonlinear(
         starts,
         iterations: best.iterations,
         simulations,
-        exit: best.exit,
-        converged: best.converged,
+        stop,
         wall_time: started.elapsed(),
     })
 }
