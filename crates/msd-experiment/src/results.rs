@@ -117,10 +117,7 @@ pub fn to_json(
                 "mass": e.initial_guess.0.mass,
                 "damping": e.initial_guess.0.damping,
                 "stiffness": e.initial_guess.0.stiffness,
-                "source": match e.initial_guess.1 {
-                    msd_ident::GuessSource::Given => "given",
-                    msd_ident::GuessSource::Automatic => "automatic (ARX)",
-                },
+                "source": e.initial_guess.1.to_string(),
             },
             "initial_state": { "displacement": e.initial_state.displacement, "velocity": e.initial_state.velocity },
             "offset": e.offset,

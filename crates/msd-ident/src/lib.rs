@@ -57,6 +57,7 @@ mod nonlinear;
 mod params;
 mod residuals;
 mod sensitivity;
+mod ser;
 mod simulate;
 mod stop;
 mod synthetic;

@@ -4,9 +4,25 @@ use crate::{
     Backend, DataSet, FitMetrics, InitialState, Parameters, ResidualAnalysis, ResidualOptions,
     Result, residual_analysis, simulate,
 };
+use serde::{Deserialize, Serialize};
 
 /// How the identified model does on validation data.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Displays the data set's name, the fit and the residual analysis.
+///
+/// ```
+/// use msd_ident::{validate_model, Backend, InitialState, PaperExperiment, Parameters, ResidualOptions};
+/// let experiment = PaperExperiment::generate(1)?;
+/// let v = validate_model(&Parameters::PAPER, &experiment.validation, InitialState::REST, 0.0,
+///     &Backend::EXACT, &ResidualOptions::default())?;
+/// assert!(v.to_string().starts_with("validation on validation: R² = 0.99"));
+/// let json = serde_json::to_value(&v).expect("serializable");
+/// assert_eq!(json["data_name"], "validation");
+/// assert_eq!(json["residuals"].as_array().map(Vec::len), Some(7501));
+/// assert_eq!(json["residual_analysis"]["whiteness_passed"], true);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Validation {
     /// Name of the validation data set.
     pub data_name: String,
@@ -18,6 +34,13 @@ pub struct Validation {
     pub fit: FitMetrics,
     /// Whiteness and input-independence of the residuals.
     pub residual_analysis: ResidualAnalysis,
+}
+
+impl std::fmt::Display for Validation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "validation on {}: {}", self.data_name, self.fit)?;
+        write!(f, "{}", self.residual_analysis)
+    }
 }
 
 /// Simulates `parameters` on `data`'s input and judges the prediction.

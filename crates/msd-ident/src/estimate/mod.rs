@@ -25,10 +25,21 @@ use layout::Layout;
 use msd_ode::Hold;
 use msd_opt::{Bounds, MultistartOptions, levenberg_marquardt, multistart, nelder_mead};
 use problem::{Cost, Residuals, output_jacobian};
+use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 
 /// Where θ₀ came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+///
+/// Displays as "given" or "automatic (ARX)"; serializes as "given" or "automatic".
+///
+/// ```
+/// use msd_ident::GuessSource;
+/// assert_eq!(GuessSource::Automatic.to_string(), "automatic (ARX)");
+/// assert_eq!(serde_json::to_value(GuessSource::Given)?, "given");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum GuessSource {
     /// Given by the caller.
     Given,
@@ -36,8 +47,21 @@ pub enum GuessSource {
     Automatic,
 }
 
+impl std::fmt::Display for GuessSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            GuessSource::Given => "given",
+            GuessSource::Automatic => "automatic (ARX)",
+        })
+    }
+}
+
 /// The result of an estimation.
-#[derive(Debug, Clone)]
+///
+/// Serializes every field, the matrices of the uncertainty as lists of rows and the wall
+/// time as `wall_time_s` in seconds. Displays the method, why it stopped, m, c, k with
+/// their intervals, fn, ζ, the fit and the counts.
+#[derive(Debug, Clone, Serialize)]
 pub struct Estimate {
     /// θ̂.
     pub parameters: Parameters,
@@ -65,7 +89,8 @@ pub struct Estimate {
     pub stop: StopReason,
     /// Starting points tried (1 without multistart).
     pub starts: usize,
-    /// Wall-clock time of the estimation.
+    /// Wall-clock time of the estimation (serialized as `wall_time_s`, in seconds).
+    #[serde(rename = "wall_time_s", serialize_with = "crate::ser::seconds")]
     pub wall_time: Duration,
     /// Fit on the estimation data.
     pub fit: FitMetrics,
@@ -88,11 +113,7 @@ impl std::fmt::Display for Estimate {
             self.stop
         )?;
         for (name, i) in [("m", &u.mass), ("c", &u.damping), ("k", &u.stiffness)] {
-            writeln!(
-                f,
-                "  {name} = {:.6} ± {:.2e}  (95 % CI {:.6} … {:.6})",
-                i.value, i.standard_error, i.ci95[0], i.ci95[1]
-            )?;
+            writeln!(f, "  {name} = {i}")?;
         }
         writeln!(
             f,

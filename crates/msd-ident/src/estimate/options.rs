@@ -18,6 +18,16 @@ pub enum Method {
     LevenbergMarquardt,
 }
 
+impl std::fmt::Display for Method {
+    /// "Nelder–Mead" or "Levenberg–Marquardt" ([`Method::name`] is the config's word).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Method::NelderMead => "Nelder–Mead",
+            Method::LevenbergMarquardt => "Levenberg–Marquardt",
+        })
+    }
+}
+
 impl Method {
     /// A short name for reports.
     pub fn name(&self) -> &'static str {

@@ -42,6 +42,9 @@ pub struct ComparisonOptions {
 }
 
 /// One candidate's scores.
+///
+/// Displays the model, its size, SSE, BIC (and ΔBIC), validation RMS and whether it
+/// converged, in one line.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ComparisonRow {
     /// The candidate.
@@ -87,6 +90,26 @@ pub struct ComparisonRow {
     pub simulations: usize,
 }
 
+impl std::fmt::Display for ComparisonRow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: p = {}, SSE = {:.4e}, BIC = {:.1} (ΔBIC = {:.1}), validation RMS = {:.4e}, {}",
+            self.structure,
+            self.estimated,
+            self.sse,
+            self.bic,
+            self.delta_bic,
+            self.validation_rms,
+            if self.stop.converged() {
+                "converged"
+            } else {
+                "not converged"
+            }
+        )
+    }
+}
+
 /// The result of [`compare_models`]: rows ranked by BIC (best first) and a verdict.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Comparison {
@@ -101,12 +124,20 @@ pub struct Comparison {
 }
 
 /// A candidate left out of the ranking, and why.
+///
+/// Displays as `model: not ranked: reason`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CandidateFailure {
     /// The candidate.
     pub structure: ModelStructure,
     /// The error, in words.
     pub reason: String,
+}
+
+impl std::fmt::Display for CandidateFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: not ranked: {}", self.structure, self.reason)
+    }
 }
 
 impl Comparison {

@@ -126,7 +126,11 @@ impl Default for NonlinearOptions {
 }
 
 /// The result of [`estimate_nonlinear`].
-#[derive(Debug, Clone)]
+///
+/// Serializes every field, the matrices as lists of rows and the wall time as
+/// `wall_time_s` in seconds. Displays the model, each parameter with its interval, the
+/// fit, the counts and why the estimator stopped.
+#[derive(Debug, Clone, Serialize)]
 pub struct NonlinearEstimate {
     /// θ̂.
     pub parameters: NonlinearParameters,
@@ -139,8 +143,10 @@ pub struct NonlinearEstimate {
     /// Covariance of the physical parameters (and initial state, last, when
     /// estimated): σ̂²·D(JᵀJ)⁻¹D with J the Jacobian in the scaled parameters and D
     /// the derivative of the physical by the scaled parameters.
+    #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub covariance: DMatrix<f64>,
     /// Correlation matrix of the estimated quantities (same order as `covariance`).
+    #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub correlation: DMatrix<f64>,
     /// Condition number of JᵀJ with its columns scaled to unit norm (unit-free; large
     /// values mean nearly collinear sensitivities, i.e. poorly separable terms).
@@ -174,7 +180,8 @@ pub struct NonlinearEstimate {
     /// Why the best run stopped, and whether it met its convergence test
     /// ([`StopReason::converged`]).
     pub stop: StopReason,
-    /// Wall-clock time.
+    /// Wall-clock time (serialized as `wall_time_s`, in seconds).
+    #[serde(rename = "wall_time_s", serialize_with = "crate::ser::seconds")]
     pub wall_time: Duration,
 }
 
