@@ -9,8 +9,8 @@ use crate::progress::Progress;
 use crate::{ExperimentError, Result};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, IdentError,
-    InitialState, Method, Parameters, ResidualOptions, estimate, frequency_check,
-    residual_analysis, simulate_into, validate_model,
+    InitialState, Method, Parameters, ResidualOptions, ValidationOptions, estimate,
+    frequency_check, residual_analysis, simulate_into, validate_model,
 };
 use msd_mc::{McOptions, Sampling, monte_carlo_band_with_progress};
 use std::path::{Path, PathBuf};
@@ -284,16 +284,14 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
     } else {
         config.estimation.initial_state
     };
-    let options = residual_options(config);
-    let v = validate_model(
-        &est.parameters,
-        set,
+    let options = ValidationOptions {
         initial_state,
-        est.offset,
-        &backend,
-        &options,
-    )
-    .map_err(|e| ExperimentError::run("validation", e))?;
+        offset: est.offset,
+        backend,
+        residuals: residual_options(config),
+    };
+    let v = validate_model(&est.parameters, set, &options)
+        .map_err(|e| ExperimentError::run("validation", e))?;
     let (fit, analysis) = if n0 == 0 {
         (v.fit, v.residual_analysis)
     } else {
@@ -302,7 +300,7 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
         let analysis = residual_analysis(
             &v.residuals[n0..],
             &set.excitation.samples()[n0..],
-            &options,
+            &options.residuals,
         )
         .map_err(|e| ExperimentError::run("validation", e))?;
         (fit, analysis)

@@ -5,7 +5,8 @@ mod common;
 use common::{cramer_rao, crb_std};
 use msd_ident::{
     Backend, EstimationOptions, Excitation, FixedParameters, IdentError, InitialState, Method,
-    MultistartSettings, PaperExperiment, Parameters, StopReason, estimate, synthetic_data,
+    MultistartSettings, PaperExperiment, Parameters, StopReason, SyntheticOptions, estimate,
+    synthetic_data,
 };
 use msd_opt::NelderMeadExit;
 use msd_signal::paper_identification_input;
@@ -245,13 +246,15 @@ fn automatic_guess_works_on_the_paper_plant_and_a_micro_scale_plant() {
     let input =
         Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501).expect("input");
     let (data, _) = synthetic_data(
-        "micro",
         &micro,
         input,
-        InitialState::REST,
-        2500.0,
-        4,
-        "identification",
+        &SyntheticOptions {
+            name: "micro".into(),
+            stream: "identification".into(),
+            sigma: 2500.0,
+            seed: 4,
+            ..SyntheticOptions::default()
+        },
     )
     .expect("data");
     let fit = estimate(&data, &EstimationOptions::default()).expect("auto, micro scale");
@@ -274,8 +277,18 @@ fn fixed_mass_offset_and_initial_state_are_estimated() {
         displacement: 0.02,
         velocity: -0.1,
     };
-    let (mut data, _) =
-        synthetic_data("offset", &TRUTH, input, start, 0.0025, 5, "identification").expect("data");
+    let (mut data, _) = synthetic_data(
+        &TRUTH,
+        input,
+        &SyntheticOptions {
+            name: "offset".into(),
+            stream: "identification".into(),
+            initial_state: start,
+            seed: 5,
+            ..SyntheticOptions::default()
+        },
+    )
+    .expect("data");
     for y in &mut data.output {
         *y += 0.01; // sensor offset
     }

@@ -4,7 +4,7 @@
 use msd_ident::{
     Backend, CandidateFailure, Comparison, ComparisonOptions, EstimationOptions, Excitation,
     GuessSource, InitialState, Method, ModelStructure, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, PaperExperiment, Parameters, assess_estimate, estimate,
+    NonlinearSimulation, PaperExperiment, Parameters, SyntheticOptions, assess_estimate, estimate,
     estimate_nonlinear, synthetic_nonlinear_data,
 };
 use msd_signal::{paper_identification_input, paper_validation_input};
@@ -97,8 +97,24 @@ fn a_nonlinear_estimate_its_row_and_a_comparison_serialize_and_display() -> Outc
     let sim = NonlinearSimulation::default();
     let id = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
     let val = Excitation::from_signal(paper_validation_input(), 0.0, 0.004, 2001)?;
-    let id = synthetic_nonlinear_data("id", &plant, id, &sim, 0.0025, 3, "id")?;
-    let val = synthetic_nonlinear_data("val", &plant, val, &sim, 0.0025, 3, "val")?;
+    let (id, _) = synthetic_nonlinear_data(
+        &plant,
+        id,
+        &sim,
+        &SyntheticOptions {
+            seed: 3,
+            ..SyntheticOptions::named("id")
+        },
+    )?;
+    let (val, _) = synthetic_nonlinear_data(
+        &plant,
+        val,
+        &sim,
+        &SyntheticOptions {
+            seed: 3,
+            ..SyntheticOptions::named("val")
+        },
+    )?;
     let e = estimate_nonlinear(&id, ModelStructure::LINEAR, &NonlinearOptions::default())?;
     let json = serde_json::to_value(&e)?;
     assert_eq!(

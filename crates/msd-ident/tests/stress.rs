@@ -13,8 +13,8 @@ mod common;
 
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
-    InitialState, Method, MultistartSettings, Parameters, ResidualOptions, frequency_check,
-    sensitivities, simulate, simulate_into, synthetic_data, validate_model,
+    InitialState, Method, MultistartSettings, Parameters, SyntheticOptions, ValidationOptions,
+    frequency_check, sensitivities, simulate, simulate_into, synthetic_data, validate_model,
 };
 use msd_signal::{Signal, Sweep};
 
@@ -32,13 +32,15 @@ impl Case {
     fn data(&self) -> DataSet {
         let exc = Excitation::from_signal(self.input.clone(), 0.0, self.dt, self.n).unwrap();
         synthetic_data(
-            "stress",
             &self.plant,
             exc,
-            InitialState::REST,
-            self.sigma,
-            7,
-            "identification",
+            &SyntheticOptions {
+                name: "stress".into(),
+                stream: "identification".into(),
+                sigma: self.sigma,
+                seed: 7,
+                ..SyntheticOptions::default()
+            },
         )
         .unwrap()
         .0
@@ -195,15 +197,7 @@ fn assert_near_truth(label: &str, e: &Estimate, truth: &Parameters, crb: &[f64; 
 /// is σ within 6 standard deviations of a sample RMS (σ/√(2N)), plus the N−3 fitted
 /// degrees of freedom.
 fn assert_residuals_are_the_noise(label: &str, e: &Estimate, data: &DataSet, sigma: f64) {
-    let v = validate_model(
-        &e.parameters,
-        data,
-        InitialState::REST,
-        0.0,
-        &Backend::EXACT,
-        &ResidualOptions::default(),
-    )
-    .unwrap();
+    let v = validate_model(&e.parameters, data, &ValidationOptions::default()).unwrap();
     let n = data.len() as f64;
     let ratio = v.fit.residual_rms / sigma;
     assert!(
@@ -321,13 +315,14 @@ fn very_stiff_beyond_nyquist_from_the_automatic_guess_is_not_silently_wrong() {
     for seed in 1..=12u64 {
         let exc = Excitation::from_signal(chirp(1e6, 0.2, 3.0, 15.0), 0.0, 0.002, 7501).unwrap();
         let (data, _) = synthetic_data(
-            "s",
             &plant,
             exc,
-            InitialState::REST,
-            0.0025,
-            seed,
-            "identification",
+            &SyntheticOptions {
+                name: "s".into(),
+                stream: "identification".into(),
+                seed,
+                ..SyntheticOptions::default()
+            },
         )
         .unwrap();
         match msd_ident::estimate(&data, &EstimationOptions::default()) {
@@ -623,8 +618,18 @@ fn estimate_at_equilibrium(
         velocity: 0.0,
     };
     let exc = Excitation::from_signal(case.input.clone(), 0.0, case.dt, case.n).unwrap();
-    let (data, _) =
-        synthetic_data("eq", &case.plant, exc, equilibrium, case.sigma, 7, "id").unwrap();
+    let (data, _) = synthetic_data(
+        &case.plant,
+        exc,
+        &SyntheticOptions {
+            name: "eq".into(),
+            stream: "id".into(),
+            initial_state: equilibrium,
+            sigma: case.sigma,
+            seed: 7,
+        },
+    )
+    .unwrap();
     let o = EstimationOptions {
         method,
         initial_guess: guess,
@@ -703,14 +708,7 @@ fn frequency_check_without_input_is_not_identifiable() {
 fn validation_against_a_constant_measurement_has_no_nan() {
     let exc = Excitation::from_samples(0.0, 0.002, vec![0.0; 7501]).unwrap();
     let data = DataSet::new("flat", exc, vec![0.0; 7501]).unwrap();
-    let result = validate_model(
-        &Parameters::PAPER,
-        &data,
-        InitialState::REST,
-        0.0,
-        &Backend::EXACT,
-        &ResidualOptions::default(),
-    );
+    let result = validate_model(&Parameters::PAPER, &data, &ValidationOptions::default());
     if let Ok(v) = result {
         assert!(
             v.fit.r_squared.is_finite() && v.fit.fit_percent.is_finite(),

@@ -315,14 +315,15 @@ fn predict(
 /// ```
 /// use msd_ident::{compare_models, synthetic_nonlinear_data, ComparisonOptions, DampingLaw,
 ///     Excitation, ModelStructure, NonlinearParameters, NonlinearSimulation, Parameters,
-///     StiffnessLaw};
+///     StiffnessLaw, SyntheticOptions};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
 /// let sim = NonlinearSimulation::default();
 /// let id = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let val = Excitation::from_signal(paper_validation_input(), 0.0, 0.004, 2001)?;
-/// let id = synthetic_nonlinear_data("id", &plant, id, &sim, 0.0025, 3, "id")?;
-/// let val = synthetic_nonlinear_data("val", &plant, val, &sim, 0.0025, 3, "val")?;
+/// let noise = |name| SyntheticOptions { seed: 3, ..SyntheticOptions::named(name) };
+/// let (id, _) = synthetic_nonlinear_data(&plant, id, &sim, &noise("id"))?;
+/// let (val, _) = synthetic_nonlinear_data(&plant, val, &sim, &noise("val"))?;
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let c = compare_models(&id, &val, &[ModelStructure::LINEAR, duffing], &ComparisonOptions::default())?;
 /// assert_eq!(c.best().structure, ModelStructure::LINEAR);
@@ -405,15 +406,16 @@ fn score(
 /// ```
 /// use msd_ident::{assess_estimate, estimate_nonlinear, synthetic_nonlinear_data,
 ///     ComparisonOptions, DampingLaw, Excitation, ModelStructure, NonlinearOptions,
-///     NonlinearParameters, NonlinearSimulation, StiffnessLaw};
+///     NonlinearParameters, NonlinearSimulation, StiffnessLaw, SyntheticOptions};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;
 /// let sim = NonlinearSimulation::default();
 /// let id = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let val = Excitation::from_signal(paper_validation_input(), 0.0, 0.004, 2001)?;
-/// let id = synthetic_nonlinear_data("id", &plant, id, &sim, 0.0025, 3, "id")?;
-/// let val = synthetic_nonlinear_data("val", &plant, val, &sim, 0.0025, 3, "val")?;
+/// let noise = |name| SyntheticOptions { seed: 3, ..SyntheticOptions::named(name) };
+/// let (id, _) = synthetic_nonlinear_data(&plant, id, &sim, &noise("id"))?;
+/// let (val, _) = synthetic_nonlinear_data(&plant, val, &sim, &noise("val"))?;
 /// let e = estimate_nonlinear(&id, duffing, &NonlinearOptions::default())?;
 /// let row = assess_estimate(&e, &val, &ComparisonOptions::default())?;
 /// assert_eq!(row.structure, duffing);

@@ -349,12 +349,13 @@ fn residuals_at(
 ///    σ̂² = SSE/(N − p) and Student-t 95 % intervals.
 ///
 /// ```
-/// use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, Excitation, InitialState,
-///     ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation, Parameters};
+/// use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, Excitation, ModelStructure,
+///     NonlinearOptions, NonlinearParameters, NonlinearSimulation, Parameters, SyntheticOptions};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
-/// let data = synthetic_nonlinear_data("id", &plant, input, &NonlinearSimulation::default(), 0.0025, 1, "id")?;
+/// let (data, _) = synthetic_nonlinear_data(&plant, input, &NonlinearSimulation::default(),
+///     &SyntheticOptions::named("id"))?;
 /// let e = estimate_nonlinear(&data, ModelStructure::LINEAR, &NonlinearOptions::default())?;
 /// assert!(e.intervals[2].value > 100.0 && e.intervals[2].value < 140.0);
 /// # Ok::<(), msd_ident::IdentError>(())
@@ -628,29 +629,34 @@ pub fn estimate_nonlinear(
 }
 
 /// Noisy synthetic data from a nonlinear plant: its ode45 response to `excitation` from
-/// rest plus white Gaussian noise σ from the named stream of `seed` (as
-/// [`synthetic_data`](crate::synthetic_data)). The Coulomb smoothing velocity is
+/// `options.initial_state` plus the noise of `options` (see
+/// [`SyntheticOptions`](crate::SyntheticOptions)). The Coulomb smoothing velocity is
 /// resolved from `simulation` on this excitation.
+///
+/// Returns the noisy data set and the noise-free response, as
+/// [`synthetic_data`](crate::synthetic_data).
+///
+/// ```
+/// use msd_ident::{synthetic_nonlinear_data, Excitation, ModelStructure, NonlinearParameters,
+///     NonlinearSimulation, Parameters, SyntheticOptions};
+/// use msd_signal::paper_identification_input;
+/// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 501)?;
+/// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
+/// let options = SyntheticOptions { sigma: 0.0, ..SyntheticOptions::named("id") };
+/// let (data, truth) = synthetic_nonlinear_data(&plant, input, &NonlinearSimulation::default(), &options)?;
+/// assert_eq!((data.name.as_str(), data.len()), ("id", 501));
+/// assert_eq!(data.output, truth); // σ = 0
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 pub fn synthetic_nonlinear_data(
-    name: &str,
     plant: &NonlinearParameters,
     excitation: crate::Excitation,
     simulation: &NonlinearSimulation,
-    sigma: f64,
-    seed: u64,
-    stream: &str,
-) -> Result<DataSet> {
-    let smoothing =
-        simulation.resolve_smoothing_velocity(plant, &excitation, InitialState::REST)?;
-    let (mut y, _) = simulate_nonlinear(
-        plant,
-        &excitation,
-        InitialState::REST,
-        simulation,
-        smoothing,
-    )?;
-    if sigma > 0.0 {
-        msd_signal::NoiseStream::new(seed, stream, sigma)?.add_to(&mut y);
-    }
-    DataSet::new(name, excitation, y)
+    options: &crate::SyntheticOptions,
+) -> Result<(DataSet, Vec<f64>)> {
+    options.validate()?;
+    let initial = options.initial_state;
+    let smoothing = simulation.resolve_smoothing_velocity(plant, &excitation, initial)?;
+    let (truth, _) = simulate_nonlinear(plant, &excitation, initial, simulation, smoothing)?;
+    Ok((options.data_set(excitation, truth.clone())?, truth))
 }
