@@ -166,8 +166,7 @@ pub fn run_stages(
     {
         ms.threads = threads;
     }
-    let estimate = estimate(&data.identification, &est_options)
-        .map_err(|e| ExperimentError::run("estimation", e))?;
+    let estimate = estimate(&data.identification, &est_options).map_err(estimation_error)?;
     let estimation_solver = ode45_stats(
         &estimate.parameters,
         &data.identification.excitation,
@@ -273,6 +272,15 @@ pub fn run_stages(
         nonlinear,
         timings,
     })
+}
+
+/// A failed estimation as a failure of the stage "estimation", its reason said once
+/// ("estimation failed: …", not "estimation failed: estimation failed: …").
+fn estimation_error(e: IdentError) -> ExperimentError {
+    match e {
+        IdentError::EstimationFailed { reason } => ExperimentError::run("estimation", reason),
+        other => ExperimentError::run("estimation", other),
+    }
 }
 
 fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<ValidationOutcome> {
@@ -455,4 +463,27 @@ fn monte_carlo(
 /// Whether the experiment is synthetic.
 pub fn is_synthetic(outcome: &Outcome) -> bool {
     outcome.data.kind == Kind::Synthetic
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_estimation_says_estimation_failed_once() {
+        let failed = IdentError::EstimationFailed {
+            reason: "the cost is not finite at any point tried".into(),
+        };
+        assert_eq!(
+            estimation_error(failed).to_string(),
+            "estimation failed: the cost is not finite at any point tried"
+        );
+        let other = IdentError::NotIdentifiable {
+            reason: "no input".into(),
+        };
+        assert_eq!(
+            estimation_error(other).to_string(),
+            "estimation failed: parameters are not identifiable from these data: no input"
+        );
+    }
 }

@@ -37,7 +37,8 @@ pub struct Interval {
 }
 
 impl Interval {
-    fn new(value: f64, standard_error: f64, t: f64) -> Self {
+    /// `value` ± `t`·`standard_error`.
+    pub(crate) fn new(value: f64, standard_error: f64, t: f64) -> Self {
         Self {
             value,
             standard_error,
@@ -133,6 +134,15 @@ warning: {warning}"
     }
 }
 
+/// The 97.5 % quantile of Student's t with `dof` degrees of freedom: the half-width of
+/// a 95 % interval in standard errors. Where t is undefined (`dof` = 0, which no caller
+/// passes: each has more samples than estimated quantities) the normal's 1.96.
+pub(crate) fn t_975(dof: usize) -> f64 {
+    StudentsT::new(0.0, 1.0, dof as f64)
+        .map(|d| d.inverse_cdf(0.975))
+        .unwrap_or(1.959_963_984_540_054)
+}
+
 /// Columns of the physical parameters among the estimated quantities: `Some(column)` or
 /// `None` for a fixed parameter.
 pub(crate) type ParameterColumns = [Option<usize>; 3];
@@ -197,9 +207,7 @@ pub(crate) fn from_jacobian(
     });
     let se: Vec<f64> = (0..p).map(|j| covariance[(j, j)].max(0.0).sqrt()).collect();
     let correlation = DMatrix::from_fn(p, p, |r, c| covariance[(r, c)] / (se[r] * se[c]));
-    let t = StudentsT::new(0.0, 1.0, dof as f64)
-        .map(|d| d.inverse_cdf(0.975))
-        .unwrap_or(1.959_963_984_540_054);
+    let t = t_975(dof);
 
     let theta = parameters.to_array();
     let param_se = |i: usize| columns[i].map_or(0.0, |c| se[c]);
@@ -258,4 +266,24 @@ pub(crate) fn from_jacobian(
         damping_ratio: Interval::new(zeta, zeta_se, t),
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Golden values of Student's t quantile (MATLAB `tinv(0.975, ν)`), and the normal's
+    /// where t is undefined.
+    #[test]
+    fn t_975_is_students_quantile() {
+        for (dof, t) in [(1, 12.706_204_736_174_7), (10, 2.228_138_851_986_27)] {
+            assert!((t_975(dof) - t).abs() < 1e-9, "ν = {dof}: {}", t_975(dof));
+        }
+        assert_eq!(t_975(0), 1.959_963_984_540_054);
+        let i = Interval::new(10.0, 0.5, 2.0);
+        assert_eq!(
+            (i.ci95, i.contains(11.0), i.contains(11.1)),
+            ([9.0, 11.0], true, false)
+        );
+    }
 }

@@ -13,7 +13,6 @@ use msd_opt::{
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ContinuousCDF, StudentsT};
 use std::time::{Duration, Instant};
 
 /// The optimiser of [`estimate_nonlinear`].
@@ -578,20 +577,10 @@ pub fn estimate_nonlinear(
     let correlation = DMatrix::from_fn(p, p, |r, c| {
         covariance[(r, c)] / (covariance[(r, r)] * covariance[(c, c)]).sqrt()
     });
-    let t = StudentsT::new(0.0, 1.0, dof as f64)
-        .map_err(|e| IdentError::EstimationFailed {
-            reason: format!("Student's t with {dof} degrees of freedom: {e}"),
-        })?
-        .inverse_cdf(0.975);
+    let t = crate::uncertainty::t_975(dof);
     let (parameters, initial_state) = scaling.physical(&best.x);
-    let interval = |i: usize, value: f64| {
-        let se = covariance[(i, i)].max(0.0).sqrt();
-        Interval {
-            value,
-            standard_error: se,
-            ci95: [value - t * se, value + t * se],
-        }
-    };
+    let interval =
+        |i: usize, value: f64| Interval::new(value, covariance[(i, i)].max(0.0).sqrt(), t);
     let np = structure.parameter_count();
     let intervals: Vec<Interval> = (0..np).map(|i| interval(i, parameters.values[i])).collect();
     let initial_state_intervals = options.estimate_initial_state.then(|| {
