@@ -177,6 +177,27 @@ impl InitialState {
     pub(crate) fn vector(&self) -> SVector<f64, 2> {
         SVector::<f64, 2>::new(self.displacement, self.velocity)
     }
+
+    /// Its two values, named as the options that hold them name them.
+    pub(crate) fn named(&self) -> [(&'static str, f64); 2] {
+        [
+            ("initial_state.displacement", self.displacement),
+            ("initial_state.velocity", self.velocity),
+        ]
+    }
+}
+
+/// The first of the named `values` that is NaN or infinite, as
+/// [`IdentError::InvalidParameter`] expecting "a finite number".
+pub(crate) fn require_finite(values: impl IntoIterator<Item = (&'static str, f64)>) -> Result<()> {
+    match values.into_iter().find(|(_, value)| !value.is_finite()) {
+        Some((name, value)) => Err(IdentError::InvalidParameter {
+            name,
+            value,
+            expected: "a finite number",
+        }),
+        None => Ok(()),
+    }
 }
 
 impl std::fmt::Display for InitialState {

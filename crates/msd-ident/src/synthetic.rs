@@ -70,20 +70,7 @@ impl SyntheticOptions {
                 expected: "a finite noise standard deviation >= 0",
             });
         }
-        let x0 = self.initial_state;
-        for (name, value) in [
-            ("initial_state.displacement", x0.displacement),
-            ("initial_state.velocity", x0.velocity),
-        ] {
-            if !value.is_finite() {
-                return Err(IdentError::InvalidParameter {
-                    name,
-                    value,
-                    expected: "a finite number",
-                });
-            }
-        }
-        Ok(())
+        crate::params::require_finite(self.initial_state.named())
     }
 
     /// The noisy data set: `response` plus the noise, on `excitation`.
@@ -175,5 +162,39 @@ impl PaperExperiment {
             validation,
             validation_truth,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validate_names_the_first_bad_field() {
+        let state = |displacement, velocity| SyntheticOptions {
+            initial_state: InitialState {
+                displacement,
+                velocity,
+            },
+            ..SyntheticOptions::default()
+        };
+        let err = state(0.0, f64::NAN).validate().unwrap_err();
+        assert!(
+            matches!(err, IdentError::InvalidParameter { name: "initial_state.velocity", value, .. } if value.is_nan())
+        );
+        let err = state(f64::INFINITY, f64::NAN).validate().unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "invalid initial_state.displacement = inf: expected a finite number"
+        );
+        assert_eq!(state(0.01, -0.2).validate(), Ok(()));
+        let noisy = SyntheticOptions {
+            sigma: f64::NAN,
+            ..state(f64::NAN, 0.0)
+        };
+        assert!(matches!(
+            noisy.validate(),
+            Err(IdentError::InvalidParameter { name: "sigma", .. })
+        ));
     }
 }

@@ -228,22 +228,8 @@ impl EstimationOptions {
                 }
             }
         }
-        for (name, v) in [
-            (
-                "initial_state.displacement",
-                self.initial_state.displacement,
-            ),
-            ("initial_state.velocity", self.initial_state.velocity),
-            ("offset", self.offset),
-        ] {
-            if !v.is_finite() {
-                return Err(IdentError::InvalidParameter {
-                    name,
-                    value: v,
-                    expected: "a finite number",
-                });
-            }
-        }
+        let state = self.initial_state.named();
+        crate::params::require_finite(state.into_iter().chain([("offset", self.offset)]))?;
         if self.fixed.as_array().iter().all(Option::is_some)
             && !self.estimate_initial_state
             && !self.estimate_offset
