@@ -45,6 +45,13 @@ impl Default for SyntheticOptions {
 
 impl SyntheticOptions {
     /// The defaults with the data set and its noise stream both called `name`.
+    ///
+    /// ```
+    /// use msd_ident::SyntheticOptions;
+    /// let id = SyntheticOptions::named("identification");
+    /// assert_eq!((id.name.as_str(), id.stream.as_str()), ("identification", "identification"));
+    /// assert_eq!((id.sigma, id.seed), (0.0025, 1));
+    /// ```
     pub fn named(name: &str) -> Self {
         Self {
             name: name.to_string(),

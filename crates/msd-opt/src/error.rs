@@ -153,6 +153,13 @@ pub struct ThreadPoolError(Arc<rayon::ThreadPoolBuildError>);
 
 impl ThreadPoolError {
     /// rayon's error.
+    ///
+    /// ```
+    /// use msd_opt::ThreadPoolError;
+    /// let built = rayon::ThreadPoolBuilder::new().stack_size(1 << 60).build();
+    /// let err = ThreadPoolError::from(built.expect_err("cannot map 2^60 bytes"));
+    /// assert!(!err.as_rayon().to_string().is_empty());
+    /// ```
     pub fn as_rayon(&self) -> &rayon::ThreadPoolBuildError {
         &self.0
     }
