@@ -270,9 +270,15 @@ fn a_table_written_as_an_array_is_refused() {
     }
     let c = case.file(
         "e.toml",
-        &paper_with("[estimation]\n", "[estimation]\nfixed = [2.5, 1.8, 120.0]\n"),
+        &paper_with(
+            "[estimation]\n",
+            "[estimation]\nfixed = [2.5, 1.8, 120.0]\n",
+        ),
     );
-    case.refuses(&c, &["estimation.fixed = [2.5, 1.8, 120.0]", "read by name"]);
+    case.refuses(
+        &c,
+        &["estimation.fixed = [2.5, 1.8, 120.0]", "read by name"],
+    );
 }
 
 #[test]

@@ -8,7 +8,9 @@
 
 use crate::config::{Column, Columns, Config, DataSection, Kind, Preprocess, Range};
 use crate::{ExperimentError, Result};
-use msd_ident::{DataSet, Excitation, Parameters, synthetic_data};
+use msd_ident::{
+    DataSet, Excitation, Parameters, SyntheticOptions, synthetic_data, synthetic_nonlinear_data,
+};
 use std::path::{Path, PathBuf};
 
 /// Both records of an experiment and what is known about them.
@@ -153,32 +155,21 @@ fn plant_record(
     sigma: f64,
     seed: u64,
 ) -> msd_ident::Result<(DataSet, Vec<f64>)> {
-    let Some(nonlinear) = plant.nonlinear() else {
-        return synthetic_data(
-            name,
-            &plant.parameters(),
-            excitation,
-            plant.initial_state,
-            sigma,
-            seed,
-            name,
-        );
+    let options = SyntheticOptions {
+        initial_state: plant.initial_state,
+        sigma,
+        seed,
+        ..SyntheticOptions::named(name)
     };
-    let simulation = msd_ident::NonlinearSimulation::default();
-    let smoothing =
-        simulation.resolve_smoothing_velocity(&nonlinear, &excitation, plant.initial_state)?;
-    let (truth, _) = msd_ident::simulate_nonlinear(
-        &nonlinear,
-        &excitation,
-        plant.initial_state,
-        &simulation,
-        smoothing,
-    )?;
-    let mut y = truth.clone();
-    if sigma > 0.0 {
-        msd_signal::NoiseStream::new(seed, name, sigma)?.add_to(&mut y);
+    match plant.nonlinear() {
+        None => synthetic_data(&plant.parameters(), excitation, &options),
+        Some(nonlinear) => synthetic_nonlinear_data(
+            &nonlinear,
+            excitation,
+            &msd_ident::NonlinearSimulation::default(),
+            &options,
+        ),
     }
-    Ok((DataSet::new(name, excitation, y)?, truth))
 }
 
 /// The columns of a CSV file as read.

@@ -128,7 +128,7 @@ fn single_verdict(row: &msd_ident::ComparisonRow, linear_rms: f64) -> String {
         "One model estimated: {} ({} estimated quantities, {}). On the validation data its RMS error is {:.4e} against {:.4e} for the linear model of the estimation stage ({:+.1} %); its residuals {} white (Ljung–Box p = {:.3}) and {} with the input.",
         row.structure,
         row.estimated,
-        if row.converged {
+        if row.stop.converged() {
             "converged"
         } else {
             "NOT converged"

@@ -9,8 +9,8 @@ use crate::progress::Progress;
 use crate::{ExperimentError, Result};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, IdentError,
-    InitialState, Method, Parameters, ResidualOptions, estimate, frequency_check,
-    residual_analysis, simulate_into, validate_model,
+    InitialState, Method, Parameters, ResidualOptions, ValidationOptions, estimate,
+    frequency_check, residual_analysis, simulate_into, validate_model,
 };
 use msd_mc::{McOptions, monte_carlo_band_with_progress};
 use std::path::{Path, PathBuf};
@@ -181,8 +181,7 @@ pub fn run_on_data(
     {
         ms.threads = threads;
     }
-    let estimate = estimate(&data.identification, &est_options)
-        .map_err(|e| ExperimentError::run("estimation", e))?;
+    let estimate = estimate(&data.identification, &est_options).map_err(estimation_error)?;
     let estimation_solver = ode45_stats(
         &estimate.parameters,
         &data.identification.excitation,
@@ -290,6 +289,15 @@ pub fn run_on_data(
     })
 }
 
+/// A failed estimation as a failure of the stage "estimation", its reason said once
+/// ("estimation failed: …", not "estimation failed: estimation failed: …").
+fn estimation_error(e: IdentError) -> ExperimentError {
+    match e {
+        IdentError::EstimationFailed { reason } => ExperimentError::run("estimation", reason),
+        other => ExperimentError::run("estimation", other),
+    }
+}
+
 fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<ValidationOutcome> {
     let backend = config.validation_backend();
     let set = &data.validation;
@@ -299,16 +307,14 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
     } else {
         config.estimation.initial_state
     };
-    let options = residual_options(config);
-    let v = validate_model(
-        &est.parameters,
-        set,
+    let options = ValidationOptions {
         initial_state,
-        est.offset,
-        &backend,
-        &options,
-    )
-    .map_err(|e| ExperimentError::run("validation", e))?;
+        offset: est.offset,
+        backend,
+        residuals: residual_options(config),
+    };
+    let v = validate_model(&est.parameters, set, &options)
+        .map_err(|e| ExperimentError::run("validation", e))?;
     let (fit, analysis) = if n0 == 0 {
         (v.fit, v.residual_analysis)
     } else {
@@ -317,7 +323,7 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
         let analysis = residual_analysis(
             &v.residuals[n0..],
             &set.excitation.samples()[n0..],
-            &options,
+            &options.residuals,
         )
         .map_err(|e| ExperimentError::run("validation", e))?;
         (fit, analysis)
@@ -466,4 +472,27 @@ fn monte_carlo(
 /// Whether the experiment is synthetic.
 pub fn is_synthetic(outcome: &Outcome) -> bool {
     outcome.data.kind == Kind::Synthetic
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_estimation_says_estimation_failed_once() {
+        let failed = IdentError::EstimationFailed {
+            reason: "the cost is not finite at any point tried".into(),
+        };
+        assert_eq!(
+            estimation_error(failed).to_string(),
+            "estimation failed: the cost is not finite at any point tried"
+        );
+        let other = IdentError::NotIdentifiable {
+            reason: "no input".into(),
+        };
+        assert_eq!(
+            estimation_error(other).to_string(),
+            "estimation failed: parameters are not identifiable from these data: no input"
+        );
+    }
 }

@@ -254,10 +254,10 @@ pub fn markdown(
         } else {
             String::new()
         },
-        if e.converged {
-            format!("converged ({})", e.exit)
+        if e.stop.converged() {
+            format!("converged ({})", e.stop)
         } else {
-            format!("**not converged** ({})", e.exit)
+            format!("**not converged** ({})", e.stop.optimiser_reason())
         },
         sig(e.cost, 5),
         sig(u.condition_number, 3)

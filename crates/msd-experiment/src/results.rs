@@ -117,10 +117,7 @@ pub fn to_json(
                 "mass": e.initial_guess.0.mass,
                 "damping": e.initial_guess.0.damping,
                 "stiffness": e.initial_guess.0.stiffness,
-                "source": match e.initial_guess.1 {
-                    msd_ident::GuessSource::Given => "given",
-                    msd_ident::GuessSource::Automatic => "automatic (ARX)",
-                },
+                "source": e.initial_guess.1.to_string(),
             },
             "initial_state": { "displacement": e.initial_state.displacement, "velocity": e.initial_state.velocity },
             "offset": e.offset,
@@ -128,8 +125,9 @@ pub fn to_json(
             "evaluations": e.evaluations,
             "jacobian_evaluations": e.jacobian_evaluations,
             "starts": e.starts,
-            "exit": e.exit,
-            "converged": e.converged,
+            // The optimiser's own words; `converged` also asks for a minimum (see StopReason).
+            "exit": e.stop.optimiser_reason().to_string(),
+            "converged": e.stop.converged(),
             "cost": e.cost,
             "noise_sigma": u.sigma,
             "degrees_of_freedom": u.degrees_of_freedom,
@@ -317,7 +315,7 @@ fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
                     "whiteness_passed": r.whiteness_passed,
                     "cross_correlation_passed": r.cross_correlation_passed,
                 },
-                "converged": r.converged,
+                "converged": r.stop.converged(),
                 "simulations": r.simulations,
             })
         })

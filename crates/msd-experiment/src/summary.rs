@@ -54,10 +54,10 @@ pub fn text(
         },
         e.iterations,
         e.evaluations,
-        if e.converged {
+        if e.stop.converged() {
             "converged".to_string()
         } else {
-            format!("NOT converged ({})", e.exit)
+            format!("NOT converged ({})", e.stop.optimiser_reason())
         }
     );
     let _ = writeln!(s);

@@ -5,7 +5,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use msd_ident::{
     Backend, EstimationOptions, FrequencyCheckOptions, InitialState, PaperExperiment,
-    ResidualOptions, estimate, frequency_check, simulate, validate_model,
+    ValidationOptions, estimate, frequency_check, simulate, validate_model,
 };
 use std::hint::black_box;
 
@@ -40,10 +40,7 @@ fn bench(c: &mut Criterion) {
             let v = validate_model(
                 &fit.parameters,
                 black_box(&e.validation),
-                InitialState::REST,
-                0.0,
-                &Backend::EXACT,
-                &ResidualOptions::default(),
+                &ValidationOptions::default(),
             )
             .expect("validate");
             let f = frequency_check(

@@ -3,7 +3,8 @@
 //! `cargo run --release -p msd-ident --example validation_timing`
 use msd_ident::{
     Backend, FrequencyCheckOptions, InitialState, PaperExperiment, Parameters, ResidualOptions,
-    cross_correlation, frequency_check, residual_analysis, simulate, validate_model,
+    ValidationOptions, cross_correlation, frequency_check, residual_analysis, simulate,
+    validate_model,
 };
 use std::time::Instant;
 
@@ -51,14 +52,7 @@ fn main() -> Result<(), msd_ident::IdentError> {
         frequency_check(data, &p, None, &FrequencyCheckOptions::default())
     });
     time("whole stage (as the criterion bench)", 200, || {
-        let v = validate_model(
-            &p,
-            data,
-            InitialState::REST,
-            0.0,
-            &Backend::EXACT,
-            &ResidualOptions::default(),
-        );
+        let v = validate_model(&p, data, &ValidationOptions::default());
         (
             v,
             frequency_check(data, &p, None, &FrequencyCheckOptions::default()),

@@ -14,12 +14,13 @@
 //!   [`Uncertainty`] (covariance, 95 % intervals, identifiability warnings);
 //! - validation: [`validate_model`], [`residual_analysis`] (Ljung–Box, residual–input
 //!   correlation, verdicts in words) and [`frequency_check`];
-//! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`].
+//! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
+//!   [`SyntheticOptions`].
 //!
 //! ```
 //! use msd_ident::{
-//!     estimate, frequency_check, validate_model, Backend, EstimationOptions,
-//!     FrequencyCheckOptions, InitialState, PaperExperiment, ResidualOptions,
+//!     estimate, frequency_check, validate_model, EstimationOptions, FrequencyCheckOptions,
+//!     PaperExperiment, ValidationOptions,
 //! };
 //!
 //! // The paper's experiment (shared/paper-experiment.md) with noise seed 1.
@@ -31,8 +32,8 @@
 //! assert!(k.ci95[0] < 120.5 && 119.5 < k.ci95[1]);
 //!
 //! // Is the model adequate on fresh data?
-//! let validation = validate_model(&fit.parameters, &experiment.validation, InitialState::REST,
-//!     0.0, &Backend::EXACT, &ResidualOptions::default())?;
+//! let validation = validate_model(&fit.parameters, &experiment.validation,
+//!     &ValidationOptions::default())?;
 //! assert!(validation.fit.r_squared > 0.99);
 //! println!("{}", validation.residual_analysis.verdict);
 //!
@@ -51,13 +52,16 @@ mod error;
 mod estimate;
 mod fft;
 mod frequency;
+mod local;
 mod metrics;
 mod nonlinear;
 pub mod pair;
 mod params;
 mod residuals;
 mod sensitivity;
+mod ser;
 mod simulate;
+mod stop;
 mod synthetic;
 mod uncertainty;
 mod validation;
@@ -86,6 +90,7 @@ pub use residuals::{
 };
 pub use sensitivity::{SensitivitySample, sensitivities};
 pub use simulate::{Backend, simulate, simulate_into};
-pub use synthetic::{PaperExperiment, synthetic_data};
+pub use stop::StopReason;
+pub use synthetic::{PaperExperiment, SyntheticOptions, synthetic_data};
 pub use uncertainty::{Interval, Uncertainty};
-pub use validation::{Validation, validate_model};
+pub use validation::{Validation, ValidationOptions, validate_model};

@@ -11,6 +11,9 @@ use serde::{Deserialize, Serialize};
 /// let fit = FitMetrics::new(&measured, &model);
 /// assert!((fit.r_squared - (1.0 - 0.04 / 5.0)).abs() < 1e-12);
 /// assert!((fit.residual_rms - 0.1).abs() < 1e-12);
+/// assert_eq!(fit.to_string(), "R² = 0.99200, fit = 91.06 %, RMS error = 1.0000e-1 (4 samples)");
+/// assert_eq!(serde_json::to_value(fit)?["samples"], 4);
+/// # Ok::<(), serde_json::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FitMetrics {
@@ -24,6 +27,16 @@ pub struct FitMetrics {
     pub sse: f64,
     /// Number of samples.
     pub samples: usize,
+}
+
+impl std::fmt::Display for FitMetrics {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "R² = {:.5}, fit = {:.2} %, RMS error = {:.4e} ({} samples)",
+            self.r_squared, self.fit_percent, self.residual_rms, self.samples
+        )
+    }
 }
 
 impl FitMetrics {

@@ -152,6 +152,12 @@ impl std::fmt::Display for Parameters {
 /// Initial state of the mass: displacement x(t₀) and velocity x'(t₀).
 ///
 /// By default at rest (0, 0).
+///
+/// ```
+/// use msd_ident::InitialState;
+/// let x0 = InitialState { displacement: 0.01, velocity: -0.5 };
+/// assert_eq!(x0.to_string(), "x(t₀) = 1.0000e-2, x'(t₀) = -5.0000e-1");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialState {
@@ -170,5 +176,36 @@ impl InitialState {
 
     pub(crate) fn vector(&self) -> SVector<f64, 2> {
         SVector::<f64, 2>::new(self.displacement, self.velocity)
+    }
+
+    /// Its two values, named as the options that hold them name them.
+    pub(crate) fn named(&self) -> [(&'static str, f64); 2] {
+        [
+            ("initial_state.displacement", self.displacement),
+            ("initial_state.velocity", self.velocity),
+        ]
+    }
+}
+
+/// The first of the named `values` that is NaN or infinite, as
+/// [`IdentError::InvalidParameter`] expecting "a finite number".
+pub(crate) fn require_finite(values: impl IntoIterator<Item = (&'static str, f64)>) -> Result<()> {
+    match values.into_iter().find(|(_, value)| !value.is_finite()) {
+        Some((name, value)) => Err(IdentError::InvalidParameter {
+            name,
+            value,
+            expected: "a finite number",
+        }),
+        None => Ok(()),
+    }
+}
+
+impl std::fmt::Display for InitialState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "x(t₀) = {:.4e}, x'(t₀) = {:.4e}",
+            self.displacement, self.velocity
+        )
     }
 }

@@ -62,6 +62,9 @@ impl ResidualOptions {
 }
 
 /// Correlation coefficients at a range of lags with their confidence band.
+///
+/// Displays the largest |value|, the lags outside the band and the outcome, e.g.
+/// `max |ρ| = 0.031, 2 of 51 lags outside ±0.030: passed`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CorrelationTest {
     /// The lags.
@@ -78,7 +81,23 @@ pub struct CorrelationTest {
     pub passed: bool,
 }
 
+impl std::fmt::Display for CorrelationTest {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "max |ρ| = {:.3}, {} of {} lags outside ±{:.3}: {}",
+            self.max_abs,
+            self.outside,
+            self.lags.len(),
+            self.bound,
+            if self.passed { "passed" } else { "failed" }
+        )
+    }
+}
+
 /// The Ljung–Box portmanteau statistic.
+///
+/// Displays as `Ljung–Box Q = 15.9 (25 dof), p = 0.917`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LjungBox {
     /// Q = N(N + 2) Σ rₖ²/(N − k).
@@ -89,7 +108,34 @@ pub struct LjungBox {
     pub p_value: f64,
 }
 
+impl std::fmt::Display for LjungBox {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "Ljung–Box Q = {:.1} ({} dof), p = {:.3}",
+            self.q, self.degrees_of_freedom, self.p_value
+        )
+    }
+}
+
 /// Whiteness and input-independence of a model's residuals.
+///
+/// Displays the two tests, one line each, then the verdict.
+///
+/// ```
+/// use msd_ident::{residual_analysis, ResidualOptions};
+/// use msd_signal::gaussian_noise;
+/// let e = gaussian_noise(3, "residuals", 1.0, 5000)?;
+/// let u = gaussian_noise(3, "input", 1.0, 5000)?;
+/// let a = residual_analysis(&e, &u, &ResidualOptions::default())?;
+/// let text = a.to_string();
+/// assert!(text.starts_with("whiteness: Ljung–Box Q = "), "{text}");
+/// assert!(text.ends_with(&a.verdict));
+/// let json = serde_json::to_value(&a).expect("serializable");
+/// assert_eq!(json["ljung_box"]["degrees_of_freedom"], 25);
+/// assert_eq!(json["autocorrelation"]["lags"].as_array().map(Vec::len), Some(26));
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResidualAnalysis {
     /// Autocorrelation at lags 0…L (lag 0 is 1).
@@ -104,6 +150,24 @@ pub struct ResidualAnalysis {
     pub cross_correlation_passed: bool,
     /// The verdict in words.
     pub verdict: String,
+}
+
+impl std::fmt::Display for ResidualAnalysis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let verdict = |passed| if passed { "passed" } else { "failed" };
+        writeln!(
+            f,
+            "whiteness: {}: {}",
+            self.ljung_box,
+            verdict(self.whiteness_passed)
+        )?;
+        writeln!(
+            f,
+            "residual–input cross-correlation: {}",
+            self.cross_correlation
+        )?;
+        write!(f, "{}", self.verdict)
+    }
 }
 
 /// Ljung–Box statistic of the autocorrelation `r` (with `r[0] = 1`) of a series of length `n`.

@@ -37,6 +37,19 @@ impl Default for Backend {
     }
 }
 
+impl std::fmt::Display for Backend {
+    /// The name with its settings, e.g. "ode45 (RelTol 1e-6, AbsTol 1e-9)" or
+    /// "exact (cubic hold)".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Backend::Ode45 { rel_tol, abs_tol } => {
+                write!(f, "ode45 (RelTol {rel_tol:e}, AbsTol {abs_tol:e})")
+            }
+            Backend::Exact { hold } => write!(f, "exact ({} hold)", hold_serde::name(*hold)),
+        }
+    }
+}
+
 impl Backend {
     /// The paper's solver: ode45 with RelTol 1e-6, AbsTol 1e-9.
     pub const PAPER: Backend = Backend::Ode45 {
@@ -76,12 +89,17 @@ mod hold_serde {
     use msd_ode::Hold;
     use serde::{Deserialize, Deserializer, Serializer};
 
-    pub fn serialize<S: Serializer>(hold: &Hold, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(match hold {
+    /// The hold's name in configs and reports.
+    pub fn name(hold: Hold) -> &'static str {
+        match hold {
             Hold::Zero => "zero",
             Hold::First => "first",
             Hold::Cubic => "cubic",
-        })
+        }
+    }
+
+    pub fn serialize<S: Serializer>(hold: &Hold, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(name(*hold))
     }
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Hold, D::Error> {

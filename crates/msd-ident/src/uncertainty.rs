@@ -15,6 +15,17 @@ use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, StudentsT};
 
 /// A value with its standard error and 95 % confidence interval.
+///
+/// Displays as `value ± standard error (95 % CI low … high)`, the numbers with six
+/// decimals unless the format gives a precision.
+///
+/// ```
+/// use msd_ident::Interval;
+/// let k = Interval { value: 120.0, standard_error: 0.5, ci95: [119.0, 121.0] };
+/// assert_eq!(format!("{k:.1}"), "120.0 ± 5.00e-1 (95 % CI 119.0 … 121.0)");
+/// assert_eq!(serde_json::to_value(k)?["ci95"][1], 121.0);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Interval {
     /// The estimate.
@@ -26,7 +37,8 @@ pub struct Interval {
 }
 
 impl Interval {
-    fn new(value: f64, standard_error: f64, t: f64) -> Self {
+    /// `value` ± `t`·`standard_error`.
+    pub(crate) fn new(value: f64, standard_error: f64, t: f64) -> Self {
         Self {
             value,
             standard_error,
@@ -40,16 +52,44 @@ impl Interval {
     }
 }
 
+impl std::fmt::Display for Interval {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let p = f.precision().unwrap_or(6);
+        write!(
+            f,
+            "{:.p$} ± {:.2e} (95 % CI {:.p$} … {:.p$})",
+            self.value, self.standard_error, self.ci95[0], self.ci95[1]
+        )
+    }
+}
+
 /// Uncertainty of an estimate.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serializes with the matrices as lists of rows. Displays one line per interval, then
+/// σ̂, the degrees of freedom, the condition number and every warning.
+///
+/// ```
+/// use msd_ident::{estimate, EstimationOptions, PaperExperiment};
+/// let experiment = PaperExperiment::generate(1)?;
+/// let u = estimate(&experiment.identification, &EstimationOptions::fast())?.uncertainty;
+/// let json = serde_json::to_value(&u).expect("serializable");
+/// assert_eq!(json["names"][2], "stiffness");
+/// assert_eq!(json["correlation"].as_array().map(Vec::len), Some(3));
+/// assert_eq!(json["correlation"][0][2], u.correlation[(0, 2)]); // row 0, column 2
+/// assert!(u.to_string().starts_with(&format!("m = {:.6} ± ", u.mass.value)));
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Uncertainty {
     /// Names of the estimated quantities, in the order of the matrices.
     pub names: Vec<&'static str>,
     /// Their estimated values.
     pub values: Vec<f64>,
     /// Covariance matrix σ̂²(JᵀJ)⁻¹.
+    #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub covariance: DMatrix<f64>,
     /// Correlation matrix.
+    #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub correlation: DMatrix<f64>,
     /// Condition number of the column-normalised JᵀJ.
     pub condition_number: f64,
@@ -69,6 +109,38 @@ pub struct Uncertainty {
     pub damping_ratio: Interval,
     /// Plain-language identifiability warnings (empty when all is well).
     pub warnings: Vec<String>,
+}
+
+impl std::fmt::Display for Uncertainty {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "m = {}", self.mass)?;
+        writeln!(f, "c = {}", self.damping)?;
+        writeln!(f, "k = {}", self.stiffness)?;
+        writeln!(f, "fn = {} Hz", self.natural_frequency_hz)?;
+        writeln!(f, "ζ = {}", self.damping_ratio)?;
+        write!(
+            f,
+            "σ̂ = {:.4e}, {} degrees of freedom, condition number {:.3e}",
+            self.sigma, self.degrees_of_freedom, self.condition_number
+        )?;
+        for warning in &self.warnings {
+            write!(
+                f,
+                "
+warning: {warning}"
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// The 97.5 % quantile of Student's t with `dof` degrees of freedom: the half-width of
+/// a 95 % interval in standard errors. Where t is undefined (`dof` = 0, which no caller
+/// passes: each has more samples than estimated quantities) the normal's 1.96.
+pub(crate) fn t_975(dof: usize) -> f64 {
+    StudentsT::new(0.0, 1.0, dof as f64)
+        .map(|d| d.inverse_cdf(0.975))
+        .unwrap_or(1.959_963_984_540_054)
 }
 
 /// Columns of the physical parameters among the estimated quantities: `Some(column)` or
@@ -135,9 +207,7 @@ pub(crate) fn from_jacobian(
     });
     let se: Vec<f64> = (0..p).map(|j| covariance[(j, j)].max(0.0).sqrt()).collect();
     let correlation = DMatrix::from_fn(p, p, |r, c| covariance[(r, c)] / (se[r] * se[c]));
-    let t = StudentsT::new(0.0, 1.0, dof as f64)
-        .map(|d| d.inverse_cdf(0.975))
-        .unwrap_or(1.959_963_984_540_054);
+    let t = t_975(dof);
 
     let theta = parameters.to_array();
     let param_se = |i: usize| columns[i].map_or(0.0, |c| se[c]);
@@ -196,4 +266,24 @@ pub(crate) fn from_jacobian(
         damping_ratio: Interval::new(zeta, zeta_se, t),
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Golden values of Student's t quantile (MATLAB `tinv(0.975, ν)`), and the normal's
+    /// where t is undefined.
+    #[test]
+    fn t_975_is_students_quantile() {
+        for (dof, t) in [(1, 12.706_204_736_174_7), (10, 2.228_138_851_986_27)] {
+            assert!((t_975(dof) - t).abs() < 1e-9, "ν = {dof}: {}", t_975(dof));
+        }
+        assert_eq!(t_975(0), 1.959_963_984_540_054);
+        let i = Interval::new(10.0, 0.5, 2.0);
+        assert_eq!(
+            (i.ci95, i.contains(11.0), i.contains(11.1)),
+            ([9.0, 11.0], true, false)
+        );
+    }
 }

@@ -1,9 +1,9 @@
 //! Validation, residual diagnostics and the frequency-consistency check.
 
 use msd_ident::{
-    Backend, DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
-    InitialState, PaperExperiment, Parameters, ResidualOptions, autocorrelation, cross_correlation,
-    estimate, frequency_check, ljung_box, residual_analysis, validate_model,
+    DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError, PaperExperiment,
+    Parameters, ResidualOptions, SyntheticOptions, ValidationOptions, autocorrelation,
+    cross_correlation, estimate, frequency_check, ljung_box, residual_analysis, validate_model,
 };
 use msd_ode::{Ode45Options, SVector, ode45};
 use msd_signal::{gaussian_noise, paper_identification_input};
@@ -15,10 +15,7 @@ fn paper_validation_reproduces_the_paper() {
     let v = validate_model(
         &fit.parameters,
         &e.validation,
-        InitialState::REST,
-        0.0,
-        &Backend::EXACT,
-        &ResidualOptions::default(),
+        &ValidationOptions::default(),
     )
     .expect("validate");
     assert!(
@@ -112,15 +109,7 @@ fn a_wrong_stiffness_fails_the_tests() {
         stiffness: 0.8 * 120.0,
         ..Parameters::PAPER
     };
-    let v = validate_model(
-        &wrong,
-        &e.validation,
-        InitialState::REST,
-        0.0,
-        &Backend::EXACT,
-        &ResidualOptions::default(),
-    )
-    .expect("validate");
+    let v = validate_model(&wrong, &e.validation, &ValidationOptions::default()).expect("validate");
     let a = &v.residual_analysis;
     assert!(
         !(a.whiteness_passed && a.cross_correlation_passed),
@@ -388,7 +377,7 @@ fn bad_input_for_the_diagnostics() {
 /// fit is refused as no resonance.
 #[test]
 fn an_overdamped_record_has_no_resonance_whichever_way_the_fit_runs_off() {
-    use msd_ident::{InitialState, synthetic_data};
+    use msd_ident::synthetic_data;
     let plant = Parameters::new(2.5, 60.0, 120.0).expect("a plant");
     let chirp = msd_signal::Signal::Chirp {
         amplitude: 5.0,
@@ -409,13 +398,15 @@ fn an_overdamped_record_has_no_resonance_whichever_way_the_fit_runs_off() {
         };
         let excitation = Excitation::from_signal(chirp.clone(), 0.0, 0.005, 801).expect("input");
         let (data, _) = synthetic_data(
-            "overdamped",
             &plant,
             excitation,
-            InitialState::REST,
-            0.001,
-            seed,
-            "identification",
+            &SyntheticOptions {
+                name: "overdamped".into(),
+                stream: "identification".into(),
+                sigma: 0.001,
+                seed,
+                ..SyntheticOptions::default()
+            },
         )
         .expect("data");
         let result = frequency_check(&data, &plant, None, &options);

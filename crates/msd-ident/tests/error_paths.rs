@@ -5,7 +5,7 @@
 
 use msd_ident::{
     Backend, DataSet, EstimationOptions, Excitation, IdentError, InitialState, Method, Parameters,
-    estimate, simulate, synthetic_data,
+    SyntheticOptions, estimate, simulate, synthetic_data,
 };
 use msd_opt::{NelderMeadOptions, OptError};
 use msd_signal::{Signal, SignalError};
@@ -147,13 +147,14 @@ fn synthetic_data_refuses_a_negative_or_nan_noise_level() {
     for sigma in [-0.001, f64::NAN, f64::INFINITY] {
         let exc = Excitation::from_samples(0.0, 0.01, vec![1.0; 100]).unwrap();
         let result = synthetic_data(
-            "x",
             &Parameters::PAPER,
             exc,
-            InitialState::REST,
-            sigma,
-            1,
-            "identification",
+            &SyntheticOptions {
+                name: "x".into(),
+                stream: "identification".into(),
+                sigma,
+                ..SyntheticOptions::default()
+            },
         );
         assert!(
             matches!(

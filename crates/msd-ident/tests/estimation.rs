@@ -5,8 +5,10 @@ mod common;
 use common::{cramer_rao, crb_std};
 use msd_ident::{
     Backend, EstimationOptions, Excitation, FixedParameters, IdentError, InitialState, Method,
-    MultistartSettings, PaperExperiment, Parameters, estimate, synthetic_data,
+    MultistartSettings, PaperExperiment, Parameters, StopReason, SyntheticOptions, estimate,
+    synthetic_data,
 };
+use msd_opt::NelderMeadExit;
 use msd_signal::paper_identification_input;
 
 const TRUTH: Parameters = Parameters::PAPER;
@@ -33,7 +35,7 @@ fn both_methods_recover_the_paper_plant_within_four_crb_std() {
             "{name}: R² = {}",
             fit.fit.r_squared
         );
-        assert!(fit.converged, "{name}: {}", fit.exit);
+        assert!(fit.stop.converged(), "{name}: {}", fit.stop);
     }
     // The two methods find the same minimum: well within one CRB standard deviation.
     let (a, b) = (paper.parameters.to_array(), fast.parameters.to_array());
@@ -244,13 +246,15 @@ fn automatic_guess_works_on_the_paper_plant_and_a_micro_scale_plant() {
     let input =
         Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501).expect("input");
     let (data, _) = synthetic_data(
-        "micro",
         &micro,
         input,
-        InitialState::REST,
-        2500.0,
-        4,
-        "identification",
+        &SyntheticOptions {
+            name: "micro".into(),
+            stream: "identification".into(),
+            sigma: 2500.0,
+            seed: 4,
+            ..SyntheticOptions::default()
+        },
     )
     .expect("data");
     let fit = estimate(&data, &EstimationOptions::default()).expect("auto, micro scale");
@@ -273,8 +277,18 @@ fn fixed_mass_offset_and_initial_state_are_estimated() {
         displacement: 0.02,
         velocity: -0.1,
     };
-    let (mut data, _) =
-        synthetic_data("offset", &TRUTH, input, start, 0.0025, 5, "identification").expect("data");
+    let (mut data, _) = synthetic_data(
+        &TRUTH,
+        input,
+        &SyntheticOptions {
+            name: "offset".into(),
+            stream: "identification".into(),
+            initial_state: start,
+            seed: 5,
+            ..SyntheticOptions::default()
+        },
+    )
+    .expect("data");
     for y in &mut data.output {
         *y += 0.01; // sensor offset
     }
@@ -456,5 +470,43 @@ fn bad_input_is_a_specific_error() {
             }
         ),
         "{e}"
+    );
+}
+
+/// Nelder–Mead stopped after 5 iterations is far from the minimum: the estimate says
+/// so, with the optimiser's own reason inside, and the warning quotes that reason.
+#[test]
+fn a_run_stopped_early_is_stopped_short_with_the_optimisers_reason_inside() {
+    let experiment = PaperExperiment::generate(1).expect("data");
+    let mut options = EstimationOptions {
+        method: Method::NelderMead,
+        ..EstimationOptions::fast()
+    };
+    options.nelder_mead.max_iterations = Some(5);
+    let fit = estimate(&experiment.identification, &options).expect("an estimate");
+    let StopReason::StoppedShort {
+        exit,
+        quantity,
+        standard_errors,
+    } = &fit.stop
+    else {
+        panic!("expected StoppedShort, got {:?}", fit.stop);
+    };
+    assert_eq!(
+        **exit,
+        StopReason::NelderMead(NelderMeadExit::MaxIterations)
+    );
+    assert!(*standard_errors > 1.0, "{standard_errors}");
+    assert!(
+        ["mass", "damping", "stiffness"].contains(&quantity.as_str()),
+        "{quantity}"
+    );
+    assert!(!fit.stop.converged());
+    assert_eq!(fit.stop.optimiser_reason(), &**exit);
+    let quoted = format!("the optimiser stopped short: {exit}");
+    assert!(
+        fit.uncertainty.warnings.iter().any(|w| w.contains(&quoted)),
+        "{:?}",
+        fit.uncertainty.warnings
     );
 }

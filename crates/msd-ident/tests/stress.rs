@@ -13,8 +13,8 @@ mod common;
 
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
-    InitialState, Method, MultistartSettings, Parameters, ResidualOptions, frequency_check,
-    sensitivities, simulate, simulate_into, synthetic_data, validate_model,
+    InitialState, Method, MultistartSettings, Parameters, SyntheticOptions, ValidationOptions,
+    frequency_check, sensitivities, simulate, simulate_into, synthetic_data, validate_model,
 };
 use msd_signal::{Signal, Sweep};
 
@@ -32,13 +32,15 @@ impl Case {
     fn data(&self) -> DataSet {
         let exc = Excitation::from_signal(self.input.clone(), 0.0, self.dt, self.n).unwrap();
         synthetic_data(
-            "stress",
             &self.plant,
             exc,
-            InitialState::REST,
-            self.sigma,
-            7,
-            "identification",
+            &SyntheticOptions {
+                name: "stress".into(),
+                stream: "identification".into(),
+                sigma: self.sigma,
+                seed: 7,
+                ..SyntheticOptions::default()
+            },
         )
         .unwrap()
         .0
@@ -168,7 +170,7 @@ fn backends_match_the_step_response(label: &str, p: &Parameters, dt: f64, n: usi
 /// θ̂ within 4 Cramér–Rao standard deviations of the truth, every reported standard error
 /// within 25 % of the bound, everything finite, the optimiser converged.
 fn assert_near_truth(label: &str, e: &Estimate, truth: &Parameters, crb: &[f64; 3]) {
-    assert!(e.converged, "{label}: not converged: {}", e.exit);
+    assert!(e.stop.converged(), "{label}: not converged: {}", e.stop);
     let u = &e.uncertainty;
     let got = [&u.mass, &u.damping, &u.stiffness];
     for (i, name) in ["m", "c", "k"].iter().enumerate() {
@@ -195,15 +197,7 @@ fn assert_near_truth(label: &str, e: &Estimate, truth: &Parameters, crb: &[f64; 
 /// is σ within 6 standard deviations of a sample RMS (σ/√(2N)), plus the N−3 fitted
 /// degrees of freedom.
 fn assert_residuals_are_the_noise(label: &str, e: &Estimate, data: &DataSet, sigma: f64) {
-    let v = validate_model(
-        &e.parameters,
-        data,
-        InitialState::REST,
-        0.0,
-        &Backend::EXACT,
-        &ResidualOptions::default(),
-    )
-    .unwrap();
+    let v = validate_model(&e.parameters, data, &ValidationOptions::default()).unwrap();
     let n = data.len() as f64;
     let ratio = v.fit.residual_rms / sigma;
     assert!(
@@ -333,13 +327,14 @@ fn very_stiff_beyond_nyquist_from_the_automatic_guess_is_not_silently_wrong() {
     for seed in 1..=12u64 {
         let exc = Excitation::from_signal(chirp(1e6, 0.2, 3.0, 15.0), 0.0, 0.002, 7501).unwrap();
         let (data, _) = synthetic_data(
-            "s",
             &plant,
             exc,
-            InitialState::REST,
-            0.0025,
-            seed,
-            "identification",
+            &SyntheticOptions {
+                name: "s".into(),
+                stream: "identification".into(),
+                seed,
+                ..SyntheticOptions::default()
+            },
         )
         .unwrap();
         match msd_ident::estimate(&data, &EstimationOptions::default()) {
@@ -394,7 +389,7 @@ fn levenberg_marquardt_from_a_zero_damping_guess() {
         &options(Method::LevenbergMarquardt, scaled(&case.plant, [0.8; 3])),
     );
     match result {
-        Ok(e) => assert!(e.converged, "{}", e.exit),
+        Ok(e) => assert!(e.stop.converged(), "{}", e.stop),
         Err(e) => assert!(e.to_string().contains("damping"), "{e}"),
     }
 }
@@ -640,8 +635,18 @@ fn estimate_at_equilibrium(
         velocity: 0.0,
     };
     let exc = Excitation::from_signal(case.input.clone(), 0.0, case.dt, case.n).unwrap();
-    let (data, _) =
-        synthetic_data("eq", &case.plant, exc, equilibrium, case.sigma, 7, "id").unwrap();
+    let (data, _) = synthetic_data(
+        &case.plant,
+        exc,
+        &SyntheticOptions {
+            name: "eq".into(),
+            stream: "id".into(),
+            initial_state: equilibrium,
+            sigma: case.sigma,
+            seed: 7,
+        },
+    )
+    .unwrap();
     let o = EstimationOptions {
         method,
         initial_guess: guess,
@@ -719,14 +724,7 @@ fn frequency_check_without_input_is_not_identifiable() {
 fn validation_against_a_constant_measurement_has_no_nan() {
     let exc = Excitation::from_samples(0.0, 0.002, vec![0.0; 7501]).unwrap();
     let data = DataSet::new("flat", exc, vec![0.0; 7501]).unwrap();
-    let result = validate_model(
-        &Parameters::PAPER,
-        &data,
-        InitialState::REST,
-        0.0,
-        &Backend::EXACT,
-        &ResidualOptions::default(),
-    );
+    let result = validate_model(&Parameters::PAPER, &data, &ValidationOptions::default());
     if let Ok(v) = result {
         assert!(
             v.fit.r_squared.is_finite() && v.fit.fit_percent.is_finite(),
@@ -794,7 +792,7 @@ fn nelder_mead_from_100_times_below_is_not_silently_wrong() {
         &options(Method::NelderMead, scaled(&case.plant, [0.01; 3])),
     );
     if let Ok(e) = e
-        && e.converged
+        && e.stop.converged()
     {
         assert_near_truth("×0.01, NM", &e, &case.plant, &crb);
     }

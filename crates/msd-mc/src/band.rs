@@ -3,7 +3,7 @@
 use crate::engine::{self, MemoryPlan, Restart};
 use crate::order::similarity_order;
 use crate::tracker::TrackerCounts;
-use crate::{McError, McOptions, Result, Sampling, Summary, draw::Sampler};
+use crate::{McError, McOptions, Result, SampleFailure, Sampling, Summary, draw::Sampler};
 use msd_ident::{Backend, BatchSimulator, Excitation, LANES, Parameters, simulate};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -216,10 +216,12 @@ fn band_and_counts(
     let good: Vec<Parameters> = (0..n).filter(|&i| ok[i]).filter_map(|i| drawn[i]).collect();
     if good.is_empty() {
         let first = match drawn[0] {
-            None => format!("non-physical draw after {} redraws", crate::MAX_REDRAWS),
+            None => SampleFailure::NonPhysical {
+                redraws: crate::MAX_REDRAWS,
+            },
             Some(p) => simulate(&p, excitation, initial, backend)
                 .err()
-                .map_or_else(|| "unknown".into(), |e| e.to_string()),
+                .map_or(SampleFailure::Unknown, SampleFailure::Simulation),
         };
         return Err(McError::AllSamplesFailed { samples: n, first });
     }

@@ -1,6 +1,7 @@
 //! The one error type of this crate; `msd-ident`'s errors convert into it.
 
 use msd_ident::IdentError;
+use msd_opt::ThreadPoolError;
 
 /// Everything that can go wrong in `msd-mc`, with the offending value.
 ///
@@ -89,16 +90,17 @@ pub enum McError {
     AllSamplesFailed {
         /// N.
         samples: usize,
-        /// The error of the first failing sample, in words.
-        first: String,
+        /// Why the first sample failed.
+        #[source]
+        first: SampleFailure,
     },
     /// The rayon pool could not be built.
-    #[error("could not build a pool of {threads} threads: {reason}")]
+    #[error("could not build a pool of {threads} threads: {source}")]
     ThreadPool {
         /// Requested threads.
         threads: usize,
-        /// Rayon's message.
-        reason: String,
+        /// rayon's error.
+        source: ThreadPoolError,
     },
     /// The caller's model function panicked inside a worker thread; the panic was caught
     /// and the run abandoned.
@@ -142,6 +144,36 @@ pub enum McError {
     /// From the identification layer (simulation, parameters, data).
     #[error(transparent)]
     Ident(#[from] IdentError),
+}
+
+/// Why the first sample of a band failed (see [`McError::AllSamplesFailed`]).
+///
+/// ```
+/// use msd_ident::IdentError;
+/// use msd_mc::{McError, SampleFailure};
+/// let failure = SampleFailure::NonPhysical { redraws: 100 };
+/// assert_eq!(failure.to_string(), "non-physical draw after 100 redraws");
+/// // A simulation's error is kept whole, as the source of the band's error.
+/// let ident = IdentError::TooFewSamples { got: 1, needed: 2, why: "an example" };
+/// let err = McError::AllSamplesFailed { samples: 4, first: ident.clone().into() };
+/// assert_eq!(err.to_string(), format!("all 4 samples failed; the first: {ident}"));
+/// let source = std::error::Error::source(&err).map(ToString::to_string);
+/// assert_eq!(source, Some(ident.to_string()));
+/// ```
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SampleFailure {
+    /// No draw of the sample was physical, after `redraws` redraws.
+    #[error("non-physical draw after {redraws} redraws")]
+    NonPhysical {
+        /// Redraws tried ([`MAX_REDRAWS`](crate::MAX_REDRAWS)).
+        redraws: usize,
+    },
+    /// Its parameters could not be simulated.
+    #[error(transparent)]
+    Simulation(#[from] IdentError),
+    /// Its simulation failed among the others but succeeds alone (not expected).
+    #[error("unknown")]
+    Unknown,
 }
 
 /// Shorthand for results of this crate.

@@ -53,7 +53,7 @@ mod tracker;
 pub use band::{Band, monte_carlo_band, monte_carlo_band_with_progress};
 pub use draw::{MAX_REDRAWS, sample_rng};
 pub use engine::MemoryPlan;
-pub use error::{McError, Result};
+pub use error::{McError, Result, SampleFailure};
 pub use options::{McOptions, Sampling};
 pub use quantile::Summary;
 pub use sobol::{
@@ -77,7 +77,7 @@ fn pool_with_stack(threads: usize, stack_size: Option<usize>) -> Result<rayon::T
     }
     builder.build().map_err(|e| McError::ThreadPool {
         threads,
-        reason: e.to_string(),
+        source: e.into(),
     })
 }
 
@@ -90,14 +90,17 @@ mod tests {
     #[test]
     fn a_pool_whose_threads_cannot_be_spawned_is_a_thread_pool_error() {
         let err = pool_with_stack(3, Some(1 << 60)).expect_err("cannot map 2^60 bytes");
-        assert!(
-            matches!(&err, McError::ThreadPool { threads: 3, reason } if !reason.is_empty()),
-            "{err:?}"
+        let McError::ThreadPool { threads, source } = &err else {
+            panic!("expected ThreadPool, got {err:?}");
+        };
+        assert_eq!(*threads, 3);
+        assert!(!source.to_string().is_empty());
+        assert_eq!(
+            err.to_string(),
+            format!("could not build a pool of 3 threads: {source}")
         );
-        assert!(
-            err.to_string()
-                .starts_with("could not build a pool of 3 threads: ")
-        );
+        let typed = std::error::Error::source(&err).map(ToString::to_string);
+        assert_eq!(typed, Some(source.as_rayon().to_string()));
         assert!(pool(3).is_ok());
     }
 }

@@ -2,7 +2,7 @@
 //! first sample's reason, never an empty or NaN band.
 
 use msd_ident::{Backend, Excitation, Parameters};
-use msd_mc::{MAX_REDRAWS, McError, McOptions, Sampling, monte_carlo_band};
+use msd_mc::{MAX_REDRAWS, McError, McOptions, SampleFailure, Sampling, monte_carlo_band};
 
 /// A covariance of (m, c, k) in which m and k are perfectly anti-correlated with a
 /// standard deviation of 1e10 around m = 2.5, k = 120: a draw is physical only if
@@ -31,18 +31,21 @@ fn no_physical_draw_in_any_sample_is_all_samples_failed() {
         };
         let err = monte_carlo_band(&Parameters::PAPER, &excitation, None, &options)
             .expect_err("no sample is physical");
-        let expected_first = format!("non-physical draw after {MAX_REDRAWS} redraws");
         assert_eq!(
             err,
             McError::AllSamplesFailed {
                 samples: 24,
-                first: expected_first.clone(),
+                first: SampleFailure::NonPhysical {
+                    redraws: MAX_REDRAWS
+                },
             },
             "{threads} threads"
         );
         assert_eq!(
             err.to_string(),
-            format!("all 24 samples failed; the first: {expected_first}")
+            format!(
+                "all 24 samples failed; the first: non-physical draw after {MAX_REDRAWS} redraws"
+            )
         );
     }
 }

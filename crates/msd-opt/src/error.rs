@@ -14,6 +14,9 @@
 //! assert_eq!(err.to_string(), "x0[0] = NaN is not finite");
 //! ```
 
+use std::fmt;
+use std::sync::Arc;
+
 /// Everything that can go wrong before or while starting a solver.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum OptError {
@@ -111,12 +114,12 @@ pub enum OptError {
         source: Box<OptError>,
     },
     /// The rayon thread pool could not be built.
-    #[error("multistart: could not build a thread pool of {threads} threads: {message}")]
+    #[error("multistart: could not build a thread pool of {threads} threads: {source}")]
     ThreadPool {
         /// Requested number of threads.
         threads: usize,
-        /// rayon's message.
-        message: String,
+        /// rayon's error.
+        source: ThreadPoolError,
     },
     /// The local run of one start panicked on a worker thread (a bug in the cost or
     /// residual function, or in a solver); the panic was caught and the other starts'
@@ -128,6 +131,62 @@ pub enum OptError {
         /// The panic message (`"non-string panic payload"` when it was not text).
         message: String,
     },
+}
+
+/// rayon's error building a thread pool, kept whole as the source of
+/// [`OptError::ThreadPool`] (and of msd-mc's pool error).
+///
+/// Shared behind an `Arc` so that the errors holding it stay `Clone`; two are equal when
+/// their messages are (rayon's error cannot be compared otherwise). It displays as
+/// rayon's message and is transparent: its `source` is rayon's.
+///
+/// ```
+/// use msd_opt::ThreadPoolError;
+/// // A 2⁶⁰-byte stack cannot be mapped, so the pool's first worker cannot be spawned.
+/// let rayon = rayon::ThreadPoolBuilder::new().num_threads(1).stack_size(1 << 60).build();
+/// let err = ThreadPoolError::from(rayon.expect_err("cannot map 2^60 bytes"));
+/// assert_eq!(err.to_string(), err.as_rayon().to_string());
+/// assert_eq!(err.clone(), err);
+/// ```
+#[derive(Debug, Clone)]
+pub struct ThreadPoolError(Arc<rayon::ThreadPoolBuildError>);
+
+impl ThreadPoolError {
+    /// rayon's error.
+    ///
+    /// ```
+    /// use msd_opt::ThreadPoolError;
+    /// let built = rayon::ThreadPoolBuilder::new().stack_size(1 << 60).build();
+    /// let err = ThreadPoolError::from(built.expect_err("cannot map 2^60 bytes"));
+    /// assert!(!err.as_rayon().to_string().is_empty());
+    /// ```
+    pub fn as_rayon(&self) -> &rayon::ThreadPoolBuildError {
+        &self.0
+    }
+}
+
+impl From<rayon::ThreadPoolBuildError> for ThreadPoolError {
+    fn from(error: rayon::ThreadPoolBuildError) -> Self {
+        Self(Arc::new(error))
+    }
+}
+
+impl fmt::Display for ThreadPoolError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for ThreadPoolError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.0.source()
+    }
+}
+
+impl PartialEq for ThreadPoolError {
+    fn eq(&self, other: &Self) -> bool {
+        self.to_string() == other.to_string()
+    }
 }
 
 /// Checks a starting point: non-empty and finite.

@@ -45,7 +45,7 @@ pub mod multistart;
 pub mod nelder_mead;
 
 pub use bounds::Bounds;
-pub use error::OptError;
+pub use error::{OptError, ThreadPoolError};
 pub use levenberg_marquardt::{
     FiniteDifference, LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult,
     LmExit, ResidualFn, levenberg_marquardt,

@@ -241,7 +241,7 @@ fn pool(threads: usize, stack_size: Option<usize>) -> Result<rayon::ThreadPool, 
     }
     builder.build().map_err(|e| OptError::ThreadPool {
         threads,
-        message: e.to_string(),
+        source: e.into(),
     })
 }
 
@@ -307,17 +307,18 @@ mod tests {
     fn a_pool_whose_threads_cannot_be_spawned_is_a_thread_pool_error() {
         let err = pool(3, Some(1 << 60)).expect_err("a 2^60-byte stack cannot be mapped");
         match &err {
-            OptError::ThreadPool { threads, message } => {
+            OptError::ThreadPool { threads, source } => {
                 assert_eq!(*threads, 3);
-                assert!(!message.is_empty());
+                assert!(!source.to_string().is_empty());
+                let typed = std::error::Error::source(&err).map(ToString::to_string);
+                assert_eq!(typed, Some(source.as_rayon().to_string()));
+                assert_eq!(
+                    err.to_string(),
+                    format!("multistart: could not build a thread pool of 3 threads: {source}")
+                );
             }
             other => panic!("expected ThreadPool, got {other:?}"),
         }
-        assert!(
-            err.to_string()
-                .starts_with("multistart: could not build a thread pool of 3 threads: "),
-            "{err}"
-        );
         assert!(pool(3, None).is_ok());
     }
 

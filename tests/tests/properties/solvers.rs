@@ -7,7 +7,7 @@ use crate::{cases, wild_count, wild_f64};
 use msd_ident::{
     Backend, DataSet, EstimationOptions, Excitation, FixedParameters, FrequencyCheckOptions,
     IdentError, InitialState, Method, MultistartSettings, ParameterBounds, Parameters,
-    ResidualOptions,
+    ResidualOptions, SyntheticOptions,
 };
 use msd_ode::{ExactSimulator, Hold, LtiModel, Ode45Options, OdeError, SMatrix, SVector};
 use msd_opt::{
@@ -68,13 +68,13 @@ fn short_record() -> &'static DataSet {
         let exc = Excitation::from_signal(msd_signal::paper_validation_input(), 0.0, 0.002, 1001)
             .unwrap();
         msd_ident::synthetic_data(
-            "short",
             &Parameters::PAPER,
             exc,
-            InitialState::REST,
-            0.0025,
-            1,
-            "identification",
+            &SyntheticOptions {
+                name: "short".into(),
+                stream: "identification".into(),
+                ..SyntheticOptions::default()
+            },
         )
         .unwrap()
         .0

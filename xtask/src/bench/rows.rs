@@ -7,8 +7,9 @@ use super::simulate_once;
 use crate::{ExperimentError, Result, config::Config, pipeline, progress::Progress};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, InitialState,
-    ModelStructure, NonlinearOptions, PaperExperiment, Parameters, ResidualOptions, estimate,
-    estimate_nonlinear, frequency_check, residual_analysis, synthetic_data, validate_model,
+    ModelStructure, NonlinearOptions, PaperExperiment, Parameters, ResidualOptions,
+    SyntheticOptions, ValidationOptions, estimate, estimate_nonlinear, frequency_check,
+    residual_analysis, synthetic_data, validate_model,
 };
 use msd_mc::{McOptions, monte_carlo_band};
 use std::path::Path;
@@ -110,10 +111,11 @@ pub fn identification(budget: &Budget, experiment: &PaperExperiment) -> Result<V
         let v = validate_model(
             &e_paper.parameters,
             &experiment.validation,
-            InitialState::REST,
-            0.0,
-            &Backend::PAPER,
-            &residual,
+            &ValidationOptions {
+                backend: Backend::PAPER,
+                residuals: residual,
+                ..ValidationOptions::default()
+            },
         )?;
         let r = residual_analysis(&e_paper.residuals, data.excitation.samples(), &residual)?;
         let f = frequency_check(
@@ -166,7 +168,11 @@ pub fn nonlinear(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Ro
                 "{} simulations, {} iterations{}",
                 e.simulations,
                 e.iterations,
-                if e.converged { "" } else { ", NOT converged" }
+                if e.stop.converged() {
+                    ""
+                } else {
+                    ", NOT converged"
+                }
             )),
         );
     }
@@ -289,13 +295,9 @@ fn long_record(n: usize) -> Result<DataSet> {
     )
     .map_err(fail("bench: scaling data"))?;
     let (data, _) = synthetic_data(
-        "identification",
         &Parameters::PAPER,
         excitation,
-        InitialState::REST,
-        PaperExperiment::SIGMA,
-        1,
-        "identification",
+        &SyntheticOptions::named("identification"),
     )
     .map_err(fail("bench: scaling data"))?;
     Ok(data)

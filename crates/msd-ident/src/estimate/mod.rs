@@ -16,20 +16,31 @@ pub use options::{
     EstimationOptions, FixedParameters, Method, MultistartSettings, ParameterBounds,
 };
 
+use crate::local::Local;
 use crate::uncertainty::{Uncertainty, from_jacobian};
 use crate::{
-    Backend, DataSet, FitMetrics, IdentError, InitialState, Parameters, Result, arx_initial_guess,
+    Backend, DataSet, FitMetrics, IdentError, InitialState, Parameters, Result, StopReason,
+    arx_initial_guess,
 };
 use layout::Layout;
 use msd_ode::Hold;
-use msd_opt::{
-    Bounds, MultistartOptions, RankedCost, levenberg_marquardt, multistart, nelder_mead,
-};
+use msd_opt::{Bounds, MultistartOptions, levenberg_marquardt, multistart, nelder_mead};
 use problem::{Cost, Residuals, output_jacobian};
+use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 
 /// Where θ₀ came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+///
+/// Displays as "given" or "automatic (ARX)"; serializes as "given" or "automatic".
+///
+/// ```
+/// use msd_ident::GuessSource;
+/// assert_eq!(GuessSource::Automatic.to_string(), "automatic (ARX)");
+/// assert_eq!(serde_json::to_value(GuessSource::Given)?, "given");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum GuessSource {
     /// Given by the caller.
     Given,
@@ -37,8 +48,21 @@ pub enum GuessSource {
     Automatic,
 }
 
+impl std::fmt::Display for GuessSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            GuessSource::Given => "given",
+            GuessSource::Automatic => "automatic (ARX)",
+        })
+    }
+}
+
 /// The result of an estimation.
-#[derive(Debug, Clone)]
+///
+/// Serializes every field, the matrices of the uncertainty as lists of rows and the wall
+/// time as `wall_time_s` in seconds. Displays the method, why it stopped, m, c, k with
+/// their intervals, fn, ζ, the fit and the counts.
+#[derive(Debug, Clone, Serialize)]
 pub struct Estimate {
     /// θ̂.
     pub parameters: Parameters,
@@ -60,13 +84,14 @@ pub struct Estimate {
     pub evaluations: usize,
     /// Jacobian evaluations (Levenberg–Marquardt), each one sensitivity simulation.
     pub jacobian_evaluations: usize,
-    /// Why the optimiser stopped, in words.
-    pub exit: String,
-    /// Whether the optimiser met its convergence test.
-    pub converged: bool,
+    /// Why the optimiser stopped, and whether the estimate converged
+    /// ([`StopReason::converged`]: the optimiser met its test and a Gauss–Newton step
+    /// from the estimate stays within one standard error).
+    pub stop: StopReason,
     /// Starting points tried (1 without multistart).
     pub starts: usize,
-    /// Wall-clock time of the estimation.
+    /// Wall-clock time of the estimation (serialized as `wall_time_s`, in seconds).
+    #[serde(rename = "wall_time_s", serialize_with = "crate::ser::seconds")]
     pub wall_time: Duration,
     /// Fit on the estimation data.
     pub fit: FitMetrics,
@@ -86,14 +111,10 @@ impl std::fmt::Display for Estimate {
             "method {} on {}: {}",
             self.method.name(),
             self.backend.name(),
-            self.exit
+            self.stop
         )?;
         for (name, i) in [("m", &u.mass), ("c", &u.damping), ("k", &u.stiffness)] {
-            writeln!(
-                f,
-                "  {name} = {:.6} ± {:.2e}  (95 % CI {:.6} … {:.6})",
-                i.value, i.standard_error, i.ci95[0], i.ci95[1]
-            )?;
+            writeln!(f, "  {name} = {i}")?;
         }
         writeln!(
             f,
@@ -110,23 +131,6 @@ impl std::fmt::Display for Estimate {
             self.evaluations,
             self.wall_time.as_secs_f64() * 1e3
         )
-    }
-}
-
-/// One local optimisation's outcome.
-struct Local {
-    v: Vec<f64>,
-    cost: f64,
-    iterations: usize,
-    evaluations: usize,
-    jacobians: usize,
-    exit: String,
-    converged: bool,
-}
-
-impl RankedCost for Local {
-    fn ranked_cost(&self) -> f64 {
-        self.cost
     }
 }
 
@@ -197,15 +201,7 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
             Method::NelderMead => {
                 let mut cost = Cost::new(data, &layout, options.backend);
                 let r = nelder_mead(|v| cost.sse(v), start, &nm_options)?;
-                Ok(Local {
-                    converged: r.exit == msd_opt::NelderMeadExit::Converged,
-                    exit: r.exit.to_string(),
-                    v: r.x,
-                    cost: r.cost,
-                    iterations: r.iterations,
-                    evaluations: r.evaluations,
-                    jacobians: 0,
-                })
+                Ok(Local::nelder_mead(r))
             }
             Method::LevenbergMarquardt => {
                 let mut problem = Residuals {
@@ -216,15 +212,7 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
                 let mut lm = options.levenberg_marquardt.clone();
                 lm.bounds = log_bounds(options, &layout);
                 let r = levenberg_marquardt(&mut problem, start, &lm)?;
-                Ok(Local {
-                    converged: r.exit.is_success(),
-                    exit: r.exit.to_string(),
-                    v: r.x,
-                    cost: r.cost,
-                    iterations: r.iterations,
-                    evaluations: r.evaluations,
-                    jacobians: r.jacobian_evaluations,
-                })
+                Ok(Local::levenberg_marquardt(r))
             }
         }
     };
@@ -257,12 +245,12 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
             (best.result, total)
         }
     };
-    if !best.cost.is_finite() {
-        return Err(IdentError::EstimationFailed {
-            reason: format!("the cost is not finite at any point tried ({})", best.exit),
-        });
-    }
-    let (parameters, initial_state, offset) = layout.unpack(&best.v);
+    let stop = best
+        .finished()
+        .map_err(|why| IdentError::EstimationFailed {
+            reason: format!("the cost is not finite at any point tried ({why})"),
+        })?;
+    let (parameters, initial_state, offset) = layout.unpack(&best.x);
     parameters.validate()?;
 
     // Model output on the estimation backend, fit metrics, uncertainty.
@@ -294,15 +282,18 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
     )?;
     // Is it a minimum? A Gauss–Newton step from the estimate that moves some quantity by
     // more than one standard error means the optimiser stopped short.
-    let mut converged = best.converged;
+    let mut stop = stop;
     if let Some((name, ratio)) = gauss_newton_distance(&jacobian, &residuals, &uncertainty)
         && ratio > 1.0
     {
-        converged = false;
         notes.push(format!(
-            "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {}); try Levenberg–Marquardt, multistart or a better guess",
-            best.exit
+            "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {stop}); try Levenberg–Marquardt, multistart or a better guess"
         ));
+        stop = StopReason::StoppedShort {
+            exit: Box::new(stop),
+            quantity: name.to_string(),
+            standard_errors: ratio,
+        };
     }
     identifiability::check_mass(data, options, (&parameters, initial_state, offset))?;
     if options.fixed.mass.is_none() {
@@ -320,8 +311,7 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
         iterations: best.iterations,
         evaluations: best.evaluations,
         jacobian_evaluations: best.jacobians,
-        exit: best.exit,
-        converged,
+        stop,
         starts,
         wall_time: started.elapsed(),
         fit,

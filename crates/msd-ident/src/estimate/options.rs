@@ -18,6 +18,16 @@ pub enum Method {
     LevenbergMarquardt,
 }
 
+impl std::fmt::Display for Method {
+    /// "Nelder–Mead" or "Levenberg–Marquardt" ([`Method::name`] is the config's word).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Method::NelderMead => "Nelder–Mead",
+            Method::LevenbergMarquardt => "Levenberg–Marquardt",
+        })
+    }
+}
+
 impl Method {
     /// A short name for reports.
     pub fn name(&self) -> &'static str {
@@ -287,22 +297,8 @@ impl EstimationOptions {
                 }
             }
         }
-        for (name, v) in [
-            (
-                "initial_state.displacement",
-                self.initial_state.displacement,
-            ),
-            ("initial_state.velocity", self.initial_state.velocity),
-            ("offset", self.offset),
-        ] {
-            if !v.is_finite() {
-                return Err(IdentError::InvalidParameter {
-                    name,
-                    value: v,
-                    expected: "a finite number",
-                });
-            }
-        }
+        let state = self.initial_state.named();
+        crate::params::require_finite(state.into_iter().chain([("offset", self.offset)]))?;
         if self.fixed.as_array().iter().all(Option::is_some)
             && !self.estimate_initial_state
             && !self.estimate_offset

@@ -117,6 +117,19 @@ impl FrequencyCheckOptions {
 }
 
 /// The result of [`frequency_check`].
+///
+/// Displays the data's and the model's fn and ζ with the outcome, then the verdict.
+///
+/// ```
+/// use msd_ident::{frequency_check, FrequencyCheckOptions, PaperExperiment, Parameters};
+/// let experiment = PaperExperiment::generate(1)?;
+/// let check = frequency_check(&experiment.validation, &Parameters::PAPER, None, &FrequencyCheckOptions::default())?;
+/// assert!(check.to_string().starts_with("data fn = 1.10"), "{check}");
+/// let json = serde_json::to_value(&check).expect("serializable");
+/// assert_eq!(json["consistent"], true);
+/// assert_eq!(json["band_hz"].as_array().map(Vec::len), Some(2));
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FrequencyCheck {
     /// Frequencies of the arrays below (Hz), up to 3× the band's upper edge.
@@ -153,6 +166,25 @@ pub struct FrequencyCheck {
     pub consistent: bool,
     /// The verdict in words.
     pub verdict: String,
+}
+
+impl std::fmt::Display for FrequencyCheck {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "data fn = {:.4} Hz, ζ = {:.4}; model fn = {:.4} Hz, ζ = {:.4}: {}",
+            self.natural_frequency_hz,
+            self.damping_ratio,
+            self.model_natural_frequency_hz,
+            self.model_damping_ratio,
+            if self.consistent {
+                "consistent"
+            } else {
+                "inconsistent"
+            }
+        )?;
+        write!(f, "{}", self.verdict)
+    }
 }
 
 /// Compares the frequency response in `data` with that of `parameters`.

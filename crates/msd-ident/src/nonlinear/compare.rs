@@ -5,7 +5,7 @@ use super::estimate::{NonlinearEstimate, NonlinearOptions, estimate_nonlinear};
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, simulate_nonlinear};
 use crate::{
-    DataSet, FitMetrics, IdentError, InitialState, Interval, ResidualOptions, Result,
+    DataSet, FitMetrics, IdentError, InitialState, Interval, ResidualOptions, Result, StopReason,
     residual_analysis,
 };
 use msd_opt::{LevenbergMarquardtOptions, ResidualFn, levenberg_marquardt};
@@ -42,6 +42,9 @@ pub struct ComparisonOptions {
 }
 
 /// One candidate's scores.
+///
+/// Displays the model, its size, SSE, BIC (and ΔBIC), validation RMS and whether it
+/// converged, in one line.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ComparisonRow {
     /// The candidate.
@@ -80,10 +83,31 @@ pub struct ComparisonRow {
     pub validation_residuals: Vec<f64>,
     /// Index of the first scored validation sample.
     pub scored_from: usize,
-    /// Whether the estimator met its convergence test.
-    pub converged: bool,
+    /// Why the estimator stopped, and whether it met its convergence test
+    /// ([`StopReason::converged`]).
+    pub stop: StopReason,
     /// Simulations spent on the estimate.
     pub simulations: usize,
+}
+
+impl std::fmt::Display for ComparisonRow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: p = {}, SSE = {:.4e}, BIC = {:.1} (ΔBIC = {:.1}), validation RMS = {:.4e}, {}",
+            self.structure,
+            self.estimated,
+            self.sse,
+            self.bic,
+            self.delta_bic,
+            self.validation_rms,
+            if self.stop.converged() {
+                "converged"
+            } else {
+                "not converged"
+            }
+        )
+    }
 }
 
 /// The result of [`compare_models`]: rows ranked by BIC (best first) and a verdict.
@@ -100,12 +124,20 @@ pub struct Comparison {
 }
 
 /// A candidate left out of the ranking, and why.
+///
+/// Displays as `model: not ranked: reason`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CandidateFailure {
     /// The candidate.
     pub structure: ModelStructure,
     /// The error, in words.
     pub reason: String,
+}
+
+impl std::fmt::Display for CandidateFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: not ranked: {}", self.structure, self.reason)
+    }
 }
 
 impl Comparison {
@@ -283,14 +315,15 @@ fn predict(
 /// ```
 /// use msd_ident::{compare_models, synthetic_nonlinear_data, ComparisonOptions, DampingLaw,
 ///     Excitation, ModelStructure, NonlinearParameters, NonlinearSimulation, Parameters,
-///     StiffnessLaw};
+///     StiffnessLaw, SyntheticOptions};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
 /// let sim = NonlinearSimulation::default();
 /// let id = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let val = Excitation::from_signal(paper_validation_input(), 0.0, 0.004, 2001)?;
-/// let id = synthetic_nonlinear_data("id", &plant, id, &sim, 0.0025, 3, "id")?;
-/// let val = synthetic_nonlinear_data("val", &plant, val, &sim, 0.0025, 3, "val")?;
+/// let noise = |name| SyntheticOptions { seed: 3, ..SyntheticOptions::named(name) };
+/// let (id, _) = synthetic_nonlinear_data(&plant, id, &sim, &noise("id"))?;
+/// let (val, _) = synthetic_nonlinear_data(&plant, val, &sim, &noise("val"))?;
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let c = compare_models(&id, &val, &[ModelStructure::LINEAR, duffing], &ComparisonOptions::default())?;
 /// assert_eq!(c.best().structure, ModelStructure::LINEAR);
@@ -373,15 +406,16 @@ fn score(
 /// ```
 /// use msd_ident::{assess_estimate, estimate_nonlinear, synthetic_nonlinear_data,
 ///     ComparisonOptions, DampingLaw, Excitation, ModelStructure, NonlinearOptions,
-///     NonlinearParameters, NonlinearSimulation, StiffnessLaw};
+///     NonlinearParameters, NonlinearSimulation, StiffnessLaw, SyntheticOptions};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;
 /// let sim = NonlinearSimulation::default();
 /// let id = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let val = Excitation::from_signal(paper_validation_input(), 0.0, 0.004, 2001)?;
-/// let id = synthetic_nonlinear_data("id", &plant, id, &sim, 0.0025, 3, "id")?;
-/// let val = synthetic_nonlinear_data("val", &plant, val, &sim, 0.0025, 3, "val")?;
+/// let noise = |name| SyntheticOptions { seed: 3, ..SyntheticOptions::named(name) };
+/// let (id, _) = synthetic_nonlinear_data(&plant, id, &sim, &noise("id"))?;
+/// let (val, _) = synthetic_nonlinear_data(&plant, val, &sim, &noise("val"))?;
 /// let e = estimate_nonlinear(&id, duffing, &NonlinearOptions::default())?;
 /// let row = assess_estimate(&e, &val, &ComparisonOptions::default())?;
 /// assert_eq!(row.structure, duffing);
@@ -433,7 +467,7 @@ pub fn assess_estimate(
         validation_output: scored.output,
         validation_residuals: scored.residuals,
         scored_from: from,
-        converged: e.converged,
+        stop: e.stop.clone(),
         simulations: e.simulations,
         parameters: e.parameters.clone(),
     })

@@ -2,17 +2,17 @@
 
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, simulate_nonlinear};
+use crate::local::Local;
 use crate::{
     DataSet, EstimationOptions, FitMetrics, IdentError, InitialState, Interval, Parameters, Result,
-    estimate,
+    StopReason, estimate,
 };
 use msd_opt::{
     Bounds, FiniteDifference, LevenbergMarquardtOptions, MultistartOptions, NelderMeadOptions,
-    RankedCost, ResidualFn, levenberg_marquardt, multistart, nelder_mead,
+    ResidualFn, levenberg_marquardt, multistart, nelder_mead,
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ContinuousCDF, StudentsT};
 use std::time::{Duration, Instant};
 
 /// The optimiser of [`estimate_nonlinear`].
@@ -125,7 +125,11 @@ impl Default for NonlinearOptions {
 }
 
 /// The result of [`estimate_nonlinear`].
-#[derive(Debug, Clone)]
+///
+/// Serializes every field, the matrices as lists of rows and the wall time as
+/// `wall_time_s` in seconds. Displays the model, each parameter with its interval, the
+/// fit, the counts and why the estimator stopped.
+#[derive(Debug, Clone, Serialize)]
 pub struct NonlinearEstimate {
     /// θ̂.
     pub parameters: NonlinearParameters,
@@ -138,8 +142,10 @@ pub struct NonlinearEstimate {
     /// Covariance of the physical parameters (and initial state, last, when
     /// estimated): σ̂²·D(JᵀJ)⁻¹D with J the Jacobian in the scaled parameters and D
     /// the derivative of the physical by the scaled parameters.
+    #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub covariance: DMatrix<f64>,
     /// Correlation matrix of the estimated quantities (same order as `covariance`).
+    #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub correlation: DMatrix<f64>,
     /// Condition number of JᵀJ with its columns scaled to unit norm (unit-free; large
     /// values mean nearly collinear sensitivities, i.e. poorly separable terms).
@@ -170,11 +176,11 @@ pub struct NonlinearEstimate {
     pub iterations: usize,
     /// Simulations in total (all starts, finite differences and covariance included).
     pub simulations: usize,
-    /// Why the best run stopped.
-    pub exit: String,
-    /// Whether it met its convergence test.
-    pub converged: bool,
-    /// Wall-clock time.
+    /// Why the best run stopped, and whether it met its convergence test
+    /// ([`StopReason::converged`]).
+    pub stop: StopReason,
+    /// Wall-clock time (serialized as `wall_time_s`, in seconds).
+    #[serde(rename = "wall_time_s", serialize_with = "crate::ser::seconds")]
     pub wall_time: Duration,
 }
 
@@ -191,7 +197,7 @@ impl std::fmt::Display for NonlinearEstimate {
         writeln!(
             f,
             "  SSE = {:.6e}, σ̂ = {:.4e}, fit {:.2} %, {} simulations, {:.2?}, {}",
-            self.sse, self.sigma, self.fit.fit_percent, self.simulations, self.wall_time, self.exit
+            self.sse, self.sigma, self.fit.fit_percent, self.simulations, self.wall_time, self.stop
         )
     }
 }
@@ -326,22 +332,6 @@ fn residuals_at(
     }
 }
 
-/// One local run's outcome, rankable by multistart.
-struct Local {
-    z: Vec<f64>,
-    cost: f64,
-    iterations: usize,
-    simulations: usize,
-    exit: String,
-    converged: bool,
-}
-
-impl RankedCost for Local {
-    fn ranked_cost(&self) -> f64 {
-        self.cost
-    }
-}
-
 /// Estimates the parameters of `structure` on `data` by output error.
 ///
 /// ## The algorithm
@@ -358,12 +348,13 @@ impl RankedCost for Local {
 ///    σ̂² = SSE/(N − p) and Student-t 95 % intervals.
 ///
 /// ```
-/// use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, Excitation, InitialState,
-///     ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation, Parameters};
+/// use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, Excitation, ModelStructure,
+///     NonlinearOptions, NonlinearParameters, NonlinearSimulation, Parameters, SyntheticOptions};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
-/// let data = synthetic_nonlinear_data("id", &plant, input, &NonlinearSimulation::default(), 0.0025, 1, "id")?;
+/// let (data, _) = synthetic_nonlinear_data(&plant, input, &NonlinearSimulation::default(),
+///     &SyntheticOptions::named("id"))?;
 /// let e = estimate_nonlinear(&data, ModelStructure::LINEAR, &NonlinearOptions::default())?;
 /// assert!(e.intervals[2].value > 100.0 && e.intervals[2].value < 140.0);
 /// # Ok::<(), msd_ident::IdentError>(())
@@ -437,14 +428,7 @@ pub fn estimate_nonlinear(
                     residuals_at(&scaling, data, &sim, smoothing, z, out)
                 });
                 let r = levenberg_marquardt(&mut problem, z_start, &lm_options)?;
-                Ok(Local {
-                    z: r.x,
-                    cost: r.cost,
-                    iterations: r.iterations,
-                    simulations: r.evaluations + r.finite_difference_evaluations,
-                    exit: r.exit.to_string(),
-                    converged: r.exit.is_success(),
-                })
+                Ok(Local::levenberg_marquardt(r))
             }
             NonlinearMethod::NelderMead => {
                 let mut buffer = vec![0.0; n];
@@ -462,12 +446,8 @@ pub fn estimate_nonlinear(
                     &options.nelder_mead,
                 )?;
                 Ok(Local {
-                    z: r.x,
-                    cost: r.cost,
-                    iterations: r.iterations,
-                    simulations: count,
-                    exit: format!("{:?}", r.exit),
-                    converged: r.exit.exitflag() == 1,
+                    evaluations: count,
+                    ..Local::nelder_mead(r)
                 })
             }
         }
@@ -476,7 +456,7 @@ pub fn estimate_nonlinear(
     let (best, starts, mut simulations) = match &options.multistart {
         None => {
             let r = local(&z0)?;
-            let s = r.simulations;
+            let s = r.simulations();
             (r, 1, s)
         }
         Some(ms) => {
@@ -502,20 +482,14 @@ pub fn estimate_nonlinear(
                 ..MultistartOptions::default()
             };
             // A start that cannot even be simulated ranks last instead of failing all.
-            let tolerant = |z: &[f64]| {
-                Ok(local(z).unwrap_or_else(|e| Local {
-                    z: z.to_vec(),
-                    cost: f64::INFINITY,
-                    iterations: 0,
-                    simulations: 0,
-                    exit: format!("the local run failed: {e}"),
-                    converged: false,
-                }))
-            };
+            let tolerant = |z: &[f64]| Ok(local(z).unwrap_or_else(|e| Local::failed(z, e)));
             let mut results = multistart(&bounds, &design, tolerant)?;
             let nominal = local(&z0)?;
-            let total: usize =
-                results.iter().map(|r| r.result.simulations).sum::<usize>() + nominal.simulations;
+            let total: usize = results
+                .iter()
+                .map(|r| r.result.simulations())
+                .sum::<usize>()
+                + nominal.simulations();
             let count = results.len() + 1;
             let first = results.remove(0).result;
             let best = if nominal.cost <= first.cost {
@@ -526,18 +500,15 @@ pub fn estimate_nonlinear(
             (best, count, total)
         }
     };
-    if !best.cost.is_finite() {
-        return Err(IdentError::EstimationFailed {
-            reason: format!(
-                "{}: no start reached a finite cost ({})",
-                structure, best.exit
-            ),
-        });
-    }
+    let stop = best
+        .finished()
+        .map_err(|why| IdentError::EstimationFailed {
+            reason: format!("{structure}: no start reached a finite cost ({why})"),
+        })?;
 
     // Model output, residuals and the central-difference Jacobian at ẑ.
     let mut r0 = vec![0.0; n];
-    if !residuals_at(&scaling, data, &sim, smoothing, &best.z, &mut r0) {
+    if !residuals_at(&scaling, data, &sim, smoothing, &best.x, &mut r0) {
         return Err(IdentError::EstimationFailed {
             reason: format!("{structure}: the model cannot be simulated at the optimum"),
         });
@@ -550,11 +521,11 @@ pub fn estimate_nonlinear(
         .finite_difference_step
         .unwrap_or(1e-4);
     for j in 0..p {
-        let h = step * best.z[j].abs().max(1.0);
-        let mut z = best.z.clone();
-        z[j] = best.z[j] + h;
+        let h = step * best.x[j].abs().max(1.0);
+        let mut z = best.x.clone();
+        z[j] = best.x[j] + h;
         let ok_plus = residuals_at(&scaling, data, &sim, smoothing, &z, &mut plus);
-        z[j] = best.z[j] - h;
+        z[j] = best.x[j] - h;
         let ok_minus = residuals_at(&scaling, data, &sim, smoothing, &z, &mut minus);
         simulations += 2;
         let names = structure.parameter_names();
@@ -601,25 +572,15 @@ pub fn estimate_nonlinear(
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
     let condition_number = if low > 0.0 { high / low } else { f64::INFINITY };
-    let d = scaling.derivative(&best.z);
+    let d = scaling.derivative(&best.x);
     let covariance = DMatrix::from_fn(p, p, |r, c| sigma2 * d[r] * inverse[(r, c)] * d[c]);
     let correlation = DMatrix::from_fn(p, p, |r, c| {
         covariance[(r, c)] / (covariance[(r, r)] * covariance[(c, c)]).sqrt()
     });
-    let t = StudentsT::new(0.0, 1.0, dof as f64)
-        .map_err(|e| IdentError::EstimationFailed {
-            reason: format!("Student's t with {dof} degrees of freedom: {e}"),
-        })?
-        .inverse_cdf(0.975);
-    let (parameters, initial_state) = scaling.physical(&best.z);
-    let interval = |i: usize, value: f64| {
-        let se = covariance[(i, i)].max(0.0).sqrt();
-        Interval {
-            value,
-            standard_error: se,
-            ci95: [value - t * se, value + t * se],
-        }
-    };
+    let t = crate::uncertainty::t_975(dof);
+    let (parameters, initial_state) = scaling.physical(&best.x);
+    let interval =
+        |i: usize, value: f64| Interval::new(value, covariance[(i, i)].max(0.0).sqrt(), t);
     let np = structure.parameter_count();
     let intervals: Vec<Interval> = (0..np).map(|i| interval(i, parameters.values[i])).collect();
     let initial_state_intervals = options.estimate_initial_state.then(|| {
@@ -651,36 +612,40 @@ pub fn estimate_nonlinear(
         starts,
         iterations: best.iterations,
         simulations,
-        exit: best.exit,
-        converged: best.converged,
+        stop,
         wall_time: started.elapsed(),
     })
 }
 
 /// Noisy synthetic data from a nonlinear plant: its ode45 response to `excitation` from
-/// rest plus white Gaussian noise σ from the named stream of `seed` (as
-/// [`synthetic_data`](crate::synthetic_data)). The Coulomb smoothing velocity is
+/// `options.initial_state` plus the noise of `options` (see
+/// [`SyntheticOptions`](crate::SyntheticOptions)). The Coulomb smoothing velocity is
 /// resolved from `simulation` on this excitation.
+///
+/// Returns the noisy data set and the noise-free response, as
+/// [`synthetic_data`](crate::synthetic_data).
+///
+/// ```
+/// use msd_ident::{synthetic_nonlinear_data, Excitation, ModelStructure, NonlinearParameters,
+///     NonlinearSimulation, Parameters, SyntheticOptions};
+/// use msd_signal::paper_identification_input;
+/// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 501)?;
+/// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
+/// let options = SyntheticOptions { sigma: 0.0, ..SyntheticOptions::named("id") };
+/// let (data, truth) = synthetic_nonlinear_data(&plant, input, &NonlinearSimulation::default(), &options)?;
+/// assert_eq!((data.name.as_str(), data.len()), ("id", 501));
+/// assert_eq!(data.output, truth); // σ = 0
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 pub fn synthetic_nonlinear_data(
-    name: &str,
     plant: &NonlinearParameters,
     excitation: crate::Excitation,
     simulation: &NonlinearSimulation,
-    sigma: f64,
-    seed: u64,
-    stream: &str,
-) -> Result<DataSet> {
-    let smoothing =
-        simulation.resolve_smoothing_velocity(plant, &excitation, InitialState::REST)?;
-    let (mut y, _) = simulate_nonlinear(
-        plant,
-        &excitation,
-        InitialState::REST,
-        simulation,
-        smoothing,
-    )?;
-    if sigma > 0.0 {
-        msd_signal::NoiseStream::new(seed, stream, sigma)?.add_to(&mut y);
-    }
-    DataSet::new(name, excitation, y)
+    options: &crate::SyntheticOptions,
+) -> Result<(DataSet, Vec<f64>)> {
+    options.validate()?;
+    let initial = options.initial_state;
+    let smoothing = simulation.resolve_smoothing_velocity(plant, &excitation, initial)?;
+    let (truth, _) = simulate_nonlinear(plant, &excitation, initial, simulation, smoothing)?;
+    Ok((options.data_set(excitation, truth.clone())?, truth))
 }

@@ -60,12 +60,13 @@
 //! ```
 //! use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, DampingLaw, Excitation,
 //!     ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation,
-//!     StiffnessLaw};
+//!     StiffnessLaw, SyntheticOptions};
 //! use msd_signal::paper_identification_input;
 //! let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 //! let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;
 //! let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
-//! let data = synthetic_nonlinear_data("id", &plant, input, &NonlinearSimulation::default(), 0.0025, 5, "id")?;
+//! let noise = SyntheticOptions { seed: 5, ..SyntheticOptions::named("id") };
+//! let (data, _) = synthetic_nonlinear_data(&plant, input, &NonlinearSimulation::default(), &noise)?;
 //! let e = estimate_nonlinear(&data, duffing, &NonlinearOptions::default())?;
 //! let k3 = e.intervals[3];
 //! assert!((k3.value - 3000.0).abs() < 4.0 * k3.standard_error);

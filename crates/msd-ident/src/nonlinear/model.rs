@@ -171,16 +171,8 @@ impl NonlinearParameters {
             });
         }
         self.linear_part().validate()?;
-        for (name, &value) in self.names().iter().zip(&self.values).skip(3) {
-            if !value.is_finite() {
-                return Err(IdentError::InvalidParameter {
-                    name,
-                    value,
-                    expected: "a finite number",
-                });
-            }
-        }
-        Ok(())
+        let names = self.names().into_iter().zip(self.values.iter().copied());
+        crate::params::require_finite(names.skip(3))
     }
 
     /// The parameter names.

@@ -165,3 +165,36 @@ fn display_names_the_run() {
     assert!(text.contains("percentiles: 5, 50, 95 %"));
     assert!(text.contains("coverage: "));
 }
+
+/// A band serializes whole: its percentile curves as (level, values) pairs, its
+/// summaries, its settings and its memory plan.
+#[test]
+fn a_band_serializes_its_curves_summaries_and_settings() -> Result<(), Box<dyn std::error::Error>> {
+    let (experiment, fit) = paper();
+    let validation = &experiment.validation;
+    let options = exact(20);
+    let band = monte_carlo_band(
+        &fit.parameters,
+        &validation.excitation,
+        Some(&validation.output),
+        &options,
+    )?;
+    let json = serde_json::to_value(&band)?;
+    assert_eq!(json["samples"], 20);
+    assert_eq!(
+        json["percentiles"][0][0],
+        serde_json::json!(options.percentiles[0])
+    );
+    assert_eq!(
+        json["percentiles"][0][1].as_array().map(Vec::len),
+        Some(validation.len())
+    );
+    assert_eq!(
+        json["natural_frequency_hz"]["mean"],
+        serde_json::json!(band.natural_frequency_hz.mean)
+    );
+    assert_eq!(json["backend"]["kind"], "exact");
+    assert_eq!(json["memory"]["points"], validation.len());
+    assert_eq!(serde_json::from_value::<Band>(json)?, band);
+    Ok(())
+}
