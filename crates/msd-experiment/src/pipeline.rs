@@ -37,7 +37,7 @@ pub struct Outcome {
     pub validation: ValidationOutcome,
     /// ode45 statistics (accepted steps, rejected steps, right-hand-side evaluations) of
     /// one simulation of the identification record at θ̂, for the ode45 backend.
-    pub estimation_solver: Option<[usize; 3]>,
+    pub estimation_solver: Option<msd_ode::Stats>,
     /// Residual diagnostics of the identification residuals.
     pub residuals: Option<msd_ident::ResidualAnalysis>,
     /// Frequency-domain consistency check on the record `[frequency_check] data` names
@@ -78,7 +78,7 @@ pub struct ValidationOutcome {
     pub truth_fit: Option<FitMetrics>,
     /// ode45 statistics of the prediction (accepted steps, rejected steps, right-hand-side
     /// evaluations), for the ode45 backend.
-    pub solver: Option<[usize; 3]>,
+    pub solver: Option<msd_ode::Stats>,
 }
 
 /// The Monte Carlo band on the validation record.
@@ -352,12 +352,11 @@ fn ode45_stats(
     excitation: &msd_ident::Excitation,
     initial: InitialState,
     backend: &Backend,
-) -> Option<[usize; 3]> {
+) -> Option<msd_ode::Stats> {
     let mut out = vec![0.0; excitation.len()];
     simulate_into(parameters, excitation, initial, backend, &mut out)
         .ok()
         .flatten()
-        .map(|s| [s.accepted_steps, s.rejected_steps, s.rhs_evaluations])
 }
 
 fn residual_options(config: &Config) -> ResidualOptions {

@@ -262,13 +262,15 @@ pub fn markdown(
         sig(e.cost, 5),
         sig(u.condition_number, 3)
     );
-    if let Some([a, r, n]) = o.estimation_solver {
+    if let Some(s) = o.estimation_solver {
+        let (a, r, n) = (s.accepted_steps, s.rejected_steps, s.rhs_evaluations);
         let _ = write!(
             w,
             "ode45 at θ̂ on the identification record: {a} accepted and {r} rejected steps, {n} right-hand-side evaluations"
         );
         match o.validation.solver {
-            Some([a, r, n]) => {
+            Some(s) => {
+                let (a, r, n) = (s.accepted_steps, s.rejected_steps, s.rhs_evaluations);
                 let _ = writeln!(w, "; on the validation record: {a}, {r} and {n}.\n");
             }
             None => {

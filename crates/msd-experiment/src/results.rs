@@ -5,43 +5,160 @@
 //! the thread count, apart from `timings_ms` (wall times) and the recorded thread
 //! counts (`experiment.threads`, `monte_carlo.threads`). Keys are sorted.
 
-use crate::config::Kind;
+use crate::config::{Config, Kind};
 use crate::pipeline::Outcome;
-use msd_ident::{Interval, Parameters};
+use msd_ident::{
+    Backend, FitMetrics, FrequencyCheck, InitialState, Interval, Parameters, ResidualAnalysis,
+};
+use msd_ode::Stats;
+use serde::Serialize;
 use serde_json::{Map, Value, json};
+use std::collections::BTreeMap;
 use std::time::Duration;
 
 /// The version of the toolkit that wrote a results file.
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
-fn interval(i: &Interval) -> Value {
-    json!({
-        "value": i.value,
-        "standard_error": i.standard_error,
-        "ci95": [i.ci95[0], i.ci95[1]],
-    })
-}
-
-fn parameters(p: &Parameters) -> Value {
-    json!({
-        "mass": p.mass,
-        "damping": p.damping,
-        "stiffness": p.stiffness,
-        "natural_frequency_hz": p.natural_frequency_hz(),
-        "damping_ratio": p.damping_ratio(),
-    })
-}
-
-fn stats([accepted, rejected, evaluations]: [usize; 3]) -> Value {
-    json!({
-        "accepted_steps": accepted,
-        "rejected_steps": rejected,
-        "rhs_evaluations": evaluations,
-    })
-}
-
 fn ms(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e6).round() / 1e3
+}
+
+/// The whole document: the library's result types where they are the answer
+/// (intervals, fits, states, residual tests, the frequency check), named sections
+/// around them. Optional sections are absent, not null, when a stage did not run.
+#[derive(Serialize)]
+struct Results<'a> {
+    experiment: Experiment<'a>,
+    config: &'a Config,
+    data: Value,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<Truth>,
+    estimate: EstimateSection<'a>,
+    identification: FitSection<'a>,
+    validation: ValidationSection<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    residuals: Option<&'a ResidualAnalysis>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    frequency_check: Option<FrequencySection<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    monte_carlo: Option<MonteCarloSection>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nonlinear: Option<Value>,
+    timings_ms: BTreeMap<String, f64>,
+}
+
+#[derive(Serialize)]
+struct Experiment<'a> {
+    name: &'a str,
+    description: &'a str,
+    kind: &'static str,
+    config_file: String,
+    seed: u64,
+    threads: usize,
+    crate_version: &'static str,
+    #[serde(rename = "crate")]
+    toolkit: &'static str,
+}
+
+/// The true plant and how far the estimate is from it, in its own standard errors.
+#[derive(Serialize)]
+struct Truth {
+    #[serde(flatten)]
+    parameters: Parameters,
+    natural_frequency_hz: f64,
+    damping_ratio: f64,
+    error_in_standard_errors: BTreeMap<&'static str, f64>,
+}
+
+#[derive(Serialize)]
+struct EstimateSection<'a> {
+    mass: Interval,
+    damping: Interval,
+    stiffness: Interval,
+    natural_frequency_hz: Interval,
+    damping_ratio: Interval,
+    method: &'static str,
+    backend: &'static str,
+    backend_settings: Backend,
+    initial_guess: Guess,
+    initial_state: InitialState,
+    offset: f64,
+    iterations: usize,
+    evaluations: usize,
+    jacobian_evaluations: usize,
+    starts: usize,
+    /// The optimiser's own words; `converged` also asks for a minimum (see StopReason).
+    exit: String,
+    converged: bool,
+    cost: f64,
+    noise_sigma: f64,
+    degrees_of_freedom: usize,
+    condition_number: f64,
+    correlation: Correlation<'a>,
+    warnings: &'a [String],
+    ode45_at_estimate: Option<Stats>,
+}
+
+#[derive(Serialize)]
+struct Guess {
+    #[serde(flatten)]
+    parameters: Parameters,
+    source: String,
+}
+
+#[derive(Serialize)]
+struct Correlation<'a> {
+    names: &'a [&'static str],
+    matrix: Vec<Vec<f64>>,
+}
+
+/// A fit's scores and, for synthetic data, the R² of the noise-free response.
+#[derive(Serialize)]
+struct FitSection<'a> {
+    #[serde(flatten)]
+    fit: &'a FitMetrics,
+    r2_of_true_response: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct ValidationSection<'a> {
+    #[serde(flatten)]
+    fit: FitSection<'a>,
+    scored_from_sample: usize,
+    backend: &'static str,
+    initial_state: InitialState,
+    residuals: Option<&'a ResidualAnalysis>,
+    ode45: Option<Stats>,
+}
+
+/// The check's scalars (the curves go to frf.csv), or why it was skipped: one shape.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum FrequencySection<'a> {
+    Measured {
+        #[serde(flatten)]
+        check: Value,
+        skipped: bool,
+        points: usize,
+    },
+    Skipped {
+        skipped: bool,
+        reason: &'a str,
+    },
+}
+
+#[derive(Serialize)]
+struct MonteCarloSection {
+    samples: usize,
+    failed_samples: usize,
+    threads: usize,
+    spread: f64,
+    percentiles: [f64; 2],
+    backend: &'static str,
+    coverage: f64,
+    coverage_of_true_response: Option<f64>,
+    mean_band_width: f64,
+    max_band_width: f64,
 }
 
 /// The JSON document of `outcome`; `extra_timings` are the writing stages (figures,
@@ -52,176 +169,174 @@ pub fn to_json(
     total: Duration,
 ) -> Value {
     let o = outcome;
+    let mut timings: BTreeMap<String, f64> = o
+        .timings
+        .iter()
+        .chain(extra_timings)
+        .map(|(name, d)| ((*name).to_string(), ms(*d)))
+        .collect();
+    timings.insert("total".into(), ms(total));
+    let document = Results {
+        experiment: experiment(o),
+        config: &o.config,
+        data: data_json(o),
+        truth: o.data.truth.map(|t| truth(&t, &o.estimate.uncertainty)),
+        estimate: estimate(o),
+        identification: FitSection {
+            fit: &o.estimate.fit,
+            r2_of_true_response: true_r2(
+                &o.data.identification_truth,
+                &o.data.identification.output,
+            ),
+        },
+        validation: validation(o),
+        residuals: o.residuals.as_ref(),
+        frequency_check: frequency(o),
+        monte_carlo: o.monte_carlo.as_ref().map(monte_carlo),
+        nonlinear: o.nonlinear.as_ref().map(nonlinear_json),
+        timings_ms: timings,
+    };
+    serde_json::to_value(document).unwrap_or(Value::Null)
+}
+
+fn experiment(o: &Outcome) -> Experiment<'_> {
+    Experiment {
+        name: &o.config.name,
+        description: &o.config.description,
+        kind: match o.data.kind {
+            Kind::Synthetic => "synthetic",
+            Kind::Measured => "measured",
+        },
+        config_file: o
+            .config_path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        seed: o.seed,
+        threads: o.threads,
+        crate_version: CRATE_VERSION,
+        toolkit: "msd-experiment (msd-toolkit)",
+    }
+}
+
+fn truth(plant: &Parameters, u: &msd_ident::Uncertainty) -> Truth {
+    let z = |est: &Interval, true_value: f64| {
+        if est.standard_error > 0.0 {
+            (est.value - true_value) / est.standard_error
+        } else {
+            0.0
+        }
+    };
+    Truth {
+        parameters: *plant,
+        natural_frequency_hz: plant.natural_frequency_hz(),
+        damping_ratio: plant.damping_ratio(),
+        error_in_standard_errors: BTreeMap::from([
+            ("mass", z(&u.mass, plant.mass)),
+            ("damping", z(&u.damping, plant.damping)),
+            ("stiffness", z(&u.stiffness, plant.stiffness)),
+        ]),
+    }
+}
+
+fn estimate(o: &Outcome) -> EstimateSection<'_> {
     let e = &o.estimate;
     let u = &e.uncertainty;
-    let config_file = o
-        .config_path
-        .file_name()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let mut root = Map::new();
-    root.insert(
-        "experiment".into(),
-        json!({
-            "name": o.config.name,
-            "description": o.config.description,
-            "kind": match o.data.kind { Kind::Synthetic => "synthetic", Kind::Measured => "measured" },
-            "config_file": config_file,
-            "seed": o.seed,
-            "threads": o.threads,
-            "crate_version": CRATE_VERSION,
-            "crate": "msd-experiment (msd-toolkit)",
-        }),
-    );
-    root.insert(
-        "config".into(),
-        serde_json::to_value(&o.config).unwrap_or(Value::Null),
-    );
-    root.insert("data".into(), data_json(o));
-    if let Some(truth) = &o.data.truth {
-        let mut t = parameters(truth);
-        // How far the estimate is from the truth, in its own standard errors.
-        let z = |est: &Interval, true_value: f64| {
-            if est.standard_error > 0.0 {
-                (est.value - true_value) / est.standard_error
-            } else {
-                0.0
-            }
-        };
-        t["error_in_standard_errors"] = json!({
-            "mass": z(&u.mass, truth.mass),
-            "damping": z(&u.damping, truth.damping),
-            "stiffness": z(&u.stiffness, truth.stiffness),
-        });
-        root.insert("truth".into(), t);
+    let c = &u.correlation;
+    EstimateSection {
+        mass: u.mass,
+        damping: u.damping,
+        stiffness: u.stiffness,
+        natural_frequency_hz: u.natural_frequency_hz,
+        damping_ratio: u.damping_ratio,
+        method: e.method.name(),
+        backend: e.backend.name(),
+        backend_settings: e.backend,
+        initial_guess: Guess {
+            parameters: e.initial_guess.0,
+            source: e.initial_guess.1.to_string(),
+        },
+        initial_state: e.initial_state,
+        offset: e.offset,
+        iterations: e.iterations,
+        evaluations: e.evaluations,
+        jacobian_evaluations: e.jacobian_evaluations,
+        starts: e.starts,
+        exit: e.stop.optimiser_reason().to_string(),
+        converged: e.stop.converged(),
+        cost: e.cost,
+        noise_sigma: u.sigma,
+        degrees_of_freedom: u.degrees_of_freedom,
+        condition_number: u.condition_number,
+        correlation: Correlation {
+            names: &u.names,
+            matrix: (0..c.nrows())
+                .map(|r| (0..c.ncols()).map(|k| c[(r, k)]).collect())
+                .collect(),
+        },
+        warnings: &u.warnings,
+        ode45_at_estimate: o.estimation_solver,
     }
-    let correlation: Vec<Vec<f64>> = (0..u.correlation.nrows())
-        .map(|r| {
-            (0..u.correlation.ncols())
-                .map(|c| u.correlation[(r, c)])
-                .collect()
-        })
-        .collect();
-    root.insert(
-        "estimate".into(),
-        json!({
-            "mass": interval(&u.mass),
-            "damping": interval(&u.damping),
-            "stiffness": interval(&u.stiffness),
-            "natural_frequency_hz": interval(&u.natural_frequency_hz),
-            "damping_ratio": interval(&u.damping_ratio),
-            "method": e.method.name(),
-            "backend": e.backend.name(),
-            "backend_settings": serde_json::to_value(e.backend).unwrap_or(Value::Null),
-            "initial_guess": {
-                "mass": e.initial_guess.0.mass,
-                "damping": e.initial_guess.0.damping,
-                "stiffness": e.initial_guess.0.stiffness,
-                "source": e.initial_guess.1.to_string(),
-            },
-            "initial_state": { "displacement": e.initial_state.displacement, "velocity": e.initial_state.velocity },
-            "offset": e.offset,
-            "iterations": e.iterations,
-            "evaluations": e.evaluations,
-            "jacobian_evaluations": e.jacobian_evaluations,
-            "starts": e.starts,
-            // The optimiser's own words; `converged` also asks for a minimum (see StopReason).
-            "exit": e.stop.optimiser_reason().to_string(),
-            "converged": e.stop.converged(),
-            "cost": e.cost,
-            "noise_sigma": u.sigma,
-            "degrees_of_freedom": u.degrees_of_freedom,
-            "condition_number": u.condition_number,
-            "correlation": { "names": u.names, "matrix": correlation },
-            "warnings": u.warnings,
-            "ode45_at_estimate": o.estimation_solver.map(stats),
-        }),
-    );
-    let truth_r2 = |truth: &Option<Vec<f64>>, measured: &[f64]| {
-        truth
-            .as_ref()
-            .map(|t| msd_ident::FitMetrics::new(measured, t).r_squared)
-    };
-    root.insert(
-        "identification".into(),
-        json!({
-            "r2": e.fit.r_squared,
-            "fit_percent": e.fit.fit_percent,
-            "residual_rms": e.fit.residual_rms,
-            "sse": e.fit.sse,
-            "samples": e.fit.samples,
-            "r2_of_true_response": truth_r2(&o.data.identification_truth, &o.data.identification.output),
-        }),
-    );
+}
+
+fn true_r2(truth: &Option<Vec<f64>>, measured: &[f64]) -> Option<f64> {
+    truth
+        .as_ref()
+        .map(|t| FitMetrics::new(measured, t).r_squared)
+}
+
+fn validation(o: &Outcome) -> ValidationSection<'_> {
     let v = &o.validation;
-    root.insert(
-        "validation".into(),
-        json!({
-            "r2": v.fit.r_squared,
-            "fit_percent": v.fit.fit_percent,
-            "residual_rms": v.fit.residual_rms,
-            "sse": v.fit.sse,
-            "samples": v.fit.samples,
-            "scored_from_sample": v.scored_from,
-            "backend": v.backend.name(),
-            "initial_state": { "displacement": v.initial_state.displacement, "velocity": v.initial_state.velocity },
-            "r2_of_true_response": v.truth_fit.map(|f| f.r_squared),
-            "residuals": v.residual_analysis.as_ref().map(residuals_json),
-            "ode45": v.solver.map(stats),
-        }),
-    );
-    if let Some(r) = &o.residuals {
-        root.insert("residuals".into(), residuals_json(r));
+    ValidationSection {
+        fit: FitSection {
+            fit: &v.fit,
+            r2_of_true_response: v.truth_fit.map(|f| f.r_squared),
+        },
+        scored_from_sample: v.scored_from,
+        backend: v.backend.name(),
+        initial_state: v.initial_state,
+        residuals: v.residual_analysis.as_ref(),
+        ode45: v.solver,
     }
-    if let Some(f) = &o.frequency {
-        root.insert("frequency_check".into(), frequency_json(f));
-    }
+}
+
+fn frequency(o: &Outcome) -> Option<FrequencySection<'_>> {
     if let Some(reason) = &o.frequency_skipped {
-        root.insert(
-            "frequency_check".into(),
-            json!({ "skipped": true, "reason": reason }),
-        );
+        return Some(FrequencySection::Skipped {
+            skipped: true,
+            reason,
+        });
     }
-    if let Some(mc) = &o.monte_carlo {
-        let width: f64 = mc
-            .upper
-            .iter()
-            .zip(&mc.lower)
-            .map(|(h, l)| h - l)
-            .sum::<f64>()
-            / mc.upper.len().max(1) as f64;
-        let max_width = mc
-            .upper
-            .iter()
-            .zip(&mc.lower)
-            .map(|(h, l)| h - l)
-            .fold(0.0f64, f64::max);
-        root.insert(
-            "monte_carlo".into(),
-            json!({
-                "samples": mc.samples,
-                "failed_samples": mc.failed_samples,
-                "threads": mc.threads,
-                "spread": mc.spread,
-                "percentiles": mc.percentiles,
-                "backend": mc.backend.name(),
-                "coverage": mc.coverage,
-                "coverage_of_true_response": mc.truth_coverage,
-                "mean_band_width": width,
-                "max_band_width": max_width,
-            }),
-        );
+    o.frequency.as_ref().map(|f: &FrequencyCheck| {
+        let mut check = serde_json::to_value(f).unwrap_or(Value::Null);
+        if let Value::Object(map) = &mut check {
+            // The curves go to frf.csv; keep the scalars here.
+            map.retain(|_, value| {
+                !value.is_array() || value.as_array().is_some_and(|a| a.len() <= 2)
+            });
+        }
+        FrequencySection::Measured {
+            check,
+            skipped: false,
+            points: f.frequency_hz.len(),
+        }
+    })
+}
+
+fn monte_carlo(mc: &crate::pipeline::MonteCarloOutcome) -> MonteCarloSection {
+    let widths = || mc.upper.iter().zip(&mc.lower).map(|(h, l)| h - l);
+    MonteCarloSection {
+        samples: mc.samples,
+        failed_samples: mc.failed_samples,
+        threads: mc.threads,
+        spread: mc.spread,
+        percentiles: mc.percentiles,
+        backend: mc.backend.name(),
+        coverage: mc.coverage,
+        coverage_of_true_response: mc.truth_coverage,
+        mean_band_width: widths().sum::<f64>() / mc.upper.len().max(1) as f64,
+        max_band_width: widths().fold(0.0f64, f64::max),
     }
-    if let Some(n) = &o.nonlinear {
-        root.insert("nonlinear".into(), nonlinear_json(n));
-    }
-    let mut timings = Map::new();
-    for (name, d) in o.timings.iter().chain(extra_timings) {
-        timings.insert((*name).to_string(), json!(ms(*d)));
-    }
-    timings.insert("total".into(), json!(ms(total)));
-    root.insert("timings_ms".into(), Value::Object(timings));
-    Value::Object(root)
 }
 
 fn data_json(o: &Outcome) -> Value {
@@ -262,22 +377,6 @@ fn data_json(o: &Outcome) -> Value {
     })
 }
 
-fn residuals_json(r: &msd_ident::ResidualAnalysis) -> Value {
-    serde_json::to_value(r).unwrap_or(Value::Null)
-}
-
-fn frequency_json(f: &msd_ident::FrequencyCheck) -> Value {
-    let mut v = serde_json::to_value(f).unwrap_or(Value::Null);
-    if let Value::Object(map) = &mut v {
-        // One shape whether measured or skipped (then {"skipped": true, "reason": …}).
-        map.insert("skipped".into(), json!(false));
-        // The curves go to frf.csv; keep the scalars here.
-        map.retain(|_, value| !value.is_array() || value.as_array().is_some_and(|a| a.len() <= 2));
-        map.insert("points".into(), json!(f.frequency_hz.len()));
-    }
-    v
-}
-
 /// The `nonlinear` object: the candidates ranked by BIC (rank 1 first), each with its
 /// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores
 /// and residual tests; the verdict, failures and, for synthetic data, the true plant.
@@ -292,7 +391,7 @@ fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
                 .names
                 .iter()
                 .zip(&r.intervals)
-                .map(|(name, iv)| (name.clone(), interval(iv)))
+                .map(|(name, iv)| (name.clone(), json!(iv)))
                 .collect();
             json!({
                 "rank": i + 1,

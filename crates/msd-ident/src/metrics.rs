@@ -18,6 +18,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FitMetrics {
     /// Coefficient of determination R² = 1 − SSE/SST, SST about the measurement's mean.
+    /// Serialized as `r2` (the toolkit's results.json key).
+    #[serde(rename = "r2", alias = "r_squared")]
     pub r_squared: f64,
     /// MATLAB's `compare` fit: 100·(1 − ‖y − ŷ‖/‖y − ȳ‖), in percent.
     pub fit_percent: f64,

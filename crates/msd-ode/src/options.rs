@@ -108,7 +108,7 @@ impl Ode45Options {
 }
 
 /// Cost of a solution, as MATLAB's `ode45` reports it (`nsteps`, `nfailed`, `nfevals`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Stats {
     /// Right-hand-side evaluations (one initial, then six per attempted step).
     pub rhs_evaluations: usize,
