@@ -115,10 +115,8 @@ pub fn text(
     if let Some(r) = &o.residuals {
         let _ = writeln!(
             s,
-            "  residuals      Ljung–Box Q = {:.1} ({} dof), p = {:.3}: {}; {}",
-            r.ljung_box.q,
-            r.ljung_box.degrees_of_freedom,
-            r.ljung_box.p_value,
+            "  residuals      {}: {}; {}",
+            r.ljung_box,
             if r.whiteness_passed {
                 "white"
             } else {

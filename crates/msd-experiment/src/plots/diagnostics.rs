@@ -115,10 +115,8 @@ impl Figure for Correlation<'_> {
         stems(
             &top,
             &format!(
-                "Autocorrelation of the residuals: Ljung–Box Q = {:.1} ({} dof), p = {:.3} → {}",
-                a.ljung_box.q,
-                a.ljung_box.degrees_of_freedom,
-                a.ljung_box.p_value,
+                "Autocorrelation of the residuals: {} → {}",
+                a.ljung_box,
                 if a.whiteness_passed {
                     "white"
                 } else {
