@@ -281,6 +281,39 @@ fn a_table_written_as_an_array_is_refused() {
     );
 }
 
+/// Limits that are config values are refused as config errors, naming the key, the value
+/// and the largest accepted; the thread limit is one for the key and `--threads`.
+#[test]
+fn config_values_beyond_a_limit_name_the_limit() {
+    let case = Case::new();
+    let largest = msd_mc::McOptions::default().max_samples();
+    let c = case.file(
+        "c.toml",
+        &paper_with("samples = 1000 ", "samples = 1000000000 "),
+    );
+    case.refuses(
+        &c,
+        &[
+            "c.toml:144: monte_carlo.samples = 1000000000",
+            &format!("expected at most {largest} draws"),
+        ],
+    );
+    let c = case.file(
+        "t.toml",
+        &paper_with(
+            "threads = 2                 # rayon",
+            "threads = 10000             # rayon",
+        ),
+    );
+    case.refuses(
+        &c,
+        &[
+            "monte_carlo.threads = 10000",
+            &format!("expected at most {}", msd_mc::MAX_THREADS),
+        ],
+    );
+}
+
 #[test]
 fn missing_config_file() {
     let case = Case::new();

@@ -70,7 +70,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
     /// Worker threads of the Monte Carlo (and multistart), instead of the config's.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=1024))]
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=msd_mc::MAX_THREADS as u64))]
     pub threads: Option<u64>,
     /// Print nothing but the summary (no progress).
     #[arg(long, short)]

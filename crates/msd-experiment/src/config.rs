@@ -355,7 +355,15 @@ impl MonteCarloSection {
         use msd_mc::McError::*;
         let (key, value) = match error {
             ZeroSamples => ("samples", self.samples.to_string()),
-            ZeroThreads => ("threads", self.threads.to_string()),
+            ZeroThreads | TooManyThreads { .. } => ("threads", self.threads.to_string()),
+            BudgetTooSmall { .. } => {
+                let largest = self.options().max_samples();
+                let message = format!(
+                    " = {}: expected at most {largest} draws (the band's memory budget: {error})",
+                    self.samples
+                );
+                return ("monte_carlo.samples".into(), message);
+            }
             InvalidPercent { .. } => ("spread", self.spread.to_string()),
             PercentileOutOfRange { .. } | UnorderedPercentiles { .. } => {
                 let [low, high] = self.percentiles;

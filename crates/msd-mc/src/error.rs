@@ -63,6 +63,14 @@ pub enum McError {
         /// Its value (negative or not finite), or the asymmetry.
         value: f64,
     },
+    /// More worker threads than [`crate::MAX_THREADS`].
+    #[error("the number of threads is {threads}: expected at most {max}")]
+    TooManyThreads {
+        /// The threads asked for.
+        threads: usize,
+        /// The limit.
+        max: usize,
+    },
     /// The memory budget cannot hold the two chunk buffers of one time column each.
     #[error(
         "memory budget {budget} bytes is below two time columns of {samples} samples ({needed} bytes)"

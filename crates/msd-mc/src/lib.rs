@@ -54,7 +54,7 @@ pub use band::{Band, monte_carlo_band, monte_carlo_band_with_progress};
 pub use draw::{MAX_REDRAWS, sample_rng};
 pub use engine::MemoryPlan;
 pub use error::{McError, Result, SampleFailure};
-pub use options::{McOptions, Sampling};
+pub use options::{MAX_THREADS, McOptions, Sampling};
 pub use quantile::Summary;
 pub use sobol::{
     Distribution, SobolIndex, SobolOptions, SobolQuantity, SobolResult, sobol_indices,

@@ -131,7 +131,25 @@ impl Default for McOptions {
     }
 }
 
+/// The most worker threads a band accepts (the same limit as the command line's
+/// `--threads`): far beyond any machine's cores, low enough that a typo cannot start
+/// thousands of threads.
+pub const MAX_THREADS: usize = 1024;
+
 impl McOptions {
+    /// The largest N whose two time columns fit in `max_buffer_bytes`.
+    ///
+    /// ```
+    /// let options = msd_mc::McOptions::default();
+    /// let largest = options.max_samples();
+    /// assert!(largest >= 1000);
+    /// assert!(msd_mc::McOptions { samples: largest, ..options.clone() }.validate().is_ok());
+    /// assert!(msd_mc::McOptions { samples: largest + 1, ..options }.validate().is_err());
+    /// ```
+    pub fn max_samples(&self) -> usize {
+        self.max_buffer_bytes / crate::engine::GROUP_COLUMN_BYTES * crate::engine::GROUP
+    }
+
     /// Checks every field and names the first violated range.
     pub fn validate(&self) -> Result<()> {
         if self.samples == 0 {
@@ -139,6 +157,12 @@ impl McOptions {
         }
         if self.threads == 0 {
             return Err(McError::ZeroThreads);
+        }
+        if self.threads > MAX_THREADS {
+            return Err(McError::TooManyThreads {
+                threads: self.threads,
+                max: MAX_THREADS,
+            });
         }
         self.sampling.validate()?;
         validate_percentiles(&self.percentiles)?;
