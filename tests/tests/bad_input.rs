@@ -314,6 +314,24 @@ fn config_values_beyond_a_limit_name_the_limit() {
     );
 }
 
+/// A value whose square overflows is refused where it is read, with its line and
+/// column, instead of surfacing as "the input does not excite the system".
+#[test]
+fn a_huge_value_is_refused_at_its_line() {
+    let case = Case::new();
+    case.file("d.csv", &csv_with(57, "0.57,1.0,1e300"));
+    let c = case.file("c.toml", &measured_config("d.csv", "displacement", ""));
+    case.refuses(
+        &c,
+        &[
+            "d.csv",
+            "line 59, output column `displacement`",
+            "1e300 is too large",
+            "1e100",
+        ],
+    );
+}
+
 #[test]
 fn missing_config_file() {
     let case = Case::new();

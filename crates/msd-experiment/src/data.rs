@@ -410,6 +410,14 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
                     ),
                 ));
             }
+            if scaled.abs() > LARGEST_VALUE {
+                return Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "line {line}, {role} column {column}: {scaled:e} is too large to compute with (sums of its square overflow): expected |value| <= {LARGEST_VALUE:e}; check the column and its scale"
+                    ),
+                ));
+            }
             match *role {
                 "input" => input.push(scaled),
                 "output" => output.push(scaled),
@@ -479,6 +487,12 @@ fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) 
         None => format!("malformed CSV: {e}"),
     }
 }
+
+/// The largest magnitude a data value may have: the sums of squares that every fit and
+/// test computes stay finite (1e100² · 1e8 samples = 1e208 < f64::MAX ≈ 1.8e308). No
+/// measurement in any unit comes near it; a value beyond it is a corrupt cell or a wrong
+/// scale, refused where it is read rather than misdiagnosed later.
+pub const LARGEST_VALUE: f64 = 1e100;
 
 fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
     let cell = cell.trim().trim_matches('"');
