@@ -510,3 +510,22 @@ fn a_run_stopped_early_is_stopped_short_with_the_optimisers_reason_inside() {
         fit.uncertainty.warnings
     );
 }
+
+/// Noise-free data (σ = 0): Levenberg–Marquardt lands on the truth to rounding, and the
+/// estimate is converged without a "stopped short" warning (the Gauss–Newton check no
+/// longer compares rounding-sized steps with rounding-sized standard errors).
+#[test]
+fn noise_free_data_give_a_converged_exact_estimate() {
+    let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501).unwrap();
+    let options = SyntheticOptions {
+        sigma: 0.0,
+        ..SyntheticOptions::named("noise-free")
+    };
+    let (data, _) = synthetic_data(&TRUTH, input, &options).unwrap();
+    let fit = estimate(&data, &EstimationOptions::fast()).expect("an estimate");
+    assert!(fit.stop.converged(), "{}", fit.stop);
+    assert!(fit.uncertainty.warnings.is_empty(), "{:?}", fit.uncertainty.warnings);
+    for (got, want) in fit.parameters.to_array().into_iter().zip(TRUTH.to_array()) {
+        assert!((got / want - 1.0).abs() < 1e-9, "{got} vs {want}");
+    }
+}

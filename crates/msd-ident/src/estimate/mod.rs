@@ -401,10 +401,14 @@ fn gauss_newton_distance(
         .tr_mul(jacobian)
         .cholesky()?
         .solve(&jacobian.tr_mul(&r));
+    // A step below the optimisers' resolution (1e-8 relative, about √ε: MINPACK's and
+    // fminsearch's scale) says nothing: on noise-free data the standard errors are
+    // rounding-sized too, and their ratio is noise.
     (0..step.len())
         .filter_map(|i| {
             let se = uncertainty.covariance[(i, i)].sqrt();
-            (se > 0.0).then(|| (uncertainty.names[i], step[i].abs() / se))
+            let resolved = step[i].abs() > 1e-8 * uncertainty.values[i].abs();
+            (se > 0.0 && resolved).then(|| (uncertainty.names[i], step[i].abs() / se))
         })
         .max_by(|a, b| a.1.total_cmp(&b.1))
 }
