@@ -524,8 +524,39 @@ fn noise_free_data_give_a_converged_exact_estimate() {
     let (data, _) = synthetic_data(&TRUTH, input, &options).unwrap();
     let fit = estimate(&data, &EstimationOptions::fast()).expect("an estimate");
     assert!(fit.stop.converged(), "{}", fit.stop);
-    assert!(fit.uncertainty.warnings.is_empty(), "{:?}", fit.uncertainty.warnings);
+    assert!(
+        fit.uncertainty.warnings.is_empty(),
+        "{:?}",
+        fit.uncertainty.warnings
+    );
     for (got, want) in fit.parameters.to_array().into_iter().zip(TRUTH.to_array()) {
         assert!((got / want - 1.0).abs() < 1e-9, "{got} vs {want}");
     }
+}
+
+/// k bounded to [150, 300] while the true k is 120: the estimate sits at the bound, and
+/// the warning says so (and that its interval does not hold there) instead of calling it
+/// an optimiser that stopped short.
+#[test]
+fn a_parameter_held_at_its_bound_is_named_as_such() {
+    let experiment = PaperExperiment::generate(1).expect("data");
+    let mut options = EstimationOptions::fast();
+    options.bounds.stiffness = Some([150.0, 300.0]);
+    let fit = estimate(&experiment.identification, &options).expect("an estimate");
+    assert!(
+        (fit.parameters.stiffness - 150.0).abs() < 1e-3,
+        "{}",
+        fit.parameters.stiffness
+    );
+    let warnings = &fit.uncertainty.warnings;
+    assert!(
+        warnings.iter().any(|w| w.contains("stiffness")
+            && w.contains("sits at its lower bound")
+            && w.contains("interval does not hold")),
+        "{warnings:?}"
+    );
+    assert!(
+        warnings.iter().all(|w| !w.contains("try Levenberg")),
+        "{warnings:?}"
+    );
 }

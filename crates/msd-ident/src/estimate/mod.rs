@@ -282,9 +282,15 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
     )?;
     // Is it a minimum? A Gauss–Newton step from the estimate that moves some quantity by
     // more than one standard error means the optimiser stopped short.
+    // A parameter held at a bound is not at a minimum of the data's cost either, but
+    // that is the bound's doing: say so instead.
     let mut stop = stop;
+    let at_bounds = bound_notes(&parameters, &options.bounds);
+    let at_a_bound = !at_bounds.is_empty();
+    notes.extend(at_bounds);
     if let Some((name, ratio)) = gauss_newton_distance(&jacobian, &residuals, &uncertainty)
         && ratio > 1.0
+        && !at_a_bound
     {
         notes.push(format!(
             "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {stop}); try Levenberg–Marquardt, multistart or a better guess"
@@ -391,6 +397,28 @@ fn multistart_box(
 
 /// The Gauss–Newton step δ = (JᵀJ)⁻¹Jᵀr from the estimate, as the largest |δᵢ|/σᵢ over
 /// the estimated quantities with its name; `None` if it cannot be formed.
+/// A note for each parameter the optimiser left at one of its bounds (within 1e-6
+/// relative): the estimate there is the bound, and its interval does not hold.
+fn bound_notes(theta: &Parameters, bounds: &ParameterBounds) -> Vec<String> {
+    let names = ["mass", "damping", "stiffness"];
+    let values = theta.to_array();
+    let mut notes = Vec::new();
+    for ((name, value), bound) in names.iter().zip(values).zip(bounds.as_array()) {
+        let Some([low, high]) = bound else { continue };
+        let side = if (value - low).abs() <= 1e-6 * low {
+            "lower"
+        } else if (value - high).abs() <= 1e-6 * high {
+            "upper"
+        } else {
+            continue;
+        };
+        notes.push(format!(
+            "{name} = {value:.6e} sits at its {side} bound (bounds.{name} = [{low}, {high}]): the data's optimum lies beyond it, so the estimate is the bound and its 95 % interval does not hold there; widen or drop the bound"
+        ));
+    }
+    notes
+}
+
 fn gauss_newton_distance(
     jacobian: &nalgebra::DMatrix<f64>,
     residuals: &[f64],
