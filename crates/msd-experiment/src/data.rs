@@ -30,6 +30,9 @@ pub struct ExperimentData {
     pub truth: Option<Parameters>,
     /// Leading validation samples that only settle the initial state (not scored).
     pub validation_initial_samples: usize,
+    /// What the user should know about the records (e.g. a validation part that
+    /// overlaps the estimation part). Empty when all is well.
+    pub notes: Vec<String>,
     /// Where the data came from, for the report.
     pub source: Source,
 }
@@ -59,6 +62,7 @@ impl ExperimentData {
             validation_truth: None,
             truth: None,
             validation_initial_samples: 0,
+            notes: Vec::new(),
             source: Source::InMemory,
         }
     }
@@ -141,6 +145,7 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
         validation_truth: Some(val_truth),
         truth: Some(truth),
         validation_initial_samples: 0,
+        notes: Vec::new(),
         source: Source::Synthetic { sigma: noise.sigma },
     })
 }
@@ -238,6 +243,7 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
         validation_truth: None,
         truth: None,
         validation_initial_samples: initial,
+        notes: overlap_note(est, val).into_iter().collect(),
         source: Source::Measured {
             path,
             rows,
@@ -245,6 +251,22 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
             estimation_range: est,
             validation_range: val,
         },
+    })
+}
+
+/// A note when the validation samples `[a, b)` overlap the estimation samples: the
+/// validation then scores data the model was fitted to, and says less than it seems.
+fn overlap_note(est: [usize; 2], val: [usize; 2]) -> Option<String> {
+    let shared = val[1].min(est[1]).saturating_sub(val[0].max(est[0]));
+    (shared > 0).then(|| {
+        format!(
+            "the validation samples {}..{} share {shared} samples ({:.0} %) with the estimation samples {}..{}: the validation scores data the model was fitted to and says less than it seems; give data.validation a part of its own",
+            val[0],
+            val[1],
+            100.0 * shared as f64 / (val[1] - val[0]) as f64,
+            est[0],
+            est[1]
+        )
     })
 }
 

@@ -123,7 +123,7 @@ pub fn markdown(
             mc.coverage * 100.0
         ));
     }
-    for warning in &u.warnings {
+    for warning in u.warnings.iter().chain(&o.data.notes) {
         verdicts.push(format!("Warning: {warning}."));
     }
     let _ = writeln!(w, "{}\n", verdicts.join(" "));

@@ -374,6 +374,7 @@ fn data_json(o: &Outcome) -> Value {
         "source": source,
         "identification": set(&o.data.identification),
         "validation": set(&o.data.validation),
+        "notes": o.data.notes,
     })
 }
 

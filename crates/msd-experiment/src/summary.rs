@@ -86,6 +86,9 @@ pub fn text(
         "  ωn = {} rad/s",
         sig(e.parameters.natural_frequency(), 5)
     );
+    for warning in u.warnings.iter().chain(&o.data.notes) {
+        let _ = writeln!(s, "  warning        {warning}");
+    }
     let _ = writeln!(s);
     let _ = writeln!(
         s,

@@ -95,6 +95,12 @@ fn in_memory_records_give_the_numbers_of_the_same_record_read_from_csv() {
 
     assert_eq!(written.results["data"]["source"]["kind"], "in_memory");
     assert_eq!(from_file.results["data"]["source"]["kind"], "measured");
+    // Without data.validation the validation part is the estimation part: said, once.
+    let notes = from_file.results["data"]["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    let note = notes[0].as_str().unwrap();
+    assert!(note.contains("share 7501 samples (100 %)"), "{note}");
+    assert!(from_file.summary.contains(&format!("warning        {note}")));
     let m = &written.results["estimate"]["mass"];
     assert!(m["value"].as_f64().is_some(), "{m}");
     for ((key, a), (_, b)) in stages(&written.results)
