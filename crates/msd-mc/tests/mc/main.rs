@@ -1,5 +1,6 @@
 //! Integration tests of msd-mc: bands, determinism, errors, Sobol, the paper experiment.
 
+mod all_samples_failed;
 mod band;
 mod errors;
 mod paper;

@@ -1,5 +1,6 @@
 //! Integration tests of msd-opt: one test binary, one module per topic.
 
+mod faults;
 mod levenberg_marquardt;
 mod mgh;
 mod multistart;

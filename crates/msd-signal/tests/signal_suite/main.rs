@@ -1,6 +1,7 @@
 //! The crate's one integration-test binary.
 
 mod errors;
+mod limits;
 mod multisine_prbs;
 mod noise;
 mod preprocess;

@@ -100,7 +100,11 @@ fn in_memory_records_give_the_numbers_of_the_same_record_read_from_csv() {
     assert_eq!(notes.len(), 1, "{notes:?}");
     let note = notes[0].as_str().unwrap();
     assert!(note.contains("share 7501 samples (100 %)"), "{note}");
-    assert!(from_file.summary.contains(&format!("warning        {note}")));
+    assert!(
+        from_file
+            .summary
+            .contains(&format!("warning        {note}"))
+    );
     let m = &written.results["estimate"]["mass"];
     assert!(m["value"].as_f64().is_some(), "{m}");
     for ((key, a), (_, b)) in stages(&written.results)

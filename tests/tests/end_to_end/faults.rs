@@ -309,7 +309,7 @@ fn a_killed_run_leaves_only_hidden_leftovers_that_the_next_run_removes() {
     let case = Case::new();
     case.previous_result();
     let status = std::process::Command::new(std::env::current_exe().unwrap())
-        .args(["killed_run_child", "--exact", "--test-threads=1"])
+        .args(["faults::killed_run_child", "--exact", "--test-threads=1"])
         .env("MSD_TESTS_KILL_INTO", case.out())
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())

@@ -3,14 +3,24 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::OnceLock;
 
-/// `msd` copied into `dir/bin/`, as `cargo install` would put it on the PATH.
-fn installed(dir: &Path) -> PathBuf {
-    let bin = dir.join("bin");
-    std::fs::create_dir_all(&bin).unwrap();
-    let exe = bin.join(Path::new(env!("CARGO_BIN_EXE_msd")).file_name().unwrap());
-    std::fs::copy(env!("CARGO_BIN_EXE_msd"), &exe).unwrap();
-    exe
+/// `msd` copied once into a `bin/` folder of its own, as `cargo install` would put it on
+/// the PATH. Once: copying while another test thread forks would leave the copy's write
+/// handle in that child, and running the copy would then fail with "text file busy".
+fn installed() -> PathBuf {
+    static INSTALLED: OnceLock<PathBuf> = OnceLock::new();
+    INSTALLED
+        .get_or_init(|| {
+            let bin = Path::new(env!("CARGO_TARGET_TMPDIR"))
+                .join("installed")
+                .join("bin");
+            std::fs::create_dir_all(&bin).unwrap();
+            let exe = bin.join(Path::new(env!("CARGO_BIN_EXE_msd")).file_name().unwrap());
+            std::fs::copy(env!("CARGO_BIN_EXE_msd"), &exe).unwrap();
+            exe
+        })
+        .clone()
 }
 
 fn msd(exe: &Path, args: &[&str], cwd: &Path) -> Output {
@@ -38,7 +48,7 @@ fn stable(mut v: serde_json::Value) -> serde_json::Value {
 #[test]
 fn installed_msd_runs_the_paper_outside_the_workspace_as_the_library_does() {
     let dir = tempfile::tempdir().unwrap();
-    let exe = installed(dir.path());
+    let exe = installed();
     let lab = dir.path().join("lab");
     std::fs::create_dir_all(&lab).unwrap();
     std::fs::copy(workspace_config("paper.toml"), lab.join("paper.toml")).unwrap();
@@ -86,7 +96,7 @@ fn installed_msd_runs_the_paper_outside_the_workspace_as_the_library_does() {
 #[test]
 fn help_names_the_run_command_and_bad_input_exits_2_writing_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let exe = installed(dir.path());
+    let exe = installed();
     let help = msd(&exe, &["--help"], dir.path());
     assert!(help.status.success());
     assert!(String::from_utf8_lossy(&help.stdout).contains("msd run"));

@@ -1,0 +1,8 @@
+//! End-to-end tests of the toolkit (one test binary; the property tests are another,
+//! `cargo test -p msd-tests --test properties`).
+
+mod bad_input;
+mod determinism;
+mod experiment;
+mod faults;
+mod nonlinear_experiment;
