@@ -13,7 +13,7 @@
 
 use super::Cost;
 use super::layout::Layout;
-use crate::{Backend, DataSet, EstimationOptions, FixedParameters, IdentError, InitialState};
+use crate::{Backend, DataSet, EstimationOptions, IdentError, InitialState};
 use crate::{Method, Parameters, Result};
 
 /// The factors the probes divide the mass by.
@@ -21,79 +21,171 @@ const PROBES: [f64; 2] = [1e2, 1e4];
 /// χ²₁ at 0.95: the likelihood-ratio threshold of a 95 % interval.
 const CHI2_1_95: f64 = 3.841_458_820_694_124;
 
-/// Refuses the estimate when fixing m at m̂/100 explains the data as well (see the
-/// module doc). Skipped when the mass is fixed or bounded by the caller (then it is
-/// known), and when the probe fit itself fails (no evidence either way).
-pub(super) fn check_mass(
+/// χ²₁ at 0.90 and 0.99: a Wald endpoint whose Λ lies between them sits between the
+/// 90 % and 99 % likelihood intervals, close enough to the 95 % one to be trusted.
+const CHI2_1_90: f64 = 2.705_543_454_095_404;
+const CHI2_1_99: f64 = 6.634_896_601_021_214;
+/// Relative standard error below which the linearised intervals are not probed: the
+/// cost's curvature changes by a few per cent over ±2 standard errors there.
+const PROBE_RELATIVE_SE: f64 = 0.02;
+
+/// An estimate (θ̂, initial state, offset).
+type At<'a> = (&'a Parameters, InitialState, f64);
+
+/// The exact simulator's cost at the estimate and σ̂² = S/(n − p): the reference of
+/// every Λ (the backend's own error does not enter it).
+struct Reference {
+    sse: f64,
+    sigma2: f64,
+}
+
+fn exact(options: &EstimationOptions) -> Backend {
+    match options.backend {
+        Backend::Exact { hold } => Backend::Exact { hold },
+        Backend::Ode45 { .. } => Backend::Exact {
+            hold: msd_ode::Hold::Cubic,
+        },
+    }
+}
+
+fn reference(data: &DataSet, options: &EstimationOptions, at: At<'_>) -> Option<Reference> {
+    let (theta, initial_state, offset) = at;
+    let layout = Layout::new(options, false);
+    let sse =
+        Cost::new(data, &layout, exact(options)).sse(&layout.pack(theta, initial_state, offset));
+    let dof = data.len().saturating_sub(layout.len()).max(1);
+    let sigma2 = sse / dof as f64;
+    (sse.is_finite() && sigma2 > 0.0).then_some(Reference { sse, sigma2 })
+}
+
+/// Λ = (S(θ_i = value) − S(θ̂)) / σ̂² with parameter `which` (0 m, 1 c, 2 k) fixed at
+/// `value` and the rest refitted by Levenberg–Marquardt on the exact simulator; `None`
+/// when that fit fails (no evidence either way).
+fn profile(
     data: &DataSet,
     options: &EstimationOptions,
-    estimate: (&Parameters, InitialState, f64),
-) -> Result<()> {
-    let (theta, initial_state, offset) = estimate;
+    at: At<'_>,
+    which: usize,
+    value: f64,
+    reference: &Reference,
+) -> Option<f64> {
+    let (theta, initial_state, offset) = at;
+    let mut start = *theta;
+    let mut fixed = options.fixed;
+    match which {
+        0 => {
+            // The same damping ratio: c scales with √m at fixed k.
+            start.damping *= (value / theta.mass).sqrt();
+            start.mass = value;
+            fixed.mass = Some(value);
+        }
+        1 => {
+            start.damping = value;
+            fixed.damping = Some(value);
+        }
+        _ => {
+            start.stiffness = value;
+            fixed.stiffness = Some(value);
+        }
+    }
+    let probe = EstimationOptions {
+        method: Method::LevenbergMarquardt,
+        backend: exact(options),
+        initial_guess: Some(start),
+        fixed,
+        initial_state,
+        offset,
+        multistart: None,
+        ..options.clone()
+    };
+    let refit = super::fit(data, &probe, super::Checks::None).ok()?;
+    Some((refit.cost - reference.sse) / reference.sigma2)
+}
+
+/// Refuses the estimate when fixing m at m̂/100 (or m̂/10⁴) explains the data as well
+/// (see the module doc). Skipped when the mass is fixed or bounded by the caller (then
+/// it is known).
+pub(super) fn check_mass(data: &DataSet, options: &EstimationOptions, at: At<'_>) -> Result<()> {
+    let theta = at.0;
     if options.fixed.mass.is_some() || options.bounds.mass.is_some() {
         return Ok(());
     }
-    let hold = match options.backend {
-        Backend::Exact { hold } => hold,
-        Backend::Ode45 { .. } => msd_ode::Hold::Cubic,
-    };
-    // Both costs on the exact simulator, so the backend's own error does not enter Λ.
-    let exact = Backend::Exact { hold };
-    let layout = Layout::new(options, false);
-    let sse = Cost::new(data, &layout, exact).sse(&layout.pack(theta, initial_state, offset));
-    let dof = data.len().saturating_sub(layout.len()).max(1);
-    let sigma2 = sse / dof as f64;
-    if !(sse.is_finite() && sigma2 > 0.0) {
+    let Some(reference) = reference(data, options, at) else {
         return Ok(());
-    }
+    };
     for factor in PROBES {
         let light = theta.mass / factor;
-        let statistic = probe(data, options, estimate, light, sse, sigma2);
-        if statistic.is_some_and(|s| s < CHI2_1_95) {
+        let statistic = profile(data, options, at, 0, light, &reference);
+        if let Some(statistic) = statistic.filter(|s| *s < CHI2_1_95) {
             return Err(IdentError::NotIdentifiable {
-                reason: refusal(data, theta, light, statistic.unwrap_or_default()),
+                reason: refusal(data, theta, light, statistic),
             });
         }
     }
     Ok(())
 }
 
-/// Λ of the fit with m fixed at `light` and the rest refitted (`None` when that fit
-/// fails).
-fn probe(
+/// Refuses intervals that do not hold: when some free parameter's relative standard
+/// error exceeds 2 %, the cost is probed at each end of its linearised 95 % interval
+/// (that parameter fixed there, the rest refitted). For a model linear in its
+/// parameters Λ there is t²₀.₉₇₅ ≈ 3.84; an end whose Λ falls outside [2.71, 6.63]
+/// (χ²₁ at 90 % and 99 %), or that leaves the physical range (m or k ≤ 0), means the
+/// cost is too curved at this noise level for the interval to mean what it says, and
+/// the estimate is refused as not identifiable at this noise level.
+pub(super) fn check_intervals(
     data: &DataSet,
     options: &EstimationOptions,
-    estimate: (&Parameters, InitialState, f64),
-    light: f64,
-    sse: f64,
-    sigma2: f64,
-) -> Option<f64> {
-    let (theta, initial_state, offset) = estimate;
-    let hold = match options.backend {
-        Backend::Exact { hold } => hold,
-        Backend::Ode45 { .. } => msd_ode::Hold::Cubic,
+    at: At<'_>,
+    uncertainty: &crate::Uncertainty,
+) -> Result<()> {
+    let intervals = [uncertainty.mass, uncertainty.damping, uncertainty.stiffness];
+    let fixed = options.fixed.as_array();
+    let bounded = options.bounds.as_array();
+    let names = ["m", "c", "k"];
+    let probed = (0..3).filter(|&i| {
+        let iv = intervals[i];
+        fixed[i].is_none()
+            && bounded[i].is_none()
+            && iv.standard_error > PROBE_RELATIVE_SE * iv.value.abs()
+    });
+    let probed: Vec<usize> = probed.collect();
+    if probed.is_empty() {
+        return Ok(());
+    }
+    let Some(reference) = reference(data, options, at) else {
+        return Ok(());
     };
-    let exact = Backend::Exact { hold };
-    let probe = EstimationOptions {
-        method: Method::LevenbergMarquardt,
-        backend: exact,
-        // The same damping ratio: c scales with √m at fixed k.
-        initial_guess: Some(Parameters {
-            mass: light,
-            damping: theta.damping * (light / theta.mass).sqrt(),
-            stiffness: theta.stiffness,
-        }),
-        fixed: FixedParameters {
-            mass: Some(light),
-            ..options.fixed
-        },
-        initial_state,
-        offset,
-        multistart: None,
-        ..options.clone()
+    for i in probed {
+        let [low, high] = intervals[i].ci95;
+        for (end, value) in [("lower", low), ("upper", high)] {
+            if value <= 0.0 {
+                if i == 1 {
+                    continue; // c = 0 is a plant (undamped), not an impossibility
+                }
+                return Err(low_snr(names[i], intervals[i].ci95, end, None));
+            }
+            let statistic = profile(data, options, at, i, value, &reference);
+            if let Some(s) = statistic.filter(|s| !(CHI2_1_90..=CHI2_1_99).contains(s)) {
+                return Err(low_snr(names[i], intervals[i].ci95, end, Some(s)));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn low_snr(name: &str, ci95: [f64; 2], end: &str, statistic: Option<f64>) -> IdentError {
+    let why = match statistic {
+        Some(s) => format!(
+            "the cost at its {end} end rises by Λ = {s:.2}, where an interval that holds gives 2.71–6.63 (χ²₁ at 90–99 %)"
+        ),
+        None => format!("its {end} end is not physical"),
     };
-    let refit = super::estimate(data, &probe).ok()?;
-    Some((refit.cost - sse) / sigma2)
+    IdentError::NotIdentifiable {
+        reason: format!(
+            "m, c and k are not identifiable at this noise level: the linearised 95 % interval of {name}, [{:.4e}, {:.4e}], does not hold ({why}). Record longer, excite harder or measure with less noise; the estimate is not reported because its intervals would mislead",
+            ci95[0], ci95[1]
+        ),
+    }
 }
 
 fn refusal(data: &DataSet, theta: &Parameters, light: f64, statistic: f64) -> String {

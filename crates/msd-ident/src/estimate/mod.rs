@@ -151,6 +151,18 @@ impl std::fmt::Display for Estimate {
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate> {
+    fit(data, options, Checks::All)
+}
+
+/// Whether [`fit`] runs the likelihood-ratio checks of [`identifiability`] (the probes
+/// that those checks fit themselves run without them).
+#[derive(Clone, Copy, PartialEq)]
+enum Checks {
+    All,
+    None,
+}
+
+fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Estimate> {
     options.validate()?;
     let started = Instant::now();
     let (guess, source) = match options.initial_guess {
@@ -301,9 +313,13 @@ pub fn estimate(data: &DataSet, options: &EstimationOptions) -> Result<Estimate>
             standard_errors: ratio,
         };
     }
-    identifiability::check_mass(data, options, (&parameters, initial_state, offset))?;
-    if options.fixed.mass.is_none() {
-        notes.extend(identifiability::band_warning(data, &parameters));
+    if checks == Checks::All {
+        let at = (&parameters, initial_state, offset);
+        identifiability::check_mass(data, options, at)?;
+        identifiability::check_intervals(data, options, at, &uncertainty)?;
+        if options.fixed.mass.is_none() {
+            notes.extend(identifiability::band_warning(data, &parameters));
+        }
     }
     uncertainty.warnings.extend(notes);
     Ok(Estimate {
