@@ -1057,19 +1057,23 @@ fn first_array_for_table(
     })
 }
 
-/// The dotted key and the value text of a `key = value` line whose value starts at byte
-/// `offset` (the table header above gives the key's section); `None` when `offset` is not
-/// at such a value (a table header, a key, an inline table's inside).
+/// The dotted key and the value text of a `key = value` line whose value holds byte
+/// `offset` (its start, or an element of an array; the table header above gives the
+/// key's section); `None` elsewhere (a table header, a key, an inline table's inside).
 fn key_of_value(text: &str, offset: usize) -> Option<(String, String)> {
     let line_start = text.get(..offset)?.rfind('\n').map_or(0, |i| i + 1);
     let line_end = text[offset..].find('\n').map_or(text.len(), |i| offset + i);
     let (key, value) = text[line_start..line_end].split_once('=')?;
     let key = key.trim();
+    // The offset lies in the value: at its start, or at an element of an array (not
+    // inside an inline table, whose own keys the message names).
     let starts_value = line_start
         + text[line_start..line_end].find('=')?
         + 1
         + (value.len() - value.trim_start().len());
-    if starts_value != offset || key.is_empty() || key.starts_with('[') {
+    let in_value =
+        offset == starts_value || (offset > starts_value && value.trim_start().starts_with('['));
+    if !in_value || key.is_empty() || key.starts_with('[') {
         return None;
     }
     let value = value.split(" #").next().unwrap_or(value).trim().to_string();

@@ -415,3 +415,70 @@ proptest! {
         }
     }
 }
+
+/// The places of `doc` a user could write with the wrong shape: two-number arrays
+/// (`[low, high]` pairs) and tables of numbers (named quantities), with their dotted keys.
+fn shape_targets(doc: &Value) -> Vec<(Vec<Step>, String)> {
+    let mut all = Vec::new();
+    paths(doc, &mut Vec::new(), &mut all);
+    let numeric = |v: &Value| matches!(v, Value::Float(_) | Value::Integer(_));
+    all.into_iter()
+        .filter(|path| path.iter().all(|s| matches!(s, Step::Key(_))))
+        .filter_map(|path| {
+            let mut v = doc;
+            for step in &path {
+                let Step::Key(k) = step else { return None };
+                v = v.get(k)?;
+            }
+            let fits = match v {
+                Value::Array(a) => a.len() == 2 && a.iter().all(numeric),
+                Value::Table(t) => !t.is_empty() && t.values().all(numeric),
+                _ => false,
+            };
+            let key = path
+                .iter()
+                .map(|s| match s {
+                    Step::Key(k) => k.as_str(),
+                    Step::Index(_) => "",
+                })
+                .collect::<Vec<_>>()
+                .join(".");
+            fits.then_some((path, key))
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(cases(200))]
+
+    /// A `[low, high]` pair given a third value, or a table of named quantities given as
+    /// an array of its values, is refused (exit 2) naming its key: never read by
+    /// position or cut to its first two values.
+    #[test]
+    fn pairs_of_the_wrong_length_and_tables_as_arrays_are_refused_by_key(
+        which in 0usize..4,
+        at in any::<usize>(),
+        extra in wild_f64(),
+    ) {
+        let name = ["paper.toml", "paper-fast.toml", "silverbox.toml", "lab-template.toml"][which];
+        let mut doc = shipped(name);
+        let targets = shape_targets(&doc);
+        prop_assume!(!targets.is_empty());
+        let (path, key) = targets[at % targets.len()].clone();
+        let (parent, last) = parent_mut(&mut doc, &path).unwrap();
+        let (Value::Table(t), Step::Key(k)) = (parent, last) else { unreachable!() };
+        let slot = t.get_mut(&k).unwrap();
+        *slot = match slot.clone() {
+            Value::Array(mut a) => {
+                a.push(Value::Float(if extra.is_finite() { extra } else { 1.0 }));
+                Value::Array(a)
+            }
+            Value::Table(table) => Value::Array(table.values().cloned().collect()),
+            _ => unreachable!(),
+        };
+        let text = toml::to_string(&doc).unwrap();
+        let e = Config::from_toml_str(&text, "mutated.toml").expect_err("a wrong shape is refused");
+        prop_assert_eq!(e.exit_code(), 2, "{}", e);
+        prop_assert!(e.to_string().contains(&key), "{key} not named: {e}");
+    }
+}
