@@ -40,6 +40,9 @@ pub struct Outcome {
     pub estimation_solver: Option<msd_ode::Stats>,
     /// Residual diagnostics of the identification residuals.
     pub residuals: Option<msd_ident::ResidualAnalysis>,
+    /// Whether the model explains the identification data significantly better than
+    /// their mean (the regression F-test): white residuals alone do not make it adequate.
+    pub significance: msd_ident::FTest,
     /// Frequency-domain consistency check on the record `[frequency_check] data` names
     /// (validation by default).
     pub frequency: Option<msd_ident::FrequencyCheck>,
@@ -270,7 +273,9 @@ pub fn run_on_data(
         None => None,
     };
 
+    let significance = estimate.fit.f_test(estimate.uncertainty.names.len());
     Ok(Outcome {
+        significance,
         config,
         config_path: config_path.to_path_buf(),
         command: options.command.clone().unwrap_or_else(|| "msd run".into()),

@@ -109,6 +109,9 @@ pub fn markdown(
     if let Some(r) = &o.residuals {
         verdicts.push(r.verdict.clone());
     }
+    if let Some(note) = crate::summary::insignificance(&o.significance) {
+        verdicts.push(format!("But {note}."));
+    }
     if let Some(f) = &o.frequency {
         verdicts.push(f.verdict.clone());
     }

@@ -118,6 +118,8 @@ struct FitSection<'a> {
     #[serde(flatten)]
     fit: &'a FitMetrics,
     r2_of_true_response: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    f_test: Option<&'a msd_ident::FTest>,
 }
 
 #[derive(Serialize)]
@@ -183,6 +185,7 @@ pub fn to_json(
         truth: o.data.truth.map(|t| truth(&t, &o.estimate.uncertainty)),
         estimate: estimate(o),
         identification: FitSection {
+            f_test: Some(&o.significance),
             fit: &o.estimate.fit,
             r2_of_true_response: true_r2(
                 &o.data.identification_truth,
@@ -289,6 +292,7 @@ fn validation(o: &Outcome) -> ValidationSection<'_> {
     let v = &o.validation;
     ValidationSection {
         fit: FitSection {
+            f_test: None,
             fit: &v.fit,
             r2_of_true_response: v.truth_fit.map(|f| f.r_squared),
         },

@@ -86,7 +86,8 @@ pub fn text(
         "  ωn = {} rad/s",
         sig(e.parameters.natural_frequency(), 5)
     );
-    for warning in u.warnings.iter().chain(&o.data.notes) {
+    let insignificant = insignificance(&o.significance);
+    for warning in u.warnings.iter().chain(&o.data.notes).chain(&insignificant) {
         let _ = writeln!(s, "  warning        {warning}");
     }
     let _ = writeln!(s);
@@ -234,4 +235,22 @@ fn nonlinear_line(n: &crate::nonlinear::NonlinearOutcome, factor: f64, unit: &st
         line.push_str(&format!("; {} not ranked", c.failures.len()));
     }
     line
+}
+
+/// The words for a fit that does not explain the data significantly better than their
+/// mean (`None` when it does).
+///
+/// ```
+/// use msd_ident::FitMetrics;
+/// let flat = FitMetrics::new(&[1.0, 2.0, 1.0, 2.0], &[1.5, 1.6, 1.5, 1.4]).f_test(3);
+/// let text = msd_experiment::summary::insignificance(&flat).unwrap();
+/// assert!(text.contains("not explain the data significantly better than their mean"));
+/// ```
+pub fn insignificance(test: &msd_ident::FTest) -> Option<String> {
+    (!test.significant).then(|| {
+        format!(
+            "the model does not explain the data significantly better than their mean (F = {:.3} with {} and {} dof, p = {:.3}): its white residuals are the data themselves, not evidence that the model is adequate",
+            test.statistic, test.degrees_of_freedom[0], test.degrees_of_freedom[1], test.p_value
+        )
+    })
 }

@@ -76,7 +76,7 @@ pub use estimate::{
     ParameterBounds, estimate,
 };
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
-pub use metrics::FitMetrics;
+pub use metrics::{FTest, FitMetrics};
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, ModelStructure,
     NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,

@@ -41,6 +41,61 @@ impl std::fmt::Display for FitMetrics {
     }
 }
 
+/// Does a model explain the data significantly better than their mean? The regression
+/// F-test: F = (R²/p) / ((1 − R²)/(n − p − 1)) with p estimated quantities, against
+/// Fisher–Snedecor's F(p, n − p − 1). White residuals alone do not make a model adequate:
+/// the residuals of a model that explains nothing are the data, white if the noise is.
+///
+/// ```
+/// use msd_ident::FitMetrics;
+/// let y = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+/// let good = FitMetrics::new(&y, &[1.1, 1.9, 3.0, 4.1, 4.9, 6.0]).f_test(2);
+/// assert!(good.significant, "{good:?}");
+/// // F(2, d) has the closed-form tail (1 + 2F/d)^(−d/2).
+/// let exact = (1.0 + 2.0 * good.statistic / 3.0).powf(-1.5);
+/// assert!((good.p_value / exact - 1.0).abs() < 1e-9, "{} vs {exact}", good.p_value);
+/// let none = FitMetrics::new(&y, &[3.4, 3.6, 3.5, 3.4, 3.6, 3.5]).f_test(2);
+/// assert!(!none.significant, "{none:?}");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FTest {
+    /// F.
+    pub statistic: f64,
+    /// Degrees of freedom (p, n − p − 1).
+    pub degrees_of_freedom: [usize; 2],
+    /// P(F(p, n − p − 1) ≥ F).
+    pub p_value: f64,
+    /// p-value below 0.05.
+    pub significant: bool,
+}
+
+impl FitMetrics {
+    /// The regression F-test of this fit with `estimated` quantities (see [`FTest`]).
+    pub fn f_test(&self, estimated: usize) -> FTest {
+        use statrs::distribution::{ContinuousCDF, FisherSnedecor};
+        let p = estimated.max(1);
+        let dof = self.samples.saturating_sub(p + 1).max(1);
+        let r2 = self.r_squared.clamp(0.0, 1.0);
+        // An exact fit (R² = 1) has F = ∞: the largest finite number stands for it.
+        let statistic = if r2 >= 1.0 {
+            f64::MAX
+        } else {
+            (r2 / p as f64) / ((1.0 - r2) / dof as f64)
+        };
+        let p_value = match FisherSnedecor::new(p as f64, dof as f64) {
+            Ok(_) if r2 >= 1.0 => 0.0,
+            Ok(f) => f.sf(statistic),
+            Err(_) => 1.0,
+        };
+        FTest {
+            statistic,
+            degrees_of_freedom: [p, dof],
+            p_value,
+            significant: p_value < 0.05,
+        }
+    }
+}
+
 impl FitMetrics {
     /// Computes the metrics of `model` against `measured` (equal lengths, non-empty).
     /// For a constant measurement R² and fit % are 1 and 100 for an exact match, else 0.

@@ -105,6 +105,9 @@ fn in_memory_records_give_the_numbers_of_the_same_record_read_from_csv() {
             .summary
             .contains(&format!("warning        {note}"))
     );
+    let f = &written.results["identification"]["f_test"];
+    assert_eq!(f["significant"], true, "{f}");
+    assert_eq!(f["degrees_of_freedom"][0], 3, "{f}");
     let m = &written.results["estimate"]["mass"];
     assert!(m["value"].as_f64().is_some(), "{m}");
     for ((key, a), (_, b)) in stages(&written.results)
