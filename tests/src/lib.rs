@@ -149,3 +149,24 @@ pub fn parse_svg(path: &Path) -> usize {
         .filter(roxmltree::Node::is_element)
         .count()
 }
+
+/// The folder `data/<set>/` of a real data set when it is in the workspace.
+///
+/// When it is not (a fresh clone): `None`, after a note on stderr naming the test that
+/// did not run and the command that fetches the set — unless the environment variable
+/// `MSD_REQUIRE_REAL_DATA` is set (CI sets it), where a missing set fails the test.
+pub fn real_data(set: &str, test: &str) -> Option<PathBuf> {
+    let folder = root().join("data").join(set);
+    if folder.is_dir() {
+        return Some(folder);
+    }
+    let fetch = format!("cargo xtask fetch-data {set}");
+    assert!(
+        std::env::var_os("MSD_REQUIRE_REAL_DATA").is_none(),
+        "{test}: the real data set `{set}` is required here (MSD_REQUIRE_REAL_DATA) and missing: run `{fetch}`"
+    );
+    eprintln!(
+        "{test}: skipped, the real data set `{set}` is not in data/{set}/; `{fetch}` fetches it"
+    );
+    None
+}

@@ -33,6 +33,10 @@ enum Command {
     /// results.json.
     #[command(long_about = cli::RUN_HELP)]
     Experiment(RunArgs),
+    /// Copy a real data set (silverbox) into data/SET/ in the workspace, each file
+    /// checked by size and SHA-256 (from ../shared/data/real/SET/ beside the workspace,
+    /// or --from DIR).
+    FetchData(cli::FetchArgs),
     /// Measure the paper experiment's speed: one table (median, min–max, multiple of the
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and
     /// runs the measurements in release mode (the first build takes a few minutes).
@@ -67,6 +71,11 @@ fn try_main() -> Result<(), ExperimentError> {
             Ok(())
         }
         Some(Command::Experiment(args)) => experiment(args),
+        Some(Command::FetchData(args)) => {
+            let root = xtask::project_root();
+            let shared = root.join("..").join("shared").join("data").join("real");
+            cli::fetch_data(&args, &shared, &root.join("data"))
+        }
         Some(Command::Bench(args)) => bench_in_release(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
         Some(Command::BenchPeakMemory { config }) => {

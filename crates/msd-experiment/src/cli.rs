@@ -17,7 +17,7 @@
 
 use crate::{ExperimentError, RunOptions, run_experiment};
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// The long help of the run command.
@@ -104,6 +104,52 @@ pub fn run(args: &RunArgs, options: &RunOptions) -> Result<(), ExperimentError> 
         ExperimentError::run("experiment", format!("internal error: {why}"))
     })??;
     print!("{}", run.summary);
+    Ok(())
+}
+
+/// The arguments of `fetch-data`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct FetchArgs {
+    /// The data set: silverbox.
+    pub set: String,
+    /// A local copy of the set's files to take them from [default: ../shared/data/real/SET
+    /// beside the workspace].
+    #[arg(long, value_name = "DIR")]
+    pub from: Option<PathBuf>,
+    /// Where to put them [default: data/SET in the workspace, or in the current folder].
+    #[arg(long, value_name = "DIR")]
+    pub into: Option<PathBuf>,
+}
+
+/// `fetch-data`: copies the set's files from `from` (else `default_from`) into `into`
+/// (else `default_root/<set>`), each checked by size and SHA-256, and says what it did.
+pub fn fetch_data(
+    args: &FetchArgs,
+    default_from: &Path,
+    default_root: &Path,
+) -> Result<(), ExperimentError> {
+    let set = crate::fetch::set_named(&args.set)?;
+    let from = args
+        .from
+        .clone()
+        .unwrap_or_else(|| default_from.join(set.name));
+    let into = args
+        .into
+        .clone()
+        .unwrap_or_else(|| default_root.join(set.name));
+    if !from.is_dir() {
+        return Err(ExperimentError::data(
+            &from,
+            format!(
+                "no local copy of the {} files here: give --from DIR with {} (downloading the official archive is not implemented yet)",
+                set.name,
+                set.files.map(|f| f.name).join(" and ")
+            ),
+        ));
+    }
+    for path in crate::fetch::fetch(&set, &from, &into)? {
+        println!("{} (size and SHA-256 checked)", path.display());
+    }
     Ok(())
 }
 

@@ -725,7 +725,7 @@ impl Config {
     }
 
     /// Checks the options of the stages (everything but the data sections), as
-    /// [`Config::validate`] does for a file; for a config built in Rust and run on
+    /// reading a file does; for a config built in Rust and run on
     /// records in memory ([`crate::run_in_memory`]). Errors name the field.
     ///
     /// ```

@@ -279,7 +279,13 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
     let file = std::fs::File::open(path).map_err(|e| {
         ExperimentError::data(
             path,
-            format!("cannot open the data file (data.path = {:?}): {e}", d.path),
+            match crate::fetch::command_for(path) {
+                Some(command) => format!(
+                    "cannot open the data file (data.path = {:?}): {e}; fetch it with `{command}`",
+                    d.path
+                ),
+                None => format!("cannot open the data file (data.path = {:?}): {e}", d.path),
+            },
         )
     })?;
     let mut bytes = Vec::new();

@@ -22,6 +22,7 @@ pub mod cli;
 pub mod config;
 pub mod data;
 mod error;
+pub mod fetch;
 pub mod fmt;
 pub mod nonlinear;
 pub mod output;

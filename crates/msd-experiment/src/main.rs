@@ -31,11 +31,19 @@ enum Command {
     /// results.json.
     #[command(long_about = cli::RUN_HELP)]
     Run(RunArgs),
+    /// Copy a real data set (silverbox) into ./data/SET/, each file checked by size and
+    /// SHA-256.
+    FetchData(cli::FetchArgs),
 }
 
 fn main() -> ExitCode {
     let Cli { command } = Cli::parse();
     match command {
         Command::Run(args) => cli::exit(cli::run(&args, &args.options(None, "msd run"))),
+        Command::FetchData(args) => cli::exit(cli::fetch_data(
+            &args,
+            std::path::Path::new("../shared/data/real"),
+            std::path::Path::new("data"),
+        )),
     }
 }

@@ -264,13 +264,24 @@ fn structures_are_named_and_counted() {
     assert!(all[0].is_linear());
 }
 
-/// The Silverbox record (means of the whole record removed): (input V1, output V2).
-fn silverbox() -> (Vec<f64>, Vec<f64>) {
+/// The Silverbox record (means of the whole record removed): (input V1, output V2), from
+/// `data/silverbox/` in the workspace. Missing (a fresh clone): `None` after a note
+/// naming the fetch command, unless `MSD_REQUIRE_REAL_DATA` is set (CI), where it fails.
+fn silverbox() -> Option<(Vec<f64>, Vec<f64>)> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/real/silverbox/SNLS80mV.csv"
+        "/../../data/silverbox/SNLS80mV.csv"
     );
-    let text = std::fs::read_to_string(path).expect("the Silverbox CSV");
+    let Ok(text) = std::fs::read_to_string(path) else {
+        assert!(
+            std::env::var_os("MSD_REQUIRE_REAL_DATA").is_none(),
+            "the Silverbox record is required (MSD_REQUIRE_REAL_DATA) and missing at {path}: run `cargo xtask fetch-data silverbox`"
+        );
+        eprintln!(
+            "skipped: the Silverbox record is not in data/silverbox/; `cargo xtask fetch-data silverbox` fetches it"
+        );
+        return None;
+    };
     let (mut u, mut y) = (Vec::new(), Vec::new());
     for line in text.lines().skip(1) {
         let mut fields = line.split(',');
@@ -284,7 +295,7 @@ fn silverbox() -> (Vec<f64>, Vec<f64>) {
         let mean = v.iter().sum::<f64>() / v.len() as f64;
         v.iter_mut().for_each(|x| *x -= mean);
     }
-    (u, y)
+    Some((u, y))
 }
 
 fn slice(u: &[f64], y: &[f64], start: usize, end: usize, name: &str) -> DataSet {
@@ -296,7 +307,9 @@ fn slice(u: &[f64], y: &[f64], start: usize, end: usize, name: &str) -> DataSet 
 #[test]
 fn silverbox_cubic_stiffness_beats_linear_on_the_multisine_test() -> Result<(), IdentError> {
     let started = Instant::now();
-    let (u, y) = silverbox();
+    let Some((u, y)) = silverbox() else {
+        return Ok(());
+    };
     assert_eq!(u.len(), 131_072);
     let train = slice(
         &u,

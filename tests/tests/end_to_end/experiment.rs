@@ -245,6 +245,10 @@ fn paper_fast_config_agrees_with_the_paper_method() {
 
 #[test]
 fn silverbox_config_runs_on_the_real_data_and_reports_the_validation_rms() {
+    let test = "silverbox_config_runs_on_the_real_data_and_reports_the_validation_rms";
+    if msd_tests::real_data("silverbox", test).is_none() {
+        return;
+    }
     let run = run_in_temp(&config("silverbox.toml"), None, None).expect("silverbox runs");
     let r = &run.summary.results;
     assert_eq!(r["experiment"]["kind"], "measured");

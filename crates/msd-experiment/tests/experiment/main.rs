@@ -1,4 +1,5 @@
 //! Integration tests of msd-experiment: one test binary, one module per topic.
 
 mod cli;
+mod fetch;
 mod in_memory;
