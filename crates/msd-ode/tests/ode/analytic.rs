@@ -11,8 +11,7 @@
 //! and the dense-output interpolant (fourth order, error of the same size) adds at most one
 //! more such term.
 
-mod common;
-use common::Plant;
+use crate::common::Plant;
 use msd_ode::{Ode45Options, SVector, ode45};
 
 fn options(rel_tol: f64) -> Ode45Options {

@@ -3,8 +3,7 @@
 //! follow it to rounding, however far S and g are from 1. (Sensitivities ∂x/∂m of a
 //! 1 µg mass are ~1e9 times x; a force in µN is 1e6 times one in N.)
 
-mod common;
-use common::{Plant, paper_input};
+use crate::common::{Plant, paper_input};
 use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
 
 const DT: f64 = 0.002;

@@ -1,8 +1,7 @@
 //! Estimation on the paper experiment: accuracy against the Cramér–Rao bound, agreement
 //! of the two methods, convergence from poor starts, and the honesty of the intervals.
 
-mod common;
-use common::{cramer_rao, crb_std};
+use crate::common::{cramer_rao, crb_std};
 use msd_ident::{
     Backend, EstimationOptions, Excitation, FixedParameters, IdentError, InitialState, Method,
     MultistartSettings, PaperExperiment, Parameters, StopReason, SyntheticOptions, estimate,

@@ -9,8 +9,6 @@
 //! RMS of the noise; a frequency check that agrees with the truth. Tests marked
 //! `#[ignore = "bug: …"]` state what msd-ident should do and does not yet.
 
-mod common;
-
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
     InitialState, Method, MultistartSettings, Parameters, SyntheticOptions, ValidationOptions,
@@ -47,7 +45,7 @@ impl Case {
     }
 
     fn crb(&self, data: &DataSet) -> [f64; 3] {
-        common::crb_std(&common::cramer_rao(&self.plant, data, self.sigma))
+        crate::common::crb_std(&crate::common::cramer_rao(&self.plant, data, self.sigma))
     }
 }
 

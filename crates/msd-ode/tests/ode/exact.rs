@@ -1,7 +1,6 @@
 //! The exact LTI simulator against analytic solutions and against DP5(4).
 
-mod common;
-use common::{Plant, paper_grid, paper_input, paper_input_left};
+use crate::common::{Plant, paper_grid, paper_input, paper_input_left};
 use msd_ode::{Breakpoint, ExactSimulator, Hold, Ode45Options, SVector, SampledInput, ode45};
 
 const DT: f64 = 0.002;

@@ -7,8 +7,7 @@
 //! log–log plot). A method of order p would give slope p/5; with a broken fifth-order
 //! formula (order 4) the slope would drop to 0.8 and below.
 
-mod common;
-use common::Plant;
+use crate::common::Plant;
 use msd_ode::{Ode45Options, SVector, ode45};
 
 #[test]

@@ -1,0 +1,11 @@
+//! Integration tests of msd-ident: one test binary, one module per topic.
+
+mod batch;
+mod common;
+mod data;
+mod diagnostics;
+mod error_paths;
+mod estimation;
+mod nonlinear;
+mod serialize;
+mod stress;
