@@ -73,11 +73,11 @@ pub use estimate::{
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
 pub use metrics::FitMetrics;
 pub use nonlinear::{
-    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, ModelStructure,
-    NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, assess_estimate,
-    bic_evidence, compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
-    synthetic_nonlinear_data,
+    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, FixedModel,
+    ModelStructure, NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions,
+    NonlinearParameters, NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart,
+    assess_estimate, bic_evidence, compare_models, estimate_nonlinear, fit_initial_state,
+    simulate_nonlinear, synthetic_nonlinear_data,
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
 pub use residuals::{
