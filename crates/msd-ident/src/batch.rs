@@ -3,14 +3,8 @@
 use crate::{Backend, Excitation, InitialState, Parameters, Result};
 use msd_ode::{
     ExactSimulator, Hold, InputSchedule, LaneSystem, Lockstep, Ode45Lanes, Ode45Options,
-    Ode45Stepper, OdeSystem, SVector, SampledInput, TimeGrid,
+    SampledInput, TimeGrid,
 };
-use std::sync::atomic::{AtomicBool, Ordering};
-
-/// TEMPORARY (a measurement switch, to be removed): when set, the ode45 backend steps
-/// each parameter set with its own `Ode45Stepper` instead of `Ode45Lanes`.
-#[doc(hidden)]
-pub static ODE45_PER_DRAW: AtomicBool = AtomicBool::new(false);
 
 /// Parameter sets a [`BatchRun`] steps together.
 pub const LANES: usize = 8;
@@ -118,20 +112,6 @@ impl<'a> BatchSimulator<'a> {
                     stepper: stepper.map(Box::new),
                 }
             }
-            Kind::Ode45 { grid, options } if ODE45_PER_DRAW.load(Ordering::Relaxed) => {
-                let each = std::array::from_fn(|lane| {
-                    let [m, c, k] = set(lane)?.to_array();
-                    let mut plant = Plant {
-                        m,
-                        c,
-                        k,
-                        excitation: self.excitation,
-                    };
-                    let stepper = Ode45Stepper::new(&mut plant, *grid, &x0, options).ok()?;
-                    Some((stepper, plant))
-                });
-                Lanes::Ode45Each(Box::new(each))
-            }
             Kind::Ode45 { grid, options } => {
                 let sets: [Option<Parameters>; LANES] = std::array::from_fn(set);
                 let mut plants = Plants {
@@ -180,23 +160,6 @@ enum Lanes<'a> {
         ok: [bool; LANES],
     },
     Ode45(Box<(Ode45Lanes<'a, 2, LANES>, Plants<'a>)>),
-    Ode45Each(Box<[Option<(Ode45Stepper<'a, 2>, Plant<'a>)>; LANES]>),
-}
-
-/// One plant, as `simulate`'s ode45 right-hand side.
-#[derive(Debug, Clone)]
-struct Plant<'a> {
-    m: f64,
-    c: f64,
-    k: f64,
-    excitation: &'a Excitation,
-}
-
-impl OdeSystem<2> for Plant<'_> {
-    fn rhs(&mut self, t: f64, y: &SVector<f64, 2>, d: &mut SVector<f64, 2>) {
-        d[0] = y[1];
-        d[1] = (self.excitation.value(t) - self.c * y[1] - self.k * y[0]) / self.m;
-    }
 }
 
 /// The right-hand sides of [`LANES`] plants driven by one excitation, as
@@ -234,8 +197,6 @@ impl BatchRun<'_> {
     pub const MAX_BYTES: usize = {
         let exact = size_of::<Lockstep<2, LANES>>();
         let ode45 = size_of::<(Ode45Lanes<'static, 2, LANES>, Plants<'static>)>();
-        let each = size_of::<[Option<(Ode45Stepper<'static, 2>, Plant<'static>)>; LANES]>();
-        let ode45 = if each > ode45 { each } else { ode45 };
         size_of::<Self>() + if exact > ode45 { exact } else { ode45 }
     };
 
@@ -326,18 +287,6 @@ impl BatchRun<'_> {
                 lanes.advance(plants, until, 0, |lane, t, x| {
                     out[(t - start) * stride + lane] = x
                 })
-            }
-            (Lanes::Ode45Each(each), Kind::Ode45 { .. }) => {
-                for (lane, slot) in each.iter_mut().enumerate() {
-                    if let Some((stepper, plant)) = slot {
-                        let done = stepper
-                            .advance(plant, until, |t, y| out[(t - start) * stride + lane] = y[0]);
-                        if done.is_err() {
-                            *slot = None;
-                        }
-                    }
-                }
-                each.each_ref().map(Option::is_some)
             }
             _ => panic!("a batch run advanced by a simulator of another backend"),
         };

@@ -62,7 +62,7 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
-pub use batch::{BatchRun, BatchSimulator, LANES, ODE45_PER_DRAW};
+pub use batch::{BatchRun, BatchSimulator, LANES};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};
