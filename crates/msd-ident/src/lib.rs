@@ -44,7 +44,6 @@
 //! ```
 
 mod arx;
-mod batch;
 mod correlation;
 mod data;
 mod error;
@@ -62,7 +61,6 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
-pub use batch::{BatchRun, BatchSimulator, LANES};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};
