@@ -1,6 +1,6 @@
 //! `cargo xtask`: the workspace's development tasks over the `msd-experiment` library:
 //! `experiment` (the library's run, writing into `target/experiments/<name>/`) and
-//! `bench` (one performance table, [`bench`]).
+//! `bench` (one performance table, [`bench`](mod@bench)).
 //!
 //! ```no_run
 //! let root = xtask::project_root();

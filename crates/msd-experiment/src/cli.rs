@@ -59,6 +59,8 @@ pub struct RunArgs {
     /// The experiment config (TOML), e.g. configs/paper.toml.
     pub config: PathBuf,
     /// Output folder [default: <name>/ under the results folder].
+    // This line is also the --help text, where <name> is meant as written.
+    #[allow(rustdoc::invalid_html_tags)]
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Seed of every random draw, instead of the config's `seed`.

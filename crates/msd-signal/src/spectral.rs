@@ -477,7 +477,7 @@ impl DftPair {
     /// [`h1_estimate`] gives with [`WelchOptions::default()`] (the whole record, Hann,
     /// mean removed), up to FFT rounding, without another transform. The window is
     /// applied in frequency, where the periodic Hann window is the three-tap kernel
-    /// X_w[k] = ½X[k] − ¼(X[k−1] + X[k+1]) (indices mod N). The conventions are
+    /// `X_w[k] = ½X[k] − ¼(X[k−1] + X[k+1])` (indices mod N). The conventions are
     /// `h1_estimate`'s: H1 is 0 where the windowed input has less than 1e-24 of its peak
     /// one-sided power over all lines, the coherence is 1 where both records have power
     /// (one segment) and 0 elsewhere.
