@@ -8,9 +8,9 @@ use crate::data::{self, ExperimentData};
 use crate::progress::Progress;
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Backend, DataSet, Estimate, EstimationOptions, FitMetrics, FixedParameters, IdentError,
-    InitialState, Method, Parameters, ResidualOptions, ValidationOptions, estimate,
-    frequency_check, residual_analysis, simulate_into, validate_model,
+    Backend, Estimate, FitMetrics, FixedModel, IdentError, InitialState, Parameters,
+    ResidualOptions, ValidationOptions, estimate, fit_initial_state, frequency_check,
+    residual_analysis, simulate_into, validate_model,
 };
 use msd_mc::{McOptions, monte_carlo_band_with_progress};
 use std::path::{Path, PathBuf};
@@ -308,7 +308,18 @@ fn validate(config: &Config, data: &ExperimentData, est: &Estimate) -> Result<Va
     let set = &data.validation;
     let n0 = data.validation_initial_samples;
     let initial_state = if n0 > 0 {
-        settle_initial_state(&est.parameters, set, n0, est.offset)?
+        // The benchmark's rule: the first n0 outputs set the initial state.
+        let model = FixedModel::Linear {
+            parameters: &est.parameters,
+            backend: Backend::EXACT,
+            offset: est.offset,
+        };
+        fit_initial_state(model, set, n0).map_err(|e| {
+            ExperimentError::run(
+                "validation",
+                format!("settling the initial state on the first {n0} samples: {e}"),
+            )
+        })?
     } else {
         config.estimation.initial_state
     };
@@ -369,40 +380,6 @@ fn residual_options(config: &Config) -> ResidualOptions {
         max_lag: config.residuals.max_lag,
         confidence: config.residuals.confidence,
     }
-}
-
-/// The initial state that best explains the first `n` samples of `set` with the
-/// parameters held fixed (the benchmark's "first outputs set the initial state").
-fn settle_initial_state(
-    parameters: &Parameters,
-    set: &DataSet,
-    n: usize,
-    offset: f64,
-) -> Result<InitialState> {
-    let head = set
-        .slice(0, n)
-        .map_err(|e| ExperimentError::run("validation", e))?;
-    let options = EstimationOptions {
-        method: Method::LevenbergMarquardt,
-        backend: Backend::EXACT,
-        initial_guess: Some(*parameters),
-        fixed: FixedParameters {
-            mass: Some(parameters.mass),
-            damping: Some(parameters.damping),
-            stiffness: Some(parameters.stiffness),
-        },
-        estimate_initial_state: true,
-        offset,
-        ..EstimationOptions::default()
-    };
-    estimate(&head, &options)
-        .map(|e| e.initial_state)
-        .map_err(|e| {
-            ExperimentError::run(
-                "validation",
-                format!("settling the initial state on the first {n} samples: {e}"),
-            )
-        })
 }
 
 fn monte_carlo(

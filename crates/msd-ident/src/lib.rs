@@ -45,7 +45,6 @@
 //! ```
 
 mod arx;
-mod batch;
 mod correlation;
 mod data;
 mod error;
@@ -67,7 +66,6 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
-pub use batch::{BatchRun, BatchSimulator, LANES};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};
@@ -78,11 +76,11 @@ pub use estimate::{
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
 pub use metrics::{FTest, FitMetrics};
 pub use nonlinear::{
-    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, ModelStructure,
-    NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart, assess_estimate,
-    bic_evidence, compare_models, estimate_nonlinear, fit_initial_state, simulate_nonlinear,
-    synthetic_nonlinear_data,
+    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, FixedModel,
+    ModelStructure, NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions,
+    NonlinearParameters, NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart,
+    assess_estimate, bic_evidence, compare_models, estimate_nonlinear, fit_initial_state,
+    simulate_nonlinear, synthetic_nonlinear_data,
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
 pub use residuals::{

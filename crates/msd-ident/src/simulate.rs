@@ -70,18 +70,34 @@ impl Backend {
 
     /// Checks the tolerances.
     pub fn validate(&self) -> Result<()> {
-        if let Backend::Ode45 { rel_tol, abs_tol } = *self {
-            self.ode45_options(rel_tol, abs_tol).validate()?;
+        if let Some(options) = self.ode45_options() {
+            options.validate()?;
         }
         Ok(())
     }
 
-    pub(crate) fn ode45_options(&self, rel_tol: f64, abs_tol: f64) -> Ode45Options {
-        Ode45Options {
-            rel_tol,
-            abs_tol,
-            ..Ode45Options::default()
+    /// The options [`simulate`]'s ode45 backend runs msd-ode's solver with: the
+    /// tolerances, the rest msd-ode's defaults (as MATLAB's). `None` for the exact backend.
+    ///
+    /// ```
+    /// use msd_ident::Backend;
+    /// let options = Backend::PAPER.ode45_options().unwrap();
+    /// assert_eq!((options.rel_tol, options.abs_tol), (1e-6, 1e-9));
+    /// assert!(Backend::EXACT.ode45_options().is_none());
+    /// ```
+    pub fn ode45_options(&self) -> Option<Ode45Options> {
+        match *self {
+            Backend::Ode45 { rel_tol, abs_tol } => Some(ode45_options(rel_tol, abs_tol)),
+            Backend::Exact { .. } => None,
         }
+    }
+}
+
+fn ode45_options(rel_tol: f64, abs_tol: f64) -> Ode45Options {
+    Ode45Options {
+        rel_tol,
+        abs_tol,
+        ..Ode45Options::default()
     }
 }
 
@@ -167,7 +183,7 @@ pub fn simulate_into(
             Ok(None)
         }
         Backend::Ode45 { rel_tol, abs_tol } => {
-            let options = backend.ode45_options(rel_tol, abs_tol);
+            let options = ode45_options(rel_tol, abs_tol);
             let mut rhs = ode45_rhs(parameters, excitation);
             let mut i = 0;
             let stats = ode45_with(&mut rhs, excitation.times(), &x0, &options, |_, y| {

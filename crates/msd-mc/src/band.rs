@@ -1,10 +1,11 @@
 //! Monte Carlo robustness band: N parameter samples around θ̂ re-simulate a given input.
 
+use crate::batch::{BatchSimulator, LANES};
 use crate::engine::{self, MemoryPlan, Restart};
 use crate::order::similarity_order;
 use crate::tracker::TrackerCounts;
 use crate::{McError, McOptions, Result, SampleFailure, Sampling, Summary, draw::Sampler};
-use msd_ident::{Backend, BatchSimulator, Excitation, LANES, Parameters, simulate};
+use msd_ident::{Backend, Excitation, Parameters, simulate};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

@@ -34,8 +34,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, RwLock};
 
 use crate::barrier::SpinBarrier;
+pub(crate) use crate::batch::LANES;
 use crate::tracker::{LevelTracker, ROW, Region, TrackerCounts, VALUES, write_envelopes};
-pub(crate) use msd_ident::LANES;
 
 /// Samples per group: a group is simulated by one task and its values at one time are
 /// contiguous in the chunk buffer (`buffer[group][t][sample]`).
@@ -97,7 +97,7 @@ impl MemoryPlan {
         let chunk_points = wanted.min(affordable).clamp(1, points.max(1));
         let chunks = points.div_ceil(chunk_points);
         let buffer_bytes = column * chunk_points;
-        let state_bytes = (n / LANES) * (msd_ident::BatchRun::MAX_BYTES + 16);
+        let state_bytes = (n / LANES) * (crate::batch::BatchRun::MAX_BYTES + 16);
         // Per level's tracker: keys and candidates (8 bytes a value each), listed blocks
         // (4 bytes a block) and the previous column with its envelopes (10.25 a value).
         let tracker = levels * (27 * n + 8);

@@ -40,6 +40,7 @@
 
 mod band;
 mod barrier;
+mod batch;
 mod draw;
 mod engine;
 mod error;

@@ -80,6 +80,6 @@ pub use signal::{
     PrbsSpec, PreparedSignal, Signal, SineSegment, Sweep,
 };
 pub use spectral::{
-    CrossSpectrum, Detrend, FrequencyResponseEstimate, Spectrum, WelchOptions, Window, coherence,
-    cross_spectrum, h1_estimate, welch_psd,
+    CrossSpectrum, Detrend, DftPair, FrequencyResponseEstimate, Spectrum, WelchOptions, Window,
+    coherence, cross_spectrum, h1_estimate, welch_psd,
 };

@@ -18,7 +18,9 @@
 //! (a single periodogram is always perfectly "coherent"): it says nothing then, and
 //! averaging over several segments is needed for it to mean anything. The paper's lightly
 //! damped mode (ζ ≈ 0.05 at 1.1 Hz, a 0.11 Hz half-power band) needs the whole 15 s
-//! record as one segment to be resolved at all.
+//! record as one segment to be resolved at all. [`DftPair`] gives the (rectangular) DFTs
+//! of such a record pair from one FFT, for work on the raw spectra, and their one-segment
+//! Hann H1 without transforming again.
 //!
 //! ```
 //! use msd_signal::{gaussian_noise, welch_psd, WelchOptions};
@@ -219,6 +221,13 @@ fn detrend_segment(seg: &mut [f64], how: Detrend) {
     }
 }
 
+/// Bin k of the DFTs X and Y of two real records from bins k and N − k of the DFT Z of
+/// z = x + i·y: X_k = (Z_k + conj Z_{N−k})/2, Y_k = (Z_k − conj Z_{N−k})/(2i).
+fn split(zk: Complex64, z_mirror: Complex64) -> (Complex64, Complex64) {
+    let zm = z_mirror.conj();
+    ((zk + zm) * 0.5, (zk - zm) * Complex64::new(0.0, -0.5))
+}
+
 fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<Welch> {
     opts.validate()?;
     positive(|| "fs".into(), fs)?;
@@ -280,10 +289,7 @@ fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<W
                 }
                 fft.process_with_scratch(&mut buf, &mut scratch);
                 for k in 0..bins {
-                    let zk = buf[k];
-                    let zm = buf[(l - k) % l].conj();
-                    let xk = (zk + zm) * 0.5;
-                    let yk = (zk - zm) * Complex64::new(0.0, -0.5);
+                    let (xk, yk) = split(buf[k], buf[(l - k) % l]);
                     w.sxx[k] += xk.norm_sqr();
                     w.syy[k] += yk.norm_sqr();
                     w.sxy[k] += xk.conj() * yk;
@@ -332,10 +338,12 @@ pub fn cross_spectrum(x: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Res
 /// Relative level below which an auto spectrum counts as "no power".
 const NO_POWER: f64 = 1e-24;
 
+/// The coherence at the lines of `w.sxy` (the first lines of `w.sxx`, whose largest
+/// value over all lines sets the "no power" level; likewise `w.syy`).
 fn coherence_of(w: &Welch) -> Vec<f64> {
     let max_x = w.sxx.iter().fold(0.0f64, |m, &v| m.max(v));
     let max_y = w.syy.iter().fold(0.0f64, |m, &v| m.max(v));
-    (0..w.sxx.len())
+    (0..w.sxy.len())
         .map(|k| {
             let (sxx, syy) = (w.sxx[k], w.syy[k]);
             if sxx > NO_POWER * max_x && syy > NO_POWER * max_y {
@@ -378,7 +386,11 @@ pub fn h1_estimate(
     fs: f64,
     opts: &WelchOptions,
 ) -> Result<FrequencyResponseEstimate> {
-    let w = welch(input, Some(output), fs, opts)?;
+    h1_of(welch(input, Some(output), fs, opts)?)
+}
+
+/// H1 = S_xy/S_xx and the coherence at the lines of `w.sxy` (see [`coherence_of`]).
+fn h1_of(w: Welch) -> Result<FrequencyResponseEstimate> {
     let max_x = w.sxx.iter().fold(0.0f64, |m, &v| m.max(v));
     if max_x <= 0.0 {
         return Err(SignalError::ZeroInputPower { name: "input" });
@@ -396,10 +408,134 @@ pub fn h1_estimate(
         })
         .collect();
     let coherence = coherence_of(&w);
+    let mut frequency = w.frequency;
+    frequency.truncate(w.sxy.len());
     Ok(FrequencyResponseEstimate {
-        frequency: w.frequency,
+        frequency,
         h,
         coherence,
         averages: w.averages,
     })
+}
+
+/// The DFTs of an input and an output record of equal length, their means removed,
+/// from one complex FFT of z = (x − x̄) + i·(y − ȳ) (unnormalised:
+/// X_k = Σ_t x_t·e^{−2πikt/N}, k = 0 … N − 1; bin 0 is 0 up to rounding).
+///
+/// For work that needs the raw spectra beside an H1 estimate (a parametric fit to the
+/// DFT, say) from a single transform: [`hann_h1`](Self::hann_h1) gives the one-segment
+/// Hann H1 of the same records without transforming again.
+///
+/// ```
+/// use msd_signal::{DftPair, Complex64};
+/// // x_t = cos(2πt/8) + 5, y_t = sin(2πt/8): X_1 = 4, Y_1 = −4i.
+/// let x: Vec<f64> = (0..8).map(|t| (std::f64::consts::TAU * t as f64 / 8.0).cos() + 5.0).collect();
+/// let y: Vec<f64> = (0..8).map(|t| (std::f64::consts::TAU * t as f64 / 8.0).sin()).collect();
+/// let pair = DftPair::new(&x, &y)?;
+/// assert!((pair.input[1] - Complex64::new(4.0, 0.0)).norm() < 1e-12);
+/// assert!((pair.output[1] - Complex64::new(0.0, -4.0)).norm() < 1e-12);
+/// assert!(pair.input[0].norm() < 1e-12); // the mean is removed
+/// # Ok::<(), msd_signal::SignalError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct DftPair {
+    /// DFT of the mean-removed input record, all N bins.
+    pub input: Vec<Complex64>,
+    /// DFT of the mean-removed output record, all N bins.
+    pub output: Vec<Complex64>,
+}
+
+impl DftPair {
+    /// The DFTs of `input` and `output`, means removed.
+    ///
+    /// Errors on empty or non-finite data and on records of different lengths.
+    pub fn new(input: &[f64], output: &[f64]) -> Result<Self> {
+        check_data("input", input)?;
+        check_data("output", output)?;
+        same_length("input", input, "output", output)?;
+        let n = input.len();
+        let mean = |x: &[f64]| x.iter().sum::<f64>() / n as f64;
+        let (mx, my) = (mean(input), mean(output));
+        let mut z: Vec<Complex64> = input
+            .iter()
+            .zip(output)
+            .map(|(&a, &b)| Complex64::new(a - mx, b - my))
+            .collect();
+        forward_fft(n).process(&mut z);
+        // Bin N−k is z[N−k] for k ≥ 1 and z[0] for k = 0 (no modulo in the loop).
+        let mirrored = std::iter::once(z[0]).chain(z[1..].iter().rev().copied());
+        let (input, output) = z
+            .iter()
+            .zip(mirrored)
+            .map(|(&zk, zm)| split(zk, zm))
+            .unzip();
+        Ok(Self { input, output })
+    }
+
+    /// The H1 estimate with one periodic-Hann segment, from these DFTs, at the lines
+    /// k·fs/N up to `max_frequency` Hz (and the Nyquist frequency): what
+    /// [`h1_estimate`] gives with [`WelchOptions::default()`] (the whole record, Hann,
+    /// mean removed), up to FFT rounding, without another transform. The window is
+    /// applied in frequency, where the periodic Hann window is the three-tap kernel
+    /// `X_w[k] = ½X[k] − ¼(X[k−1] + X[k+1])` (indices mod N). The conventions are
+    /// `h1_estimate`'s: H1 is 0 where the windowed input has less than 1e-24 of its peak
+    /// one-sided power over all lines, the coherence is 1 where both records have power
+    /// (one segment) and 0 elsewhere.
+    ///
+    /// Errors on `fs` not finite and positive, `max_frequency` negative or NaN, and with
+    /// [`SignalError::ZeroInputPower`] for an input without power after the mean is
+    /// removed.
+    ///
+    /// ```
+    /// use msd_signal::{gaussian_noise, h1_estimate, DftPair, WelchOptions};
+    /// let u = gaussian_noise(3, "input", 1.0, 1000)?;
+    /// let y: Vec<f64> = u.windows(2).map(|w| w[1] - 0.5 * w[0]).chain([0.0]).collect();
+    /// let from_dft = DftPair::new(&u, &y)?.hann_h1(100.0, 20.0)?;
+    /// let direct = h1_estimate(&u, &y, 100.0, &WelchOptions::default())?;
+    /// assert_eq!(from_dft.frequency.len(), 201); // 0, 0.1, …, 20 Hz
+    /// for (a, b) in from_dft.h.iter().zip(&direct.h) {
+    ///     assert!((a - b).norm() < 1e-9 * b.norm());
+    /// }
+    /// # Ok::<(), msd_signal::SignalError>(())
+    /// ```
+    pub fn hann_h1(&self, fs: f64, max_frequency: f64) -> Result<FrequencyResponseEstimate> {
+        positive(|| "fs".into(), fs)?;
+        if max_frequency.is_nan() || max_frequency < 0.0 {
+            return Err(SignalError::InvalidParameter {
+                parameter: "max_frequency".into(),
+                value: max_frequency,
+                expected: "a frequency >= 0 Hz",
+            });
+        }
+        let (x, y) = (&self.input, &self.output);
+        let n = x.len();
+        let half = n / 2;
+        let lines = ((max_frequency / (fs / n as f64)).floor() as usize).min(half) + 1;
+        // Only k = 0 wraps around below (X[−1] = X[N−1]), and above only k = N/2 for N ≤ 2.
+        let windowed = |x: &[Complex64], k: usize| {
+            let below = if k == 0 { x[n - 1] } else { x[k - 1] };
+            let above = if k + 1 == n { x[0] } else { x[k + 1] };
+            x[k] * 0.5 - (below + above) * 0.25
+        };
+        // One-sided: every line doubled but DC and Nyquist (a factor 2 is exact, so H1
+        // and the coherence are the same bits as from the two-sided values).
+        let one_sided = |k: usize| if k != 0 && 2 * k != n { 2.0 } else { 1.0 };
+        let mut w = Welch {
+            frequency: (0..lines).map(|k| k as f64 * fs / n as f64).collect(),
+            sxx: Vec::with_capacity(half + 1),
+            syy: Vec::with_capacity(half + 1),
+            sxy: Vec::with_capacity(lines),
+            averages: 1,
+        };
+        for k in 0..=half {
+            let (a, b) = (windowed(x, k), windowed(y, k));
+            let c = one_sided(k);
+            w.sxx.push(c * a.norm_sqr());
+            w.syy.push(c * b.norm_sqr());
+            if k < lines {
+                w.sxy.push(a.conj() * b * c);
+            }
+        }
+        h1_of(w)
+    }
 }

@@ -4,12 +4,11 @@
 //! - For the Bode plot, the H1 estimate Ŝ_yu/Ŝ_uu over the whole record (one
 //!   Hann-windowed segment, mean removed: a lightly damped mode's half-power bandwidth,
 //!   2ζfn ≈ 0.11 Hz for the paper's plant, is below the resolution of any Welch
-//!   segmentation of a 15 s record, so averaging is not an option). It equals msd-signal's
-//!   `h1_estimate` with one periodic-Hann segment and mean detrending (tested), but is
-//!   computed from the same single FFT as the fit below: the periodic Hann window is the
-//!   three-tap kernel (−¼, ½, −¼) in frequency, so the windowed spectra follow from the
-//!   rectangular ones without another transform. With one segment the coherence is 1 by
-//!   construction and says nothing; it is reported for completeness.
+//!   segmentation of a 15 s record, so averaging is not an option): msd-signal's
+//!   [`DftPair::hann_h1`](msd_signal::DftPair::hann_h1), which equals its `h1_estimate`
+//!   with one periodic-Hann segment and mean detrending, computed from the same single
+//!   FFT ([`DftPair`](msd_signal::DftPair)) as the fit below. With one segment the
+//!   coherence is 1 by construction and says nothing; it is reported for completeness.
 //! - For ωn and ζ, a parametric single-mode fit to the record's DFT (rectangular window,
 //!   no averaging): Y(ω) = (G·U(ω) + a + j·b·ω) / (ωn² − ω² + 2jζωnω). The numerator term
 //!   a + jbω models the leakage of the transient (the record starts at rest and ends
@@ -37,14 +36,12 @@
 //!   to a mode narrower than their spacing, 2ζ·fn < 1/T, such as fn → 0 with ζ → 0).
 
 mod mode_fit;
-mod spectra;
 
 use crate::{DataSet, IdentError, Parameters, Result, Uncertainty};
 use mode_fit::{SingleModeFit, transient_for};
 use msd_opt::{NelderMeadOptions, nelder_mead};
-use msd_signal::Complex64;
+use msd_signal::{Complex64, DftPair};
 use serde::{Deserialize, Serialize};
-use spectra::{dft_pair, hann_h1};
 use std::f64::consts::PI;
 
 /// Options of [`frequency_check`].
@@ -210,7 +207,8 @@ pub fn frequency_check(
     let fs = 1.0 / dt;
     let u = &data.excitation.samples()[..n];
     let y = &data.output[..n];
-    let (uf, yf) = dft_pair(u, y);
+    let spectra = DftPair::new(u, y)?;
+    let (uf, yf) = (&spectra.input, &spectra.output);
     // uf, yf: the DFTs of the mean-removed records (bin 0 is 0; the other bins are the raw
     // records' DFT), so H1's mean detrending comes free.
     let df = fs / n as f64;
@@ -346,8 +344,7 @@ pub fn frequency_check(
 
     // Bode arrays: H1 over the whole record, periodic Hann window, from the same FFT.
     let f_max = (3.0 * band[1]).min(fs / 2.0);
-    let k_max = ((f_max / df).floor() as usize).min(half);
-    let h1 = hann_h1(&uf, &yf, fs, k_max);
+    let h1 = spectra.hann_h1(fs, f_max)?;
     let keep: Vec<usize> = (1..h1.frequency.len())
         .filter(|&k| h1.frequency[k] <= f_max)
         .collect();

@@ -5,8 +5,8 @@ use super::estimate::{NonlinearEstimate, NonlinearOptions, estimate_nonlinear};
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, simulate_nonlinear};
 use crate::{
-    DataSet, FitMetrics, IdentError, InitialState, Interval, ResidualOptions, Result, StopReason,
-    residual_analysis,
+    Backend, DataSet, FitMetrics, IdentError, InitialState, Interval, Parameters, ResidualOptions,
+    Result, StopReason, residual_analysis,
 };
 use msd_opt::{LevenbergMarquardtOptions, ResidualFn, levenberg_marquardt};
 use serde::{Deserialize, Serialize};
@@ -207,14 +207,53 @@ pub fn bic_evidence(delta: f64) -> &'static str {
     }
 }
 
-/// Fits x(t₀), x'(t₀) of `parameters` to the first `samples` outputs of `data`
-/// (Levenberg–Marquardt, parameters fixed).
+/// The model whose initial state [`fit_initial_state`] fits, its parameters held fixed,
+/// and how it is simulated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FixedModel<'a> {
+    /// A linear model whose output carries a constant sensor `offset`, simulated by
+    /// `backend`: the fit is [`estimate`](crate::estimate)'s Levenberg–Marquardt with m,
+    /// c, k and the offset fixed (exact sensitivities on the exact backend).
+    Linear {
+        /// m, c, k.
+        parameters: &'a Parameters,
+        /// How the model is simulated.
+        backend: Backend,
+        /// The sensor offset added to the model output.
+        offset: f64,
+    },
+    /// A nonlinear model simulated by ode45 ([`simulate_nonlinear`]): Levenberg–Marquardt
+    /// with finite differences on the state scaled by the outputs' RMS.
+    Nonlinear {
+        /// The model and its parameters.
+        parameters: &'a NonlinearParameters,
+        /// The ode45 tolerances.
+        simulation: &'a NonlinearSimulation,
+        /// The Coulomb smoothing velocity v_s.
+        smoothing_velocity: f64,
+    },
+}
+
+/// Fits x(t₀), x'(t₀) of `model` to the first `samples` outputs of `data` by least
+/// squares, the model's parameters fixed (as the Silverbox benchmark's rule sets the
+/// validation's initial state from its first outputs).
+///
+/// ```
+/// use msd_ident::{fit_initial_state, simulate, Backend, DataSet, Excitation, FixedModel,
+///     InitialState, Parameters};
+/// let input = Excitation::from_samples(0.0, 0.002, vec![0.0; 200])?;
+/// let start = InitialState { displacement: 0.01, velocity: -0.2 };
+/// let ringing = simulate(&Parameters::PAPER, &input, start, &Backend::EXACT)?;
+/// let data = DataSet::new("free decay", input, ringing)?;
+/// let model = FixedModel::Linear { parameters: &Parameters::PAPER, backend: Backend::EXACT, offset: 0.0 };
+/// let fitted = fit_initial_state(model, &data, 50)?;
+/// assert!((fitted.displacement - 0.01).abs() < 1e-9 && (fitted.velocity + 0.2).abs() < 1e-7);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 pub fn fit_initial_state(
-    parameters: &NonlinearParameters,
+    model: FixedModel<'_>,
     data: &DataSet,
     samples: usize,
-    simulation: &NonlinearSimulation,
-    smoothing_velocity: f64,
 ) -> Result<InitialState> {
     if samples < 3 || samples > data.len() {
         return Err(IdentError::TooFewSamples {
@@ -224,6 +263,33 @@ pub fn fit_initial_state(
         });
     }
     let head = data.slice(0, samples)?;
+    let (parameters, simulation, smoothing_velocity) = match model {
+        FixedModel::Linear {
+            parameters,
+            backend,
+            offset,
+        } => {
+            let options = crate::EstimationOptions {
+                method: crate::Method::LevenbergMarquardt,
+                backend,
+                initial_guess: Some(*parameters),
+                fixed: crate::FixedParameters {
+                    mass: Some(parameters.mass),
+                    damping: Some(parameters.damping),
+                    stiffness: Some(parameters.stiffness),
+                },
+                estimate_initial_state: true,
+                offset,
+                ..crate::EstimationOptions::default()
+            };
+            return crate::estimate(&head, &options).map(|e| e.initial_state);
+        }
+        FixedModel::Nonlinear {
+            parameters,
+            simulation,
+            smoothing_velocity,
+        } => (parameters, simulation, smoothing_velocity),
+    };
     let y_rms = (head.output.iter().map(|v| v * v).sum::<f64>() / samples as f64)
         .sqrt()
         .max(f64::MIN_POSITIVE);
@@ -274,11 +340,13 @@ fn predict(
         ValidationStart::Rest => (InitialState::REST, 0),
         ValidationStart::FitInitialState { samples } => (
             fit_initial_state(
-                &estimate.parameters,
+                FixedModel::Nonlinear {
+                    parameters: &estimate.parameters,
+                    simulation: sim,
+                    smoothing_velocity: estimate.smoothing_velocity,
+                },
                 validation,
                 samples,
-                sim,
-                estimate.smoothing_velocity,
             )?,
             samples,
         ),

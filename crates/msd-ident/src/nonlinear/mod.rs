@@ -79,7 +79,7 @@ mod model;
 mod simulate;
 
 pub use compare::{
-    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, ValidationStart,
+    CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, FixedModel, ValidationStart,
     assess_estimate, bic_evidence, compare_models, fit_initial_state,
 };
 pub use estimate::{

@@ -1,6 +1,5 @@
 //! Integration tests of msd-ident: one test binary, one module per topic.
 
-mod batch;
 mod common;
 mod data;
 mod diagnostics;

@@ -387,3 +387,84 @@ fn nonlinear_synthetic_data_starts_from_the_given_state() -> Result<(), IdentErr
     assert!(truth[150].abs() < 0.05, "it decays: {}", truth[150]);
     Ok(())
 }
+
+/// `fit_initial_state` recovers a known start from noise-free outputs, for a linear model
+/// with a sensor offset (exact simulation) and for a Duffing plant (ode45); both ways
+/// agree on a linear plant; too few samples are refused with their count.
+#[test]
+fn fit_initial_state_recovers_a_known_start() -> Result<(), IdentError> {
+    use msd_ident::{
+        Backend, FixedModel, InitialState, Parameters, fit_initial_state, simulate,
+        simulate_nonlinear,
+    };
+    let input = Excitation::from_signal(paper_validation_input(), 0.0, DT, 400)?;
+    let start = InitialState {
+        displacement: 0.02,
+        velocity: -0.15,
+    };
+    let offset = 0.003;
+    let linear: Vec<f64> = simulate(&Parameters::PAPER, &input, start, &Backend::EXACT)?
+        .iter()
+        .map(|x| x + offset)
+        .collect();
+    let data = DataSet::new("linear", input.clone(), linear)?;
+    let exact = FixedModel::Linear {
+        parameters: &Parameters::PAPER,
+        backend: Backend::EXACT,
+        offset,
+    };
+    let fitted = fit_initial_state(exact, &data, 50)?;
+    assert!((fitted.displacement - 0.02).abs() < 1e-10, "{fitted:?}");
+    assert!((fitted.velocity + 0.15).abs() < 1e-8, "{fitted:?}");
+
+    let sim = NonlinearSimulation::default();
+    let duffing = plant(structure(DampingLaw::Viscous, StiffnessLaw::Cubic));
+    let (x, _) = simulate_nonlinear(&duffing, &input, start, &sim, 1.0)?;
+    let data = DataSet::new("duffing", input.clone(), x)?;
+    let model = FixedModel::Nonlinear {
+        parameters: &duffing,
+        simulation: &sim,
+        smoothing_velocity: 1.0,
+    };
+    let fitted = fit_initial_state(model, &data, 50)?;
+    assert!((fitted.displacement - 0.02).abs() < 1e-7, "{fitted:?}");
+    assert!((fitted.velocity + 0.15).abs() < 1e-5, "{fitted:?}");
+
+    // A linear plant fitted both ways: the same start within ode45's tolerance.
+    let as_nonlinear = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
+    let free = DataSet::new(
+        "at rest",
+        input.clone(),
+        simulate(&Parameters::PAPER, &input, start, &Backend::EXACT)?,
+    )?;
+    let by_ode45 = fit_initial_state(
+        FixedModel::Nonlinear {
+            parameters: &as_nonlinear,
+            simulation: &sim,
+            smoothing_velocity: 1.0,
+        },
+        &free,
+        50,
+    )?;
+    let by_exact = fit_initial_state(
+        FixedModel::Linear {
+            parameters: &Parameters::PAPER,
+            backend: Backend::EXACT,
+            offset: 0.0,
+        },
+        &free,
+        50,
+    )?;
+    assert!((by_ode45.displacement - by_exact.displacement).abs() < 1e-7);
+    assert!((by_ode45.velocity - by_exact.velocity).abs() < 1e-5);
+
+    for samples in [2, 401] {
+        match fit_initial_state(exact, &data, samples) {
+            Err(IdentError::TooFewSamples { got, needed: 3, .. }) => {
+                assert_eq!(got, samples.min(400))
+            }
+            other => panic!("{samples} samples: {other:?}"),
+        }
+    }
+    Ok(())
+}

@@ -1,38 +1,30 @@
-//! Many parameter sets on one excitation, [`LANES`] at a time, streamed along the record.
+//! The band's simulations: many parameter sets on one excitation, [`LANES`] at a time,
+//! streamed along the record.
+//!
+//! What every draw shares is prepared (and checked) once — the input's stencils for the
+//! exact backend, the time grid for ode45 — and [`LANES`] parameter sets at a time are
+//! advanced along the record in stretches ([`BatchRun`]), so that the engine keeps a
+//! short window of every response instead of whole responses. The exact backend steps
+//! the lanes with msd-ode's `Lockstep`, ode45 with its `Ode45Lanes`. Every lane gives bit
+//! for bit what `msd_ident::simulate` gives for its parameters with the same backend
+//! (tested): the band is the percentiles of each draw simulated alone.
 
-use crate::{Backend, Excitation, InitialState, Parameters, Result};
+use crate::Result;
+use msd_ident::{Backend, Excitation, IdentError, InitialState, Parameters};
 use msd_ode::{
-    ExactSimulator, Hold, InputSchedule, LaneSystem, Lockstep, Ode45Lanes, Ode45Options,
+    ExactSimulator, Hold, InputSchedule, LaneSystem, Lockstep, Ode45Lanes, Ode45Options, SVector,
     SampledInput, TimeGrid,
 };
 
-/// Parameter sets a [`BatchRun`] steps together.
-pub const LANES: usize = 8;
+#[cfg(test)]
+mod tests;
 
-/// The simulation of many parameter sets on one excitation, as a Monte Carlo run needs
-/// it: what every run shares is prepared (and checked) once — the input's stencils for
-/// the exact backend, the time grid for ode45 — and [`LANES`] parameter sets at a time
-/// are advanced along the record in stretches ([`BatchRun`]), so a caller can keep a
-/// short window of every response instead of whole responses. Every lane gives bit for
-/// bit what [`simulate`](crate::simulate) gives for its parameters with the same backend.
-///
-/// ```
-/// use msd_ident::{simulate, Backend, BatchSimulator, Excitation, InitialState, Parameters, LANES};
-/// use msd_signal::paper_validation_input;
-/// let input = Excitation::from_signal(paper_validation_input(), 0.0, 0.002, 7501)?;
-/// let batch = BatchSimulator::new(&input, &Backend::EXACT)?;
-/// let mut sets = [None; LANES];
-/// sets[0] = Some(Parameters::PAPER);
-/// sets[1] = Some(Parameters::new(2.6, 1.7, 125.0)?);
-/// let mut out = vec![0.0; 7501 * LANES]; // time-major: out[t·LANES + lane]
-/// let ok = batch.simulate_lanes(&sets, InitialState::REST, &mut out);
-/// assert_eq!(&ok[..3], &[true, true, false]);
-/// let alone = simulate(&sets[1].unwrap(), &input, InitialState::REST, &Backend::EXACT)?;
-/// assert!((0..7501).all(|t| out[t * LANES + 1] == alone[t]));
-/// # Ok::<(), msd_ident::IdentError>(())
-/// ```
+/// Parameter sets a [`BatchRun`] steps together.
+pub(crate) const LANES: usize = 8;
+
+/// The simulation of many parameter sets on one excitation with one backend.
 #[derive(Debug, Clone)]
-pub struct BatchSimulator<'a> {
+pub(crate) struct BatchSimulator<'a> {
     excitation: &'a Excitation,
     kind: Kind<'a>,
 }
@@ -51,7 +43,7 @@ enum Kind<'a> {
 
 impl<'a> BatchSimulator<'a> {
     /// The batch simulator of `excitation` with `backend` (checked).
-    pub fn new(excitation: &'a Excitation, backend: &Backend) -> Result<Self> {
+    pub(crate) fn new(excitation: &'a Excitation, backend: &Backend) -> Result<Self> {
         backend.validate()?;
         let kind = match *backend {
             Backend::Exact { hold } => {
@@ -60,20 +52,23 @@ impl<'a> BatchSimulator<'a> {
                     breakpoints: excitation.breakpoints(),
                 };
                 Kind::Exact {
-                    schedule: InputSchedule::new(&input, hold)?,
+                    schedule: InputSchedule::new(&input, hold).map_err(IdentError::from)?,
                     hold,
                 }
             }
-            Backend::Ode45 { rel_tol, abs_tol } => Kind::Ode45 {
-                grid: TimeGrid::new(excitation.times())?,
-                options: backend.ode45_options(rel_tol, abs_tol),
+            Backend::Ode45 { .. } => Kind::Ode45 {
+                grid: TimeGrid::new(excitation.times()).map_err(IdentError::from)?,
+                // `simulate`'s options, so that every lane gives its bits.
+                options: backend
+                    .ode45_options()
+                    .expect("the ode45 backend has ode45 options"),
             },
         };
         Ok(Self { excitation, kind })
     }
 
     /// Number of samples of the excitation.
-    pub fn samples(&self) -> usize {
+    pub(crate) fn samples(&self) -> usize {
         self.excitation.len()
     }
 
@@ -82,7 +77,11 @@ impl<'a> BatchSimulator<'a> {
     ///
     /// # Panics
     /// If `parameters` has more than [`LANES`] entries (a programming error).
-    pub fn start(&self, parameters: &[Option<Parameters>], initial: InitialState) -> BatchRun<'a> {
+    pub(crate) fn start(
+        &self,
+        parameters: &[Option<Parameters>],
+        initial: InitialState,
+    ) -> BatchRun<'a> {
         assert!(
             parameters.len() <= LANES,
             "more than {LANES} parameter sets"
@@ -91,7 +90,7 @@ impl<'a> BatchSimulator<'a> {
             let p = parameters.get(lane).copied().flatten()?;
             p.validate().ok().map(|()| p)
         };
-        let x0 = initial.vector();
+        let x0 = SVector::<f64, 2>::new(initial.displacement, initial.velocity);
         let lanes = match &self.kind {
             Kind::Exact { hold, .. } => {
                 let sims: [Option<ExactSimulator<2>>; LANES] = std::array::from_fn(|lane| {
@@ -127,27 +126,11 @@ impl<'a> BatchSimulator<'a> {
         };
         BatchRun { lanes, next: 0 }
     }
-
-    /// The whole record of up to [`LANES`] parameter sets at once: [`start`](Self::start)
-    /// then [`BatchRun::advance`] to the end, into `out[t·LANES + lane]`.
-    ///
-    /// # Panics
-    /// If `parameters` has more than [`LANES`] entries or `out` is shorter than
-    /// `samples()·LANES` (programming errors).
-    pub fn simulate_lanes(
-        &self,
-        parameters: &[Option<Parameters>],
-        initial: InitialState,
-        out: &mut [f64],
-    ) -> [bool; LANES] {
-        self.start(parameters, initial)
-            .advance(self, self.samples(), out)
-    }
 }
 
 /// Up to [`LANES`] parameter sets part-way along the record of a [`BatchSimulator`].
 #[derive(Debug, Clone)]
-pub struct BatchRun<'a> {
+pub(crate) struct BatchRun<'a> {
     lanes: Lanes<'a>,
     next: usize,
 }
@@ -161,6 +144,9 @@ enum Lanes<'a> {
     },
     Ode45(Box<(Ode45Lanes<'a, 2, LANES>, Plants<'a>)>),
 }
+
+// A run's simulators stay small: the memory plan counts N / LANES of them.
+const _: () = assert!(BatchRun::MAX_BYTES < 8 << 10);
 
 /// The right-hand sides of [`LANES`] plants driven by one excitation, as
 /// `simulate`'s ode45 right-hand side computes each: x'' = (F(t) − c·x' − k·x)/m.
@@ -190,61 +176,25 @@ impl LaneSystem<2, LANES> for Plants<'_> {
 
 impl BatchRun<'_> {
     /// Bytes a run holds, at most, on the heap and inline, with either backend.
-    ///
-    /// ```
-    /// assert!(msd_ident::BatchRun::MAX_BYTES < 8 << 10);
-    /// ```
-    pub const MAX_BYTES: usize = {
+    pub(crate) const MAX_BYTES: usize = {
         let exact = size_of::<Lockstep<2, LANES>>();
         let ode45 = size_of::<(Ode45Lanes<'static, 2, LANES>, Plants<'static>)>();
         size_of::<Self>() + if exact > ode45 { exact } else { ode45 }
     };
 
-    /// The next sample to be produced (0 after [`BatchSimulator::start`]).
-    pub fn next_sample(&self) -> usize {
-        self.next
-    }
-
-    /// Produces the samples from [`next_sample`](Self::next_sample) up to `until`
-    /// (clamped to the record), writing sample t of lane l to
-    /// `out[(t − next_sample)·LANES + l]`, and returns which lanes are still good. A lane
-    /// fails, for good, on a `None` or invalid parameter set, a model too stiff for the
-    /// step (exact), a state that overflows, or a solver error (ode45); a failed lane's
-    /// values are +∞. Allocates nothing.
+    /// Produces the samples from the next one (0 after [`BatchSimulator::start`]) up to
+    /// `until` (clamped to the record), writing sample t of lane l to
+    /// `out[(t − next)·stride + l]` — the lanes' values at one time are [`LANES`]
+    /// contiguous values, `stride` (≥ [`LANES`]) apart from one time to the next, so
+    /// that they go straight into a wider time-major table — and returns which lanes
+    /// are still good. A lane fails, for good, on a `None` or invalid parameter set, a
+    /// model too stiff for the step (exact), a state that overflows, or a solver error
+    /// (ode45); a failed lane's values are +∞. Allocates nothing.
     ///
     /// # Panics
-    /// If `batch` is not the simulator that started the run (a different backend) or
-    /// `out` is too short (programming errors).
-    pub fn advance(
-        &mut self,
-        batch: &BatchSimulator<'_>,
-        until: usize,
-        out: &mut [f64],
-    ) -> [bool; LANES] {
-        self.advance_strided(batch, until, out, LANES)
-    }
-
-    /// As [`advance`](Self::advance), writing sample t of lane l to
-    /// `out[(t − next_sample)·stride + l]`: the lanes' values at one time are
-    /// [`LANES`] contiguous values, `stride` (≥ [`LANES`]) apart from one time to the
-    /// next, so a caller can write straight into a wider time-major table.
-    ///
-    /// ```
-    /// use msd_ident::{Backend, BatchSimulator, Excitation, InitialState, Parameters, LANES};
-    /// let input = Excitation::from_samples(0.0, 0.01, vec![1.0; 100])?;
-    /// let batch = BatchSimulator::new(&input, &Backend::EXACT)?;
-    /// let sets = [Some(Parameters::PAPER); LANES];
-    /// let mut table = vec![0.0; 100 * 2 * LANES]; // two runs side by side
-    /// batch.start(&sets, InitialState::REST).advance_strided(&batch, 100, &mut table[LANES..], 2 * LANES);
-    /// let mut alone = vec![0.0; 100 * LANES];
-    /// batch.start(&sets, InitialState::REST).advance(&batch, 100, &mut alone);
-    /// assert!((0..100).all(|t| table[t * 2 * LANES + LANES] == alone[t * LANES]));
-    /// # Ok::<(), msd_ident::IdentError>(())
-    /// ```
-    ///
-    /// # Panics
-    /// If `stride` < [`LANES`], or as [`advance`](Self::advance).
-    pub fn advance_strided(
+    /// If `stride` < [`LANES`], `batch` is not the simulator that started the run (a
+    /// different backend) or `out` is too short (programming errors).
+    pub(crate) fn advance_strided(
         &mut self,
         batch: &BatchSimulator<'_>,
         until: usize,
