@@ -33,12 +33,13 @@ pub enum ExperimentError {
         message: String,
     },
     /// A stage failed while running (estimation, simulation, plotting, writing).
-    #[error("{stage} failed: {message}")]
+    #[error("{stage} failed: {source}")]
     Run {
         /// The stage that failed.
         stage: &'static str,
-        /// Why.
-        message: String,
+        /// Why: the library's own error where there is one (downcast it, e.g. to
+        /// `msd_ident::IdentError`), else a message.
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
 }
 
@@ -59,11 +60,25 @@ impl ExperimentError {
         }
     }
 
-    /// A failure of `stage`.
-    pub fn run(stage: &'static str, message: impl std::fmt::Display) -> Self {
+    /// A failure of `stage`, keeping its cause: a library error (kept as the source) or a
+    /// message.
+    ///
+    /// ```
+    /// use msd_experiment::ExperimentError;
+    /// use std::error::Error as _;
+    /// let cause = msd_ident::IdentError::EstimationFailed { reason: "no finite cost".into() };
+    /// let e = ExperimentError::run("estimation", cause);
+    /// assert_eq!(e.exit_code(), 1);
+    /// assert!(e.to_string().starts_with("estimation failed: "));
+    /// assert!(e.source().unwrap().downcast_ref::<msd_ident::IdentError>().is_some());
+    /// ```
+    pub fn run(
+        stage: &'static str,
+        source: impl Into<Box<dyn std::error::Error + Send + Sync>>,
+    ) -> Self {
         Self::Run {
             stage,
-            message: message.to_string(),
+            source: source.into(),
         }
     }
 
