@@ -281,7 +281,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
             path,
             match crate::fetch::command_for(path) {
                 Some(command) => format!(
-                    "cannot open the data file (data.path = {:?}): {e}; fetch it with `{command}`",
+                    "cannot open the data file (data.path = {:?}): {e}; fetch it with {command}",
                     d.path
                 ),
                 None => format!("cannot open the data file (data.path = {:?}): {e}", d.path),

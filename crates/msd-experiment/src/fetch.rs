@@ -88,7 +88,7 @@ pub fn command_for(missing: &Path) -> Option<String> {
         .any(|f| missing.file_name().is_some_and(|n| n == f.name))
         .then(|| {
             format!(
-                "cargo xtask fetch-data {0} (or msd fetch-data {0})",
+                "`cargo xtask fetch-data {0}` (or `msd fetch-data {0}`)",
                 set.name
             )
         })

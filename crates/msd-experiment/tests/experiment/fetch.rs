@@ -117,7 +117,7 @@ fn a_config_whose_real_data_are_missing_says_which_command_fetches_them() {
     assert_eq!(err.exit_code(), 2);
     assert!(
         err.to_string().contains(
-            "fetch it with `cargo xtask fetch-data silverbox (or msd fetch-data silverbox)`"
+            "fetch it with `cargo xtask fetch-data silverbox` (or `msd fetch-data silverbox`)"
         ),
         "{err}"
     );
