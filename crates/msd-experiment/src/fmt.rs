@@ -117,3 +117,26 @@ pub fn method_name(method: msd_ident::Method) -> &'static str {
         msd_ident::Method::LevenbergMarquardt => "Levenberg–Marquardt",
     }
 }
+
+/// "Nelder–Mead on ode45 from θ0 = (2.000, 1.000, 100.0)": the optimiser, the simulator
+/// and the start of an estimate, as the summary and the report both say it.
+///
+/// ```
+/// # fn main() -> Result<(), msd_ident::IdentError> {
+/// let paper = msd_ident::PaperExperiment::generate(1)?;
+/// let fit = msd_ident::estimate(&paper.identification, &msd_ident::EstimationOptions::fast())?;
+/// assert_eq!(msd_experiment::fmt::solver_start(&fit), "Levenberg–Marquardt on exact from θ0 = (2.000, 1.000, 100.0)");
+/// # Ok(())
+/// # }
+/// ```
+pub fn solver_start(e: &msd_ident::Estimate) -> String {
+    let g = &e.initial_guess.0;
+    format!(
+        "{} on {} from θ0 = ({}, {}, {})",
+        method_name(e.method),
+        e.backend.name(),
+        sig(g.mass, 4),
+        sig(g.damping, 4),
+        sig(g.stiffness, 4)
+    )
+}

@@ -240,12 +240,8 @@ pub fn markdown(
     );
     let _ = writeln!(
         w,
-        "Solver: {} on {} from θ₀ = ({}, {}, {}) ({}): {} iterations, {} cost evaluations{}, {}; final cost Σr² = {}. Condition number of the scaled JᵀJ: {}.\n",
-        method_name(e.method),
-        e.backend.name(),
-        sig(e.initial_guess.0.mass, 4),
-        sig(e.initial_guess.0.damping, 4),
-        sig(e.initial_guess.0.stiffness, 4),
+        "Solver: {} ({}): {} iterations, {} cost evaluations{}, {}; final cost Σr² = {}. Condition number of the scaled JᵀJ: {}.\n",
+        crate::fmt::solver_start(e),
         match e.initial_guess.1 {
             msd_ident::GuessSource::Given => "given",
             msd_ident::GuessSource::Automatic => "automatic ARX guess",

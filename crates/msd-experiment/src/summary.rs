@@ -1,7 +1,7 @@
 //! The concise summary printed after a run: parameters with intervals, fit on both
 //! records, residual, frequency and Monte Carlo verdicts, and the time of each stage.
 
-use crate::fmt::{display_output, method_name, millis, parameter_rows, parameter_units, sig};
+use crate::fmt::{display_output, millis, parameter_rows, parameter_units, sig};
 use crate::pipeline::Outcome;
 use std::fmt::Write;
 use std::path::Path;
@@ -41,12 +41,8 @@ pub fn text(
     let _ = writeln!(s, "experiment `{}` ({kind})", o.config.name);
     let _ = writeln!(
         s,
-        "  {} on {} from θ0 = ({}, {}, {}){}: {} iterations, {} evaluations, {}",
-        method_name(e.method),
-        e.backend.name(),
-        sig(e.initial_guess.0.mass, 4),
-        sig(e.initial_guess.0.damping, 4),
-        sig(e.initial_guess.0.stiffness, 4),
+        "  {}{}: {} iterations, {} evaluations, {}",
+        crate::fmt::solver_start(e),
         if e.initial_guess.1 == msd_ident::GuessSource::Automatic {
             " (automatic)"
         } else {
