@@ -105,9 +105,29 @@ fn profile(
 /// Refuses the estimate when fixing m at m̂/100 (or m̂/10⁴) explains the data as well
 /// (see the module doc). Skipped when the mass is fixed or bounded by the caller (then
 /// it is known).
-pub(super) fn check_mass(data: &DataSet, options: &EstimationOptions, at: At<'_>) -> Result<()> {
+///
+/// The probes cost two fits, so they run only where the mass line may be unexcited: the
+/// estimated resonance lies beyond the Nyquist frequency or above twice the excited band
+/// (99.9 % of the input's power, or no input power at all), or a parameter's relative
+/// standard error exceeds 2 %. A resonance inside the excited band with tight intervals
+/// is the data's own evidence for m, and the probes would only confirm it.
+pub(super) fn check_mass(
+    data: &DataSet,
+    options: &EstimationOptions,
+    at: At<'_>,
+    uncertainty: &crate::Uncertainty,
+) -> Result<()> {
     let theta = at.0;
     if options.fixed.mass.is_some() || options.bounds.mass.is_some() {
+        return Ok(());
+    }
+    let fnat = theta.natural_frequency_hz();
+    let beyond_nyquist = fnat > 0.5 / data.excitation.dt();
+    let above_band = excited_top(data).is_none_or(|top| fnat > 2.0 * top);
+    let loose = [uncertainty.mass, uncertainty.damping, uncertainty.stiffness]
+        .iter()
+        .any(|iv| iv.standard_error > PROBE_RELATIVE_SE * iv.value.abs());
+    if !(beyond_nyquist || above_band || loose) {
         return Ok(());
     }
     let Some(reference) = reference(data, options, at) else {
@@ -210,6 +230,18 @@ fn refusal(data: &DataSet, theta: &Parameters, light: f64, statistic: f64) -> St
 /// refuse (a feature of the noise or of aliasing that a resonance outside the band
 /// happens to fit).
 pub(super) fn band_warning(data: &DataSet, theta: &Parameters) -> Option<String> {
+    let top = excited_top(data)?;
+    let fnat = theta.natural_frequency_hz();
+    (fnat > 2.0 * top).then(|| {
+        format!(
+            "the estimated resonance fn = {fnat:.4} Hz lies above the excited band (99.9 % of the input's power is below {top:.4} Hz): m rests on the response's quasi-static roll-off only, and its interval holds only if the model is exact; excite the resonance (a sweep through it) or give the mass"
+        )
+    })
+}
+
+/// The frequency below which 99.9 % of the input's power lies (Welch, Hann, whole
+/// record, DC left out); `None` for an input without power above DC.
+fn excited_top(data: &DataSet) -> Option<f64> {
     let fs = 1.0 / data.excitation.dt();
     let options = msd_signal::WelchOptions::default();
     let psd = msd_signal::welch_psd(data.excitation.samples(), fs, &options).ok()?;
@@ -218,8 +250,7 @@ pub(super) fn band_warning(data: &DataSet, theta: &Parameters) -> Option<String>
         return None;
     }
     let mut cumulative = 0.0;
-    let top = psd
-        .frequency
+    psd.frequency
         .iter()
         .zip(&psd.values)
         .skip(1)
@@ -227,11 +258,5 @@ pub(super) fn band_warning(data: &DataSet, theta: &Parameters) -> Option<String>
             cumulative += **p;
             cumulative >= 0.999 * total
         })
-        .map(|(f, _)| *f)?;
-    let fnat = theta.natural_frequency_hz();
-    (fnat > 2.0 * top).then(|| {
-        format!(
-            "the estimated resonance fn = {fnat:.4} Hz lies above the excited band (99.9 % of the input's power is below {top:.4} Hz): m rests on the response's quasi-static roll-off only, and its interval holds only if the model is exact; excite the resonance (a sweep through it) or give the mass"
-        )
-    })
+        .map(|(f, _)| *f)
 }
