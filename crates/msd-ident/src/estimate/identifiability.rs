@@ -102,40 +102,66 @@ fn profile(
     Some((refit.cost - reference.sse) / reference.sigma2)
 }
 
+/// The reference cost of every Λ, simulated once and only when a probe needs it.
+type LazyReference<'a> = dyn Fn() -> Option<&'a Reference> + 'a;
+
+/// Every check on an estimate: [`check_mass`] and [`check_intervals`], which refuse it,
+/// and [`band_warning`]'s note, which is returned. The input's spectrum and the
+/// reference cost are computed once, and only when needed.
+pub(super) fn check(
+    data: &DataSet,
+    options: &EstimationOptions,
+    at: At<'_>,
+    uncertainty: &crate::Uncertainty,
+) -> Result<Option<String>> {
+    let mass_given = options.fixed.mass.is_some();
+    let top = if mass_given { None } else { excited_top(data) };
+    let cell = std::cell::OnceCell::new();
+    let lazy = || cell.get_or_init(|| reference(data, options, at)).as_ref();
+    if !mass_given && options.bounds.mass.is_none() {
+        check_mass(data, options, at, uncertainty, top, &lazy)?;
+    }
+    check_intervals(data, options, at, uncertainty, &lazy)?;
+    Ok(if mass_given {
+        None
+    } else {
+        top.and_then(|top| band_warning(at.0, top))
+    })
+}
+
 /// Refuses the estimate when fixing m at m̂/100 (or m̂/10⁴) explains the data as well
-/// (see the module doc). Skipped when the mass is fixed or bounded by the caller (then
-/// it is known).
+/// (see the module doc). Not called when the mass is fixed or bounded by the caller
+/// (then it is known).
 ///
 /// The probes cost two fits, so they run only where the mass line may be unexcited: the
 /// estimated resonance lies beyond the Nyquist frequency or above twice the excited band
 /// (99.9 % of the input's power, or no input power at all), or a parameter's relative
 /// standard error exceeds 2 %. A resonance inside the excited band with tight intervals
 /// is the data's own evidence for m, and the probes would only confirm it.
-pub(super) fn check_mass(
+fn check_mass<'a>(
     data: &DataSet,
     options: &EstimationOptions,
     at: At<'_>,
     uncertainty: &crate::Uncertainty,
+    band_top: Option<f64>,
+    reference: &LazyReference<'a>,
 ) -> Result<()> {
     let theta = at.0;
-    if options.fixed.mass.is_some() || options.bounds.mass.is_some() {
-        return Ok(());
-    }
     let fnat = theta.natural_frequency_hz();
     let beyond_nyquist = fnat > 0.5 / data.excitation.dt();
-    let above_band = excited_top(data).is_none_or(|top| fnat > 2.0 * top);
+    let above_band = band_top.is_none_or(|top| fnat > 2.0 * top);
     let loose = [uncertainty.mass, uncertainty.damping, uncertainty.stiffness]
         .iter()
         .any(|iv| iv.standard_error > PROBE_RELATIVE_SE * iv.value.abs());
     if !(beyond_nyquist || above_band || loose) {
         return Ok(());
     }
-    let Some(reference) = reference(data, options, at) else {
+    let Some(reference) = reference() else {
         return Ok(());
     };
     for factor in PROBES {
         let light = theta.mass / factor;
-        let statistic = profile(data, options, at, 0, light, &reference);
+        let statistic = profile(data, options, at, 0, light, reference);
         if let Some(statistic) = statistic.filter(|s| *s < CHI2_1_95) {
             return Err(IdentError::NotIdentifiable {
                 reason: refusal(data, theta, light, statistic),
@@ -152,11 +178,12 @@ pub(super) fn check_mass(
 /// (χ²₁ at 90 % and 99 %), or that leaves the physical range (m or k ≤ 0), means the
 /// cost is too curved at this noise level for the interval to mean what it says, and
 /// the estimate is refused as not identifiable at this noise level.
-pub(super) fn check_intervals(
+fn check_intervals<'a>(
     data: &DataSet,
     options: &EstimationOptions,
     at: At<'_>,
     uncertainty: &crate::Uncertainty,
+    reference: &LazyReference<'a>,
 ) -> Result<()> {
     let intervals = [uncertainty.mass, uncertainty.damping, uncertainty.stiffness];
     let fixed = options.fixed.as_array();
@@ -172,7 +199,7 @@ pub(super) fn check_intervals(
     if probed.is_empty() {
         return Ok(());
     }
-    let Some(reference) = reference(data, options, at) else {
+    let Some(reference) = reference() else {
         return Ok(());
     };
     for i in probed {
@@ -184,7 +211,7 @@ pub(super) fn check_intervals(
                 }
                 return Err(low_snr(names[i], intervals[i].ci95, end, None));
             }
-            let statistic = profile(data, options, at, i, value, &reference);
+            let statistic = profile(data, options, at, i, value, reference);
             if let Some(s) = statistic.filter(|s| !(CHI2_1_90..=CHI2_1_99).contains(s)) {
                 return Err(low_snr(names[i], intervals[i].ci95, end, Some(s)));
             }
@@ -229,8 +256,7 @@ fn refusal(data: &DataSet, theta: &Parameters, light: f64, statistic: f64) -> St
 /// 1 − (f/fn)² of the response, a term the probes above may still not be able to
 /// refuse (a feature of the noise or of aliasing that a resonance outside the band
 /// happens to fit).
-pub(super) fn band_warning(data: &DataSet, theta: &Parameters) -> Option<String> {
-    let top = excited_top(data)?;
+fn band_warning(theta: &Parameters, top: f64) -> Option<String> {
     let fnat = theta.natural_frequency_hz();
     (fnat > 2.0 * top).then(|| {
         format!(

@@ -315,11 +315,7 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
     }
     if checks == Checks::All {
         let at = (&parameters, initial_state, offset);
-        identifiability::check_mass(data, options, at, &uncertainty)?;
-        identifiability::check_intervals(data, options, at, &uncertainty)?;
-        if options.fixed.mass.is_none() {
-            notes.extend(identifiability::band_warning(data, &parameters));
-        }
+        notes.extend(identifiability::check(data, options, at, &uncertainty)?);
     }
     uncertainty.warnings.extend(notes);
     Ok(Estimate {
