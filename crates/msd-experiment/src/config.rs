@@ -369,11 +369,9 @@ impl MonteCarloSection {
                 let [low, high] = self.percentiles;
                 ("percentiles", format!("[{low}, {high}]"))
             }
-            _ => ("", String::new()),
+            _ => return ("monte_carlo".into(), format!(": {error}")),
         };
-        let field = ["monte_carlo", key].join(".");
-        let field = field.trim_end_matches('.').to_string();
-        (field, format!(" = {value}: {error}"))
+        (format!("monte_carlo.{key}"), format!(" = {value}: {error}"))
     }
 }
 
