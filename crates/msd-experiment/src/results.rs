@@ -12,7 +12,7 @@ use msd_ident::{
 };
 use msd_ode::Stats;
 use serde::Serialize;
-use serde_json::{Map, Value, json};
+use serde_json::Value;
 use std::collections::BTreeMap;
 use std::time::Duration;
 
@@ -30,7 +30,7 @@ fn ms(d: Duration) -> f64 {
 struct Results<'a> {
     experiment: Experiment<'a>,
     config: &'a Config,
-    data: Value,
+    data: DataSection<'a>,
     #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<Truth>,
     estimate: EstimateSection<'a>,
@@ -43,7 +43,7 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     monte_carlo: Option<MonteCarloSection>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    nonlinear: Option<Value>,
+    nonlinear: Option<NonlinearSection<'a>>,
     timings_ms: BTreeMap<String, f64>,
 }
 
@@ -181,7 +181,7 @@ pub fn to_json(
     let document = Results {
         experiment: experiment(o),
         config: &o.config,
-        data: data_json(o),
+        data: data(o),
         truth: o.data.truth.map(|t| truth(&t, &o.estimate.uncertainty)),
         estimate: estimate(o),
         identification: FitSection {
@@ -196,7 +196,7 @@ pub fn to_json(
         residuals: o.residuals.as_ref(),
         frequency_check: frequency(o),
         monte_carlo: o.monte_carlo.as_ref().map(monte_carlo),
-        nonlinear: o.nonlinear.as_ref().map(nonlinear_json),
+        nonlinear: o.nonlinear.as_ref().map(nonlinear),
         timings_ms: timings,
     };
     serde_json::to_value(document).unwrap_or(Value::Null)
@@ -343,107 +343,197 @@ fn monte_carlo(mc: &crate::pipeline::MonteCarloOutcome) -> MonteCarloSection {
     }
 }
 
-fn data_json(o: &Outcome) -> Value {
-    let set = |d: &msd_ident::DataSet| {
-        json!({
-            "samples": d.len(),
-            "t0": d.excitation.t0(),
-            "dt": d.excitation.dt(),
-            "input_unit": d.input_unit,
-            "output_unit": d.output_unit,
-        })
-    };
-    let source = match &o.data.source {
-        crate::data::Source::InMemory => json!({ "kind": "in_memory" }),
-        crate::data::Source::Synthetic { sigma } => {
-            json!({ "kind": "synthetic", "noise_sigma": sigma,
-            "noise_streams": ["identification", "validation"] })
+/// The `data` object: where the records came from, their shape and the notes on them.
+#[derive(Serialize)]
+struct DataSection<'a> {
+    source: SourceSection,
+    identification: SetSection<'a>,
+    validation: SetSection<'a>,
+    notes: &'a [String],
+}
+
+#[derive(Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+enum SourceSection {
+    InMemory,
+    Synthetic {
+        noise_sigma: f64,
+        noise_streams: [&'static str; 2],
+    },
+    Measured {
+        file: Option<String>,
+        rows: usize,
+        dt: f64,
+        estimation_range: [usize; 2],
+        validation_range: [usize; 2],
+    },
+}
+
+#[derive(Serialize)]
+struct SetSection<'a> {
+    samples: usize,
+    t0: f64,
+    dt: f64,
+    input_unit: &'a str,
+    output_unit: &'a str,
+}
+
+impl<'a> SetSection<'a> {
+    fn new(d: &'a msd_ident::DataSet) -> Self {
+        SetSection {
+            samples: d.len(),
+            t0: d.excitation.t0(),
+            dt: d.excitation.dt(),
+            input_unit: &d.input_unit,
+            output_unit: &d.output_unit,
         }
-        crate::data::Source::Measured {
+    }
+}
+
+fn data(o: &Outcome) -> DataSection<'_> {
+    use crate::data::Source;
+    let source = match &o.data.source {
+        Source::InMemory => SourceSection::InMemory,
+        Source::Synthetic { sigma } => SourceSection::Synthetic {
+            noise_sigma: *sigma,
+            noise_streams: ["identification", "validation"],
+        },
+        Source::Measured {
             path,
             rows,
             dt,
             estimation_range,
             validation_range,
-        } => json!({
-            "kind": "measured",
-            "file": path.file_name().map(|f| f.to_string_lossy().into_owned()),
-            "rows": rows,
-            "dt": dt,
-            "estimation_range": estimation_range,
-            "validation_range": validation_range,
-        }),
+        } => SourceSection::Measured {
+            file: path.file_name().map(|f| f.to_string_lossy().into_owned()),
+            rows: *rows,
+            dt: *dt,
+            estimation_range: *estimation_range,
+            validation_range: *validation_range,
+        },
     };
-    json!({
-        "source": source,
-        "identification": set(&o.data.identification),
-        "validation": set(&o.data.validation),
-        "notes": o.data.notes,
-    })
+    DataSection {
+        source,
+        identification: SetSection::new(&o.data.identification),
+        validation: SetSection::new(&o.data.validation),
+        notes: &o.data.notes,
+    }
 }
 
 /// The `nonlinear` object: the candidates ranked by BIC (rank 1 first), each with its
 /// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores
 /// and residual tests; the verdict, failures and, for synthetic data, the true plant.
-fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
+#[derive(Serialize)]
+struct NonlinearSection<'a> {
+    mode: &'static str,
+    rows: Vec<CandidateSection<'a>>,
+    best: Option<String>,
+    verdict: &'a str,
+    failures: Vec<FailureSection<'a>>,
+    linear_stage_validation_rms: f64,
+    plant: Option<PlantSection>,
+}
+
+#[derive(Serialize)]
+struct CandidateSection<'a> {
+    rank: usize,
+    model: String,
+    damping: msd_ident::DampingLaw,
+    stiffness: msd_ident::StiffnessLaw,
+    parameters: BTreeMap<&'a str, Interval>,
+    estimated: usize,
+    samples: usize,
+    sse: f64,
+    aic: f64,
+    bic: f64,
+    delta_bic: f64,
+    validation: CandidateValidation,
+    converged: bool,
+    simulations: usize,
+}
+
+#[derive(Serialize)]
+struct CandidateValidation {
+    residual_rms: f64,
+    fit_percent: f64,
+    r2: f64,
+    scored_from_sample: usize,
+    whiteness_p_value: f64,
+    whiteness_passed: bool,
+    cross_correlation_passed: bool,
+}
+
+#[derive(Serialize)]
+struct FailureSection<'a> {
+    model: String,
+    reason: &'a str,
+}
+
+#[derive(Serialize)]
+struct PlantSection {
+    model: String,
+    parameters: BTreeMap<&'static str, f64>,
+}
+
+fn candidate((i, r): (usize, &msd_ident::ComparisonRow)) -> CandidateSection<'_> {
+    CandidateSection {
+        rank: i + 1,
+        model: r.structure.name(),
+        damping: r.structure.damping,
+        stiffness: r.structure.stiffness,
+        parameters: r
+            .names
+            .iter()
+            .map(String::as_str)
+            .zip(r.intervals.iter().copied())
+            .collect(),
+        estimated: r.estimated,
+        samples: r.samples,
+        sse: r.sse,
+        aic: r.aic,
+        bic: r.bic,
+        delta_bic: r.delta_bic,
+        validation: CandidateValidation {
+            residual_rms: r.validation_rms,
+            fit_percent: r.validation.fit_percent,
+            r2: r.validation.r_squared,
+            scored_from_sample: r.scored_from,
+            whiteness_p_value: r.whiteness_p,
+            whiteness_passed: r.whiteness_passed,
+            cross_correlation_passed: r.cross_correlation_passed,
+        },
+        converged: r.stop.converged(),
+        simulations: r.simulations,
+    }
+}
+
+fn nonlinear(n: &crate::nonlinear::NonlinearOutcome) -> NonlinearSection<'_> {
     let c = &n.comparison;
-    let rows: Vec<Value> = c
-        .rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let parameters: Map<String, Value> = r
-                .names
-                .iter()
-                .zip(&r.intervals)
-                .map(|(name, iv)| (name.clone(), json!(iv)))
-                .collect();
-            json!({
-                "rank": i + 1,
-                "model": r.structure.name(),
-                "damping": r.structure.damping,
-                "stiffness": r.structure.stiffness,
-                "parameters": parameters,
-                "estimated": r.estimated,
-                "samples": r.samples,
-                "sse": r.sse,
-                "aic": r.aic,
-                "bic": r.bic,
-                "delta_bic": r.delta_bic,
-                "validation": {
-                    "residual_rms": r.validation_rms,
-                    "fit_percent": r.validation.fit_percent,
-                    "r2": r.validation.r_squared,
-                    "scored_from_sample": r.scored_from,
-                    "whiteness_p_value": r.whiteness_p,
-                    "whiteness_passed": r.whiteness_passed,
-                    "cross_correlation_passed": r.cross_correlation_passed,
-                },
-                "converged": r.stop.converged(),
-                "simulations": r.simulations,
+    NonlinearSection {
+        mode: if n.comparison_asked {
+            "comparison"
+        } else {
+            "model"
+        },
+        rows: c.rows.iter().enumerate().map(candidate).collect(),
+        best: c.rows.first().map(|r| r.structure.name()),
+        verdict: &c.verdict,
+        failures: c
+            .failures
+            .iter()
+            .map(|f| FailureSection {
+                model: f.structure.name(),
+                reason: &f.reason,
             })
-        })
-        .collect();
-    let failures: Vec<Value> = c
-        .failures
-        .iter()
-        .map(|f| json!({ "model": f.structure.name(), "reason": f.reason }))
-        .collect();
-    json!({
-        "mode": if n.comparison_asked { "comparison" } else { "model" },
-        "rows": rows,
-        "best": c.rows.first().map(|r| r.structure.name()),
-        "verdict": c.verdict,
-        "failures": failures,
-        "linear_stage_validation_rms": n.linear_validation_rms,
-        "plant": n.plant.as_ref().map(|p| {
-            let values: Map<String, Value> = p
+            .collect(),
+        linear_stage_validation_rms: n.linear_validation_rms,
+        plant: n.plant.as_ref().map(|p| PlantSection {
+            model: p.structure.name(),
+            parameters: p
                 .names()
-                .iter()
-                .zip(&p.values)
-                .map(|(name, v)| ((*name).to_string(), json!(v)))
-                .collect();
-            json!({ "model": p.structure.name(), "parameters": values })
+                .into_iter()
+                .zip(p.values.iter().copied())
+                .collect(),
         }),
-    })
+    }
 }

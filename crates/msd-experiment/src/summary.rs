@@ -130,19 +130,11 @@ pub fn text(
         );
     }
     if let Some(f) = &o.frequency {
-        let _ = writeln!(
-            s,
-            "  frequency      data fn = {} Hz, ζ = {}; model fn = {} Hz, ζ = {}: {}",
-            sig(f.natural_frequency_hz, 5),
-            sig(f.damping_ratio, 3),
-            sig(f.model_natural_frequency_hz, 5),
-            sig(f.model_damping_ratio, 3),
-            if f.consistent {
-                "consistent"
-            } else {
-                "NOT consistent"
-            }
-        );
+        // The check's own rendering: the numbers on one line, its verdict on the next.
+        for (i, line) in f.to_string().lines().enumerate() {
+            let label = if i == 0 { "frequency" } else { "" };
+            let _ = writeln!(s, "  {label:<14} {line}");
+        }
     }
     if let Some(reason) = &o.frequency_skipped {
         let _ = writeln!(s, "  frequency      skipped: {reason}");
