@@ -8,6 +8,7 @@
 //! ```
 
 pub mod bench;
+pub mod check_report;
 
 use msd_experiment::{ExperimentError, Result, RunOptions, config, fmt, pipeline, plots, progress};
 use std::path::{Path, PathBuf};

@@ -41,6 +41,13 @@ enum Command {
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and
     /// runs the measurements in release mode (the first build takes a few minutes).
     Bench(BenchArgs),
+    /// Open the paper run's report.html in headless Chromium (Debian's `chromium`, or
+    /// $CHROMIUM): self-contained, every figure drawn, no console message, a screenshot
+    /// that is not blank, a PDF with pages (written to <run>/browser/).
+    CheckReport {
+        /// A result folder to check instead of running configs/paper.toml.
+        dir: Option<PathBuf>,
+    },
     /// The measuring half of `bench`, run in release by `bench` itself.
     #[command(hide = true)]
     BenchRun(BenchArgs),
@@ -78,6 +85,7 @@ fn try_main() -> Result<(), ExperimentError> {
         }
         Some(Command::Bench(args)) => bench_in_release(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
+        Some(Command::CheckReport { dir }) => check_report(dir),
         Some(Command::BenchPeakMemory { config }) => {
             println!("{:.1}", xtask::bench::pipeline_peak_memory(&config)?);
             Ok(())
@@ -88,6 +96,35 @@ fn try_main() -> Result<(), ExperimentError> {
 fn experiment(args: RunArgs) -> Result<(), ExperimentError> {
     let options = args.options(Some(xtask::results_root()), "cargo xtask experiment");
     cli::run(&args, &options)
+}
+
+/// `check-report`: run the paper config (unless given a folder) and check its report.
+fn check_report(dir: Option<PathBuf>) -> Result<(), ExperimentError> {
+    let dir = match dir {
+        Some(dir) => dir,
+        None => {
+            let config = xtask::project_root().join("configs").join("paper.toml");
+            let args = RunArgs {
+                config,
+                out: None,
+                seed: None,
+                threads: None,
+                quiet: true,
+            };
+            let options = args.options(Some(xtask::results_root()), "cargo xtask experiment");
+            cli::run(&args, &options)?;
+            xtask::results_root().join("paper")
+        }
+    };
+    let check = xtask::check_report::check(&dir)?;
+    println!(
+        "report.html in headless Chromium: {} figures drawn, no console message, screenshot {:.0} % ink, PDF {} pages ({})",
+        check.figures,
+        100.0 * check.screenshot_ink,
+        check.pdf_pages,
+        dir.join("browser").display()
+    );
+    Ok(())
 }
 
 /// `bench`: build xtask in release and run `bench-run` there (the dev profile would

@@ -142,7 +142,7 @@ fn run_and_write(
 }
 
 /// Writes `outcome` into the folder `target` atomically (figures, CSV tables,
-/// `report.md`, `results.json`; nothing is left behind if a write fails) and returns
+/// `report.md`, `report.html`, `results.json`; nothing is left behind if a write fails) and returns
 /// the summary the command prints.
 ///
 /// ```no_run
@@ -178,6 +178,12 @@ fn write_timed(
     }
     let report = report::markdown(outcome, &figures, &extra, started.elapsed());
     staging.write("report.md", report.as_bytes())?;
+    let svg = |png: &str| {
+        let name = png.strip_suffix(".png")?;
+        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
+    };
+    let page = report::html_page(&report, &outcome.config.name, svg);
+    staging.write("report.html", page.as_bytes())?;
     extra.push(("report", t.elapsed()));
 
     let total = started.elapsed();

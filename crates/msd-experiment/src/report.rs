@@ -9,7 +9,11 @@ use crate::summary::stage_label;
 use std::fmt::Write;
 use std::time::Duration;
 
+mod html;
 mod nonlinear;
+
+pub(crate) use html::page as html_page;
+pub use html::self_contained_problems;
 
 /// The paper's reported R² on the identification and validation data.
 pub const PAPER_R2: [f64; 2] = [0.9907, 0.9949];

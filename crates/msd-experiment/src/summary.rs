@@ -173,8 +173,8 @@ pub fn text(
     );
     let _ = writeln!(
         s,
-        "  report         {}",
-        out_dir.join("report.md").display()
+        "  report         {} (and report.md)",
+        out_dir.join("report.html").display()
     );
     s
 }

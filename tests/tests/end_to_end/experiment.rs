@@ -147,6 +147,7 @@ fn paper_writes_every_output_file() {
     for file in [
         "results.json",
         "report.md",
+        "report.html",
         "identification.csv",
         "validation.csv",
         "residual_correlation.csv",
@@ -182,6 +183,25 @@ fn paper_writes_every_output_file() {
             "report.md embeds {embedded}"
         );
     }
+    // report.html: the same sections, every figure inline as the SVG written beside it,
+    // nothing fetched from elsewhere, a print style sheet with the run's name and page
+    // numbers. (`cargo xtask check-report` opens it in a browser.)
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let problems = msd_experiment::report::self_contained_problems(&html);
+    assert!(problems.is_empty(), "report.html: {problems:?}");
+    for heading in report.lines().filter_map(|l| l.strip_prefix("## ")) {
+        assert!(html.contains(&format!("<h2>{heading}</h2>")), "{heading}");
+    }
+    let figures = report.lines().filter(|l| l.starts_with("![")).count();
+    assert_eq!(html.matches("<figure>").count(), figures);
+    let svg = std::fs::read_to_string(out.join("frf_bode.svg")).unwrap();
+    let body = &svg[svg.find("<svg").unwrap() + 4..];
+    assert!(
+        html.contains(body.trim_end()),
+        "frf_bode.svg is inline, whole"
+    );
+    assert!(html.contains("@top-center { content: \"paper · msd toolkit\""));
+    assert!(html.contains("counter(page)") && html.contains("break-inside: avoid"));
     // The time series: header and one row per sample.
     let validation = std::fs::read_to_string(out.join("validation.csv")).unwrap();
     let mut lines = validation.lines();

@@ -67,7 +67,7 @@ fn installed_msd_runs_the_paper_outside_the_workspace_as_the_library_does() {
     );
     assert!(stdout.contains("experiment `paper`"), "{stdout}");
     let folder = lab.join("msd-results").join("paper");
-    assert!(stdout.contains("msd-results/paper/report.md"), "{stdout}");
+    assert!(stdout.contains("msd-results/paper/report.html"), "{stdout}");
     let written: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(folder.join("results.json")).unwrap())
             .unwrap();

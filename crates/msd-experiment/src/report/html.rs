@@ -1,0 +1,175 @@
+//! `report.html`: the Markdown report as one self-contained page. The figures are
+//! inlined as SVG, there are no scripts, external fonts, style sheets or links, and a
+//! print style sheet makes a clean PDF for a lab report: no figure or table split
+//! across pages, the experiment's name in the page header, page numbers in the footer.
+
+use pulldown_cmark::{Event, Options, Parser, Tag, TagEnd, html};
+
+/// The page's style: readable on a laptop screen, printable to A4.
+const STYLE: &str = r#"
+:root { color-scheme: light; }
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, "DejaVu Sans", sans-serif;
+  line-height: 1.5; color: #1a1a1a; background: #fff; max-width: 62rem; margin: 0 auto;
+  padding: 1.5rem 1.25rem 3rem; }
+h1 { font-size: 1.7rem; margin: 0 0 0.8rem; }
+h2 { font-size: 1.3rem; margin: 2rem 0 0.6rem; border-bottom: 1px solid #ccc; padding-bottom: 0.2rem; }
+h3 { font-size: 1.1rem; margin: 1.4rem 0 0.5rem; }
+code { font-family: ui-monospace, "DejaVu Sans Mono", Menlo, Consolas, monospace; font-size: 0.92em;
+  background: #f3f3f3; padding: 0 0.2em; border-radius: 3px; }
+pre { background: #f3f3f3; padding: 0.6rem 0.8rem; overflow-x: auto; }
+pre code { background: none; padding: 0; }
+.table { overflow-x: auto; margin: 0.8rem 0; }
+table { border-collapse: collapse; font-size: 0.92rem; font-variant-numeric: tabular-nums; }
+th, td { border: 1px solid #d0d0d0; padding: 0.25rem 0.6rem; text-align: left; vertical-align: top; }
+th { background: #f3f3f3; }
+figure { margin: 1.2rem 0; }
+figure svg { display: block; width: 100%; height: auto; }
+figcaption { font-size: 0.9rem; color: #444; margin-top: 0.3rem; }
+figure, table, pre, blockquote { break-inside: avoid; page-break-inside: avoid; }
+h1, h2, h3 { break-after: avoid; page-break-after: avoid; }
+@media print {
+  body { max-width: none; padding: 0; font-size: 10pt; }
+  h2 { margin-top: 1.2rem; }
+  .table { overflow: visible; }
+  figure svg { max-height: 22cm; }
+}
+"#;
+
+/// The HTML page of the Markdown report `markdown`, titled `title`; `svg(name)` gives
+/// the SVG text of the figure whose PNG is `name` (a figure without one keeps its
+/// image link, which [`self_contained_problems`] then reports).
+pub(crate) fn page(markdown: &str, title: &str, svg: impl Fn(&str) -> Option<String>) -> String {
+    let mut body = String::new();
+    html::push_html(&mut body, inline_figures(markdown, &svg).into_iter());
+    let header = css_string(&format!("{title} · msd toolkit"));
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>{}</title>\n<style>{STYLE}\
+         @page {{ size: A4; margin: 18mm 14mm 18mm;\n  \
+         @top-center {{ content: {header}; font-size: 8pt; color: #555; }}\n  \
+         @bottom-right {{ content: \"page \" counter(page) \" of \" counter(pages); font-size: 8pt; color: #555; }} }}\n\
+         </style>\n</head>\n<body>\n{body}</body>\n</html>\n",
+        escape(title),
+    )
+}
+
+/// The report's events with every paragraph that holds only a figure replaced by a
+/// `<figure>` with the SVG inline and the alt text as caption; tables wrapped so that a
+/// wide one scrolls instead of widening the page.
+fn inline_figures<'a>(markdown: &'a str, svg: &impl Fn(&str) -> Option<String>) -> Vec<Event<'a>> {
+    let mut out = Vec::new();
+    let mut paragraph: Option<Vec<Event<'a>>> = None;
+    for event in Parser::new_ext(markdown, Options::ENABLE_TABLES) {
+        match event {
+            Event::Start(Tag::Paragraph) => paragraph = Some(Vec::new()),
+            Event::End(TagEnd::Paragraph) => {
+                let events = paragraph.take().unwrap_or_default();
+                match figure(&events, svg) {
+                    Some(html) => out.push(Event::Html(html.into())),
+                    None => {
+                        out.push(Event::Start(Tag::Paragraph));
+                        out.extend(events);
+                        out.push(Event::End(TagEnd::Paragraph));
+                    }
+                }
+            }
+            Event::Start(Tag::Table(_)) => {
+                out.push(Event::Html("<div class=\"table\">".into()));
+                out.push(event);
+            }
+            Event::End(TagEnd::Table) => {
+                out.push(event);
+                out.push(Event::Html("</div>".into()));
+            }
+            other => match &mut paragraph {
+                Some(events) => events.push(other),
+                None => out.push(other),
+            },
+        }
+    }
+    out
+}
+
+/// The `<figure>` of a paragraph that is one image with an SVG twin, else `None`.
+fn figure(events: &[Event<'_>], svg: &impl Fn(&str) -> Option<String>) -> Option<String> {
+    let (Some(Event::Start(Tag::Image { dest_url, .. })), Some(Event::End(TagEnd::Image))) =
+        (events.first(), events.last())
+    else {
+        return None;
+    };
+    let caption: String = events[1..events.len() - 1]
+        .iter()
+        .filter_map(|e| match e {
+            Event::Text(t) | Event::Code(t) => Some(t.as_ref()),
+            _ => None,
+        })
+        .collect();
+    let drawing = svg(dest_url)?;
+    let start = drawing.find("<svg")?;
+    let drawing = drawing[start..].replacen(
+        "<svg",
+        &format!("<svg role=\"img\" aria-label=\"{}\"", escape(&caption)),
+        1,
+    );
+    Some(format!(
+        "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+        drawing.trim_end(),
+        escape(&caption)
+    ))
+}
+
+/// `text` with HTML's special characters escaped.
+fn escape(text: &str) -> String {
+    let mut s = String::with_capacity(text.len());
+    html::push_html(&mut s, std::iter::once(Event::Text(text.into())));
+    s
+}
+
+/// `text` as a quoted CSS string.
+fn css_string(text: &str) -> String {
+    let mut s = String::from("\"");
+    for c in text.chars() {
+        match c {
+            '"' | '\\' => {
+                s.push('\\');
+                s.push(c);
+            }
+            '\n' | '\r' => s.push(' '),
+            c => s.push(c),
+        }
+    }
+    s.push('"');
+    s
+}
+
+/// What keeps `page` from being one self-contained file: scripts, external style sheets,
+/// fonts, images or frames, remote addresses in attributes or styles. Empty when none.
+///
+/// ```
+/// use msd_experiment::report::self_contained_problems;
+/// assert!(self_contained_problems("<p>ok</p>").is_empty());
+/// let bad = r#"<img src="fig.png"><script src="https://x.invalid/a.js"></script>"#;
+/// let problems = self_contained_problems(bad);
+/// assert_eq!(problems.len(), 3, "{problems:?}"); // a script, an image file, a remote source
+/// ```
+pub fn self_contained_problems(page: &str) -> Vec<String> {
+    let lower = page.to_ascii_lowercase();
+    let checks = [
+        ("<script", "a script"),
+        ("<link", "a linked resource"),
+        ("<img", "an image file"),
+        ("<iframe", "a frame"),
+        ("@import", "an imported style sheet"),
+        ("@font-face", "a font"),
+        ("url(", "a resource in a style"),
+        ("src=\"http", "a remote source"),
+        ("href=\"http", "a remote link"),
+        ("href=\"//", "a remote link"),
+    ];
+    checks
+        .iter()
+        .filter(|(needle, _)| lower.contains(needle))
+        .map(|(needle, what)| format!("{what} (`{needle}`)"))
+        .collect()
+}
