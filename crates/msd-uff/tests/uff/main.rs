@@ -6,6 +6,7 @@ mod fixtures;
 mod ours;
 mod robustness;
 mod roundtrip;
+mod tolerance;
 
 use std::path::PathBuf;
 
