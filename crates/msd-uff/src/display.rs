@@ -1,0 +1,91 @@
+//! `Display` for [`UffFile`] and [`Function58`]: one line per function, then the notes.
+
+use std::fmt;
+
+use crate::{Abscissa, ByteOrder, Encoding, Function58, Ordinate, Precision, UffFile};
+
+/// `+X`, `-RZ`, `scalar`, … for a direction code (record 6, fields 7 and 10).
+fn direction(code: i32) -> String {
+    const AXES: [&str; 6] = ["X", "Y", "Z", "RX", "RY", "RZ"];
+    match code {
+        0 => "scalar".into(),
+        c if (1..=6).contains(&c.abs()) => {
+            let sign = if c > 0 { '+' } else { '-' };
+            format!("{sign}{}", AXES[c.unsigned_abs() as usize - 1])
+        }
+        c => format!("direction {c}"),
+    }
+}
+
+impl fmt::Display for Function58 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}, response {}:{}, reference {}:{}, {} {} points, ",
+            self.function_type,
+            self.response_node,
+            direction(self.response_direction),
+            self.reference_node,
+            direction(self.reference_direction),
+            self.len(),
+            match self.ordinate {
+                Ordinate::Real(_) => "real",
+                Ordinate::Complex(_) => "complex",
+            },
+        )?;
+        match &self.abscissa {
+            Abscissa::Even { start, step } => write!(f, "abscissa {start} + {step}·k")?,
+            Abscissa::Uneven(x) => match (x.first(), x.last()) {
+                (Some(first), Some(last)) => write!(f, "uneven abscissa {first} … {last}")?,
+                _ => f.write_str("uneven abscissa")?,
+            },
+        }
+        f.write_str(match self.precision {
+            Precision::Single => ", single precision",
+            Precision::Double => ", double precision",
+        })?;
+        f.write_str(match self.encoding {
+            Encoding::Ascii => ", ASCII",
+            Encoding::Binary(ByteOrder::Little) => ", binary (little endian)",
+            Encoding::Binary(ByteOrder::Big) => ", binary (big endian)",
+        })
+    }
+}
+
+impl fmt::Display for UffFile {
+    /// ```
+    /// let text = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/pyuff/mixed.uff"))?;
+    /// let file = msd_uff::parse(&text)?;
+    /// println!("{file}");
+    /// assert!(file.to_string().starts_with("UFF file: 2 functions, header \"msd-uff fixture model\""));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "UFF file: {} functions", self.functions.len())?;
+        if let Some(header) = &self.header {
+            write!(f, ", header {:?}", header.model_name)?;
+        }
+        if let Some(units) = &self.units {
+            write!(f, ", units {:?} (code {})", units.description, units.code)?;
+        }
+        for (i, function) in self.functions.iter().enumerate() {
+            write!(f, "\n  {i}: {function}")?;
+        }
+        for s in &self.skipped {
+            let binary = if s.binary { "b" } else { "" };
+            write!(
+                f,
+                "\n  skipped dataset {}{binary} at byte {} (line {}): {}",
+                s.number, s.offset, s.line, s.note
+            )?;
+        }
+        for t in &self.trailing {
+            write!(
+                f,
+                "\n  {} trailing bytes after the data of function {}, at byte {}",
+                t.len, t.function, t.offset
+            )?;
+        }
+        Ok(())
+    }
+}
