@@ -47,9 +47,9 @@ pub fn check(dir: &Path) -> Result<Check> {
 pub fn browser(html_path: &Path, figures: usize, out: &Path) -> Result<Check> {
     let html = std::fs::read_to_string(html_path)
         .map_err(|e| fail(format!("cannot read {}: {e}", html_path.display())))?;
-    let chromium = Chromium::find()?;
     std::fs::create_dir_all(out)
         .map_err(|e| fail(format!("cannot create {}: {e}", out.display())))?;
+    let chromium = Chromium::find(out)?;
     chromium.probe(&html, figures, out)?;
     let screenshot = out.join("screenshot.png");
     let shot = chromium.run(
@@ -116,11 +116,18 @@ fn check_text(html: &str, markdown: &str) -> Result<usize> {
 /// Headless Chromium, as Debian's `chromium` package installs it (or `$CHROMIUM`).
 struct Chromium {
     program: PathBuf,
-    profile: tempfile::TempDir,
+    /// A fresh, empty user-data folder, removed when done.
+    profile: PathBuf,
+}
+
+impl Drop for Chromium {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.profile);
+    }
 }
 
 impl Chromium {
-    fn find() -> Result<Self> {
+    fn find(scratch: &Path) -> Result<Self> {
         let candidates: Vec<PathBuf> = std::env::var_os("CHROMIUM")
             .map(PathBuf::from)
             .into_iter()
@@ -146,8 +153,10 @@ impl Chromium {
                         .to_string(),
                 )
             })?;
-        let profile =
-            tempfile::tempdir().map_err(|e| fail(format!("cannot make a browser profile: {e}")))?;
+        let profile = scratch.join("profile");
+        let _ = std::fs::remove_dir_all(&profile);
+        std::fs::create_dir_all(&profile)
+            .map_err(|e| fail(format!("cannot make a browser profile: {e}")))?;
         Ok(Chromium { program, profile })
     }
 
@@ -171,7 +180,7 @@ impl Chromium {
                 "--enable-logging=stderr",
                 "--v=0",
             ])
-            .arg(format!("--user-data-dir={}", self.profile.path().display()))
+            .arg(format!("--user-data-dir={}", self.profile.display()))
             .arg(format!("--window-size={},{}", SCREEN.0, SCREEN.1))
             .args(args)
             .arg(format!("file://{}", page.display()));
@@ -360,8 +369,9 @@ mod tests {
     /// Chromium when the machine has it; CI sets MSD_REQUIRE_BROWSER, so there a
     /// missing browser fails the test instead of skipping it.
     fn with_browser() -> Option<tempfile::TempDir> {
-        match Chromium::find() {
-            Ok(_) => tempfile::tempdir().ok(),
+        let dir = tempfile::tempdir().ok()?;
+        match Chromium::find(dir.path()) {
+            Ok(_) => Some(dir),
             Err(e) if std::env::var_os("MSD_REQUIRE_BROWSER").is_some() => {
                 panic!("MSD_REQUIRE_BROWSER is set: {e}")
             }
