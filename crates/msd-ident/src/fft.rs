@@ -3,12 +3,12 @@
 //! rustfft plans are costly to make for lengths with large prime factors (7501 = 13·577)
 //! and are reused across calls on the same thread.
 
-use rustfft::{Fft, FftPlanner};
+use rustfft::{Fft, FftPlannerScalar};
 use std::cell::RefCell;
 use std::sync::Arc;
 
 thread_local! {
-    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
+    static PLANNER: RefCell<FftPlannerScalar<f64>> = RefCell::new(FftPlannerScalar::new());
 }
 
 /// The forward FFT of length `len` (unnormalised: X_k = Σ x_t e^{−2πikt/N}).

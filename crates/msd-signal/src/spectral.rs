@@ -39,7 +39,7 @@ use std::cell::RefCell;
 use std::sync::Arc;
 
 use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
+use rustfft::{Fft, FftPlannerScalar};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SignalError, check_data, positive, same_length};
@@ -181,7 +181,7 @@ pub struct FrequencyResponseEstimate {
 thread_local! {
     /// One planner per thread: rustfft planners cache their plans, so repeated estimates
     /// of the same length (e.g. in a Monte Carlo loop) do not plan again.
-    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
+    static PLANNER: RefCell<FftPlannerScalar<f64>> = RefCell::new(FftPlannerScalar::new());
 }
 
 fn forward_fft(len: usize) -> Arc<dyn Fft<f64>> {

@@ -33,7 +33,7 @@
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use rand::Rng;
-use rustfft::FftPlanner;
+use rustfft::FftPlannerScalar;
 use rustfft::num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
@@ -269,7 +269,7 @@ struct Synth {
 impl Synth {
     fn new(k_max: u32) -> Self {
         let n = (16 * k_max as usize).next_power_of_two().max(256);
-        let mut planner = FftPlanner::new();
+        let mut planner = FftPlannerScalar::new();
         Synth {
             n,
             inverse: planner.plan_fft_inverse(n),
