@@ -50,6 +50,7 @@ mod data;
 mod error;
 mod estimate;
 mod fft;
+mod free_decay;
 mod frequency;
 mod local;
 mod metrics;
@@ -72,6 +73,10 @@ pub use error::{IdentError, Result};
 pub use estimate::{
     Estimate, EstimationOptions, FixedParameters, GuessSource, Method, MultistartSettings,
     ParameterBounds, estimate,
+};
+pub use free_decay::{
+    ClassroomEstimates, FreeDecay, FreeDecayOptions, KnownParameter, PhysicalParameters,
+    ResponseQuantity, free_decay,
 };
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
 pub use metrics::{FTest, FitMetrics};
