@@ -72,7 +72,7 @@ pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};
 pub use estimate::{
     Estimate, EstimationOptions, FixedParameters, GuessSource, Method, MultistartSettings,
-    ParameterBounds, estimate,
+    ParameterBounds, estimate, predicted_uncertainty,
 };
 pub use free_decay::{
     ClassroomEstimates, FreeDecay, FreeDecayOptions, KnownParameter, PhysicalParameters,

@@ -10,11 +10,13 @@
 mod identifiability;
 mod layout;
 mod options;
+mod plan;
 mod problem;
 
 pub use options::{
     EstimationOptions, FixedParameters, Method, MultistartSettings, ParameterBounds,
 };
+pub use plan::predicted_uncertainty;
 
 use crate::local::Local;
 use crate::uncertainty::{Uncertainty, from_jacobian};

@@ -7,5 +7,6 @@ mod error_paths;
 mod estimation;
 mod free_decay;
 mod nonlinear;
+mod plan;
 mod serialize;
 mod stress;
