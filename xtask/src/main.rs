@@ -37,6 +37,11 @@ enum Command {
     /// checked by size and SHA-256 (from ../shared/data/real/SET/ beside the workspace,
     /// or --from DIR).
     FetchData(cli::FetchArgs),
+    /// Predict the precision of a planned test before running it (Cramér–Rao bound from
+    /// the exact sensitivities): standard errors and 95 % half-widths of m, c, k, fn, ζ,
+    /// and the force or record length that reaches the target; --verify N checks it on N
+    /// simulated tests.
+    Plan(msd_experiment::plan::PlanArgs),
     /// Measure the paper experiment's speed: one table (median, min–max, multiple of the
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and
     /// runs the measurements in release mode (the first build takes a few minutes).
@@ -78,6 +83,7 @@ fn try_main() -> Result<(), ExperimentError> {
             Ok(())
         }
         Some(Command::Experiment(args)) => experiment(args),
+        Some(Command::Plan(args)) => msd_experiment::plan::run_plan(&args),
         Some(Command::FetchData(args)) => {
             let root = xtask::project_root();
             let shared = root.join("..").join("shared").join("data").join("real");

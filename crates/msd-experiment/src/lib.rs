@@ -27,6 +27,7 @@ pub mod fmt;
 pub mod nonlinear;
 pub mod output;
 pub mod pipeline;
+pub mod plan;
 pub mod plots;
 pub mod progress;
 pub mod report;

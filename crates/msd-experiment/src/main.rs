@@ -34,12 +34,18 @@ enum Command {
     /// Copy a real data set (silverbox) into ./data/SET/, each file checked by size and
     /// SHA-256.
     FetchData(cli::FetchArgs),
+    /// Predict the precision of a planned test before running it (Cramér–Rao bound from
+    /// the exact sensitivities): standard errors and 95 % half-widths of m, c, k, fn, ζ,
+    /// and the force or record length that reaches the target; --verify N checks it on N
+    /// simulated tests.
+    Plan(msd_experiment::plan::PlanArgs),
 }
 
 fn main() -> ExitCode {
     let Cli { command } = Cli::parse();
     match command {
         Command::Run(args) => cli::exit(cli::run(&args, &args.options(None, "msd run"))),
+        Command::Plan(args) => cli::exit(msd_experiment::plan::run_plan(&args)),
         Command::FetchData(args) => cli::exit(cli::fetch_data(
             &args,
             std::path::Path::new("../shared/data/real"),

@@ -3,3 +3,4 @@
 mod cli;
 mod fetch;
 mod in_memory;
+mod plan;
