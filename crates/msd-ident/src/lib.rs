@@ -45,6 +45,7 @@
 //! ```
 
 mod arx;
+mod base_excitation;
 mod correlation;
 mod data;
 mod error;
@@ -67,6 +68,7 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
+pub use base_excitation::{BaseExcitation, BaseExcitationOptions, base_excitation};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use error::{IdentError, Result};

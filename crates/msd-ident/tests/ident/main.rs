@@ -1,5 +1,6 @@
 //! Integration tests of msd-ident: one test binary, one module per topic.
 
+mod base_excitation;
 mod common;
 mod data;
 mod diagnostics;
