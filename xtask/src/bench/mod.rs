@@ -24,6 +24,7 @@
 pub mod harness;
 pub mod report;
 mod rows;
+mod setups;
 
 use crate::{ExperimentError, Result, project_root};
 use harness::{Budget, Samples, measure_batched};
@@ -93,6 +94,8 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
     let mut rows = Vec::new();
     let mut derived = Vec::new();
     rows.extend(rows::simulation(budget, &experiment)?);
+    // Cheap enough for the smoke test, which so checks them too.
+    rows.extend(setups::setups(budget, &experiment)?);
     if !options.smoke {
         rows.extend(rows::identification(budget, &experiment)?);
         rows.extend(rows::nonlinear(budget, &experiment)?);

@@ -1,4 +1,4 @@
-//! Smoke test of `cargo xtask bench`'s measuring: the floor and the simulation rows, one
+//! Smoke test of `cargo xtask bench`'s measuring: the floor, the simulation and setup rows, one
 //! repetition each, give a table with the expected columns. No timing is asserted.
 
 use xtask::bench::{BenchOptions, run};
@@ -11,6 +11,8 @@ fn smoke_run_gives_a_table_with_the_expected_columns() {
     let names: Vec<&str> = report.rows.iter().map(|r| r.name.as_str()).collect();
     assert!(names.iter().any(|n| n.starts_with("exact")), "{names:?}");
     assert!(names.iter().any(|n| n.starts_with("ode45")), "{names:?}");
+    assert!(names.iter().any(|n| n.starts_with("free decay")), "{names:?}");
+    assert!(names.iter().any(|n| n.starts_with("base excitation")), "{names:?}");
 
     let md = report.markdown();
     assert!(
