@@ -11,8 +11,14 @@ fn smoke_run_gives_a_table_with_the_expected_columns() {
     let names: Vec<&str> = report.rows.iter().map(|r| r.name.as_str()).collect();
     assert!(names.iter().any(|n| n.starts_with("exact")), "{names:?}");
     assert!(names.iter().any(|n| n.starts_with("ode45")), "{names:?}");
-    assert!(names.iter().any(|n| n.starts_with("free decay")), "{names:?}");
-    assert!(names.iter().any(|n| n.starts_with("base excitation")), "{names:?}");
+    assert!(
+        names.iter().any(|n| n.starts_with("free decay")),
+        "{names:?}"
+    );
+    assert!(
+        names.iter().any(|n| n.starts_with("base excitation")),
+        "{names:?}"
+    );
 
     let md = report.markdown();
     assert!(
