@@ -6,5 +6,6 @@ mod diagnostics;
 mod error_paths;
 mod estimation;
 mod nonlinear;
+mod nonlinear_fast;
 mod serialize;
 mod stress;
