@@ -306,3 +306,38 @@ fn nonlinear_intervals_cover_the_truth_in_95_percent_of_200_seeds() -> Result<()
     println!("({:.2?})", started.elapsed());
     Ok(())
 }
+
+/// A model too stiff for the sample-hold simulator at this sampling interval (a Coulomb
+/// law smoothed over 1 nm/s: its slope F_c/(m·v_s) needs ρ·dt/0.1 ≈ 4e6 sub-steps) is
+/// refused with the count it would need and the way out; ode45 still simulates it.
+#[test]
+fn a_model_too_stiff_for_the_fast_path_is_refused_saying_what_to_use() -> Result<(), IdentError> {
+    let input = Excitation::from_samples(0.0, DT, vec![1.0; 200])?;
+    let p = plant(structure(DampingLaw::CoulombViscous, StiffnessLaw::Linear));
+    let err = simulate_nonlinear(
+        &p,
+        &input,
+        InitialState::REST,
+        &solver(NonlinearSolver::Rk4),
+        1e-9,
+    )
+    .unwrap_err();
+    let needed = (0.5 / (2.5 * 1e-9) * DT / 0.1f64).ceil();
+    assert!(
+        matches!(err, IdentError::InvalidParameter { value, .. } if (value / needed - 1.0).abs() < 1e-3),
+        "{err:?}"
+    );
+    assert!(
+        err.to_string().starts_with(
+            "invalid RK4 sub-steps per sample (the model's eigenvalue bound × dt / 0.1) = "
+        ),
+        "{err}"
+    );
+    assert!(
+        err.to_string().ends_with(": expected at most 1000: the model is too stiff for the sample-hold simulator at this sampling interval; use solver = \"ode45\""),
+        "{err}"
+    );
+    let ode45 = solver(NonlinearSolver::Ode45);
+    assert!(simulate_nonlinear(&p, &input, InitialState::REST, &ode45, 1e-9).is_ok());
+    Ok(())
+}
