@@ -383,8 +383,10 @@ fn data_json(o: &Outcome) -> Value {
 }
 
 /// The `nonlinear` object: the candidates ranked by BIC (rank 1 first), each with its
-/// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores
-/// and residual tests; the verdict, failures and, for synthetic data, the true plant.
+/// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores,
+/// residual tests and how it was simulated (solver, hold, sub-steps a sample, the RK4
+/// output's error by step doubling); the verdict, failures and, for synthetic data, the
+/// true plant.
 fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
     let c = &n.comparison;
     let rows: Vec<Value> = c
@@ -421,6 +423,7 @@ fn nonlinear_json(n: &crate::nonlinear::NonlinearOutcome) -> Value {
                 },
                 "converged": r.stop.converged(),
                 "simulations": r.simulations,
+                "simulation": r.simulation,
             })
         })
         .collect();
