@@ -151,8 +151,9 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
 }
 
 /// One noisy record of the plant and its noise-free response: the exact simulation of a
-/// linear plant, or ode45 (msd-ident's default nonlinear simulation, RelTol 1e-8) for a
-/// plant with nonlinear terms; the noise from the stream named `name` of `seed`.
+/// linear plant, or ode45 on the continuous force (RelTol 1e-8, AbsTol 1e-12: msd-ident's
+/// default tolerances) for a plant with nonlinear terms; the noise from the stream named
+/// `name` of `seed`.
 fn plant_record(
     plant: &crate::config::Plant,
     name: &str,
@@ -171,7 +172,10 @@ fn plant_record(
         Some(nonlinear) => synthetic_nonlinear_data(
             &nonlinear,
             excitation,
-            &msd_ident::NonlinearSimulation::default(),
+            &msd_ident::NonlinearSimulation {
+                solver: msd_ident::NonlinearSolver::Ode45,
+                ..msd_ident::NonlinearSimulation::default()
+            },
             &options,
         ),
     }

@@ -421,8 +421,10 @@ fn data(o: &Outcome) -> DataSection<'_> {
 }
 
 /// The `nonlinear` object: the candidates ranked by BIC (rank 1 first), each with its
-/// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores
-/// and residual tests; the verdict, failures and, for synthetic data, the true plant.
+/// parameters (value, standard error, 95 % interval), SSE, AIC, BIC, validation scores,
+/// residual tests and how it was simulated (solver, hold, sub-steps a sample, the RK4
+/// output's error by step doubling); the verdict, failures and, for synthetic data, the
+/// true plant.
 #[derive(Serialize)]
 struct NonlinearSection<'a> {
     mode: &'static str,
@@ -450,6 +452,7 @@ struct CandidateSection<'a> {
     validation: CandidateValidation,
     converged: bool,
     simulations: usize,
+    simulation: &'a msd_ident::SimulationUsed,
 }
 
 #[derive(Serialize)]
@@ -504,6 +507,7 @@ fn candidate((i, r): (usize, &msd_ident::ComparisonRow)) -> CandidateSection<'_>
         },
         converged: r.stop.converged(),
         simulations: r.simulations,
+        simulation: &r.simulation,
     }
 }
 

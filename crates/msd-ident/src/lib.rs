@@ -85,8 +85,9 @@ pub use metrics::{FTest, FitMetrics};
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, FixedModel,
     ModelStructure, NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions,
-    NonlinearParameters, NonlinearSimulation, SmoothingVelocity, StiffnessLaw, ValidationStart,
-    assess_estimate, bic_evidence, compare_models, estimate_nonlinear, fit_initial_state,
+    NonlinearParameters, NonlinearSensitivities, NonlinearSimulation, NonlinearSolver,
+    SimulationUsed, SmoothingVelocity, StiffnessLaw, ValidationStart, assess_estimate,
+    bic_evidence, compare_models, estimate_nonlinear, fit_initial_state, nonlinear_sensitivities,
     simulate_nonlinear, synthetic_nonlinear_data,
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};

@@ -101,12 +101,12 @@ fn ode45_options(rel_tol: f64, abs_tol: f64) -> Ode45Options {
     }
 }
 
-mod hold_serde {
+pub(crate) mod hold_serde {
     use msd_ode::Hold;
     use serde::{Deserialize, Deserializer, Serializer};
 
     /// The hold's name in configs and reports.
-    pub fn name(hold: Hold) -> &'static str {
+    pub(crate) fn name(hold: Hold) -> &'static str {
         match hold {
             Hold::Zero => "zero",
             Hold::First => "first",
@@ -114,11 +114,11 @@ mod hold_serde {
         }
     }
 
-    pub fn serialize<S: Serializer>(hold: &Hold, s: S) -> Result<S::Ok, S::Error> {
+    pub(crate) fn serialize<S: Serializer>(hold: &Hold, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str(name(*hold))
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Hold, D::Error> {
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Hold, D::Error> {
         let name = String::deserialize(d)?;
         match name.as_str() {
             "zero" => Ok(Hold::Zero),

@@ -174,6 +174,44 @@ impl<'a> SampledInput<'a> {
     }
 }
 
+impl SampledInput<'_> {
+    /// The hold polynomial of every sample interval, as [`ExactSimulator`] integrates it:
+    /// `out[i]` holds the coefficients (a₀, a₁, a₂, a₃) of u(s) = Σⱼ aⱼ sʲ on
+    /// [tᵢ, tᵢ₊₁], s = (t − tᵢ)/dt ∈ [0, 1], with the same stencils and breakpoints. An
+    /// integrator of a nonlinear system can so follow the input the exact simulator
+    /// follows, one smooth polynomial per interval. One entry fewer than samples.
+    ///
+    /// ```
+    /// use msd_ode::{Breakpoint, Hold, SampledInput};
+    /// let ramp = [0.0, 1.0, 2.0, 3.0, 4.0];
+    /// let cubic = SampledInput::smooth(&ramp).hold_polynomials(Hold::Cubic)?;
+    /// assert_eq!(cubic.len(), 4);
+    /// for (i, p) in cubic.iter().enumerate() {
+    ///     // A ramp stays a ramp: u(s) = i + s.
+    ///     let expected = [i as f64, 1.0, 0.0, 0.0];
+    ///     assert!(p.iter().zip(expected).all(|(a, b)| (a - b).abs() < 1e-12), "{p:?}");
+    /// }
+    /// // A jump at sample 2: the interval before it ends at the left value.
+    /// let step = [0.0, 0.0, 1.0, 1.0];
+    /// let jumps = [Breakpoint { index: 2, left: 0.0, right: 1.0 }];
+    /// let zero = SampledInput { values: &step, breakpoints: &jumps }.hold_polynomials(Hold::First)?;
+    /// assert_eq!(zero, [[0.0; 4], [0.0; 4], [1.0, 0.0, 0.0, 0.0]]);
+    /// # Ok::<(), msd_ode::OdeError>(())
+    /// ```
+    pub fn hold_polynomials(&self, hold: Hold) -> Result<Vec<[f64; 4]>, OdeError> {
+        self.validate()?;
+        let basis: [[[f64; 4]; 4]; 7] = std::array::from_fn(|v| lagrange_monomials(STENCILS[v]));
+        let mut out = vec![[0.0; 4]; self.values.len() - 1];
+        for_each_step(self, hold, |variant, u, i| {
+            let b = &basis[variant];
+            out[i - 1] = std::array::from_fn(|j| {
+                (b[0][j] * u[0] + b[1][j] * u[1]) + (b[2][j] * u[2] + b[3][j] * u[3])
+            });
+        });
+        Ok(out)
+    }
+}
+
 /// Stencil variants: node offsets (in samples, relative to the interval start).
 const STENCILS: [&[f64]; 7] = [
     &[0.0],                  // ZERO
@@ -557,10 +595,21 @@ fn stencil_weights<const N: usize>(
     offsets: &[f64],
     gamma: &[SVector<f64, N>; 4],
 ) -> [SVector<f64, N>; 4] {
-    let mut weights = [SVector::<f64, N>::zeros(); 4];
-    for (m, weight) in weights.iter_mut().enumerate().take(offsets.len()) {
-        // Monomial coefficients of ℓ_m(s) = Π_{q≠m} (s − o_q)/(o_m − o_q).
-        let mut coef = [0.0f64; 4];
+    let basis = lagrange_monomials(offsets);
+    std::array::from_fn(|m| {
+        (0..4).fold(SVector::<f64, N>::zeros(), |w, j| {
+            w + gamma[j] * basis[m][j]
+        })
+    })
+}
+
+/// Monomial coefficients of the Lagrange basis of the stencil `offsets`:
+/// `basis[m][j]` is the coefficient of sʲ in ℓ_m(s) = Π_{q≠m} (s − o_q)/(o_m − o_q)
+/// (rows beyond the stencil's nodes are zero).
+fn lagrange_monomials(offsets: &[f64]) -> [[f64; 4]; 4] {
+    debug_assert!(!offsets.is_empty() && offsets.len() <= 4);
+    let mut basis = [[0.0; 4]; 4];
+    for (m, coef) in basis.iter_mut().enumerate().take(offsets.len()) {
         coef[0] = 1.0;
         let mut degree = 0;
         for (q, &oq) in offsets.iter().enumerate() {
@@ -575,11 +624,8 @@ fn stencil_weights<const N: usize>(
             }
             degree += 1;
         }
-        for (j, c) in coef.iter().enumerate() {
-            *weight += gamma[j] * *c;
-        }
     }
-    weights
+    basis
 }
 
 /// e^M. The two sizes the toolkit discretises — 6 (a 2-state plant) and 12 (with its

@@ -117,6 +117,15 @@ fn silverbox_comparison_ranks_a_cubic_spring_first_with_a_far_lower_validation_r
     assert!(verdict.contains("very strong"), "{verdict}");
     assert!(run.number("timings_ms.nonlinear") > 0.0);
     assert!(n["plant"].is_null());
+    // A measured force: RK4 on the cubic hold, its error far below the residuals'.
+    let simulation = &best["simulation"];
+    assert_eq!(simulation["solver"], "rk4", "{simulation}");
+    assert_eq!(simulation["hold"], "cubic", "{simulation}");
+    let sigma = (num(best, "sse") / (num(best, "samples") - num(best, "estimated"))).sqrt();
+    assert!(
+        num(simulation, "error_estimate") < 0.01 * sigma,
+        "{simulation}"
+    );
     let out = run.out();
     let (w, h) = decode_png(&out.join("nonlinear_residuals.png"));
     assert!(w >= 800 && h >= 500, "{w}×{h}");
@@ -125,6 +134,11 @@ fn silverbox_comparison_ranks_a_cubic_spring_first_with_a_far_lower_validation_r
     assert!(report.contains("## Beyond linear: nonlinear models"));
     assert!(report.contains("](nonlinear_residuals.png)"));
     assert!(report.contains(verdict), "the report gives the verdict");
+    assert!(
+        report.contains("RK4 sample by sample on the hold polynomial of the force"),
+        "the report names the simulator"
+    );
+    assert!(report.contains("- `viscous+linear`: RK4 on the cubic hold, "));
     assert!(
         report.contains("the best model's are not white"),
         "the BIC caveat for correlated residuals"
@@ -462,6 +476,8 @@ fn the_shipped_configs_document_every_nonlinear_key() {
         "estimate_initial_state",
         "dissipative_damping",
         "max_evaluations",
+        "solver",
+        "hold",
         "rel_tol",
         "abs_tol",
         "smoothing_velocity",

@@ -24,9 +24,10 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 /// The `[nonlinear]` section.
 ///
 /// By default (for every optional field) msd-ident's [`msd_ident::NonlinearOptions`]:
-/// Levenberg–Marquardt with central differences, ode45 RelTol 1e-8 and AbsTol 1e-12,
-/// Coulomb smoothing velocity 1e-3 × the nominal RMS velocity, dissipative damping, no
-/// multistart.
+/// Levenberg–Marquardt with the Jacobian from the forward sensitivities, the solver
+/// `auto` (RK4 on the cubic hold for measured data, ode45 RelTol 1e-8 and AbsTol 1e-12
+/// for a known signal), Coulomb smoothing velocity 1e-3 × the nominal RMS velocity,
+/// dissipative damping, no multistart.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NonlinearSection {
@@ -41,9 +42,10 @@ pub struct NonlinearSection {
     /// `"levenberg_marquardt"` or `"nelder_mead"`. By default the former.
     #[serde(default)]
     pub method: NonlinearMethod,
-    /// ode45 tolerances and the Coulomb smoothing velocity,
-    /// `{ rel_tol, abs_tol, smoothing_velocity = { relative = 1e-3 } }` (or
-    /// `{ absolute = v }`). By default 1e-8, 1e-12, relative 1e-3.
+    /// The solver (`"auto"`, `"rk4"` or `"ode45"`), RK4's hold (`"zero"`, `"first"`,
+    /// `"cubic"`), ode45's tolerances and the Coulomb smoothing velocity,
+    /// `{ solver, hold, rel_tol, abs_tol, smoothing_velocity = { relative = 1e-3 } }` (or
+    /// `{ absolute = v }`). By default auto, cubic, 1e-8, 1e-12, relative 1e-3.
     #[serde(default)]
     pub simulation: NonlinearSimulation,
     /// Estimate x(t₀) and x'(t₀) with the parameters. By default as

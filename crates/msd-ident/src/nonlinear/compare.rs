@@ -3,12 +3,11 @@
 
 use super::estimate::{NonlinearEstimate, NonlinearOptions, estimate_nonlinear};
 use super::model::{ModelStructure, NonlinearParameters};
-use super::simulate::{NonlinearSimulation, simulate_nonlinear};
+use super::simulate::{NonlinearSimulation, SimulationUsed, simulate_nonlinear};
 use crate::{
     Backend, DataSet, FitMetrics, IdentError, InitialState, Interval, Parameters, ResidualOptions,
     Result, StopReason, residual_analysis,
 };
-use msd_opt::{LevenbergMarquardtOptions, ResidualFn, levenberg_marquardt};
 use serde::{Deserialize, Serialize};
 
 /// How each candidate's validation simulation starts.
@@ -88,6 +87,8 @@ pub struct ComparisonRow {
     pub stop: StopReason,
     /// Simulations spent on the estimate.
     pub simulations: usize,
+    /// How the estimate's model was simulated.
+    pub simulation: SimulationUsed,
 }
 
 impl std::fmt::Display for ComparisonRow {
@@ -222,12 +223,12 @@ pub enum FixedModel<'a> {
         /// The sensor offset added to the model output.
         offset: f64,
     },
-    /// A nonlinear model simulated by ode45 ([`simulate_nonlinear`]): Levenberg–Marquardt
-    /// with finite differences on the state scaled by the outputs' RMS.
+    /// A nonlinear model simulated by [`simulate_nonlinear`]: Levenberg–Marquardt on the
+    /// state scaled by the outputs' RMS, the Jacobian from the state's sensitivities.
     Nonlinear {
         /// The model and its parameters.
         parameters: &'a NonlinearParameters,
-        /// The ode45 tolerances.
+        /// How it is simulated.
         simulation: &'a NonlinearSimulation,
         /// The Coulomb smoothing velocity v_s.
         smoothing_velocity: f64,
@@ -290,37 +291,7 @@ pub fn fit_initial_state(
             smoothing_velocity,
         } => (parameters, simulation, smoothing_velocity),
     };
-    let y_rms = (head.output.iter().map(|v| v * v).sum::<f64>() / samples as f64)
-        .sqrt()
-        .max(f64::MIN_POSITIVE);
-    let v_scale = y_rms * parameters.linear_part().natural_frequency();
-    let mut problem = ResidualFn::new(samples, |z: &[f64], out: &mut [f64]| {
-        let initial = InitialState {
-            displacement: z[0] * y_rms,
-            velocity: z[1] * v_scale,
-        };
-        match simulate_nonlinear(
-            parameters,
-            &head.excitation,
-            initial,
-            simulation,
-            smoothing_velocity,
-        ) {
-            Ok((x, _)) => {
-                for ((o, m), y) in out.iter_mut().zip(&x).zip(&head.output) {
-                    *o = m - y;
-                }
-                true
-            }
-            Err(_) => false,
-        }
-    });
-    let z0 = [head.output[0] / y_rms, 0.0];
-    let r = levenberg_marquardt(&mut problem, &z0, &LevenbergMarquardtOptions::default())?;
-    Ok(InitialState {
-        displacement: r.x[0] * y_rms,
-        velocity: r.x[1] * v_scale,
-    })
+    super::problem::fit_state(parameters, &head, simulation, smoothing_velocity)
 }
 
 /// Prediction of an estimate on validation data, scored after the start rule.
@@ -537,6 +508,7 @@ pub fn assess_estimate(
         scored_from: from,
         stop: e.stop.clone(),
         simulations: e.simulations,
+        simulation: e.simulation,
         parameters: e.parameters.clone(),
     })
 }

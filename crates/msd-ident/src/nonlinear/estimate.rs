@@ -1,15 +1,17 @@
-//! Estimation of a nonlinear model's parameters by output error on ode45 simulations.
+//! Estimation of a nonlinear model's parameters by output error, the Jacobian from the
+//! forward sensitivities.
 
-use super::model::{ModelStructure, NonlinearParameters};
-use super::simulate::{NonlinearSimulation, simulate_nonlinear};
+use super::model::{Forces, ModelStructure, NonlinearParameters};
+use super::problem::{OutputError, Scaling, Statistics, at_optimum, step_doubling};
+use super::simulate::{NonlinearSimulation, SimulationUsed, Simulator, simulate_nonlinear};
 use crate::local::Local;
 use crate::{
     DataSet, EstimationOptions, FitMetrics, IdentError, InitialState, Interval, Parameters, Result,
     StopReason, estimate,
 };
 use msd_opt::{
-    Bounds, FiniteDifference, LevenbergMarquardtOptions, MultistartOptions, NelderMeadOptions,
-    ResidualFn, levenberg_marquardt, multistart, nelder_mead,
+    Bounds, LevenbergMarquardtOptions, MultistartOptions, NelderMeadOptions, levenberg_marquardt,
+    multistart, nelder_mead,
 };
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -19,7 +21,7 @@ use std::time::{Duration, Instant};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum NonlinearMethod {
-    /// Levenberg–Marquardt with a central finite-difference Jacobian.
+    /// Levenberg–Marquardt with the Jacobian from the forward sensitivities.
     #[default]
     LevenbergMarquardt,
     /// Nelder–Mead (fminsearch) on the sum of squares.
@@ -64,11 +66,11 @@ impl Default for NonlinearMultistart {
 /// | field | default |
 /// |---|---|
 /// | `method` | Levenberg–Marquardt |
-/// | `simulation` | [`NonlinearSimulation::default`] (ode45 1e-8/1e-12, v_s = 1e-3 × RMS velocity) |
+/// | `simulation` | [`NonlinearSimulation::default`] (RK4 on the cubic hold for measured data, ode45 1e-8/1e-12 for a known signal; v_s = 1e-3 × RMS velocity) |
 /// | `linear_start` | `None`: the fast linear estimate (LM, exact simulation, ARX guess) |
 /// | `initial_state` | at rest |
 /// | `estimate_initial_state` | false |
-/// | `levenberg_marquardt` | MINPACK defaults with central differences (relative step 1e-4) and at most 20·(p + 1) evaluations when `max_evaluations` is `None` |
+/// | `levenberg_marquardt` | MINPACK defaults, the Jacobian from the sensitivities, at most 20·(p + 1) evaluations when `max_evaluations` is `None` |
 /// | `nelder_mead` | fminsearch defaults with relative tolerances 1e-8 |
 /// | `multistart` | `None` |
 /// | `dissipative_damping` | true: F_c ≥ 0, c₂ ≥ 0 |
@@ -86,7 +88,8 @@ pub struct NonlinearOptions {
     pub initial_state: InitialState,
     /// Estimate x(t₀) and x'(t₀) with the parameters. By default false.
     pub estimate_initial_state: bool,
-    /// Levenberg–Marquardt settings.
+    /// Levenberg–Marquardt settings (its finite-difference fields are unused: the
+    /// problem supplies its Jacobian).
     pub levenberg_marquardt: LevenbergMarquardtOptions,
     /// Nelder–Mead settings.
     pub nelder_mead: NelderMeadOptions,
@@ -106,11 +109,7 @@ impl Default for NonlinearOptions {
             linear_start: None,
             initial_state: InitialState::REST,
             estimate_initial_state: false,
-            levenberg_marquardt: LevenbergMarquardtOptions {
-                finite_difference: FiniteDifference::Central,
-                finite_difference_step: Some(1e-4),
-                ..LevenbergMarquardtOptions::default()
-            },
+            levenberg_marquardt: LevenbergMarquardtOptions::default(),
             nelder_mead: NelderMeadOptions {
                 x_tolerance: 1e-8,
                 f_tolerance: 1e-8,
@@ -166,6 +165,9 @@ pub struct NonlinearEstimate {
     pub residuals: Vec<f64>,
     /// The Coulomb smoothing velocity used.
     pub smoothing_velocity: f64,
+    /// How the model was simulated: the solver, RK4's sub-steps per sample and, under
+    /// RK4, the output's error by step doubling.
+    pub simulation: SimulationUsed,
     /// The linear start.
     pub linear_start: Parameters,
     /// The optimiser.
@@ -174,7 +176,8 @@ pub struct NonlinearEstimate {
     pub starts: usize,
     /// Iterations of the best run.
     pub iterations: usize,
-    /// Simulations in total (all starts, finite differences and covariance included).
+    /// Simulations in total (all starts and the covariance included; an augmented
+    /// sensitivity simulation counts as one).
     pub simulations: usize,
     /// Why the best run stopped, and whether it met its convergence test
     /// ([`StopReason::converged`]).
@@ -196,139 +199,182 @@ impl std::fmt::Display for NonlinearEstimate {
         }
         writeln!(
             f,
-            "  SSE = {:.6e}, σ̂ = {:.4e}, fit {:.2} %, {} simulations, {:.2?}, {}",
-            self.sse, self.sigma, self.fit.fit_percent, self.simulations, self.wall_time, self.stop
+            "  SSE = {:.6e}, σ̂ = {:.4e}, fit {:.2} %, {} simulations ({}), {:.2?}, {}",
+            self.sse,
+            self.sigma,
+            self.fit.fit_percent,
+            self.simulations,
+            self.simulation,
+            self.wall_time,
+            self.stop
         )
     }
 }
 
-/// The map between physical parameters θ and scaled parameters z: z = ln θ for m, c, k;
-/// z = θ/s for the nonlinear coefficients and the initial state.
-#[derive(Debug, Clone)]
-struct Scaling {
-    structure: ModelStructure,
-    /// s for every linear-scaled entry (unused for the log ones).
-    scale: Vec<f64>,
-    estimate_initial_state: bool,
-    fixed_initial: InitialState,
-}
-
-impl Scaling {
-    fn new(
-        structure: ModelStructure,
-        start: &Parameters,
-        data: &DataSet,
-        options: &NonlinearOptions,
-    ) -> Self {
-        let y_rms = rms(&data.output).max(f64::MIN_POSITIVE);
-        let omega = start.natural_frequency();
-        let v_rms = y_rms * omega;
-        let mut scale = vec![1.0; 3];
-        for name in structure.parameter_names().iter().skip(3) {
-            scale.push(match *name {
-                // Force of the size of the viscous force at the typical speed.
-                "coulomb_force" => (start.damping * v_rms).max(start.stiffness * y_rms * 1e-2),
-                // c₂·v_rms² equal to c·v_rms.
-                "quadratic_damping" => {
-                    (start.damping / v_rms).max(start.stiffness * 1e-2 / (v_rms * omega))
-                }
-                // k₃·x_rms² equal to k.
-                _ => start.stiffness / (y_rms * y_rms),
-            });
+/// The linear start: given, or [`estimate`] with its default (fast) options.
+fn linear_start(data: &DataSet, options: &NonlinearOptions) -> Result<Parameters> {
+    match options.linear_start {
+        Some(p) => {
+            p.validate()?;
+            Ok(p)
         }
-        if options.estimate_initial_state {
-            scale.push(y_rms);
-            scale.push(v_rms);
+        None => {
+            let linear = EstimationOptions {
+                initial_state: options.initial_state,
+                estimate_initial_state: options.estimate_initial_state,
+                ..EstimationOptions::default()
+            };
+            Ok(estimate(data, &linear)?.parameters)
         }
-        Self {
-            structure,
-            scale,
-            estimate_initial_state: options.estimate_initial_state,
-            fixed_initial: options.initial_state,
-        }
-    }
-
-    fn len(&self) -> usize {
-        self.scale.len()
-    }
-
-    fn to_z(&self, p: &NonlinearParameters, initial: InitialState) -> Vec<f64> {
-        let mut z: Vec<f64> = p
-            .values
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| if i < 3 { v.ln() } else { v / self.scale[i] })
-            .collect();
-        if self.estimate_initial_state {
-            let n = z.len();
-            z.push(initial.displacement / self.scale[n]);
-            z.push(initial.velocity / self.scale[n + 1]);
-        }
-        z
-    }
-
-    /// θ from z (no range check).
-    fn physical(&self, z: &[f64]) -> (NonlinearParameters, InitialState) {
-        let np = self.structure.parameter_count();
-        let values = (0..np)
-            .map(|i| {
-                if i < 3 {
-                    z[i].exp()
-                } else {
-                    z[i] * self.scale[i]
-                }
-            })
-            .collect();
-        let initial = if self.estimate_initial_state {
-            InitialState {
-                displacement: z[np] * self.scale[np],
-                velocity: z[np + 1] * self.scale[np + 1],
-            }
-        } else {
-            self.fixed_initial
-        };
-        (
-            NonlinearParameters {
-                structure: self.structure,
-                values,
-            },
-            initial,
-        )
-    }
-
-    /// dθ_i/dz_i.
-    fn derivative(&self, z: &[f64]) -> Vec<f64> {
-        (0..z.len())
-            .map(|i| if i < 3 { z[i].exp() } else { self.scale[i] })
-            .collect()
     }
 }
 
-fn rms(x: &[f64]) -> f64 {
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
+/// Indices of F_c or c₂ in z, bounded below by 0 when dissipative damping is asked.
+fn dissipative_indices(structure: ModelStructure, options: &NonlinearOptions) -> Vec<usize> {
+    if !options.dissipative_damping {
+        return Vec::new();
+    }
+    structure
+        .parameter_names()
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| matches!(**n, "coulomb_force" | "quadratic_damping"))
+        .map(|(i, _)| i)
+        .collect()
 }
 
-/// Simulates at z and writes ŷ − y; false when the point is unphysical or fails.
-fn residuals_at(
-    scaling: &Scaling,
-    data: &DataSet,
-    simulation: &NonlinearSimulation,
+/// The Levenberg–Marquardt options of a run in p scaled parameters: at most
+/// 20·(p + 1) evaluations unless given, the dissipative bounds unless bounds are given.
+fn lm_options(
+    options: &NonlinearOptions,
+    p: usize,
+    dissipative: &[usize],
+) -> Result<LevenbergMarquardtOptions> {
+    let mut lm = options.levenberg_marquardt.clone();
+    if lm.max_evaluations.is_none() {
+        lm.max_evaluations = Some(20 * (p + 1));
+    }
+    if !dissipative.is_empty() && lm.bounds.is_none() {
+        let mut lower = vec![f64::NEG_INFINITY; p];
+        for &i in dissipative {
+            lower[i] = 0.0;
+        }
+        lm.bounds = Some(Bounds::new(lower, vec![f64::INFINITY; p])?);
+    }
+    Ok(lm)
+}
+
+/// Everything a local run needs, shared by the starts.
+struct Search<'a> {
+    scaling: &'a Scaling,
+    data: &'a DataSet,
+    simulator: Simulator<'a>,
     smoothing: f64,
-    z: &[f64],
-    out: &mut [f64],
-) -> bool {
-    let (p, initial) = scaling.physical(z);
-    if p.validate().is_err() {
-        return false;
+    options: &'a NonlinearOptions,
+    lm: LevenbergMarquardtOptions,
+    dissipative: Vec<usize>,
+}
+
+impl Search<'_> {
+    fn problem(&self) -> OutputError<'_> {
+        OutputError::new(
+            self.scaling,
+            self.data,
+            self.simulator.clone(),
+            self.smoothing,
+        )
     }
-    match simulate_nonlinear(&p, &data.excitation, initial, simulation, smoothing) {
-        Ok((x, _)) => {
-            for ((o, m), y) in out.iter_mut().zip(&x).zip(&data.output) {
-                *o = m - y;
+
+    /// One local run from `z`; its counts include every simulation.
+    fn local(&self, z: &[f64]) -> std::result::Result<Local, msd_opt::OptError> {
+        let mut problem = self.problem();
+        let mut run = match self.options.method {
+            NonlinearMethod::LevenbergMarquardt => {
+                Local::levenberg_marquardt(levenberg_marquardt(&mut problem, z, &self.lm)?)
             }
-            true
+            NonlinearMethod::NelderMead => {
+                let mut buffer = vec![0.0; self.data.len()];
+                let nm = &self.options.nelder_mead;
+                Local::nelder_mead(nelder_mead(|z| problem.sse(z, &mut buffer), z, nm)?)
+            }
+        };
+        // Every simulation, the sensitivity runs included, is what the estimate counts.
+        run.evaluations = problem.simulations;
+        run.finite_differences = 0;
+        Ok(run)
+    }
+
+    /// The best of one run from `z0`, or of the multistart design around it; the number
+    /// of starts and of simulations.
+    fn best(&self, z0: &[f64]) -> Result<(Local, usize, usize)> {
+        let Some(ms) = &self.options.multistart else {
+            let r = self.local(z0)?;
+            let s = r.simulations();
+            return Ok((r, 1, s));
+        };
+        let mut lower = z0.to_vec();
+        let mut upper = z0.to_vec();
+        for i in 0..z0.len() {
+            let w = if i < 3 {
+                ms.decades * std::f64::consts::LN_10
+            } else {
+                ms.nonlinear_width
+            };
+            lower[i] -= w;
+            upper[i] += w;
         }
-        Err(_) => false,
+        for &i in &self.dissipative {
+            lower[i] = lower[i].max(0.0);
+        }
+        let bounds = Bounds::new(lower, upper)?;
+        let design = MultistartOptions {
+            starts: ms.starts.saturating_sub(1).max(1),
+            seed: ms.seed,
+            threads: ms.threads,
+            ..MultistartOptions::default()
+        };
+        // A start that cannot even be simulated ranks last instead of failing all.
+        let tolerant = |z: &[f64]| Ok(self.local(z).unwrap_or_else(|e| Local::failed(z, e)));
+        let mut results = multistart(&bounds, &design, tolerant)?;
+        let nominal = self.local(z0)?;
+        let total = results
+            .iter()
+            .map(|r| r.result.simulations())
+            .sum::<usize>()
+            + nominal.simulations();
+        let count = results.len() + 1;
+        let first = results.remove(0).result;
+        let best = if nominal.cost <= first.cost {
+            nominal
+        } else {
+            first
+        };
+        Ok((best, count, total))
+    }
+}
+
+impl Search<'_> {
+    /// The optimum may need more sub-steps than the start (a stiffer spring): searched
+    /// again from it with them, at most twice. Returns the final run and the
+    /// simulations spent here.
+    fn refine(&mut self, mut best: Local, scratch: &mut [f64]) -> Result<(Local, usize)> {
+        let mut simulations = 0;
+        for _ in 0..2 {
+            let Some((forces, initial)) = self.problem().point(&best.x) else {
+                break;
+            };
+            let rk4 = &mut self.simulator.rk4;
+            let needed = rk4.steps_for(rk4.simulate(&forces, initial, scratch))?;
+            simulations += 1;
+            if needed <= rk4.steps() {
+                break;
+            }
+            rk4.set_steps(needed);
+            let again = self.local(&best.x)?;
+            simulations += again.simulations();
+            best = again;
+        }
+        Ok((best, simulations))
     }
 }
 
@@ -342,10 +388,14 @@ fn residuals_at(
 ///    a scale making them O(1) when their force is comparable to the linear one (see the
 ///    module doc); the initial state (when estimated) divided by the output's RMS and
 ///    RMS·ωₙ.
-/// 3. Levenberg–Marquardt (central differences) or Nelder–Mead on Σ(ŷ − y)², each
-///    evaluation one ode45 simulation; optionally from several starts.
-/// 4. Covariance σ̂²·D(JᵀJ)⁻¹D from the central-difference Jacobian in z at ẑ, with
-///    σ̂² = SSE/(N − p) and Student-t 95 % intervals.
+/// 3. RK4's sub-steps per sample from the start's trajectory, held fixed during the
+///    search so that the simulated output is a smooth function of z.
+/// 4. Levenberg–Marquardt (Jacobian from the forward sensitivities) or Nelder–Mead on
+///    Σ(ŷ − y)², each evaluation one simulation; optionally from several starts. If the
+///    optimum's trajectory needs more sub-steps than the start's, the search is redone
+///    from the optimum with them.
+/// 5. Covariance σ̂²·D(JᵀJ)⁻¹D from the sensitivities at ẑ, with σ̂² = SSE/(N − p) and
+///    Student-t 95 % intervals; under RK4 the output's error by step doubling.
 ///
 /// ```
 /// use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, Excitation, ModelStructure,
@@ -366,20 +416,7 @@ pub fn estimate_nonlinear(
 ) -> Result<NonlinearEstimate> {
     let started = Instant::now();
     options.simulation.validate()?;
-    let linear_start = match options.linear_start {
-        Some(p) => {
-            p.validate()?;
-            p
-        }
-        None => {
-            let linear = EstimationOptions {
-                initial_state: options.initial_state,
-                estimate_initial_state: options.estimate_initial_state,
-                ..EstimationOptions::default()
-            };
-            estimate(data, &linear)?.parameters
-        }
-    };
+    let linear_start = linear_start(data, options)?;
     let start = NonlinearParameters::from_linear(structure, &linear_start);
     let smoothing = options.simulation.resolve_smoothing_velocity(
         &start,
@@ -397,216 +434,60 @@ pub fn estimate_nonlinear(
         });
     }
     let z0 = scaling.to_z(&start, options.initial_state);
-    // Indices of F_c or c₂ in z, bounded below by 0 when dissipative damping is asked.
-    let dissipative: Vec<usize> = if options.dissipative_damping {
-        structure
-            .parameter_names()
-            .iter()
-            .enumerate()
-            .filter(|(_, n)| matches!(**n, "coulomb_force" | "quadratic_damping"))
-            .map(|(i, _)| i)
-            .collect()
-    } else {
-        Vec::new()
+    let dissipative = dissipative_indices(structure, options);
+    let mut simulator = Simulator::new(&data.excitation, &options.simulation)?;
+    let mut scratch = vec![0.0; n];
+    let forces = Forces::new(&start, smoothing);
+    simulator.fit_steps(&forces, options.initial_state, &mut scratch)?;
+    let mut search = Search {
+        lm: lm_options(options, p, &dissipative)?,
+        scaling: &scaling,
+        data,
+        simulator,
+        smoothing,
+        options,
+        dissipative,
     };
-    let mut lm_options = options.levenberg_marquardt.clone();
-    if lm_options.max_evaluations.is_none() {
-        lm_options.max_evaluations = Some(20 * (p + 1));
-    }
-    if !dissipative.is_empty() && lm_options.bounds.is_none() {
-        let mut lower = vec![f64::NEG_INFINITY; p];
-        for &i in &dissipative {
-            lower[i] = 0.0;
-        }
-        lm_options.bounds = Some(Bounds::new(lower, vec![f64::INFINITY; p])?);
-    }
-    let sim = options.simulation;
-    let local = |z_start: &[f64]| -> std::result::Result<Local, msd_opt::OptError> {
-        match options.method {
-            NonlinearMethod::LevenbergMarquardt => {
-                let mut problem = ResidualFn::new(n, |z: &[f64], out: &mut [f64]| {
-                    residuals_at(&scaling, data, &sim, smoothing, z, out)
-                });
-                let r = levenberg_marquardt(&mut problem, z_start, &lm_options)?;
-                Ok(Local::levenberg_marquardt(r))
-            }
-            NonlinearMethod::NelderMead => {
-                let mut buffer = vec![0.0; n];
-                let mut count = 0usize;
-                let r = nelder_mead(
-                    |z| {
-                        count += 1;
-                        if residuals_at(&scaling, data, &sim, smoothing, z, &mut buffer) {
-                            buffer.iter().map(|v| v * v).sum()
-                        } else {
-                            f64::INFINITY
-                        }
-                    },
-                    z_start,
-                    &options.nelder_mead,
-                )?;
-                Ok(Local {
-                    evaluations: count,
-                    ..Local::nelder_mead(r)
-                })
-            }
-        }
-    };
-
-    let (best, starts, mut simulations) = match &options.multistart {
-        None => {
-            let r = local(&z0)?;
-            let s = r.simulations();
-            (r, 1, s)
-        }
-        Some(ms) => {
-            let mut lower = z0.clone();
-            let mut upper = z0.clone();
-            for i in 0..p {
-                let w = if i < 3 {
-                    ms.decades * std::f64::consts::LN_10
-                } else {
-                    ms.nonlinear_width
-                };
-                lower[i] -= w;
-                upper[i] += w;
-            }
-            for &i in &dissipative {
-                lower[i] = lower[i].max(0.0);
-            }
-            let bounds = Bounds::new(lower, upper)?;
-            let design = MultistartOptions {
-                starts: ms.starts.saturating_sub(1).max(1),
-                seed: ms.seed,
-                threads: ms.threads,
-                ..MultistartOptions::default()
-            };
-            // A start that cannot even be simulated ranks last instead of failing all.
-            let tolerant = |z: &[f64]| Ok(local(z).unwrap_or_else(|e| Local::failed(z, e)));
-            let mut results = multistart(&bounds, &design, tolerant)?;
-            let nominal = local(&z0)?;
-            let total: usize = results
-                .iter()
-                .map(|r| r.result.simulations())
-                .sum::<usize>()
-                + nominal.simulations();
-            let count = results.len() + 1;
-            let first = results.remove(0).result;
-            let best = if nominal.cost <= first.cost {
-                nominal
-            } else {
-                first
-            };
-            (best, count, total)
-        }
-    };
+    let (best, starts, simulations) = search.best(&z0)?;
+    let (best, more) = search.refine(best, &mut scratch)?;
+    let mut simulations = simulations + more;
     let stop = best
         .finished()
         .map_err(|why| IdentError::EstimationFailed {
             reason: format!("{structure}: no start reached a finite cost ({why})"),
         })?;
-
-    // Model output, residuals and the central-difference Jacobian at ẑ.
-    let mut r0 = vec![0.0; n];
-    if !residuals_at(&scaling, data, &sim, smoothing, &best.x, &mut r0) {
-        return Err(IdentError::EstimationFailed {
-            reason: format!("{structure}: the model cannot be simulated at the optimum"),
-        });
-    }
-    simulations += 1;
-    let mut jacobian = DMatrix::<f64>::zeros(n, p);
-    let (mut plus, mut minus) = (vec![0.0; n], vec![0.0; n]);
-    let step = options
-        .levenberg_marquardt
-        .finite_difference_step
-        .unwrap_or(1e-4);
-    for j in 0..p {
-        let h = step * best.x[j].abs().max(1.0);
-        let mut z = best.x.clone();
-        z[j] = best.x[j] + h;
-        let ok_plus = residuals_at(&scaling, data, &sim, smoothing, &z, &mut plus);
-        z[j] = best.x[j] - h;
-        let ok_minus = residuals_at(&scaling, data, &sim, smoothing, &z, &mut minus);
-        simulations += 2;
-        let names = structure.parameter_names();
-        let name = names.get(j).copied().unwrap_or("initial state");
-        match (ok_plus, ok_minus) {
-            (true, true) => {
-                for i in 0..n {
-                    jacobian[(i, j)] = (plus[i] - minus[i]) / (2.0 * h);
-                }
-            }
-            (true, false) => {
-                for i in 0..n {
-                    jacobian[(i, j)] = (plus[i] - r0[i]) / h;
-                }
-            }
-            (false, true) => {
-                for i in 0..n {
-                    jacobian[(i, j)] = (r0[i] - minus[i]) / h;
-                }
-            }
-            (false, false) => {
-                return Err(IdentError::EstimationFailed {
-                    reason: format!(
-                        "{structure}: cannot simulate around the optimum to differentiate by {name}"
-                    ),
-                });
-            }
-        }
-    }
-    let sse: f64 = r0.iter().map(|v| v * v).sum();
-    let dof = n - p;
-    let sigma2 = sse / dof as f64;
-    let jtj = jacobian.transpose() * &jacobian;
-    let inverse = jtj
-        .clone()
-        .try_inverse()
-        .ok_or_else(|| IdentError::NotIdentifiable {
-            reason: format!("{structure}: JᵀJ is singular at the estimate"),
-        })?;
-    let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
-    let normalised = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
-    let eigenvalues = normalised.symmetric_eigen().eigenvalues;
-    let (low, high) = eigenvalues
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
-    let condition_number = if low > 0.0 { high / low } else { f64::INFINITY };
-    let d = scaling.derivative(&best.x);
-    let covariance = DMatrix::from_fn(p, p, |r, c| sigma2 * d[r] * inverse[(r, c)] * d[c]);
-    let correlation = DMatrix::from_fn(p, p, |r, c| {
-        covariance[(r, c)] / (covariance[(r, r)] * covariance[(c, c)]).sqrt()
-    });
-    let t = crate::uncertainty::t_975(dof);
+    let mut problem = search.problem();
+    let at = at_optimum(&mut problem, &best.x)?;
+    simulations += problem.simulations;
     let (parameters, initial_state) = scaling.physical(&best.x);
-    let interval =
-        |i: usize, value: f64| Interval::new(value, covariance[(i, i)].max(0.0).sqrt(), t);
-    let np = structure.parameter_count();
-    let intervals: Vec<Interval> = (0..np).map(|i| interval(i, parameters.values[i])).collect();
-    let initial_state_intervals = options.estimate_initial_state.then(|| {
-        [
-            interval(np, initial_state.displacement),
-            interval(np + 1, initial_state.velocity),
-        ]
-    });
-    let model_output: Vec<f64> = r0.iter().zip(&data.output).map(|(r, y)| r + y).collect();
-    let residuals: Vec<f64> = r0.iter().map(|r| -r).collect();
+    let error_estimate = step_doubling(&problem, &parameters, initial_state, &at.output)?;
+    let used = SimulationUsed {
+        solver: problem.simulator.solver,
+        hold: problem.simulator.hold(),
+        steps_per_sample: problem.simulator.rk4.steps(),
+        error_estimate,
+    };
+    let statistics = Statistics::new(&at, &scaling, &best.x, structure)?;
+    let (intervals, initial_state_intervals) =
+        statistics.intervals(&parameters, initial_state, options.estimate_initial_state);
+    let residuals: Vec<f64> = at.residuals.iter().map(|r| -r).collect();
     Ok(NonlinearEstimate {
-        fit: FitMetrics::new(&data.output, &model_output),
+        fit: FitMetrics::new(&data.output, &at.output),
         parameters,
         intervals,
         initial_state,
         initial_state_intervals,
-        covariance,
-        correlation,
-        condition_number,
-        sigma: sigma2.sqrt(),
-        degrees_of_freedom: dof,
+        covariance: statistics.covariance,
+        correlation: statistics.correlation,
+        condition_number: statistics.condition_number,
+        sigma: statistics.sigma2.sqrt(),
+        degrees_of_freedom: statistics.dof,
         estimated: p,
-        sse,
-        model_output,
+        sse: statistics.sse,
+        model_output: at.output,
         residuals,
         smoothing_velocity: smoothing,
+        simulation: used,
         linear_start,
         method: options.method,
         starts,

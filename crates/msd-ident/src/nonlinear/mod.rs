@@ -10,31 +10,45 @@
 //!
 //! The six structures share one simulator and one estimator: a candidate set is data
 //! (e.g. a list in a config, serde names `viscous`, `coulomb_viscous`,
-//! `quadratic_viscous`, `linear`, `cubic`), not a code path per model. Every model is
-//! simulated by msd-ode's ode45 (Dormand–Prince 5(4)), the force evaluated continuously
-//! (the exact simulator applies only to the linear model), by default with RelTol 1e-8
-//! and AbsTol 1e-12 so that finite differences see the model, not the solver's error.
+//! `quadratic_viscous`, `linear`, `cubic`), not a code path per model.
+//!
+//! ## Simulation
+//! [`NonlinearSimulation`] picks the solver ([`NonlinearSolver`]); by default
+//! - on measured data (a force known only by its samples) classical RK4 sample interval
+//!   by sample interval on the hold polynomial of the force (cubic by default, as the
+//!   linear model's exact backend), with as many sub-steps as the model's fastest
+//!   eigenvalue needs (ρ·h ≤ 0.1): an adaptive solver stepping across the kink at every
+//!   sample keeps rejecting steps, a fixed step restarted at each sample never does.
+//!   The estimate reports the output's error by step doubling ([`SimulationUsed`]);
+//! - on a known signal (synthetic data, the paper's way) msd-ode's ode45 (Dormand–Prince
+//!   5(4)) with the force evaluated continuously, RelTol 1e-8 and AbsTol 1e-12.
+//!
+//! Under either, the estimator's Jacobian comes from the forward sensitivity equations
+//! of each damping and stiffness law ([`nonlinear_sensitivities`]) integrated beside the
+//! state by the same RK4, one augmented simulation a Jacobian: the exact derivative of
+//! the RK4 output, and of ode45's to within the two solvers' agreement.
 //!
 //! ## Coulomb friction: regularised, not event-located
 //! sign(x') is replaced by tanh(x'/v_s) with the smoothing velocity v_s by default
 //! 1e-3 × the RMS velocity of the nominal (linear-part) response
-//! ([`SmoothingVelocity`]). Why: the adaptive solver steps smoothly through every
-//! velocity reversal (with event location it would stop and restart at each one, and
-//! handle sticking with a separate mode); and for estimation a smooth model keeps the
-//! output differentiable in F_c, so finite-difference Jacobians and the Gauss–Newton
-//! covariance stay meaningful. The price is a slight viscous-like behaviour for
-//! |x'| ≲ v_s, negligible at 0.1 % of the typical speed.
+//! ([`SmoothingVelocity`]). Why: the solvers step smoothly through every velocity
+//! reversal (with event location they would stop and restart at each one, and handle
+//! sticking with a separate mode); and for estimation a smooth model keeps the output
+//! differentiable in F_c (slope F_c/v_s·(1 − tanh²) in x'), so the sensitivities and
+//! the Gauss–Newton covariance stay meaningful. The price is a slight viscous-like
+//! behaviour for |x'| ≲ v_s, negligible at 0.1 % of the typical speed, and a stiff
+//! slope F_c/(m·v_s) there, which RK4 resolves with more sub-steps.
 //!
 //! ## The estimator
-//! [`estimate_nonlinear`]: output error Σ(ŷ − y)² with each ŷ an ode45 simulation.
+//! [`estimate_nonlinear`]: output error Σ(ŷ − y)² with each ŷ one simulation.
 //! Start: the linear estimate ([`estimate`](crate::estimate), fast method) with zero
 //! nonlinear coefficients. Parameters are scaled: ln m, ln c, ln k (positive), and
 //! F_c/s, c₂/s, k₃/s (which may be 0, and k₃ negative) with s making the nonlinear force
 //! comparable to the linear one at the output's RMS amplitude (s = c·v_rms for F_c,
-//! c/v_rms for c₂, k/x_rms² for k₃, v_rms = x_rms·ωₙ). Levenberg–Marquardt with central
-//! differences (default; F_c ≥ 0 and c₂ ≥ 0 kept by bounds, see
-//! [`NonlinearOptions::dissipative_damping`]) or Nelder–Mead, optionally multistart. The covariance is
-//! σ̂²·D(JᵀJ)⁻¹D from the central-difference Jacobian at the optimum (D: the chain rule
+//! c/v_rms for c₂, k/x_rms² for k₃, v_rms = x_rms·ωₙ). Levenberg–Marquardt with the
+//! exact Jacobian (default; F_c ≥ 0 and c₂ ≥ 0 kept by bounds, see
+//! [`NonlinearOptions::dissipative_damping`]) or Nelder–Mead, optionally multistart. The
+//! covariance is σ̂²·D(JᵀJ)⁻¹D from the sensitivities at the optimum (D: the chain rule
 //! from the scaled to the physical parameters), with Student-t 95 % intervals.
 //!
 //! ## Selection
@@ -76,6 +90,8 @@
 mod compare;
 mod estimate;
 mod model;
+mod problem;
+mod rk4;
 mod simulate;
 
 pub use compare::{
@@ -87,4 +103,7 @@ pub use estimate::{
     synthetic_nonlinear_data,
 };
 pub use model::{DampingLaw, ModelStructure, NonlinearParameters, StiffnessLaw};
-pub use simulate::{NonlinearSimulation, SmoothingVelocity, simulate_nonlinear};
+pub use simulate::{
+    NonlinearSensitivities, NonlinearSimulation, NonlinearSolver, SimulationUsed,
+    SmoothingVelocity, nonlinear_sensitivities, simulate_nonlinear,
+};

@@ -240,44 +240,137 @@ impl std::fmt::Display for NonlinearParameters {
     }
 }
 
-/// The forces of one parameter vector, unpacked for the right-hand side.
+/// The forces of one parameter vector, unpacked for the right-hand side and its
+/// linearisation (the sensitivity equations).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Forces {
-    pub mass: f64,
     pub damping: f64,
     pub stiffness: f64,
     pub coulomb: f64,
     pub quadratic: f64,
     pub cubic: f64,
-    /// 1/v_s (0 when there is no Coulomb term).
+    /// 1/m.
+    pub inverse_mass: f64,
+    /// 1/v_s for a structure with a Coulomb term (also at F_c = 0, where ∂/∂F_c is
+    /// not 0), else 0.
     pub inverse_smoothing: f64,
+    /// For each entry of the parameter vector, its index in [`Linearised::partials`].
+    pub order: [usize; 5],
+}
+
+/// The acceleration at one point and its derivatives, for the sensitivity equations
+/// ξ' = η, η' = −K·ξ − C·η + ∂a/∂θ.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Linearised {
+    /// a = x''.
+    pub acceleration: f64,
+    /// K = −∂a/∂x = f_s'(x)/m.
+    pub stiffness: f64,
+    /// C = −∂a/∂x' = f_d'(x')/m.
+    pub damping: f64,
+    /// ∂a/∂θ for θ = m, c, k, F_c, c₂, k₃.
+    pub partials: [f64; 6],
 }
 
 impl Forces {
+    /// The forces of `p`, with the Coulomb smoothing velocity v_s (used only when the
+    /// structure has a Coulomb term and v_s is a finite number > 0).
     pub fn new(p: &NonlinearParameters, smoothing_velocity: f64) -> Self {
-        let coulomb = p.coulomb_force();
+        let coulomb_law = p.structure.damping == DampingLaw::CoulombViscous;
+        let valid = smoothing_velocity.is_finite() && smoothing_velocity > 0.0;
+        // The vector's order: m, c, k, then F_c or c₂, then k₃ (see parameter_names).
+        let mut order = [0, 1, 2, 0, 0];
+        let mut next = 3;
+        let nonlinear = [
+            (coulomb_law, 3),
+            (p.structure.damping == DampingLaw::QuadraticViscous, 4),
+            (p.structure.stiffness == StiffnessLaw::Cubic, 5),
+        ];
+        for (present, index) in nonlinear {
+            if present {
+                order[next] = index;
+                next += 1;
+            }
+        }
+        debug_assert_eq!(next, p.structure.parameter_count());
         Self {
-            mass: p.mass(),
             damping: p.damping(),
             stiffness: p.stiffness(),
-            coulomb,
+            coulomb: p.coulomb_force(),
             quadratic: p.quadratic_damping(),
             cubic: p.cubic_stiffness(),
-            inverse_smoothing: if coulomb != 0.0 {
+            inverse_mass: 1.0 / p.mass(),
+            inverse_smoothing: if coulomb_law && valid {
                 1.0 / smoothing_velocity
             } else {
                 0.0
             },
+            order,
         }
     }
 
     /// x'' = (F − f_d(v) − f_s(x))/m.
     #[inline]
     pub fn acceleration(&self, force: f64, x: f64, v: f64) -> f64 {
-        let damping = self.damping * v
-            + self.quadratic * v * v.abs()
-            + self.coulomb * (v * self.inverse_smoothing).tanh();
+        let damping = self.damping * v + self.quadratic * v * v.abs() + self.coulomb_term(v);
         let spring = self.stiffness * x + self.cubic * x * x * x;
-        (force - damping - spring) / self.mass
+        (force - damping - spring) * self.inverse_mass
+    }
+
+    /// The acceleration and its derivatives by x, x' and the parameters. The smoothed
+    /// Coulomb term F_c·tanh(x'/v_s) has the slope F_c/v_s·(1 − tanh²), the quadratic
+    /// c₂·x'|x'| the slope 2c₂|x'| (continuous at 0).
+    #[inline(always)]
+    pub fn linearised(&self, force: f64, x: f64, v: f64) -> Linearised {
+        let tanh = self.tanh(v);
+        let (x2, speed) = (x * x, v.abs());
+        let damping = self.damping * v + self.quadratic * v * speed + self.coulomb * tanh;
+        let spring = self.stiffness * x + self.cubic * x2 * x;
+        let inverse_mass = self.inverse_mass;
+        let acceleration = (force - damping - spring) * inverse_mass;
+        let slope = self.damping
+            + 2.0 * self.quadratic * speed
+            + self.coulomb * self.inverse_smoothing * (1.0 - tanh * tanh);
+        Linearised {
+            acceleration,
+            stiffness: (self.stiffness + 3.0 * self.cubic * x2) * inverse_mass,
+            damping: slope * inverse_mass,
+            partials: [
+                -acceleration * inverse_mass,
+                -v * inverse_mass,
+                -x * inverse_mass,
+                -tanh * inverse_mass,
+                -v * speed * inverse_mass,
+                -x2 * x * inverse_mass,
+            ],
+        }
+    }
+
+    /// F_c·tanh(x'/v_s), skipped without a Coulomb law (tanh is the costliest term).
+    #[inline(always)]
+    fn coulomb_term(&self, v: f64) -> f64 {
+        if self.inverse_smoothing == 0.0 {
+            0.0
+        } else {
+            self.coulomb * (v * self.inverse_smoothing).tanh()
+        }
+    }
+
+    /// tanh(x'/v_s), 0 without a Coulomb law.
+    #[inline(always)]
+    fn tanh(&self, v: f64) -> f64 {
+        if self.inverse_smoothing == 0.0 {
+            0.0
+        } else {
+            (v * self.inverse_smoothing).tanh()
+        }
+    }
+
+    /// A bound on the magnitude of the eigenvalues of the linearised dynamics
+    /// [[0, 1], [−K, −C]] at (x, v): |λ| ≤ √|K| + |C|.
+    #[inline]
+    pub fn rate(&self, x: f64, v: f64) -> f64 {
+        let l = self.linearised(0.0, x, v);
+        l.stiffness.abs().sqrt() + l.damping.abs()
     }
 }

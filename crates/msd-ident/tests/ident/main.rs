@@ -8,6 +8,7 @@ mod error_paths;
 mod estimation;
 mod free_decay;
 mod nonlinear;
+mod nonlinear_fast;
 mod plan;
 mod serialize;
 mod stress;

@@ -4,8 +4,8 @@
 use msd_ident::{
     Backend, CandidateFailure, Comparison, ComparisonOptions, EstimationOptions, Excitation,
     GuessSource, InitialState, Method, ModelStructure, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, PaperExperiment, Parameters, SyntheticOptions, assess_estimate, estimate,
-    estimate_nonlinear, synthetic_nonlinear_data,
+    NonlinearSimulation, NonlinearSolver, PaperExperiment, Parameters, SyntheticOptions,
+    assess_estimate, estimate, estimate_nonlinear, synthetic_nonlinear_data,
 };
 use msd_signal::{paper_identification_input, paper_validation_input};
 use serde_json::{Value, json};
@@ -91,6 +91,33 @@ fn parameters_state_guess_method_and_backend_serialize_and_display() -> Outcome 
     Ok(())
 }
 
+/// The simulation options as a config writes them: every key optional, the solver and
+/// the hold by name; an unknown solver is refused naming the choices.
+#[test]
+fn nonlinear_simulation_options_read_and_write_by_name() -> Outcome {
+    let default: NonlinearSimulation = serde_json::from_value(json!({}))?;
+    assert_eq!(default, NonlinearSimulation::default());
+    assert_eq!(
+        serde_json::to_value(default)?,
+        json!({ "solver": "auto", "hold": "cubic", "rel_tol": 1e-8, "abs_tol": 1e-12,
+            "smoothing_velocity": { "relative": 1e-3 } })
+    );
+    let rk4: NonlinearSimulation =
+        serde_json::from_value(json!({ "solver": "rk4", "hold": "first" }))?;
+    assert_eq!(
+        (rk4.solver, rk4.hold),
+        (NonlinearSolver::Rk4, msd_ode::Hold::First)
+    );
+    let err = serde_json::from_value::<NonlinearSimulation>(json!({ "solver": "euler" }))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("unknown variant `euler`, expected one of `auto`, `rk4`, `ode45`"),
+        "{err}"
+    );
+    Ok(())
+}
+
 #[test]
 fn a_nonlinear_estimate_its_row_and_a_comparison_serialize_and_display() -> Outcome {
     let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
@@ -126,10 +153,21 @@ fn a_nonlinear_estimate_its_row_and_a_comparison_serialize_and_display() -> Outc
     assert_eq!(json["method"], "levenberg_marquardt");
     assert!(json["wall_time_s"].as_f64().is_some_and(|t| t >= 0.0));
     assert!(e.to_string().contains(&e.stop.to_string()));
+    // A known signal: ode45 by default, its Jacobian by RK4 on the cubic hold.
+    assert_eq!(
+        json["simulation"],
+        json!({ "solver": "ode45", "hold": "cubic", "steps_per_sample": 1, "error_estimate": null })
+    );
+    assert!(
+        e.to_string()
+            .contains("(ode45, Jacobian by RK4 on the cubic hold with 1 sub-step a sample)"),
+        "{e}"
+    );
 
     let row = assess_estimate(&e, &val, &ComparisonOptions::default())?;
     let json = serde_json::to_value(&row)?;
     assert_eq!(json["samples"], 2001);
+    assert_eq!(json["simulation"]["solver"], "ode45");
     assert_eq!(json["stop"], serde_json::to_value(&e.stop)?);
     assert!(
         row.to_string().starts_with("viscous+linear: p = 3, SSE = "),

@@ -308,3 +308,93 @@ fn lockstep_lanes_equal_single_simulations_bit_for_bit() {
     let same = ExactSimulator::new(&Plant::PAPER.model(), DT, Hold::Cubic).expect("model");
     assert!(Lockstep::new([&same, &other], [SVector::<f64, 2>::zeros(); 2]).is_err());
 }
+
+/// The hold polynomials are the input the exact simulator integrates: ode45 at RelTol
+/// 1e-12 driven by them, restarted at each sample so that no step straddles a kink,
+/// agrees with the exact simulation for every hold, breakpoints included.
+#[test]
+fn hold_polynomials_are_what_the_exact_simulator_integrates() {
+    let grid = paper_grid();
+    let values: Vec<f64> = grid.iter().map(|&t| paper_input(t)).collect();
+    let breakpoints = paper_breakpoints();
+    let input = SampledInput {
+        values: &values,
+        breakpoints: &breakpoints,
+    };
+    let plant = Plant::PAPER;
+    let opts = Ode45Options {
+        rel_tol: 1e-12,
+        abs_tol: 1e-15,
+        ..Ode45Options::default()
+    };
+    for hold in [Hold::Zero, Hold::First, Hold::Cubic] {
+        let polynomials = input.hold_polynomials(hold).expect("valid input");
+        assert_eq!(polynomials.len(), values.len() - 1);
+        let exact = simulate(plant, hold, &values, &breakpoints);
+        let mut state = SVector::<f64, 2>::zeros();
+        let (mut worst, mut steps) = (0.0f64, 0usize);
+        // The first 600 samples cover the step at 250 and plenty of smooth intervals.
+        for (i, a) in polynomials.iter().enumerate().take(600) {
+            let mut rhs = |t: f64, y: &SVector<f64, 2>, d: &mut SVector<f64, 2>| {
+                let s = t / DT;
+                let u = a[0] + s * (a[1] + s * (a[2] + s * a[3]));
+                d[0] = y[1];
+                d[1] = (u - plant.c * y[1] - plant.k * y[0]) / plant.m;
+            };
+            let sol = ode45(&mut rhs, &[0.0, DT], &state, &opts).expect("solves");
+            state = *sol.y.last().expect("non-empty");
+            steps += sol.stats.accepted_steps;
+            worst = worst.max((state[0] - exact[i + 1]).abs());
+        }
+        // Each ode45 step errs by at most RelTol·|x| + AbsTol, and the damped plant does
+        // not amplify earlier errors: over these steps at most their sum.
+        let bound = steps as f64 * (opts.rel_tol * max_abs(&exact[..=600]) + opts.abs_tol);
+        assert!(worst < bound, "{hold:?}: {worst:e} vs {bound:e}");
+    }
+}
+
+/// Each hold polynomial starts at its interval's right value and, but for the zero
+/// hold, ends at the next sample's left value; the cubic hold reproduces a cubic in
+/// every interval, one-sided stencils at the ends included.
+#[test]
+fn hold_polynomials_interpolate_and_reproduce_their_degree() {
+    let cubic = |t: f64| 1.0 - 2.0 * t + 0.5 * t * t - 0.25 * t * t * t;
+    let values: Vec<f64> = (0..12).map(|i| cubic(i as f64)).collect();
+    let breakpoints = [Breakpoint {
+        index: 6,
+        left: 7.0,
+        right: values[6],
+    }];
+    let input = SampledInput {
+        values: &values,
+        breakpoints: &breakpoints,
+    };
+    for hold in [Hold::Zero, Hold::First, Hold::Cubic] {
+        let p = input.hold_polynomials(hold).expect("valid input");
+        for (i, a) in p.iter().enumerate() {
+            let end = if i + 1 == 6 { 7.0 } else { values[i + 1] };
+            let at_end = a.iter().sum::<f64>();
+            assert!((a[0] - values[i]).abs() < 1e-12, "{hold:?} {i}: {a:?}");
+            if hold != Hold::Zero {
+                assert!((at_end - end).abs() < 1e-12, "{hold:?} {i}: {a:?}");
+            }
+        }
+    }
+    let smooth = SampledInput::smooth(&values)
+        .hold_polynomials(Hold::Cubic)
+        .expect("valid input");
+    for (i, a) in smooth.iter().enumerate() {
+        for s in [0.25, 0.5, 0.75] {
+            let u = a[0] + s * (a[1] + s * (a[2] + s * a[3]));
+            let truth = cubic(i as f64 + s);
+            assert!((u - truth).abs() < 1e-12, "{i} at {s}: {u} vs {truth}");
+        }
+    }
+    let err = SampledInput::smooth(&[0.0, f64::NAN])
+        .hold_polynomials(Hold::First)
+        .unwrap_err();
+    assert!(matches!(
+        err,
+        msd_ode::OdeError::InvalidInput { index: 1, .. }
+    ));
+}
