@@ -14,6 +14,9 @@
 //!   [`Uncertainty`] (covariance, 95 % intervals, identifiability warnings);
 //! - validation: [`validate_model`], [`residual_analysis`] (Ljung–Box, residual–input
 //!   correlation, verdicts in words) and [`frequency_check`];
+//! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals), the
+//!   classroom [`half_power`] estimates, the [`stabilization_diagram`] and [`fit_modes`]
+//!   (several modes with intervals);
 //! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
 //!   [`SyntheticOptions`].
 //!
@@ -51,6 +54,7 @@ mod error;
 mod estimate;
 mod fft;
 mod frequency;
+mod frf;
 mod local;
 mod metrics;
 mod nonlinear;
@@ -74,6 +78,11 @@ pub use estimate::{
     ParameterBounds, estimate,
 };
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
+pub use frf::{
+    DiagramOrder, DiagramPole, FrfWeighting, HalfPower, ModalFit, ModalOptions, ModalParameters,
+    Mode, OneModeFit, OneModeOptions, StabilizationDiagram, StableMode, WindowCorrection,
+    fit_modes, fit_one_mode, half_power, stabilization_diagram,
+};
 pub use metrics::{FTest, FitMetrics};
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, FixedModel,

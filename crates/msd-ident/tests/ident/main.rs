@@ -5,6 +5,7 @@ mod data;
 mod diagnostics;
 mod error_paths;
 mod estimation;
+mod frf;
 mod nonlinear;
 mod serialize;
 mod stress;
