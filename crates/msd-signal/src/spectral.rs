@@ -182,6 +182,9 @@ pub(crate) struct Welch {
     pub(crate) syy: Vec<f64>,
     pub(crate) sxy: Vec<Complex64>,
     pub(crate) averages: usize,
+    /// L·Σw²/(Σw)² of the output's window (the input's for one record): over how many
+    /// lines the errors of the spectra are correlated.
+    pub(crate) noise_bandwidth: f64,
 }
 
 fn detrend_segment(seg: &mut [f64], how: Detrend) {
@@ -260,6 +263,10 @@ pub(crate) fn welch_records(
         syy: vec![0.0; bins],
         sxy: vec![Complex64::new(0.0, 0.0); bins],
         averages: records.iter().map(|(x, _)| segmenting.count(x.len())).sum(),
+        noise_bandwidth: noise_bandwidth(match records.first() {
+            Some((_, Some(_))) => segmenting.output_window,
+            _ => segmenting.input_window,
+        }),
     };
     let (wx, wy) = (segmenting.input_window, segmenting.output_window);
     for &(x, y) in records {
@@ -310,6 +317,14 @@ pub(crate) fn welch_records(
         w.sxy[k] *= c;
     }
     w
+}
+
+/// The equivalent noise bandwidth of a window in lines, L·Σw²/(Σw)² (1 for the
+/// rectangular window, 1.5 for Hann; Harris 1978).
+fn noise_bandwidth(window: &[f64]) -> f64 {
+    let sum: f64 = window.iter().sum();
+    let squares: f64 = window.iter().map(|w| w * w).sum();
+    window.len() as f64 * squares / (sum * sum)
 }
 
 /// Checks the Welch options, `fs` and the records, and returns the segment length.
@@ -544,6 +559,7 @@ impl DftPair {
             syy: Vec::with_capacity(half + 1),
             sxy: Vec::with_capacity(lines),
             averages: 1,
+            noise_bandwidth: 1.5, // the periodic Hann window's, exactly
         };
         for k in 0..=half {
             let (a, b) = (windowed(x, k), windowed(y, k));

@@ -253,6 +253,11 @@ pub struct FrequencyResponseEstimate {
     /// Decay time τ (s) of an exponential window on both channels, if one was applied:
     /// the response is then H(s + 1/τ).
     pub exponential_decay: Option<f64>,
+    /// The equivalent noise bandwidth of the output's window in lines, L·Σw²/(Σw)²
+    /// (1 rectangular, 1.5 Hann, about T/(2τ) exponential): the errors of about this many
+    /// neighbouring lines are correlated, so the lines hold that many times fewer
+    /// independent values. 1 for a measured table.
+    pub noise_bandwidth: f64,
 }
 
 /// The frequency response from `records` sampled at `fs` Hz, averaged over every
@@ -381,6 +386,7 @@ pub(crate) fn estimate_from(w: Welch, estimator: Estimator) -> Result<FrequencyR
         kind: FrfKind::Receptance,
         variance: None,
         exponential_decay: None,
+        noise_bandwidth: w.noise_bandwidth,
     })
 }
 

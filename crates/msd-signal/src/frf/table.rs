@@ -56,6 +56,7 @@ impl FrequencyResponseEstimate {
             kind: FrfKind::Receptance,
             variance: None,
             exponential_decay: None,
+            noise_bandwidth: 1.0,
         })
     }
 

@@ -77,6 +77,7 @@ fn mean_ratio(frf: &FrequencyResponseEstimate, expected: impl Fn(f64) -> f64) ->
 fn without_noise_the_three_estimators_agree_and_the_coherence_is_one() {
     let [h1, h2, hv] = estimates(0.0, 0.0);
     assert_eq!(h1.averages, 511);
+    assert!((h1.noise_bandwidth - 1.5).abs() < 1e-12); // Hann
     for k in 1..h1.h.len() - 1 {
         let exact = fir_response(h1.frequency[k]);
         for est in [&h1, &h2, &hv] {
@@ -181,6 +182,18 @@ fn the_exponential_window_moves_the_pole_left_by_exactly_one_over_tau() {
     let frf = frf_estimate(&[record, record], FS, &options).expect("valid");
     let tau = frf.exponential_decay.expect("windowed");
     assert_eq!((tau, frf.averages), (2.5, 2)); // a quarter of the record; two hits
+    // L·Σw²/(Σw)² of e^(−t/τ) over L samples, r = e^(−Δt/τ): L(1 − r)²(1 − r^2L)/((1 − r²)(1 − r^L)²)
+    // ≈ T/(2τ) = 2 for T ≫ τ.
+    let r = (-dt / tau).exp();
+    let l = n as f64;
+    let expected = l * (1.0 - r).powi(2) * (1.0 - r.powf(2.0 * l))
+        / ((1.0 - r * r) * (1.0 - r.powf(l)).powi(2));
+    assert!((frf.noise_bandwidth - expected).abs() < 1e-9 * expected);
+    assert!(
+        (frf.noise_bandwidth - 2.0).abs() < 0.1,
+        "{}",
+        frf.noise_bandwidth
+    );
     let shifted = a * (-dt / tau).exp();
     for (k, &f) in frf.frequency.iter().enumerate() {
         let exact = first_order(shifted, 0.3, f);
