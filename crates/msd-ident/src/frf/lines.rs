@@ -53,6 +53,9 @@ pub(crate) struct Lines {
     pub band_hz: [f64; 2],
     /// Decay time τ of an exponential window on the records, if any.
     pub exponential_decay: Option<f64>,
+    /// Over how many lines the errors are correlated (≥ 1): the factor by which a
+    /// covariance computed as if the lines were independent is too small.
+    pub correlated_lines: f64,
 }
 
 /// Checks that the estimate's arrays have one entry per line.
@@ -123,6 +126,11 @@ pub(crate) fn prepare(
         relative_sigma: Vec::new(),
         band_hz: [0.0; 2],
         exponential_decay: frf.exponential_decay,
+        correlated_lines: if frf.noise_bandwidth.is_finite() {
+            frf.noise_bandwidth.max(1.0)
+        } else {
+            1.0
+        },
     };
     for (k, &f) in receptance.frequency.iter().enumerate() {
         if !(f > 0.0 && f >= low && f <= high) {
@@ -212,6 +220,7 @@ impl Lines {
             sigma: vec![1.0; n],
             relative_sigma: Vec::new(),
             exponential_decay: None,
+            correlated_lines: 1.0,
         }
     }
 }

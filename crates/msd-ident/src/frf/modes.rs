@@ -246,8 +246,9 @@ fn scientific(i: &Interval) -> String {
 /// constants A + jB and the residual terms L and U; weights relative to |H| are then
 /// taken from this model rather than the measured |H| (as in [`fit_one_mode`](crate::fit_one_mode)),
 /// and Levenberg–Marquardt (msd-opt, analytic Jacobian) polishes all 4M + 2 parameters
-/// at once. The covariance is s²(JᵀJ)⁻¹ with s² = SSE/(2K − p), the intervals Student's
-/// t with 2K − p degrees of freedom. With an exponential window each pole is moved back
+/// at once. The covariance is s²(JᵀJ)⁻¹ with s² = SSE/(2K − p), times the estimate's
+/// noise bandwidth (as in [`fit_one_mode`](crate::fit_one_mode)), the intervals
+/// Student's t with 2K − p degrees of freedom. With an exponential window each pole is moved back
 /// by 1/τ ([`WindowCorrection`]) and its fn and ζ intervals follow by the delta method;
 /// the modal constants and residual terms are those of the windowed response.
 ///

@@ -126,7 +126,10 @@ impl std::fmt::Display for OneModeFit {
 /// and weighting by it favours the lines that came out low. The covariance
 /// is Gauss–Newton's s²(JᵀJ)⁻¹ with s² = SSE/(2K − 3), the intervals Student's t with
 /// 2K − 3 degrees of freedom, fn and ζ by the delta method (as the time-domain
-/// [`Uncertainty`]). With an exponential window (τ, a = 1/τ) the fit finds the windowed
+/// [`Uncertainty`]). The covariance is multiplied by the estimate's
+/// [`noise_bandwidth`](FrequencyResponseEstimate::noise_bandwidth) (1 for a table, 1.5
+/// for Hann, about T/(2τ) for an exponential window): a window correlates the errors of
+/// that many neighbouring lines. With an exponential window (τ, a = 1/τ) the fit finds the windowed
 /// m, c′ = c + 2am, k′ = k + ac + a²m, which are mapped back (a linear map, so the
 /// covariance maps exactly).
 ///
@@ -176,7 +179,9 @@ pub fn fit_one_mode(
         });
     }
     // ∂r/∂θ = ∂r/∂θ′·∂θ′/∂θ, with θ′ = windowed(θ).
-    let jacobian = jacobian_at(&lines, &fitted) * window_map(a);
+    // Lines whose errors are correlated over c lines (a window's noise bandwidth) hold
+    // c times less information: J/√c makes the covariance c·s²(JᵀJ)⁻¹.
+    let jacobian = jacobian_at(&lines, &fitted) * window_map(a) / lines.correlated_lines.sqrt();
     let names = PARAMETER_NAMES.to_vec();
     let uncertainty = from_jacobian(
         &jacobian,

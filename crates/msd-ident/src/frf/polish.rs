@@ -40,17 +40,19 @@ pub(crate) fn lsfd(lines: &Lines, poles: &[(f64, f64)]) -> Result<Vec<f64>> {
         .zip(&lines.sigma)
         .enumerate()
     {
-        let mut columns = Vec::with_capacity(p);
-        for &(wn, zeta) in poles {
-            columns.push(term(&[wn, zeta, 1.0, 0.0], w));
-            columns.push(term(&[wn, zeta, 0.0, 1.0], w));
+        for (r, &(wn, zeta)) in poles.iter().enumerate() {
+            for (i, theta) in [[wn, zeta, 1.0, 0.0], [wn, zeta, 0.0, 1.0]]
+                .iter()
+                .enumerate()
+            {
+                let c = term(theta, w);
+                a[(k, 2 * r + i)] = c.re / s;
+                a[(n + k, 2 * r + i)] = c.im / s;
+            }
         }
-        columns.push(Complex64::new(-1.0 / (w * w), 0.0));
-        columns.push(Complex64::new(1.0, 0.0));
-        for (j, c) in columns.iter().enumerate() {
-            a[(k, j)] = c.re / s;
-            a[(n + k, j)] = c.im / s;
-        }
+        // −L/ω² and U, both real.
+        a[(k, p - 2)] = -1.0 / (w * w * s);
+        a[(k, p - 1)] = 1.0 / s;
         b[k] = h.re / s;
         b[n + k] = h.im / s;
     }
@@ -85,13 +87,14 @@ pub(crate) struct Polished {
     pub fit: LevenbergMarquardtResult,
 }
 
-/// Levenberg–Marquardt on every parameter from `start`, and the covariance s²(JᵀJ)⁻¹
-/// with s² = SSE/(2K − p).
+/// Levenberg–Marquardt on every parameter from `start`, and the covariance c·s²(JᵀJ)⁻¹
+/// with s² = SSE/(2K − p) and c the lines' correlation length.
 pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     let scale = scales(lines, &start);
     let mut problem = ModalProblem {
         lines,
         scale: &scale,
+        theta: vec![0.0; start.len()],
     };
     let x0: Vec<f64> = start.iter().zip(&scale).map(|(t, s)| t / s).collect();
     let fit = levenberg_marquardt(&mut problem, &x0, &LevenbergMarquardtOptions::default())?;
@@ -106,7 +109,8 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     let jacobian = DMatrix::from_fn(rows, p, |i, j| fit.jacobian[(i, j)] / scale[j]);
     let degrees_of_freedom = rows - p;
     let s2 = fit.cost / degrees_of_freedom as f64;
-    let covariance = covariance(&jacobian, s2)?;
+    // Errors correlated over c lines: c times less information than independent lines.
+    let covariance = covariance(&jacobian, s2 * lines.correlated_lines)?;
     Ok(Polished {
         theta,
         covariance,
@@ -156,11 +160,16 @@ fn scales(lines: &Lines, start: &[f64]) -> Vec<f64> {
 struct ModalProblem<'a> {
     lines: &'a Lines,
     scale: &'a [f64],
+    /// θ of the last evaluation (a work array).
+    theta: Vec<f64>,
 }
 
 impl ModalProblem<'_> {
-    fn theta(&self, x: &[f64]) -> Vec<f64> {
-        x.iter().zip(self.scale).map(|(x, s)| x * s).collect()
+    /// θ = x·scale into the work array.
+    fn set_theta(&mut self, x: &[f64]) {
+        for ((t, x), s) in self.theta.iter_mut().zip(x).zip(self.scale) {
+            *t = x * s;
+        }
     }
 }
 
@@ -170,7 +179,8 @@ impl LeastSquaresProblem for ModalProblem<'_> {
     }
 
     fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
-        let theta = self.theta(x);
+        self.set_theta(x);
+        let theta = &self.theta;
         let n = self.lines.omega.len();
         for (k, ((&w, h), &s)) in self
             .lines
@@ -180,7 +190,7 @@ impl LeastSquaresProblem for ModalProblem<'_> {
             .zip(&self.lines.sigma)
             .enumerate()
         {
-            let e = (model(&theta, w) - h) / s;
+            let e = (model(theta, w) - h) / s;
             out[k] = e.re;
             out[n + k] = e.im;
         }
@@ -188,7 +198,8 @@ impl LeastSquaresProblem for ModalProblem<'_> {
     }
 
     fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
-        let theta = self.theta(x);
+        self.set_theta(x);
+        let theta = &self.theta;
         let n = self.lines.omega.len();
         let p = theta.len();
         for (k, (&w, &s)) in self.lines.omega.iter().zip(&self.lines.sigma).enumerate() {
