@@ -81,7 +81,7 @@ pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, mode
 pub use frf::{
     DiagramOrder, DiagramPole, FrfWeighting, HalfPower, ModalFit, ModalOptions, ModalParameters,
     Mode, OneModeFit, OneModeOptions, StabilizationDiagram, StableMode, WindowCorrection,
-    fit_modes, fit_one_mode, half_power, stabilization_diagram,
+    fit_modes, fit_one_mode, half_power, stabilization_diagram, synthetic_frequency_response,
 };
 pub use metrics::{FTest, FitMetrics};
 pub use nonlinear::{

@@ -6,7 +6,7 @@
 //! The rows follow the issue: simulation (exact, ode45 RelTol 1e-6), one cost
 //! evaluation, identification (paper and fast method), validation with residual
 //! diagnostics and the frequency check, the estimation of each nonlinear model
-//! structure, Monte Carlo N = 1000 on 1 and 2 threads, the
+//! structure, a three-mode frequency-domain fit, Monte Carlo N = 1000 on 1 and 2 threads, the
 //! whole pipeline without figures and the figures alone, and scaling in the record
 //! length and the number of draws. [`report`] renders the table as text, Markdown and
 //! JSON; [`harness`] times the rows.
@@ -96,6 +96,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
     if !options.smoke {
         rows.extend(rows::identification(budget, &experiment)?);
         rows.extend(rows::nonlinear(budget, &experiment)?);
+        rows.extend(rows::frequency_domain(budget)?);
         let (mc, mc_derived) = rows::monte_carlo(budget, &experiment)?;
         rows.extend(mc);
         derived.extend(mc_derived);

@@ -19,6 +19,7 @@
 //! - [`stabilization_diagram`]: poles by the least-squares complex-frequency estimator
 //!   (LSCF) over a range of model orders, flagged stable in frequency and damping, and
 //!   the stable modes selected automatically or by count.
+//! - [`synthetic_frequency_response`]: a table with known truth and seeded noise.
 //! - [`fit_modes`]: the diagram's modes, then fn, ζ, modal constants and the upper and
 //!   lower residual terms polished together by weighted Levenberg–Marquardt, with
 //!   intervals.
@@ -48,6 +49,7 @@ mod modes;
 mod one_mode;
 mod polish;
 mod stabilization;
+mod synthetic;
 mod window;
 
 pub use half_power::{HalfPower, half_power};
@@ -58,4 +60,5 @@ pub use one_mode::{OneModeFit, OneModeOptions, fit_one_mode};
 pub use stabilization::{
     DiagramOrder, DiagramPole, StabilizationDiagram, StableMode, stabilization_diagram,
 };
+pub use synthetic::synthetic_frequency_response;
 pub use window::WindowCorrection;
