@@ -18,7 +18,8 @@ use crate::{IdentError, Result};
 /// exponential window, its added damping 1/(ωn·τ) is taken off. Accurate when the
 /// half-power band spans a few lines and the mode is well separated from the others.
 ///
-/// Displays as `peak fn = … Hz, half-power ζ = … (f₁ = … Hz, f₂ = … Hz)`.
+/// Displays as `peak fn = … Hz, half-power ζ = … (f₁ = … Hz, f₂ = … Hz)` (see
+/// [`half_power`] for an example).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct HalfPower {
     /// fn from the peak, Hz.

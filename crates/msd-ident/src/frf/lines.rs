@@ -17,6 +17,7 @@ use crate::{IdentError, Result};
 /// let options: OneModeOptions = toml::from_str(r#"weighting = "relative""#)?;
 /// assert_eq!(options.weighting, FrfWeighting::Relative);
 /// assert_eq!(OneModeOptions::default().weighting, FrfWeighting::Coherence);
+/// assert_eq!(FrfWeighting::Relative.to_string(), "relative");
 /// # Ok::<(), toml::de::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -35,6 +36,17 @@ pub enum FrfWeighting {
     Relative,
     /// σ_k equal: the absolute complex error.
     Uniform,
+}
+
+impl std::fmt::Display for FrfWeighting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            FrfWeighting::Coherence => "coherence",
+            FrfWeighting::Variance => "variance",
+            FrfWeighting::Relative => "relative",
+            FrfWeighting::Uniform => "uniform",
+        })
+    }
 }
 
 /// The lines used by a fit.

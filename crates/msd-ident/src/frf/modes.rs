@@ -18,6 +18,14 @@ use crate::{IdentError, Interval, Result};
 
 /// Options of [`fit_modes`] and [`stabilization_diagram`](crate::stabilization_diagram)
 /// (in TOML: a table with any of these fields).
+///
+/// ```
+/// use msd_ident::ModalOptions;
+/// let options: ModalOptions = toml::from_str("orders = [2, 60]\nmode_count = 2")?;
+/// assert_eq!((options.orders, options.order_step, options.mode_count), ([2, 60], 2, Some(2)));
+/// assert_eq!(options.frequency_tolerance, 0.01);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ModalOptions {
@@ -108,6 +116,19 @@ impl ModalOptions {
 }
 
 /// One mode of a [`ModalFit`], every quantity with its 95 % interval.
+///
+/// ```
+/// use msd_ident::{fit_modes, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// let truth = ModalParameters { natural_frequency_hz: 12.0, damping_ratio: 0.02,
+///     modal_constant: 0.5, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=400).map(|i| 0.05 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.01, 3, |f| truth.receptance(f))?;
+/// let options = ModalOptions { orders: [2, 20], ..ModalOptions::default() };
+/// let mode = fit_modes(&frf, &options)?.modes[0];
+/// assert!((mode.parameters().natural_frequency_hz / 12.0 - 1.0).abs() < 1e-3);
+/// assert!(mode.stable_orders >= 5);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Mode {
     /// Natural frequency, Hz (with an exponential window: corrected for it).
@@ -138,7 +159,24 @@ impl Mode {
 
 /// The result of [`fit_modes`]: the modes, the residual terms, the diagram.
 ///
-/// Displays a summary line, one line per mode and the residual terms.
+/// Displays a summary line, one line per mode and the residual terms; serializes with
+/// every field (the diagram included).
+///
+/// ```
+/// use msd_ident::{fit_modes, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// let modes = [(6.0, 0.02, 1.0), (15.0, 0.01, 0.3)].map(|(f, z, a)| ModalParameters {
+///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
+/// let f: Vec<f64> = (1..=800).map(|i| 0.025 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.01, 1, |f| modes.iter().map(|m| m.receptance(f)).sum())?;
+/// let fit = fit_modes(&frf, &ModalOptions::default())?;
+/// assert_eq!(fit.modes.len(), 2);
+/// assert!(fit.to_string().starts_with("2 modes fitted to 800 lines"));
+/// let json = serde_json::to_value(&fit).expect("serializable");
+/// assert_eq!(json["modes"][1]["natural_frequency_hz"]["value"], fit.modes[1].natural_frequency_hz.value);
+/// // The fitted model beside the data, for a Bode or Nyquist plot.
+/// assert!((fit.response(15.0) - frf.h[599]).norm() < 0.05 * frf.h[599].norm());
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModalFit {
     /// The modes, by frequency.
@@ -198,7 +236,7 @@ impl std::fmt::Display for ModalFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} modes fitted to {} lines, {:.4}–{:.4} Hz ({:?} weighting), {} iterations; relative error {:.2} %",
+            "{} modes fitted to {} lines, {:.4}–{:.4} Hz ({} weighting), {} iterations; relative error {:.2} %",
             self.modes.len(),
             self.lines,
             self.band_hz[0],

@@ -16,6 +16,15 @@ use crate::uncertainty::{from_jacobian, t_975};
 use crate::{IdentError, Interval, PARAMETER_NAMES, Parameters, Result, Uncertainty};
 
 /// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
+///
+/// ```
+/// use msd_ident::{FrfWeighting, OneModeOptions};
+/// let options: OneModeOptions = toml::from_str("band_hz = [0.5, 2.0]\nweighting = \"variance\"")?;
+/// assert_eq!(options.band_hz, Some([0.5, 2.0]));
+/// assert_eq!(options.weighting, FrfWeighting::Variance);
+/// assert!(toml::from_str::<OneModeOptions>("band_hz = [2.0]").is_err());
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OneModeOptions {
@@ -37,7 +46,21 @@ impl OneModeOptions {
 /// intervals), the gain, the classroom estimates beside them.
 ///
 /// Displays the fit's summary line, the intervals, the gain, the window correction and
-/// the half-power estimate.
+/// the half-power estimate; serializes with every field.
+///
+/// ```
+/// use msd_ident::{fit_one_mode, model_response, synthetic_frequency_response, OneModeOptions, Parameters};
+/// let f: Vec<f64> = (0..40).map(|i| 0.25 + 0.0577 * i as f64).collect();
+/// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {
+///     model_response(&Parameters::PAPER, std::f64::consts::TAU * f)
+/// })?;
+/// let fit = fit_one_mode(&sweep, &OneModeOptions::default())?;
+/// assert!(fit.uncertainty.stiffness.contains(120.0));
+/// assert!(fit.to_string().starts_with("one mode fitted to 40 lines"));
+/// let json = serde_json::to_value(&fit).expect("serializable");
+/// assert_eq!(json["uncertainty"]["stiffness"]["value"], fit.parameters.stiffness);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OneModeFit {
     /// m, c, k (with an exponential window: corrected for it).
@@ -94,7 +117,7 @@ impl std::fmt::Display for OneModeFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "one mode fitted to {} lines, {:.4}–{:.4} Hz ({:?} weighting), {} iterations; relative error {:.2} %",
+            "one mode fitted to {} lines, {:.4}–{:.4} Hz ({} weighting), {} iterations; relative error {:.2} %",
             self.lines,
             self.band_hz[0],
             self.band_hz[1],

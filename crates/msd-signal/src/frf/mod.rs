@@ -75,6 +75,14 @@ use crate::spectral::{
 };
 
 /// Which frequency-response estimator to use (see the [module docs](self)).
+///
+/// ```
+/// use msd_signal::{Estimator, FrfOptions};
+/// let options: FrfOptions = toml::from_str(r#"estimator = "Hv""#)?;
+/// assert_eq!(options.estimator, Estimator::Hv);
+/// assert_eq!(FrfOptions::default().estimator, Estimator::H1);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum Estimator {
     /// S_xy/S_xx: noise on the output only. The default (the usual choice: the force is
@@ -186,6 +194,16 @@ impl ImpactWindows {
 
 /// Options of [`frf_estimate`] (in TOML: a table with any of these fields; missing ones
 /// take their defaults, unknown ones are rejected).
+///
+/// ```
+/// use msd_signal::{FrfOptions, FrfKind, ImpactWindows, Window};
+/// let random: FrfOptions = toml::from_str("welch = { segment_length = 1024 }")?;
+/// assert_eq!((random.welch.segment_length, random.welch.window), (Some(1024), Window::Hann));
+/// let hammer: FrfOptions = toml::from_str("kind = \"acceleration\"\nimpact = { decay_time = 0.5 }")?;
+/// assert_eq!(hammer.kind, FrfKind::Accelerance);
+/// assert_eq!(hammer.impact, Some(ImpactWindows { force_width: None, decay_time: Some(0.5) }));
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FrfOptions {
@@ -222,6 +240,13 @@ impl FrfOptions {
 }
 
 /// One record pair: the input (force) and the output (response), of equal length.
+///
+/// ```
+/// use msd_signal::Record;
+/// let (force, response) = (vec![0.0, 1.0, 0.0], vec![0.0, 0.5, 0.25]);
+/// let record = Record { input: &force, output: &response };
+/// assert_eq!(record.output[1], 0.5);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Record<'a> {
     /// Input samples.
@@ -234,6 +259,18 @@ pub struct Record<'a> {
 /// ([`frf_estimate`], [`h1_estimate`](crate::h1_estimate)) or measured line by line
 /// ([`from_magnitude_phase`](Self::from_magnitude_phase),
 /// [`from_real_imaginary`](Self::from_real_imaginary)).
+///
+/// ```
+/// use msd_signal::{FrequencyResponseEstimate, FrfKind};
+/// // A stepped-sine sweep exported as magnitude and phase, mobility (velocity per force).
+/// let mut sweep = FrequencyResponseEstimate::from_magnitude_phase(
+///     &[1.0, 1.5, 2.0], &[0.01, 0.05, 0.02], &[80.0, 0.0, -75.0])?;
+/// sweep.kind = FrfKind::Mobility;
+/// let receptance = sweep.to_kind(FrfKind::Receptance);
+/// assert!((receptance.h[1].norm() - 0.05 / (std::f64::consts::TAU * 1.5)).abs() < 1e-15);
+/// assert_eq!((sweep.averages, sweep.noise_bandwidth), (1, 1.0));
+/// # Ok::<(), msd_signal::SignalError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrequencyResponseEstimate {
     /// Frequencies in Hz, increasing.
