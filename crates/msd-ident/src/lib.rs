@@ -14,6 +14,9 @@
 //!   [`Uncertainty`] (covariance, 95 % intervals, identifiability warnings);
 //! - validation: [`validate_model`], [`residual_analysis`] (Ljung–Box, residual–input
 //!   correlation, verdicts in words) and [`frequency_check`];
+//! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals), the
+//!   classroom [`half_power`] estimates, the [`stabilization_diagram`] and [`fit_modes`]
+//!   (several modes with intervals);
 //! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
 //!   [`SyntheticOptions`].
 //!
@@ -53,6 +56,7 @@ mod estimate;
 mod fft;
 mod free_decay;
 mod frequency;
+mod frf;
 mod local;
 mod metrics;
 mod nonlinear;
@@ -81,6 +85,11 @@ pub use free_decay::{
     ResponseQuantity, free_decay,
 };
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check, model_response};
+pub use frf::{
+    DiagramOrder, DiagramPole, FrfWeighting, HalfPower, ModalFit, ModalOptions, ModalParameters,
+    Mode, OneModeFit, OneModeOptions, StabilizationDiagram, StableMode, WindowCorrection,
+    fit_modes, fit_one_mode, half_power, stabilization_diagram, synthetic_frequency_response,
+};
 pub use metrics::{FTest, FitMetrics};
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, FixedModel,

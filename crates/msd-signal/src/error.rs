@@ -142,6 +142,28 @@ pub enum SignalError {
         /// Data length.
         len: usize,
     },
+    /// Frequencies of a frequency response that are not strictly increasing.
+    #[error(
+        "frequencies not strictly increasing: frequency[{index}] = {current} Hz does not exceed the previous {previous} Hz"
+    )]
+    NonIncreasingFrequency {
+        /// Index of the first offending frequency.
+        index: usize,
+        /// The frequency before it.
+        previous: f64,
+        /// The offending frequency.
+        current: f64,
+    },
+    /// A record whose length differs from the first record's.
+    #[error("record {index} has {len} samples, the first record has {expected}")]
+    RecordLength {
+        /// Index of the record.
+        index: usize,
+        /// Its length.
+        len: usize,
+        /// The first record's length.
+        expected: usize,
+    },
     /// An input with no power at all (after detrending), so no frequency response exists.
     #[error(
         "the input `{name}` has zero power after detrending: no frequency response can be estimated"

@@ -12,6 +12,9 @@
 //!   resampling onto a uniform grid, each refusing bad data with a clear error.
 //! * [`spectral`]: Welch PSD, cross spectrum, H1 frequency-response estimate and
 //!   coherence on top of rustfft.
+//! * [`frf`]: frequency responses from records (H1, H2, Hv with the coherence, averaged
+//!   over records and segments; the force and exponential windows of an impact test),
+//!   measured tables, receptance/mobility/accelerance.
 //!
 //! ## Signals in TOML
 //! Every [`Signal`] is a table tagged by `kind`; the [`paper`] module shows both paper
@@ -61,6 +64,7 @@
 //! ```
 
 pub mod error;
+pub mod frf;
 pub mod noise;
 pub mod paper;
 pub mod preprocess;
@@ -68,6 +72,7 @@ pub mod signal;
 pub mod spectral;
 
 pub use error::{Result, SignalError};
+pub use frf::{Estimator, FrfKind, FrfOptions, ImpactWindows, Record, frf_estimate};
 pub use noise::{NoiseStream, gaussian_noise, stream_id, stream_rng};
 pub use paper::{paper_identification_input, paper_validation_input};
 pub use preprocess::{

@@ -56,7 +56,7 @@ pub enum Window {
 }
 
 impl Window {
-    fn coefficients(self, l: usize) -> Vec<f64> {
+    pub(crate) fn coefficients(self, l: usize) -> Vec<f64> {
         match self {
             Window::Hann => {
                 // w[n] = w[L − n]: compute half, mirror the rest.
@@ -163,20 +163,7 @@ pub struct CrossSpectrum {
     pub averages: usize,
 }
 
-/// The H1 estimate of a frequency response with its coherence.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FrequencyResponseEstimate {
-    /// Frequencies in Hz.
-    pub frequency: Vec<f64>,
-    /// H1 = S_xy/S_xx (output units per input unit). 0 where the input has no power
-    /// (S_xx below 1e-24 of its maximum), where it is undefined.
-    pub h: Vec<Complex64>,
-    /// γ² = |S_xy|²/(S_xx·S_yy) in [0, 1]; identically 1 with one segment; 0 where the
-    /// input or output has no power.
-    pub coherence: Vec<f64>,
-    /// Number of averaged segments K.
-    pub averages: usize,
-}
+pub use crate::frf::FrequencyResponseEstimate;
 
 thread_local! {
     /// One planner per thread: rustfft planners cache their plans, so repeated estimates
@@ -188,13 +175,16 @@ fn forward_fft(len: usize) -> Arc<dyn Fft<f64>> {
     PLANNER.with(|p| p.borrow_mut().plan_fft_forward(len))
 }
 
-/// Averaged auto and cross spectra of one or two records.
-struct Welch {
-    frequency: Vec<f64>,
-    sxx: Vec<f64>,
-    syy: Vec<f64>,
-    sxy: Vec<Complex64>,
-    averages: usize,
+/// Averaged auto and cross spectra of one or more record pairs.
+pub(crate) struct Welch {
+    pub(crate) frequency: Vec<f64>,
+    pub(crate) sxx: Vec<f64>,
+    pub(crate) syy: Vec<f64>,
+    pub(crate) sxy: Vec<Complex64>,
+    pub(crate) averages: usize,
+    /// L·Σw²/(Σw)² of the output's window (the input's for one record): over how many
+    /// lines the errors of the spectra are correlated.
+    pub(crate) noise_bandwidth: f64,
 }
 
 fn detrend_segment(seg: &mut [f64], how: Detrend) {
@@ -228,7 +218,117 @@ fn split(zk: Complex64, z_mirror: Complex64) -> (Complex64, Complex64) {
     ((zk + zm) * 0.5, (zk - zm) * Complex64::new(0.0, -0.5))
 }
 
-fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<Welch> {
+/// How records are cut into segments and tapered: segments of `length` samples every
+/// `step` samples, the input's samples multiplied by `input_window` and the output's by
+/// `output_window` (both of length `length`) after `detrend`.
+pub(crate) struct Segmenting<'a> {
+    pub(crate) length: usize,
+    pub(crate) step: usize,
+    pub(crate) input_window: &'a [f64],
+    pub(crate) output_window: &'a [f64],
+    pub(crate) detrend: Detrend,
+}
+
+impl Segmenting<'_> {
+    /// Segments in a record of `n` ≥ `length` samples.
+    fn count(&self, n: usize) -> usize {
+        (n - self.length) / self.step + 1
+    }
+}
+
+/// The averaged spectra over every segment of every record (each at least
+/// `segmenting.length` long; `y` present in all records or in none). The scale is
+/// 1/(fs·Σw²·K) with the input window w, one-sided: a PSD when both windows are equal.
+pub(crate) fn welch_records(
+    records: &[(&[f64], Option<&[f64]>)],
+    fs: f64,
+    segmenting: &Segmenting<'_>,
+) -> Welch {
+    let l = segmenting.length;
+    debug_assert!(segmenting.input_window.len() == l && segmenting.output_window.len() == l);
+    debug_assert!(
+        records
+            .iter()
+            .all(|(x, y)| x.len() >= l && y.is_none_or(|y| y.len() == x.len()))
+    );
+    let bins = l / 2 + 1;
+    let fft = forward_fft(l);
+    let mut scratch = vec![Complex64::new(0.0, 0.0); fft.get_inplace_scratch_len()];
+    let mut buf = vec![Complex64::new(0.0, 0.0); l];
+    let mut seg_x = vec![0.0; l];
+    let mut seg_y = vec![0.0; l];
+    let mut w = Welch {
+        frequency: (0..bins).map(|k| k as f64 * fs / l as f64).collect(),
+        sxx: vec![0.0; bins],
+        syy: vec![0.0; bins],
+        sxy: vec![Complex64::new(0.0, 0.0); bins],
+        averages: records.iter().map(|(x, _)| segmenting.count(x.len())).sum(),
+        noise_bandwidth: noise_bandwidth(match records.first() {
+            Some((_, Some(_))) => segmenting.output_window,
+            _ => segmenting.input_window,
+        }),
+    };
+    let (wx, wy) = (segmenting.input_window, segmenting.output_window);
+    for &(x, y) in records {
+        for s in 0..segmenting.count(x.len()) {
+            let range = s * segmenting.step..s * segmenting.step + l;
+            seg_x.copy_from_slice(&x[range.clone()]);
+            detrend_segment(&mut seg_x, segmenting.detrend);
+            match y {
+                None => {
+                    for ((b, sx), wi) in buf.iter_mut().zip(&seg_x).zip(wx) {
+                        *b = Complex64::new(sx * wi, 0.0);
+                    }
+                    fft.process_with_scratch(&mut buf, &mut scratch);
+                    for (acc, b) in w.sxx.iter_mut().zip(&buf) {
+                        *acc += b.norm_sqr();
+                    }
+                }
+                Some(y) => {
+                    // Two real records in one complex FFT: z = x + i·y gives
+                    // X_k = (Z_k + conj Z_{L−k})/2 and Y_k = (Z_k − conj Z_{L−k})/(2i).
+                    seg_y.copy_from_slice(&y[range]);
+                    detrend_segment(&mut seg_y, segmenting.detrend);
+                    for (i, b) in buf.iter_mut().enumerate() {
+                        *b = Complex64::new(seg_x[i] * wx[i], seg_y[i] * wy[i]);
+                    }
+                    fft.process_with_scratch(&mut buf, &mut scratch);
+                    for k in 0..bins {
+                        let (xk, yk) = split(buf[k], buf[(l - k) % l]);
+                        w.sxx[k] += xk.norm_sqr();
+                        w.syy[k] += yk.norm_sqr();
+                        w.sxy[k] += xk.conj() * yk;
+                    }
+                }
+            }
+        }
+    }
+    let wss: f64 = wx.iter().map(|v| v * v).sum();
+    let base = 1.0 / (fs * wss * w.averages as f64);
+    for k in 0..bins {
+        let one_sided = if k == 0 || (l.is_multiple_of(2) && k == l / 2) {
+            1.0
+        } else {
+            2.0
+        };
+        let c = base * one_sided;
+        w.sxx[k] *= c;
+        w.syy[k] *= c;
+        w.sxy[k] *= c;
+    }
+    w
+}
+
+/// The equivalent noise bandwidth of a window in lines, L·Σw²/(Σw)² (1 for the
+/// rectangular window, 1.5 for Hann; Harris 1978).
+fn noise_bandwidth(window: &[f64]) -> f64 {
+    let sum: f64 = window.iter().sum();
+    let squares: f64 = window.iter().map(|w| w * w).sum();
+    window.len() as f64 * squares / (sum * sum)
+}
+
+/// Checks the Welch options, `fs` and the records, and returns the segment length.
+fn checked_length(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<usize> {
     opts.validate()?;
     positive(|| "fs".into(), fs)?;
     check_data("x", x)?;
@@ -248,68 +348,25 @@ fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<W
     if l > n {
         return Err(SignalError::WindowTooLong { window: l, len: n });
     }
-    let step = (l - (opts.overlap * l as f64).round() as usize).max(1);
-    let averages = (n - l) / step + 1;
+    Ok(l)
+}
+
+/// The segment step of `opts` for segments of `l` samples (at least 1).
+pub(crate) fn segment_step(l: usize, opts: &WelchOptions) -> usize {
+    (l - (opts.overlap * l as f64).round() as usize).max(1)
+}
+
+fn welch(x: &[f64], y: Option<&[f64]>, fs: f64, opts: &WelchOptions) -> Result<Welch> {
+    let l = checked_length(x, y, fs, opts)?;
     let window = opts.window.coefficients(l);
-    let wss: f64 = window.iter().map(|w| w * w).sum();
-    let bins = l / 2 + 1;
-    let fft = forward_fft(l);
-    let mut scratch = vec![Complex64::new(0.0, 0.0); fft.get_inplace_scratch_len()];
-    let mut buf = vec![Complex64::new(0.0, 0.0); l];
-    let mut seg_x = vec![0.0; l];
-    let mut seg_y = vec![0.0; l];
-    let mut w = Welch {
-        frequency: (0..bins).map(|k| k as f64 * fs / l as f64).collect(),
-        sxx: vec![0.0; bins],
-        syy: vec![0.0; bins],
-        sxy: vec![Complex64::new(0.0, 0.0); bins],
-        averages,
+    let segmenting = Segmenting {
+        length: l,
+        step: segment_step(l, opts),
+        input_window: &window,
+        output_window: &window,
+        detrend: opts.detrend,
     };
-    for s in 0..averages {
-        let range = s * step..s * step + l;
-        seg_x.copy_from_slice(&x[range.clone()]);
-        detrend_segment(&mut seg_x, opts.detrend);
-        match y {
-            None => {
-                for ((b, sx), wi) in buf.iter_mut().zip(&seg_x).zip(&window) {
-                    *b = Complex64::new(sx * wi, 0.0);
-                }
-                fft.process_with_scratch(&mut buf, &mut scratch);
-                for (acc, b) in w.sxx.iter_mut().zip(&buf) {
-                    *acc += b.norm_sqr();
-                }
-            }
-            Some(y) => {
-                // Two real records in one complex FFT: z = x + i·y gives
-                // X_k = (Z_k + conj Z_{L−k})/2 and Y_k = (Z_k − conj Z_{L−k})/(2i).
-                seg_y.copy_from_slice(&y[range]);
-                detrend_segment(&mut seg_y, opts.detrend);
-                for (((b, sx), sy), wi) in buf.iter_mut().zip(&seg_x).zip(&seg_y).zip(&window) {
-                    *b = Complex64::new(sx * wi, sy * wi);
-                }
-                fft.process_with_scratch(&mut buf, &mut scratch);
-                for k in 0..bins {
-                    let (xk, yk) = split(buf[k], buf[(l - k) % l]);
-                    w.sxx[k] += xk.norm_sqr();
-                    w.syy[k] += yk.norm_sqr();
-                    w.sxy[k] += xk.conj() * yk;
-                }
-            }
-        }
-    }
-    let base = 1.0 / (fs * wss * averages as f64);
-    for k in 0..bins {
-        let one_sided = if k == 0 || (l.is_multiple_of(2) && k == l / 2) {
-            1.0
-        } else {
-            2.0
-        };
-        let c = base * one_sided;
-        w.sxx[k] *= c;
-        w.syy[k] *= c;
-        w.sxy[k] *= c;
-    }
-    Ok(w)
+    Ok(welch_records(&[(x, y)], fs, &segmenting))
 }
 
 /// Welch power spectral density of `x` sampled at `fs` Hz (one-sided, units²/Hz).
@@ -336,11 +393,11 @@ pub fn cross_spectrum(x: &[f64], y: &[f64], fs: f64, opts: &WelchOptions) -> Res
 }
 
 /// Relative level below which an auto spectrum counts as "no power".
-const NO_POWER: f64 = 1e-24;
+pub(crate) const NO_POWER: f64 = 1e-24;
 
 /// The coherence at the lines of `w.sxy` (the first lines of `w.sxx`, whose largest
 /// value over all lines sets the "no power" level; likewise `w.syy`).
-fn coherence_of(w: &Welch) -> Vec<f64> {
+pub(crate) fn coherence_of(w: &Welch) -> Vec<f64> {
     let max_x = w.sxx.iter().fold(0.0f64, |m, &v| m.max(v));
     let max_y = w.syy.iter().fold(0.0f64, |m, &v| m.max(v));
     (0..w.sxy.len())
@@ -391,31 +448,7 @@ pub fn h1_estimate(
 
 /// H1 = S_xy/S_xx and the coherence at the lines of `w.sxy` (see [`coherence_of`]).
 fn h1_of(w: Welch) -> Result<FrequencyResponseEstimate> {
-    let max_x = w.sxx.iter().fold(0.0f64, |m, &v| m.max(v));
-    if max_x <= 0.0 {
-        return Err(SignalError::ZeroInputPower { name: "input" });
-    }
-    let h = w
-        .sxx
-        .iter()
-        .zip(&w.sxy)
-        .map(|(&sxx, &sxy)| {
-            if sxx > NO_POWER * max_x {
-                sxy / sxx
-            } else {
-                Complex64::new(0.0, 0.0)
-            }
-        })
-        .collect();
-    let coherence = coherence_of(&w);
-    let mut frequency = w.frequency;
-    frequency.truncate(w.sxy.len());
-    Ok(FrequencyResponseEstimate {
-        frequency,
-        h,
-        coherence,
-        averages: w.averages,
-    })
+    crate::frf::estimate_from(w, crate::frf::Estimator::H1)
 }
 
 /// The DFTs of an input and an output record of equal length, their means removed,
@@ -526,6 +559,7 @@ impl DftPair {
             syy: Vec::with_capacity(half + 1),
             sxy: Vec::with_capacity(lines),
             averages: 1,
+            noise_bandwidth: 1.5, // the periodic Hann window's, exactly
         };
         for k in 0..=half {
             let (a, b) = (windowed(x, k), windowed(y, k));

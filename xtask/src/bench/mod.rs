@@ -7,7 +7,9 @@
 //! evaluation, identification (paper and fast method), validation with residual
 //! diagnostics and the frequency check, the estimation of each nonlinear model
 //! structure, the Silverbox comparison of nonlinear models (when its record is fetched)
-//! with one simulation by RK4 and by ode45, Monte Carlo N = 1000 on 1 and 2 threads, the
+//! with one simulation by RK4 and by ode45, a three-mode frequency-domain fit, the
+//! measurement setups (free decay, base excitation, the plan), Monte Carlo N = 1000 on
+//! 1 and 2 threads, the
 //! whole pipeline without figures and the figures alone, and scaling in the record
 //! length and the number of draws. [`report`] renders the table as text, Markdown and
 //! JSON; [`harness`] times the rows.
@@ -22,6 +24,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
+mod frequency;
 pub mod harness;
 pub mod report;
 mod rows;
@@ -103,6 +106,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         let (silverbox, silverbox_derived) = rows::silverbox(budget)?;
         rows.extend(silverbox);
         derived.extend(silverbox_derived);
+        rows.extend(frequency::frequency_domain(budget)?);
         let (mc, mc_derived) = rows::monte_carlo(budget, &experiment)?;
         rows.extend(mc);
         derived.extend(mc_derived);

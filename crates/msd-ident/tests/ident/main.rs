@@ -7,6 +7,7 @@ mod diagnostics;
 mod error_paths;
 mod estimation;
 mod free_decay;
+mod frf;
 mod nonlinear;
 mod nonlinear_fast;
 mod plan;

@@ -1,6 +1,7 @@
 //! The crate's one integration-test binary.
 
 mod errors;
+mod frf;
 mod limits;
 mod multisine_prbs;
 mod noise;

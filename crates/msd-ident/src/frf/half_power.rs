@@ -1,0 +1,139 @@
+//! The classroom estimates: peak picking and the half-power bandwidth.
+
+use msd_signal::{FrequencyResponseEstimate, FrfKind};
+use serde::{Deserialize, Serialize};
+
+use super::lines::check_band;
+use crate::{IdentError, Result};
+
+/// Peak picking and the half-power bandwidth: fn at the peak of |H|, ζ ≈ (f₂ − f₁)/(2·fn)
+/// with f₁ and f₂ where |H| is the peak's 1/√2.
+///
+/// ## The method
+/// On the mobility |jω·H| (whatever the response quantity of the data), whose peak for
+/// one mode is exactly at fn and whose half-power points satisfy f₂ − f₁ = 2ζ·fn and
+/// f₁·f₂ = fn² exactly (for the receptance both hold only for small ζ). The peak is the
+/// vertex of the parabola through the largest line and its neighbours; f₁ and f₂ are
+/// interpolated linearly between the lines around the half-power level. With an
+/// exponential window, its added damping 1/(ωn·τ) is taken off. Accurate when the
+/// half-power band spans a few lines and the mode is well separated from the others.
+///
+/// Displays as `peak fn = … Hz, half-power ζ = … (f₁ = … Hz, f₂ = … Hz)` (see
+/// [`half_power`] for an example).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HalfPower {
+    /// fn from the peak, Hz.
+    pub natural_frequency_hz: f64,
+    /// ζ = (f₂ − f₁)/(2·fn) less the window's added damping.
+    pub damping_ratio: f64,
+    /// The lower half-power frequency f₁, Hz.
+    pub lower_hz: f64,
+    /// The upper half-power frequency f₂, Hz.
+    pub upper_hz: f64,
+    /// The peak of the mobility's magnitude.
+    pub peak_mobility: f64,
+    /// The damping ratio an exponential window added, 1/(ωn·τ), taken off (0 without).
+    pub damping_ratio_added: f64,
+}
+
+impl std::fmt::Display for HalfPower {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "peak fn = {:.4} Hz, half-power ζ = {:.4} (f₁ = {:.4} Hz, f₂ = {:.4} Hz)",
+            self.natural_frequency_hz, self.damping_ratio, self.lower_hz, self.upper_hz
+        )
+    }
+}
+
+/// Peak picking and the half-power bandwidth of the largest peak of `frf` in `band_hz`
+/// (all lines above 0 Hz when `None`).
+///
+/// Errors ([`IdentError::NotIdentifiable`]) when the peak is at the edge of the band or
+/// a half-power point lies outside it, and on a malformed band.
+///
+/// ```
+/// use msd_ident::{half_power, ModalParameters};
+/// use msd_signal::FrequencyResponseEstimate;
+/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.02,
+///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=1000).map(|i| i as f64 * 0.01).collect();
+/// let h = f.iter().map(|&f| mode.receptance(f)).collect();
+/// let estimate = half_power(&FrequencyResponseEstimate::new(f, h)?, None)?;
+/// assert!((estimate.natural_frequency_hz - 5.0).abs() < 1e-3);
+/// assert!((estimate.damping_ratio / 0.02 - 1.0).abs() < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn half_power(frf: &FrequencyResponseEstimate, band_hz: Option<[f64; 2]>) -> Result<HalfPower> {
+    check_band(band_hz)?;
+    let [low, high] = band_hz.unwrap_or([0.0, f64::INFINITY]);
+    let mobility = frf.to_kind(FrfKind::Mobility);
+    let (f, mag): (Vec<f64>, Vec<f64>) = mobility
+        .frequency
+        .iter()
+        .zip(&mobility.h)
+        .filter(|(f, _)| **f > 0.0 && **f >= low && **f <= high)
+        .map(|(f, h)| (*f, h.norm()))
+        .unzip();
+    let refuse = |reason: String| Err(IdentError::NotIdentifiable { reason });
+    let Some(p) = (0..mag.len()).max_by(|&a, &b| mag[a].total_cmp(&mag[b])) else {
+        return refuse("no frequency lines in the band".into());
+    };
+    if p == 0 || p + 1 == mag.len() {
+        return refuse(format!(
+            "the largest response is at the edge of the band ({:.4} Hz): no peak to pick",
+            f[p]
+        ));
+    }
+    let (fn_hz, peak) = vertex([f[p - 1], f[p], f[p + 1]], [mag[p - 1], mag[p], mag[p + 1]]);
+    let level = peak / std::f64::consts::SQRT_2;
+    let below = (0..p).rev().find(|&i| mag[i] < level);
+    let above = (p + 1..mag.len()).find(|&i| mag[i] < level);
+    let (Some(i), Some(j)) = (below, above) else {
+        return refuse(format!(
+            "a half-power point of the peak at {fn_hz:.4} Hz lies outside the band {:.4}–{:.4} Hz",
+            f[0],
+            f[f.len() - 1]
+        ));
+    };
+    let crossing = |a: usize, b: usize| f[a] + (level - mag[a]) / (mag[b] - mag[a]) * (f[b] - f[a]);
+    let (lower_hz, upper_hz) = (crossing(i, i + 1), crossing(j - 1, j));
+    let added = frf.added_damping_ratio(fn_hz);
+    debug_assert!(lower_hz <= fn_hz && fn_hz <= upper_hz);
+    Ok(HalfPower {
+        natural_frequency_hz: fn_hz,
+        damping_ratio: (upper_hz - lower_hz) / (2.0 * fn_hz) - added,
+        lower_hz,
+        upper_hz,
+        peak_mobility: peak,
+        damping_ratio_added: added,
+    })
+}
+
+/// The vertex (x, y) of the parabola through three points with x increasing; the
+/// middle point if they are collinear.
+fn vertex(x: [f64; 3], y: [f64; 3]) -> (f64, f64) {
+    let (d1, d2) = ((y[1] - y[0]) / (x[1] - x[0]), (y[2] - y[1]) / (x[2] - x[1]));
+    let curvature = (d2 - d1) / (x[2] - x[0]);
+    if curvature.is_nan() || curvature >= 0.0 {
+        return (x[1], y[1]);
+    }
+    // y = y1 + d·(x − x1) + curvature·(x − x1)², d the slope at x1.
+    let slope = d1 + curvature * (x[1] - x[0]);
+    let dx = (-slope / (2.0 * curvature)).clamp(x[0] - x[1], x[2] - x[1]);
+    (x[1] + dx, y[1] + slope * dx + curvature * dx * dx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::vertex;
+
+    #[test]
+    fn the_vertex_of_a_parabola_on_uneven_points() {
+        // y = 3 − 2(x − 1.3)²
+        let y = |x: f64| 3.0 - 2.0 * (x - 1.3) * (x - 1.3);
+        let (x, top) = vertex([1.0, 1.2, 1.7], [y(1.0), y(1.2), y(1.7)]);
+        assert!((x - 1.3).abs() < 1e-12 && (top - 3.0).abs() < 1e-12);
+        assert_eq!(vertex([0.0, 1.0, 2.0], [1.0, 2.0, 3.0]), (1.0, 2.0));
+    }
+}

@@ -1,0 +1,238 @@
+//! The lines of a frequency response prepared for a fit: receptance, in the band, each
+//! with the standard deviation of its real and imaginary parts.
+
+use std::f64::consts::TAU;
+
+use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
+use serde::{Deserialize, Serialize};
+
+use crate::{IdentError, Result};
+
+/// How the lines of a frequency response are weighted in a fit: each line's residual is
+/// divided by the standard deviation σ_k this gives (up to a common factor, which the
+/// fit estimates from the residuals).
+///
+/// ```
+/// use msd_ident::{FrfWeighting, OneModeOptions};
+/// let options: OneModeOptions = toml::from_str(r#"weighting = "relative""#)?;
+/// assert_eq!(options.weighting, FrfWeighting::Relative);
+/// assert_eq!(OneModeOptions::default().weighting, FrfWeighting::Coherence);
+/// assert_eq!(FrfWeighting::Relative.to_string(), "relative");
+/// # Ok::<(), toml::de::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrfWeighting {
+    /// From the coherence: σ_k² ∝ (1 − γ_k²)/(K·γ_k²)·|H_k|², the variance of an H1
+    /// estimate averaged over K segments (Bendat & Piersol, "Random Data", eq. 9.90),
+    /// with γ² clamped to [1e-6, 1 − 1e-6]. Where the coherence says nothing (one
+    /// segment, a measured table: γ² = 1) this is [`Relative`](Self::Relative). The
+    /// default.
+    #[default]
+    Coherence,
+    /// The estimate's own variances ([`FrequencyResponseEstimate::variance`]).
+    Variance,
+    /// σ_k ∝ |H_k|: every line measured to the same relative accuracy.
+    Relative,
+    /// σ_k equal: the absolute complex error.
+    Uniform,
+}
+
+impl std::fmt::Display for FrfWeighting {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            FrfWeighting::Coherence => "coherence",
+            FrfWeighting::Variance => "variance",
+            FrfWeighting::Relative => "relative",
+            FrfWeighting::Uniform => "uniform",
+        })
+    }
+}
+
+/// The lines used by a fit.
+#[derive(Debug, Clone)]
+pub(crate) struct Lines {
+    /// Angular frequencies ω_k (rad/s), increasing, > 0.
+    pub omega: Vec<f64>,
+    /// The receptance at ω_k.
+    pub h: Vec<Complex64>,
+    /// The standard deviation of Re H_k and of Im H_k (up to a common factor).
+    pub sigma: Vec<f64>,
+    /// For weights relative to |H| (coherence, relative): σ_k/|H_k|, so that a fit can
+    /// take |H_k| from its model instead (see [`Lines::reweight`]); empty otherwise.
+    relative_sigma: Vec<f64>,
+    /// The band in Hz: the first and last line used.
+    pub band_hz: [f64; 2],
+    /// Decay time τ of an exponential window on the records, if any.
+    pub exponential_decay: Option<f64>,
+    /// Over how many lines the errors are correlated (≥ 1): the factor by which a
+    /// covariance computed as if the lines were independent is too small.
+    pub correlated_lines: f64,
+}
+
+/// Checks that the estimate's arrays have one entry per line.
+fn check_shape(frf: &FrequencyResponseEstimate) -> Result<()> {
+    let lines = frf.frequency.len();
+    let mut arrays = vec![("h", frf.h.len()), ("coherence", frf.coherence.len())];
+    if let Some(v) = &frf.variance {
+        arrays.push(("variance", v.len()));
+    }
+    for (what, got) in arrays {
+        if got != lines {
+            return Err(IdentError::LengthMismatch {
+                what,
+                expected: lines,
+                got,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks an optional band: finite, 0 ≤ low < high.
+pub(crate) fn check_band(band_hz: Option<[f64; 2]>) -> Result<()> {
+    let invalid = |name, value, expected| {
+        Err(IdentError::InvalidParameter {
+            name,
+            value,
+            expected,
+        })
+    };
+    if let Some([low, high]) = band_hz {
+        if !(low.is_finite() && low >= 0.0) {
+            return invalid("band_hz[0]", low, "a finite frequency >= 0 Hz");
+        }
+        if !(high.is_finite() && high > low) {
+            return invalid("band_hz[1]", high, "a finite frequency above band_hz[0]");
+        }
+    }
+    Ok(())
+}
+
+/// The lines of `frf` above 0 Hz and inside `band_hz` (all lines above 0 Hz when
+/// `None`), as receptance, weighted by `weighting`; lines without information (zero
+/// response under relative weights, infinite variance) are left out. Errors when fewer
+/// than `min_lines` remain.
+pub(crate) fn prepare(
+    frf: &FrequencyResponseEstimate,
+    band_hz: Option<[f64; 2]>,
+    weighting: FrfWeighting,
+    min_lines: usize,
+) -> Result<Lines> {
+    check_shape(frf)?;
+    check_band(band_hz)?;
+    if weighting == FrfWeighting::Variance && frf.variance.is_none() {
+        return Err(IdentError::InvalidParameter {
+            name: "weighting",
+            value: f64::NAN,
+            expected: "\"variance\" only for a frequency response that has variances",
+        });
+    }
+    let receptance = frf.to_kind(FrfKind::Receptance);
+    let [low, high] = band_hz.unwrap_or([0.0, f64::INFINITY]);
+    let averages = frf.averages.max(1) as f64;
+    let mut lines = Lines {
+        omega: Vec::new(),
+        h: Vec::new(),
+        sigma: Vec::new(),
+        relative_sigma: Vec::new(),
+        band_hz: [0.0; 2],
+        exponential_decay: frf.exponential_decay,
+        correlated_lines: if frf.noise_bandwidth.is_finite() {
+            frf.noise_bandwidth.max(1.0)
+        } else {
+            1.0
+        },
+    };
+    for (k, &f) in receptance.frequency.iter().enumerate() {
+        if !(f > 0.0 && f >= low && f <= high) {
+            continue;
+        }
+        let h = receptance.h[k];
+        // Each part carries half the complex variance.
+        let relative = match weighting {
+            FrfWeighting::Coherence => {
+                let g = receptance.coherence[k].clamp(1e-6, 1.0 - 1e-6);
+                ((1.0 - g) / (averages * g) / 2.0).sqrt()
+            }
+            FrfWeighting::Relative => 0.5f64.sqrt(),
+            FrfWeighting::Variance | FrfWeighting::Uniform => f64::NAN,
+        };
+        let sigma = match weighting {
+            FrfWeighting::Variance => {
+                (receptance.variance.as_ref().map_or(1.0, |v| v[k]) / 2.0).sqrt()
+            }
+            FrfWeighting::Uniform => 0.5f64.sqrt(),
+            FrfWeighting::Coherence | FrfWeighting::Relative => relative * h.norm(),
+        };
+        if !(sigma.is_finite() && sigma > 0.0) {
+            continue;
+        }
+        lines.omega.push(TAU * f);
+        lines.h.push(h);
+        lines.sigma.push(sigma);
+        if relative.is_finite() {
+            lines.relative_sigma.push(relative);
+        }
+    }
+    if lines.omega.len() < min_lines {
+        return Err(IdentError::TooFewSamples {
+            got: lines.omega.len(),
+            needed: min_lines,
+            why: "frequency lines in the band with a usable weight",
+        });
+    }
+    lines.band_hz = [
+        lines.omega[0] / TAU,
+        lines.omega[lines.omega.len() - 1] / TAU,
+    ];
+    Ok(lines)
+}
+
+impl Lines {
+    /// For weights relative to |H|: σ_k from the model's |H(ω_k)| instead of the
+    /// measured |Ĥ_k|, whose noise would otherwise weigh in (a line measured high would
+    /// count less, biasing the fit low by about the noise variance and widening the
+    /// spread). Lines where the model is 0 keep their weight. No change for the other
+    /// weightings.
+    pub(crate) fn reweight(&mut self, model: impl Fn(f64) -> Complex64) {
+        for ((s, &r), &w) in self
+            .sigma
+            .iter_mut()
+            .zip(&self.relative_sigma)
+            .zip(&self.omega)
+        {
+            let candidate = r * model(w).norm();
+            if candidate.is_finite() && candidate > 0.0 {
+                *s = candidate;
+            }
+        }
+    }
+
+    /// The normalised error ‖model − H‖/‖H‖ over the lines.
+    pub(crate) fn relative_error(&self, model: impl Fn(f64) -> Complex64) -> f64 {
+        let (mut sse, mut energy) = (0.0, 0.0);
+        for (&w, h) in self.omega.iter().zip(&self.h) {
+            sse += (model(w) - h).norm_sqr();
+            energy += h.norm_sqr();
+        }
+        (sse / energy).sqrt()
+    }
+}
+
+#[cfg(test)]
+impl Lines {
+    /// Lines with uniform weights, for unit tests.
+    pub(crate) fn for_tests(omega: Vec<f64>, h: Vec<Complex64>) -> Self {
+        let n = omega.len();
+        Self {
+            band_hz: [omega[0] / TAU, omega[n - 1] / TAU],
+            omega,
+            h,
+            sigma: vec![1.0; n],
+            relative_sigma: Vec::new(),
+            exponential_decay: None,
+            correlated_lines: 1.0,
+        }
+    }
+}

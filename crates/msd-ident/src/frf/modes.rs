@@ -1,0 +1,428 @@
+//! Several modes: poles from the stabilization diagram, then every modal parameter
+//! polished by weighted nonlinear least squares, with intervals.
+
+use std::f64::consts::TAU;
+
+use msd_opt::LmExit;
+use msd_signal::{Complex64, FrequencyResponseEstimate};
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use super::lines::{FrfWeighting, check_band, prepare};
+use super::modal::ModalParameters;
+use super::polish::{PER_MODE, lsfd, model, polish};
+use super::stabilization::{StabilizationDiagram, diagram_of};
+use super::window::{WindowCorrection, unshift_pole};
+use crate::uncertainty::t_975;
+use crate::{IdentError, Interval, Result};
+
+/// Options of [`fit_modes`] and [`stabilization_diagram`](crate::stabilization_diagram)
+/// (in TOML: a table with any of these fields).
+///
+/// ```
+/// use msd_ident::ModalOptions;
+/// let options: ModalOptions = toml::from_str("orders = [2, 60]\nmode_count = 2")?;
+/// assert_eq!((options.orders, options.order_step, options.mode_count), ([2, 60], 2, Some(2)));
+/// assert_eq!(options.frequency_tolerance, 0.01);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ModalOptions {
+    /// The band to fit in Hz; `None` = every line above 0 Hz. By default `None`.
+    #[serde(default, deserialize_with = "crate::pair::optional")]
+    pub band_hz: Option<[f64; 2]>,
+    /// How the lines are weighted. By default [`FrfWeighting::Coherence`].
+    pub weighting: FrfWeighting,
+    /// The lowest and highest model order of the diagram. By default [2, 40].
+    #[serde(deserialize_with = "crate::pair::exactly_two")]
+    pub orders: [usize; 2],
+    /// The step between orders. By default 2 (the poles come in conjugate pairs).
+    pub order_step: usize,
+    /// Relative change of fn from the order before that counts as stable. By default
+    /// 0.01 (1 %, the usual criterion; Peeters et al., "The PolyMAX frequency-domain
+    /// method", Shock and Vibration 11, 2004).
+    pub frequency_tolerance: f64,
+    /// Relative change of ζ that counts as stable. By default 0.05 (5 %, idem).
+    pub damping_tolerance: f64,
+    /// Poles more damped than this are left out of the diagram. By default 0.5.
+    pub max_damping_ratio: f64,
+    /// Automatic selection: a mode must be stable at this share of the orders.
+    /// By default 0.4.
+    pub min_stable_share: f64,
+    /// Select this many modes (those stable at the most orders) instead. By default
+    /// `None` (automatic).
+    pub mode_count: Option<usize>,
+}
+
+impl Default for ModalOptions {
+    fn default() -> Self {
+        Self {
+            band_hz: None,
+            weighting: FrfWeighting::Coherence,
+            orders: [2, 40],
+            order_step: 2,
+            frequency_tolerance: 0.01,
+            damping_tolerance: 0.05,
+            max_damping_ratio: 0.5,
+            min_stable_share: 0.4,
+            mode_count: None,
+        }
+    }
+}
+
+impl ModalOptions {
+    /// Checks every option, naming the first out of range.
+    ///
+    /// ```
+    /// use msd_ident::{IdentError, ModalOptions};
+    /// let bad = ModalOptions { orders: [10, 4], ..ModalOptions::default() };
+    /// assert!(matches!(bad.validate(), Err(IdentError::InvalidParameter { name: "orders[1]", .. })));
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        check_band(self.band_hz)?;
+        let invalid = |name, value: f64, expected| {
+            Err(IdentError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        let [low, high] = self.orders;
+        if low < 1 {
+            return invalid("orders[0]", low as f64, "an order >= 1");
+        }
+        if !(low..=400).contains(&high) {
+            return invalid("orders[1]", high as f64, "an order from orders[0] to 400");
+        }
+        if self.order_step < 1 {
+            return invalid("order_step", 0.0, "a step >= 1");
+        }
+        for (name, value) in [
+            ("frequency_tolerance", self.frequency_tolerance),
+            ("damping_tolerance", self.damping_tolerance),
+            ("max_damping_ratio", self.max_damping_ratio),
+            ("min_stable_share", self.min_stable_share),
+        ] {
+            if !(value > 0.0 && value <= 1.0) {
+                return invalid(name, value, "a number in (0, 1]");
+            }
+        }
+        if self.mode_count == Some(0) {
+            return invalid("mode_count", 0.0, "at least 1 mode");
+        }
+        Ok(())
+    }
+}
+
+/// One mode of a [`ModalFit`], every quantity with its 95 % interval.
+///
+/// ```
+/// use msd_ident::{fit_modes, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// let truth = ModalParameters { natural_frequency_hz: 12.0, damping_ratio: 0.02,
+///     modal_constant: 0.5, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=400).map(|i| 0.05 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.01, 3, |f| truth.receptance(f))?;
+/// let options = ModalOptions { orders: [2, 20], ..ModalOptions::default() };
+/// let mode = fit_modes(&frf, &options)?.modes[0];
+/// assert!((mode.parameters().natural_frequency_hz / 12.0 - 1.0).abs() < 1e-3);
+/// assert!(mode.stable_orders >= 5);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Mode {
+    /// Natural frequency, Hz (with an exponential window: corrected for it).
+    pub natural_frequency_hz: Interval,
+    /// Damping ratio (idem).
+    pub damping_ratio: Interval,
+    /// The modal constant's real part A (see [`ModalParameters`]).
+    pub modal_constant: Interval,
+    /// The modal constant's imaginary part B (0 for a real mode).
+    pub modal_constant_imaginary: Interval,
+    /// At how many orders of the diagram it was stable.
+    pub stable_orders: usize,
+    /// What an exponential window added and how it was taken off, if there was one.
+    pub window_correction: Option<WindowCorrection>,
+}
+
+impl Mode {
+    /// The estimates without their intervals.
+    pub fn parameters(&self) -> ModalParameters {
+        ModalParameters {
+            natural_frequency_hz: self.natural_frequency_hz.value,
+            damping_ratio: self.damping_ratio.value,
+            modal_constant: self.modal_constant.value,
+            modal_constant_imaginary: self.modal_constant_imaginary.value,
+        }
+    }
+}
+
+/// The result of [`fit_modes`]: the modes, the residual terms, the diagram.
+///
+/// Displays a summary line, one line per mode and the residual terms; serializes with
+/// every field (the diagram included).
+///
+/// ```
+/// use msd_ident::{fit_modes, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// let modes = [(6.0, 0.02, 1.0), (15.0, 0.01, 0.3)].map(|(f, z, a)| ModalParameters {
+///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
+/// let f: Vec<f64> = (1..=800).map(|i| 0.025 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.01, 1, |f| modes.iter().map(|m| m.receptance(f)).sum())?;
+/// let fit = fit_modes(&frf, &ModalOptions::default())?;
+/// assert_eq!(fit.modes.len(), 2);
+/// assert!(fit.to_string().starts_with("2 modes fitted to 800 lines"));
+/// let json = serde_json::to_value(&fit).expect("serializable");
+/// assert_eq!(json["modes"][1]["natural_frequency_hz"]["value"], fit.modes[1].natural_frequency_hz.value);
+/// // The fitted model beside the data, for a Bode or Nyquist plot.
+/// assert!((fit.response(15.0) - frf.h[599]).norm() < 0.05 * frf.h[599].norm());
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModalFit {
+    /// The modes, by frequency.
+    pub modes: Vec<Mode>,
+    /// The lower residual L of the term −L/ω² (the modes below the band).
+    pub lower_residual: Interval,
+    /// The upper residual U (the modes above the band).
+    pub upper_residual: Interval,
+    /// The stabilization diagram the poles came from.
+    pub diagram: StabilizationDiagram,
+    /// The first and last line fitted, Hz.
+    pub band_hz: [f64; 2],
+    /// Lines fitted (two residuals each).
+    pub lines: usize,
+    /// The weighting used.
+    pub weighting: FrfWeighting,
+    /// σ̂ = √(SSE/(2K − p)) of the weighted residuals.
+    pub sigma: f64,
+    /// 2K − p.
+    pub degrees_of_freedom: usize,
+    /// ‖H_model − H‖/‖H‖ over the lines (unweighted).
+    pub relative_error: f64,
+    /// Levenberg–Marquardt iterations of the polish.
+    pub iterations: usize,
+    /// Its residual evaluations.
+    pub evaluations: usize,
+    /// Why it stopped.
+    pub exit: LmExit,
+}
+
+impl ModalFit {
+    /// The receptance of the model as fitted at `frequency_hz` (with an exponential
+    /// window: the windowed response, which the data show).
+    pub fn response(&self, frequency_hz: f64) -> Complex64 {
+        let w = TAU * frequency_hz;
+        let modes: Complex64 = self
+            .modes
+            .iter()
+            .map(|m| {
+                let mut p = m.parameters();
+                if let Some(c) = m.window_correction {
+                    p.natural_frequency_hz = c.natural_frequency_hz_windowed;
+                    p.damping_ratio = c.damping_ratio_windowed;
+                }
+                p.receptance(frequency_hz)
+            })
+            .sum();
+        modes
+            + Complex64::new(
+                self.upper_residual.value - self.lower_residual.value / (w * w),
+                0.0,
+            )
+    }
+}
+
+impl std::fmt::Display for ModalFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} modes fitted to {} lines, {:.4}–{:.4} Hz ({} weighting), {} iterations; relative error {:.2} %",
+            self.modes.len(),
+            self.lines,
+            self.band_hz[0],
+            self.band_hz[1],
+            self.weighting,
+            self.iterations,
+            100.0 * self.relative_error
+        )?;
+        for (i, m) in self.modes.iter().enumerate() {
+            write!(
+                f,
+                "\nmode {}: fn = {:.6} Hz, ζ = {:.6}, A = {}, B = {}",
+                i + 1,
+                m.natural_frequency_hz,
+                m.damping_ratio,
+                scientific(&m.modal_constant),
+                scientific(&m.modal_constant_imaginary)
+            )?;
+            if let Some(c) = &m.window_correction {
+                write!(f, "; {c}")?;
+            }
+        }
+        write!(
+            f,
+            "\nlower residual L = {}, upper residual U = {}",
+            scientific(&self.lower_residual),
+            scientific(&self.upper_residual)
+        )
+    }
+}
+
+/// An interval in scientific notation: `value ± standard error (95 % CI low … high)`.
+fn scientific(i: &Interval) -> String {
+    format!(
+        "{:.4e} ± {:.2e} (95 % CI {:.4e} … {:.4e})",
+        i.value, i.standard_error, i.ci95[0], i.ci95[1]
+    )
+}
+
+/// Fits several modes to `frf` (converted to receptance): H(ω) = Σ_r H_r(ω) − L/ω² + U.
+///
+/// ## The algorithm
+/// The [`stabilization_diagram`](crate::stabilization_diagram) gives the poles (fn, ζ)
+/// of the selected modes; LSFD (linear least squares for fixed poles) the modal
+/// constants A + jB and the residual terms L and U; weights relative to |H| are then
+/// taken from this model rather than the measured |H| (as in [`fit_one_mode`](crate::fit_one_mode)),
+/// and Levenberg–Marquardt (msd-opt, analytic Jacobian) polishes all 4M + 2 parameters
+/// at once. The covariance is s²(JᵀJ)⁻¹ with s² = SSE/(2K − p), times the estimate's
+/// noise bandwidth (as in [`fit_one_mode`](crate::fit_one_mode)), the intervals
+/// Student's t with 2K − p degrees of freedom. With an exponential window each pole is moved back
+/// by 1/τ ([`WindowCorrection`]) and its fn and ζ intervals follow by the delta method;
+/// the modal constants and residual terms are those of the windowed response.
+///
+/// Errors: those of the diagram, no stable mode, modes that cannot be told apart, a fit
+/// that does not converge.
+///
+/// ```
+/// use msd_ident::{fit_modes, ModalOptions, ModalParameters};
+/// use msd_signal::FrequencyResponseEstimate;
+/// let truth = [(8.0, 0.02, 1.0), (17.0, 0.01, -0.5)].map(|(f, z, a)| ModalParameters {
+///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
+/// let f: Vec<f64> = (1..=1000).map(|i| 0.025 * i as f64).collect();
+/// let h = f.iter().map(|&f| truth.iter().map(|m| m.receptance(f)).sum()).collect();
+/// let fit = fit_modes(&FrequencyResponseEstimate::new(f, h)?, &ModalOptions::default())?;
+/// assert_eq!(fit.modes.len(), 2);
+/// for (mode, truth) in fit.modes.iter().zip(&truth) {
+///     assert!((mode.natural_frequency_hz.value / truth.natural_frequency_hz - 1.0).abs() < 1e-9);
+///     assert!((mode.damping_ratio.value / truth.damping_ratio - 1.0).abs() < 1e-7);
+///     assert!((mode.modal_constant.value / truth.modal_constant - 1.0).abs() < 1e-7);
+/// }
+/// println!("{fit}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Result<ModalFit> {
+    options.validate()?;
+    let mut lines = prepare(
+        frf,
+        options.band_hz,
+        options.weighting,
+        options.orders[1] + 1,
+    )?;
+    let diagram = diagram_of(&lines, options)?;
+    if diagram.modes.is_empty() {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!("no mode is stable in the stabilization diagram: {diagram}"),
+        });
+    }
+    let poles: Vec<(f64, f64)> = diagram
+        .modes
+        .iter()
+        .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
+        .collect();
+    if 2 * lines.omega.len() <= PER_MODE * poles.len() + 2 {
+        return Err(IdentError::TooFewSamples {
+            got: lines.omega.len(),
+            needed: (PER_MODE * poles.len() + 2) / 2 + 1,
+            why: "lines for the modal parameters of every stable mode",
+        });
+    }
+    let start = lsfd(&lines, &poles)?;
+    lines.reweight(|w| model(&start, w));
+    let polished = polish(&lines, lsfd(&lines, &poles)?)?;
+    let t = t_975(polished.degrees_of_freedom);
+    let theta = &polished.theta;
+    let decay = lines.exponential_decay;
+    let modes = diagram
+        .modes
+        .iter()
+        .enumerate()
+        .map(|(r, stable)| {
+            mode(
+                theta,
+                &polished.covariance,
+                r,
+                t,
+                decay,
+                stable.stable_orders,
+            )
+        })
+        .collect();
+    let p = theta.len();
+    let interval =
+        |j: usize| Interval::new(theta[j], polished.covariance[(j, j)].max(0.0).sqrt(), t);
+    Ok(ModalFit {
+        modes,
+        lower_residual: interval(p - 2),
+        upper_residual: interval(p - 1),
+        relative_error: lines.relative_error(|w| model(theta, w)),
+        band_hz: lines.band_hz,
+        lines: lines.omega.len(),
+        weighting: options.weighting,
+        sigma: polished.sigma,
+        degrees_of_freedom: polished.degrees_of_freedom,
+        iterations: polished.fit.iterations,
+        evaluations: polished.fit.evaluations,
+        exit: polished.fit.exit,
+        diagram,
+    })
+}
+
+/// Mode `r` of θ with its intervals (quantile `t`), corrected for an exponential window
+/// of decay time `decay`.
+fn mode(
+    theta: &[f64],
+    covariance: &DMatrix<f64>,
+    r: usize,
+    t: f64,
+    decay: Option<f64>,
+    stable_orders: usize,
+) -> Mode {
+    let j = PER_MODE * r;
+    let se = |i: usize| covariance[(j + i, j + i)].max(0.0).sqrt();
+    let (wn, zeta) = (theta[j], theta[j + 1]);
+    let (mut wn_se, mut zeta_se) = (se(0), se(1));
+    let mut corrected = (wn, zeta);
+    let window_correction = decay.map(|tau| {
+        let ([w0, z0], g) = unshift_pole(wn, zeta, 1.0 / tau);
+        // Delta method: Cov' = G·Cov·Gᵀ on the (ωn, ζ) block.
+        let c = [
+            [covariance[(j, j)], covariance[(j, j + 1)]],
+            [covariance[(j + 1, j)], covariance[(j + 1, j + 1)]],
+        ];
+        let var = |row: [f64; 2]| {
+            let mut v = 0.0;
+            for a in 0..2 {
+                for b in 0..2 {
+                    v += row[a] * c[a][b] * row[b];
+                }
+            }
+            v.max(0.0).sqrt()
+        };
+        (wn_se, zeta_se) = (var(g[0]), var(g[1]));
+        corrected = (w0, z0);
+        WindowCorrection {
+            decay_time: tau,
+            natural_frequency_hz_windowed: wn / TAU,
+            damping_ratio_windowed: zeta,
+            damping_ratio_added: zeta - z0,
+        }
+    });
+    Mode {
+        natural_frequency_hz: Interval::new(corrected.0 / TAU, wn_se / TAU, t),
+        damping_ratio: Interval::new(corrected.1, zeta_se, t),
+        modal_constant: Interval::new(theta[j + 2], se(2), t),
+        modal_constant_imaginary: Interval::new(theta[j + 3], se(3), t),
+        stable_orders,
+        window_correction,
+    }
+}

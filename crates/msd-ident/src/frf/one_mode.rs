@@ -1,0 +1,405 @@
+//! One mode fitted to a frequency response: m, c and k of H(ω) = 1/(k − mω² + jcω) by
+//! weighted nonlinear least squares.
+
+use msd_opt::{
+    LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult, LmExit,
+    levenberg_marquardt,
+};
+use msd_signal::{Complex64, FrequencyResponseEstimate};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+
+use super::half_power::{HalfPower, half_power};
+use super::lines::{FrfWeighting, Lines, check_band, prepare};
+use super::window::WindowCorrection;
+use crate::uncertainty::{from_jacobian, t_975};
+use crate::{IdentError, Interval, PARAMETER_NAMES, Parameters, Result, Uncertainty};
+
+/// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
+///
+/// ```
+/// use msd_ident::{FrfWeighting, OneModeOptions};
+/// let options: OneModeOptions = toml::from_str("band_hz = [0.5, 2.0]\nweighting = \"variance\"")?;
+/// assert_eq!(options.band_hz, Some([0.5, 2.0]));
+/// assert_eq!(options.weighting, FrfWeighting::Variance);
+/// assert!(toml::from_str::<OneModeOptions>("band_hz = [2.0]").is_err());
+/// # Ok::<(), toml::de::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OneModeOptions {
+    /// The band to fit in Hz; `None` = every line above 0 Hz. By default `None`.
+    #[serde(default, deserialize_with = "crate::pair::optional")]
+    pub band_hz: Option<[f64; 2]>,
+    /// How the lines are weighted. By default [`FrfWeighting::Coherence`].
+    pub weighting: FrfWeighting,
+}
+
+impl OneModeOptions {
+    /// Checks the band.
+    pub fn validate(&self) -> Result<()> {
+        check_band(self.band_hz)
+    }
+}
+
+/// The result of [`fit_one_mode`]: m, c, k with fn and ζ in an [`Uncertainty`] (95 %
+/// intervals), the gain, the classroom estimates beside them.
+///
+/// Displays the fit's summary line, the intervals, the gain, the window correction and
+/// the half-power estimate; serializes with every field.
+///
+/// ```
+/// use msd_ident::{fit_one_mode, model_response, synthetic_frequency_response, OneModeOptions, Parameters};
+/// let f: Vec<f64> = (0..40).map(|i| 0.25 + 0.0577 * i as f64).collect();
+/// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {
+///     model_response(&Parameters::PAPER, std::f64::consts::TAU * f)
+/// })?;
+/// let fit = fit_one_mode(&sweep, &OneModeOptions::default())?;
+/// assert!(fit.uncertainty.stiffness.contains(120.0));
+/// assert!(fit.to_string().starts_with("one mode fitted to 40 lines"));
+/// let json = serde_json::to_value(&fit).expect("serializable");
+/// assert_eq!(json["uncertainty"]["stiffness"]["value"], fit.parameters.stiffness);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OneModeFit {
+    /// m, c, k (with an exponential window: corrected for it).
+    pub parameters: Parameters,
+    /// Their 95 % intervals, and fn and ζ by the delta method.
+    pub uncertainty: Uncertainty,
+    /// The gain A = 1/m of H = A/(ωn² − ω² + 2jζωnω): with fn and ζ, all the data
+    /// determine when the force's scale is unknown (m, c, k scale with it).
+    pub gain: Interval,
+    /// What an exponential window added and how it was taken off, if there was one.
+    pub window_correction: Option<WindowCorrection>,
+    /// Peak picking and half-power bandwidth in the same band, when they can be read.
+    pub half_power: Option<HalfPower>,
+    /// The first and last line fitted, Hz.
+    pub band_hz: [f64; 2],
+    /// Lines fitted (each gives two residuals, real and imaginary).
+    pub lines: usize,
+    /// The weighting used.
+    pub weighting: FrfWeighting,
+    /// ‖H_model − H‖/‖H‖ over the lines (unweighted).
+    pub relative_error: f64,
+    /// Levenberg–Marquardt iterations.
+    pub iterations: usize,
+    /// Residual evaluations.
+    pub evaluations: usize,
+    /// Why Levenberg–Marquardt stopped.
+    pub exit: LmExit,
+}
+
+impl OneModeFit {
+    /// The receptance of the model as fitted to the data, at `frequency_hz` (with an
+    /// exponential window: the windowed response H(s + 1/τ), which the data show).
+    ///
+    /// ```
+    /// # use msd_ident::{fit_one_mode, OneModeOptions, Parameters, model_response};
+    /// # use msd_signal::FrequencyResponseEstimate;
+    /// let f: Vec<f64> = (1..=40).map(|i| 0.06 * i as f64).collect();
+    /// let h = f.iter().map(|f| model_response(&Parameters::PAPER, std::f64::consts::TAU * f)).collect();
+    /// let fit = fit_one_mode(&FrequencyResponseEstimate::new(f, h)?, &OneModeOptions::default())?;
+    /// let w = std::f64::consts::TAU * 1.1;
+    /// assert!((fit.response(1.1) - model_response(&Parameters::PAPER, w)).norm() < 1e-9);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn response(&self, frequency_hz: f64) -> Complex64 {
+        let a = self.window_correction.map_or(0.0, |c| 1.0 / c.decay_time);
+        receptance(
+            &windowed(self.parameters.to_array(), a),
+            std::f64::consts::TAU * frequency_hz,
+        )
+    }
+}
+
+impl std::fmt::Display for OneModeFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "one mode fitted to {} lines, {:.4}–{:.4} Hz ({} weighting), {} iterations; relative error {:.2} %",
+            self.lines,
+            self.band_hz[0],
+            self.band_hz[1],
+            self.weighting,
+            self.iterations,
+            100.0 * self.relative_error
+        )?;
+        writeln!(f, "{}", self.uncertainty)?;
+        write!(f, "gain 1/m = {}", self.gain)?;
+        if let Some(c) = &self.window_correction {
+            write!(f, "\n{c}")?;
+        }
+        if let Some(h) = &self.half_power {
+            write!(f, "\nclassroom estimate: {h}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Fits one mode, m·x'' + c·x' + k·x = F, to `frf` (converted to receptance).
+///
+/// ## The algorithm
+/// Levy's linear least squares (1/H ≈ k − mω² + jcω, each line weighted by |H|²/σ so
+/// its error approximates the error in H) gives the start; Levenberg–Marquardt
+/// (msd-opt, analytic Jacobian) minimises Σ |H(ω_k; m, c, k) − Ĥ_k|²/σ_k², real and
+/// imaginary parts as separate residuals, σ_k from `options.weighting`. Weights relative
+/// to |H| (coherence, relative) are then taken from the fitted model's |H| rather than
+/// the measured one, and the fit is run once more: the measured |Ĥ_k| carries the noise,
+/// and weighting by it favours the lines that came out low. The covariance
+/// is Gauss–Newton's s²(JᵀJ)⁻¹ with s² = SSE/(2K − 3), the intervals Student's t with
+/// 2K − 3 degrees of freedom, fn and ζ by the delta method (as the time-domain
+/// [`Uncertainty`]). The covariance is multiplied by the estimate's
+/// [`noise_bandwidth`](FrequencyResponseEstimate::noise_bandwidth) (1 for a table, 1.5
+/// for Hann, about T/(2τ) for an exponential window): a window correlates the errors of
+/// that many neighbouring lines. With an exponential window (τ, a = 1/τ) the fit finds the windowed
+/// m, c′ = c + 2am, k′ = k + ac + a²m, which are mapped back (a linear map, so the
+/// covariance maps exactly).
+///
+/// Errors: too few lines (at least 4), a malformed band, `Variance` weighting without
+/// variances, no resonance (Levy's start or the fit gives m ≤ 0 or k ≤ 0, or the window
+/// correction c < 0), a fit that does not converge.
+///
+/// ```
+/// use msd_ident::{fit_one_mode, model_response, OneModeOptions, Parameters};
+/// use msd_signal::FrequencyResponseEstimate;
+/// // A stepped sine on the paper's plant at 40 frequencies, exact.
+/// let f: Vec<f64> = (1..=40).map(|i| 0.06 * i as f64).collect();
+/// let h = f.iter().map(|f| model_response(&Parameters::PAPER, std::f64::consts::TAU * f)).collect();
+/// let fit = fit_one_mode(&FrequencyResponseEstimate::new(f, h)?, &OneModeOptions::default())?;
+/// assert!((fit.parameters.stiffness - 120.0).abs() < 1e-8);
+/// assert!((fit.uncertainty.damping_ratio.value - 0.0519615).abs() < 1e-7);
+/// println!("{fit}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fit_one_mode(
+    frf: &FrequencyResponseEstimate,
+    options: &OneModeOptions,
+) -> Result<OneModeFit> {
+    options.validate()?;
+    let mut lines = prepare(frf, options.band_hz, options.weighting, 4)?;
+    let start = levy_start(&lines)?;
+    let first = least_squares(&lines, start)?;
+    // Weights relative to |H|: once more with |H| from the model (see Lines::reweight).
+    lines.reweight(|w| receptance(&first.0, w));
+    let (fitted, fit) = least_squares(&lines, first.0)?;
+    let a = lines.exponential_decay.map_or(0.0, |tau| 1.0 / tau);
+    let theta = unwindowed(fitted, a);
+    let parameters = Parameters::from_array(theta);
+    if parameters.validate().is_err() {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the fit gives m = {:.4e}, c = {:.4e}, k = {:.4e}{}: no single mode in the band",
+                theta[0],
+                theta[1],
+                theta[2],
+                if a > 0.0 {
+                    " after the window correction"
+                } else {
+                    ""
+                }
+            ),
+        });
+    }
+    // ∂r/∂θ = ∂r/∂θ′·∂θ′/∂θ, with θ′ = windowed(θ).
+    // Lines whose errors are correlated over c lines (a window's noise bandwidth) hold
+    // c times less information: J/√c makes the covariance c·s²(JᵀJ)⁻¹.
+    let jacobian = jacobian_at(&lines, &fitted) * window_map(a) / lines.correlated_lines.sqrt();
+    let names = PARAMETER_NAMES.to_vec();
+    let uncertainty = from_jacobian(
+        &jacobian,
+        fit.cost,
+        names,
+        theta.to_vec(),
+        &parameters,
+        [Some(0), Some(1), Some(2)],
+    )?;
+    let m = &uncertainty.mass;
+    let gain = Interval::new(
+        1.0 / m.value,
+        m.standard_error / (m.value * m.value),
+        t_975(uncertainty.degrees_of_freedom),
+    );
+    let window_correction = lines.exponential_decay.map(|tau| {
+        let windowed = Parameters::from_array(fitted);
+        WindowCorrection {
+            decay_time: tau,
+            natural_frequency_hz_windowed: windowed.natural_frequency_hz(),
+            damping_ratio_windowed: windowed.damping_ratio(),
+            damping_ratio_added: windowed.damping_ratio() - parameters.damping_ratio(),
+        }
+    });
+    Ok(OneModeFit {
+        relative_error: lines.relative_error(|w| receptance(&fitted, w)),
+        half_power: half_power(frf, Some(lines.band_hz)).ok(),
+        parameters,
+        uncertainty,
+        gain,
+        window_correction,
+        band_hz: lines.band_hz,
+        lines: lines.omega.len(),
+        weighting: options.weighting,
+        iterations: fit.iterations,
+        evaluations: fit.evaluations,
+        exit: fit.exit,
+    })
+}
+
+/// Levenberg–Marquardt from `start`: the fitted θ and the solver's result.
+fn least_squares(lines: &Lines, start: [f64; 3]) -> Result<([f64; 3], LevenbergMarquardtResult)> {
+    let mut problem = OneMode {
+        lines,
+        scale: start,
+    };
+    let fit = levenberg_marquardt(
+        &mut problem,
+        &[1.0; 3],
+        &LevenbergMarquardtOptions::default(),
+    )?;
+    if !fit.exit.is_success() {
+        return Err(IdentError::EstimationFailed {
+            reason: format!("the one-mode fit did not converge: {}", fit.exit),
+        });
+    }
+    Ok((std::array::from_fn(|j| fit.x[j] * start[j]), fit))
+}
+
+/// H = 1/(k − mω² + jcω).
+fn receptance(theta: &[f64; 3], w: f64) -> Complex64 {
+    Complex64::new(1.0, 0.0) / Complex64::new(theta[2] - theta[0] * w * w, theta[1] * w)
+}
+
+/// The windowed parameters (m, c + 2am, k + ac + a²m): H(s + a) = 1/(m s² + c′s + k′).
+fn windowed([m, c, k]: [f64; 3], a: f64) -> [f64; 3] {
+    [m, c + 2.0 * a * m, k + a * c + a * a * m]
+}
+
+/// The inverse of [`windowed`]: (m, c′ − 2am, k′ − ac′ + a²m).
+fn unwindowed([m, c, k]: [f64; 3], a: f64) -> [f64; 3] {
+    [m, c - 2.0 * a * m, k - a * c + a * a * m]
+}
+
+/// ∂θ′/∂θ of [`windowed`].
+fn window_map(a: f64) -> DMatrix<f64> {
+    DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 0.0, 2.0 * a, 1.0, 0.0, a * a, a, 1.0])
+}
+
+/// Levy's linear fit of 1/H ≈ k − mω² + jcω, weighted by |H|⁴/σ² (so that the error
+/// approximates the weighted error in H); c at least 1 % of critical damping.
+fn levy_start(lines: &Lines) -> Result<[f64; 3]> {
+    let mut ata = Matrix3::<f64>::zeros();
+    let mut atb = Vector3::<f64>::zeros();
+    for ((&w, h), &s) in lines.omega.iter().zip(&lines.h).zip(&lines.sigma) {
+        let weight = h.norm_sqr() * h.norm_sqr() / (s * s);
+        let inverse = h.inv();
+        let real = Vector3::new(-w * w, 0.0, 1.0);
+        let imaginary = Vector3::new(0.0, w, 0.0);
+        ata += weight * (real * real.transpose() + imaginary * imaginary.transpose());
+        atb += weight * (real * inverse.re + imaginary * inverse.im);
+    }
+    let theta = ata
+        .lu()
+        .solve(&atb)
+        .unwrap_or_else(|| Vector3::repeat(f64::NAN));
+    let (m, c, k) = (theta[0], theta[1], theta[2]);
+    if !(m > 0.0 && k > 0.0 && m.is_finite() && k.is_finite()) {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "a linear fit of 1/H gives m = {m:.4e}, k = {k:.4e}: no resonance in the band to fit one mode to"
+            ),
+        });
+    }
+    let floor = 0.02 * (k * m).sqrt();
+    Ok([m, if c.is_finite() { c.max(floor) } else { floor }, k])
+}
+
+/// The Jacobian ∂r/∂θ (2K × 3: real parts, then imaginary parts) of the weighted
+/// residuals r = (H(θ) − Ĥ)/σ.
+fn jacobian_at(lines: &Lines, theta: &[f64; 3]) -> DMatrix<f64> {
+    let n = lines.omega.len();
+    let mut out = DMatrix::zeros(2 * n, 3);
+    fill_jacobian(lines, theta, &[1.0; 3], &mut out);
+    out
+}
+
+/// Writes ∂r/∂x into `out` for θ = x·scale (element-wise).
+fn fill_jacobian(lines: &Lines, theta: &[f64; 3], scale: &[f64; 3], out: &mut DMatrix<f64>) {
+    let n = lines.omega.len();
+    for (k, (&w, &s)) in lines.omega.iter().zip(&lines.sigma).enumerate() {
+        let h = receptance(theta, w);
+        let h2 = h * h;
+        // ∂H/∂m = ω²H², ∂H/∂c = −jωH², ∂H/∂k = −H².
+        let d = [h2 * (w * w), h2 * Complex64::new(0.0, -w), -h2];
+        for j in 0..3 {
+            out[(k, j)] = d[j].re * scale[j] / s;
+            out[(n + k, j)] = d[j].im * scale[j] / s;
+        }
+    }
+}
+
+/// The fit in scaled variables x = θ/θ₀ (θ₀ Levy's start), so that every x is near 1.
+struct OneMode<'a> {
+    lines: &'a Lines,
+    scale: [f64; 3],
+}
+
+impl OneMode<'_> {
+    fn theta(&self, x: &[f64]) -> [f64; 3] {
+        std::array::from_fn(|j| x[j] * self.scale[j])
+    }
+}
+
+impl LeastSquaresProblem for OneMode<'_> {
+    fn residual_count(&self) -> usize {
+        2 * self.lines.omega.len()
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
+        let theta = self.theta(x);
+        let n = self.lines.omega.len();
+        for (k, ((&w, h), &s)) in self
+            .lines
+            .omega
+            .iter()
+            .zip(&self.lines.h)
+            .zip(&self.lines.sigma)
+            .enumerate()
+        {
+            let e = (receptance(&theta, w) - h) / s;
+            out[k] = e.re;
+            out[n + k] = e.im;
+        }
+        true
+    }
+
+    fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
+        let theta = self.theta(x);
+        fill_jacobian(self.lines, &theta, &self.scale, out);
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_window_map_inverts_and_matches_the_shifted_response() {
+        let (theta, a) = ([2.5, 1.8, 120.0], 0.7);
+        let back = unwindowed(windowed(theta, a), a);
+        for j in 0..3 {
+            assert!((back[j] - theta[j]).abs() < 1e-12 * theta[j]);
+        }
+        // H(jω + a) of the plant = the windowed parameters' H(jω).
+        let w = 3.0;
+        let s = Complex64::new(a, w);
+        let direct = Complex64::new(1.0, 0.0) / (s * s * theta[0] + s * theta[1] + theta[2]);
+        assert!((receptance(&windowed(theta, a), w) - direct).norm() < 1e-15);
+        let map = window_map(a);
+        let (h, w2) = (1e-6, windowed(theta, a));
+        let up = windowed([theta[0], theta[1], theta[2] + h], a);
+        for i in 0..3 {
+            assert!(((up[i] - w2[i]) / h - map[(i, 2)]).abs() < 1e-6);
+        }
+    }
+}

@@ -1,0 +1,222 @@
+//! Every modal parameter at once: the modal constants and residual terms for fixed poles
+//! by linear least squares (LSFD), then all of them with the poles by weighted nonlinear
+//! least squares, and the Gauss–Newton covariance.
+//!
+//! The parameters θ are, per mode, (ωn, ζ, A, B) (see
+//! [`ModalParameters`](super::ModalParameters)), then the lower and upper residual terms
+//! (L, U) of H(ω) = Σ_r H_r(ω) − L/ω² + U.
+
+use msd_opt::{
+    LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult, levenberg_marquardt,
+};
+use msd_signal::Complex64;
+use nalgebra::{DMatrix, DVector};
+
+use super::lines::Lines;
+use super::modal::{term, term_with_gradient};
+use crate::{IdentError, Result};
+
+/// Parameters per mode.
+pub(crate) const PER_MODE: usize = 4;
+
+/// The model's receptance at ω for θ.
+pub(crate) fn model(theta: &[f64], w: f64) -> Complex64 {
+    let (modes, residual) = theta.split_at(theta.len() - 2);
+    let sum: Complex64 = modes.chunks_exact(PER_MODE).map(|m| term(m, w)).sum();
+    sum + Complex64::new(residual[1] - residual[0] / (w * w), 0.0)
+}
+
+/// The modal constants and residual terms for the poles (ωn, ζ) by weighted linear
+/// least squares (columns scaled to unit norm, normal equations by Cholesky): the full θ.
+pub(crate) fn lsfd(lines: &Lines, poles: &[(f64, f64)]) -> Result<Vec<f64>> {
+    let n = lines.omega.len();
+    let p = 2 * poles.len() + 2;
+    let mut a = DMatrix::<f64>::zeros(2 * n, p);
+    let mut b = DVector::<f64>::zeros(2 * n);
+    for (k, ((&w, h), &s)) in lines
+        .omega
+        .iter()
+        .zip(&lines.h)
+        .zip(&lines.sigma)
+        .enumerate()
+    {
+        for (r, &(wn, zeta)) in poles.iter().enumerate() {
+            for (i, theta) in [[wn, zeta, 1.0, 0.0], [wn, zeta, 0.0, 1.0]]
+                .iter()
+                .enumerate()
+            {
+                let c = term(theta, w);
+                a[(k, 2 * r + i)] = c.re / s;
+                a[(n + k, 2 * r + i)] = c.im / s;
+            }
+        }
+        // −L/ω² and U, both real.
+        a[(k, p - 2)] = -1.0 / (w * w * s);
+        a[(k, p - 1)] = 1.0 / s;
+        b[k] = h.re / s;
+        b[n + k] = h.im / s;
+    }
+    let norms: Vec<f64> = a.column_iter().map(|c| c.norm()).collect();
+    for (j, &norm) in norms.iter().enumerate() {
+        a.column_mut(j).scale_mut(1.0 / norm);
+    }
+    let solution = (a.transpose() * &a)
+        .cholesky()
+        .map(|c| c.solve(&(a.transpose() * &b)))
+        .ok_or_else(|| IdentError::NotIdentifiable {
+            reason: "the modal constants cannot be told apart (two poles too close?)".into(),
+        })?;
+    let mut theta = Vec::with_capacity(PER_MODE * poles.len() + 2);
+    for (r, &(wn, zeta)) in poles.iter().enumerate() {
+        let (j, i) = (2 * r, 2 * r + 1);
+        theta.extend([wn, zeta, solution[j] / norms[j], solution[i] / norms[i]]);
+    }
+    theta.extend([
+        solution[p - 2] / norms[p - 2],
+        solution[p - 1] / norms[p - 1],
+    ]);
+    Ok(theta)
+}
+
+/// The result of [`polish`]: θ, its covariance and the solver's statistics.
+pub(crate) struct Polished {
+    pub theta: Vec<f64>,
+    pub covariance: DMatrix<f64>,
+    pub sigma: f64,
+    pub degrees_of_freedom: usize,
+    pub fit: LevenbergMarquardtResult,
+}
+
+/// Levenberg–Marquardt on every parameter from `start`, and the covariance c·s²(JᵀJ)⁻¹
+/// with s² = SSE/(2K − p) and c the lines' correlation length.
+pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
+    let scale = scales(lines, &start);
+    let mut problem = ModalProblem {
+        lines,
+        scale: &scale,
+        theta: vec![0.0; start.len()],
+    };
+    let x0: Vec<f64> = start.iter().zip(&scale).map(|(t, s)| t / s).collect();
+    let fit = levenberg_marquardt(&mut problem, &x0, &LevenbergMarquardtOptions::default())?;
+    if !fit.exit.is_success() {
+        return Err(IdentError::EstimationFailed {
+            reason: format!("the modal fit did not converge: {}", fit.exit),
+        });
+    }
+    let theta: Vec<f64> = fit.x.iter().zip(&scale).map(|(x, s)| x * s).collect();
+    let (rows, p) = fit.jacobian.shape();
+    // J in θ: the solver's J (in x) with each column divided by its scale.
+    let jacobian = DMatrix::from_fn(rows, p, |i, j| fit.jacobian[(i, j)] / scale[j]);
+    let degrees_of_freedom = rows - p;
+    let s2 = fit.cost / degrees_of_freedom as f64;
+    // Errors correlated over c lines: c times less information than independent lines.
+    let covariance = covariance(&jacobian, s2 * lines.correlated_lines)?;
+    Ok(Polished {
+        theta,
+        covariance,
+        sigma: s2.sqrt(),
+        degrees_of_freedom,
+        fit,
+    })
+}
+
+/// s²(JᵀJ)⁻¹, inverted with the columns scaled to unit norm.
+fn covariance(jacobian: &DMatrix<f64>, s2: f64) -> Result<DMatrix<f64>> {
+    let jtj = jacobian.transpose() * jacobian;
+    let p = jtj.nrows();
+    let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
+    let scaled = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
+    let inverse = scaled
+        .cholesky()
+        .map(|c| c.inverse())
+        .filter(|_| norms.iter().all(|n| n.is_finite() && *n > 0.0))
+        .ok_or_else(|| IdentError::NotIdentifiable {
+            reason: "the modal parameters cannot be told apart: JᵀJ is singular".into(),
+        })?;
+    Ok(DMatrix::from_fn(p, p, |r, c| {
+        s2 * inverse[(r, c)] / (norms[r] * norms[c])
+    }))
+}
+
+/// Typical sizes of the parameters, so that the solver's variables are near 1: ωn and
+/// ζ their starts, A and B the larger of the mode's |A|, |B|, the residual terms what
+/// would give the median |H| at the lowest line (L) or anywhere (U).
+fn scales(lines: &Lines, start: &[f64]) -> Vec<f64> {
+    let mut magnitudes: Vec<f64> = lines.h.iter().map(|h| h.norm()).collect();
+    magnitudes.sort_by(f64::total_cmp);
+    let typical = magnitudes[magnitudes.len() / 2].max(f64::MIN_POSITIVE);
+    let (modes, _) = start.split_at(start.len() - 2);
+    let mut scale = Vec::with_capacity(start.len());
+    for m in modes.chunks_exact(PER_MODE) {
+        let constant = m[2].abs().max(m[3].abs()).max(f64::MIN_POSITIVE);
+        scale.extend([m[0], m[1], constant, constant]);
+    }
+    scale.extend([typical * lines.omega[0] * lines.omega[0], typical]);
+    scale
+}
+
+/// The weighted residuals (model − H)/σ in the scaled variables x = θ/scale: real
+/// parts, then imaginary parts.
+struct ModalProblem<'a> {
+    lines: &'a Lines,
+    scale: &'a [f64],
+    /// θ of the last evaluation (a work array).
+    theta: Vec<f64>,
+}
+
+impl ModalProblem<'_> {
+    /// θ = x·scale into the work array.
+    fn set_theta(&mut self, x: &[f64]) {
+        for ((t, x), s) in self.theta.iter_mut().zip(x).zip(self.scale) {
+            *t = x * s;
+        }
+    }
+}
+
+impl LeastSquaresProblem for ModalProblem<'_> {
+    fn residual_count(&self) -> usize {
+        2 * self.lines.omega.len()
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
+        self.set_theta(x);
+        let theta = &self.theta;
+        let n = self.lines.omega.len();
+        for (k, ((&w, h), &s)) in self
+            .lines
+            .omega
+            .iter()
+            .zip(&self.lines.h)
+            .zip(&self.lines.sigma)
+            .enumerate()
+        {
+            let e = (model(theta, w) - h) / s;
+            out[k] = e.re;
+            out[n + k] = e.im;
+        }
+        true
+    }
+
+    fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
+        self.set_theta(x);
+        let theta = &self.theta;
+        let n = self.lines.omega.len();
+        let p = theta.len();
+        for (k, (&w, &s)) in self.lines.omega.iter().zip(&self.lines.sigma).enumerate() {
+            for (r, mode) in theta[..p - 2].chunks_exact(PER_MODE).enumerate() {
+                let (_, gradient) = term_with_gradient(mode, w);
+                for (i, g) in gradient.iter().enumerate() {
+                    let j = PER_MODE * r + i;
+                    out[(k, j)] = g.re * self.scale[j] / s;
+                    out[(n + k, j)] = g.im * self.scale[j] / s;
+                }
+            }
+            // ∂H/∂L = −1/ω², ∂H/∂U = 1 (real).
+            out[(k, p - 2)] = -self.scale[p - 2] / (w * w * s);
+            out[(n + k, p - 2)] = 0.0;
+            out[(k, p - 1)] = self.scale[p - 1] / s;
+            out[(n + k, p - 1)] = 0.0;
+        }
+        true
+    }
+}

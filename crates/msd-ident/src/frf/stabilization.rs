@@ -1,0 +1,298 @@
+//! The stabilization diagram: the poles of every model order, flagged where they agree
+//! with the order before, and the modes that stay stable.
+
+use std::f64::consts::TAU;
+
+use msd_signal::{Complex64, FrequencyResponseEstimate};
+use serde::Serialize;
+
+use super::lines::{Lines, prepare};
+use super::lscf::Lscf;
+use super::modes::ModalOptions;
+use crate::{IdentError, Result};
+
+/// One pole of one model order in the diagram.
+///
+/// ```
+/// use msd_ident::{stabilization_diagram, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
+///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.0, 1, |f| mode.receptance(f))?;
+/// let diagram = stabilization_diagram(&frf, &ModalOptions { orders: [2, 10], ..ModalOptions::default() })?;
+/// // The z-domain model needs a little more than the mode's two poles: order 2 puts it
+/// // at 5.13 Hz, order 4 at 4.991 Hz, order 6 at 5.0001 Hz, the first stable one.
+/// let order_6 = &diagram.orders[2];
+/// assert_eq!(order_6.order, 6);
+/// let pole = order_6.poles.iter().find(|p| p.stable).expect("the mode is stable");
+/// assert!((pole.natural_frequency_hz / 5.0 - 1.0).abs() < 1e-4);
+/// assert!(diagram.orders[1].poles.iter().all(|p| !p.stable));
+/// assert_eq!(diagram.modes.len(), 1);
+/// assert_eq!(diagram.modes[0].stable_orders, 3); // orders 6, 8, 10
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DiagramPole {
+    /// fn = |λ|/2π, Hz.
+    pub natural_frequency_hz: f64,
+    /// ζ = −Re λ/|λ|.
+    pub damping_ratio: f64,
+    /// fn within `frequency_tolerance` of the nearest pole of the order before.
+    pub stable_frequency: bool,
+    /// ζ within `damping_tolerance` of that pole's.
+    pub stable_damping: bool,
+    /// Both: a stable pole.
+    pub stable: bool,
+}
+
+/// The physical poles of one model order (Im λ > 0, Re λ < 0, fn in the band,
+/// ζ ≤ `max_damping_ratio`), by frequency (see [`DiagramPole`] for an example).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DiagramOrder {
+    /// The order n of the common denominator (n poles, n/2 conjugate pairs at most).
+    pub order: usize,
+    /// Its poles.
+    pub poles: Vec<DiagramPole>,
+}
+
+/// A mode the diagram found: poles stable at several orders, at nearly one frequency
+/// (see [`DiagramPole`] for an example).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StableMode {
+    /// The median fn of its stable poles, Hz.
+    pub natural_frequency_hz: f64,
+    /// The median ζ of its stable poles.
+    pub damping_ratio: f64,
+    /// At how many orders it has a stable pole.
+    pub stable_orders: usize,
+}
+
+/// The stabilization diagram of a frequency response and the modes selected from it.
+///
+/// Displays one line per selected mode; serializes with every order's poles and flags,
+/// for a plot.
+///
+/// ```
+/// use msd_ident::{stabilization_diagram, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
+///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.01, 1, |f| mode.receptance(f))?;
+/// let diagram = stabilization_diagram(&frf, &ModalOptions::default())?;
+/// assert!(diagram.to_string().starts_with("stabilization diagram, orders 2–40"));
+/// let json = serde_json::to_value(&diagram).expect("serializable");
+/// assert_eq!(json["orders"].as_array().map(Vec::len), Some(20));
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StabilizationDiagram {
+    /// Every order, lowest first.
+    pub orders: Vec<DiagramOrder>,
+    /// The selected modes, by frequency.
+    pub modes: Vec<StableMode>,
+    /// The first and last line used, Hz.
+    pub band_hz: [f64; 2],
+}
+
+impl std::fmt::Display for StabilizationDiagram {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (first, last) = (
+            self.orders.first().map_or(0, |o| o.order),
+            self.orders.last().map_or(0, |o| o.order),
+        );
+        write!(
+            f,
+            "stabilization diagram, orders {first}–{last}, {:.4}–{:.4} Hz: {} stable modes",
+            self.band_hz[0],
+            self.band_hz[1],
+            self.modes.len()
+        )?;
+        for m in &self.modes {
+            write!(
+                f,
+                "\n  fn = {:.4} Hz, ζ = {:.5}, stable at {} of {} orders",
+                m.natural_frequency_hz,
+                m.damping_ratio,
+                m.stable_orders,
+                self.orders.len()
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// The stabilization diagram of `frf` and the modes selected from it (see
+/// [`ModalOptions`] for the orders, the tolerances and the selection).
+///
+/// ## The method
+/// Poles by LSCF (the least-squares complex-frequency estimator: a common-denominator
+/// model in e^{jωΔt} with real coefficients, solved from its reduced normal equations)
+/// at every order; the physical ones are kept. A pole is stable in frequency (in damping)
+/// when the nearest pole of the order before has fn (ζ) within the tolerance; stable
+/// when both. The stable poles, sorted by frequency, form a new group where the gap to
+/// the previous one exceeds the frequency tolerance; a group is a mode when it is
+/// stable at `min_stable_share` of the orders (or, with `mode_count`, the groups
+/// stable at the most orders). A mode's fn and ζ are the medians of its poles.
+///
+/// Errors: too few lines for the largest order, bad options, `Variance` weighting
+/// without variances, fewer stable modes than `mode_count`.
+///
+/// ```
+/// use msd_ident::{stabilization_diagram, ModalOptions, ModalParameters};
+/// use msd_signal::FrequencyResponseEstimate;
+/// let modes = [(8.0, 0.02, 1.0), (17.0, 0.01, -0.5)].map(|(f, z, a)| ModalParameters {
+///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
+/// let f: Vec<f64> = (1..=1000).map(|i| 0.025 * i as f64).collect();
+/// let h = f.iter().map(|&f| modes.iter().map(|m| m.receptance(f)).sum()).collect();
+/// let diagram = stabilization_diagram(&FrequencyResponseEstimate::new(f, h)?, &ModalOptions::default())?;
+/// assert_eq!(diagram.modes.len(), 2);
+/// assert!((diagram.modes[1].natural_frequency_hz / 17.0 - 1.0).abs() < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn stabilization_diagram(
+    frf: &FrequencyResponseEstimate,
+    options: &ModalOptions,
+) -> Result<StabilizationDiagram> {
+    options.validate()?;
+    let lines = prepare(
+        frf,
+        options.band_hz,
+        options.weighting,
+        options.orders[1] + 1,
+    )?;
+    diagram_of(&lines, options)
+}
+
+/// The diagram of prepared lines (options validated, enough lines).
+pub(crate) fn diagram_of(lines: &Lines, options: &ModalOptions) -> Result<StabilizationDiagram> {
+    let lscf = Lscf::new(lines, options.orders[1]);
+    let mut orders: Vec<DiagramOrder> = Vec::new();
+    for order in (options.orders[0]..=options.orders[1]).step_by(options.order_step) {
+        let Some(poles) = lscf.poles(order) else {
+            continue;
+        };
+        let mut poles: Vec<DiagramPole> = poles
+            .iter()
+            .filter_map(|&p| physical(p, lines.band_hz, options.max_damping_ratio))
+            .collect();
+        poles.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
+        if let Some(previous) = orders.last() {
+            flag(&mut poles, &previous.poles, options);
+        }
+        orders.push(DiagramOrder { order, poles });
+    }
+    if orders.is_empty() {
+        return Err(IdentError::NotIdentifiable {
+            reason: "the LSCF normal equations are singular at every order".into(),
+        });
+    }
+    let modes = select(&orders, options)?;
+    Ok(StabilizationDiagram {
+        orders,
+        modes,
+        band_hz: lines.band_hz,
+    })
+}
+
+/// The pole λ as a diagram pole (unflagged) if it is physical.
+fn physical(lambda: Complex64, band_hz: [f64; 2], max_damping: f64) -> Option<DiagramPole> {
+    let f = lambda.norm() / TAU;
+    let zeta = -lambda.re / lambda.norm();
+    let inside = f >= band_hz[0] && f <= band_hz[1];
+    (lambda.im > 0.0 && zeta > 0.0 && zeta <= max_damping && inside).then_some(DiagramPole {
+        natural_frequency_hz: f,
+        damping_ratio: zeta,
+        stable_frequency: false,
+        stable_damping: false,
+        stable: false,
+    })
+}
+
+/// Flags each pole against the nearest pole (in frequency) of the order before.
+fn flag(poles: &mut [DiagramPole], previous: &[DiagramPole], options: &ModalOptions) {
+    for pole in poles {
+        let nearest = previous.iter().min_by(|a, b| {
+            let da = (a.natural_frequency_hz - pole.natural_frequency_hz).abs();
+            let db = (b.natural_frequency_hz - pole.natural_frequency_hz).abs();
+            da.total_cmp(&db)
+        });
+        if let Some(p) = nearest {
+            let df = (pole.natural_frequency_hz / p.natural_frequency_hz - 1.0).abs();
+            let dz = (pole.damping_ratio / p.damping_ratio - 1.0).abs();
+            pole.stable_frequency = df <= options.frequency_tolerance;
+            pole.stable_damping = dz <= options.damping_tolerance;
+            pole.stable = pole.stable_frequency && pole.stable_damping;
+        }
+    }
+}
+
+/// Groups the stable poles by frequency and selects the modes.
+fn select(orders: &[DiagramOrder], options: &ModalOptions) -> Result<Vec<StableMode>> {
+    let mut stable: Vec<(usize, DiagramPole)> = orders
+        .iter()
+        .flat_map(|o| {
+            o.poles
+                .iter()
+                .filter(|p| p.stable)
+                .map(move |p| (o.order, *p))
+        })
+        .collect();
+    stable.sort_by(|a, b| {
+        a.1.natural_frequency_hz
+            .total_cmp(&b.1.natural_frequency_hz)
+    });
+    let mut groups: Vec<Vec<(usize, DiagramPole)>> = Vec::new();
+    for item in stable {
+        match groups.last_mut() {
+            Some(g)
+                if item.1.natural_frequency_hz / g[g.len() - 1].1.natural_frequency_hz - 1.0
+                    <= options.frequency_tolerance =>
+            {
+                g.push(item)
+            }
+            _ => groups.push(vec![item]),
+        }
+    }
+    let mut modes: Vec<StableMode> = groups.iter().map(|g| summarise(g)).collect();
+    match options.mode_count {
+        Some(count) => {
+            if modes.len() < count {
+                return Err(IdentError::NotIdentifiable {
+                    reason: format!(
+                        "the stabilization diagram has {} stable modes, {count} were asked for; raise the largest order or widen the tolerances",
+                        modes.len()
+                    ),
+                });
+            }
+            modes.sort_by_key(|m| std::cmp::Reverse(m.stable_orders));
+            modes.truncate(count);
+        }
+        None => {
+            let needed = (options.min_stable_share * orders.len() as f64).ceil() as usize;
+            modes.retain(|m| m.stable_orders >= needed.max(1));
+        }
+    }
+    modes.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
+    Ok(modes)
+}
+
+/// A group's median fn and ζ and its number of distinct orders.
+fn summarise(group: &[(usize, DiagramPole)]) -> StableMode {
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        }
+    };
+    let mut orders: Vec<usize> = group.iter().map(|(o, _)| *o).collect();
+    orders.sort_unstable();
+    orders.dedup();
+    StableMode {
+        natural_frequency_hz: median(group.iter().map(|(_, p)| p.natural_frequency_hz).collect()),
+        damping_ratio: median(group.iter().map(|(_, p)| p.damping_ratio).collect()),
+        stable_orders: orders.len(),
+    }
+}
