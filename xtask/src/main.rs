@@ -33,9 +33,9 @@ enum Command {
     /// results.json.
     #[command(long_about = cli::RUN_HELP)]
     Experiment(RunArgs),
-    /// Copy a real data set (silverbox) into data/SET/ in the workspace, each file
-    /// checked by size and SHA-256 (from ../shared/data/real/SET/ beside the workspace,
-    /// or --from DIR).
+    /// Put a real data set (silverbox) into data/SET/ in the workspace, each file
+    /// checked by size and SHA-256: copied from ../shared/data/real/SET/ beside the
+    /// workspace (or --from DIR), else downloaded from the official archive (or --url).
     FetchData(cli::FetchArgs),
     /// Measure the paper experiment's speed: one table (median, min–max, multiple of the
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and

@@ -108,46 +108,102 @@ pub fn run(args: &RunArgs, options: &RunOptions) -> Result<(), ExperimentError> 
 }
 
 /// The arguments of `fetch-data`.
+///
+/// ```
+/// use clap::Parser;
+/// use msd_experiment::cli::FetchArgs;
+/// #[derive(Parser)]
+/// struct Cli {
+///     #[command(flatten)]
+///     fetch: FetchArgs,
+/// }
+/// let cli = Cli::parse_from(["msd", "silverbox", "--url", "file:///tmp/SilverboxFiles.zip"]);
+/// assert_eq!(cli.fetch.url.as_deref(), Some("file:///tmp/SilverboxFiles.zip"));
+/// assert!(Cli::try_parse_from(["msd", "silverbox", "--url", "x.zip", "--from", "dir"]).is_err());
+/// ```
 #[derive(Debug, Clone, clap::Args)]
 pub struct FetchArgs {
     /// The data set: silverbox.
     pub set: String,
     /// A local copy of the set's files to take them from [default: ../shared/data/real/SET
-    /// beside the workspace].
+    /// beside the workspace, when it exists].
     #[arg(long, value_name = "DIR")]
     pub from: Option<PathBuf>,
+    /// Download the set's archive from here instead of the official one: an http(s) URL
+    /// (a lab's own mirror), a file:// URL or the path of a zip already downloaded. Used
+    /// when no local copy of the files is found, or whenever it is given.
+    #[arg(long, value_name = "URL", conflicts_with = "from")]
+    pub url: Option<String>,
     /// Where to put them [default: data/SET in the workspace, or in the current folder].
     #[arg(long, value_name = "DIR")]
     pub into: Option<PathBuf>,
 }
 
-/// `fetch-data`: copies the set's files from `from` (else `default_from`) into `into`
-/// (else `default_root/<set>`), each checked by size and SHA-256, and says what it did.
+/// `fetch-data`: puts the set's files into `into` (else `default_root/<set>`), each
+/// checked by size and SHA-256, and says what it did. They are copied from `from` (an
+/// error when it is not a folder), else from `default_from/<set>` when that folder
+/// exists; otherwise, or when `url` is given, they are downloaded from the set's archive
+/// (`url`, else the official one).
+///
+/// ```
+/// use msd_experiment::cli::{FetchArgs, fetch_data};
+/// let dir = tempfile::tempdir().unwrap();
+/// let args = FetchArgs {
+///     set: "silverbox".into(),
+///     from: None,
+///     url: Some(dir.path().join("missing.zip").display().to_string()),
+///     into: None,
+/// };
+/// let err = fetch_data(&args, dir.path(), dir.path()).unwrap_err();
+/// assert!(err.to_string().contains("cannot read the archive"), "{err}");
+/// assert_eq!(err.exit_code(), 2);
+/// assert!(!dir.path().join("silverbox").exists());
+/// ```
 pub fn fetch_data(
     args: &FetchArgs,
     default_from: &Path,
     default_root: &Path,
 ) -> Result<(), ExperimentError> {
     let set = crate::fetch::set_named(&args.set)?;
-    let from = args
-        .from
-        .clone()
-        .unwrap_or_else(|| default_from.join(set.name));
     let into = args
         .into
         .clone()
         .unwrap_or_else(|| default_root.join(set.name));
-    if !from.is_dir() {
-        return Err(ExperimentError::data(
-            &from,
-            format!(
-                "no local copy of the {} files here: give --from DIR with {} (downloading the official archive is not implemented yet)",
-                set.name,
-                set.files.map(|f| f.name).join(" and ")
-            ),
-        ));
-    }
-    for path in crate::fetch::fetch(&set, &from, &into)? {
+    let mirror = match (&args.from, &args.url) {
+        (Some(from), _) if !from.is_dir() => {
+            return Err(ExperimentError::data(
+                from,
+                format!(
+                    "no local copy of the {} files here: give --from DIR with {}, or leave --from out to download the official archive",
+                    set.name,
+                    set.files.map(|f| f.name).join(" and ")
+                ),
+            ));
+        }
+        (Some(from), _) => Some(from.clone()),
+        (None, Some(_)) => None,
+        (None, None) => Some(default_from.join(set.name)).filter(|d| d.is_dir()),
+    };
+    let placed = match mirror {
+        Some(from) => crate::fetch::fetch(&set, &from, &into)?,
+        None => {
+            let url = args.url.as_deref().unwrap_or(set.archive.url);
+            let ready =
+                (set.files.iter()).all(|f| crate::fetch::verify(&into.join(f.name), f).is_ok());
+            if !ready && args.url.is_none() {
+                let mirror = default_from.join(set.name);
+                eprintln!(
+                    "no local copy in {}: downloading the official archive {url} …",
+                    mirror.display()
+                );
+            } else if !ready {
+                eprintln!("downloading {url} …");
+            }
+            let options = crate::fetch::DownloadOptions::default();
+            crate::fetch::download(&set, url, &into, &options)?
+        }
+    };
+    for path in placed {
         println!("{} (size and SHA-256 checked)", path.display());
     }
     Ok(())
