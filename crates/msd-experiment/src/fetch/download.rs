@@ -241,25 +241,22 @@ fn member_name(
     if zip.index_for_name(&path).is_some() {
         return Ok(path);
     }
-    let members: Vec<String> = zip
-        .file_names_raw()
-        .map(|n| String::from_utf8_lossy(n).into_owned())
-        .collect();
-    let same_name: Vec<&String> = members
+    let mut members: Vec<&str> = zip.file_names().collect();
+    members.sort_unstable();
+    let same_name: Vec<&str> = members
         .iter()
+        .copied()
         .filter(|n| n.rsplit('/').next() == Some(file.name))
         .collect();
     if let [only] = same_name.as_slice() {
-        return Ok((*only).clone());
+        return Ok((*only).to_string());
     }
-    let mut shown: Vec<&str> = members.iter().map(String::as_str).collect();
-    shown.sort_unstable();
-    let more = if shown.len() > 12 { ", …" } else { "" };
-    shown.truncate(12);
+    let count = members.len();
+    let more = if count > 12 { ", …" } else { "" };
+    members.truncate(12);
     Err(format!(
-        "no member {path} in the archive ({} members: {}{more})",
-        members.len(),
-        shown.join(", ")
+        "no member {path} in the archive ({count} members: {}{more})",
+        members.join(", ")
     ))
 }
 
