@@ -6,6 +6,7 @@
 use clap::{Parser, Subcommand};
 use msd_experiment::ExperimentError;
 use msd_experiment::cli::{self, RunArgs};
+use msd_experiment::fetch;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -71,11 +72,7 @@ fn try_main() -> Result<(), ExperimentError> {
             Ok(())
         }
         Some(Command::Experiment(args)) => experiment(args),
-        Some(Command::FetchData(args)) => {
-            let root = xtask::project_root();
-            let shared = root.join("..").join("shared").join("data").join("real");
-            cli::fetch_data(&args, &shared, &root.join("data"))
-        }
+        Some(Command::FetchData(args)) => fetch_data(&args),
         Some(Command::Bench(args)) => bench_in_release(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
         Some(Command::BenchPeakMemory { config }) => {
@@ -88,6 +85,54 @@ fn try_main() -> Result<(), ExperimentError> {
 fn experiment(args: RunArgs) -> Result<(), ExperimentError> {
     let options = args.options(Some(xtask::results_root()), "cargo xtask experiment");
     cli::run(&args, &options)
+}
+
+/// `fetch-data`: the library's, into `data/SET/` in the workspace from
+/// `../shared/data/real/SET/` beside it; a download goes through the `msd` command when
+/// xtask is built without HTTP support (its default, for a lean first build).
+fn fetch_data(args: &cli::FetchArgs) -> Result<(), ExperimentError> {
+    let root = xtask::project_root();
+    let shared = root.join("..").join("shared").join("data").join("real");
+    let plan = cli::fetch_plan(args, &shared, &root.join("data"))?;
+    match &plan.source {
+        cli::FetchSource::Archive(url) if plan.needs_http() && !fetch::HTTP_SUPPORT => {
+            fetch_with_msd(&plan, url)
+        }
+        _ => cli::run_fetch(&plan),
+    }
+}
+
+/// Runs `msd fetch-data` (msd-experiment's command, built with HTTP support) for `plan`.
+fn fetch_with_msd(plan: &cli::FetchPlan, url: &str) -> Result<(), ExperimentError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    eprintln!("downloading through the `msd` command (its first build takes about a minute) …");
+    let status = std::process::Command::new(cargo)
+        .current_dir(xtask::project_root())
+        .args([
+            "run",
+            "--quiet",
+            "-p",
+            "msd-experiment",
+            "--bin",
+            "msd",
+            "--",
+        ])
+        .args(["fetch-data", plan.set.name, "--url", url, "--into"])
+        .arg(&plan.into)
+        .status()
+        .map_err(|e| ExperimentError::run("fetch-data", format!("running cargo: {e}")))?;
+    match status.code() {
+        Some(0) => Ok(()),
+        // msd said why (on stderr); its exit status is the crate's: a download error.
+        Some(2) => Err(ExperimentError::download(
+            url,
+            "`msd fetch-data` failed (above)",
+        )),
+        _ => Err(ExperimentError::run(
+            "fetch-data",
+            format!("`msd fetch-data` failed ({status})"),
+        )),
+    }
 }
 
 /// `bench`: build xtask in release and run `bench-run` there (the dev profile would

@@ -139,11 +139,149 @@ pub struct FetchArgs {
     pub into: Option<PathBuf>,
 }
 
-/// `fetch-data`: puts the set's files into `into` (else `default_root/<set>`), each
-/// checked by size and SHA-256, and says what it did. They are copied from `from` (an
+/// Where `fetch-data` takes a set's files from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FetchSource {
+    /// The files are already in place, checked: nothing to take.
+    Ready,
+    /// A folder holding the files (a local copy).
+    Mirror(PathBuf),
+    /// The set's archive: a URL, a `file://` URL or a zip's path.
+    Archive(String),
+}
+
+/// What `fetch-data` will do: the set, where its files go, and where they come from.
+///
+/// ```
+/// use msd_experiment::cli::{FetchArgs, FetchSource, fetch_plan};
+/// let dir = tempfile::tempdir().unwrap();
+/// let args = FetchArgs { set: "silverbox".into(), from: None, url: None, into: None };
+/// // No local copy beside: the official archive, on the web.
+/// let plan = fetch_plan(&args, dir.path(), dir.path()).unwrap();
+/// assert_eq!(plan.into, dir.path().join("silverbox"));
+/// assert!(matches!(&plan.source, FetchSource::Archive(url) if url.contains("drive.google.com")));
+/// assert!(plan.needs_http());
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FetchPlan {
+    /// The data set.
+    pub set: crate::fetch::DataSetFiles,
+    /// The folder its files go into.
+    pub into: PathBuf,
+    /// Where they come from.
+    pub source: FetchSource,
+}
+
+impl FetchPlan {
+    /// Whether carrying it out downloads over HTTP or HTTPS (see
+    /// [`HTTP_SUPPORT`](crate::fetch::HTTP_SUPPORT)).
+    ///
+    /// ```
+    /// use msd_experiment::cli::{FetchPlan, FetchSource};
+    /// let plan = FetchPlan {
+    ///     set: msd_experiment::fetch::SILVERBOX,
+    ///     into: "data/silverbox".into(),
+    ///     source: FetchSource::Archive("file:///tmp/SilverboxFiles.zip".into()),
+    /// };
+    /// assert!(!plan.needs_http());
+    /// ```
+    pub fn needs_http(&self) -> bool {
+        matches!(&self.source, FetchSource::Archive(url) if crate::fetch::is_http(url))
+    }
+}
+
+/// `fetch-data`'s plan: the files go into `into` (else `default_root/<set>`). They are
+/// already there when every one passes its check; else they are copied from `from` (an
 /// error when it is not a folder), else from `default_from/<set>` when that folder
 /// exists; otherwise, or when `url` is given, they are downloaded from the set's archive
 /// (`url`, else the official one).
+///
+/// ```
+/// use msd_experiment::cli::{FetchArgs, fetch_plan};
+/// let dir = tempfile::tempdir().unwrap();
+/// let args = FetchArgs {
+///     set: "silverbox".into(),
+///     from: Some(dir.path().join("nothing here")),
+///     url: None,
+///     into: None,
+/// };
+/// let err = fetch_plan(&args, dir.path(), dir.path()).unwrap_err();
+/// assert!(err.to_string().contains("no local copy of the silverbox files here"), "{err}");
+/// ```
+pub fn fetch_plan(
+    args: &FetchArgs,
+    default_from: &Path,
+    default_root: &Path,
+) -> Result<FetchPlan, ExperimentError> {
+    let set = crate::fetch::set_named(&args.set)?;
+    let into = args
+        .into
+        .clone()
+        .unwrap_or_else(|| default_root.join(set.name));
+    if let Some(from) = args.from.as_ref().filter(|from| !from.is_dir()) {
+        return Err(ExperimentError::data(
+            from,
+            format!(
+                "no local copy of the {} files here: give --from DIR with {}, or leave --from out to download the official archive",
+                set.name,
+                set.files.map(|f| f.name).join(" and ")
+            ),
+        ));
+    }
+    let ready = (set.files.iter()).all(|f| crate::fetch::verify(&into.join(f.name), f).is_ok());
+    let source = match (&args.from, &args.url) {
+        _ if ready => FetchSource::Ready,
+        (Some(from), _) => FetchSource::Mirror(from.clone()),
+        (None, Some(url)) => FetchSource::Archive(url.clone()),
+        (None, None) => {
+            let mirror = default_from.join(set.name);
+            if mirror.is_dir() {
+                FetchSource::Mirror(mirror)
+            } else {
+                eprintln!(
+                    "no local copy in {}: taking the official archive",
+                    mirror.display()
+                );
+                FetchSource::Archive(set.archive.url.to_string())
+            }
+        }
+    };
+    Ok(FetchPlan { set, into, source })
+}
+
+/// Carries out `plan` and says what it did: the files in place, each checked by size
+/// and SHA-256.
+///
+/// ```
+/// use msd_experiment::cli::{FetchPlan, FetchSource, run_fetch};
+/// let dir = tempfile::tempdir().unwrap();
+/// let plan = FetchPlan {
+///     set: msd_experiment::fetch::SILVERBOX,
+///     into: dir.path().join("silverbox"),
+///     source: FetchSource::Mirror(dir.path().join("empty")),
+/// };
+/// let err = run_fetch(&plan).unwrap_err();
+/// assert!(err.to_string().contains("cannot read the silverbox file"), "{err}");
+/// assert!(!plan.into.exists());
+/// ```
+pub fn run_fetch(plan: &FetchPlan) -> Result<(), ExperimentError> {
+    let FetchPlan { set, into, source } = plan;
+    let placed = match source {
+        FetchSource::Ready => set.files.iter().map(|f| into.join(f.name)).collect(),
+        FetchSource::Mirror(from) => crate::fetch::fetch(set, from, into)?,
+        FetchSource::Archive(url) => {
+            eprintln!("downloading {url} …");
+            let options = crate::fetch::DownloadOptions::default();
+            crate::fetch::download(set, url, into, &options)?
+        }
+    };
+    for path in placed {
+        println!("{} (size and SHA-256 checked)", path.display());
+    }
+    Ok(())
+}
+
+/// `fetch-data`: [`run_fetch`] of the [`fetch_plan`].
 ///
 /// ```
 /// use msd_experiment::cli::{FetchArgs, fetch_data};
@@ -164,49 +302,7 @@ pub fn fetch_data(
     default_from: &Path,
     default_root: &Path,
 ) -> Result<(), ExperimentError> {
-    let set = crate::fetch::set_named(&args.set)?;
-    let into = args
-        .into
-        .clone()
-        .unwrap_or_else(|| default_root.join(set.name));
-    let mirror = match (&args.from, &args.url) {
-        (Some(from), _) if !from.is_dir() => {
-            return Err(ExperimentError::data(
-                from,
-                format!(
-                    "no local copy of the {} files here: give --from DIR with {}, or leave --from out to download the official archive",
-                    set.name,
-                    set.files.map(|f| f.name).join(" and ")
-                ),
-            ));
-        }
-        (Some(from), _) => Some(from.clone()),
-        (None, Some(_)) => None,
-        (None, None) => Some(default_from.join(set.name)).filter(|d| d.is_dir()),
-    };
-    let placed = match mirror {
-        Some(from) => crate::fetch::fetch(&set, &from, &into)?,
-        None => {
-            let url = args.url.as_deref().unwrap_or(set.archive.url);
-            let ready =
-                (set.files.iter()).all(|f| crate::fetch::verify(&into.join(f.name), f).is_ok());
-            if !ready && args.url.is_none() {
-                let mirror = default_from.join(set.name);
-                eprintln!(
-                    "no local copy in {}: downloading the official archive {url} …",
-                    mirror.display()
-                );
-            } else if !ready {
-                eprintln!("downloading {url} …");
-            }
-            let options = crate::fetch::DownloadOptions::default();
-            crate::fetch::download(&set, url, &into, &options)?
-        }
-    };
-    for path in placed {
-        println!("{} (size and SHA-256 checked)", path.display());
-    }
-    Ok(())
+    run_fetch(&fetch_plan(args, default_from, default_root)?)
 }
 
 /// Prints `result`'s error on stderr as `error: …` and gives the exit status.

@@ -24,11 +24,23 @@
 
 mod download;
 
-pub use download::{DownloadOptions, direct_url, download};
+pub use download::{DownloadOptions, direct_url, download, is_http};
 
 use crate::{ExperimentError, Result};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
+
+/// Whether this build downloads over HTTP and HTTPS (msd-experiment's `download` feature,
+/// on by default and in the `msd` command; xtask builds without it). Without it,
+/// [`download`] takes local archives only.
+///
+/// ```
+/// use msd_experiment::fetch::{HTTP_SUPPORT, SILVERBOX, is_http};
+/// // The official archive is on the web: this build fetches it only with HTTP support.
+/// assert!(is_http(SILVERBOX.archive.url));
+/// println!("can download it: {HTTP_SUPPORT}");
+/// ```
+pub const HTTP_SUPPORT: bool = cfg!(feature = "download");
 
 /// One file of a data set, as published.
 ///

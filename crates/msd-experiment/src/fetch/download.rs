@@ -44,8 +44,9 @@ impl Default for DownloadOptions {
 /// returns the set's files in `into`.
 ///
 /// `url` is an `http://` or `https://` URL (a Google Drive link is turned into a direct
-/// download by [`direct_url`]; redirects are followed), a `file://` URL or the path of a
-/// zip already downloaded; pass `set.archive.url` for the official archive. Each file is
+/// download by [`direct_url`]; redirects are followed; only with the `download` feature,
+/// see [`HTTP_SUPPORT`](super::HTTP_SUPPORT)), a `file://` URL or the path of a zip
+/// already downloaded; pass `set.archive.url` for the official archive. Each file is
 /// the member [`Archive::member_path`](super::Archive::member_path) of the zip (or, when
 /// that path is absent, the one member of the same file name). Files already in `into`
 /// that pass their check are left as they are, and when all do nothing is downloaded.
@@ -75,7 +76,7 @@ pub fn download(
     if wanted.is_empty() {
         return place(set, into, &[]);
     }
-    let archive = if url.starts_with("http://") || url.starts_with("https://") {
+    let archive = if is_http(url) {
         http_get(&direct_url(url), options)?
     } else {
         read_local(url, options)?
@@ -94,6 +95,19 @@ pub fn download(
         checked.push((file, bytes));
     }
     place(set, into, &checked)
+}
+
+/// Whether `url` is taken over the network (`http://` or `https://`), which needs the
+/// `download` feature, rather than from a file.
+///
+/// ```
+/// use msd_experiment::fetch::is_http;
+/// assert!(is_http("https://drive.google.com/file/d/ID/view"));
+/// assert!(!is_http("file:///tmp/SilverboxFiles.zip"));
+/// assert!(!is_http("SilverboxFiles.zip"));
+/// ```
+pub fn is_http(url: &str) -> bool {
+    url.starts_with("http://") || url.starts_with("https://")
 }
 
 /// The direct download of a Google Drive link
@@ -121,6 +135,7 @@ pub fn direct_url(url: &str) -> Cow<'_, str> {
 }
 
 /// The body of a GET of `url`: the whole of it, or an error saying what went wrong.
+#[cfg(feature = "download")]
 fn http_get(url: &str, options: &DownloadOptions) -> Result<Vec<u8>> {
     let agent: ureq::Agent = ureq::Agent::config_builder()
         .http_status_as_error(false)
@@ -198,6 +213,16 @@ fn http_get(url: &str, options: &DownloadOptions) -> Result<Vec<u8>> {
         ));
     }
     Ok(body)
+}
+
+/// Without the `download` feature: an error saying so, and what to do instead.
+#[cfg(not(feature = "download"))]
+fn http_get(url: &str, _: &DownloadOptions) -> Result<Vec<u8>> {
+    Err(ExperimentError::download(
+        url,
+        "this build cannot download (msd-experiment without its `download` feature): \
+         use the `msd` command, or download the archive yourself and give its path",
+    ))
 }
 
 /// The bytes of the zip at the local path or `file://` URL `url`.
