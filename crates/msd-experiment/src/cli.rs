@@ -238,10 +238,6 @@ pub fn fetch_plan(
             if mirror.is_dir() {
                 FetchSource::Mirror(mirror)
             } else {
-                eprintln!(
-                    "no local copy in {}: taking the official archive",
-                    mirror.display()
-                );
                 FetchSource::Archive(set.archive.url.to_string())
             }
         }
@@ -270,7 +266,12 @@ pub fn run_fetch(plan: &FetchPlan) -> Result<(), ExperimentError> {
         FetchSource::Ready => set.files.iter().map(|f| into.join(f.name)).collect(),
         FetchSource::Mirror(from) => crate::fetch::fetch(set, from, into)?,
         FetchSource::Archive(url) => {
-            eprintln!("downloading {url} …");
+            let which = if url == set.archive.url {
+                "the official archive, "
+            } else {
+                ""
+            };
+            eprintln!("downloading {which}{url} …");
             let options = crate::fetch::DownloadOptions::default();
             crate::fetch::download(set, url, into, &options)?
         }
