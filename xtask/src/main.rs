@@ -6,6 +6,7 @@
 use clap::{Parser, Subcommand};
 use msd_experiment::ExperimentError;
 use msd_experiment::cli::{self, RunArgs};
+use msd_experiment::fetch;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -33,9 +34,9 @@ enum Command {
     /// results.json.
     #[command(long_about = cli::RUN_HELP)]
     Experiment(RunArgs),
-    /// Copy a real data set (silverbox) into data/SET/ in the workspace, each file
-    /// checked by size and SHA-256 (from ../shared/data/real/SET/ beside the workspace,
-    /// or --from DIR).
+    /// Put a real data set (silverbox) into data/SET/ in the workspace, each file
+    /// checked by size and SHA-256: copied from ../shared/data/real/SET/ beside the
+    /// workspace (or --from DIR), else downloaded from the official archive (or --url).
     FetchData(cli::FetchArgs),
     /// Predict the precision of a planned test before running it (Cramér–Rao bound from
     /// the exact sensitivities): standard errors and 95 % half-widths of m, c, k, fn, ζ,
@@ -84,11 +85,7 @@ fn try_main() -> Result<(), ExperimentError> {
         }
         Some(Command::Experiment(args)) => experiment(args),
         Some(Command::Plan(args)) => msd_experiment::plan::run_plan(&args),
-        Some(Command::FetchData(args)) => {
-            let root = xtask::project_root();
-            let shared = root.join("..").join("shared").join("data").join("real");
-            cli::fetch_data(&args, &shared, &root.join("data"))
-        }
+        Some(Command::FetchData(args)) => fetch_data(&args),
         Some(Command::Bench(args)) => bench_in_release(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
         Some(Command::CheckReport { dir }) => check_report(dir),
@@ -131,6 +128,54 @@ fn check_report(dir: Option<PathBuf>) -> Result<(), ExperimentError> {
         dir.join("browser").display()
     );
     Ok(())
+}
+
+/// `fetch-data`: the library's, into `data/SET/` in the workspace from
+/// `../shared/data/real/SET/` beside it; a download goes through the `msd` command when
+/// xtask is built without HTTP support (its default, for a lean first build).
+fn fetch_data(args: &cli::FetchArgs) -> Result<(), ExperimentError> {
+    let root = xtask::project_root();
+    let shared = root.join("..").join("shared").join("data").join("real");
+    let plan = cli::fetch_plan(args, &shared, &root.join("data"))?;
+    match &plan.source {
+        cli::FetchSource::Archive(url) if plan.needs_http() && !fetch::HTTP_SUPPORT => {
+            fetch_with_msd(&plan, url)
+        }
+        _ => cli::run_fetch(&plan),
+    }
+}
+
+/// Runs `msd fetch-data` (msd-experiment's command, built with HTTP support) for `plan`.
+fn fetch_with_msd(plan: &cli::FetchPlan, url: &str) -> Result<(), ExperimentError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    eprintln!("downloading through the `msd` command (its first build takes about a minute) …");
+    let status = std::process::Command::new(cargo)
+        .current_dir(xtask::project_root())
+        .args([
+            "run",
+            "--quiet",
+            "-p",
+            "msd-experiment",
+            "--bin",
+            "msd",
+            "--",
+        ])
+        .args(["fetch-data", plan.set.name, "--url", url, "--into"])
+        .arg(&plan.into)
+        .status()
+        .map_err(|e| ExperimentError::run("fetch-data", format!("running cargo: {e}")))?;
+    match status.code() {
+        Some(0) => Ok(()),
+        // msd said why (on stderr); its exit status is the crate's: a download error.
+        Some(2) => Err(ExperimentError::download(
+            url,
+            "`msd fetch-data` failed (above)",
+        )),
+        _ => Err(ExperimentError::run(
+            "fetch-data",
+            format!("`msd fetch-data` failed ({status})"),
+        )),
+    }
 }
 
 /// `bench`: build xtask in release and run `bench-run` there (the dev profile would

@@ -108,49 +108,202 @@ pub fn run(args: &RunArgs, options: &RunOptions) -> Result<(), ExperimentError> 
 }
 
 /// The arguments of `fetch-data`.
+///
+/// ```
+/// use clap::Parser;
+/// use msd_experiment::cli::FetchArgs;
+/// #[derive(Parser)]
+/// struct Cli {
+///     #[command(flatten)]
+///     fetch: FetchArgs,
+/// }
+/// let cli = Cli::parse_from(["msd", "silverbox", "--url", "file:///tmp/SilverboxFiles.zip"]);
+/// assert_eq!(cli.fetch.url.as_deref(), Some("file:///tmp/SilverboxFiles.zip"));
+/// assert!(Cli::try_parse_from(["msd", "silverbox", "--url", "x.zip", "--from", "dir"]).is_err());
+/// ```
 #[derive(Debug, Clone, clap::Args)]
 pub struct FetchArgs {
     /// The data set: silverbox.
     pub set: String,
     /// A local copy of the set's files to take them from [default: ../shared/data/real/SET
-    /// beside the workspace].
+    /// beside the workspace, when it exists].
     #[arg(long, value_name = "DIR")]
     pub from: Option<PathBuf>,
+    /// Download the set's archive from here instead of the official one: an http(s) URL
+    /// (a lab's own mirror), a file:// URL or the path of a zip already downloaded. Used
+    /// when no local copy of the files is found, or whenever it is given.
+    #[arg(long, value_name = "URL", conflicts_with = "from")]
+    pub url: Option<String>,
     /// Where to put them [default: data/SET in the workspace, or in the current folder].
     #[arg(long, value_name = "DIR")]
     pub into: Option<PathBuf>,
 }
 
-/// `fetch-data`: copies the set's files from `from` (else `default_from`) into `into`
-/// (else `default_root/<set>`), each checked by size and SHA-256, and says what it did.
-pub fn fetch_data(
+/// Where `fetch-data` takes a set's files from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FetchSource {
+    /// The files are already in place, checked: nothing to take.
+    Ready,
+    /// A folder holding the files (a local copy).
+    Mirror(PathBuf),
+    /// The set's archive: a URL, a `file://` URL or a zip's path.
+    Archive(String),
+}
+
+/// What `fetch-data` will do: the set, where its files go, and where they come from.
+///
+/// ```
+/// use msd_experiment::cli::{FetchArgs, FetchSource, fetch_plan};
+/// let dir = tempfile::tempdir().unwrap();
+/// let args = FetchArgs { set: "silverbox".into(), from: None, url: None, into: None };
+/// // No local copy beside: the official archive, on the web.
+/// let plan = fetch_plan(&args, dir.path(), dir.path()).unwrap();
+/// assert_eq!(plan.into, dir.path().join("silverbox"));
+/// assert!(matches!(&plan.source, FetchSource::Archive(url) if url.contains("drive.google.com")));
+/// assert!(plan.needs_http());
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FetchPlan {
+    /// The data set.
+    pub set: crate::fetch::DataSetFiles,
+    /// The folder its files go into.
+    pub into: PathBuf,
+    /// Where they come from.
+    pub source: FetchSource,
+}
+
+impl FetchPlan {
+    /// Whether carrying it out downloads over HTTP or HTTPS (see
+    /// [`HTTP_SUPPORT`](crate::fetch::HTTP_SUPPORT)).
+    ///
+    /// ```
+    /// use msd_experiment::cli::{FetchPlan, FetchSource};
+    /// let plan = FetchPlan {
+    ///     set: msd_experiment::fetch::SILVERBOX,
+    ///     into: "data/silverbox".into(),
+    ///     source: FetchSource::Archive("file:///tmp/SilverboxFiles.zip".into()),
+    /// };
+    /// assert!(!plan.needs_http());
+    /// ```
+    pub fn needs_http(&self) -> bool {
+        matches!(&self.source, FetchSource::Archive(url) if crate::fetch::is_http(url))
+    }
+}
+
+/// `fetch-data`'s plan: the files go into `into` (else `default_root/<set>`). They are
+/// already there when every one passes its check; else they are copied from `from` (an
+/// error when it is not a folder), else from `default_from/<set>` when that folder
+/// exists; otherwise, or when `url` is given, they are downloaded from the set's archive
+/// (`url`, else the official one).
+///
+/// ```
+/// use msd_experiment::cli::{FetchArgs, fetch_plan};
+/// let dir = tempfile::tempdir().unwrap();
+/// let args = FetchArgs {
+///     set: "silverbox".into(),
+///     from: Some(dir.path().join("nothing here")),
+///     url: None,
+///     into: None,
+/// };
+/// let err = fetch_plan(&args, dir.path(), dir.path()).unwrap_err();
+/// assert!(err.to_string().contains("no local copy of the silverbox files here"), "{err}");
+/// ```
+pub fn fetch_plan(
     args: &FetchArgs,
     default_from: &Path,
     default_root: &Path,
-) -> Result<(), ExperimentError> {
+) -> Result<FetchPlan, ExperimentError> {
     let set = crate::fetch::set_named(&args.set)?;
-    let from = args
-        .from
-        .clone()
-        .unwrap_or_else(|| default_from.join(set.name));
     let into = args
         .into
         .clone()
         .unwrap_or_else(|| default_root.join(set.name));
-    if !from.is_dir() {
+    if let Some(from) = args.from.as_ref().filter(|from| !from.is_dir()) {
         return Err(ExperimentError::data(
-            &from,
+            from,
             format!(
-                "no local copy of the {} files here: give --from DIR with {} (downloading the official archive is not implemented yet)",
+                "no local copy of the {} files here: give --from DIR with {}, or leave --from out to download the official archive",
                 set.name,
                 set.files.map(|f| f.name).join(" and ")
             ),
         ));
     }
-    for path in crate::fetch::fetch(&set, &from, &into)? {
+    let ready = (set.files.iter()).all(|f| crate::fetch::verify(&into.join(f.name), f).is_ok());
+    let source = match (&args.from, &args.url) {
+        _ if ready => FetchSource::Ready,
+        (Some(from), _) => FetchSource::Mirror(from.clone()),
+        (None, Some(url)) => FetchSource::Archive(url.clone()),
+        (None, None) => {
+            let mirror = default_from.join(set.name);
+            if mirror.is_dir() {
+                FetchSource::Mirror(mirror)
+            } else {
+                FetchSource::Archive(set.archive.url.to_string())
+            }
+        }
+    };
+    Ok(FetchPlan { set, into, source })
+}
+
+/// Carries out `plan` and says what it did: the files in place, each checked by size
+/// and SHA-256.
+///
+/// ```
+/// use msd_experiment::cli::{FetchPlan, FetchSource, run_fetch};
+/// let dir = tempfile::tempdir().unwrap();
+/// let plan = FetchPlan {
+///     set: msd_experiment::fetch::SILVERBOX,
+///     into: dir.path().join("silverbox"),
+///     source: FetchSource::Mirror(dir.path().join("empty")),
+/// };
+/// let err = run_fetch(&plan).unwrap_err();
+/// assert!(err.to_string().contains("cannot read the silverbox file"), "{err}");
+/// assert!(!plan.into.exists());
+/// ```
+pub fn run_fetch(plan: &FetchPlan) -> Result<(), ExperimentError> {
+    let FetchPlan { set, into, source } = plan;
+    let placed = match source {
+        FetchSource::Ready => set.files.iter().map(|f| into.join(f.name)).collect(),
+        FetchSource::Mirror(from) => crate::fetch::fetch(set, from, into)?,
+        FetchSource::Archive(url) => {
+            let which = if url == set.archive.url {
+                "the official archive, "
+            } else {
+                ""
+            };
+            eprintln!("downloading {which}{url} …");
+            let options = crate::fetch::DownloadOptions::default();
+            crate::fetch::download(set, url, into, &options)?
+        }
+    };
+    for path in placed {
         println!("{} (size and SHA-256 checked)", path.display());
     }
     Ok(())
+}
+
+/// `fetch-data`: [`run_fetch`] of the [`fetch_plan`].
+///
+/// ```
+/// use msd_experiment::cli::{FetchArgs, fetch_data};
+/// let dir = tempfile::tempdir().unwrap();
+/// let args = FetchArgs {
+///     set: "silverbox".into(),
+///     from: None,
+///     url: Some(dir.path().join("missing.zip").display().to_string()),
+///     into: None,
+/// };
+/// let err = fetch_data(&args, dir.path(), dir.path()).unwrap_err();
+/// assert!(err.to_string().contains("cannot read the archive"), "{err}");
+/// assert_eq!(err.exit_code(), 2);
+/// assert!(!dir.path().join("silverbox").exists());
+/// ```
+pub fn fetch_data(
+    args: &FetchArgs,
+    default_from: &Path,
+    default_root: &Path,
+) -> Result<(), ExperimentError> {
+    run_fetch(&fetch_plan(args, default_from, default_root)?)
 }
 
 /// Prints `result`'s error on stderr as `error: …` and gives the exit status.

@@ -1,5 +1,6 @@
-//! The one error type of msd-experiment, split by who has to act: the user (a bad config or bad
-//! data, exit status 2) or the toolkit (a failure during the run, exit status 1).
+//! The one error type of msd-experiment, split by who has to act: the user (a bad config, bad
+//! data or data that could not be downloaded, exit status 2) or the toolkit (a failure during
+//! the run, exit status 1).
 
 use std::path::Path;
 
@@ -32,6 +33,20 @@ pub enum ExperimentError {
         /// What is wrong, naming line and column, the value and what was expected.
         message: String,
     },
+    /// A data set's archive could not be downloaded or read, or what arrived is not the
+    /// published data (`fetch-data`).
+    #[error("{url}: {message}")]
+    Download {
+        /// Where the archive was taken from: the URL, or the local path of a zip.
+        url: String,
+        /// What happened: the HTTP status, the bytes expected and received, or the member
+        /// and both checksums; it ends with the cause's own text when there is one.
+        message: String,
+        /// The cause, when there is one: the HTTP client's error (`ureq::Error`), an I/O
+        /// error, or the zip reader's (`zip::result::ZipError`).
+        #[source]
+        source: Option<Box<dyn std::error::Error + Send + Sync>>,
+    },
     /// A stage failed while running (estimation, simulation, plotting, writing).
     #[error("{stage} failed: {source}")]
     Run {
@@ -60,6 +75,46 @@ impl ExperimentError {
         }
     }
 
+    /// A download error for the archive at `url`: `message` says what happened.
+    ///
+    /// ```
+    /// use msd_experiment::ExperimentError;
+    /// let e = ExperimentError::download("http://127.0.0.1:9/x.zip", "HTTP 404 Not Found");
+    /// assert_eq!(e.exit_code(), 2);
+    /// assert_eq!(e.to_string(), "http://127.0.0.1:9/x.zip: HTTP 404 Not Found");
+    /// ```
+    pub fn download(url: impl Into<String>, message: impl Into<String>) -> Self {
+        Self::Download {
+            url: url.into(),
+            message: message.into(),
+            source: None,
+        }
+    }
+
+    /// A download error for the archive at `url` with its cause, whose text ends the
+    /// message (`"{message}: {cause}"`) and which stays the error's source.
+    ///
+    /// ```
+    /// use msd_experiment::ExperimentError;
+    /// use std::error::Error as _;
+    /// let cause = std::io::Error::from(std::io::ErrorKind::ConnectionRefused);
+    /// let e = ExperimentError::download_failed("http://127.0.0.1:9/x.zip", "cannot download", cause);
+    /// assert_eq!(e.to_string(), "http://127.0.0.1:9/x.zip: cannot download: connection refused");
+    /// assert!(e.source().unwrap().downcast_ref::<std::io::Error>().is_some());
+    /// ```
+    pub fn download_failed(
+        url: impl Into<String>,
+        message: impl std::fmt::Display,
+        source: impl Into<Box<dyn std::error::Error + Send + Sync>>,
+    ) -> Self {
+        let source = source.into();
+        Self::Download {
+            url: url.into(),
+            message: format!("{message}: {source}"),
+            source: Some(source),
+        }
+    }
+
     /// A failure of `stage`, keeping its cause: a library error (kept as the source) or a
     /// message.
     ///
@@ -82,16 +137,17 @@ impl ExperimentError {
         }
     }
 
-    /// The process exit status: 2 for a bad config or bad data, 1 for a failure during
-    /// the run.
+    /// The process exit status: 2 for a bad config, bad data or a failed download (the
+    /// user has to act: fix the URL or the network, or give a local copy), 1 for a failure
+    /// during the run.
     pub fn exit_code(&self) -> u8 {
         match self {
-            Self::Config { .. } | Self::Data { .. } => 2,
+            Self::Config { .. } | Self::Data { .. } | Self::Download { .. } => 2,
             Self::Run { .. } => 1,
         }
     }
 
-    /// Whether the user has to fix their input (config or data).
+    /// Whether the user has to fix their input (config or data, or fetch the data).
     pub fn is_input_error(&self) -> bool {
         self.exit_code() == 2
     }

@@ -31,8 +31,9 @@ enum Command {
     /// results.json.
     #[command(long_about = cli::RUN_HELP)]
     Run(RunArgs),
-    /// Copy a real data set (silverbox) into ./data/SET/, each file checked by size and
-    /// SHA-256.
+    /// Put a real data set (silverbox) into ./data/SET/, each file checked by size and
+    /// SHA-256: copied from ../shared/data/real/SET/ (or --from DIR) when it exists, else
+    /// downloaded from the official archive (or --url).
     FetchData(cli::FetchArgs),
     /// Predict the precision of a planned test before running it (Cramér–Rao bound from
     /// the exact sensitivities): standard errors and 95 % half-widths of m, c, k, fn, ζ,

@@ -409,6 +409,7 @@ proptest! {
                     }
                     ExperimentError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
                     ExperimentError::Data { .. } => prop_assert!(false, "no data file here: {text}"),
+                    ExperimentError::Download { .. } => prop_assert!(false, "a run downloads nothing: {text}"),
                 }
                 prop_assert_eq!(listing(dir.path()), vec!["tiny.toml".to_string()], "{}", text);
             }

@@ -371,6 +371,9 @@ proptest! {
                         prop_assert!(damages.iter().any(|d| matches!(d, Damage::Cell { .. })) || output_scale > 1.0,
                             "refused without damage: {message} ({damages:?})");
                     }
+                    (ExperimentError::Download { .. }, None) => {
+                        prop_assert!(false, "a run downloads nothing: {message}");
+                    }
                     (ExperimentError::Run { .. }, None) => {
                         prop_assert_eq!(e.exit_code(), 1);
                         prop_assert!(damages.iter().any(|d| matches!(d, Damage::Cell { .. })) || output_scale > 1.0,

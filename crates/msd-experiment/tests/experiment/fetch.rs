@@ -1,8 +1,8 @@
 //! Fetching a data set from a local mirror: good files are put in place, checked; a
-//! wrong checksum, a truncated file or a missing one leaves nothing behind and says
-//! what happened.
+//! wrong checksum, a truncated file or a missing one leaves nothing behind (not even the
+//! good files: all are checked before any is written) and says what happened.
 
-use msd_experiment::fetch::{DataFile, DataSetFiles, fetch, verify};
+use msd_experiment::fetch::{Archive, DataFile, DataSetFiles, fetch, verify};
 use std::path::Path;
 
 /// A set of two small files made by the test, with their true sizes and SHA-256s
@@ -21,6 +21,10 @@ const SET: DataSetFiles = DataSetFiles {
             sha256: "27dd8ed44a83ff94d557f9fd0412ed5a8cbca69ea04922d88c01184a07300a5a",
         },
     ],
+    archive: Archive {
+        url: "file:///no/such/tiny.zip",
+        folder: "tiny",
+    },
 };
 
 fn mirror(a: &[u8], b: Option<&[u8]>) -> tempfile::TempDir {
@@ -71,11 +75,8 @@ fn a_wrong_checksum_a_truncated_or_a_missing_file_leaves_nothing() {
         let err = fetch(&SET, from.path(), &target).expect_err("a bad mirror");
         assert_eq!(err.exit_code(), 2, "{err}");
         assert!(err.to_string().contains(fragment), "{err}");
-        let left: Vec<String> = names(&target)
-            .into_iter()
-            .filter(|n| n != "a.csv")
-            .collect();
-        assert!(left.is_empty(), "left behind: {left:?}");
+        // Every file is checked before any is written: not even the good a.csv is.
+        assert!(!target.exists(), "left behind: {:?}", names(&target));
     }
 }
 

@@ -1,6 +1,8 @@
 //! Integration tests of msd-experiment: one test binary, one module per topic.
 
 mod cli;
+#[cfg(feature = "download")]
+mod download;
 mod fetch;
 mod in_memory;
 mod plan;
