@@ -2,14 +2,11 @@
 
 use super::harness::{Budget, measure};
 use super::report::{Row, Target};
-use crate::{ExperimentError, Result};
+use super::rows::fail;
+use crate::Result;
 use msd_ident::{
     FrfWeighting, ModalOptions, ModalParameters, fit_modes, synthetic_frequency_response,
 };
-
-fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> ExperimentError {
-    move |e| ExperimentError::run(what, e)
-}
 
 /// Three modes (fn 10, 23, 41 Hz; ζ 1 %, 2 %, 0.5 %) in 2000 lines with 1 % noise:
 /// the stabilization diagram over orders 2–40 and the polish of every modal parameter

@@ -16,7 +16,8 @@ use msd_mc::{McOptions, monte_carlo_band};
 use msd_ode::Hold;
 use std::path::Path;
 
-fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> ExperimentError {
+/// A library error as the bench's error, naming what was measured.
+pub(super) fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> ExperimentError {
     move |e| ExperimentError::run(what, e)
 }
 

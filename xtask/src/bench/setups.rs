@@ -4,16 +4,13 @@
 
 use super::harness::{Budget, measure};
 use super::report::{Row, Target};
-use crate::{ExperimentError, Result};
+use super::rows::fail;
+use crate::Result;
 use msd_ident::{
     Backend, BaseExcitationOptions, DataSet, EstimationOptions, Excitation, FreeDecayOptions,
     InitialState, KnownParameter, PaperExperiment, Parameters, base_excitation, free_decay,
     predicted_uncertainty, simulate,
 };
-
-fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> ExperimentError {
-    move |e| ExperimentError::run(what, e)
-}
 
 /// Free decay, base excitation and the Cramér–Rao plan on records of the paper's length.
 pub fn setups(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Row>> {

@@ -209,6 +209,18 @@ impl Lines {
         }
     }
 
+    /// The weighted residuals (model − H)/σ of every line: real parts in the first half
+    /// of `out`, imaginary parts in the second (the layout of both fits' Jacobians).
+    pub(crate) fn weighted_residuals(&self, model: impl Fn(f64) -> Complex64, out: &mut [f64]) {
+        let n = self.omega.len();
+        debug_assert_eq!(out.len(), 2 * n);
+        for (k, ((&w, h), &s)) in self.omega.iter().zip(&self.h).zip(&self.sigma).enumerate() {
+            let e = (model(w) - h) / s;
+            out[k] = e.re;
+            out[n + k] = e.im;
+        }
+    }
+
     /// The normalised error ‖model − H‖/‖H‖ over the lines.
     pub(crate) fn relative_error(&self, model: impl Fn(f64) -> Complex64) -> f64 {
         let (mut sse, mut energy) = (0.0, 0.0);

@@ -356,19 +356,8 @@ impl LeastSquaresProblem for OneMode<'_> {
 
     fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
         let theta = self.theta(x);
-        let n = self.lines.omega.len();
-        for (k, ((&w, h), &s)) in self
-            .lines
-            .omega
-            .iter()
-            .zip(&self.lines.h)
-            .zip(&self.lines.sigma)
-            .enumerate()
-        {
-            let e = (receptance(&theta, w) - h) / s;
-            out[k] = e.re;
-            out[n + k] = e.im;
-        }
+        self.lines
+            .weighted_residuals(|w| receptance(&theta, w), out);
         true
     }
 

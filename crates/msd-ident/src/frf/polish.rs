@@ -181,19 +181,7 @@ impl LeastSquaresProblem for ModalProblem<'_> {
     fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
         self.set_theta(x);
         let theta = &self.theta;
-        let n = self.lines.omega.len();
-        for (k, ((&w, h), &s)) in self
-            .lines
-            .omega
-            .iter()
-            .zip(&self.lines.h)
-            .zip(&self.lines.sigma)
-            .enumerate()
-        {
-            let e = (model(theta, w) - h) / s;
-            out[k] = e.re;
-            out[n + k] = e.im;
-        }
+        self.lines.weighted_residuals(|w| model(theta, w), out);
         true
     }
 
