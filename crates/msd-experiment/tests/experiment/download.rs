@@ -3,35 +3,14 @@
 //! byte for byte; a wrong checksum, a truncated body, an HTTP error, a refused or stalled
 //! connection and a damaged archive leave nothing behind and say what happened.
 
+use crate::fetch::SET;
 use msd_experiment::ExperimentError;
-use msd_experiment::fetch::{Archive, DataFile, DataSetFiles, DownloadOptions, download};
+use msd_experiment::fetch::{DownloadOptions, download};
 use std::io::{Cursor, Read, Write};
 use std::net::{TcpListener, TcpStream};
 use std::path::Path;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
-
-/// Two small files, inside the folder `tiny/` of their archive, with their true sizes
-/// and SHA-256s (computed independently: `printf 'one\n' | sha256sum`).
-const SET: DataSetFiles = DataSetFiles {
-    name: "tiny",
-    files: [
-        DataFile {
-            name: "a.csv",
-            bytes: 4,
-            sha256: "2c8b08da5ce60398e1f19af0e5dccc744df274b826abe585eaba68c525434806",
-        },
-        DataFile {
-            name: "b.csv",
-            bytes: 4,
-            sha256: "27dd8ed44a83ff94d557f9fd0412ed5a8cbca69ea04922d88c01184a07300a5a",
-        },
-    ],
-    archive: Archive {
-        url: "http://127.0.0.1:9/unused.zip",
-        folder: "tiny",
-    },
-};
 
 /// `printf 'TWO\n' | sha256sum`.
 const SHA256_OF_TWO_UPPER: &str =

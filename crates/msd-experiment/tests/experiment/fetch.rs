@@ -6,8 +6,9 @@ use msd_experiment::fetch::{Archive, DataFile, DataSetFiles, fetch, verify};
 use std::path::Path;
 
 /// A set of two small files made by the test, with their true sizes and SHA-256s
-/// (computed independently: `printf 'one\n' | sha256sum`).
-const SET: DataSetFiles = DataSetFiles {
+/// (computed independently: `printf 'one\n' | sha256sum`), in the folder `tiny/` of
+/// their archive (the download tests serve it; these never read the URL).
+pub(crate) const SET: DataSetFiles = DataSetFiles {
     name: "tiny",
     files: [
         DataFile {
