@@ -206,8 +206,12 @@ pub fn plan(config_path: &Path, options: &PlanOptions) -> Result<Plan> {
     let verified = verify(&config, config_path, options.verify)?;
     let mut quantities = Vec::new();
     for (q, iv) in intervals(&uncertainty).into_iter().enumerate() {
-        let duration_needed_s =
-            duration_needed(&config, |c| Ok(widths(&predict(c)?.0)[q]), options.target)?;
+        let duration_needed_s = duration_needed(
+            &config,
+            now[q],
+            |c| Ok(widths(&predict(c)?.0)[q]),
+            options.target,
+        )?;
         quantities.push(PlannedQuantity {
             name: names[q],
             value: iv.value,
@@ -246,9 +250,11 @@ fn intervals(u: &Uncertainty) -> [msd_ident::Interval; 5] {
 }
 
 /// The shortest record (to 1 %) whose predicted relative half-width `width(config)` is
-/// within `target`: doubling the duration up to 64×, then bisection.
+/// within `target`, given the config's own `now`: doubling the duration up to 64×, then
+/// bisection.
 fn duration_needed(
     config: &Config,
+    now: f64,
     width: impl Fn(&Config) -> Result<f64>,
     target: f64,
 ) -> Result<Option<f64>> {
@@ -260,7 +266,7 @@ fn duration_needed(
         c.time = Some(crate::config::TimeGrid { duration, ..time });
         width(&c)
     };
-    if at(time.duration)? <= target {
+    if now <= target {
         return Ok(Some(time.duration));
     }
     let (mut low, mut high) = (time.duration, time.duration);
