@@ -45,7 +45,9 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::{Path, PathBuf};
 
 mod nonlinear;
+mod setup;
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
+pub use setup::{ExcitationKind, Frame, Quantity, Response, SetupSection, StrokeCondition};
 
 /// A whole experiment config.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -59,6 +61,10 @@ pub struct Config {
     /// Seed of every random draw (noise, Monte Carlo, multistart). By default 1.
     #[serde(default = "default_seed")]
     pub seed: u64,
+    /// What drives the plant and what is measured (off unless given: a force and one
+    /// displacement channel, the paper's setup).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub setup: Option<SetupSection>,
     /// The true plant (synthetic experiments).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plant: Option<Plant>,
@@ -511,12 +517,17 @@ pub struct Range {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DataSection {
-    /// The CSV file, relative to the config file.
-    pub path: PathBuf,
-    /// The input (force) column.
-    pub input: Column,
-    /// The output (displacement) column.
-    pub output: Column,
+    /// The CSV file, relative to the config file; a `[setup]` config takes a list of
+    /// files, one record each (repeats of the test, all with the same columns).
+    pub path: Paths,
+    /// The input column: the force, or what `setup.excitation` names (the base's
+    /// motion, the imposed stroke). Not with `setup.excitation = "none"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub input: Option<Column>,
+    /// The output (displacement) column; a `[setup]` config names its response
+    /// columns in `setup.responses` instead.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output: Option<Column>,
     /// A time column (s); give this or `sample_rate`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<Column>,
@@ -553,6 +564,74 @@ pub struct DataSection {
     /// The part used for validation. By default the estimation part.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub validation: Option<Range>,
+}
+
+/// One file or several: `path = "run.csv"` or `path = ["run1.csv", "run2.csv"]`.
+///
+/// ```
+/// use msd_experiment::config::Paths;
+/// let one: Paths = toml::from_str::<toml::Table>("p = \"a.csv\"").unwrap()["p"].clone().try_into().unwrap();
+/// assert_eq!(one.0.len(), 1);
+/// let two: Paths = toml::Value::Array(vec!["a.csv".into(), "b.csv".into()]).try_into().unwrap();
+/// assert_eq!(two.to_string(), "[\"a.csv\", \"b.csv\"]");
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Paths(pub Vec<PathBuf>);
+
+impl Paths {
+    /// The first file (the only one of a classic config).
+    pub fn first(&self) -> &Path {
+        self.0.first().map_or(Path::new(""), PathBuf::as_path)
+    }
+
+    /// The key that names file `i` in messages: `data.path` for a single file, else
+    /// `data.path[i]`.
+    pub fn key(&self, i: usize) -> String {
+        if self.0.len() == 1 {
+            "data.path".into()
+        } else {
+            format!("data.path[{i}]")
+        }
+    }
+}
+
+impl std::fmt::Display for Paths {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0.as_slice() {
+            [one] => write!(f, "{:?}", one.display().to_string()),
+            many => {
+                let names: Vec<String> = many
+                    .iter()
+                    .map(|p| format!("{:?}", p.display().to_string()))
+                    .collect();
+                write!(f, "[{}]", names.join(", "))
+            }
+        }
+    }
+}
+
+impl Serialize for Paths {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self.0.as_slice() {
+            [one] => one.serialize(s),
+            many => many.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Paths {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged, expecting = "a file name or a list of file names")]
+        enum OneOrMany {
+            One(PathBuf),
+            Many(Vec<PathBuf>),
+        }
+        Ok(Paths(match OneOrMany::deserialize(d)? {
+            OneOrMany::One(p) => vec![p],
+            OneOrMany::Many(v) => v,
+        }))
+    }
 }
 
 fn default_delimiter() -> char {
@@ -660,6 +739,7 @@ impl Config {
             name: name.into(),
             description: String::new(),
             seed: default_seed(),
+            setup: None,
             plant: None,
             time: None,
             noise: None,
@@ -715,9 +795,10 @@ impl Config {
                 ),
             );
         }
-        match self.kind() {
-            Kind::Synthetic => self.validate_synthetic()?,
-            Kind::Measured => self.validate_measured()?,
+        match (&self.setup, self.kind()) {
+            (Some(setup), kind) => setup.validate_config(self, kind)?,
+            (None, Kind::Synthetic) => self.validate_synthetic()?,
+            (None, Kind::Measured) => self.validate_measured()?,
         }
         self.validate_options()
     }
@@ -798,58 +879,8 @@ impl Config {
                 "the validation input [validation.input]",
             );
         };
-        plant
-            .parameters()
-            .validate()
-            .map_err(|e| library_error("plant", e))?;
-        check_non_negative("plant.coulomb_force", plant.coulomb_force)?;
-        check_non_negative("plant.quadratic_damping", plant.quadratic_damping)?;
-        check_finite("plant.cubic_stiffness", plant.cubic_stiffness)?;
-        if plant.coulomb_force != 0.0 && plant.quadratic_damping != 0.0 {
-            return Err((
-                "plant.quadratic_damping".into(),
-                format!(
-                    " = {}: given with coulomb_force = {}: expected at most one nonlinear damping term (no model structure has both)",
-                    plant.quadratic_damping, plant.coulomb_force
-                ),
-            ));
-        }
-        check_finite(
-            "plant.initial_state.displacement",
-            plant.initial_state.displacement,
-        )?;
-        check_finite("plant.initial_state.velocity", plant.initial_state.velocity)?;
-        check_finite("time.start", time.start)?;
-        check_positive("time.dt", time.dt)?;
-        check_positive("time.duration", time.duration)?;
-        if time.duration < time.dt {
-            return Err((
-                "time.duration".into(),
-                format!(
-                    " = {}: expected at least one step dt = {} (the record would hold one sample)",
-                    time.duration, time.dt
-                ),
-            ));
-        }
-        let n = time.samples();
-        if n < MIN_SAMPLES {
-            return Err((
-                "time.duration".into(),
-                format!(
-                    " = {}: gives {n} samples at dt = {}: expected at least {MIN_SAMPLES}",
-                    time.duration, time.dt
-                ),
-            ));
-        }
-        if n > 50_000_000 {
-            return Err((
-                "time.dt".into(),
-                format!(
-                    " = {}: gives {n} samples: expected at most 50 000 000",
-                    time.dt
-                ),
-            ));
-        }
+        validate_plant(plant)?;
+        validate_time(time)?;
         check_non_negative("noise.sigma", noise.sigma)?;
         if let Err(e) = identification.input.validate() {
             return Err(("identification.input".into(), format!(": {e}")));
@@ -876,8 +907,33 @@ impl Config {
             }
         }
         let Some(d) = &self.data else { return Ok(()) };
-        if d.path.as_os_str().is_empty() {
-            return Err(("data.path".into(), " = \"\": expected a CSV file".into()));
+        if self.setup.is_none() {
+            match d.path.0.len() {
+                0 => return Err(("data.path".into(), " = []: expected a CSV file".into())),
+                1 => {}
+                n => {
+                    return Err((
+                        "data.path".into(),
+                        format!(
+                            " = {}: {n} files: expected one (several records are fitted together by a [setup] config)",
+                            d.path
+                        ),
+                    ));
+                }
+            }
+            for (key, column) in [("data.input", &d.input), ("data.output", &d.output)] {
+                if column.is_none() {
+                    return Err((
+                        key.into(),
+                        ": missing: expected the column (a header name or a 0-based index)".into(),
+                    ));
+                }
+            }
+        }
+        for (i, p) in d.path.0.iter().enumerate() {
+            if p.as_os_str().is_empty() {
+                return Err((d.path.key(i), " = \"\": expected a CSV file".into()));
+            }
         }
         match (&d.time, d.sample_rate) {
             (None, None) => {
@@ -950,6 +1006,68 @@ impl Config {
             .validate()
             .map_err(|e| library_error("estimation", e))
     }
+}
+
+/// Checks the `[plant]` section.
+fn validate_plant(plant: &Plant) -> std::result::Result<(), (String, String)> {
+    plant
+        .parameters()
+        .validate()
+        .map_err(|e| library_error("plant", e))?;
+    check_non_negative("plant.coulomb_force", plant.coulomb_force)?;
+    check_non_negative("plant.quadratic_damping", plant.quadratic_damping)?;
+    check_finite("plant.cubic_stiffness", plant.cubic_stiffness)?;
+    if plant.coulomb_force != 0.0 && plant.quadratic_damping != 0.0 {
+        return Err((
+            "plant.quadratic_damping".into(),
+            format!(
+                " = {}: given with coulomb_force = {}: expected at most one nonlinear damping term (no model structure has both)",
+                plant.quadratic_damping, plant.coulomb_force
+            ),
+        ));
+    }
+    check_finite(
+        "plant.initial_state.displacement",
+        plant.initial_state.displacement,
+    )?;
+    check_finite("plant.initial_state.velocity", plant.initial_state.velocity)?;
+    Ok(())
+}
+
+/// Checks the `[time]` section.
+fn validate_time(time: &TimeGrid) -> std::result::Result<(), (String, String)> {
+    check_finite("time.start", time.start)?;
+    check_positive("time.dt", time.dt)?;
+    check_positive("time.duration", time.duration)?;
+    if time.duration < time.dt {
+        return Err((
+            "time.duration".into(),
+            format!(
+                " = {}: expected at least one step dt = {} (the record would hold one sample)",
+                time.duration, time.dt
+            ),
+        ));
+    }
+    let n = time.samples();
+    if n < MIN_SAMPLES {
+        return Err((
+            "time.duration".into(),
+            format!(
+                " = {}: gives {n} samples at dt = {}: expected at least {MIN_SAMPLES}",
+                time.duration, time.dt
+            ),
+        ));
+    }
+    if n > 50_000_000 {
+        return Err((
+            "time.dt".into(),
+            format!(
+                " = {}: gives {n} samples: expected at most 50 000 000",
+                time.dt
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// msd-ident's refusal of an option as (TOML key, rest of the message): the option it

@@ -6,12 +6,15 @@
 //! index), a time column or a sample rate, any delimiter, `#` comment lines, extra
 //! columns ignored. Every bad cell is reported with the file, its line and the column.
 
-use crate::config::{Column, Columns, Config, DataSection, Kind, Preprocess, Range};
+use crate::config::{Columns, Config, DataSection, Kind, Preprocess, Range};
 use crate::{ExperimentError, Result};
 use msd_ident::{
     DataSet, Excitation, Parameters, SyntheticOptions, synthetic_data, synthetic_nonlinear_data,
 };
 use std::path::{Path, PathBuf};
+
+mod csv;
+pub use csv::{ColumnSpec, LARGEST_VALUE, Table, read_columns, read_csv};
 
 /// Both records of an experiment and what is known about them.
 #[derive(Debug, Clone)]
@@ -196,7 +199,7 @@ pub struct Record {
 
 fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> {
     let base = config_path.parent().unwrap_or(Path::new(""));
-    let path = base.join(&d.path);
+    let path = base.join(d.path.first());
     let record = read_csv(d, &path)?;
     let rows = record.input.len();
     let (record, factor) = preprocess(record, &d.preprocessing, &path)?;
@@ -272,270 +275,6 @@ fn overlap_note(est: [usize; 2], val: [usize; 2]) -> Option<String> {
             est[1]
         )
     })
-}
-
-/// Reads the input, output and (optional) time columns of a CSV file.
-///
-/// Errors name the file, the 1-based line and the column: a missing file, a missing
-/// column, an empty or non-numeric cell, NaN or infinity, time that does not increase
-/// or is not uniform (within 1 % of the mean step).
-pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
-    let file = std::fs::File::open(path).map_err(|e| {
-        ExperimentError::data(
-            path,
-            match crate::fetch::command_for(path) {
-                Some(command) => format!(
-                    "cannot open the data file (data.path = {:?}): {e}; fetch it with {command}",
-                    d.path
-                ),
-                None => format!("cannot open the data file (data.path = {:?}): {e}", d.path),
-            },
-        )
-    })?;
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
-        .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
-    // Line numbers come from byte offsets (the csv crate's own count is off by one
-    // with CRLF line endings): line of byte b = 1 + number of '\n' before b.
-    let newlines: Vec<usize> = bytes
-        .iter()
-        .enumerate()
-        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
-        .collect();
-    let start = if d.skip_lines == 0 {
-        0
-    } else {
-        newlines
-            .get(d.skip_lines - 1)
-            .map_or(bytes.len(), |&i| i + 1)
-    };
-    if !d.delimiter.is_ascii() {
-        return Err(ExperimentError::data(
-            path,
-            format!(
-                "delimiter {:?}: expected a single ASCII character",
-                d.delimiter
-            ),
-        ));
-    }
-    let mut csv = csv::ReaderBuilder::new()
-        .delimiter(d.delimiter as u8)
-        .has_headers(false)
-        .flexible(true)
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .from_reader(&bytes[start..]);
-    let line_of = |pos: Option<&csv::Position>| {
-        pos.map_or(0, |p| {
-            let byte = start + p.byte() as usize;
-            // With CRLF the csv crate puts a record's start on the previous line's
-            // '\n' (after its '\r'), hence ≤: that newline ends the previous line.
-            1 + newlines.partition_point(|&i| i <= byte)
-        })
-    };
-    let mut records = csv.records();
-    let header: Option<(Vec<String>, usize)> = if d.header {
-        match records.next() {
-            Some(Ok(r)) => Some((
-                r.iter().map(str::to_string).collect(),
-                line_of(r.position()),
-            )),
-            Some(Err(e)) => return Err(ExperimentError::data(path, csv_error(&e, &line_of))),
-            None => {
-                return Err(ExperimentError::data(
-                    path,
-                    "the file is empty: expected a header line and data rows",
-                ));
-            }
-        }
-    } else {
-        None
-    };
-    let find = |role: &str, c: &Column| -> Result<usize> {
-        match (c, &header) {
-            (Column::Index(i), _) => Ok(*i),
-            (Column::Name(name), Some((names, line))) => names
-                .iter()
-                .position(|h| h == name)
-                .ok_or_else(|| {
-                    let found: Vec<String> = names
-                        .iter()
-                        .filter(|h| !h.is_empty())
-                        .map(|h| format!("`{h}`"))
-                        .collect();
-                    ExperimentError::data(
-                        path,
-                        format!(
-                            "line {line}: no {role} column named `{name}` (data.{role}): the header has {}",
-                            found.join(", ")
-                        ),
-                    )
-                }),
-            (Column::Name(name), None) => Err(ExperimentError::data(
-                path,
-                format!("data.{role} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"),
-            )),
-        }
-    };
-    let input_col = find("input", &d.input)?;
-    let output_col = find("output", &d.output)?;
-    let time_col = d.time.as_ref().map(|c| find("time", c)).transpose()?;
-    let columns: Vec<(&str, usize, Column)> = [
-        Some(("input", input_col, d.input.clone())),
-        Some(("output", output_col, d.output.clone())),
-        time_col.zip(d.time.clone()).map(|(i, c)| ("time", i, c)),
-    ]
-    .into_iter()
-    .flatten()
-    .collect();
-
-    let (mut time, mut input, mut output) = (Vec::new(), Vec::new(), Vec::new());
-    // More fields than the header (or the first data row) has: a decimal comma or a
-    // wrong delimiter would shift the columns, so the row is refused.
-    let mut fields = header.as_ref().map(|(names, _)| names.len());
-    for r in records {
-        let r = r.map_err(|e| ExperimentError::data(path, csv_error(&e, &line_of)))?;
-        let line = line_of(r.position());
-        if r.iter().all(str::is_empty) {
-            continue; // a blank line
-        }
-        let expected = *fields.get_or_insert(r.len());
-        if r.len() > expected {
-            return Err(ExperimentError::data(
-                path,
-                format!(
-                    "line {line}: the row has {} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {:?})?",
-                    r.len(),
-                    if header.is_some() {
-                        "header"
-                    } else {
-                        "first row"
-                    },
-                    d.delimiter
-                ),
-            ));
-        }
-        for (role, index, column) in &columns {
-            let cell = r.get(*index).ok_or_else(|| {
-                ExperimentError::data(
-                    path,
-                    format!(
-                        "line {line}: the row has {} fields, no {role} column {column} (index {index})",
-                        r.len()
-                    ),
-                )
-            })?;
-            let value = parse_cell(cell).map_err(|why| {
-                ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
-            })?;
-            let scale = match *role {
-                "input" => d.input_scale,
-                "output" => d.output_scale,
-                _ => 1.0,
-            };
-            let scaled = value * scale;
-            if !scaled.is_finite() {
-                return Err(ExperimentError::data(
-                    path,
-                    format!(
-                        "line {line}, {role} column {column}: {value} × the scale {scale} (data.{role}_scale) overflows: expected a finite value"
-                    ),
-                ));
-            }
-            if scaled.abs() > LARGEST_VALUE {
-                return Err(ExperimentError::data(
-                    path,
-                    format!(
-                        "line {line}, {role} column {column}: {scaled:e} is too large to compute with (sums of its square overflow): expected |value| <= {LARGEST_VALUE:e}; check the column and its scale"
-                    ),
-                ));
-            }
-            match *role {
-                "input" => input.push(scaled),
-                "output" => output.push(scaled),
-                _ => time.push(value),
-            }
-        }
-        if let (Some(_), [.., a, b]) = (time_col, time.as_slice())
-            && b <= a
-        {
-            return Err(ExperimentError::data(
-                path,
-                format!(
-                    "line {line}, time column: {b} s is not after the previous {a} s: expected increasing time"
-                ),
-            ));
-        }
-    }
-    if input.len() < msd_ident::MIN_SAMPLES {
-        return Err(ExperimentError::data(
-            path,
-            format!(
-                "{} data rows: expected at least {}",
-                input.len(),
-                msd_ident::MIN_SAMPLES
-            ),
-        ));
-    }
-    let dt = match d.sample_rate {
-        Some(fs) => {
-            let dt = 1.0 / fs;
-            time = (0..input.len()).map(|i| i as f64 * dt).collect();
-            dt
-        }
-        None => {
-            let n = time.len();
-            let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-            if let Some(i) = time
-                .windows(2)
-                .position(|w| ((w[1] - w[0]) - dt).abs() > 0.01 * dt)
-            {
-                return Err(ExperimentError::data(
-                    path,
-                    format!(
-                        "data row {} (0-based), time column: step {} s: expected a uniform step of {dt} s (within 1 %)",
-                        i + 1,
-                        time[i + 1] - time[i]
-                    ),
-                ));
-            }
-            // Regularise small jitter (e.g. printed with few digits) onto the uniform grid.
-            let t0 = time[0];
-            time = (0..n).map(|i| t0 + i as f64 * dt).collect();
-            dt
-        }
-    };
-    Ok(Record {
-        time,
-        input,
-        output,
-        dt,
-    })
-}
-
-fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) -> String {
-    match e.position() {
-        Some(p) => format!("line {}: malformed CSV: {e}", line_of(Some(p))),
-        None => format!("malformed CSV: {e}"),
-    }
-}
-
-/// The largest magnitude a data value may have: the sums of squares that every fit and
-/// test computes stay finite (1e100² · 1e8 samples = 1e208 < f64::MAX ≈ 1.8e308). No
-/// measurement in any unit comes near it; a value beyond it is a corrupt cell or a wrong
-/// scale, refused where it is read rather than misdiagnosed later.
-pub const LARGEST_VALUE: f64 = 1e100;
-
-fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
-    let cell = cell.trim().trim_matches('"');
-    if cell.is_empty() {
-        return Err("empty cell: expected a number".into());
-    }
-    match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(v) => Err(format!("{v}: expected a finite number")),
-        Err(_) => Err(format!("`{cell}` is not a number")),
-    }
 }
 
 /// Applies the preprocessing steps in order; returns the record and the total

@@ -1,0 +1,459 @@
+//! The optional `[setup]` section: what drives the plant (a force on the mass, the
+//! base's motion, an imposed stroke, or nothing: a free decay) and what the sensors
+//! measure (displacement, velocity, acceleration; several channels at once), for the
+//! synthetic plant and for measured `[data]` alike. Without it a config is the paper's
+//! setup: a force and one displacement channel.
+//!
+//! ```
+//! use msd_experiment::config::{ExcitationKind, Quantity, SetupSection};
+//! let setup: SetupSection = toml::from_str(r#"
+//!     excitation = "force"
+//!     responses = [
+//!         { quantity = "displacement", sigma = 2.5e-3 },
+//!         { quantity = "acceleration", sigma = 0.05, unit = "g", scale = 9.80665 },
+//!     ]
+//!     records = 3
+//! "#).unwrap();
+//! assert_eq!(setup.excitation, ExcitationKind::Force);
+//! assert_eq!(setup.responses[1].quantity, Quantity::Acceleration);
+//! assert_eq!(setup.responses[1].channel_name(), "acceleration");
+//! ```
+
+use super::{
+    Column, Config, Kind, check_finite, check_non_negative, check_positive, default_one,
+    validate_plant, validate_time,
+};
+use serde::{Deserialize, Serialize};
+
+/// What drives the plant.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExcitationKind {
+    /// A measured force on the mass (a shaker through a force cell, a hammer).
+    #[default]
+    Force,
+    /// The base moves; its displacement z is measured.
+    BaseDisplacement,
+    /// The base moves; its acceleration z″ is measured (a shaker table's accelerometer).
+    BaseAcceleration,
+    /// A stroke x(t) is imposed and measured, the force is measured (a damper test
+    /// machine).
+    ImposedDisplacement,
+    /// Nothing: the mass is released and rings down (a free decay).
+    None,
+}
+
+impl ExcitationKind {
+    /// The name as written in a config.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ExcitationKind::Force => "force",
+            ExcitationKind::BaseDisplacement => "base_displacement",
+            ExcitationKind::BaseAcceleration => "base_acceleration",
+            ExcitationKind::ImposedDisplacement => "imposed_displacement",
+            ExcitationKind::None => "none",
+        }
+    }
+
+    /// The drive's SI unit.
+    pub fn unit(&self) -> &'static str {
+        match self {
+            ExcitationKind::Force => "N",
+            ExcitationKind::BaseDisplacement | ExcitationKind::ImposedDisplacement => "m",
+            ExcitationKind::BaseAcceleration => "m/s²",
+            ExcitationKind::None => "",
+        }
+    }
+}
+
+/// What a channel measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Displacement (a laser, an LVDT), m.
+    Displacement,
+    /// Velocity (a vibrometer, a geophone), m/s.
+    Velocity,
+    /// Acceleration (an accelerometer), m/s².
+    Acceleration,
+    /// Force (the load cell of a test machine), N.
+    Force,
+}
+
+impl Quantity {
+    /// The name as written in a config.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Quantity::Displacement => "displacement",
+            Quantity::Velocity => "velocity",
+            Quantity::Acceleration => "acceleration",
+            Quantity::Force => "force",
+        }
+    }
+
+    /// The SI unit.
+    pub fn unit(&self) -> &'static str {
+        match self {
+            Quantity::Displacement => "m",
+            Quantity::Velocity => "m/s",
+            Quantity::Acceleration => "m/s²",
+            Quantity::Force => "N",
+        }
+    }
+}
+
+/// Whose motion a channel measures.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Frame {
+    /// The mass's own motion. The default.
+    #[default]
+    Absolute,
+    /// The mass's motion relative to the base (base excitation only).
+    Relative,
+}
+
+/// One response channel: `{ quantity, frame, sigma, column, scale, unit, name }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Response {
+    /// What the channel measures.
+    pub quantity: Quantity,
+    /// The mass's absolute motion or its motion relative to the base. By default
+    /// absolute.
+    #[serde(default)]
+    pub frame: Frame,
+    /// Synthetic data: the standard deviation of the channel's white noise, in its SI
+    /// unit. By default `[noise] sigma`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<f64>,
+    /// Measured data: the channel's column in `[data]`'s file(s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column: Option<Column>,
+    /// Measured data: the factor to SI applied on reading (9.80665 for an accelerometer
+    /// in g, 1e-3 for mm). By default 1.
+    #[serde(default = "default_one")]
+    pub scale: f64,
+    /// The unit the file holds, for the report (the channel is in SI after `scale`).
+    /// By default the SI unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// The channel's name in tables and figures. By default its quantity (with its
+    /// frame when relative, and a number when two channels would share it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+}
+
+impl Response {
+    /// The channel's name: `name`, else its quantity (`relative_` first for the
+    /// relative frame).
+    pub fn channel_name(&self) -> String {
+        match (&self.name, self.frame) {
+            (Some(n), _) => n.clone(),
+            (None, Frame::Absolute) => self.quantity.name().to_string(),
+            (None, Frame::Relative) => format!("relative_{}", self.quantity.name()),
+        }
+    }
+}
+
+/// One test condition of a damper test machine: a sine stroke.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrokeCondition {
+    /// Stroke frequency, Hz (> 0).
+    pub frequency: f64,
+    /// Stroke amplitude X, m (> 0).
+    pub amplitude: f64,
+}
+
+/// The `[setup]` section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SetupSection {
+    /// What drives the plant. By default a force.
+    #[serde(default)]
+    pub excitation: ExcitationKind,
+    /// The response channels. By default one displacement channel (a force for an
+    /// imposed stroke).
+    #[serde(default)]
+    pub responses: Vec<Response>,
+    /// The weighed mass, kg: with base excitation or a free decay it turns ωn and ζ into
+    /// c and k.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub known_mass: Option<f64>,
+    /// The static stiffness, N/m (from a static load test): with base excitation or a
+    /// free decay it turns ωn and ζ into m and c.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub known_stiffness: Option<f64>,
+    /// Synthetic data: the number of records (repeats of the test, each with its own
+    /// noise), fitted together. By default 1.
+    #[serde(default = "default_records")]
+    pub records: usize,
+    /// Synthetic data: the standard deviation of the noise on the measured drive (base
+    /// motion, imposed stroke), in its SI unit. By default 0.
+    #[serde(default)]
+    pub input_sigma: f64,
+    /// Damper test machine: the test conditions (synthetic data: the strokes to impose).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub conditions: Vec<StrokeCondition>,
+    /// Damper test machine: whole stroke cycles per condition. By default 5.
+    #[serde(default = "default_cycles")]
+    pub cycles: usize,
+}
+
+fn default_records() -> usize {
+    1
+}
+fn default_cycles() -> usize {
+    5
+}
+
+impl SetupSection {
+    /// The response channels, the default one when none is given.
+    pub fn channels(&self) -> Vec<Response> {
+        if !self.responses.is_empty() {
+            return self.responses.clone();
+        }
+        let quantity = match self.excitation {
+            ExcitationKind::ImposedDisplacement => Quantity::Force,
+            _ => Quantity::Displacement,
+        };
+        vec![Response {
+            quantity,
+            frame: Frame::Absolute,
+            sigma: None,
+            column: None,
+            scale: 1.0,
+            unit: None,
+            name: None,
+        }]
+    }
+
+    /// Checks the values that need no other section; errors as (field, message).
+    pub(crate) fn validate(&self) -> std::result::Result<(), (String, String)> {
+        if let Some(m) = self.known_mass {
+            check_positive("setup.known_mass", m)?;
+        }
+        if let Some(k) = self.known_stiffness {
+            check_positive("setup.known_stiffness", k)?;
+        }
+        if self.known_mass.is_some() && self.known_stiffness.is_some() {
+            return Err((
+                "setup.known_stiffness".into(),
+                ": given with setup.known_mass: expected at most one (either fixes the scale that the data cannot)".into(),
+            ));
+        }
+        if self.records == 0 {
+            return Err((
+                "setup.records".into(),
+                " = 0: expected an integer >= 1".into(),
+            ));
+        }
+        check_non_negative("setup.input_sigma", self.input_sigma)?;
+        self.validate_channels()?;
+        if self.excitation == ExcitationKind::ImposedDisplacement {
+            if self.cycles < 2 {
+                return Err((
+                    "setup.cycles".into(),
+                    format!(" = {}: expected at least 2 whole cycles", self.cycles),
+                ));
+            }
+            for (i, c) in self.conditions.iter().enumerate() {
+                check_positive(&format!("setup.conditions[{i}].frequency"), c.frequency)?;
+                check_positive(&format!("setup.conditions[{i}].amplitude"), c.amplitude)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn validate_channels(&self) -> std::result::Result<(), (String, String)> {
+        let channels = self.channels();
+        let mut names: Vec<String> = Vec::new();
+        for (i, r) in channels.iter().enumerate() {
+            let key = |field: &str| format!("setup.responses[{i}].{field}");
+            if let Some(s) = r.sigma {
+                check_non_negative(&key("sigma"), s)?;
+            }
+            check_finite(&key("scale"), r.scale)?;
+            if r.scale == 0.0 {
+                return Err((key("scale"), " = 0: expected a nonzero factor".into()));
+            }
+            let machine = self.excitation == ExcitationKind::ImposedDisplacement;
+            if machine != (r.quantity == Quantity::Force) {
+                let why = if machine {
+                    "a test machine's response is the force: expected quantity = \"force\""
+                } else {
+                    "a force is measured by a test machine only (setup.excitation = \"imposed_displacement\"): expected displacement, velocity or acceleration"
+                };
+                return Err((
+                    key("quantity"),
+                    format!(" = \"{}\": {why}", r.quantity.name()),
+                ));
+            }
+            let base = matches!(
+                self.excitation,
+                ExcitationKind::BaseAcceleration | ExcitationKind::BaseDisplacement
+            );
+            if r.frame == Frame::Relative && !base {
+                return Err((
+                    key("frame"),
+                    format!(
+                        " = \"relative\": with setup.excitation = \"{}\" there is no moving base: expected \"absolute\"",
+                        self.excitation.name()
+                    ),
+                ));
+            }
+            let name = r.channel_name();
+            if names.contains(&name) {
+                return Err((
+                    key("name"),
+                    format!(": two channels are called {name:?}: give each a `name` of its own"),
+                ));
+            }
+            names.push(name);
+        }
+        if self.excitation == ExcitationKind::ImposedDisplacement && channels.len() != 1 {
+            return Err((
+                "setup.responses".into(),
+                format!(
+                    ": {} channels: a test machine measures one force",
+                    channels.len()
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks a whole config with this section: the synthetic plant or the measured
+    /// files, and what the setup needs of them.
+    pub(crate) fn validate_config(
+        &self,
+        config: &Config,
+        kind: Kind,
+    ) -> std::result::Result<(), (String, String)> {
+        self.validate()?;
+        let drive = self.excitation;
+        let needs_input = !matches!(
+            drive,
+            ExcitationKind::None | ExcitationKind::ImposedDisplacement
+        );
+        if drive == ExcitationKind::None && config.identification.is_some() {
+            return Err((
+                "identification".into(),
+                ": setup.excitation = \"none\" (a free decay) has no input: remove [identification.input]".into(),
+            ));
+        }
+        if config.validation.input.is_some() {
+            return Err((
+                "validation.input".into(),
+                ": a [setup] run validates each record on the others (leave one record out): remove [validation.input]".into(),
+            ));
+        }
+        match kind {
+            Kind::Measured => self.validate_measured(config),
+            Kind::Synthetic => self.validate_synthetic(config, needs_input),
+        }
+    }
+
+    fn validate_synthetic(
+        &self,
+        config: &Config,
+        needs_input: bool,
+    ) -> std::result::Result<(), (String, String)> {
+        let missing = |field: &str, what: &str| {
+            Err((
+                field.to_string(),
+                format!(
+                    ": missing section: expected {what} (or a [data] section for measured data)"
+                ),
+            ))
+        };
+        let Some(plant) = &config.plant else {
+            return missing("plant", "the true plant { mass, damping, stiffness }");
+        };
+        let Some(time) = &config.time else {
+            return missing("time", "the time grid { duration, dt }");
+        };
+        validate_plant(plant)?;
+        validate_time(time)?;
+        if plant.nonlinear().is_some() && self.excitation != ExcitationKind::ImposedDisplacement {
+            return Err((
+                "plant".into(),
+                ": a nonlinear term with a [setup]: expected a linear plant (nonlinear damping laws are identified on a test machine, setup.excitation = \"imposed_displacement\")".into(),
+            ));
+        }
+        if let Some(noise) = &config.noise {
+            check_non_negative("noise.sigma", noise.sigma)?;
+        } else if let Some(i) = self.channels().iter().position(|r| r.sigma.is_none()) {
+            return Err((
+                format!("setup.responses[{i}].sigma"),
+                ": missing: expected the channel's noise level (or a [noise] section for every channel)".into(),
+            ));
+        }
+        match (&config.identification, needs_input) {
+            (None, true) => missing(
+                "identification",
+                &format!("the {} [identification.input]", self.excitation.name()),
+            ),
+            (Some(i), _) => i
+                .input
+                .validate()
+                .map_err(|e| ("identification.input".to_string(), format!(": {e}"))),
+            (None, false) => self.validate_conditions(),
+        }
+    }
+
+    fn validate_conditions(&self) -> std::result::Result<(), (String, String)> {
+        if self.excitation == ExcitationKind::ImposedDisplacement && self.conditions.is_empty() {
+            return Err((
+                "setup.conditions".into(),
+                ": missing: expected the strokes to impose, [{ frequency, amplitude }, …]".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    fn validate_measured(&self, config: &Config) -> std::result::Result<(), (String, String)> {
+        config.validate_measured()?;
+        let Some(d) = &config.data else { return Ok(()) };
+        if d.output.is_some() {
+            return Err((
+                "data.output".into(),
+                ": with a [setup] the response columns are setup.responses[i].column: remove data.output".into(),
+            ));
+        }
+        let drive = self.excitation;
+        match (&d.input, drive) {
+            (Some(_), ExcitationKind::None) => {
+                return Err((
+                    "data.input".into(),
+                    ": setup.excitation = \"none\" (a free decay) has no input: remove data.input"
+                        .into(),
+                ));
+            }
+            (None, d) if d != ExcitationKind::None => {
+                return Err((
+                    "data.input".into(),
+                    format!(
+                        ": missing: expected the column of the {} (setup.excitation)",
+                        d.name()
+                    ),
+                ));
+            }
+            _ => {}
+        }
+        if !d.preprocessing.is_empty() || d.validation.is_some() {
+            return Err((
+                "data.preprocessing".into(),
+                ": not with a [setup] (its records are fitted as read, and validated on each other): remove data.preprocessing and data.validation".into(),
+            ));
+        }
+        if let Some(i) = self.channels().iter().position(|r| r.column.is_none()) {
+            return Err((
+                format!("setup.responses[{i}].column"),
+                ": missing: expected the channel's column in the data file(s)".into(),
+            ));
+        }
+        Ok(())
+    }
+}

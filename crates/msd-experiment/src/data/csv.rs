@@ -1,0 +1,348 @@
+//! CSV files: columns by header name or 0-based index, a time column or a sample rate,
+//! any delimiter, `#` comment lines, extra columns ignored. Every bad cell is reported
+//! with the file, its line and the column.
+
+use super::Record;
+use crate::config::{Column, DataSection};
+use crate::{ExperimentError, Result};
+use std::path::Path;
+
+/// One column to read: its role in messages (`input`, `output`, `acceleration`), the
+/// config key that names it (`data.input`, `setup.responses[1].column`), the column and
+/// the factor applied on reading with the key that sets it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnSpec {
+    /// The role, in messages ("no acceleration column named …").
+    pub role: String,
+    /// The key that names the column.
+    pub key: String,
+    /// The column.
+    pub column: Column,
+    /// The factor applied on reading.
+    pub scale: f64,
+    /// The key that sets the factor.
+    pub scale_key: String,
+}
+
+/// The columns of a CSV file as read: time and the requested columns, in order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// Time stamps (from the time column, or i/fs), on a uniform grid.
+    pub time: Vec<f64>,
+    /// The columns, scaled, in the order asked.
+    pub columns: Vec<Vec<f64>>,
+    /// Sampling interval, s.
+    pub dt: f64,
+}
+
+/// Reads the input, output and (optional) time columns of a CSV file.
+///
+/// Errors name the file, the 1-based line and the column: a missing file, a missing
+/// column, an empty or non-numeric cell, NaN or infinity, time that does not increase
+/// or is not uniform (within 1 % of the mean step).
+pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
+    let spec = |role: &str, column: &Option<Column>, scale: f64| -> Result<ColumnSpec> {
+        let column = column.clone().ok_or_else(|| {
+            ExperimentError::data(
+                path,
+                format!("data.{role}: missing: expected the {role} column"),
+            )
+        })?;
+        Ok(ColumnSpec {
+            role: role.into(),
+            key: format!("data.{role}"),
+            column,
+            scale,
+            scale_key: format!("data.{role}_scale"),
+        })
+    };
+    let specs = [
+        spec("input", &d.input, d.input_scale)?,
+        spec("output", &d.output, d.output_scale)?,
+    ];
+    let mut table = read_columns(d, path, "data.path", &specs)?;
+    let output = table.columns.pop().unwrap_or_default();
+    let input = table.columns.pop().unwrap_or_default();
+    Ok(Record {
+        time: table.time,
+        input,
+        output,
+        dt: table.dt,
+    })
+}
+
+/// Reads the time (`d.time` or `d.sample_rate`) and the `columns` of the CSV file `path`
+/// with the format of `d` (delimiter, header, lines to skip); `path_key` names the file
+/// in messages (`data.path`, `data.path[2]`).
+pub fn read_columns(
+    d: &DataSection,
+    path: &Path,
+    path_key: &str,
+    columns: &[ColumnSpec],
+) -> Result<Table> {
+    let file = std::fs::File::open(path).map_err(|e| {
+        ExperimentError::data(
+            path,
+            match crate::fetch::command_for(path) {
+                Some(command) => {
+                    format!("cannot open the data file ({path_key}): {e}; fetch it with {command}")
+                }
+                None => format!("cannot open the data file ({path_key}): {e}"),
+            },
+        )
+    })?;
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
+        .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
+    // Line numbers come from byte offsets (the csv crate's own count is off by one
+    // with CRLF line endings): line of byte b = 1 + number of '\n' before b.
+    let newlines: Vec<usize> = bytes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
+        .collect();
+    let start = if d.skip_lines == 0 {
+        0
+    } else {
+        newlines
+            .get(d.skip_lines - 1)
+            .map_or(bytes.len(), |&i| i + 1)
+    };
+    if !d.delimiter.is_ascii() {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "delimiter {:?}: expected a single ASCII character",
+                d.delimiter
+            ),
+        ));
+    }
+    let mut csv = csv::ReaderBuilder::new()
+        .delimiter(d.delimiter as u8)
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(&bytes[start..]);
+    let line_of = |pos: Option<&csv::Position>| {
+        pos.map_or(0, |p| {
+            let byte = start + p.byte() as usize;
+            // With CRLF the csv crate puts a record's start on the previous line's
+            // '\n' (after its '\r'), hence ≤: that newline ends the previous line.
+            1 + newlines.partition_point(|&i| i <= byte)
+        })
+    };
+    let mut records = csv.records();
+    let header: Option<(Vec<String>, usize)> = if d.header {
+        match records.next() {
+            Some(Ok(r)) => Some((
+                r.iter().map(str::to_string).collect(),
+                line_of(r.position()),
+            )),
+            Some(Err(e)) => return Err(ExperimentError::data(path, csv_error(&e, &line_of))),
+            None => {
+                return Err(ExperimentError::data(
+                    path,
+                    "the file is empty: expected a header line and data rows",
+                ));
+            }
+        }
+    } else {
+        None
+    };
+    let find = |role: &str, key: &str, c: &Column| -> Result<usize> {
+        match (c, &header) {
+            (Column::Index(i), _) => Ok(*i),
+            (Column::Name(name), Some((names, line))) => names
+                .iter()
+                .position(|h| h == name)
+                .ok_or_else(|| {
+                    let found: Vec<String> = names
+                        .iter()
+                        .filter(|h| !h.is_empty())
+                        .map(|h| format!("`{h}`"))
+                        .collect();
+                    ExperimentError::data(
+                        path,
+                        format!(
+                            "line {line}: no {role} column named `{name}` ({key}): the header has {}",
+                            found.join(", ")
+                        ),
+                    )
+                }),
+            (Column::Name(name), None) => Err(ExperimentError::data(
+                path,
+                format!("{key} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"),
+            )),
+        }
+    };
+    let indices = columns
+        .iter()
+        .map(|c| find(&c.role, &c.key, &c.column))
+        .collect::<Result<Vec<usize>>>()?;
+    let time_col = d
+        .time
+        .as_ref()
+        .map(|c| find("time", "data.time", c))
+        .transpose()?;
+    let time_spec = time_col.zip(d.time.clone()).map(|(i, column)| {
+        let spec = ColumnSpec {
+            role: "time".into(),
+            key: "data.time".into(),
+            column,
+            scale: 1.0,
+            scale_key: String::new(),
+        };
+        (spec, i)
+    });
+    let cells: Vec<(&ColumnSpec, usize)> = columns
+        .iter()
+        .zip(indices)
+        .chain(time_spec.as_ref().map(|(s, i)| (s, *i)))
+        .collect();
+
+    let mut time = Vec::new();
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); columns.len()];
+    // More fields than the header (or the first data row) has: a decimal comma or a
+    // wrong delimiter would shift the columns, so the row is refused.
+    let mut fields = header.as_ref().map(|(names, _)| names.len());
+    for r in records {
+        let r = r.map_err(|e| ExperimentError::data(path, csv_error(&e, &line_of)))?;
+        let line = line_of(r.position());
+        if r.iter().all(str::is_empty) {
+            continue; // a blank line
+        }
+        let expected = *fields.get_or_insert(r.len());
+        if r.len() > expected {
+            return Err(ExperimentError::data(
+                path,
+                format!(
+                    "line {line}: the row has {} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {:?})?",
+                    r.len(),
+                    if header.is_some() {
+                        "header"
+                    } else {
+                        "first row"
+                    },
+                    d.delimiter
+                ),
+            ));
+        }
+        for (slot, &(spec, index)) in cells.iter().enumerate() {
+            let (role, column, scale) = (&spec.role, &spec.column, spec.scale);
+            let cell = r.get(index).ok_or_else(|| {
+                ExperimentError::data(
+                    path,
+                    format!(
+                        "line {line}: the row has {} fields, no {role} column {column} (index {index})",
+                        r.len()
+                    ),
+                )
+            })?;
+            let value = parse_cell(cell).map_err(|why| {
+                ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
+            })?;
+            let scaled = value * scale;
+            if !scaled.is_finite() {
+                return Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "line {line}, {role} column {column}: {value} × the scale {scale} ({}) overflows: expected a finite value",
+                        spec.scale_key
+                    ),
+                ));
+            }
+            if scaled.abs() > LARGEST_VALUE {
+                return Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "line {line}, {role} column {column}: {scaled:e} is too large to compute with (sums of its square overflow): expected |value| <= {LARGEST_VALUE:e}; check the column and its scale"
+                    ),
+                ));
+            }
+            match values.get_mut(slot) {
+                Some(column) => column.push(scaled),
+                None => time.push(value),
+            }
+        }
+        if let (Some(_), [.., a, b]) = (time_col, time.as_slice())
+            && b <= a
+        {
+            return Err(ExperimentError::data(
+                path,
+                format!(
+                    "line {line}, time column: {b} s is not after the previous {a} s: expected increasing time"
+                ),
+            ));
+        }
+    }
+    let rows = values.first().map_or(time.len(), Vec::len);
+    if rows < msd_ident::MIN_SAMPLES {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "{} data rows: expected at least {}",
+                rows,
+                msd_ident::MIN_SAMPLES
+            ),
+        ));
+    }
+    let dt = match d.sample_rate {
+        Some(fs) => {
+            let dt = 1.0 / fs;
+            time = (0..rows).map(|i| i as f64 * dt).collect();
+            dt
+        }
+        None => {
+            let n = time.len();
+            let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
+            if let Some(i) = time
+                .windows(2)
+                .position(|w| ((w[1] - w[0]) - dt).abs() > 0.01 * dt)
+            {
+                return Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "data row {} (0-based), time column: step {} s: expected a uniform step of {dt} s (within 1 %)",
+                        i + 1,
+                        time[i + 1] - time[i]
+                    ),
+                ));
+            }
+            // Regularise small jitter (e.g. printed with few digits) onto the uniform grid.
+            let t0 = time[0];
+            time = (0..n).map(|i| t0 + i as f64 * dt).collect();
+            dt
+        }
+    };
+    Ok(Table {
+        time,
+        columns: values,
+        dt,
+    })
+}
+
+fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) -> String {
+    match e.position() {
+        Some(p) => format!("line {}: malformed CSV: {e}", line_of(Some(p))),
+        None => format!("malformed CSV: {e}"),
+    }
+}
+
+/// The largest magnitude a data value may have: the sums of squares that every fit and
+/// test computes stay finite (1e100² · 1e8 samples = 1e208 < f64::MAX ≈ 1.8e308). No
+/// measurement in any unit comes near it; a value beyond it is a corrupt cell or a wrong
+/// scale, refused where it is read rather than misdiagnosed later.
+pub const LARGEST_VALUE: f64 = 1e100;
+
+fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
+    let cell = cell.trim().trim_matches('"');
+    if cell.is_empty() {
+        return Err("empty cell: expected a number".into());
+    }
+    match cell.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("{v}: expected a finite number")),
+        Err(_) => Err(format!("`{cell}` is not a number")),
+    }
+}
