@@ -98,6 +98,18 @@ fn row(w: &[f64], u: &[f64], k: usize) -> [f64; 6] {
 }
 
 fn fit(u: &[f64], y: &[f64], dt: f64) -> Result<Parameters> {
+    to_parameters(&coefficients(u, y)?, dt)
+}
+
+/// ωn and ζ of the ARX(2, 3) poles of `y` against `u` (least squares refined by
+/// instrumental variables), whatever the output's static gain: a guess for records whose
+/// output is a velocity, an acceleration or a base-excited motion.
+pub(crate) fn arx_poles(u: &[f64], y: &[f64], dt: f64) -> Result<(f64, f64)> {
+    poles(&coefficients(u, y)?, dt)
+}
+
+/// The ARX coefficients (a₁, a₂, b₀, b₁, b₂, d).
+fn coefficients(u: &[f64], y: &[f64]) -> Result<[f64; 6]> {
     let n = y.len();
     if n < 12 {
         return Err(IdentError::TooFewSamples {
@@ -118,7 +130,7 @@ fn fit(u: &[f64], y: &[f64], dt: f64) -> Result<Parameters> {
             Err(_) => break,
         }
     }
-    to_parameters(&theta, dt)
+    Ok(theta)
 }
 
 /// Solves Σ zₖφₖᵀ θ = Σ zₖyₖ with instruments built from `w` (w = y gives least squares).
@@ -178,6 +190,19 @@ fn to_parameters(theta: &[f64; 6], dt: f64) -> Result<Parameters> {
     if !(gain.is_finite() && gain > 0.0) {
         return Err(fail("the static gain is not positive"));
     }
+    let (wn, zeta) = poles(theta, dt)?;
+    let k = 1.0 / gain;
+    let m = k / (wn * wn);
+    let c = 2.0 * zeta * (m * k).sqrt();
+    Parameters::new(m, c, k).map_err(|_| fail("the mapped parameters are not physical"))
+}
+
+/// ωn and ζ of the poles of z² + a₁z + a₂ (continuous time s = ln(z)/dt).
+fn poles(theta: &[f64; 6], dt: f64) -> Result<(f64, f64)> {
+    let (a1, a2) = (theta[0], theta[1]);
+    let fail = |reason: &str| IdentError::NotIdentifiable {
+        reason: format!("the ARX initial guess failed: {reason}; give an initial guess"),
+    };
     // Poles: z² + a1 z + a2 = 0.
     let disc = a1 * a1 - 4.0 * a2;
     let (wn, zeta) = if disc < 0.0 {
@@ -203,8 +228,10 @@ fn to_parameters(theta: &[f64; 6], dt: f64) -> Result<Parameters> {
         let wn = (s1 * s2).sqrt();
         (wn, -(s1 + s2) / (2.0 * wn))
     };
-    let k = 1.0 / gain;
-    let m = k / (wn * wn);
-    let c = 2.0 * zeta * (m * k).sqrt();
-    Parameters::new(m, c, k).map_err(|_| fail("the mapped parameters are not physical"))
+    if !(wn.is_finite() && wn > 0.0 && zeta.is_finite() && zeta > 0.0) {
+        return Err(fail(
+            "the identified poles are not those of a damped oscillator",
+        ));
+    }
+    Ok((wn, zeta))
 }

@@ -88,6 +88,42 @@ pub enum IdentError {
         /// Why, in words.
         reason: String,
     },
+    /// A record or one of its channels cannot be used as given: the record's name, the
+    /// channel's name when one is at fault, and what is wrong with it.
+    ///
+    /// ```
+    /// use msd_ident::IdentError;
+    /// let err = IdentError::InvalidRecord {
+    ///     record: "run 2".into(),
+    ///     channel: Some("laser".into()),
+    ///     reason: "every sample is 0.3: a constant channel carries no information".into(),
+    /// };
+    /// assert_eq!(err.to_string(), "record `run 2`, channel `laser`: every sample is 0.3: a constant channel carries no information");
+    /// ```
+    #[error("record `{record}`{}: {reason}", channel_suffix(.channel))]
+    InvalidRecord {
+        /// Name of the record.
+        record: String,
+        /// Name of the channel at fault, if one is.
+        channel: Option<String>,
+        /// What is wrong, and what to do about it.
+        reason: String,
+    },
+    /// The setup (what drives the plant, what is measured, what is known) cannot give
+    /// what is asked: what it can identify and what to change.
+    ///
+    /// ```
+    /// use msd_ident::IdentError;
+    /// let err = IdentError::Setup { setup: "free decay", reason: "no records to fit".into() };
+    /// assert_eq!(err.to_string(), "free decay: no records to fit");
+    /// ```
+    #[error("{setup}: {reason}")]
+    Setup {
+        /// The setup, in words ("free decay", "base excitation", …).
+        setup: &'static str,
+        /// What it cannot do, and what to change.
+        reason: String,
+    },
     /// From the ODE layer.
     #[error(transparent)]
     Ode(#[from] OdeError),
@@ -97,6 +133,12 @@ pub enum IdentError {
     /// From the optimisation layer.
     #[error(transparent)]
     Opt(#[from] OptError),
+}
+
+fn channel_suffix(channel: &Option<String>) -> String {
+    channel
+        .as_ref()
+        .map_or_else(String::new, |c| format!(", channel `{c}`"))
 }
 
 /// Shorthand for results of this crate.

@@ -62,6 +62,7 @@ mod metrics;
 mod nonlinear;
 pub mod pair;
 mod params;
+mod records;
 mod residuals;
 mod sensitivity;
 mod ser;
@@ -100,6 +101,11 @@ pub use nonlinear::{
     simulate_nonlinear, synthetic_nonlinear_data,
 };
 pub use params::{InitialState, PARAMETER_NAMES, Parameters};
+pub use records::{
+    Channel, ChannelFit, ChannelNoise, Drive, Frame, LeftOut, PlannedChannel, PlannedRecord,
+    PlantIntervals, Record, RecordFit, RecordsFit, RecordsOptions, fit_records,
+    predicted_records_uncertainty, simulate_response,
+};
 pub use residuals::{
     CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, ljung_box, residual_analysis,
 };

@@ -11,5 +11,6 @@ mod frf;
 mod nonlinear;
 mod nonlinear_fast;
 mod plan;
+mod records;
 mod serialize;
 mod stress;

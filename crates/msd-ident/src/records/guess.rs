@@ -1,0 +1,112 @@
+//! The starting point of a joint fit: candidate (ωn, ζ) from each channel, the one with
+//! the smallest projected cost.
+//!
+//! Every channel of a linear plant shares the plant's poles, so an ARX(2, 3) fit of any
+//! channel against the drive (at the record's rate and decimated by 2, 4, …, as
+//! [`arx_initial_guess`](crate::arx_initial_guess)) proposes ωn and ζ; a free decay's
+//! candidates are its classroom estimates. With a force drive the outputs scale as 1/m
+//! at fixed ωn and ζ, so the mass of each candidate is a linear least-squares gain.
+
+use super::problem::Joint;
+use super::setup::{Drive, RecordsOptions};
+use crate::arx::arx_poles;
+use crate::{ClassroomEstimates, IdentError, KnownParameter, Result};
+use std::f64::consts::PI;
+
+/// θ₀ (m, c, k; m = 1 and c, k per unit mass unless the drive is a force).
+pub(crate) fn initial_theta(problem: &mut Joint<'_>, options: &RecordsOptions) -> Result<[f64; 3]> {
+    let candidates = match options.initial_guess {
+        Some(g) => vec![(g.natural_frequency(), g.damping_ratio().max(1e-4))],
+        None if problem.drive == Drive::None => classroom_candidates(problem)?,
+        None => arx_candidates(problem),
+    };
+    let best = candidates
+        .into_iter()
+        .filter_map(|(wn, zeta)| score(problem, wn, zeta).map(|(cost, m)| (cost, wn, zeta, m)))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    let Some((_, wn, zeta, gain_mass)) = best else {
+        return Err(IdentError::Setup {
+            setup: problem.drive.setup(),
+            reason: "no initial guess could be formed from the records (no candidate ωn, ζ could be simulated); give `initial_guess`".into(),
+        });
+    };
+    let m = match (problem.drive, options.known, options.initial_guess) {
+        (Drive::Force, KnownParameter::Mass(m), _) => m,
+        (Drive::Force, KnownParameter::Stiffness(k), _) => k / (wn * wn),
+        (Drive::Force, _, Some(g)) => g.mass,
+        (Drive::Force, _, None) => gain_mass,
+        _ => 1.0,
+    };
+    Ok([m, 2.0 * zeta * wn * m, wn * wn * m])
+}
+
+/// The classroom estimates of each record's first channel; a record that does not ring
+/// down is refused, naming it.
+fn classroom_candidates(problem: &Joint<'_>) -> Result<Vec<(f64, f64)>> {
+    let dt = problem.records[0].record.excitation.dt();
+    problem
+        .records
+        .iter()
+        .map(|rec| {
+            let channel = &rec.record.channels[0];
+            let c = ClassroomEstimates::from_record(dt, &channel.samples).map_err(|e| {
+                IdentError::InvalidRecord {
+                    record: rec.record.name.clone(),
+                    channel: Some(channel.name.clone()),
+                    reason: match e {
+                        IdentError::NotIdentifiable { reason } => reason,
+                        other => other.to_string(),
+                    },
+                }
+            })?;
+            Ok((2.0 * PI * c.natural_frequency_hz, c.damping_ratio))
+        })
+        .collect()
+}
+
+/// ARX poles of every channel of the first record, at every rate of the cascade.
+fn arx_candidates(problem: &Joint<'_>) -> Vec<(f64, f64)> {
+    const MIN_DECIMATED: usize = 100;
+    let record = problem.records[0].record;
+    let mut candidates = Vec::new();
+    for channel in &record.channels {
+        let mut u = record.excitation.samples().to_vec();
+        let mut y = channel.samples.clone();
+        let mut dt = record.excitation.dt();
+        loop {
+            if let Ok(pole) = arx_poles(&u, &y, dt) {
+                candidates.push(pole);
+            }
+            if y.len() / 2 < MIN_DECIMATED {
+                break;
+            }
+            match (msd_signal::decimate(&u, 2), msd_signal::decimate(&y, 2)) {
+                (Ok(du), Ok(dy)) => (u, y) = (du, dy),
+                _ => break,
+            }
+            dt *= 2.0;
+        }
+    }
+    candidates
+}
+
+/// The projected cost of (ωn, ζ) and, with a force drive, the best mass (the inverse
+/// of the least-squares gain of the response from rest).
+fn score(problem: &mut Joint<'_>, wn: f64, zeta: f64) -> Option<(f64, f64)> {
+    if !(wn.is_finite() && wn > 0.0 && zeta.is_finite() && zeta > 0.0) {
+        return None;
+    }
+    if !problem.prepare([1.0, 2.0 * zeta * wn, wn * wn]) {
+        return None;
+    }
+    let (y, f) = problem.projected_data_and_response();
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let (yy, yf, ff) = (dot(&y, &y), dot(&y, &f), dot(&f, &f));
+    let gain = if problem.drive == Drive::Force {
+        yf / ff
+    } else {
+        1.0
+    };
+    let cost = yy - 2.0 * gain * yf + gain * gain * ff;
+    (cost.is_finite() && gain > 0.0).then_some((cost, 1.0 / gain))
+}

@@ -1,0 +1,175 @@
+//! The plant's intervals from the projected Jacobian: covariance, then m, c, k, fn and ζ
+//! by the delta method.
+//!
+//! Every reported quantity is a monomial of the model's θ = (m, c, k) (m = 1 and c, k
+//! per unit mass for the drives that cannot fix the mass; a known mass or stiffness
+//! multiplies in): ln q = eᵀ ln θ + const. So Var(ln q) = eᵀ·Cov(ln θ)·e exactly to first
+//! order, and SE(q) = q·√(eᵀ·Cov·e); the 95 % intervals use Student's t with the fit's
+//! degrees of freedom.
+
+use super::problem::Joint;
+use super::setup::Drive;
+use crate::uncertainty::t_975;
+use crate::{IdentError, Interval, KnownParameter, Result};
+use nalgebra::{DMatrix, Matrix3};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// What a setup identifies, with 95 % intervals.
+///
+/// Displays one line per identified quantity, then the note.
+///
+/// ```
+/// use msd_ident::{Interval, PlantIntervals};
+/// let fixed = |v: f64| Interval { value: v, standard_error: 0.0, ci95: [v, v] };
+/// let plant = PlantIntervals {
+///     identifiable: vec!["natural_frequency_hz", "damping_ratio"],
+///     mass: None, damping: None, stiffness: None,
+///     natural_frequency_hz: fixed(1.1), damping_ratio: fixed(0.05),
+///     degrees_of_freedom: 100, note: None,
+/// };
+/// assert!(plant.to_string().starts_with("fn = 1.100000"));
+/// assert!(serde_json::to_value(&plant)?["mass"].is_null());
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlantIntervals {
+    /// The names of the quantities the setup identifies, among `natural_frequency_hz`,
+    /// `damping_ratio`, `mass`, `damping`, `stiffness` (a known one counts, with a zero
+    /// standard error).
+    pub identifiable: Vec<&'static str>,
+    /// m, kg, when identifiable.
+    pub mass: Option<Interval>,
+    /// c, N·s/m, when identifiable.
+    pub damping: Option<Interval>,
+    /// k, N/m, when identifiable.
+    pub stiffness: Option<Interval>,
+    /// fn = ωn/2π, Hz.
+    pub natural_frequency_hz: Interval,
+    /// ζ.
+    pub damping_ratio: Interval,
+    /// Samples minus estimated quantities (all records and channels).
+    pub degrees_of_freedom: usize,
+    /// Why m, c and k are not given, when they are not.
+    pub note: Option<String>,
+}
+
+impl std::fmt::Display for PlantIntervals {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "fn = {} Hz\nζ  = {}",
+            self.natural_frequency_hz, self.damping_ratio
+        )?;
+        for (name, unit, iv) in [
+            ("m ", "kg", &self.mass),
+            ("c ", "N·s/m", &self.damping),
+            ("k ", "N/m", &self.stiffness),
+        ] {
+            if let Some(iv) = iv {
+                write!(f, "\n{name} = {iv} {unit}")?;
+            }
+        }
+        if let Some(note) = &self.note {
+            write!(f, "\nnote: {note}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Cov(ln θ) (3×3, zero rows for fixed parameters) from the projected weighted
+/// Jacobian at θ (after `prepare`), refusing a singular one with the reason.
+pub(crate) fn log_covariance(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Matrix3<f64>> {
+    let p = problem.free.len();
+    let mut j = DMatrix::<f64>::zeros(problem.rows, p);
+    problem.fill_jacobian(theta, &mut j)?;
+    let jtj = j.tr_mul(&j);
+    let names = ["mass", "damping", "stiffness"];
+    let norms: Vec<f64> = (0..p).map(|i| jtj[(i, i)].sqrt()).collect();
+    if let Some(i) = norms.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the records do not depend on {} beyond what the initial states and offsets explain: the drive does not excite the plant",
+                names[problem.free[i]]
+            ),
+        });
+    }
+    let scaled = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
+    let eigen = scaled.clone().symmetric_eigen().eigenvalues;
+    let (lo, hi) = eigen.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
+        (lo.min(v), hi.max(v))
+    });
+    let inverse = scaled.try_inverse().filter(|_| lo > 0.0 && hi / lo < 1e14);
+    let Some(inverse) = inverse else {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the sensitivities of {:?} are linearly dependent (condition number {:.1e}): these records cannot tell them apart",
+                problem.free.iter().map(|&i| names[i]).collect::<Vec<_>>(),
+                hi / lo
+            ),
+        });
+    };
+    let mut cov = Matrix3::zeros();
+    for (a, &pa) in problem.free.iter().enumerate() {
+        for (b, &pb) in problem.free.iter().enumerate() {
+            cov[(pa, pb)] = inverse[(a, b)] / (norms[a] * norms[b]);
+        }
+    }
+    Ok(cov)
+}
+
+/// The intervals of everything the setup identifies at the model's θ.
+pub(crate) fn plant_intervals(
+    drive: Drive,
+    known: KnownParameter,
+    theta: [f64; 3],
+    cov: &Matrix3<f64>,
+    degrees_of_freedom: usize,
+) -> PlantIntervals {
+    let t = t_975(degrees_of_freedom);
+    let interval = |value: f64, e: [f64; 3]| {
+        let e = nalgebra::Vector3::from(e);
+        let var = (e.transpose() * cov * e)[(0, 0)].max(0.0);
+        Interval::new(value, value.abs() * var.sqrt(), t)
+    };
+    let [m, c, k] = theta;
+    let wn = (k / m).sqrt();
+    let physical = match (drive.estimates_mass(), known) {
+        (true, _) => Some([
+            (m, [1.0, 0.0, 0.0]),
+            (c, [0.0, 1.0, 0.0]),
+            (k, [0.0, 0.0, 1.0]),
+        ]),
+        (false, KnownParameter::Mass(mass)) => Some([
+            (mass, [0.0; 3]),
+            (mass * c, [0.0, 1.0, 0.0]),
+            (mass * k, [0.0, 0.0, 1.0]),
+        ]),
+        (false, KnownParameter::Stiffness(stiffness)) => Some([
+            (stiffness / k, [0.0, 0.0, -1.0]),
+            (stiffness * c / k, [0.0, 1.0, -1.0]),
+            (stiffness, [0.0; 3]),
+        ]),
+        (false, KnownParameter::None) => None,
+    };
+    let mut identifiable = vec!["natural_frequency_hz", "damping_ratio"];
+    if physical.is_some() {
+        identifiable.extend(["mass", "damping", "stiffness"]);
+    }
+    let pick = |i: usize| physical.map(|q| interval(q[i].0, q[i].1));
+    PlantIntervals {
+        identifiable,
+        mass: pick(0),
+        damping: pick(1),
+        stiffness: pick(2),
+        natural_frequency_hz: interval(wn / (2.0 * PI), [-0.5, 0.0, 0.5]),
+        damping_ratio: interval(c / (2.0 * (k * m).sqrt()), [-0.5, 1.0, -0.5]),
+        degrees_of_freedom,
+        note: physical.is_none().then(|| {
+            format!(
+                "m, c and k are not separately identifiable from a {} (every plant with the same c/m and k/m moves the same way): give the weighed mass or the static stiffness (`known`) to get them; ωn and ζ are identified",
+                drive.setup()
+            )
+        }),
+    }
+}

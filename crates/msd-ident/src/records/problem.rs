@@ -1,0 +1,456 @@
+//! The joint weighted least-squares problem in the plant's log-parameters, each record's
+//! initial state and channel offsets eliminated (variable projection).
+//!
+//! ## The method
+//! Per record ŷ = f(θ) + G(θ)·β: f the response from rest, G's columns C·Φⁱ (the
+//! responses to a unit initial displacement and velocity) and one indicator per channel
+//! (its offset). For each θ the best β solves a small weighted linear least-squares
+//! problem, so the optimiser sees only θ (2 or 3 numbers) and r(θ) = W·(y − f − G·β̂),
+//! W = diag(1/σ_channel). The Jacobian is Kaufman's: the exact sensitivities at β̂ with
+//! the span of W·G projected out, P⊥·W·∂ŷ/∂θ. At the optimum its Gram matrix is the
+//! Schur complement of the full Gauss–Newton matrix in (θ, β), so its inverse is the
+//! full covariance of θ: the nuisance parameters are accounted for exactly.
+
+use super::model::{OutputKind, OutputMap, Plant};
+use super::setup::{Drive, Record, RecordsOptions};
+use crate::Result;
+use msd_ode::{Hold, SVector, SampledInput};
+use msd_opt::LeastSquaresProblem;
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+
+/// One record's rows: channel-major, row = start + channel·len + sample.
+pub(crate) struct RecordRows<'a> {
+    pub record: &'a Record,
+    pub kinds: Vec<OutputKind>,
+    pub maps: Vec<OutputMap>,
+    /// Index of each channel's noise group (channels of one name share σ).
+    pub groups: Vec<usize>,
+    /// 1/σ of each channel.
+    pub weights: Vec<f64>,
+    pub start: usize,
+    pub len: usize,
+    /// The factorised Gram matrix of W·G, when there is a β.
+    linear: Option<LinearSolve>,
+    /// β̂: the initial state (when estimated), then the offsets (when estimated).
+    pub beta: Vec<f64>,
+}
+
+/// The problem over a set of records sharing one plant.
+pub(crate) struct Joint<'a> {
+    pub records: Vec<RecordRows<'a>>,
+    pub drive: Drive,
+    pub group_names: Vec<String>,
+    hold: Hold,
+    dt: f64,
+    fixed: [Option<f64>; 3],
+    pub free: Vec<usize>,
+    state: bool,
+    offset: bool,
+    pub rows: usize,
+    basis: Vec<[f64; 2]>,
+    forced: Vec<f64>,
+    zeros: Vec<f64>,
+    pub evaluations: usize,
+}
+
+impl<'a> Joint<'a> {
+    /// The problem on checked `records`, with m, c, k fixed as `fixed` says, every
+    /// weight 1.
+    pub(crate) fn new(
+        records: &[&'a Record],
+        kinds: &[Vec<OutputKind>],
+        options: &RecordsOptions,
+        fixed: [Option<f64>; 3],
+    ) -> Self {
+        let mut group_names: Vec<String> = Vec::new();
+        let mut start = 0;
+        let mut rows = Vec::with_capacity(records.len());
+        for (record, kinds) in records.iter().zip(kinds) {
+            let groups = record
+                .channels
+                .iter()
+                .map(|c| match group_names.iter().position(|g| *g == c.name) {
+                    Some(g) => g,
+                    None => {
+                        group_names.push(c.name.clone());
+                        group_names.len() - 1
+                    }
+                })
+                .collect();
+            let (len, channels) = (record.excitation.len(), record.channels.len());
+            rows.push(RecordRows {
+                record,
+                kinds: kinds.clone(),
+                maps: vec![OutputMap::default(); channels],
+                groups,
+                weights: vec![1.0; channels],
+                start,
+                len,
+                linear: None,
+                beta: Vec::new(),
+            });
+            start += len * channels;
+        }
+        let longest = records.iter().map(|r| r.excitation.len()).max();
+        Self {
+            records: rows,
+            drive: options.drive,
+            group_names,
+            hold: options.hold,
+            dt: records.first().map_or(1.0, |r| r.excitation.dt()),
+            free: (0..3).filter(|&p| fixed[p].is_none()).collect(),
+            fixed,
+            state: options.estimate_initial_state,
+            offset: options.estimate_offset,
+            rows: start,
+            basis: vec![[0.0; 2]; start],
+            forced: vec![0.0; start],
+            zeros: vec![0.0; longest.unwrap_or(0)],
+            evaluations: 0,
+        }
+    }
+
+    /// Sets each channel's weight to 1/σ of its group.
+    pub(crate) fn set_sigmas(&mut self, sigma: impl Fn(&str) -> f64) {
+        let sigmas: Vec<f64> = self.group_names.iter().map(|g| sigma(g)).collect();
+        for rec in &mut self.records {
+            for (w, &g) in rec.weights.iter_mut().zip(&rec.groups) {
+                debug_assert!(sigmas[g] > 0.0);
+                *w = 1.0 / sigmas[g];
+            }
+        }
+    }
+
+    /// Number of linear parameters per record.
+    pub(crate) fn linear_count(&self, channels: usize) -> usize {
+        2 * usize::from(self.state) + channels * usize::from(self.offset)
+    }
+
+    /// θ from the optimiser's vector (logarithms of the free parameters).
+    pub(crate) fn theta(&self, x: &[f64]) -> [f64; 3] {
+        let mut j = 0;
+        std::array::from_fn(|p| {
+            self.fixed[p].unwrap_or_else(|| {
+                j += 1;
+                x[j - 1].exp()
+            })
+        })
+    }
+
+    /// The optimiser's vector of θ.
+    pub(crate) fn pack(&self, theta: [f64; 3]) -> Vec<f64> {
+        self.free.iter().map(|&p| theta[p].ln()).collect()
+    }
+
+    /// The response from rest f and the free-response basis C·Φⁱ at θ, and each
+    /// record's Gram matrix; false if θ cannot be simulated or a Gram matrix is singular.
+    pub(crate) fn prepare(&mut self, theta: [f64; 3]) -> bool {
+        let plant = Plant {
+            theta,
+            drive: self.drive,
+        };
+        let Ok(sim) = plant.response(self.dt, self.hold) else {
+            return false;
+        };
+        let phi = sim.transition();
+        let phi = [[phi[(0, 0)], phi[(0, 1)]], [phi[(1, 0)], phi[(1, 1)]]];
+        let mut records = std::mem::take(&mut self.records);
+        let mut ok = true;
+        for rec in &mut records {
+            for (map, &kind) in rec.maps.iter_mut().zip(&rec.kinds) {
+                *map = plant.output(kind);
+            }
+            let input = input(self.drive, &self.zeros, rec);
+            let (forced, basis) = (&mut self.forced, &mut self.basis);
+            let mut power = [[1.0, 0.0], [0.0, 1.0]];
+            let run = sim.simulate_with(&SVector::zeros(), &input, |i, s| {
+                if i > 0 {
+                    power = product(power, phi);
+                }
+                let s = [s[0], s[1]];
+                for (ch, map) in rec.maps.iter().enumerate() {
+                    let row = rec.start + ch * rec.len + i;
+                    forced[row] = map.value(s, input.values[i]);
+                    basis[row] = [
+                        map.c[0] * power[0][0] + map.c[1] * power[1][0],
+                        map.c[0] * power[0][1] + map.c[1] * power[1][1],
+                    ];
+                }
+            });
+            ok = ok && run.is_ok();
+            rec.linear = None;
+            if ok && self.linear_count(rec.maps.len()) > 0 {
+                rec.linear = LinearSolve::new(self.gram(rec));
+                ok = rec.linear.is_some();
+            }
+        }
+        self.records = records;
+        ok
+    }
+
+    /// The weighted design row of (record, channel, sample): up to three (column, value).
+    #[inline(always)]
+    fn design(&self, rec: &RecordRows<'_>, ch: usize, row: usize) -> ([(usize, f64); 3], usize) {
+        let w = rec.weights[ch];
+        let g = self.basis[row];
+        let mut e = [(0, 0.0); 3];
+        let mut n = 0;
+        if self.state {
+            e[0] = (0, w * g[0]);
+            e[1] = (1, w * g[1]);
+            n = 2;
+        }
+        if self.offset {
+            e[n] = (n + ch, w);
+            n += 1;
+        }
+        (e, n)
+    }
+
+    /// Σ over the record's rows of (design row)·(`value(row)`), and of its outer product
+    /// when `gram`.
+    fn accumulate(
+        &self,
+        rec: &RecordRows<'_>,
+        value: impl Fn(usize, usize) -> f64,
+        gram: Option<&mut DMatrix<f64>>,
+    ) -> DVector<f64> {
+        let q = self.linear_count(rec.maps.len());
+        let mut rhs = DVector::zeros(q);
+        let mut gram = gram;
+        for ch in 0..rec.maps.len() {
+            for i in 0..rec.len {
+                let row = rec.start + ch * rec.len + i;
+                let (e, n) = self.design(rec, ch, row);
+                let v = value(ch, row);
+                for &(a, ea) in &e[..n] {
+                    rhs[a] += ea * v;
+                    if let Some(g) = gram.as_deref_mut() {
+                        for &(b, eb) in &e[..n] {
+                            g[(a, b)] += ea * eb;
+                        }
+                    }
+                }
+            }
+        }
+        rhs
+    }
+
+    fn gram(&self, rec: &RecordRows<'_>) -> DMatrix<f64> {
+        let q = self.linear_count(rec.maps.len());
+        let mut gram = DMatrix::zeros(q, q);
+        self.accumulate(rec, |_, _| 0.0, Some(&mut gram));
+        gram
+    }
+
+    /// β̂ of every record from the data (after [`prepare`](Self::prepare)).
+    pub(crate) fn solve_linear(&mut self) {
+        for r in 0..self.records.len() {
+            let rec = &self.records[r];
+            let beta = match &rec.linear {
+                Some(linear) => {
+                    let rhs = self.accumulate(
+                        rec,
+                        |ch, row| {
+                            let i = row - rec.start - ch * rec.len;
+                            rec.weights[ch]
+                                * (rec.record.channels[ch].samples[i] - self.forced[row])
+                        },
+                        None,
+                    );
+                    linear.solve(&rhs).iter().copied().collect()
+                }
+                None => Vec::new(),
+            };
+            self.records[r].beta = beta;
+        }
+    }
+
+    /// The model of one row (unweighted): f + G·β.
+    pub(crate) fn model(&self, rec: &RecordRows<'_>, ch: usize, i: usize) -> f64 {
+        let row = rec.start + ch * rec.len + i;
+        let (e, n) = self.design(rec, ch, row);
+        let fitted: f64 = e[..n].iter().map(|&(a, ea)| ea * rec.beta[a]).sum();
+        self.forced[row] + fitted / rec.weights[ch]
+    }
+
+    /// The initial state β̂ gives (at rest when it is not estimated).
+    pub(crate) fn initial_state(&self, rec: &RecordRows<'_>) -> [f64; 2] {
+        if self.state {
+            [rec.beta[0], rec.beta[1]]
+        } else {
+            [0.0; 2]
+        }
+    }
+
+    /// The offsets β̂ gives (zeros when they are not estimated).
+    pub(crate) fn offsets(&self, rec: &RecordRows<'_>) -> Vec<f64> {
+        let first = 2 * usize::from(self.state);
+        (0..rec.maps.len())
+            .map(|ch| {
+                if self.offset {
+                    rec.beta[first + ch]
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// W·(y − ŷ) into `out`.
+    fn fill_residuals(&self, out: &mut [f64]) {
+        for rec in &self.records {
+            for (ch, channel) in rec.record.channels.iter().enumerate() {
+                let w = rec.weights[ch];
+                for (i, y) in channel.samples.iter().enumerate() {
+                    out[rec.start + ch * rec.len + i] = w * (y - self.model(rec, ch, i));
+                }
+            }
+        }
+    }
+
+    /// Kaufman's Jacobian of the residuals in the log-parameters (see the module doc),
+    /// at θ and each record's β (after [`prepare`](Self::prepare) at θ).
+    pub(crate) fn fill_jacobian(&self, theta: [f64; 3], out: &mut DMatrix<f64>) -> Result<()> {
+        debug_assert_eq!(out.shape(), (self.rows, self.free.len()));
+        let plant = Plant {
+            theta,
+            drive: self.drive,
+        };
+        let sim = plant.sensitivities(self.dt, self.hold)?;
+        let m = self.rows;
+        for rec in &self.records {
+            let mut z0 = SVector::<f64, 8>::zeros();
+            [z0[0], z0[1]] = self.initial_state(rec);
+            let input = input(self.drive, &self.zeros, rec);
+            let cols = out.as_mut_slice();
+            sim.simulate_with(&z0, &input, |i, z| {
+                let s = [z[0], z[1]];
+                let u = input.values[i];
+                for (ch, map) in rec.maps.iter().enumerate() {
+                    let row = rec.start + ch * rec.len + i;
+                    let w = rec.weights[ch];
+                    for (col, &p) in self.free.iter().enumerate() {
+                        let sp = [z[2 + 2 * p], z[3 + 2 * p]];
+                        cols[col * m + row] = -w * theta[p] * map.derivative(p, s, sp, u);
+                    }
+                }
+            })?;
+            for col in 0..self.free.len() {
+                self.project(rec, &mut out.as_mut_slice()[col * m..(col + 1) * m]);
+            }
+        }
+        Ok(())
+    }
+
+    /// Removes from the record's rows of `v` their projection on the span of W·G.
+    fn project(&self, rec: &RecordRows<'_>, v: &mut [f64]) {
+        let Some(linear) = &rec.linear else {
+            return;
+        };
+        let coef = linear.solve(&self.accumulate(rec, |_, row| v[row], None));
+        for ch in 0..rec.maps.len() {
+            for i in 0..rec.len {
+                let row = rec.start + ch * rec.len + i;
+                let (e, n) = self.design(rec, ch, row);
+                v[row] -= e[..n].iter().map(|&(a, ea)| ea * coef[a]).sum::<f64>();
+            }
+        }
+    }
+
+    /// The projected weighted data and response from rest, P⊥·W·y and P⊥·W·f, for the
+    /// gain of the initial guess (after [`prepare`](Self::prepare)).
+    pub(crate) fn projected_data_and_response(&self) -> (Vec<f64>, Vec<f64>) {
+        let (mut y, mut f) = (vec![0.0; self.rows], vec![0.0; self.rows]);
+        for rec in &self.records {
+            for (ch, channel) in rec.record.channels.iter().enumerate() {
+                for (i, v) in channel.samples.iter().enumerate() {
+                    let row = rec.start + ch * rec.len + i;
+                    y[row] = rec.weights[ch] * v;
+                    f[row] = rec.weights[ch] * self.forced[row];
+                }
+            }
+            self.project(rec, &mut y);
+            self.project(rec, &mut f);
+        }
+        (y, f)
+    }
+}
+
+impl LeastSquaresProblem for Joint<'_> {
+    fn residual_count(&self) -> usize {
+        self.rows
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> bool {
+        let theta = self.theta(x);
+        if !theta.iter().all(|v| v.is_finite() && *v > 0.0) {
+            return false;
+        }
+        self.evaluations += 1;
+        if !self.prepare(theta) {
+            return false;
+        }
+        self.solve_linear();
+        self.fill_residuals(out);
+        out.iter().all(|r| r.is_finite())
+    }
+
+    fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
+        let theta = self.theta(x);
+        self.fill_jacobian(theta, out).is_ok() && out.iter().all(|v| v.is_finite())
+    }
+}
+
+/// The record's drive as the simulator's input (zeros for a free decay).
+fn input<'b>(drive: Drive, zeros: &'b [f64], rec: &RecordRows<'b>) -> SampledInput<'b> {
+    match drive {
+        Drive::None => SampledInput::smooth(&zeros[..rec.len]),
+        _ => SampledInput {
+            values: rec.record.excitation.samples(),
+            breakpoints: rec.record.excitation.breakpoints(),
+        },
+    }
+}
+
+/// Φⁱ·Φ.
+#[inline(always)]
+fn product(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    [
+        [
+            a[0][0] * b[0][0] + a[0][1] * b[1][0],
+            a[0][0] * b[0][1] + a[0][1] * b[1][1],
+        ],
+        [
+            a[1][0] * b[0][0] + a[1][1] * b[1][0],
+            a[1][0] * b[0][1] + a[1][1] * b[1][1],
+        ],
+    ]
+}
+
+/// A Gram matrix factorised with its diagonal scaled to 1 (so the units of the columns
+/// do not matter).
+struct LinearSolve {
+    cholesky: Cholesky<f64, Dyn>,
+    scale: DVector<f64>,
+}
+
+impl LinearSolve {
+    fn new(gram: DMatrix<f64>) -> Option<Self> {
+        let q = gram.nrows();
+        let scale = DVector::from_fn(q, |i, _| 1.0 / gram[(i, i)].sqrt());
+        if !scale.iter().all(|s| s.is_finite()) {
+            return None;
+        }
+        let scaled = DMatrix::from_fn(q, q, |r, c| gram[(r, c)] * scale[r] * scale[c]);
+        Some(Self {
+            cholesky: scaled.cholesky()?,
+            scale,
+        })
+    }
+
+    fn solve(&self, rhs: &DVector<f64>) -> DVector<f64> {
+        let scaled = rhs.component_mul(&self.scale);
+        self.cholesky.solve(&scaled).component_mul(&self.scale)
+    }
+}

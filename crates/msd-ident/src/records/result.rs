@@ -1,0 +1,141 @@
+//! What a joint fit returns, and its table.
+
+use super::intervals::PlantIntervals;
+use super::setup::Drive;
+use crate::{FitMetrics, InitialState};
+use serde::Serialize;
+use std::time::Duration;
+
+/// One channel of one record: its offset, and how well the model follows it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChannelFit {
+    /// The channel's name.
+    pub channel: String,
+    /// The channel's estimated offset (0 when not estimated), in its unit.
+    pub offset: f64,
+    /// The model against the channel's samples.
+    pub fit: FitMetrics,
+    /// The model at every sample, offset included.
+    #[serde(skip)]
+    pub model: Vec<f64>,
+}
+
+/// One record of a joint fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordFit {
+    /// The record's name.
+    pub name: String,
+    /// The state at the first sample (at rest when not estimated): the mass's absolute
+    /// displacement and velocity, relative to the base under a base acceleration.
+    pub initial_state: InitialState,
+    /// Each channel, in the record's order.
+    pub channels: Vec<ChannelFit>,
+}
+
+/// The estimated noise level of one sensor (over every record that has it).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChannelNoise {
+    /// The channel's name.
+    pub channel: String,
+    /// σ̂ = √(SSE / (N·(N_total − p)/N_total)), in the channel's unit: its share of the
+    /// degrees of freedom.
+    pub sigma: f64,
+    /// Samples N of this channel over all records.
+    pub samples: usize,
+}
+
+/// One record predicted by the plant fitted to the other records (its own initial state
+/// and offsets fitted with that plant held).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LeftOut {
+    /// The record left out.
+    pub record: String,
+    /// fn of the plant fitted to the others, Hz.
+    pub natural_frequency_hz: f64,
+    /// ζ of the plant fitted to the others.
+    pub damping_ratio: f64,
+    /// The prediction of each channel.
+    pub channels: Vec<ChannelFit>,
+}
+
+/// The result of [`fit_records`](crate::fit_records).
+///
+/// Serializes the plant's intervals at the top level (`identifiable`, `mass`, …,
+/// `damping_ratio`), then the noise levels, the records, the leave-one-out predictions,
+/// the counts and `wall_time_s`. Displays a compact table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordsFit {
+    /// What drove the plant.
+    pub drive: Drive,
+    /// What the setup identifies, with 95 % intervals.
+    #[serde(flatten)]
+    pub plant: PlantIntervals,
+    /// σ̂ of each sensor, in order of first appearance.
+    pub noise: Vec<ChannelNoise>,
+    /// Each record's initial state and channel fits.
+    pub records: Vec<RecordFit>,
+    /// Each record predicted by the others (with two records or more, when asked).
+    pub leave_one_out: Option<Vec<LeftOut>>,
+    /// Weighted least-squares passes (noise levels re-estimated between them).
+    pub passes: usize,
+    /// Levenberg–Marquardt iterations over all passes.
+    pub iterations: usize,
+    /// Residual evaluations (each one simulation of every record).
+    pub evaluations: usize,
+    /// What the reader should know (unconverged noise levels, failed leave-one-out fits).
+    pub notes: Vec<String>,
+    /// Wall-clock time (serialized as `wall_time_s`, in seconds).
+    #[serde(rename = "wall_time_s", serialize_with = "crate::ser::seconds")]
+    pub wall_time: Duration,
+}
+
+impl std::fmt::Display for RecordsFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "{} record(s), {}: {} passes, {} iterations, {:.1} ms",
+            self.records.len(),
+            self.drive,
+            self.passes,
+            self.iterations,
+            self.wall_time.as_secs_f64() * 1e3
+        )?;
+        writeln!(f, "identifiable: {}", self.plant.identifiable.join(", "))?;
+        writeln!(f, "{}", self.plant)?;
+        for noise in &self.noise {
+            writeln!(
+                f,
+                "σ̂ {} = {:.4e} ({} samples)",
+                noise.channel, noise.sigma, noise.samples
+            )?;
+        }
+        write!(
+            f,
+            "{:<16} {:<12} {:>9} {:>12}",
+            "record", "channel", "R²", "offset"
+        )?;
+        if self.leave_one_out.is_some() {
+            write!(f, " {:>12}", "R² by others")?;
+        }
+        for record in &self.records {
+            let left_out = self
+                .leave_one_out
+                .as_ref()
+                .and_then(|l| l.iter().find(|l| l.record == record.name));
+            for (c, channel) in record.channels.iter().enumerate() {
+                write!(
+                    f,
+                    "\n{:<16} {:<12} {:>9.5} {:>12.4e}",
+                    record.name, channel.channel, channel.fit.r_squared, channel.offset
+                )?;
+                if let Some(prediction) = left_out.and_then(|l| l.channels.get(c)) {
+                    write!(f, " {:>12.5}", prediction.fit.r_squared)?;
+                }
+            }
+        }
+        for note in &self.notes {
+            write!(f, "\nnote: {note}")?;
+        }
+        Ok(())
+    }
+}

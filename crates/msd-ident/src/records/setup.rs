@@ -1,0 +1,263 @@
+//! What a joint fit is given: the drive, the records with their channels, the options.
+
+use super::model::OutputKind;
+use crate::{Excitation, IdentError, KnownParameter, Parameters, ResponseQuantity, Result};
+use msd_ode::Hold;
+use msd_opt::LevenbergMarquardtOptions;
+use serde::{Deserialize, Serialize};
+
+/// What drives the plant.
+///
+/// By default [`Drive::Force`].
+///
+/// ```
+/// use msd_ident::Drive;
+/// assert_eq!(serde_json::to_value(Drive::BaseAcceleration)?, "base_acceleration");
+/// assert_eq!(Drive::None.to_string(), "free decay");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Drive {
+    /// A measured force F on the mass: m·x″ + c·x′ + k·x = F (N). Identifies m, c and k.
+    #[default]
+    Force,
+    /// A measured base acceleration z″ (m/s²): the relative motion y = x − z obeys
+    /// y″ + 2ζωn·y′ + ωn²·y = −z″. Identifies ωn and ζ (m, c, k with a known mass or
+    /// stiffness).
+    BaseAcceleration,
+    /// A measured base displacement z (m): m·x″ + c·x′ + k·x = c·z′ + k·z, simulated with
+    /// the state w = x′ − (c/m)·z so that z′ is never needed. Identifies ωn and ζ.
+    BaseDisplacement,
+    /// Nothing: the mass rings down from its initial state (a free decay). The records'
+    /// excitation samples are ignored. Identifies ωn and ζ.
+    None,
+}
+
+impl std::fmt::Display for Drive {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.setup())
+    }
+}
+
+impl Drive {
+    /// The setup in words, for messages.
+    pub(crate) fn setup(self) -> &'static str {
+        match self {
+            Drive::Force => "force drive",
+            Drive::BaseAcceleration => "base acceleration",
+            Drive::BaseDisplacement => "base displacement",
+            Drive::None => "free decay",
+        }
+    }
+
+    /// Whether the mass is estimated (only a force on the mass fixes it).
+    pub(crate) fn estimates_mass(self) -> bool {
+        self == Drive::Force
+    }
+}
+
+/// Whether a channel measures the mass's motion itself or its motion relative to the
+/// base. With a fixed base ([`Drive::Force`], [`Drive::None`]) the two are the same.
+///
+/// By default [`Frame::Absolute`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Frame {
+    /// The mass's motion x (an accelerometer on the mass, a laser from the ground).
+    #[default]
+    Absolute,
+    /// The motion relative to the base, y = x − z (an LVDT between base and mass).
+    Relative,
+}
+
+/// One sensor of a record: what it measures and its samples, at the record's instants.
+///
+/// Each channel of each record has its own offset (the sensor's zero): a velocity or
+/// acceleration channel does not see a displacement sensor's offset, and the reverse.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Channel {
+    /// The sensor's name; channels of the same name in several records share one noise
+    /// level.
+    pub name: String,
+    /// Displacement (m), velocity (m/s) or acceleration (m/s²).
+    pub quantity: ResponseQuantity,
+    /// Absolute, or relative to the base.
+    pub frame: Frame,
+    /// The samples, one per excitation sample.
+    pub samples: Vec<f64>,
+}
+
+/// One test run: the drive's samples and the sensors' records.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// The run's name, for the tables and the messages.
+    pub name: String,
+    /// The drive's samples (force, base acceleration or base displacement) with the
+    /// sampling grid; for [`Drive::None`] only its grid is used.
+    pub excitation: Excitation,
+    /// At least one channel.
+    pub channels: Vec<Channel>,
+}
+
+/// Options of [`fit_records`](crate::fit_records).
+///
+/// ```
+/// use msd_ident::{Drive, KnownParameter, RecordsOptions};
+/// let options = RecordsOptions { drive: Drive::None, known: KnownParameter::Mass(2.5), ..Default::default() };
+/// assert!(options.validate().is_ok());
+/// let toml = "drive = \"base_acceleration\"\nknown = { mass = 2.5 }\nhold = \"first\"";
+/// let read: RecordsOptions = toml::from_str(toml).expect("valid");
+/// assert_eq!(read.drive, Drive::BaseAcceleration);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RecordsOptions {
+    /// What drives the plant. By default a force on the mass.
+    pub drive: Drive,
+    /// A known mass or static stiffness: with a force drive it is held fixed, with the
+    /// other drives it turns ωn and ζ into m, c and k. By default nothing is known.
+    pub known: KnownParameter,
+    /// Refuse a setup that cannot give m, c and k (instead of giving ωn and ζ only).
+    /// By default false.
+    pub require_physical: bool,
+    /// θ₀; with the base drives and free decays only ωn and ζ of it matter. By default
+    /// none: ARX poles of each channel (the classroom estimates of a free decay), the
+    /// one with the smallest cost.
+    pub initial_guess: Option<Parameters>,
+    /// Estimate each record's initial state (else each starts at rest). By default true;
+    /// a free decay needs it.
+    pub estimate_initial_state: bool,
+    /// Estimate each channel's offset in each record (else zero). By default true.
+    pub estimate_offset: bool,
+    /// With two records or more, predict each record by the parameters fitted to the
+    /// others. By default true.
+    pub leave_one_out: bool,
+    /// How the drive is reconstructed between samples. By default cubic.
+    #[serde(with = "crate::simulate::hold_serde")]
+    pub hold: Hold,
+    /// Most weighted least-squares passes (each re-estimates the channels' noise levels
+    /// from the residuals); one suffices with a single sensor. By default 10.
+    pub max_passes: usize,
+    /// The optimiser of each pass. By default MINPACK's settings.
+    #[serde(skip)]
+    pub levenberg_marquardt: LevenbergMarquardtOptions,
+}
+
+impl Default for RecordsOptions {
+    fn default() -> Self {
+        Self {
+            drive: Drive::Force,
+            known: KnownParameter::None,
+            require_physical: false,
+            initial_guess: None,
+            estimate_initial_state: true,
+            estimate_offset: true,
+            leave_one_out: true,
+            hold: Hold::Cubic,
+            max_passes: 10,
+            levenberg_marquardt: LevenbergMarquardtOptions::default(),
+        }
+    }
+}
+
+impl RecordsOptions {
+    /// Checks the options alone (the records are checked by the fit), naming the first
+    /// one out of range or the combination that cannot work.
+    pub fn validate(&self) -> Result<()> {
+        let known = match self.known {
+            KnownParameter::Mass(v) => Some(("known mass", v)),
+            KnownParameter::Stiffness(v) => Some(("known stiffness", v)),
+            KnownParameter::None => None,
+        };
+        if let Some((name, value)) = known
+            && !(value.is_finite() && value > 0.0)
+        {
+            return Err(IdentError::InvalidParameter {
+                name,
+                value,
+                expected: "a finite number > 0",
+            });
+        }
+        if let Some(guess) = &self.initial_guess {
+            guess.validate()?;
+        }
+        if self.max_passes == 0 {
+            return Err(IdentError::InvalidParameter {
+                name: "max_passes",
+                value: 0.0,
+                expected: "at least 1",
+            });
+        }
+        self.levenberg_marquardt.validate()?;
+        self.check_setup()
+    }
+
+    fn check_setup(&self) -> Result<()> {
+        let setup = self.drive.setup();
+        if self.drive == Drive::None && !self.estimate_initial_state {
+            return Err(IdentError::Setup {
+                setup,
+                reason: "nothing moves the mass: a free decay needs its initial state estimated; set `estimate_initial_state = true`".into(),
+            });
+        }
+        if self.require_physical
+            && !self.drive.estimates_mass()
+            && self.known == KnownParameter::None
+        {
+            return Err(IdentError::Setup {
+                setup,
+                reason: "m, c and k are not separately identifiable without a known mass or stiffness (every plant with the same c/m and k/m moves the same way): set `known` to the weighed mass or the static stiffness, or ask for ωn and ζ only".into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// How `channel` is computed from the model's state under this drive, or why it
+    /// cannot be.
+    pub(crate) fn output_kind(&self, record: &str, channel: &Channel) -> Result<OutputKind> {
+        use Frame::{Absolute, Relative};
+        use ResponseQuantity::{Acceleration, Displacement, Velocity};
+        let kind = match (self.drive, channel.frame, channel.quantity) {
+            (Drive::Force | Drive::None, _, Displacement) => Some(OutputKind::Displacement),
+            (Drive::Force | Drive::None, _, Velocity) => Some(OutputKind::Velocity),
+            (Drive::Force | Drive::None, _, Acceleration) => Some(OutputKind::Acceleration),
+            (Drive::BaseAcceleration, Relative, Displacement) => Some(OutputKind::Displacement),
+            (Drive::BaseAcceleration, Relative, Velocity) => Some(OutputKind::Velocity),
+            (Drive::BaseAcceleration, Relative, Acceleration) => Some(OutputKind::Acceleration),
+            (Drive::BaseAcceleration, Absolute, Acceleration) => {
+                Some(OutputKind::AbsoluteAcceleration)
+            }
+            (Drive::BaseDisplacement, Absolute, Displacement) => Some(OutputKind::Displacement),
+            (Drive::BaseDisplacement, Absolute, Velocity) => Some(OutputKind::AbsoluteVelocity),
+            (Drive::BaseDisplacement, Relative, Displacement) => {
+                Some(OutputKind::RelativeDisplacement)
+            }
+            _ => None,
+        };
+        kind.ok_or_else(|| IdentError::InvalidRecord {
+            record: record.to_string(),
+            channel: Some(channel.name.clone()),
+            reason: format!(
+                "a {:?} {:?} channel cannot be predicted under a {}: {}",
+                channel.frame,
+                channel.quantity,
+                self.drive.setup(),
+                supported(self.drive)
+            )
+            .to_lowercase(),
+        })
+    }
+}
+
+fn supported(drive: Drive) -> &'static str {
+    match drive {
+        Drive::BaseAcceleration => {
+            "it supports relative displacement, velocity and acceleration and absolute acceleration (the absolute displacement and velocity need the base's own, which an accelerometer does not give)"
+        }
+        Drive::BaseDisplacement => {
+            "it supports absolute displacement, absolute velocity and relative displacement (the others need the derivative of the measured base displacement)"
+        }
+        Drive::Force | Drive::None => "it supports displacement, velocity and acceleration",
+    }
+}
