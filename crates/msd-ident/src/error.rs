@@ -124,6 +124,18 @@ pub enum IdentError {
         /// What it cannot do, and what to change.
         reason: String,
     },
+    /// A test condition of a dynamometer record is unusable.
+    #[error("condition '{condition}', {field}: {found}; expected {expected}")]
+    InvalidCondition {
+        /// The condition's name.
+        condition: String,
+        /// The field: `dt`, `displacement`, `force` or `frequency_hz`.
+        field: &'static str,
+        /// What was found.
+        found: String,
+        /// What was expected, in words.
+        expected: String,
+    },
     /// From the ODE layer.
     #[error(transparent)]
     Ode(#[from] OdeError),

@@ -17,6 +17,9 @@
 //! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals), the
 //!   classroom [`half_power`] estimates, the [`stabilization_diagram`] and [`fit_modes`]
 //!   (several modes with intervals);
+//! - imposed motion, measured force (a damper test machine): [`dynamometer`] gives each
+//!   condition's loop energy, equivalent damping, storage stiffness and loss factor, and
+//!   fits and ranks the damping laws across all conditions;
 //! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
 //!   [`SyntheticOptions`].
 //!
@@ -51,6 +54,7 @@ mod arx;
 mod base_excitation;
 mod correlation;
 mod data;
+mod dynamometer;
 mod error;
 mod estimate;
 mod fft;
@@ -76,6 +80,10 @@ pub use arx::arx_initial_guess;
 pub use base_excitation::{BaseExcitation, BaseExcitationOptions, base_excitation};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
+pub use dynamometer::{
+    Condition, ConditionSummary, Dynamometer, DynamometerOptions, LawFit, MIN_CYCLES, Stroke,
+    SyntheticDynamometer, dynamometer, synthetic_dynamometer,
+};
 pub use error::{IdentError, Result};
 pub use estimate::{
     Estimate, EstimationOptions, FixedParameters, GuessSource, Method, MultistartSettings,

@@ -1,0 +1,308 @@
+//! The harmonic content of a periodic record: the Fourier basis by recurrence, its Gram
+//! matrix in closed form, the least-squares Fourier fit of a stroke and its force over
+//! whole cycles, and the stroke frequency by the IEEE 1057 four-parameter sine fit.
+
+use nalgebra::{DMatrix, DVector};
+
+/// The basis row g = [1, cos θ, sin θ, cos 2θ, sin 2θ, …, cos Hθ, sin Hθ] at
+/// θᵢ = ω·dt·i for i = 0, 1, 2, …: cos θ, sin θ by rotation (re-anchored on `sin_cos`
+/// every 1024 samples, so the rounding never grows past ~1e-13), the harmonics by angle
+/// addition.
+pub(crate) struct Basis {
+    omega_dt: f64,
+    step: (f64, f64),
+    phase: (f64, f64),
+    index: usize,
+    values: Vec<f64>,
+}
+
+impl Basis {
+    pub fn new(omega_dt: f64, harmonics: usize) -> Self {
+        let (s, c) = omega_dt.sin_cos();
+        Self {
+            omega_dt,
+            step: (c, s),
+            phase: (1.0, 0.0),
+            index: 0,
+            values: vec![0.0; 2 * harmonics + 1],
+        }
+    }
+
+    /// The row of the next sample (the first call gives sample 0).
+    #[inline]
+    pub fn next_row(&mut self) -> &[f64] {
+        let i = self.index;
+        if i % 1024 == 0 {
+            let (s, c) = (self.omega_dt * i as f64).sin_cos();
+            self.phase = (c, s);
+        } else {
+            let ((c, s), (dc, ds)) = (self.phase, self.step);
+            self.phase = (c * dc - s * ds, s * dc + c * ds);
+        }
+        self.index += 1;
+        let (c1, s1) = self.phase;
+        let (mut c, mut s) = (c1, s1);
+        self.values[0] = 1.0;
+        for pair in self.values[1..].chunks_exact_mut(2) {
+            pair[0] = c;
+            pair[1] = s;
+            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
+        }
+        &self.values
+    }
+}
+
+/// GᵀG of the basis over samples 0..n at ω·dt = `phi`, from the Dirichlet sums
+/// Σᵢ e^{i·q·φ·i} = e^{i·q·φ·(n−1)/2}·sin(n·q·φ/2)/sin(q·φ/2) and the product-to-sum
+/// formulas: O(H²) instead of O(n·H²). Needs q·φ/2 ∈ (0, π) for q = 1..2H, i.e. the
+/// H-th harmonic below the Nyquist frequency.
+pub(crate) fn gram(n: usize, phi: f64, harmonics: usize) -> DMatrix<f64> {
+    let nf = n as f64;
+    // d[q] = Σ cos(qφi), e[q] = Σ sin(qφi), q = 0..=2H.
+    let (mut d, mut e) = (vec![nf; 2 * harmonics + 1], vec![0.0; 2 * harmonics + 1]);
+    for q in 1..=2 * harmonics {
+        let half = q as f64 * phi / 2.0;
+        debug_assert!(half > 0.0 && half < std::f64::consts::PI, "q·φ/2 = {half}");
+        let kernel = (nf * half).sin() / half.sin();
+        let (s, c) = (half * (nf - 1.0)).sin_cos();
+        d[q] = c * kernel;
+        e[q] = s * kernel;
+    }
+    // Signed lookups: cos is even, sin odd.
+    let dq = |q: i64| d[q.unsigned_abs() as usize];
+    let eq = |q: i64| q.signum() as f64 * e[q.unsigned_abs() as usize];
+    let width = 2 * harmonics + 1;
+    DMatrix::from_fn(width, width, |r, col| {
+        let (h, hc) = (r.div_ceil(2) as i64, col.div_ceil(2) as i64);
+        let (rc, cc) = (r % 2 == 1, col % 2 == 1); // true: a cosine column
+        match (r, col) {
+            (0, 0) => nf,
+            (0, _) => {
+                if cc {
+                    dq(hc)
+                } else {
+                    eq(hc)
+                }
+            }
+            (_, 0) => {
+                if rc {
+                    dq(h)
+                } else {
+                    eq(h)
+                }
+            }
+            _ => match (rc, cc) {
+                (true, true) => 0.5 * (dq(h - hc) + dq(h + hc)),
+                (false, false) => 0.5 * (dq(h - hc) - dq(h + hc)),
+                (true, false) => 0.5 * (eq(hc + h) + eq(hc - h)),
+                (false, true) => 0.5 * (eq(h + hc) + eq(h - hc)),
+            },
+        }
+    })
+}
+
+/// The derivative in coefficient space: the coefficients of x′ are Q·θ for those θ of
+/// x (harmonic h: a·cos + b·sin ↦ h·ω·b·cos − h·ω·a·sin); those of x″ are Q²·θ.
+pub(crate) fn derivative(omega: f64, harmonics: usize) -> DMatrix<f64> {
+    let width = 2 * harmonics + 1;
+    let mut q = DMatrix::zeros(width, width);
+    for h in 1..=harmonics {
+        let w = h as f64 * omega;
+        q[(2 * h - 1, 2 * h)] = w;
+        q[(2 * h, 2 * h - 1)] = -w;
+    }
+    q
+}
+
+/// The Fourier fit of one condition's stroke and force over its whole cycles.
+#[derive(Debug, Clone)]
+pub(crate) struct HarmonicFit {
+    /// ω, rad/s.
+    pub omega: f64,
+    /// (GᵀG)⁻¹: the coefficients' covariance per unit noise variance.
+    pub gram_inverse: DMatrix<f64>,
+    /// GᵀG.
+    pub gram: DMatrix<f64>,
+    /// θ of the stroke.
+    pub stroke: DVector<f64>,
+    /// θ of the force.
+    pub force: DVector<f64>,
+    /// σ̂ of the stroke about its fit, √(SSE/(n − 2H − 1)).
+    pub stroke_sigma: f64,
+    /// x̂, x̂′, x̂″ at every sample.
+    pub displacement: Vec<f64>,
+    pub velocity: Vec<f64>,
+    pub acceleration: Vec<f64>,
+}
+
+impl HarmonicFit {
+    /// Fits H harmonics of ω to `x` and `force` (equal lengths, whole cycles, H·ω·dt < π);
+    /// `None` when GᵀG is singular.
+    pub fn new(dt: f64, omega: f64, harmonics: usize, x: &[f64], force: &[f64]) -> Option<Self> {
+        debug_assert_eq!(x.len(), force.len());
+        let n = x.len();
+        let width = 2 * harmonics + 1;
+        let gram = gram(n, omega * dt, harmonics);
+        let gram_inverse = gram.clone().cholesky()?.inverse();
+        let (mut gx, mut gf) = (DVector::zeros(width), DVector::zeros(width));
+        let mut basis = Basis::new(omega * dt, harmonics);
+        for (&xi, &fi) in x.iter().zip(force) {
+            let g = basis.next_row();
+            for (j, &gj) in g.iter().enumerate() {
+                gx[j] += gj * xi;
+                gf[j] += gj * fi;
+            }
+        }
+        let stroke = &gram_inverse * gx;
+        let force = &gram_inverse * gf;
+        let q = derivative(omega, harmonics);
+        let (dv, da) = (&q * &stroke, &q * &q * &stroke);
+        let mut fit = Self {
+            omega,
+            gram_inverse,
+            gram,
+            stroke,
+            force,
+            stroke_sigma: 0.0,
+            displacement: vec![0.0; n],
+            velocity: vec![0.0; n],
+            acceleration: vec![0.0; n],
+        };
+        let mut basis = Basis::new(omega * dt, harmonics);
+        let mut sse = 0.0;
+        for (i, &xi) in x.iter().enumerate() {
+            let g = basis.next_row();
+            let (mut p, mut v, mut a) = (0.0, 0.0, 0.0);
+            for j in 0..width {
+                p += g[j] * fit.stroke[j];
+                v += g[j] * dv[j];
+                a += g[j] * da[j];
+            }
+            (fit.displacement[i], fit.velocity[i], fit.acceleration[i]) = (p, v, a);
+            sse += (xi - p) * (xi - p);
+        }
+        fit.stroke_sigma = (sse / (n - width).max(1) as f64).sqrt();
+        Some(fit)
+    }
+
+    /// The (cos, sin) coefficients of harmonic h ≥ 1 of the stroke and of the force.
+    pub fn harmonic(&self, h: usize) -> ([f64; 2], [f64; 2]) {
+        let (c, s) = (2 * h - 1, 2 * h);
+        (
+            [self.stroke[c], self.stroke[s]],
+            [self.force[c], self.force[s]],
+        )
+    }
+}
+
+/// The stroke's frequency in Hz: a start from the upward zero crossings (with a
+/// hysteresis of half the RMS, so noise near zero adds none), refined by the IEEE Std
+/// 1057 four-parameter sine fit (Gauss–Newton in A, B, C and ω). `None` without two
+/// upward crossings.
+pub(crate) fn estimate_frequency(dt: f64, x: &[f64]) -> Option<f64> {
+    let n = x.len() as f64;
+    let mean = x.iter().sum::<f64>() / n;
+    let rms = (x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n).sqrt();
+    let band = 0.5 * rms;
+    let (mut armed, mut pending, mut crossings) = (false, None, Vec::new());
+    for (i, w) in x.windows(2).enumerate() {
+        let (a, b) = (w[0] - mean, w[1] - mean);
+        if b < -band {
+            armed = true;
+            pending = None;
+        } else if armed && a < 0.0 && b >= 0.0 && pending.is_none() {
+            pending = Some((i as f64 + a / (a - b)) * dt);
+        } else if armed && b > band {
+            crossings.extend(pending.take());
+            armed = false;
+        }
+    }
+    if crossings.len() < 2 {
+        return None;
+    }
+    let (first, last) = (crossings[0], crossings[crossings.len() - 1]);
+    let start = 2.0 * std::f64::consts::PI * (crossings.len() - 1) as f64 / (last - first);
+    Some(four_parameter_fit(dt, x, start) / (2.0 * std::f64::consts::PI))
+}
+
+/// IEEE 1057's four-parameter sine fit x ≈ A·cos ωt + B·sin ωt + C from ω₀: ω.
+fn four_parameter_fit(dt: f64, x: &[f64], omega0: f64) -> f64 {
+    let mut omega = omega0;
+    for _ in 0..30 {
+        // Linear A, B, C at this ω, then one Gauss–Newton step in all four.
+        let mut basis = Basis::new(omega * dt, 1);
+        let mut fit = [0.0; 3];
+        let mut normal = nalgebra::Matrix3::zeros();
+        let mut rhs = nalgebra::Vector3::zeros();
+        for &xi in x {
+            let g = basis.next_row();
+            let row = nalgebra::Vector3::new(g[1], g[2], 1.0);
+            normal += row * row.transpose();
+            rhs += row * xi;
+        }
+        if let Some(sol) = normal.cholesky().map(|c| c.solve(&rhs)) {
+            fit = [sol[0], sol[1], sol[2]];
+        }
+        let mut basis = Basis::new(omega * dt, 1);
+        let mut normal = nalgebra::Matrix4::zeros();
+        let mut rhs = nalgebra::Vector4::zeros();
+        for (i, &xi) in x.iter().enumerate() {
+            let g = basis.next_row();
+            let t = i as f64 * dt;
+            let dw = t * (-fit[0] * g[2] + fit[1] * g[1]);
+            let row = nalgebra::Vector4::new(g[1], g[2], 1.0, dw);
+            normal += row * row.transpose();
+            rhs += row * (xi - fit[0] * g[1] - fit[1] * g[2] - fit[2]);
+        }
+        let Some(step) = normal.cholesky().map(|c| c.solve(&rhs)) else {
+            break;
+        };
+        omega += step[3];
+        if step[3].abs() <= 1e-13 * omega {
+            break;
+        }
+    }
+    omega
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_closed_form_gram_matrix_is_the_sum_over_the_basis_rows() {
+        let (n, phi, h) = (1234, 0.0371, 5);
+        let closed = gram(n, phi, h);
+        let mut summed = DMatrix::zeros(2 * h + 1, 2 * h + 1);
+        let mut basis = Basis::new(phi, h);
+        for i in 0..n {
+            let g = DVector::from_column_slice(basis.next_row());
+            let exact: Vec<f64> = (0..=2 * h)
+                .map(|j| {
+                    let k = j.div_ceil(2) as f64 * phi * i as f64;
+                    match j {
+                        0 => 1.0,
+                        _ if j % 2 == 1 => k.cos(),
+                        _ => k.sin(),
+                    }
+                })
+                .collect();
+            for (a, b) in g.iter().zip(&exact) {
+                assert!((a - b).abs() < 1e-12, "sample {i}: {a} vs {b}");
+            }
+            summed += &g * g.transpose();
+        }
+        let err = (&closed - &summed).abs().max();
+        assert!(err < 1e-9, "{err}");
+    }
+
+    #[test]
+    fn the_four_parameter_fit_finds_the_frequency_of_a_clean_sine() {
+        let (dt, f) = (1e-3, 3.21);
+        let x: Vec<f64> = (0..2000)
+            .map(|i| 0.3 + 0.02 * (2.0 * std::f64::consts::PI * f * i as f64 * dt + 0.4).sin())
+            .collect();
+        let estimate = estimate_frequency(dt, &x).unwrap();
+        assert!((estimate / f - 1.0).abs() < 1e-10, "{estimate}");
+    }
+}
