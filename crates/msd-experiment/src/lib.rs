@@ -32,6 +32,7 @@ pub mod plots;
 pub mod progress;
 pub mod report;
 pub mod results;
+pub mod setup;
 pub mod summary;
 pub mod tables;
 
@@ -138,6 +139,11 @@ fn run_and_write(
 ) -> Result<RunSummary> {
     let target = output_dir(&config, config_path, options);
     output::check_target(&target)?;
+    if config.setup.is_some() {
+        let outcome = setup::run(config, config_path, options, progress)?;
+        progress.stage("report");
+        return setup::write(&outcome, &target, started);
+    }
     let outcome = pipeline::run_stages(config, config_path, options, progress)?;
     write_timed(&outcome, &target, progress, started)
 }

@@ -15,20 +15,20 @@ use crate::pipeline::Outcome;
 use std::fmt::Write;
 
 /// A CSV table: the header and columns of equal length (`None` cells are left empty).
-struct Table {
+pub(crate) struct Table {
     header: Vec<String>,
     columns: Vec<Vec<Option<f64>>>,
 }
 
 impl Table {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             header: Vec::new(),
             columns: Vec::new(),
         }
     }
 
-    fn column(&mut self, name: impl Into<String>, values: &[f64]) {
+    pub(crate) fn column(&mut self, name: impl Into<String>, values: &[f64]) {
         self.header.push(name.into());
         self.columns
             .push(values.iter().copied().map(Some).collect());
@@ -39,7 +39,7 @@ impl Table {
         self.columns.push(values);
     }
 
-    fn render(&self) -> String {
+    pub(crate) fn render(&self) -> String {
         let rows = self.columns.iter().map(Vec::len).max().unwrap_or(0);
         let mut s = String::with_capacity(rows * 16 * self.columns.len().max(1));
         s.push_str(&self.header.join(","));

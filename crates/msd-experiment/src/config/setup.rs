@@ -66,6 +66,39 @@ impl ExcitationKind {
     }
 }
 
+impl ExcitationKind {
+    /// Whether a response of `quantity` in `frame` can be predicted from this drive: a
+    /// base measured by its acceleration gives the motion relative to it and the
+    /// absolute acceleration; one measured by its displacement the absolute and the
+    /// relative displacement (the others would need the base's motion differentiated
+    /// or integrated).
+    pub fn measures(&self, quantity: Quantity, frame: Frame) -> bool {
+        use Quantity::*;
+        match (self, frame) {
+            (ExcitationKind::ImposedDisplacement, _) => quantity == Force,
+            (_, _) if quantity == Force => false,
+            (ExcitationKind::Force | ExcitationKind::None, f) => f == Frame::Absolute,
+            (ExcitationKind::BaseAcceleration, Frame::Relative) => true,
+            (ExcitationKind::BaseAcceleration, Frame::Absolute) => quantity == Acceleration,
+            (ExcitationKind::BaseDisplacement, _) => quantity == Displacement,
+        }
+    }
+
+    /// The responses [`measures`](Self::measures) accepts, in words.
+    pub fn responses(&self) -> &'static str {
+        match self {
+            ExcitationKind::Force | ExcitationKind::None => {
+                "displacement, velocity or acceleration of the mass (frame = \"absolute\")"
+            }
+            ExcitationKind::BaseAcceleration => {
+                "the relative displacement, velocity or acceleration (frame = \"relative\"), or the absolute acceleration"
+            }
+            ExcitationKind::BaseDisplacement => "the absolute or the relative displacement",
+            ExcitationKind::ImposedDisplacement => "the force",
+        }
+    }
+}
+
 /// What a channel measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -111,6 +144,16 @@ pub enum Frame {
     Absolute,
     /// The mass's motion relative to the base (base excitation only).
     Relative,
+}
+
+impl Frame {
+    /// The name as written in a config.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Frame::Absolute => "absolute",
+            Frame::Relative => "relative",
+        }
+    }
 }
 
 /// One response channel: `{ quantity, frame, sigma, column, scale, unit, name }`.
@@ -290,16 +333,15 @@ impl SetupSection {
                     format!(" = \"{}\": {why}", r.quantity.name()),
                 ));
             }
-            let base = matches!(
-                self.excitation,
-                ExcitationKind::BaseAcceleration | ExcitationKind::BaseDisplacement
-            );
-            if r.frame == Frame::Relative && !base {
+            if !machine && !self.excitation.measures(r.quantity, r.frame) {
                 return Err((
-                    key("frame"),
+                    key("quantity"),
                     format!(
-                        " = \"relative\": with setup.excitation = \"{}\" there is no moving base: expected \"absolute\"",
-                        self.excitation.name()
+                        " = \"{}\" (frame = \"{}\"): not a response of setup.excitation = \"{}\": expected {}",
+                        r.quantity.name(),
+                        r.frame.name(),
+                        self.excitation.name(),
+                        self.excitation.responses()
                     ),
                 ));
             }

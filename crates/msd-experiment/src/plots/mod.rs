@@ -21,7 +21,7 @@
 
 mod diagnostics;
 mod models;
-mod time;
+pub(crate) mod time;
 
 use crate::pipeline::Outcome;
 use crate::{ExperimentError, Result};

@@ -142,47 +142,54 @@ impl<'a> Panel<'a> {
             match c.style {
                 Style::Points(color, radius) => {
                     let style = color.mix(0.55).filled();
-                    chart
+                    let anno = chart
                         .draw_series(
                             thin_points(c.x, &c.y, MARKERS)
                                 .into_iter()
                                 .map(move |p| Circle::new(p, radius, style)),
                         )
-                        .map_err(text)?
-                        .label(c.label.as_str())
-                        .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
+                        .map_err(text)?;
+                    // An empty label: no legend entry (e.g. a fit drawn over its data).
+                    if !c.label.is_empty() {
+                        anno.label(c.label.as_str())
+                            .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
+                    }
                 }
                 Style::Line(color, width) => {
-                    chart
+                    let anno = chart
                         .draw_series(LineSeries::new(
                             thin_line(c.x, &c.y, LINE_POINTS),
                             color.stroke_width(width),
                         ))
-                        .map_err(text)?
-                        .label(c.label.as_str())
-                        .legend(move |(x, y)| {
+                        .map_err(text)?;
+                    // An empty label: no legend entry (e.g. a fit drawn over its data).
+                    if !c.label.is_empty() {
+                        anno.label(c.label.as_str()).legend(move |(x, y)| {
                             PathElement::new(
                                 vec![(x, y), (x + 24, y)],
                                 color.stroke_width(width + 1),
                             )
                         });
+                    }
                 }
                 Style::Dashed(color, width) => {
-                    chart
+                    let anno = chart
                         .draw_series(DashedLineSeries::new(
                             thin_line(c.x, &c.y, LINE_POINTS),
                             9,
                             6,
                             color.stroke_width(width),
                         ))
-                        .map_err(text)?
-                        .label(c.label.as_str())
-                        .legend(move |(x, y)| {
+                        .map_err(text)?;
+                    // An empty label: no legend entry (e.g. a fit drawn over its data).
+                    if !c.label.is_empty() {
+                        anno.label(c.label.as_str()).legend(move |(x, y)| {
                             PathElement::new(
                                 vec![(x, y), (x + 10, y)],
                                 color.stroke_width(width + 1),
                             )
                         });
+                    }
                 }
             }
         }

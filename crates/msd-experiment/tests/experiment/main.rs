@@ -6,3 +6,4 @@ mod download;
 mod fetch;
 mod in_memory;
 mod plan;
+mod setups;

@@ -32,7 +32,7 @@ impl Basis {
     #[inline]
     pub fn next_row(&mut self) -> &[f64] {
         let i = self.index;
-        if i % 1024 == 0 {
+        if i.is_multiple_of(1024) {
             let (s, c) = (self.omega_dt * i as f64).sin_cos();
             self.phase = (c, s);
         } else {

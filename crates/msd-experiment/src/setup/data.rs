@@ -1,0 +1,335 @@
+//! The records of a `[setup]` run: generated from the synthetic plant (every channel
+//! from the exact simulation, each with its own noise stream) or read from the measured
+//! files (one record per file).
+
+use crate::config::{Config, ExcitationKind, Frame, Plant, Quantity, Response, SetupSection};
+use crate::data::{ColumnSpec, read_columns};
+use crate::{ExperimentError, Result};
+use msd_ident::Excitation;
+use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
+use msd_signal::gaussian_noise;
+use std::path::{Path, PathBuf};
+
+/// One record: the drive as measured (none for a free decay) and the response
+/// channels, in SI units, on one uniform grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SetupRecord {
+    /// `record-1`, … (synthetic) or the file's stem (measured).
+    pub name: String,
+    /// The drive: force, base motion or the imposed stroke (None for a free decay).
+    pub input: Option<Excitation>,
+    /// Time of each sample, s.
+    pub time: Vec<f64>,
+    /// Time of the first sample, s.
+    pub t0: f64,
+    /// Sampling interval, s.
+    pub dt: f64,
+    /// The channels, in the order of `setup.responses`.
+    pub channels: Vec<Vec<f64>>,
+    /// The noise-free channels (synthetic only).
+    pub truth: Option<Vec<Vec<f64>>>,
+    /// The stroke's frequency, Hz (synthetic test machine only; measured ones are
+    /// estimated from the stroke).
+    pub frequency: Option<f64>,
+}
+
+impl SetupRecord {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.channels.first().map_or(0, Vec::len)
+    }
+
+    /// Whether the record holds no sample.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The records of a setup run and where they came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SetupData {
+    /// The setup, its channels filled in.
+    pub setup: SetupSection,
+    /// The channels' descriptions, in order.
+    pub channels: Vec<Response>,
+    /// The records.
+    pub records: Vec<SetupRecord>,
+    /// The true plant (synthetic only).
+    pub truth: Option<Plant>,
+    /// The files read (measured only).
+    pub files: Vec<PathBuf>,
+}
+
+/// Generates or reads the records of `config` (which has a `[setup]`).
+pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData> {
+    let setup = config
+        .setup
+        .clone()
+        .ok_or_else(|| ExperimentError::config(config_path, "setup: missing section"))?;
+    let channels = setup.channels();
+    let (records, files) = match &config.data {
+        Some(_) => measured(config, config_path, &setup, &channels)?,
+        None => (
+            synthetic(config, config_path, &setup, &channels, seed)?,
+            Vec::new(),
+        ),
+    };
+    Ok(SetupData {
+        truth: config.data.is_none().then_some(config.plant).flatten(),
+        setup,
+        channels,
+        records,
+        files,
+    })
+}
+
+fn measured(
+    config: &Config,
+    config_path: &Path,
+    setup: &SetupSection,
+    channels: &[Response],
+) -> Result<(Vec<SetupRecord>, Vec<PathBuf>)> {
+    let Some(d) = &config.data else {
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let base = config_path.parent().unwrap_or(Path::new(""));
+    let mut specs: Vec<ColumnSpec> = Vec::new();
+    if let Some(column) = &d.input {
+        specs.push(ColumnSpec {
+            role: setup.excitation.name().into(),
+            key: "data.input".into(),
+            column: column.clone(),
+            scale: d.input_scale,
+            scale_key: "data.input_scale".into(),
+        });
+    }
+    for (i, r) in channels.iter().enumerate() {
+        specs.push(ColumnSpec {
+            role: r.channel_name(),
+            key: format!("setup.responses[{i}].column"),
+            column: r.column.clone().unwrap_or(crate::config::Column::Index(0)),
+            scale: r.scale,
+            scale_key: format!("setup.responses[{i}].scale"),
+        });
+    }
+    let mut records = Vec::new();
+    let mut files = Vec::new();
+    for (i, file) in d.path.0.iter().enumerate() {
+        let path = base.join(file);
+        let mut table = read_columns(d, &path, &d.path.key(i), &specs)?;
+        let input = match d.input {
+            Some(_) => {
+                let samples = table.columns.remove(0);
+                Some(
+                    Excitation::from_samples(table.time[0], table.dt, samples)
+                        .map_err(|e| ExperimentError::data(&path, format!("data.input: {e}")))?,
+                )
+            }
+            None => None,
+        };
+        let name = file.file_stem().map_or_else(
+            || format!("record-{}", i + 1),
+            |s| s.to_string_lossy().into(),
+        );
+        records.push(SetupRecord {
+            name,
+            input,
+            t0: table.time[0],
+            time: table.time.clone(),
+            dt: table.dt,
+            channels: table.columns,
+            truth: None,
+            frequency: None,
+        });
+        files.push(path);
+    }
+    Ok((records, files))
+}
+
+fn synthetic(
+    config: &Config,
+    config_path: &Path,
+    setup: &SetupSection,
+    channels: &[Response],
+    seed: u64,
+) -> Result<Vec<SetupRecord>> {
+    let missing =
+        |what: &str| ExperimentError::config(config_path, format!("{what}: missing section"));
+    let plant = config.plant.ok_or_else(|| missing("plant"))?;
+    let time = config.time.ok_or_else(|| missing("time"))?;
+    let default_sigma = config.noise.map_or(0.0, |n| n.sigma);
+    let sigmas: Vec<f64> = channels
+        .iter()
+        .map(|r| r.sigma.unwrap_or(default_sigma))
+        .collect();
+    let mut records = Vec::new();
+    if setup.excitation == ExcitationKind::ImposedDisplacement {
+        for (i, c) in setup.conditions.iter().enumerate() {
+            let name = format!("condition-{}", i + 1);
+            let clean = super::machine::stroke_record(&plant, c, setup.cycles, time.dt)
+                .map_err(|e| ExperimentError::run("data", e))?;
+            let mut record = noisy(name, clean, &sigmas, setup.input_sigma, seed)?;
+            record.frequency = Some(c.frequency);
+            records.push(record);
+        }
+        return Ok(records);
+    }
+    let n = time.samples();
+    let input = match &config.identification {
+        Some(section) => Some(
+            Excitation::from_signal(section.input.clone(), time.start, time.dt, n).map_err(
+                |e| ExperimentError::config(config_path, format!("identification.input: {e}")),
+            )?,
+        ),
+        None => None,
+    };
+    let clean = simulate_channels(
+        &plant,
+        setup.excitation,
+        input.as_ref(),
+        n,
+        time.dt,
+        channels,
+    )
+    .map_err(|e| ExperimentError::run("data", e))?;
+    for r in 0..setup.records {
+        let name = format!("record-{}", r + 1);
+        let record = Clean {
+            input: input.clone(),
+            t0: time.start,
+            dt: time.dt,
+            channels: clean.clone(),
+        };
+        records.push(noisy(name, record, &sigmas, setup.input_sigma, seed)?);
+    }
+    Ok(records)
+}
+
+/// A noise-free record.
+pub(crate) struct Clean {
+    pub input: Option<Excitation>,
+    pub t0: f64,
+    pub dt: f64,
+    pub channels: Vec<Vec<f64>>,
+}
+
+/// Adds each channel's noise (stream `<record>/<channel index>`) and the drive's
+/// (stream `<record>/input`).
+fn noisy(
+    name: String,
+    clean: Clean,
+    sigmas: &[f64],
+    input_sigma: f64,
+    seed: u64,
+) -> Result<SetupRecord> {
+    let noise = |stream: String, sigma: f64, n: usize| {
+        gaussian_noise(seed, &stream, sigma, n).map_err(|e| ExperimentError::run("data", e))
+    };
+    let mut channels = Vec::with_capacity(clean.channels.len());
+    for (j, (c, &sigma)) in clean.channels.iter().zip(sigmas).enumerate() {
+        let e = noise(format!("{name}/{j}"), sigma, c.len())?;
+        channels.push(c.iter().zip(e).map(|(y, e)| y + e).collect());
+    }
+    let input = match clean.input {
+        Some(x) if input_sigma > 0.0 => {
+            let e = noise(format!("{name}/input"), input_sigma, x.len())?;
+            let samples = x.samples().iter().zip(e).map(|(u, e)| u + e).collect();
+            Some(
+                Excitation::from_samples(x.t0(), x.dt(), samples)
+                    .map_err(|e| ExperimentError::run("data", e))?,
+            )
+        }
+        other => other,
+    };
+    let n = clean.channels.first().map_or(0, Vec::len);
+    Ok(SetupRecord {
+        name,
+        input,
+        time: (0..n).map(|i| clean.t0 + i as f64 * clean.dt).collect(),
+        t0: clean.t0,
+        dt: clean.dt,
+        channels,
+        truth: Some(clean.channels),
+        frequency: None,
+    })
+}
+
+/// The noise-free channels of a linear plant driven by `excitation` (or released from
+/// its initial state): the exact simulation of the state, each channel a combination of
+/// the state and the drive.
+fn simulate_channels(
+    plant: &Plant,
+    excitation: ExcitationKind,
+    input: Option<&Excitation>,
+    n: usize,
+    dt: f64,
+    channels: &[Response],
+) -> msd_ident::Result<Vec<Vec<f64>>> {
+    let (m, c, k) = (plant.mass, plant.damping, plant.stiffness);
+    let a = SMatrix::<f64, 2, 2>::new(0.0, 1.0, -k / m, -c / m);
+    // The state: (x, x′) with a force; (y, y′) relative to a base driven by z″;
+    // (x, w = x′ − (c/m)·z) with a base driven by z, so that no derivative of z appears.
+    let b = match excitation {
+        ExcitationKind::BaseAcceleration => SVector::<f64, 2>::new(0.0, -1.0),
+        ExcitationKind::BaseDisplacement => SVector::<f64, 2>::new(c / m, (k - c * c / m) / m),
+        _ => SVector::<f64, 2>::new(0.0, 1.0 / m),
+    };
+    let zeros = vec![0.0; n];
+    let (values, breakpoints) = match input {
+        Some(x) => (x.samples(), x.breakpoints()),
+        None => (zeros.as_slice(), &[][..]),
+    };
+    let sim = ExactSimulator::new(&LtiModel { a, b }, dt, Hold::Cubic)?;
+    let s0 = plant.initial_state;
+    let x0 = match excitation {
+        ExcitationKind::BaseDisplacement => {
+            SVector::<f64, 2>::new(s0.displacement, s0.velocity - c / m * values[0])
+        }
+        _ => SVector::<f64, 2>::new(s0.displacement, s0.velocity),
+    };
+    let mut out = vec![vec![0.0; n]; channels.len()];
+    sim.simulate_with(
+        &x0,
+        &SampledInput {
+            values,
+            breakpoints,
+        },
+        |i, s| {
+            let u = values[i];
+            for (column, r) in out.iter_mut().zip(channels) {
+                column[i] = channel_value(plant, excitation, r, s[0], s[1], u);
+            }
+        },
+    )?;
+    Ok(out)
+}
+
+/// One channel's value from the state (s0, s1) and the drive u (see
+/// [`simulate_channels`] for what the state is).
+fn channel_value(
+    plant: &Plant,
+    excitation: ExcitationKind,
+    r: &Response,
+    s0: f64,
+    s1: f64,
+    u: f64,
+) -> f64 {
+    let (m, c, k) = (plant.mass, plant.damping, plant.stiffness);
+    match (excitation, r.quantity, r.frame) {
+        (ExcitationKind::BaseAcceleration, q, frame) => {
+            // Relative motion y: y″ = −z″ − (c·y′ + k·y)/m; absolute x″ = y″ + z″.
+            let relative_acc = -u - (c * s1 + k * s0) / m;
+            match (q, frame) {
+                (Quantity::Displacement, _) => s0,
+                (Quantity::Velocity, _) => s1,
+                (_, Frame::Relative) => relative_acc,
+                _ => relative_acc + u,
+            }
+        }
+        (ExcitationKind::BaseDisplacement, _, Frame::Absolute) => s0,
+        (ExcitationKind::BaseDisplacement, _, Frame::Relative) => s0 - u,
+        (_, Quantity::Displacement, _) => s0,
+        (_, Quantity::Velocity, _) => s1,
+        (_, _, _) => (u - c * s1 - k * s0) / m,
+    }
+}

@@ -1,0 +1,190 @@
+//! The fit of a setup's records: msd-ident's joint fit of records and channels, or the
+//! test machine's analysis.
+
+use super::{SetupData, SetupOutcome};
+use crate::config::{Config, ExcitationKind, Frame, Quantity};
+use crate::tables::Table;
+use crate::{ExperimentError, Result};
+use msd_ident::{
+    Channel, Condition, Dynamometer, DynamometerOptions, Excitation, FreeDecay, FreeDecayOptions,
+    KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity, dynamometer, fit_records,
+    free_decay,
+};
+use std::path::Path;
+
+/// What a setup run estimated.
+#[derive(Debug, Clone)]
+pub enum SetupFit {
+    /// Shared parameters over every record and channel.
+    Records {
+        /// The joint fit.
+        fit: Box<RecordsFit>,
+        /// A free decay's classroom estimates and closed-form fit on the first record's
+        /// first channel, for comparison.
+        classroom: Option<Box<FreeDecay>>,
+    },
+    /// A damper test machine's conditions and damping laws.
+    Machine(Box<Dynamometer>),
+}
+
+/// Fits the records of `data` as `config` asks.
+pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Result<SetupFit> {
+    let setup = &data.setup;
+    // The data or the setup cannot give what is asked (a constant channel, records of
+    // different rates, a record that does not decay): the user's to fix, exit 2. An
+    // optimiser that fails on good data is the run's failure.
+    let refused = |e: msd_ident::IdentError| match e {
+        msd_ident::IdentError::EstimationFailed { reason } => {
+            ExperimentError::run("estimation", reason)
+        }
+        other => ExperimentError::data(config_path, format!("setup: {other}")),
+    };
+    if setup.excitation == ExcitationKind::ImposedDisplacement {
+        let conditions: Vec<Condition> = data
+            .records
+            .iter()
+            .map(|r| Condition {
+                name: r.name.clone(),
+                dt: r.dt,
+                displacement: r
+                    .input
+                    .as_ref()
+                    .map_or_else(Vec::new, |x| x.samples().to_vec()),
+                force: r.channels[0].clone(),
+                frequency_hz: r.frequency,
+            })
+            .collect();
+        let options = DynamometerOptions {
+            known_mass: setup.known_mass,
+            ..DynamometerOptions::default()
+        };
+        let result = dynamometer(&conditions, &options).map_err(refused)?;
+        return Ok(SetupFit::Machine(Box::new(result)));
+    }
+    let records = ident_records(data)?;
+    let known = match (setup.known_mass, setup.known_stiffness) {
+        (Some(m), _) => KnownParameter::Mass(m),
+        (None, Some(k)) => KnownParameter::Stiffness(k),
+        (None, None) => KnownParameter::None,
+    };
+    let options = RecordsOptions {
+        drive: drive(setup.excitation),
+        known,
+        initial_guess: config.estimation.initial_guess,
+        estimate_initial_state: config.estimation.estimate_initial_state
+            || setup.excitation == ExcitationKind::None,
+        estimate_offset: config.estimation.estimate_offset,
+        ..RecordsOptions::default()
+    };
+    let fit = fit_records(&records, &options).map_err(refused)?;
+    let classroom = match (setup.excitation, data.records.first()) {
+        (ExcitationKind::None, Some(r)) => {
+            let options = FreeDecayOptions {
+                response: quantity(data.channels[0].quantity),
+                known,
+            };
+            free_decay(r.dt, &r.channels[0], &options)
+                .ok()
+                .map(Box::new)
+        }
+        _ => None,
+    };
+    Ok(SetupFit::Records {
+        fit: Box::new(fit),
+        classroom,
+    })
+}
+
+fn drive(kind: ExcitationKind) -> msd_ident::Drive {
+    match kind {
+        ExcitationKind::Force | ExcitationKind::ImposedDisplacement => msd_ident::Drive::Force,
+        ExcitationKind::BaseAcceleration => msd_ident::Drive::BaseAcceleration,
+        ExcitationKind::BaseDisplacement => msd_ident::Drive::BaseDisplacement,
+        ExcitationKind::None => msd_ident::Drive::None,
+    }
+}
+
+fn quantity(q: Quantity) -> ResponseQuantity {
+    match q {
+        Quantity::Velocity => ResponseQuantity::Velocity,
+        Quantity::Acceleration => ResponseQuantity::Acceleration,
+        Quantity::Displacement | Quantity::Force => ResponseQuantity::Displacement,
+    }
+}
+
+/// The records as msd-ident takes them (a free decay's excitation is zero).
+fn ident_records(data: &SetupData) -> Result<Vec<Record>> {
+    data.records
+        .iter()
+        .map(|r| {
+            let excitation = match &r.input {
+                Some(x) => x.clone(),
+                None => Excitation::from_samples(r.t0, r.dt, vec![0.0; r.len()])
+                    .map_err(|e| ExperimentError::run("estimation", e))?,
+            };
+            let channels = r
+                .channels
+                .iter()
+                .zip(&data.channels)
+                .map(|(samples, c)| Channel {
+                    name: c.channel_name(),
+                    quantity: quantity(c.quantity),
+                    frame: match c.frame {
+                        Frame::Absolute => msd_ident::Frame::Absolute,
+                        Frame::Relative => msd_ident::Frame::Relative,
+                    },
+                    samples: samples.clone(),
+                })
+                .collect();
+            Ok(Record {
+                name: r.name.clone(),
+                excitation,
+                channels,
+            })
+        })
+        .collect()
+}
+
+/// One CSV file per record, `<record>.csv`: `t`, the drive (`force`,
+/// `base_acceleration`, `base_displacement`, `stroke`), each channel by its name, and
+/// the model's prediction of each as `model_<name>`.
+pub(crate) fn record_files(o: &SetupOutcome) -> Vec<(String, String)> {
+    let d = &o.data;
+    let drive = match d.setup.excitation {
+        ExcitationKind::ImposedDisplacement => "stroke",
+        other => other.name(),
+    };
+    d.records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let mut t = Table::new();
+            t.column("t", &r.time);
+            if let Some(x) = &r.input {
+                t.column(drive, x.samples());
+            }
+            for (samples, c) in r.channels.iter().zip(&d.channels) {
+                t.column(c.channel_name(), samples);
+            }
+            for (name, model) in models(o, i) {
+                t.column(format!("model_{name}"), model);
+            }
+            (format!("{}.csv", r.name), t.render())
+        })
+        .collect()
+}
+
+/// The model's prediction of each channel of record `i`, by channel name.
+pub(crate) fn models(o: &SetupOutcome, i: usize) -> Vec<(String, &[f64])> {
+    match &o.fit {
+        SetupFit::Records { fit, .. } => fit.records[i]
+            .channels
+            .iter()
+            .map(|c| (c.channel.clone(), c.model.as_slice()))
+            .collect(),
+        SetupFit::Machine(m) => {
+            let best = &m.laws[m.best];
+            vec![("force".to_string(), best.model_force[i].as_slice())]
+        }
+    }
+}

@@ -1,0 +1,115 @@
+//! A `[setup]` run: the tests a vibration lab runs beyond a force and one displacement
+//! channel — accelerometers and several channels at once, base excitation, free decay,
+//! a damper test machine, repeated records fitted together.
+//!
+//! The records ([`data`]) are fitted by msd-ident's [`fit_records`](msd_ident::fit_records)
+//! (shared m, c, k or ωn, ζ over every record and channel, each channel's noise level
+//! estimated, leave-one-record-out validation) or, for a test machine, by its
+//! [`dynamometer`](msd_ident::dynamometer) analysis; the report, the figures, the CSV
+//! files and `results.json` follow the setup.
+
+pub mod data;
+mod fit;
+mod machine;
+mod plots;
+mod report;
+mod report_machine;
+mod results;
+
+pub use data::{SetupData, SetupRecord};
+pub use fit::SetupFit;
+
+use crate::config::Config;
+use crate::output::Staging;
+use crate::progress::Progress;
+use crate::{Result, RunOptions, RunSummary};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Everything a setup run produced, in memory.
+#[derive(Debug, Clone)]
+pub struct SetupOutcome {
+    /// The config as read.
+    pub config: Config,
+    /// The config file as given.
+    pub config_path: PathBuf,
+    /// The command that ran it, for the report.
+    pub command: String,
+    /// The seed used.
+    pub seed: u64,
+    /// The records.
+    pub data: SetupData,
+    /// The fit.
+    pub fit: SetupFit,
+    /// Wall time of each stage, in order.
+    pub timings: Vec<(&'static str, Duration)>,
+}
+
+/// Runs the setup experiment of `config` (which has a `[setup]` section).
+pub fn run(
+    config: Config,
+    config_path: &Path,
+    options: &RunOptions,
+    progress: &Progress,
+) -> Result<SetupOutcome> {
+    let seed = options.seed.unwrap_or(config.seed);
+    progress.stage("data");
+    let t = Instant::now();
+    let data = data::load(&config, config_path, seed)?;
+    let mut timings = vec![("data", t.elapsed())];
+    progress.stage("estimation");
+    let t = Instant::now();
+    let fit = fit::fit(&config, config_path, &data)?;
+    timings.push(("estimation", t.elapsed()));
+    Ok(SetupOutcome {
+        command: options
+            .command
+            .clone()
+            .unwrap_or_else(|| "msd run".to_string()),
+        config,
+        config_path: config_path.to_path_buf(),
+        seed,
+        data,
+        fit,
+        timings,
+    })
+}
+
+/// Writes `outcome` into `target` atomically: figures, one CSV file per record (the
+/// columns a measured config of the same setup reads back), `report.md`,
+/// `report.html` and `results.json`.
+pub fn write(outcome: &SetupOutcome, target: &Path, started: Instant) -> Result<RunSummary> {
+    let staging = Staging::new(target)?;
+    let t = Instant::now();
+    let figures = plots::write_all(outcome, staging.path())?;
+    let mut extra = vec![("figures", t.elapsed())];
+    let t = Instant::now();
+    for (name, text) in fit::record_files(outcome) {
+        staging.write(&name, text.as_bytes())?;
+    }
+    let markdown = report::markdown(outcome, &figures);
+    staging.write("report.md", markdown.as_bytes())?;
+    let svg = |png: &str| {
+        let name = png.strip_suffix(".png")?;
+        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
+    };
+    let page = crate::report::html_page(&markdown, &outcome.config.name, svg);
+    staging.write("report.html", page.as_bytes())?;
+    extra.push(("report", t.elapsed()));
+    let total = started.elapsed();
+    let json = results::to_json(outcome, &extra, total)?;
+    let text =
+        serde_json::to_string_pretty(&json).map_err(|e| crate::ExperimentError::run("write", e))?;
+    staging.write("results.json", format!("{text}\n").as_bytes())?;
+    staging.commit()?;
+    let summary = format!(
+        "{}\nresults in {}\n",
+        report::summary(outcome),
+        target.display()
+    );
+    Ok(RunSummary {
+        out_dir: target.to_path_buf(),
+        summary,
+        results: json,
+    })
+}

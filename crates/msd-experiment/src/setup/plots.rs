@@ -1,0 +1,246 @@
+//! The figures of a setup run, PNG and SVG in the house style:
+//!
+//! - `setup_fit`: each channel of the first record, measured and predicted, with the
+//!   residuals (no excitation panel for a free decay; the drive on top otherwise);
+//! - `setup_loops` (test machine): the force–stroke loop of each condition's last
+//!   cycle, measured and fitted;
+//! - `setup_force_velocity` (test machine): the damping force F − m·x″ − k·x against
+//!   the velocity, every condition's samples and the fitted law.
+
+use super::fit::models;
+use super::{SetupFit, SetupOutcome};
+use crate::Result;
+use crate::plots::time::{Curve, Panel, Style};
+use crate::plots::{BLUE, Draw, Figure, RED, register_fonts, save, suptitle};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// A figure of panels stacked vertically.
+struct Stack<'a> {
+    name: &'static str,
+    title: String,
+    panels: Vec<Panel<'a>>,
+}
+
+impl Figure for Stack<'_> {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 120 + 380 * self.panels.len().max(2) as u32)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let area = suptitle(root, &self.title)?;
+        let parts = area.split_evenly((self.panels.len(), 1));
+        for (panel, part) in self.panels.iter().zip(&parts) {
+            panel.draw(part)?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes every figure of the setup; returns their base names.
+pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str>> {
+    register_fonts();
+    let mut written = Vec::new();
+    let figures = match &o.fit {
+        SetupFit::Records { .. } => vec![fit_figure(o)],
+        SetupFit::Machine(_) => vec![loops(o), force_velocity(o)],
+    };
+    for f in figures.into_iter().flatten() {
+        save(&f, dir)?;
+        written.push(f.name);
+    }
+    Ok(written)
+}
+
+fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
+    let record = o.data.records.first()?;
+    let time: &[f64] = &record.time;
+    let range = (*time.first()?, *time.last()?);
+    let mut panels = Vec::new();
+    if let Some(x) = &record.input {
+        panels.push(Panel {
+            title: format!("Drive: {}", o.data.setup.excitation.name()),
+            x_desc: "time t [s]".into(),
+            y_desc: format!(
+                "{} [{}]",
+                o.data.setup.excitation.name(),
+                o.data.setup.excitation.unit()
+            ),
+            x_range: range,
+            curves: vec![Curve {
+                label: "measured".into(),
+                x: time,
+                y: x.samples().to_vec(),
+                style: Style::Line(BLUE, 1),
+            }],
+            band: None,
+            legend: None,
+        });
+    }
+    for ((samples, channel), (_, model)) in record
+        .channels
+        .iter()
+        .zip(&o.data.channels)
+        .zip(models(o, 0))
+    {
+        panels.push(Panel {
+            title: format!("{} — {}", channel.channel_name(), record.name),
+            x_desc: "time t [s]".into(),
+            y_desc: format!("{} [{}]", channel.quantity.name(), channel.quantity.unit()),
+            x_range: range,
+            curves: vec![
+                Curve {
+                    label: "measured".into(),
+                    x: time,
+                    y: samples.clone(),
+                    style: Style::Points(BLUE, 2),
+                },
+                Curve {
+                    label: "model".into(),
+                    x: time,
+                    y: model.to_vec(),
+                    style: Style::Line(RED, 2),
+                },
+            ],
+            band: None,
+            legend: Some(SeriesLabelPosition::UpperRight),
+        });
+    }
+    Some(Stack {
+        name: "setup_fit",
+        title: format!("Fit of the first record — {}", o.config.name),
+        panels,
+    })
+}
+
+/// A condition in the legend: its frequency and stroke amplitude.
+fn condition_label(c: &msd_ident::ConditionSummary) -> String {
+    format!(
+        "{} Hz, {} mm",
+        crate::fmt::sig(c.frequency_hz, 3),
+        crate::fmt::sig(c.amplitude * 1e3, 3)
+    )
+}
+
+const PALETTE: [RGBColor; 10] = [
+    BLUE,
+    RED,
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Each condition's last whole cycle, measured (points) and fitted (line).
+fn loops(o: &SetupOutcome) -> Option<Stack<'_>> {
+    let SetupFit::Machine(m) = &o.fit else {
+        return None;
+    };
+    let best = m.laws.get(m.best)?;
+    let mut curves = Vec::new();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, (c, model)) in m.conditions.iter().zip(&best.model_force).enumerate() {
+        let n = c.displacement.len();
+        let from = n.saturating_sub(n / c.cycles.max(1) + 1);
+        let x = &c.displacement[from..];
+        for v in x {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+        let colour = PALETTE[i % PALETTE.len()];
+        curves.push(Curve {
+            label: condition_label(c),
+            x,
+            y: c.force[from..].to_vec(),
+            style: Style::Points(colour, 2),
+        });
+        curves.push(Curve {
+            label: String::new(),
+            x,
+            y: model[from..].to_vec(),
+            style: Style::Line(colour, 2),
+        });
+    }
+    let panel = Panel {
+        title: format!(
+            "Force–stroke loops, last cycle; lines: {}",
+            super::report::law_name(best.law)
+        ),
+        x_desc: "stroke x [m]".into(),
+        y_desc: "force F [N]".into(),
+        x_range: crate::plots::limits([[lo, hi].as_slice()]),
+        curves,
+        band: None,
+        legend: Some(SeriesLabelPosition::UpperLeft),
+    };
+    Some(Stack {
+        name: "setup_loops",
+        title: format!("Test machine loops — {}", o.config.name),
+        panels: vec![panel],
+    })
+}
+
+/// The damping force F − m·x″ − k·x (the measured force less the fitted inertia and
+/// spring) against the velocity, every condition, and the fitted law.
+fn force_velocity(o: &SetupOutcome) -> Option<Stack<'_>> {
+    let SetupFit::Machine(m) = &o.fit else {
+        return None;
+    };
+    let best = m.laws.get(m.best)?;
+    let mut curves = Vec::new();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, (c, model)) in m.conditions.iter().zip(&best.model_force).enumerate() {
+        let damping: Vec<f64> = c
+            .force
+            .iter()
+            .zip(model)
+            .zip(&c.velocity)
+            .map(|((f, fm), v)| f - fm + best.damping_force(*v))
+            .collect();
+        for v in &c.velocity {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+        curves.push(Curve {
+            label: condition_label(c),
+            x: &c.velocity,
+            y: damping,
+            style: Style::Points(PALETTE[i % PALETTE.len()], 1),
+        });
+    }
+    // The law along one whole cycle of the fastest condition: the line runs over
+    // [−v_max, v_max] and back over itself, as law(v) is a function of v alone.
+    let fastest = m
+        .conditions
+        .iter()
+        .max_by(|a, b| a.peak_velocity.total_cmp(&b.peak_velocity))?;
+    let n = fastest.velocity.len();
+    let cycle = &fastest.velocity[n.saturating_sub(n / fastest.cycles.max(1) + 1)..];
+    curves.push(Curve {
+        label: format!("fitted law: {}", super::report::law_name(best.law)),
+        x: cycle,
+        y: cycle.iter().map(|v| best.damping_force(*v)).collect(),
+        style: Style::Line(RED, 3),
+    });
+    let panel = Panel {
+        title: "Damping force against velocity".into(),
+        x_desc: "velocity x′ [m/s]".into(),
+        y_desc: "F − m·x″ − k·x [N]".into(),
+        x_range: crate::plots::limits([[lo, hi].as_slice()]),
+        curves,
+        band: None,
+        legend: Some(SeriesLabelPosition::UpperLeft),
+    };
+    Some(Stack {
+        name: "setup_force_velocity",
+        title: format!("Test machine damping law — {}", o.config.name),
+        panels: vec![panel],
+    })
+}

@@ -1,0 +1,321 @@
+//! `report.md` of a setup run and the summary the command prints.
+
+use super::{SetupFit, SetupOutcome};
+use crate::fmt::{millis, sig};
+use msd_ident::{DampingLaw, Interval, RecordsFit};
+use std::fmt::Write;
+
+/// The name of a damping law in words.
+pub(crate) fn law_name(law: DampingLaw) -> &'static str {
+    match law {
+        DampingLaw::Viscous => "viscous c·x′",
+        DampingLaw::CoulombViscous => "Coulomb + viscous F_c·sign(x′) + c·x′",
+        DampingLaw::QuadraticViscous => "quadratic + viscous c₂·x′|x′| + c·x′",
+    }
+}
+
+/// The identified quantities with their units and the truth (synthetic only), in the
+/// order of the tables: (key, label, estimate, truth).
+pub(crate) fn estimates(o: &SetupOutcome) -> Vec<(&'static str, String, Interval, Option<f64>)> {
+    let truth = o.data.truth;
+    match &o.fit {
+        SetupFit::Records { fit, .. } => plant_rows(fit, truth.map(|p| p.parameters())),
+        SetupFit::Machine(m) => {
+            let best = m.best_law();
+            best.names
+                .iter()
+                .zip(&best.coefficients)
+                .map(|(name, iv)| {
+                    let t = truth.and_then(|p| match *name {
+                        "mass" => Some(p.mass),
+                        "damping" => Some(p.damping),
+                        "stiffness" => Some(p.stiffness),
+                        "quadratic_damping" => Some(p.quadratic_damping),
+                        "coulomb_force" => Some(p.coulomb_force),
+                        _ => None,
+                    });
+                    (*name, (*name).to_string(), *iv, t)
+                })
+                .collect()
+        }
+    }
+}
+
+fn plant_rows(
+    fit: &RecordsFit,
+    truth: Option<msd_ident::Parameters>,
+) -> Vec<(&'static str, String, Interval, Option<f64>)> {
+    let p = &fit.plant;
+    let mut rows = Vec::new();
+    for (key, label, iv, t) in [
+        ("mass", "m [kg]", p.mass, truth.map(|t| t.mass)),
+        ("damping", "c [N·s/m]", p.damping, truth.map(|t| t.damping)),
+        (
+            "stiffness",
+            "k [N/m]",
+            p.stiffness,
+            truth.map(|t| t.stiffness),
+        ),
+    ] {
+        if let Some(iv) = iv {
+            rows.push((key, label.to_string(), iv, t));
+        }
+    }
+    rows.push((
+        "natural_frequency_hz",
+        "fn [Hz]".into(),
+        p.natural_frequency_hz,
+        truth.map(|t| t.natural_frequency_hz()),
+    ));
+    rows.push((
+        "damping_ratio",
+        "ζ".into(),
+        p.damping_ratio,
+        truth.map(|t| t.damping_ratio()),
+    ));
+    rows
+}
+
+/// The summary the command prints: the setup and the estimates.
+pub(crate) fn summary(o: &SetupOutcome) -> String {
+    let mut s = format!(
+        "{}: {} record(s), excitation {}, channels {}\n",
+        o.config.name,
+        o.data.records.len(),
+        o.data.setup.excitation.name(),
+        channel_names(o).join(", ")
+    );
+    for (_, label, iv, truth) in estimates(o) {
+        let _ = write!(
+            s,
+            "  {label:<22} {}  95 % [{}, {}]",
+            sig(iv.value, 6),
+            sig(iv.ci95[0], 6),
+            sig(iv.ci95[1], 6)
+        );
+        if let Some(t) = truth {
+            let _ = write!(s, "  (true {})", sig(t, 6));
+        }
+        s.push('\n');
+    }
+    if let Some(note) = identifiability_note(o) {
+        let _ = writeln!(s, "  note: {note}");
+    }
+    s.trim_end().to_string()
+}
+
+fn channel_names(o: &SetupOutcome) -> Vec<String> {
+    o.data.channels.iter().map(|c| c.channel_name()).collect()
+}
+
+fn identifiability_note(o: &SetupOutcome) -> Option<&str> {
+    match &o.fit {
+        SetupFit::Records { fit, .. } => fit.plant.note.as_deref(),
+        SetupFit::Machine(_) => None,
+    }
+}
+
+/// `report.md`.
+pub(crate) fn markdown(o: &SetupOutcome, figures: &[&str]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# {}\n", o.config.name);
+    if !o.config.description.is_empty() {
+        let _ = writeln!(s, "{}\n", o.config.description);
+    }
+    let _ = writeln!(
+        s,
+        "Run with `{} {}` (seed {}).\n",
+        o.command,
+        o.config_path.display(),
+        o.seed
+    );
+    setup_section(&mut s, o);
+    estimate_section(&mut s, o);
+    match &o.fit {
+        SetupFit::Records { fit, classroom } => {
+            records_section(&mut s, fit);
+            if let Some(c) = classroom {
+                classroom_section(&mut s, c);
+            }
+        }
+        SetupFit::Machine(m) => super::report_machine::section(&mut s, m),
+    }
+    let _ = writeln!(s, "## Figures\n");
+    for f in figures {
+        let _ = writeln!(s, "![{f}]({f}.png)\n");
+    }
+    let _ = writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|");
+    for (name, d) in &o.timings {
+        let _ = writeln!(s, "| {name} | {} |", millis(*d));
+    }
+    s
+}
+
+fn setup_section(s: &mut String, o: &SetupOutcome) {
+    let setup = &o.data.setup;
+    let _ = writeln!(s, "## Setup\n");
+    let _ = writeln!(
+        s,
+        "Excitation: **{}**. Records: {} ({}).",
+        setup.excitation.name(),
+        o.data.records.len(),
+        if o.data.files.is_empty() {
+            "synthetic"
+        } else {
+            "measured"
+        }
+    );
+    if let Some(m) = setup.known_mass {
+        let _ = writeln!(s, "Known (weighed) mass: {} kg.", sig(m, 6));
+    }
+    if let Some(k) = setup.known_stiffness {
+        let _ = writeln!(s, "Known static stiffness: {} N/m.", sig(k, 6));
+    }
+    let _ = writeln!(
+        s,
+        "\n| channel | quantity | frame | unit | noise σ (synthetic) |\n|---|---|---|---|---|"
+    );
+    let default_sigma = o.config.noise.map(|n| n.sigma);
+    for c in &o.data.channels {
+        let sigma = if o.data.files.is_empty() {
+            c.sigma.or(default_sigma).map_or("—".into(), |v| sig(v, 4))
+        } else {
+            "—".into()
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            c.channel_name(),
+            c.quantity.name(),
+            c.frame.name(),
+            c.unit.as_deref().unwrap_or(c.quantity.unit()),
+            sigma
+        );
+    }
+    s.push('\n');
+}
+
+fn estimate_section(s: &mut String, o: &SetupOutcome) {
+    let _ = writeln!(s, "## Estimate\n");
+    let rows = estimates(o);
+    let names: Vec<&str> = rows.iter().map(|r| r.0).collect();
+    let _ = writeln!(s, "The setup identifies: {}.\n", names.join(", "));
+    if let Some(note) = identifiability_note(o) {
+        let _ = writeln!(s, "**Not identifiable:** {note}\n");
+    }
+    let has_truth = rows.iter().any(|r| r.3.is_some());
+    let _ = write!(
+        s,
+        "| quantity | estimate | standard error | 95 % interval |"
+    );
+    if has_truth {
+        let _ = write!(s, " truth | inside |");
+    }
+    let _ = writeln!(
+        s,
+        "\n|---|---|---|---|{}",
+        if has_truth { "---|---|" } else { "" }
+    );
+    for (_, label, iv, truth) in rows {
+        let _ = write!(
+            s,
+            "| {label} | {} | {} | [{}, {}] |",
+            sig(iv.value, 6),
+            sig(iv.standard_error, 3),
+            sig(iv.ci95[0], 6),
+            sig(iv.ci95[1], 6)
+        );
+        if has_truth {
+            let t = truth.map_or("—".into(), |t| sig(t, 6));
+            let inside = truth.map_or("—", |t| if iv.contains(t) { "yes" } else { "**no**" });
+            let _ = write!(s, " {t} | {inside} |");
+        }
+        s.push('\n');
+    }
+    s.push('\n');
+}
+
+fn records_section(s: &mut String, fit: &RecordsFit) {
+    let _ = writeln!(
+        s,
+        "## Channels\n\n| channel | estimated noise σ̂ | samples |\n|---|---|---|"
+    );
+    for n in &fit.noise {
+        let _ = writeln!(s, "| {} | {} | {} |", n.channel, sig(n.sigma, 4), n.samples);
+    }
+    let _ = writeln!(
+        s,
+        "\n## Records\n\nOne row per record and channel: the fit of the joint estimate.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| record | channel | R² | fit % | offset | x(t₀) | x′(t₀) |\n|---|---|---|---|---|---|---|"
+    );
+    for r in &fit.records {
+        for c in &r.channels {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} |",
+                r.name,
+                c.channel,
+                sig(c.fit.r_squared, 6),
+                sig(c.fit.fit_percent, 4),
+                sig(c.offset, 4),
+                sig(r.initial_state.displacement, 4),
+                sig(r.initial_state.velocity, 4)
+            );
+        }
+    }
+    if let Some(loo) = &fit.leave_one_out {
+        let _ = writeln!(
+            s,
+            "\n## Leave one record out\n\nEach record predicted by the parameters fitted to the others.\n\n| record left out | fn [Hz] | ζ | channel | R² | fit % |\n|---|---|---|---|---|---|"
+        );
+        for l in loo {
+            for c in &l.channels {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {} | {} | {} | {} |",
+                    l.record,
+                    sig(l.natural_frequency_hz, 6),
+                    sig(l.damping_ratio, 5),
+                    c.channel,
+                    sig(c.fit.r_squared, 6),
+                    sig(c.fit.fit_percent, 4)
+                );
+            }
+        }
+    }
+    if !fit.notes.is_empty() {
+        let _ = writeln!(s, "\nNotes:\n");
+        for n in &fit.notes {
+            let _ = writeln!(s, "- {n}");
+        }
+    }
+    s.push('\n');
+}
+
+fn classroom_section(s: &mut String, c: &msd_ident::FreeDecay) {
+    let k = &c.classroom;
+    let _ = writeln!(
+        s,
+        "## Free decay: the classroom estimates\n\nFrom the first record alone, for comparison with the fit.\n\n| | classroom | closed-form fit |\n|---|---|---|"
+    );
+    let _ = writeln!(
+        s,
+        "| logarithmic decrement δ | {} | — |",
+        sig(k.log_decrement, 5)
+    );
+    let _ = writeln!(
+        s,
+        "| ζ = δ/√(4π² + δ²) | {} | {} |",
+        sig(k.damping_ratio, 5),
+        sig(c.damping_ratio.value, 5)
+    );
+    let _ = writeln!(
+        s,
+        "| damped frequency fd [Hz] (zero crossings) | {} | {} |\n",
+        sig(k.damped_frequency_hz, 6),
+        sig(c.damped_frequency_hz.value, 6)
+    );
+}

@@ -1,0 +1,66 @@
+//! The test machine's part of `report.md`: one row per condition, the damping laws
+//! ranked by BIC.
+
+use super::report::law_name;
+use crate::fmt::sig;
+use msd_ident::Dynamometer;
+use std::fmt::Write;
+
+/// Writes the conditions table and the law comparison.
+pub(crate) fn section(s: &mut String, m: &Dynamometer) {
+    let _ = writeln!(
+        s,
+        "## Test conditions\n\nPer condition, from the harmonic content of the stroke and the force ({} harmonics): the energy dissipated per cycle E = ∮F dx, the equivalent viscous damping c_eq = E/(π·ω·X²), the storage stiffness k′ (in-phase force over X), the loss factor η and the peaks.\n",
+        m.harmonics
+    );
+    let _ = writeln!(
+        s,
+        "| condition | f [Hz] | X [m] | E [J] | c_eq [N·s/m] | k′ [N/m] | η | peak F [N] | peak v [m/s] |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    for c in &m.conditions {
+        let _ = writeln!(
+            s,
+            "| {} | {}{} | {} | {} | {} | {} | {} | {} | {} |",
+            c.name,
+            sig(c.frequency_hz, 5),
+            if c.frequency_estimated { " (est.)" } else { "" },
+            sig(c.amplitude, 4),
+            sig(c.energy_per_cycle, 5),
+            sig(c.equivalent_damping, 5),
+            sig(c.storage_stiffness, 5),
+            sig(c.loss_factor, 4),
+            sig(c.peak_force, 5),
+            sig(c.peak_velocity, 4)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n## Damping laws\n\nF = m·x″ + k·x + f_d(x′) fitted to every condition at once, ranked by BIC (ΔBIC > 10: very strong evidence against the lower-ranked law).\n\n| rank | law | coefficients (95 % interval) | σ̂ force [N] | R² | ΔBIC |\n|---|---|---|---|---|---|"
+    );
+    for law in &m.laws {
+        let coefficients: Vec<String> = law
+            .names
+            .iter()
+            .zip(&law.coefficients)
+            .map(|(n, iv)| {
+                format!(
+                    "{n} = {} [{}, {}]",
+                    sig(iv.value, 5),
+                    sig(iv.ci95[0], 5),
+                    sig(iv.ci95[1], 5)
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} |",
+            law.rank,
+            law_name(law.law),
+            coefficients.join("; "),
+            sig(law.force_sigma, 4),
+            sig(law.fit.r_squared, 6),
+            sig(law.delta_bic, 4)
+        );
+    }
+    let _ = writeln!(s, "\n{}\n", m.verdict);
+}

@@ -1,0 +1,139 @@
+//! `results.json` of a setup run: `setup` (excitation, responses), `estimate`
+//! (`identifiable` and `<name>.value` / `.ci95` of each identifiable quantity), and what
+//! each setup adds: `noise` (per channel), `records[]`, `leave_one_out`,
+//! `free_decay.log_decrement`, `dynamometer.conditions[]` and `.laws[]`; `truth` for
+//! synthetic data.
+
+use super::report::estimates;
+use super::{SetupFit, SetupOutcome};
+use crate::config::{Plant, Response};
+use crate::{ExperimentError, Result};
+use msd_ident::Interval;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+#[derive(Serialize)]
+struct Results<'a> {
+    name: &'a str,
+    description: &'a str,
+    seed: u64,
+    command: &'a str,
+    setup: SetupInfo<'a>,
+    estimate: Estimate,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise: Option<&'a [msd_ident::ChannelNoise]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    records: Option<&'a [msd_ident::RecordFit]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    leave_one_out: Option<&'a [msd_ident::LeftOut]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    free_decay: Option<FreeDecaySection<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dynamometer: Option<&'a msd_ident::Dynamometer>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<Truth<'a>>,
+    timings_ms: BTreeMap<&'static str, f64>,
+}
+
+#[derive(Serialize)]
+struct SetupInfo<'a> {
+    excitation: &'static str,
+    responses: &'a [Response],
+    records: usize,
+    files: Vec<String>,
+    known_mass: Option<f64>,
+    known_stiffness: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct Estimate {
+    identifiable: Vec<&'static str>,
+    #[serde(flatten)]
+    quantities: BTreeMap<&'static str, Interval>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    note: Option<String>,
+}
+
+#[derive(Serialize)]
+struct FreeDecaySection<'a> {
+    log_decrement: f64,
+    classroom: &'a msd_ident::ClassroomEstimates,
+    closed_form_damping_ratio: Interval,
+}
+
+#[derive(Serialize)]
+struct Truth<'a> {
+    #[serde(flatten)]
+    plant: &'a Plant,
+    natural_frequency_hz: f64,
+    damping_ratio: f64,
+}
+
+/// The `results.json` value of `o`.
+pub(crate) fn to_json(
+    o: &SetupOutcome,
+    extra: &[(&'static str, Duration)],
+    total: Duration,
+) -> Result<serde_json::Value> {
+    let rows = estimates(o);
+    let (noise, records, leave_one_out, free_decay, dynamometer, note) = match &o.fit {
+        SetupFit::Records { fit, classroom } => (
+            Some(fit.noise.as_slice()),
+            Some(fit.records.as_slice()),
+            fit.leave_one_out.as_deref(),
+            classroom.as_ref().map(|c| FreeDecaySection {
+                log_decrement: c.classroom.log_decrement,
+                classroom: &c.classroom,
+                closed_form_damping_ratio: c.damping_ratio,
+            }),
+            None,
+            fit.plant.note.clone(),
+        ),
+        SetupFit::Machine(m) => (None, None, None, None, Some(m.as_ref()), None),
+    };
+    let mut timings: BTreeMap<&'static str, f64> = o
+        .timings
+        .iter()
+        .chain(extra)
+        .map(|(n, d)| (*n, d.as_secs_f64() * 1e3))
+        .collect();
+    timings.insert("total", total.as_secs_f64() * 1e3);
+    let setup = &o.data.setup;
+    let results = Results {
+        name: &o.config.name,
+        description: &o.config.description,
+        seed: o.seed,
+        command: &o.command,
+        setup: SetupInfo {
+            excitation: setup.excitation.name(),
+            responses: &o.data.channels,
+            records: o.data.records.len(),
+            files: o
+                .data
+                .files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect(),
+            known_mass: setup.known_mass,
+            known_stiffness: setup.known_stiffness,
+        },
+        estimate: Estimate {
+            identifiable: rows.iter().map(|r| r.0).collect(),
+            quantities: rows.iter().map(|r| (r.0, r.2)).collect(),
+            note,
+        },
+        noise,
+        records,
+        leave_one_out,
+        free_decay,
+        dynamometer,
+        truth: o.data.truth.as_ref().map(|p| Truth {
+            plant: p,
+            natural_frequency_hz: p.parameters().natural_frequency_hz(),
+            damping_ratio: p.parameters().damping_ratio(),
+        }),
+        timings_ms: timings,
+    };
+    serde_json::to_value(&results).map_err(|e| ExperimentError::run("write", e))
+}
