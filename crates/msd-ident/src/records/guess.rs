@@ -2,8 +2,9 @@
 //! the smallest projected cost.
 //!
 //! Every channel of a linear plant shares the plant's poles, so an ARX(2, 3) fit of any
-//! channel against the drive (at the record's rate and decimated by 2, 4, …, as
-//! [`arx_initial_guess`](crate::arx_initial_guess)) proposes ωn and ζ; a free decay's
+//! channel against the drive (decimated by 2, 4, … as in
+//! [`arx_initial_guess`](crate::arx_initial_guess), from the coarsest rate to the first
+//! that resolves the resonance well) proposes ωn and ζ; a free decay's
 //! candidates are its classroom estimates. With a force drive the outputs scale as 1/m
 //! at fixed ωn and ζ, so the mass of each candidate is a linear least-squares gain.
 
@@ -64,27 +65,32 @@ fn classroom_candidates(problem: &Joint<'_>) -> Result<Vec<(f64, f64)>> {
         .collect()
 }
 
-/// ARX poles of every channel of the first record, at every rate of the cascade.
+/// ARX poles of every channel of the first record, from the coarsest rate of the
+/// cascade to finer ones until the resonance sits below 0.15 rad per sample (finer
+/// rates crowd the poles at z = 1 and fit worse, and cost the most).
 fn arx_candidates(problem: &Joint<'_>) -> Vec<(f64, f64)> {
     const MIN_DECIMATED: usize = 100;
     let record = problem.records[0].record;
     let mut candidates = Vec::new();
     for channel in &record.channels {
-        let mut u = record.excitation.samples().to_vec();
-        let mut y = channel.samples.clone();
-        let mut dt = record.excitation.dt();
-        loop {
-            if let Ok(pole) = arx_poles(&u, &y, dt) {
-                candidates.push(pole);
-            }
-            if y.len() / 2 < MIN_DECIMATED {
-                break;
-            }
-            match (msd_signal::decimate(&u, 2), msd_signal::decimate(&y, 2)) {
-                (Ok(du), Ok(dy)) => (u, y) = (du, dy),
+        let mut levels = vec![(
+            record.excitation.samples().to_vec(),
+            channel.samples.clone(),
+        )];
+        while let Some((u, y)) = levels.last().filter(|(_, y)| y.len() / 2 >= MIN_DECIMATED) {
+            match (msd_signal::decimate(u, 2), msd_signal::decimate(y, 2)) {
+                (Ok(du), Ok(dy)) => levels.push((du, dy)),
                 _ => break,
             }
-            dt *= 2.0;
+        }
+        for (j, (u, y)) in levels.iter().enumerate().rev() {
+            let dt = record.excitation.dt() * (1u64 << j) as f64;
+            if let Ok((wn, zeta)) = arx_poles(u, y, dt) {
+                candidates.push((wn, zeta));
+                if wn * dt < 0.15 {
+                    break;
+                }
+            }
         }
     }
     candidates

@@ -50,8 +50,9 @@ impl OutputMap {
         self.c[0] * s[0] + self.c[1] * s[1] + self.d * u
     }
 
-    /// ∂y/∂θ_p from the state s, its sensitivity s_p and the input.
-    #[inline(always)]
+    /// ∂y/∂θ_p from the state s, its sensitivity s_p and the input (the Jacobian folds
+    /// the same sum into one row of coefficients).
+    #[cfg(test)]
     pub(crate) fn derivative(&self, p: usize, s: [f64; 2], sp: [f64; 2], u: f64) -> f64 {
         self.c[0] * sp[0]
             + self.c[1] * sp[1]

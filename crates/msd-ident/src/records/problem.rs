@@ -188,90 +188,121 @@ impl<'a> Joint<'a> {
         ok
     }
 
-    /// The weighted design row of (record, channel, sample): up to three (column, value).
-    #[inline(always)]
-    fn design(&self, rec: &RecordRows<'_>, ch: usize, row: usize) -> ([(usize, f64); 3], usize) {
-        let w = rec.weights[ch];
-        let g = self.basis[row];
-        let mut e = [(0, 0.0); 3];
-        let mut n = 0;
-        if self.state {
-            e[0] = (0, w * g[0]);
-            e[1] = (1, w * g[1]);
-            n = 2;
-        }
-        if self.offset {
-            e[n] = (n + ch, w);
-            n += 1;
-        }
-        (e, n)
+    /// The rows of channel `ch` of a record.
+    fn rows_of(rec: &RecordRows<'_>, ch: usize) -> std::ops::Range<usize> {
+        let first = rec.start + ch * rec.len;
+        first..first + rec.len
     }
 
-    /// Σ over the record's rows of (design row)·(`value(row)`), and of its outer product
-    /// when `gram`.
-    fn accumulate(
-        &self,
-        rec: &RecordRows<'_>,
-        value: impl Fn(usize, usize) -> f64,
-        gram: Option<&mut DMatrix<f64>>,
-    ) -> DVector<f64> {
+    /// The Gram matrix (W·G)ᵀ(W·G) of a record: per channel, Σ g·gᵀ, Σ g and the count
+    /// weighted by w².
+    fn gram(&self, rec: &RecordRows<'_>) -> DMatrix<f64> {
         let q = self.linear_count(rec.maps.len());
-        let mut rhs = DVector::zeros(q);
-        let mut gram = gram;
-        for ch in 0..rec.maps.len() {
-            for i in 0..rec.len {
-                let row = rec.start + ch * rec.len + i;
-                let (e, n) = self.design(rec, ch, row);
-                let v = value(ch, row);
-                for &(a, ea) in &e[..n] {
-                    rhs[a] += ea * v;
-                    if let Some(g) = gram.as_deref_mut() {
-                        for &(b, eb) in &e[..n] {
-                            g[(a, b)] += ea * eb;
-                        }
-                    }
+        let first = 2 * usize::from(self.state);
+        let mut gram = DMatrix::zeros(q, q);
+        for (ch, &w) in rec.weights.iter().enumerate() {
+            let w2 = w * w;
+            let (mut s00, mut s01, mut s11, mut s0, mut s1) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            for g in &self.basis[Self::rows_of(rec, ch)] {
+                s00 += g[0] * g[0];
+                s01 += g[0] * g[1];
+                s11 += g[1] * g[1];
+                s0 += g[0];
+                s1 += g[1];
+            }
+            if self.state {
+                gram[(0, 0)] += w2 * s00;
+                gram[(0, 1)] += w2 * s01;
+                gram[(1, 0)] += w2 * s01;
+                gram[(1, 1)] += w2 * s11;
+            }
+            if self.offset {
+                let o = first + ch;
+                gram[(o, o)] = w2 * rec.len as f64;
+                if self.state {
+                    [gram[(0, o)], gram[(1, o)]] = [w2 * s0, w2 * s1];
+                    [gram[(o, 0)], gram[(o, 1)]] = [w2 * s0, w2 * s1];
                 }
+            }
+        }
+        gram
+    }
+
+    /// (W·G)ᵀ·v for a record, `v(ch)` giving channel ch's rows of a vector already
+    /// weighted by w.
+    fn moments<'v>(&self, rec: &RecordRows<'_>, v: impl Fn(usize) -> &'v [f64]) -> DVector<f64> {
+        let first = 2 * usize::from(self.state);
+        let mut rhs = DVector::zeros(self.linear_count(rec.maps.len()));
+        for (ch, &w) in rec.weights.iter().enumerate() {
+            let (mut a, mut b, mut sum) = (0.0, 0.0, 0.0);
+            for (g, v) in self.basis[Self::rows_of(rec, ch)].iter().zip(v(ch)) {
+                a += g[0] * v;
+                b += g[1] * v;
+                sum += v;
+            }
+            if self.state {
+                rhs[0] += w * a;
+                rhs[1] += w * b;
+            }
+            if self.offset {
+                rhs[first + ch] = w * sum;
             }
         }
         rhs
     }
 
-    fn gram(&self, rec: &RecordRows<'_>) -> DMatrix<f64> {
-        let q = self.linear_count(rec.maps.len());
-        let mut gram = DMatrix::zeros(q, q);
-        self.accumulate(rec, |_, _| 0.0, Some(&mut gram));
-        gram
+    /// The fitted part of channel `ch`, G·β (unweighted), as (state coefficients, offset).
+    fn fitted(&self, _rec: &RecordRows<'_>, beta: &[f64], ch: usize) -> ([f64; 2], f64) {
+        let first = 2 * usize::from(self.state);
+        let state = if self.state {
+            [beta[0], beta[1]]
+        } else {
+            [0.0; 2]
+        };
+        let offset = if self.offset { beta[first + ch] } else { 0.0 };
+        (state, offset)
     }
 
     /// β̂ of every record from the data (after [`prepare`](Self::prepare)).
     pub(crate) fn solve_linear(&mut self) {
-        for r in 0..self.records.len() {
-            let rec = &self.records[r];
-            let beta = match &rec.linear {
-                Some(linear) => {
-                    let rhs = self.accumulate(
-                        rec,
-                        |ch, row| {
-                            let i = row - rec.start - ch * rec.len;
-                            rec.weights[ch]
-                                * (rec.record.channels[ch].samples[i] - self.forced[row])
-                        },
-                        None,
-                    );
-                    linear.solve(&rhs).iter().copied().collect()
-                }
-                None => Vec::new(),
+        let mut weighted = vec![0.0; self.records.iter().map(|r| r.len).max().unwrap_or(0)];
+        let mut records = std::mem::take(&mut self.records);
+        for rec in &mut records {
+            let Some(linear) = &rec.linear else {
+                rec.beta.clear();
+                continue;
             };
-            self.records[r].beta = beta;
+            let channels = rec.record.channels.len();
+            let mut rhs = DVector::zeros(self.linear_count(channels));
+            for ch in 0..channels {
+                let w = rec.weights[ch];
+                let rows = Self::rows_of(rec, ch);
+                for ((out, y), f) in weighted
+                    .iter_mut()
+                    .zip(&rec.record.channels[ch].samples)
+                    .zip(&self.forced[rows])
+                {
+                    *out = w * (y - f);
+                }
+                rhs += self.moments_of_channel(rec, ch, &weighted[..rec.len]);
+            }
+            rec.beta = linear.solve(&rhs).iter().copied().collect();
         }
+        self.records = records;
+    }
+
+    /// [`moments`](Self::moments) of one channel's weighted rows `v` (zero elsewhere).
+    fn moments_of_channel(&self, rec: &RecordRows<'_>, ch: usize, v: &[f64]) -> DVector<f64> {
+        let empty: &[f64] = &[];
+        self.moments(rec, |c| if c == ch { v } else { empty })
     }
 
     /// The model of one row (unweighted): f + G·β.
     pub(crate) fn model(&self, rec: &RecordRows<'_>, ch: usize, i: usize) -> f64 {
         let row = rec.start + ch * rec.len + i;
-        let (e, n) = self.design(rec, ch, row);
-        let fitted: f64 = e[..n].iter().map(|&(a, ea)| ea * rec.beta[a]).sum();
-        self.forced[row] + fitted / rec.weights[ch]
+        let (state, offset) = self.fitted(rec, &rec.beta, ch);
+        let g = self.basis[row];
+        self.forced[row] + g[0] * state[0] + g[1] * state[1] + offset
     }
 
     /// The initial state β̂ gives (at rest when it is not estimated).
@@ -302,8 +333,13 @@ impl<'a> Joint<'a> {
         for rec in &self.records {
             for (ch, channel) in rec.record.channels.iter().enumerate() {
                 let w = rec.weights[ch];
-                for (i, y) in channel.samples.iter().enumerate() {
-                    out[rec.start + ch * rec.len + i] = w * (y - self.model(rec, ch, i));
+                let (state, offset) = self.fitted(rec, &rec.beta, ch);
+                let rows = Self::rows_of(rec, ch);
+                let model = self.forced[rows.clone()]
+                    .iter()
+                    .zip(&self.basis[rows.clone()]);
+                for ((r, y), (f, g)) in out[rows].iter_mut().zip(&channel.samples).zip(model) {
+                    *r = w * (y - f - g[0] * state[0] - g[1] * state[1] - offset);
                 }
             }
         }
@@ -323,16 +359,15 @@ impl<'a> Joint<'a> {
             let mut z0 = SVector::<f64, 8>::zeros();
             [z0[0], z0[1]] = self.initial_state(rec);
             let input = input(self.drive, &self.zeros, rec);
+            let coefficients = self.jacobian_coefficients(rec, theta);
             let cols = out.as_mut_slice();
             sim.simulate_with(&z0, &input, |i, z| {
-                let s = [z[0], z[1]];
                 let u = input.values[i];
-                for (ch, map) in rec.maps.iter().enumerate() {
+                for (ch, by_column) in coefficients.iter().enumerate() {
                     let row = rec.start + ch * rec.len + i;
-                    let w = rec.weights[ch];
-                    for (col, &p) in self.free.iter().enumerate() {
-                        let sp = [z[2 + 2 * p], z[3 + 2 * p]];
-                        cols[col * m + row] = -w * theta[p] * map.derivative(p, s, sp, u);
+                    for (col, k) in by_column.iter().enumerate() {
+                        let dot: f64 = (0..8).map(|j| k[j] * z[j]).sum();
+                        cols[col * m + row] = dot + k[8] * u;
                     }
                 }
             })?;
@@ -343,17 +378,43 @@ impl<'a> Joint<'a> {
         Ok(())
     }
 
+    /// Per channel and free parameter p, the row k with −w·θ_p·∂y/∂θ_p = k·(z, u), z
+    /// the 8 states of the sensitivity system: ∂y/∂θ_p = C·s_p + C_p·s + D_p·u.
+    fn jacobian_coefficients(&self, rec: &RecordRows<'_>, theta: [f64; 3]) -> Vec<Vec<[f64; 9]>> {
+        rec.maps
+            .iter()
+            .zip(&rec.weights)
+            .map(|(map, &w)| {
+                self.free
+                    .iter()
+                    .map(|&p| {
+                        let scale = -w * theta[p];
+                        let mut k = [0.0; 9];
+                        k[0] = scale * map.dc[p][0];
+                        k[1] = scale * map.dc[p][1];
+                        k[2 + 2 * p] = scale * map.c[0];
+                        k[3 + 2 * p] = scale * map.c[1];
+                        k[8] = scale * map.dd[p];
+                        k
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
     /// Removes from the record's rows of `v` their projection on the span of W·G.
     fn project(&self, rec: &RecordRows<'_>, v: &mut [f64]) {
         let Some(linear) = &rec.linear else {
             return;
         };
-        let coef = linear.solve(&self.accumulate(rec, |_, row| v[row], None));
+        let coef = linear.solve(&self.moments(rec, |ch| &v[Self::rows_of(rec, ch)]));
+        let coef: Vec<f64> = coef.iter().copied().collect();
         for ch in 0..rec.maps.len() {
-            for i in 0..rec.len {
-                let row = rec.start + ch * rec.len + i;
-                let (e, n) = self.design(rec, ch, row);
-                v[row] -= e[..n].iter().map(|&(a, ea)| ea * coef[a]).sum::<f64>();
+            let w = rec.weights[ch];
+            let (state, offset) = self.fitted(rec, &coef, ch);
+            let rows = Self::rows_of(rec, ch);
+            for (v, g) in v[rows.clone()].iter_mut().zip(&self.basis[rows]) {
+                *v -= w * (g[0] * state[0] + g[1] * state[1] + offset);
             }
         }
     }
@@ -398,7 +459,8 @@ impl LeastSquaresProblem for Joint<'_> {
 
     fn jacobian(&mut self, x: &[f64], out: &mut DMatrix<f64>) -> bool {
         let theta = self.theta(x);
-        self.fill_jacobian(theta, out).is_ok() && out.iter().all(|v| v.is_finite())
+        // Levenberg–Marquardt checks the entries' finiteness itself.
+        self.fill_jacobian(theta, out).is_ok()
     }
 }
 

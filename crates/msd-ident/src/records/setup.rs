@@ -239,13 +239,19 @@ impl RecordsOptions {
             record: record.to_string(),
             channel: Some(channel.name.clone()),
             reason: format!(
-                "a {:?} {:?} channel cannot be predicted under a {}: {}",
-                channel.frame,
-                channel.quantity,
+                "the {} {} cannot be predicted from a {}: {}",
+                match channel.frame {
+                    Frame::Absolute => "absolute",
+                    Frame::Relative => "relative",
+                },
+                match channel.quantity {
+                    ResponseQuantity::Displacement => "displacement",
+                    ResponseQuantity::Velocity => "velocity",
+                    ResponseQuantity::Acceleration => "acceleration",
+                },
                 self.drive.setup(),
                 supported(self.drive)
-            )
-            .to_lowercase(),
+            ),
         })
     }
 }
