@@ -5,6 +5,10 @@ use serde::{Deserialize, Serialize};
 
 /// Fewest whole stroke cycles a condition must hold: one cycle gives a loop, a second
 /// lets its harmonic fit average and its noise be estimated.
+///
+/// ```
+/// assert_eq!(msd_ident::MIN_CYCLES, 2);
+/// ```
 pub const MIN_CYCLES: usize = 2;
 
 /// One test condition of a damper test machine: the imposed stroke and the measured

@@ -5,24 +5,24 @@
 use nalgebra::{DMatrix, DVector};
 
 /// The basis row g = [1, cos θ, sin θ, cos 2θ, sin 2θ, …, cos Hθ, sin Hθ] at
-/// θᵢ = ω·dt·i for i = 0, 1, 2, …: cos θ, sin θ by rotation (re-anchored on `sin_cos`
-/// every 1024 samples, so the rounding never grows past ~1e-13), the harmonics by angle
-/// addition.
+/// θᵢ = ω·dt·i for i = 0, 1, 2, …: each harmonic's (cos hθ, sin hθ) rotated by h·ω·dt
+/// from one sample to the next (independent rotations, so they vectorise), re-anchored
+/// on `sin_cos` every 1024 samples so the rounding never grows past ~1e-13.
 pub(crate) struct Basis {
     omega_dt: f64,
-    step: (f64, f64),
-    phase: (f64, f64),
+    /// (cos h·ω·dt, sin h·ω·dt), interleaved as the row.
+    step: Vec<f64>,
     index: usize,
     values: Vec<f64>,
 }
 
 impl Basis {
     pub fn new(omega_dt: f64, harmonics: usize) -> Self {
-        let (s, c) = omega_dt.sin_cos();
+        let mut step = vec![0.0; 2 * harmonics + 1];
+        anchor(&mut step, omega_dt);
         Self {
             omega_dt,
-            step: (c, s),
-            phase: (1.0, 0.0),
+            step,
             index: 0,
             values: vec![0.0; 2 * harmonics + 1],
         }
@@ -32,51 +32,70 @@ impl Basis {
     #[inline]
     pub fn next_row(&mut self) -> &[f64] {
         let i = self.index;
-        if i.is_multiple_of(1024) {
-            let (s, c) = (self.omega_dt * i as f64).sin_cos();
-            self.phase = (c, s);
-        } else {
-            let ((c, s), (dc, ds)) = (self.phase, self.step);
-            self.phase = (c * dc - s * ds, s * dc + c * ds);
-        }
         self.index += 1;
-        let (c1, s1) = self.phase;
-        let (mut c, mut s) = (c1, s1);
-        self.values[0] = 1.0;
-        for pair in self.values[1..].chunks_exact_mut(2) {
-            pair[0] = c;
-            pair[1] = s;
-            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
+        if i.is_multiple_of(1024) {
+            anchor(&mut self.values, self.omega_dt * i as f64);
+        } else {
+            let pairs = self.values[1..].chunks_exact_mut(2);
+            for (v, d) in pairs.zip(self.step[1..].chunks_exact(2)) {
+                let (c, s) = (v[0], v[1]);
+                v[0] = c * d[0] - s * d[1];
+                v[1] = s * d[0] + c * d[1];
+            }
         }
         &self.values
     }
 }
 
+/// row = [1, cos θ, sin θ, cos 2θ, sin 2θ, …] by `sin_cos`.
+fn anchor(row: &mut [f64], theta: f64) {
+    row[0] = 1.0;
+    for (h, pair) in row[1..].chunks_exact_mut(2).enumerate() {
+        let (s, c) = ((h + 1) as f64 * theta).sin_cos();
+        pair[0] = c;
+        pair[1] = s;
+    }
+}
+
 /// GᵀG of the basis over samples 0..n at ω·dt = `phi`, from the Dirichlet sums
-/// Σᵢ e^{i·q·φ·i} = e^{i·q·φ·(n−1)/2}·sin(n·q·φ/2)/sin(q·φ/2) and the product-to-sum
-/// formulas: O(H²) instead of O(n·H²). Needs q·φ/2 ∈ (0, π) for q = 1..2H, i.e. the
-/// H-th harmonic below the Nyquist frequency.
+/// Σᵢ e^{i·q·φ·i} = e^{i·q·φ·(n−1)/2}·sin(n·q·φ/2)/sin(q·φ/2) (see [`from_sums`]):
+/// O(H²) instead of O(n·H²). Needs q·φ/2 ∈ (0, π) for q = 1..2H, i.e. the H-th
+/// harmonic below the Nyquist frequency.
 pub(crate) fn gram(n: usize, phi: f64, harmonics: usize) -> DMatrix<f64> {
     let nf = n as f64;
-    // d[q] = Σ cos(qφi), e[q] = Σ sin(qφi), q = 0..=2H.
-    let (mut d, mut e) = (vec![nf; 2 * harmonics + 1], vec![0.0; 2 * harmonics + 1]);
+    let mut sums = vec![nf; 4 * harmonics + 1];
     for q in 1..=2 * harmonics {
         let half = q as f64 * phi / 2.0;
         debug_assert!(half > 0.0 && half < std::f64::consts::PI, "q·φ/2 = {half}");
         let kernel = (nf * half).sin() / half.sin();
         let (s, c) = (half * (nf - 1.0)).sin_cos();
-        d[q] = c * kernel;
-        e[q] = s * kernel;
+        sums[2 * q - 1] = c * kernel;
+        sums[2 * q] = s * kernel;
     }
+    from_sums(&sums, harmonics)
+}
+
+/// Σᵢ wᵢ·gᵢ·gᵢᵀ of the H-harmonic basis from the sums Σᵢ wᵢ·rᵢ of the 2H-harmonic rows r
+/// (interleaved: Σw, Σw·cos qθ, Σw·sin qθ for q = 1..2H), by the product-to-sum
+/// formulas cos a·cos b = ½(cos(a−b) + cos(a+b)), sin a·sin b = ½(cos(a−b) − cos(a+b)),
+/// cos a·sin b = ½(sin(b+a) + sin(b−a)).
+pub(crate) fn from_sums(sums: &[f64], harmonics: usize) -> DMatrix<f64> {
+    debug_assert_eq!(sums.len(), 4 * harmonics + 1);
     // Signed lookups: cos is even, sin odd.
-    let dq = |q: i64| d[q.unsigned_abs() as usize];
-    let eq = |q: i64| q.signum() as f64 * e[q.unsigned_abs() as usize];
+    let dq = |q: i64| match q.unsigned_abs() as usize {
+        0 => sums[0],
+        a => sums[2 * a - 1],
+    };
+    let eq = |q: i64| match q.unsigned_abs() as usize {
+        0 => 0.0,
+        a => q.signum() as f64 * sums[2 * a],
+    };
     let width = 2 * harmonics + 1;
     DMatrix::from_fn(width, width, |r, col| {
         let (h, hc) = (r.div_ceil(2) as i64, col.div_ceil(2) as i64);
         let (rc, cc) = (r % 2 == 1, col % 2 == 1); // true: a cosine column
         match (r, col) {
-            (0, 0) => nf,
+            (0, 0) => sums[0],
             (0, _) => {
                 if cc {
                     dq(hc)
@@ -144,17 +163,17 @@ impl HarmonicFit {
         let width = 2 * harmonics + 1;
         let gram = gram(n, omega * dt, harmonics);
         let gram_inverse = gram.clone().cholesky()?.inverse();
-        let (mut gx, mut gf) = (DVector::zeros(width), DVector::zeros(width));
+        let (mut gx, mut gf) = (vec![0.0; width], vec![0.0; width]);
         let mut basis = Basis::new(omega * dt, harmonics);
         for (&xi, &fi) in x.iter().zip(force) {
             let g = basis.next_row();
-            for (j, &gj) in g.iter().enumerate() {
-                gx[j] += gj * xi;
-                gf[j] += gj * fi;
+            for ((gx, gf), &gj) in gx.iter_mut().zip(&mut gf).zip(g) {
+                *gx += gj * xi;
+                *gf += gj * fi;
             }
         }
-        let stroke = &gram_inverse * gx;
-        let force = &gram_inverse * gf;
+        let stroke = &gram_inverse * DVector::from_vec(gx);
+        let force = &gram_inverse * DVector::from_vec(gf);
         let q = derivative(omega, harmonics);
         let (dv, da) = (&q * &stroke, &q * &q * &stroke);
         let mut fit = Self {
@@ -170,13 +189,15 @@ impl HarmonicFit {
         };
         let mut basis = Basis::new(omega * dt, harmonics);
         let mut sse = 0.0;
+        let theta = fit.stroke.as_slice();
+        let (dv, da) = (dv.as_slice(), da.as_slice());
         for (i, &xi) in x.iter().enumerate() {
             let g = basis.next_row();
             let (mut p, mut v, mut a) = (0.0, 0.0, 0.0);
-            for j in 0..width {
-                p += g[j] * fit.stroke[j];
-                v += g[j] * dv[j];
-                a += g[j] * da[j];
+            for (((g, t), dv), da) in g.iter().zip(theta).zip(dv).zip(da) {
+                p += g * t;
+                v += g * dv;
+                a += g * da;
             }
             (fit.displacement[i], fit.velocity[i], fit.acceleration[i]) = (p, v, a);
             sse += (xi - p) * (xi - p);
@@ -294,6 +315,22 @@ mod tests {
         }
         let err = (&closed - &summed).abs().max();
         assert!(err < 1e-9, "{err}");
+    }
+
+    #[test]
+    fn weighted_sums_of_the_doubled_basis_give_the_weighted_gram_matrix() {
+        let (n, phi, h) = (777, 0.05, 4);
+        let (mut sums, mut direct) = (vec![0.0; 4 * h + 1], DMatrix::zeros(2 * h + 1, 2 * h + 1));
+        let mut basis = Basis::new(phi, 2 * h);
+        for i in 0..n {
+            let r = basis.next_row();
+            let w = (0.3 * i as f64).sin().abs() + 0.1;
+            sums.iter_mut().zip(r).for_each(|(s, r)| *s += w * r);
+            let g = DVector::from_column_slice(&r[..2 * h + 1]);
+            direct += &g * g.transpose() * w;
+        }
+        let err = (from_sums(&sums, h) - direct).abs().max();
+        assert!(err < 1e-10, "{err}");
     }
 
     #[test]

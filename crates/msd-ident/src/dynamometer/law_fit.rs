@@ -15,6 +15,19 @@ use serde::Serialize;
 /// F = m·x̂″ + f_d(x̂′) + k·x̂ + F₀, linear in the coefficients.
 ///
 /// Displays as one row of the laws table (see [`Dynamometer`](super::Dynamometer)).
+///
+/// ```
+/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
+///     SyntheticDynamometer};
+/// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
+/// let options = DynamometerOptions { laws: vec![DampingLaw::QuadraticViscous], ..Default::default() };
+/// let fit = &dynamometer(&conditions, &options)?.laws[0];
+/// assert_eq!(fit.names, ["mass", "damping", "stiffness", "quadratic_damping", "force_offset"]);
+/// let (c, c2) = (fit.value("damping"), fit.value("quadratic_damping"));
+/// assert_eq!(fit.damping_force(-1.0), -c - c2);
+/// assert!(fit.coefficient("coulomb_force").is_none());
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LawFit {
     /// The damping law f_d.
@@ -126,6 +139,36 @@ fn design(law: DampingLaw, options: &DynamometerOptions) -> (Vec<usize>, Vec<&'s
     (columns, names)
 }
 
+/// The fitted values the stroke-noise terms need.
+struct Coefficients {
+    columns: Vec<usize>,
+    mass: f64,
+    damping: f64,
+    stiffness: f64,
+    /// c₂ or F_c.
+    law_term: f64,
+    inverse_smoothing: f64,
+}
+
+impl Coefficients {
+    fn new(
+        columns: &[usize],
+        beta: &DVector<f64>,
+        known_mass: Option<f64>,
+        inverse_smoothing: f64,
+    ) -> Self {
+        let at = |name: usize| columns.iter().position(|&c| c == name).map(|j| beta[j]);
+        Self {
+            columns: columns.to_vec(),
+            mass: at(ACCELERATION).or(known_mass).unwrap_or(0.0),
+            damping: at(VELOCITY).unwrap_or(0.0),
+            stiffness: at(DISPLACEMENT).unwrap_or(0.0),
+            law_term: at(QUADRATIC).or(at(COULOMB)).unwrap_or(0.0),
+            inverse_smoothing,
+        }
+    }
+}
+
 /// The solved normal equations: β, (XᵀX)⁻¹ and the scaled condition number.
 struct Solved {
     beta: DVector<f64>,
@@ -178,16 +221,17 @@ pub(crate) fn fit_law(
         model_forces(prepared, &columns, &solved.beta, options, inverse_smoothing);
     let (n, p) = (normal.samples, columns.len());
     let dof = n - p;
-    let sigma2 = sse / dof as f64;
-    let stroke = stroke_noise_term(
-        law,
-        prepared,
+    let fitted = Coefficients::new(
         &columns,
         &solved.beta,
-        options,
+        options.known_mass,
         inverse_smoothing,
     );
-    let covariance = &solved.inverse * sigma2 + &solved.inverse * stroke * &solved.inverse;
+    let stroke = stroke_noise(law, prepared, &solved, &fitted);
+    // The force noise: the SSE less the stroke noise's expected share of it.
+    let sigma2 = (sse - stroke.residual_share).max(0.0) / dof as f64;
+    let covariance =
+        &solved.inverse * sigma2 + &solved.inverse * stroke.covariance_term * &solved.inverse;
     let t = t_975(dof);
     let coefficients = (0..p)
         .map(|j| Interval::new(solved.beta[j], covariance[(j, j)].max(0.0).sqrt(), t))
@@ -247,46 +291,74 @@ fn model_forces(
     (forces, sse)
 }
 
-/// Σ_c σ̂ₓ,c²·S_c·(GᵀG)_c⁻¹·S_cᵀ with S_c = Xᵀ·∂F̂/∂θ_c: the stroke noise in each
-/// condition's harmonic coefficients θ_c, carried through x̂, x̂′ and x̂″ into the
-/// regression (the delta method on the errors in the variables).
-///
-/// ∂F̂ᵢ/∂θ = gᵢᵀ·(k·I + m·Q²) + f_d′(x̂′ᵢ)·gᵢᵀ·Q with f_d′ = c, c + 2c₂|x̂′| or
-/// c + (F_c/v_s)·sech²(x̂′/v_s), so S = P·(k·I + m·Q²) + (c·P + slope)·Q with
-/// P = Σ rᵢ·gᵢᵀ and slope the law's Σ f″-weighted projection (see [`Prepared`]).
-fn stroke_noise_term(
+/// The stroke noise's part in the regression: its covariance term
+/// Σ_c σ̂ₓ,c²·S_c·(GᵀG)_c⁻¹·S_cᵀ with S_c = Xᵀ·M_c, and its expected share of the SSE,
+/// tr((I − H)·M·Cov θ·Mᵀ) = Σ_c σ̂ₓ,c²·tr((GᵀG)_c⁻¹·M_cᵀM_c) − tr((XᵀX)⁻¹·term).
+struct StrokeNoise {
+    covariance_term: DMatrix<f64>,
+    residual_share: f64,
+}
+
+/// The stroke noise in each condition's harmonic coefficients θ_c carried through x̂, x̂′
+/// and x̂″ into the regression (the delta method on the errors in the variables):
+/// Mᵢ = ∂F̂ᵢ/∂θ = gᵢᵀ·A + f_d′(x̂′ᵢ)·gᵢᵀ·Q with A = k·I + m·Q² and f_d′ = c, c + 2c₂|x̂′|
+/// or c + (F_c/v_s)·sech²(x̂′/v_s). So S = P·A + (c·P + slope)·Q with P = Σ rᵢ·gᵢᵀ,
+/// and MᵀM = A·W₀·A + A·W₁·Q + Qᵀ·W₁·A + Qᵀ·W₂·Q with Wₖ = Σ f_d′ᵏ·gᵢ·gᵢᵀ.
+fn stroke_noise(
     law: DampingLaw,
     prepared: &[Prepared],
-    columns: &[usize],
-    beta: &DVector<f64>,
-    options: &DynamometerOptions,
-    inverse_smoothing: f64,
-) -> DMatrix<f64> {
-    let p = columns.len();
-    let at = |name: usize| columns.iter().position(|&c| c == name).map(|j| beta[j]);
-    let mass = at(ACCELERATION).or(options.known_mass).unwrap_or(0.0);
-    let (c, k) = (at(VELOCITY).unwrap_or(0.0), at(DISPLACEMENT).unwrap_or(0.0));
-    let mut total = DMatrix::zeros(p, p);
+    solved: &Solved,
+    coefficients: &Coefficients,
+) -> StrokeNoise {
+    let p = solved.beta.len();
+    let (mut term, mut share) = (DMatrix::zeros(p, p), 0.0);
     for cond in prepared {
         let width = cond.fit.stroke.len();
         let q = derivative(cond.fit.omega, (width - 1) / 2);
-        let projection = select(&cond.projection, columns, width);
-        let mut slope = &projection * c;
-        match law {
-            DampingLaw::Viscous => {}
-            DampingLaw::QuadraticViscous => {
-                let c2 = at(QUADRATIC).unwrap_or(0.0);
-                slope += select(&cond.quadratic_slope, columns, width) * (2.0 * c2);
-            }
-            DampingLaw::CoulombViscous => {
-                let fc = at(COULOMB).unwrap_or(0.0);
-                slope += select(&cond.coulomb_slope, columns, width) * (fc * inverse_smoothing);
-            }
-        }
-        let stiffness = DMatrix::identity(width, width) * k + &q * &q * mass;
-        let s = &projection * stiffness + slope * &q;
+        let projection = select(&cond.projection, &coefficients.columns, width);
+        let (slope, [w1, w2]) = law_slopes(law, cond, coefficients, &projection);
+        let a =
+            DMatrix::identity(width, width) * coefficients.stiffness + &q * &q * coefficients.mass;
+        let s = &projection * &a + slope * &q;
+        let c = &cond.fit.gram_inverse;
         let sigma2 = cond.fit.stroke_sigma * cond.fit.stroke_sigma;
-        total += &s * &cond.fit.gram_inverse * s.transpose() * sigma2;
+        term += &s * c * s.transpose() * sigma2;
+        let aw1q = &a * w1 * &q;
+        let mtm = &a * &cond.fit.gram * &a + &aw1q + aw1q.transpose() + q.transpose() * w2 * &q;
+        share += sigma2 * (c * mtm).trace();
     }
-    total
+    share -= (&solved.inverse * &term).trace();
+    StrokeNoise {
+        covariance_term: term,
+        residual_share: share,
+    }
+}
+
+/// The law's slope projection c·P + Σ f″-weighted rᵢ·gᵢᵀ, and W₁, W₂ (see
+/// [`stroke_noise`]).
+fn law_slopes(
+    law: DampingLaw,
+    cond: &Prepared,
+    k: &Coefficients,
+    projection: &DMatrix<f64>,
+) -> (DMatrix<f64>, [DMatrix<f64>; 2]) {
+    let (c, w0) = (k.damping, &cond.fit.gram);
+    let width = w0.nrows();
+    let (weight, slope, grams) = match law {
+        DampingLaw::Viscous => return (projection * c, [w0 * c, w0 * (c * c)]),
+        DampingLaw::QuadraticViscous => (
+            2.0 * k.law_term,
+            &cond.quadratic_slope,
+            &cond.quadratic_grams,
+        ),
+        DampingLaw::CoulombViscous => (
+            k.law_term * k.inverse_smoothing,
+            &cond.coulomb_slope,
+            &cond.coulomb_grams,
+        ),
+    };
+    let slope = projection * c + select(slope, &k.columns, width) * weight;
+    let w1 = w0 * c + &grams[0] * weight;
+    let w2 = w0 * (c * c) + &grams[0] * (2.0 * c * weight) + &grams[1] * (weight * weight);
+    (slope, [w1, w2])
 }

@@ -3,48 +3,7 @@
 //! measures it and the force F, and F = m·x″ + f_d(x′) + k·x (+ a load-cell offset F₀)
 //! with f_d one of the [`DampingLaw`]s.
 //!
-//! ## The algorithm
-//! 1. Per condition ([`Condition`]): the stroke frequency (given, or by the IEEE 1057
-//!    four-parameter sine fit), the samples of its whole cycles, and a least-squares
-//!    Fourier series of H harmonics of f fitted to the stroke and to the force.
-//!    Differentiated analytically, the stroke's series gives x̂′ and x̂″ with no
-//!    amplification of the noise beyond the H-th harmonic.
-//! 2. Per condition, model-free ([`ConditionSummary`]): the energy per cycle ∮F dx, the
-//!    equivalent viscous damping, the storage stiffness, the loss factor, peaks.
-//! 3. Across all conditions, each requested law by linear least squares on the regressors
-//!    x̂″, x̂′, x̂, the law's term (x̂′|x̂′| or tanh(x̂′/v_s)) and 1 ([`LawFit`]); the laws
-//!    ranked by BIC = N·ln(SSE/N) + p·ln N and the margin graded on Kass & Raftery's
-//!    scale ([`bic_evidence`](crate::bic_evidence)).
-//!
-//! ## The intervals
-//! The covariance of the coefficients β̂ is the least-squares one, σ̂_F²·(XᵀX)⁻¹, plus the
-//! stroke noise: the noise of the measured stroke (σ̂ₓ, from the residual of its Fourier
-//! fit) makes each condition's harmonic coefficients θ uncertain, Cov θ = σ̂ₓ²·(GᵀG)⁻¹,
-//! and every regressor is a function of θ. To first order (the delta method for errors in
-//! the variables) the force equation's error gains −∂F̂/∂θ·Δθ, hence
-//! Cov β̂ = (XᵀX)⁻¹·[σ̂_F²·XᵀX + Σ_c σ̂ₓ²·S_c·(GᵀG)⁻¹·S_cᵀ]·(XᵀX)⁻¹ with
-//! S_c = Xᵀ·∂F̂/∂θ_c. σ̂_F² = SSE/(N − p) also holds that stroke-noise force, a share of
-//! order (2H + 1)·conditions/N of it (conservative, negligible). The intervals use
-//! Student's t with N − p degrees of freedom. An estimated frequency is taken as exact
-//! (its error, of order σ/(X·N^{3/2}), is far below the amplitude's).
-//!
-//! ## Identifiability
-//! A sine stroke at one frequency gives m·x″ + k·x = (k − m·ω²)·x: m and k apart need two
-//! or more frequencies, or a known mass ([`DynamometerOptions::known_mass`]); the
-//! analysis refuses otherwise.
-//!
-//! ```
-//! use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
-//!     SyntheticDynamometer};
-//! let spec = SyntheticDynamometer::default(); // a quadratic damper, 5 frequencies × 2 strokes
-//! let conditions = synthetic_dynamometer(&spec)?;
-//! let result = dynamometer(&conditions, &DynamometerOptions::default())?;
-//! assert_eq!(result.best_law().law, DampingLaw::QuadraticViscous);
-//! let c2 = result.best_law().coefficient("quadratic_damping").unwrap();
-//! assert!(c2.contains(spec.plant.quadratic_damping()));
-//! println!("{result}");
-//! # Ok::<(), msd_ident::IdentError>(())
-//! ```
+//! See [`dynamometer`] for the method.
 
 mod condition;
 mod harmonics;
@@ -145,6 +104,20 @@ impl DynamometerOptions {
 /// The result of [`dynamometer`]: each condition's summary and each law's fit.
 ///
 /// Displays as two Markdown tables (conditions; laws, ranked) and the verdict.
+///
+/// ```
+/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
+///     SyntheticDynamometer};
+/// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
+/// let result = dynamometer(&conditions, &DynamometerOptions::default())?;
+/// assert_eq!(result.laws[result.best].rank, 1);
+/// assert!(result.law(DampingLaw::Viscous).unwrap().delta_bic > 10.0);
+/// // The F–v plot of condition 9 (8 Hz, 25 mm): measured points about the fitted law.
+/// let points = result.measured_damping_force(9, result.best);
+/// assert_eq!(points.len(), result.conditions[9].velocity.len());
+/// assert!(result.to_string().contains("| rank | law |"));
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Dynamometer {
     /// One summary per condition, in input order.
@@ -208,11 +181,54 @@ impl std::fmt::Display for Dynamometer {
 
 /// Identifies the damper of a test machine from its `conditions`: per condition the
 /// loop's summary, across all conditions each law's coefficients with 95 % intervals,
-/// and the laws ranked by BIC (see the [module doc](self) for the method).
+/// and the laws ranked by BIC.
 ///
 /// Refused with a located message: an invalid option, a condition whose fields do not
 /// match, are not finite, constant, shorter than [`MIN_CYCLES`] whole cycles or with a
 /// harmonic past Nyquist; m free with a single stroke frequency; collinear regressors.
+///
+/// ## The algorithm
+/// 1. Per condition ([`Condition`]): the stroke frequency (given, or by the IEEE 1057
+///    four-parameter sine fit), the samples of its whole cycles, and a least-squares
+///    Fourier series of H harmonics of f fitted to the stroke and to the force.
+///    Differentiated analytically, the stroke's series gives x̂′ and x̂″ with no
+///    amplification of the noise beyond the H-th harmonic.
+/// 2. Per condition, model-free ([`ConditionSummary`]): the energy per cycle ∮F dx, the
+///    equivalent viscous damping, the storage stiffness, the loss factor, peaks.
+/// 3. Across all conditions, each requested law by linear least squares on the regressors
+///    x̂″, x̂′, x̂, the law's term (x̂′|x̂′| or tanh(x̂′/v_s)) and 1 ([`LawFit`]); the laws
+///    ranked by BIC = N·ln(SSE/N) + p·ln N and the margin graded on Kass & Raftery's
+///    scale ([`bic_evidence`](crate::bic_evidence)).
+///
+/// ## The intervals
+/// The covariance of the coefficients β̂ is the least-squares one, σ̂_F²·(XᵀX)⁻¹, plus the
+/// stroke noise: the noise of the measured stroke (σ̂ₓ, from the residual of its Fourier
+/// fit) makes each condition's harmonic coefficients θ uncertain, Cov θ = σ̂ₓ²·(GᵀG)⁻¹,
+/// and every regressor is a function of θ. To first order (the delta method for errors in
+/// the variables) the force equation's error gains −∂F̂/∂θ·Δθ, hence
+/// Cov β̂ = (XᵀX)⁻¹·[σ̂_F²·XᵀX + Σ_c σ̂ₓ²·S_c·(GᵀG)⁻¹·S_cᵀ]·(XᵀX)⁻¹ with
+/// S_c = Xᵀ·∂F̂/∂θ_c. σ̂_F² = SSE/(N − p) also holds that stroke-noise force, a share of
+/// order (2H + 1)·conditions/N of it (conservative, negligible). The intervals use
+/// Student's t with N − p degrees of freedom. An estimated frequency is taken as exact
+/// (its error, of order σ/(X·N^{3/2}), is far below the amplitude's).
+///
+/// ## Identifiability
+/// A sine stroke at one frequency gives m·x″ + k·x = (k − m·ω²)·x: m and k apart need two
+/// or more frequencies, or a known mass ([`DynamometerOptions::known_mass`]); the
+/// analysis refuses otherwise.
+///
+/// ```
+/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
+///     SyntheticDynamometer};
+/// let spec = SyntheticDynamometer::default(); // a quadratic damper, 5 frequencies × 2 strokes
+/// let conditions = synthetic_dynamometer(&spec)?;
+/// let result = dynamometer(&conditions, &DynamometerOptions::default())?;
+/// assert_eq!(result.best_law().law, DampingLaw::QuadraticViscous);
+/// let c2 = result.best_law().coefficient("quadratic_damping").unwrap();
+/// assert!(c2.contains(spec.plant.quadratic_damping()));
+/// println!("{result}");
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 pub fn dynamometer(conditions: &[Condition], options: &DynamometerOptions) -> Result<Dynamometer> {
     options.validate()?;
     if conditions.is_empty() {
@@ -291,6 +307,8 @@ fn prepare(c: &Condition, harmonics: usize) -> Result<(ConditionSummary, Prepare
         projection: Vec::new(),
         quadratic_slope: Vec::new(),
         coulomb_slope: Vec::new(),
+        quadratic_grams: Default::default(),
+        coulomb_grams: Default::default(),
     };
     Ok((summary, ready))
 }

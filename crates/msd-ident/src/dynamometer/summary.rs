@@ -20,6 +20,24 @@ use std::f64::consts::PI;
 /// E = π·c·ω·X²; for a quadratic damper F = c₂·x′|x′|, E = (8/3)·c₂·ω²·X³.
 ///
 /// Displays as one row of the conditions table (see [`Dynamometer`](super::Dynamometer)).
+///
+/// ```
+/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
+///     ModelStructure, NonlinearParameters, Parameters, Stroke, SyntheticDynamometer};
+/// // A linear plant, noise-free: c_eq = c and k′ = k − m·ω².
+/// let (m, c, k) = (2.0, 400.0, 5000.0);
+/// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::new(m, c, k)?);
+/// let strokes = vec![Stroke { frequency_hz: 2.0, amplitude: 0.02 }, Stroke { frequency_hz: 5.0, amplitude: 0.02 }];
+/// let spec = SyntheticDynamometer { plant, strokes, force_noise: 0.0, displacement_noise: 0.0,
+///     ..SyntheticDynamometer::default() };
+/// let result = dynamometer(&synthetic_dynamometer(&spec)?, &DynamometerOptions::default())?;
+/// let s = &result.conditions[1];
+/// let w = 2.0 * std::f64::consts::PI * 5.0;
+/// assert!((s.equivalent_damping / c - 1.0).abs() < 1e-9);
+/// assert!((s.storage_stiffness / (k - m * w * w) - 1.0).abs() < 1e-9);
+/// assert!((s.energy_per_cycle / (std::f64::consts::PI * c * w * 0.02 * 0.02) - 1.0).abs() < 1e-9);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ConditionSummary {
     /// The condition's name.

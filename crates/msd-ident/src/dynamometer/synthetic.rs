@@ -7,6 +7,13 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// One imposed sine stroke x = X·sin(2π·f·t).
+///
+/// ```
+/// use msd_ident::Stroke;
+/// let s = Stroke { frequency_hz: 8.0, amplitude: 0.025 };
+/// let peak_velocity = 2.0 * std::f64::consts::PI * s.frequency_hz * s.amplitude;
+/// assert!((peak_velocity - 1.2566).abs() < 1e-4);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Stroke {
@@ -23,6 +30,13 @@ pub struct Stroke {
 /// 0.06 to 1.26 m/s, a damper test's usual range), 4 cycles each sampled at 2 kHz, no
 /// force offset, force noise 5 N (a 10 kN load cell's 0.05 %), stroke noise 20 µm (an
 /// LVDT's), seed 1.
+///
+/// ```
+/// use msd_ident::{DampingLaw, SyntheticDynamometer};
+/// let spec = SyntheticDynamometer::default();
+/// assert_eq!(spec.plant.structure.damping, DampingLaw::QuadraticViscous);
+/// assert_eq!((spec.strokes.len(), spec.cycles, spec.dt), (10, 4, 5e-4));
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SyntheticDynamometer {

@@ -4,6 +4,7 @@ mod base_excitation;
 mod common;
 mod data;
 mod diagnostics;
+mod dynamometer;
 mod error_paths;
 mod estimation;
 mod free_decay;
