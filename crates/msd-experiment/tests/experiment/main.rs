@@ -4,5 +4,6 @@ mod cli;
 #[cfg(feature = "download")]
 mod download;
 mod fetch;
+mod frf_uff;
 mod in_memory;
 mod plan;
