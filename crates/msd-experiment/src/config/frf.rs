@@ -447,7 +447,8 @@ impl HammerSource {
         if self.hits == 0 {
             return err(&key("hits"), " = 0: expected at least 1".into());
         }
-        if !(self.pulse_width * self.sample_rate >= 2.0) {
+        check_positive(&key("pulse_width"), self.pulse_width)?;
+        if self.pulse_width * self.sample_rate < 2.0 {
             return err(
                 &key("pulse_width"),
                 format!(
@@ -457,7 +458,7 @@ impl HammerSource {
             );
         }
         let samples = self.duration * self.sample_rate;
-        if !(self.trigger + self.pulse_width < self.duration) || samples > 1e7 {
+        if self.trigger + self.pulse_width >= self.duration || samples > 1e7 {
             return err(
                 &key("duration"),
                 format!(

@@ -53,9 +53,9 @@ pub use results::to_json;
 #[derive(Debug, Clone)]
 pub enum FrfFit {
     /// m, c, k (and fn, ζ, the gain) with intervals.
-    OneMode(OneModeFit),
+    OneMode(Box<OneModeFit>),
     /// The modes of the stabilization diagram, polished, with intervals.
-    Modes(ModalFit),
+    Modes(Box<ModalFit>),
 }
 
 /// The known plant of a synthetic config (or the truth a file is compared with).
@@ -111,8 +111,10 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
     let t = Instant::now();
     let fail = |e: msd_ident::IdentError| ExperimentError::run("frequency-response fit", e);
     let fit = match &section.modes {
-        Some(options) => FrfFit::Modes(fit_modes(&loaded.frf, options).map_err(fail)?),
-        None => FrfFit::OneMode(fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?),
+        Some(options) => FrfFit::Modes(Box::new(fit_modes(&loaded.frf, options).map_err(fail)?)),
+        None => FrfFit::OneMode(Box::new(
+            fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?,
+        )),
     };
     let classroom = classroom(&loaded.frf, &fit);
     timings.push(("fit", t.elapsed()));
