@@ -3,7 +3,7 @@
 //! intervals, the classroom peak-picking and half-power estimates beside the fit, and
 //! the truth when the plant is known.
 //!
-//! [`run`] computes an [`FrfOutcome`]; [`write`] writes its figures (`frf_fit_bode`,
+//! [`run`] computes an [`FrfOutcome`]; [`write()`] writes its figures (`frf_fit_bode`,
 //! `frf_fit_nyquist`, `frf_coherence`, `frf_stabilization`), `report.md`, `report.html`
 //! and `results.json` into one folder atomically. [`crate::run_experiment`] does both for
 //! a config that has only this section.

@@ -197,14 +197,20 @@ mod tests {
             for (mode, w2) in modes.iter().zip([5000.0f64, 20000.0]) {
                 let wn = TAU * mode.natural_frequency_hz;
                 assert!((wn / w2.sqrt() - 1.0).abs() < 1e-12);
-                assert!((mode.damping_ratio / (1e-4 * w2.sqrt()) - 1.0).abs() < 1e-12);
+                // The eigenvalues are found to about ε·‖A‖ ≈ 1e-11 (‖A‖ ≈ 3e4), and
+                // Re λ = −ζωn is 0.5 or 2: ζ to about 1e-11 relative.
+                assert!((mode.damping_ratio / (1e-4 * w2.sqrt()) - 1.0).abs() < 1e-10);
             }
             for hz in [1.0, 11.0, 17.0, 22.5, 60.0] {
                 let sum: Complex64 = modes.iter().map(|m| m.receptance(hz)).sum();
                 let direct = plant.receptance(hz);
+                // The poles' rounding (ε‖A‖ ≈ 1e-11) is amplified near a resonance by
+                // |λ|/|jω − λ| (≈ 50 at 11 Hz), and the residues come from the
+                // cofactors of a nearly singular Z(λ): 1e-9 relative.
                 assert!(
-                    (sum - direct).norm() < 1e-12 * direct.norm(),
-                    "{f}→{r} at {hz}"
+                    (sum - direct).norm() < 1e-9 * direct.norm(),
+                    "{f}→{r} at {hz}: {}",
+                    (sum - direct).norm() / direct.norm()
                 );
             }
         }
