@@ -44,8 +44,13 @@ use msd_signal::Signal;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::{Path, PathBuf};
 
+mod frf;
 mod nonlinear;
 mod setup;
+pub use frf::{
+    ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, Spacing, SweepSource,
+    TableSource, UffSource,
+};
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
 pub use setup::{ExcitationKind, Frame, Quantity, Response, SetupSection, StrokeCondition};
 
@@ -98,6 +103,9 @@ pub struct Config {
     /// Nonlinear models: one estimated, or several compared (off unless given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nonlinear: Option<NonlinearSection>,
+    /// A frequency response and the modes fitted to it (`crate::frf`; off unless given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency_response: Option<FrequencyResponseSection>,
     /// What is written.
     #[serde(default)]
     pub output: OutputSection,
@@ -751,6 +759,7 @@ impl Config {
             frequency_check: FrequencySection::default(),
             monte_carlo: MonteCarloSection::default(),
             nonlinear: None,
+            frequency_response: None,
             output: OutputSection::default(),
         }
     }
@@ -794,6 +803,12 @@ impl Config {
                     self.name
                 ),
             );
+        }
+        if let Some(section) = &self.frequency_response {
+            section.validate()?;
+            if self.frequency_only() {
+                return Ok(());
+            }
         }
         match (&self.setup, self.kind()) {
             (Some(setup), kind) => setup.validate_config(self, kind)?,

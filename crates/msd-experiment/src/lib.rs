@@ -24,6 +24,7 @@ pub mod data;
 mod error;
 pub mod fetch;
 pub mod fmt;
+pub mod frf;
 pub mod nonlinear;
 pub mod output;
 pub mod pipeline;
@@ -94,6 +95,9 @@ pub fn output_dir(config: &Config, config_path: &Path, options: &RunOptions) -> 
 pub fn run_experiment(config_path: &Path, options: &RunOptions) -> Result<RunSummary> {
     let started = Instant::now();
     let config = Config::load(config_path)?;
+    if config.frequency_only() {
+        return frf::run_experiment(config, config_path, options, started);
+    }
     let progress = Progress::new(options.progress);
     let result = run_and_write(config, config_path, options, &progress, started);
     progress.finish();

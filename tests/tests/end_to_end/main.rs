@@ -5,4 +5,5 @@ mod bad_input;
 mod determinism;
 mod experiment;
 mod faults;
+mod frf_experiment;
 mod nonlinear_experiment;

@@ -4,6 +4,7 @@ mod cli;
 #[cfg(feature = "download")]
 mod download;
 mod fetch;
+mod frf_uff;
 mod in_memory;
 mod plan;
 mod setups;

@@ -1,0 +1,476 @@
+//! The optional `[frequency_response]` section: a frequency response read (a CSV table of
+//! a stepped-sine sweep, a UFF 58 file, time records) or simulated from a known plant (a
+//! stepped sine, hammer hits), and one mode or several fitted to it ([`crate::frf`]).
+//!
+//! A config with this section and no time-domain sections (`[plant]`, `[data]`, …) is a
+//! frequency-domain experiment of its own. Exactly one source: `sweep`, `hammer`,
+//! `table`, `uff` or `records`. One mode is fitted unless `[frequency_response.modes]`
+//! is given (msd-ident's [`OneModeOptions`] and [`ModalOptions`], as they are).
+//!
+//! ```
+//! use msd_experiment::config::Config;
+//! let text = r#"
+//!     name = "sweep"
+//!     [frequency_response.plant]
+//!     masses = [2.5]
+//!     springs = [120.0]
+//!     dampers = [1.8]
+//!     [frequency_response.sweep]
+//!     band_hz = [0.25, 2.5]
+//!     lines = 40
+//! "#;
+//! let config = Config::from_toml_str(text, "sweep.toml")?;
+//! assert!(config.frequency_only());
+//! let section = config.frequency_response.as_ref().expect("given");
+//! assert_eq!(section.sweep.as_ref().map(|s| s.relative_noise), Some(0.01));
+//! let bad = text.replace("lines = 40", "lines = 40\n[frequency_response.uff]\npath = \"x.uff\"");
+//! let err = Config::from_toml_str(&bad, "sweep.toml").unwrap_err();
+//! assert_eq!(err.to_string(), "sweep.toml:10: frequency_response.uff: a second source beside \
+//!     `sweep`: expected exactly one of sweep, hammer, table, uff, records");
+//! # Ok::<(), msd_experiment::ExperimentError>(())
+//! ```
+
+use super::{Column, Config, check_non_negative, check_positive, default_true, library_error};
+use msd_ident::{ModalOptions, OneModeOptions};
+use msd_signal::{FrfKind, FrfOptions};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+type Check = std::result::Result<(), (String, String)>;
+
+/// The `[frequency_response]` section.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrequencyResponseSection {
+    /// The true plant: required by `sweep` and `hammer`; with a file, the truth it is
+    /// compared with.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plant: Option<ChainPlant>,
+    /// A stepped-sine sweep simulated on the plant.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepSource>,
+    /// Hammer hits simulated on the plant.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hammer: Option<HammerSource>,
+    /// A measured table (CSV), one row per line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<TableSource>,
+    /// A UFF file's dataset 58.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uff: Option<UffSource>,
+    /// Measured time records (CSV): force and response columns, one pair per record.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub records: Option<RecordsSource>,
+    /// How time records (`hammer`, `records`) become a frequency response: msd-signal's
+    /// [`FrfOptions`] (estimator, Welch segments, impact windows, response quantity). By
+    /// default H1 over whole records with a Hann window, receptance.
+    #[serde(default)]
+    pub estimator: FrfOptions,
+    /// One mode: msd-ident's [`OneModeOptions`] (`band_hz`, `weighting`). By default
+    /// every line, weights from the coherence.
+    #[serde(default)]
+    pub one_mode: OneModeOptions,
+    /// Several modes instead: msd-ident's [`ModalOptions`] (orders, tolerances,
+    /// `mode_count`, …). By default not given (one mode).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<ModalOptions>,
+    /// Whether the force is measured in its units: the one-mode fit then reports m, c, k;
+    /// otherwise fn, ζ and the gain 1/m (m, c and k scale with the force). By default true.
+    #[serde(default = "default_true")]
+    pub force_scale_known: bool,
+}
+
+/// A chain of masses fixed to the ground at one end: spring and damper i join mass i to
+/// mass i − 1 (the first to the ground). One mass is the single-degree-of-freedom plant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainPlant {
+    /// Masses, kg (> 0), from the ground out; 1 to 8 of them.
+    pub masses: Vec<f64>,
+    /// Stiffnesses, N/m (> 0), one per mass.
+    pub springs: Vec<f64>,
+    /// Viscous dampers, N·s/m (≥ 0), one per mass.
+    pub dampers: Vec<f64>,
+    /// The mass the force acts on, numbered from 1 at the ground. By default 1.
+    #[serde(default = "first")]
+    pub force_at: usize,
+    /// The mass whose displacement is measured. By default 1.
+    #[serde(default = "first")]
+    pub response_at: usize,
+}
+
+fn first() -> usize {
+    1
+}
+
+/// How the lines of a simulated sweep are spaced.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Spacing {
+    /// Equal ratios (a constant relative resolution, as a sweep is usually stepped).
+    /// The default.
+    #[default]
+    Logarithmic,
+    /// Equal steps.
+    Linear,
+}
+
+/// A stepped sine simulated on the plant: each line the exact response with complex
+/// noise of relative size `relative_noise` (msd-ident's
+/// [`synthetic_frequency_response`](msd_ident::synthetic_frequency_response)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSource {
+    /// First and last excitation frequency, Hz (0 < first < last).
+    #[serde(deserialize_with = "msd_ident::pair::exactly_two")]
+    pub band_hz: [f64; 2],
+    /// Number of excitation frequencies (≥ 4).
+    pub lines: usize,
+    /// Their spacing. By default logarithmic.
+    #[serde(default)]
+    pub spacing: Spacing,
+    /// E|e|²/|H|² of the complex noise. By default 0.01 (1 %).
+    #[serde(default = "one_percent")]
+    pub relative_noise: f64,
+}
+
+fn one_percent() -> f64 {
+    0.01
+}
+
+/// Hammer hits simulated on the plant: half-sine force pulses, the response computed
+/// exactly (the force linear between samples), noise on both channels.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HammerSource {
+    /// Number of hits (records). By default 5.
+    #[serde(default = "five")]
+    pub hits: usize,
+    /// Sampling rate, Hz (> 0).
+    pub sample_rate: f64,
+    /// Length of each record, s.
+    pub duration: f64,
+    /// Width of the half-sine pulse, s (at least two samples).
+    pub pulse_width: f64,
+    /// When the pulse starts in each record, s. By default 0.05.
+    #[serde(default = "trigger")]
+    pub trigger: f64,
+    /// Peak force of a hit, N. By default 100.
+    #[serde(default = "hundred")]
+    pub force_peak: f64,
+    /// Relative standard deviation of the peak force from hit to hit. By default 0.2.
+    #[serde(default = "fifth")]
+    pub force_spread: f64,
+    /// Noise on the force channel, N (standard deviation). By default 0.5.
+    #[serde(default = "half")]
+    pub force_noise: f64,
+    /// Noise on the response channel, as a share of the response's peak. By default 0.02.
+    #[serde(default = "two_percent")]
+    pub response_noise: f64,
+}
+
+fn five() -> usize {
+    5
+}
+fn trigger() -> f64 {
+    0.05
+}
+fn hundred() -> f64 {
+    100.0
+}
+fn fifth() -> f64 {
+    0.2
+}
+fn half() -> f64 {
+    0.5
+}
+fn two_percent() -> f64 {
+    0.02
+}
+
+/// A measured frequency response as a CSV table: a frequency column and either
+/// magnitude and phase or real and imaginary columns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableSource {
+    /// The CSV file, relative to the config file.
+    pub path: PathBuf,
+    /// The frequency column, Hz (increasing).
+    pub frequency: Column,
+    /// The magnitude column (with `phase`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub magnitude: Option<Column>,
+    /// The phase column (with `magnitude`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase: Option<Column>,
+    /// Whether the phase is in degrees (else radians). By default true.
+    #[serde(default = "default_true")]
+    pub phase_in_degrees: bool,
+    /// The real-part column (with `imaginary`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub real: Option<Column>,
+    /// The imaginary-part column (with `real`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub imaginary: Option<Column>,
+    /// What the response measures. By default receptance.
+    #[serde(default)]
+    pub kind: FrfKind,
+    /// Field delimiter. By default `","`.
+    #[serde(default = "comma")]
+    pub delimiter: char,
+    /// Whether the first line holds column names. By default true.
+    #[serde(default = "default_true")]
+    pub header: bool,
+}
+
+fn comma() -> char {
+    ','
+}
+
+/// A function of a UFF file (datasets 58 and 58b, read by msd-uff).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UffSource {
+    /// The UFF file, relative to the config file.
+    pub path: PathBuf,
+    /// Which dataset 58 of the file, counted from 1. By default the first frequency
+    /// response function.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub function: Option<usize>,
+    /// What the response measures. By default from the file's ordinate axis
+    /// (displacement, velocity or acceleration), else receptance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<FrfKind>,
+}
+
+/// Measured time records in one CSV file: `force[i]` and `response[i]` are record i.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecordsSource {
+    /// The CSV file, relative to the config file.
+    pub path: PathBuf,
+    /// Sampling rate, Hz.
+    pub sample_rate: f64,
+    /// The force column of each record.
+    pub force: Vec<Column>,
+    /// The response column of each record.
+    pub response: Vec<Column>,
+    /// Field delimiter. By default `","`.
+    #[serde(default = "comma")]
+    pub delimiter: char,
+    /// Whether the first line holds column names. By default true.
+    #[serde(default = "default_true")]
+    pub header: bool,
+}
+
+impl Config {
+    /// Whether the config is a frequency-domain experiment only: a
+    /// `[frequency_response]` section and no time-domain data.
+    pub fn frequency_only(&self) -> bool {
+        self.frequency_response.is_some()
+            && self.data.is_none()
+            && self.plant.is_none()
+            && self.identification.is_none()
+    }
+}
+
+impl FrequencyResponseSection {
+    /// The name of the one source given.
+    pub fn source_name(&self) -> &'static str {
+        self.sources()
+            .into_iter()
+            .find_map(|(name, given)| given.then_some(name))
+            .unwrap_or("none")
+    }
+
+    fn sources(&self) -> [(&'static str, bool); 5] {
+        [
+            ("sweep", self.sweep.is_some()),
+            ("hammer", self.hammer.is_some()),
+            ("table", self.table.is_some()),
+            ("uff", self.uff.is_some()),
+            ("records", self.records.is_some()),
+        ]
+    }
+
+    /// Checks every value; errors name the key.
+    pub(crate) fn validate(&self) -> Check {
+        let given: Vec<&str> = self
+            .sources()
+            .into_iter()
+            .filter_map(|(n, g)| g.then_some(n))
+            .collect();
+        let expected = "expected exactly one of sweep, hammer, table, uff, records";
+        match given.as_slice() {
+            [] => return err("frequency_response", format!(": no source: {expected}")),
+            [_] => {}
+            [first, second, ..] => {
+                return err(
+                    &format!("frequency_response.{second}"),
+                    format!(": a second source beside `{first}`: {expected}"),
+                );
+            }
+        }
+        if let Some(plant) = &self.plant {
+            plant.validate()?;
+        } else if self.sweep.is_some() || self.hammer.is_some() {
+            return err(
+                "frequency_response.plant",
+                ": missing: a simulated source needs the plant { masses, springs, dampers }".into(),
+            );
+        }
+        self.validate_sources()?;
+        self.estimator
+            .validate()
+            .map_err(|e| ("frequency_response.estimator".into(), format!(": {e}")))?;
+        match &self.modes {
+            Some(m) => m
+                .validate()
+                .map_err(|e| library_error("frequency_response.modes", e)),
+            None => self
+                .one_mode
+                .validate()
+                .map_err(|e| library_error("frequency_response.one_mode", e)),
+        }
+    }
+
+    fn validate_sources(&self) -> Check {
+        if let Some(s) = &self.sweep {
+            let [low, high] = s.band_hz;
+            check_positive("frequency_response.sweep.band_hz", low)?;
+            if !(high.is_finite() && high > low) {
+                return err(
+                    "frequency_response.sweep.band_hz",
+                    format!(" = [{low}, {high}]: expected 0 < first < last (Hz)"),
+                );
+            }
+            if s.lines < 4 {
+                return err(
+                    "frequency_response.sweep.lines",
+                    format!(" = {}: expected at least 4", s.lines),
+                );
+            }
+            check_non_negative("frequency_response.sweep.relative_noise", s.relative_noise)?;
+        }
+        if let Some(h) = &self.hammer {
+            h.validate()?;
+        }
+        if let Some(t) = &self.table {
+            let pairs = (
+                t.magnitude.is_some() && t.phase.is_some(),
+                t.real.is_some() && t.imaginary.is_some(),
+            );
+            let partial = t.magnitude.is_some() || t.phase.is_some();
+            if pairs.0 == pairs.1 || (pairs.1 && partial) {
+                return err(
+                    "frequency_response.table",
+                    ": expected either `magnitude` and `phase` or `real` and `imaginary` columns"
+                        .into(),
+                );
+            }
+        }
+        if let Some(r) = &self.records {
+            check_positive("frequency_response.records.sample_rate", r.sample_rate)?;
+            if r.force.is_empty() || r.force.len() != r.response.len() {
+                return err(
+                    "frequency_response.records.response",
+                    format!(
+                        ": {} force and {} response columns: expected one pair per record",
+                        r.force.len(),
+                        r.response.len()
+                    ),
+                );
+            }
+        }
+        if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
+            return err(
+                "frequency_response.uff.function",
+                " = 0: expected a dataset number from 1".into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl ChainPlant {
+    fn validate(&self) -> Check {
+        let key = |k: &str| format!("frequency_response.plant.{k}");
+        let n = self.masses.len();
+        if !(1..=8).contains(&n) {
+            return err(&key("masses"), format!(": {n} masses: expected 1 to 8"));
+        }
+        for (name, values) in [("springs", &self.springs), ("dampers", &self.dampers)] {
+            if values.len() != n {
+                return err(
+                    &key(name),
+                    format!(
+                        ": {} values for {n} masses: expected one per mass",
+                        values.len()
+                    ),
+                );
+            }
+        }
+        for i in 0..n {
+            check_positive(&key(&format!("masses[{i}]")), self.masses[i])?;
+            check_positive(&key(&format!("springs[{i}]")), self.springs[i])?;
+            check_non_negative(&key(&format!("dampers[{i}]")), self.dampers[i])?;
+        }
+        for (name, at) in [
+            ("force_at", self.force_at),
+            ("response_at", self.response_at),
+        ] {
+            if !(1..=n).contains(&at) {
+                return err(
+                    &key(name),
+                    format!(" = {at}: expected a mass from 1 to {n}"),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+impl HammerSource {
+    fn validate(&self) -> Check {
+        let key = |k: &str| format!("frequency_response.hammer.{k}");
+        check_positive(&key("sample_rate"), self.sample_rate)?;
+        check_positive(&key("duration"), self.duration)?;
+        check_positive(&key("force_peak"), self.force_peak)?;
+        for (name, v) in [
+            ("trigger", self.trigger),
+            ("force_spread", self.force_spread),
+            ("force_noise", self.force_noise),
+            ("response_noise", self.response_noise),
+        ] {
+            check_non_negative(&key(name), v)?;
+        }
+        if self.hits == 0 {
+            return err(&key("hits"), " = 0: expected at least 1".into());
+        }
+        check_positive(&key("pulse_width"), self.pulse_width)?;
+        if self.pulse_width * self.sample_rate < 2.0 {
+            return err(
+                &key("pulse_width"),
+                format!(
+                    " = {}: expected at least two samples (2/sample_rate)",
+                    self.pulse_width
+                ),
+            );
+        }
+        let samples = self.duration * self.sample_rate;
+        if self.trigger + self.pulse_width >= self.duration || samples > 1e7 {
+            return err(
+                &key("duration"),
+                format!(
+                    " = {}: expected the pulse inside the record and at most 1e7 samples",
+                    self.duration
+                ),
+            );
+        }
+        Ok(())
+    }
+}
+
+fn err(field: &str, message: String) -> Check {
+    Err((field.to_string(), message))
+}

@@ -1,0 +1,242 @@
+//! Frequency-domain experiments (`[frequency_response]`, [`FrequencyResponseSection`]):
+//! a frequency response simulated or read, one mode or several fitted to it with 95 %
+//! intervals, the classroom peak-picking and half-power estimates beside the fit, and
+//! the truth when the plant is known.
+//!
+//! [`run`] computes an [`FrfOutcome`]; [`write()`] writes its figures (`frf_fit_bode`,
+//! `frf_fit_nyquist`, `frf_coherence`, `frf_stabilization`), `report.md`, `report.html`
+//! and `results.json` into one folder atomically. [`crate::run_experiment`] does both for
+//! a config that has only this section.
+//!
+//! ```
+//! use msd_experiment::{RunOptions, config::Config, frf};
+//! let text = r#"
+//!     name = "sweep"
+//!     [frequency_response.plant]
+//!     masses = [2.5]
+//!     springs = [120.0]
+//!     dampers = [1.8]
+//!     [frequency_response.sweep]
+//!     band_hz = [0.25, 2.5]
+//!     lines = 40
+//! "#;
+//! let config = Config::from_toml_str(text, "sweep.toml")?;
+//! let outcome = frf::run(config, "sweep.toml".as_ref(), &RunOptions::default())?;
+//! let frf::FrfFit::OneMode(fit) = &outcome.fit else { panic!("one mode") };
+//! assert!(fit.uncertainty.stiffness.contains(120.0));
+//! assert!(outcome.to_string().starts_with("sweep: one mode fitted to 40 lines"));
+//! # Ok::<(), msd_experiment::ExperimentError>(())
+//! ```
+//!
+//! [`FrequencyResponseSection`]: crate::config::FrequencyResponseSection
+
+mod csv;
+mod plant;
+mod plots;
+mod report;
+mod results;
+mod source;
+mod uff;
+
+use crate::config::{ChainPlant, Config};
+use crate::{ExperimentError, Result, RunOptions};
+use msd_ident::{
+    HalfPower, ModalFit, ModalParameters, OneModeFit, fit_modes, fit_one_mode, half_power,
+};
+use msd_signal::FrequencyResponseEstimate;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+pub use results::to_json;
+
+/// What was fitted: one mode or several.
+#[derive(Debug, Clone)]
+pub enum FrfFit {
+    /// m, c, k (and fn, ζ, the gain) with intervals.
+    OneMode(Box<OneModeFit>),
+    /// The modes of the stabilization diagram, polished, with intervals.
+    Modes(Box<ModalFit>),
+}
+
+/// The known plant of a synthetic config (or the truth a file is compared with).
+#[derive(Debug, Clone)]
+pub struct Truth {
+    /// The plant as configured.
+    pub plant: ChainPlant,
+    /// Its modes (eigenvalues of the state matrix, modal constants of the receptance
+    /// measured), by frequency.
+    pub modes: Vec<ModalParameters>,
+}
+
+/// Everything a frequency-domain experiment produced.
+#[derive(Debug, Clone)]
+pub struct FrfOutcome {
+    /// The config as read.
+    pub config: Config,
+    /// The config file as given.
+    pub config_path: PathBuf,
+    /// The command that ran it, for the report.
+    pub command: String,
+    /// The seed of the simulated noise.
+    pub seed: u64,
+    /// Where the frequency response came from, in words.
+    pub source: String,
+    /// The frequency response.
+    pub data: FrequencyResponseEstimate,
+    /// The fit.
+    pub fit: FrfFit,
+    /// Peak picking and half-power bandwidth, one per fitted mode (`None` where the peak
+    /// cannot be read).
+    pub classroom: Vec<Option<HalfPower>>,
+    /// The truth, when the plant is given.
+    pub truth: Option<Truth>,
+    /// Wall time of each stage.
+    pub timings: Vec<(&'static str, Duration)>,
+}
+
+/// Reads or simulates the frequency response of `config`'s `[frequency_response]`
+/// section and fits it (nothing is written). `options.seed` overrides the config's.
+pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<FrfOutcome> {
+    let Some(section) = config.frequency_response.clone() else {
+        return Err(ExperimentError::config(
+            config_path,
+            "frequency_response: missing section",
+        ));
+    };
+    let seed = options.seed.unwrap_or(config.seed);
+    let t = Instant::now();
+    let dir = config_path.parent().unwrap_or(Path::new(""));
+    let loaded = source::load(&section, dir, seed)?;
+    let mut timings = vec![("data", t.elapsed())];
+    let t = Instant::now();
+    let fail = |e: msd_ident::IdentError| ExperimentError::run("frequency-response fit", e);
+    let fit = match &section.modes {
+        Some(options) => FrfFit::Modes(Box::new(fit_modes(&loaded.frf, options).map_err(fail)?)),
+        None => FrfFit::OneMode(Box::new(
+            fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?,
+        )),
+    };
+    let classroom = classroom(&loaded.frf, &fit);
+    timings.push(("fit", t.elapsed()));
+    let truth = section.plant.map(|plant| Truth {
+        modes: plant.modes(),
+        plant,
+    });
+    Ok(FrfOutcome {
+        command: options.command.clone().unwrap_or_else(|| "msd run".into()),
+        config_path: config_path.to_path_buf(),
+        config,
+        seed,
+        source: loaded.description,
+        data: loaded.frf,
+        fit,
+        classroom,
+        truth,
+        timings,
+    })
+}
+
+/// The classroom estimates of every fitted mode: the one-mode fit's own, or for several
+/// modes each peak in the band between the geometric means of its neighbours' fn.
+fn classroom(frf: &FrequencyResponseEstimate, fit: &FrfFit) -> Vec<Option<HalfPower>> {
+    match fit {
+        FrfFit::OneMode(f) => vec![f.half_power],
+        FrfFit::Modes(m) => {
+            let f: Vec<f64> = m
+                .modes
+                .iter()
+                .map(|m| m.natural_frequency_hz.value)
+                .collect();
+            let [low, high] = m.band_hz;
+            (0..f.len())
+                .map(|r| {
+                    let from = if r == 0 {
+                        low
+                    } else {
+                        (f[r - 1] * f[r]).sqrt()
+                    };
+                    let to = f.get(r + 1).map_or(high, |next| (f[r] * next).sqrt());
+                    half_power(frf, Some([from, to])).ok()
+                })
+                .collect()
+        }
+    }
+}
+
+impl FrfOutcome {
+    /// The fitted model's response at `frequency_hz`, in the data's quantity
+    /// (receptance × (jω)^p), as the data show it (windowed when they are).
+    pub fn model_response(&self, frequency_hz: f64) -> msd_signal::Complex64 {
+        let receptance = match &self.fit {
+            FrfFit::OneMode(f) => f.response(frequency_hz),
+            FrfFit::Modes(m) => m.response(frequency_hz),
+        };
+        let jw = msd_signal::Complex64::new(0.0, std::f64::consts::TAU * frequency_hz);
+        receptance * jw.powi(power(self.data.kind))
+    }
+}
+
+/// The power p of jω in the data's quantity = (jω)^p × receptance.
+fn power(kind: msd_signal::FrfKind) -> i32 {
+    match kind {
+        msd_signal::FrfKind::Receptance => 0,
+        msd_signal::FrfKind::Mobility => 1,
+        msd_signal::FrfKind::Accelerance => 2,
+    }
+}
+
+impl std::fmt::Display for FrfOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let name = &self.config.name;
+        match &self.fit {
+            FrfFit::OneMode(fit) => write!(f, "{name}: {fit}")?,
+            FrfFit::Modes(fit) => write!(f, "{name}: {fit}")?,
+        }
+        if let Some(t) = &self.truth {
+            let covered = report::covered(self, t);
+            write!(f, "\ntruth inside the 95 % intervals: {covered}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes `outcome` into `target` atomically: the figures, `report.md`, `report.html`,
+/// `results.json`; returns what the command prints.
+pub fn write(outcome: &FrfOutcome, target: &Path, started: Instant) -> Result<crate::RunSummary> {
+    let staging = crate::output::Staging::new(target)?;
+    let t = Instant::now();
+    let figures = plots::write_all(outcome, staging.path())?;
+    let mut extra = vec![("figures", t.elapsed())];
+    let t = Instant::now();
+    let markdown = report::markdown(outcome, &figures);
+    staging.write("report.md", markdown.as_bytes())?;
+    let svg = |png: &str| {
+        let name = png.strip_suffix(".png")?;
+        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
+    };
+    let page = crate::report::html_page(&markdown, &outcome.config.name, svg);
+    staging.write("report.html", page.as_bytes())?;
+    extra.push(("report", t.elapsed()));
+    let json = to_json(outcome, &extra, started.elapsed());
+    let text = serde_json::to_string_pretty(&json).map_err(|e| ExperimentError::run("write", e))?;
+    staging.write("results.json", format!("{text}\n").as_bytes())?;
+    staging.commit()?;
+    Ok(crate::RunSummary {
+        out_dir: target.to_path_buf(),
+        summary: format!("{outcome}\nresults in {}\n", target.display()),
+        results: json,
+    })
+}
+
+/// [`run`] and [`write`] for a config that has only a `[frequency_response]` section.
+pub(crate) fn run_experiment(
+    config: Config,
+    config_path: &Path,
+    options: &RunOptions,
+    started: Instant,
+) -> Result<crate::RunSummary> {
+    let target = crate::output_dir(&config, config_path, options);
+    crate::output::check_target(&target)?;
+    let outcome = run(config, config_path, options)?;
+    write(&outcome, &target, started)
+}

@@ -1,0 +1,371 @@
+//! The figures of a frequency-domain experiment, PNG and SVG in the house style:
+//! `frf_fit_bode`, `frf_fit_nyquist`, `frf_coherence` (averaged estimates) and
+//! `frf_stabilization` (several modes).
+
+use super::{FrfFit, FrfOutcome};
+use crate::Result;
+use crate::plots::{
+    BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, limits, save, suptitle, text,
+    tick, title_style,
+};
+use msd_signal::Complex64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Writes every figure the outcome supports; returns the base names written.
+pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>> {
+    crate::plots::register_fonts();
+    let view = View::of(o);
+    let mut written = Vec::new();
+    save(&Bode(&view), dir)?;
+    written.push("frf_fit_bode");
+    save(&Nyquist(&view), dir)?;
+    written.push("frf_fit_nyquist");
+    if o.data.averages > 1 {
+        save(&Coherence(o), dir)?;
+        written.push("frf_coherence");
+    }
+    if let FrfFit::Modes(m) = &o.fit {
+        save(&Stabilization(&m.diagram), dir)?;
+        written.push("frf_stabilization");
+    }
+    Ok(written)
+}
+
+/// The data in the fitted band beside the model on a dense logarithmic grid.
+struct View {
+    f: Vec<f64>,
+    h: Vec<Complex64>,
+    dense: Vec<f64>,
+    model: Vec<Complex64>,
+    modes_hz: Vec<f64>,
+    unit: String,
+}
+
+impl View {
+    fn of(o: &FrfOutcome) -> Self {
+        let [low, high] = match &o.fit {
+            FrfFit::OneMode(f) => f.band_hz,
+            FrfFit::Modes(m) => m.band_hz,
+        };
+        let (f, h): (Vec<f64>, Vec<Complex64>) = o
+            .data
+            .frequency
+            .iter()
+            .zip(&o.data.h)
+            .filter(|(f, h)| **f >= low && **f <= high && h.norm() > 0.0)
+            .map(|(f, h)| (*f, *h))
+            .unzip();
+        let dense: Vec<f64> = (0..=800)
+            .map(|i| low * (high / low).powf(i as f64 / 800.0))
+            .collect();
+        let model = dense.iter().map(|&x| o.model_response(x)).collect();
+        let modes_hz = match &o.fit {
+            FrfFit::OneMode(f) => vec![f.uncertainty.natural_frequency_hz.value],
+            FrfFit::Modes(m) => m
+                .modes
+                .iter()
+                .map(|m| m.natural_frequency_hz.value)
+                .collect(),
+        };
+        let unit = match o.data.kind {
+            msd_signal::FrfKind::Receptance => "m/N",
+            msd_signal::FrfKind::Mobility => "m/(N·s)",
+            msd_signal::FrfKind::Accelerance => "m/(N·s²)",
+        };
+        Self {
+            f,
+            h,
+            dense,
+            model,
+            modes_hz,
+            unit: unit.into(),
+        }
+    }
+}
+
+struct Bode<'a>(&'a View);
+
+impl Figure for Bode<'_> {
+    fn name(&self) -> &'static str {
+        "frf_fit_bode"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 1000)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let v = self.0;
+        if v.f.len() < 2 {
+            return Err("fewer than two lines to draw".into());
+        }
+        let area = suptitle(root, "Frequency response: data and fitted model")?;
+        let h = area.dim_in_pixel().1 as i32;
+        let (top, bottom) = area.split_vertically(h * 55 / 100);
+        let (f0, f1) = (v.dense[0], v.dense[v.dense.len() - 1]);
+        let mags: Vec<f64> = v.h.iter().chain(&v.model).map(|h| h.norm()).collect();
+        let (lo, hi) = mags
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &m| (a.min(m), b.max(m)));
+        let (lo, hi) = (lo * 0.7, hi * 1.5);
+        let mut chart = ChartBuilder::on(&top)
+            .caption("Magnitude", title_style())
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(96)
+            .build_cartesian_2d((f0..f1).log_scale(), (lo..hi).log_scale())
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc("frequency f [Hz]")
+            .y_desc(format!("|H(f)| [{}]", v.unit))
+            .y_label_formatter(&|y| format!("{y:.0e}"))
+            .x_label_formatter(&|x| tick(x))
+            .draw()
+            .map_err(text)?;
+        let points =
+            v.f.iter()
+                .zip(&v.h)
+                .map(|(f, h)| (*f, h.norm().clamp(lo, hi)));
+        chart
+            .draw_series(points.map(|p| Circle::new(p, 4, BLUE.filled())))
+            .map_err(text)?
+            .label("data")
+            .legend(|(x, y)| Circle::new((x + 12, y), 4, BLUE.filled()));
+        let line = v
+            .dense
+            .iter()
+            .zip(&v.model)
+            .map(|(f, h)| (*f, h.norm().clamp(lo, hi)));
+        chart
+            .draw_series(LineSeries::new(line, RED.stroke_width(3)))
+            .map_err(text)?
+            .label("fitted model")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], RED.stroke_width(3)));
+        for &fm in &v.modes_hz {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(fm, lo), (fm, hi)],
+                    8,
+                    5,
+                    DARK.stroke_width(2),
+                ))
+                .map_err(text)?;
+        }
+        draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)?;
+        // Phase, each data point wrapped to within ±180° of the model's.
+        let model_at = |f: f64| {
+            let i = v.dense.partition_point(|&x| x < f).min(v.dense.len() - 1);
+            v.model[i].arg().to_degrees()
+        };
+        let phase: Vec<(f64, f64)> =
+            v.f.iter()
+                .zip(&v.h)
+                .map(|(&f, h)| {
+                    let m = model_at(f);
+                    (
+                        f,
+                        m + (h.arg().to_degrees() - m + 180.0).rem_euclid(360.0) - 180.0,
+                    )
+                })
+                .collect();
+        let model_phase: Vec<(f64, f64)> = v
+            .dense
+            .iter()
+            .zip(&v.model)
+            .map(|(f, h)| (*f, h.arg().to_degrees()))
+            .collect();
+        let ys: Vec<f64> = phase.iter().chain(&model_phase).map(|p| p.1).collect();
+        let (plo, phi) = limits([ys.as_slice()]);
+        let mut chart = ChartBuilder::on(&bottom)
+            .caption("Phase", title_style())
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(96)
+            .build_cartesian_2d((f0..f1).log_scale(), plo..phi)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc("frequency f [Hz]")
+            .y_desc("phase ∠H(f) [°]")
+            .y_label_formatter(&tick)
+            .x_label_formatter(&|x| tick(x))
+            .draw()
+            .map_err(text)?;
+        chart
+            .draw_series(phase.iter().map(|&p| Circle::new(p, 4, BLUE.filled())))
+            .map_err(text)?;
+        chart
+            .draw_series(LineSeries::new(model_phase, RED.stroke_width(3)))
+            .map_err(text)?;
+        Ok(())
+    }
+}
+
+struct Nyquist<'a>(&'a View);
+
+impl Figure for Nyquist<'_> {
+    fn name(&self) -> &'static str {
+        "frf_fit_nyquist"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1100, 1000)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let v = self.0;
+        let area = suptitle(root, "Nyquist plot: data and fitted model")?;
+        let re: Vec<f64> = v.h.iter().chain(&v.model).map(|h| h.re).collect();
+        let im: Vec<f64> = v.h.iter().chain(&v.model).map(|h| h.im).collect();
+        let (x0, x1) = limits([re.as_slice()]);
+        let (y0, y1) = limits([im.as_slice()]);
+        let mut chart = ChartBuilder::on(&area)
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(110)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc(format!("Re H [{}]", v.unit))
+            .y_desc(format!("Im H [{}]", v.unit))
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        chart
+            .draw_series(
+                v.h.iter()
+                    .map(|h| Circle::new((h.re, h.im), 4, BLUE.filled())),
+            )
+            .map_err(text)?
+            .label("data")
+            .legend(|(x, y)| Circle::new((x + 12, y), 4, BLUE.filled()));
+        chart
+            .draw_series(LineSeries::new(
+                v.model.iter().map(|h| (h.re, h.im)),
+                RED.stroke_width(3),
+            ))
+            .map_err(text)?
+            .label("fitted model")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], RED.stroke_width(3)));
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+    }
+}
+
+struct Coherence<'a>(&'a FrfOutcome);
+
+impl Figure for Coherence<'_> {
+    fn name(&self) -> &'static str {
+        "frf_coherence"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 600)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let d = &self.0.data;
+        let area = suptitle(
+            root,
+            &format!("Ordinary coherence γ² ({} averages)", d.averages),
+        )?;
+        let (f0, f1) = (d.frequency[0], d.frequency[d.frequency.len() - 1]);
+        let mut chart = ChartBuilder::on(&area)
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(80)
+            .build_cartesian_2d(f0..f1, 0.0..1.05)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc("frequency f [Hz]")
+            .y_desc("γ² [-]")
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        let line = d.frequency.iter().copied().zip(d.coherence.iter().copied());
+        chart
+            .draw_series(LineSeries::new(line, BLUE.stroke_width(2)))
+            .map_err(text)?;
+        Ok(())
+    }
+}
+
+struct Stabilization<'a>(&'a msd_ident::StabilizationDiagram);
+
+impl Figure for Stabilization<'_> {
+    fn name(&self) -> &'static str {
+        "frf_stabilization"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 900)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let d = self.0;
+        let area = suptitle(root, "Stabilization diagram (LSCF poles by model order)")?;
+        let [f0, f1] = d.band_hz;
+        let top = d.orders.last().map_or(2, |o| o.order) as f64 + 2.0;
+        let mut chart = ChartBuilder::on(&area)
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(80)
+            .build_cartesian_2d(f0..f1, 0.0..top)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc("frequency f [Hz]")
+            .y_desc("model order")
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        let pick = |keep: fn(&msd_ident::DiagramPole) -> bool| -> Vec<(f64, f64)> {
+            d.orders
+                .iter()
+                .flat_map(|o| {
+                    o.poles
+                        .iter()
+                        .filter(|p| keep(p))
+                        .map(move |p| (p.natural_frequency_hz, o.order as f64))
+                })
+                .collect()
+        };
+        let unstable = pick(|p| !p.stable_frequency);
+        let frequency_only = pick(|p| p.stable_frequency && !p.stable);
+        let stable = pick(|p| p.stable);
+        chart
+            .draw_series(
+                unstable
+                    .into_iter()
+                    .map(|p| Cross::new(p, 4, GRAY.stroke_width(1))),
+            )
+            .map_err(text)?
+            .label("new pole")
+            .legend(|(x, y)| Cross::new((x + 12, y), 4, GRAY.stroke_width(1)));
+        chart
+            .draw_series(
+                frequency_only
+                    .into_iter()
+                    .map(|p| Circle::new(p, 4, BLUE.stroke_width(2))),
+            )
+            .map_err(text)?
+            .label("stable in frequency")
+            .legend(|(x, y)| Circle::new((x + 12, y), 4, BLUE.stroke_width(2)));
+        chart
+            .draw_series(stable.into_iter().map(|p| Circle::new(p, 5, RED.filled())))
+            .map_err(text)?
+            .label("stable in frequency and damping")
+            .legend(|(x, y)| Circle::new((x + 12, y), 5, RED.filled()));
+        for m in &d.modes {
+            let fm = m.natural_frequency_hz;
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(fm, 0.0), (fm, top)],
+                    8,
+                    5,
+                    DARK.stroke_width(2),
+                ))
+                .map_err(text)?;
+        }
+        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)
+    }
+}

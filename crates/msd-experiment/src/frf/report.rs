@@ -1,0 +1,280 @@
+//! `report.md` of a frequency-domain experiment: the data, the fit with its intervals
+//! beside the classroom estimates and the truth, the window correction, the figures.
+
+use super::{FrfFit, FrfOutcome, Truth};
+use crate::fmt::sig;
+use msd_ident::{HalfPower, Interval, ModalFit, OneModeFit};
+use std::fmt::Write;
+
+/// "a of b quantities (names)": how many fitted fn and ζ (and m, c, k of a one-mass
+/// plant) have the truth inside their 95 % intervals.
+pub(crate) fn covered(o: &FrfOutcome, truth: &Truth) -> String {
+    let checks = checks(o, truth);
+    let inside: Vec<&str> = checks
+        .iter()
+        .filter(|(_, i, t)| i.contains(*t))
+        .map(|(n, _, _)| n.as_str())
+        .collect();
+    format!(
+        "{} of {} ({})",
+        inside.len(),
+        checks.len(),
+        inside.join(", ")
+    )
+}
+
+/// (name, interval, true value) of every quantity that has a truth.
+fn checks(o: &FrfOutcome, truth: &Truth) -> Vec<(String, Interval, f64)> {
+    let mut out = Vec::new();
+    match &o.fit {
+        FrfFit::OneMode(f) => {
+            let u = &f.uncertainty;
+            if let ([mode], true) = (truth.modes.as_slice(), truth.plant.len() == 1) {
+                if scale_known(o) {
+                    let p = &truth.plant;
+                    out.push(("m".into(), u.mass, p.masses[0]));
+                    out.push(("c".into(), u.damping, p.dampers[0]));
+                    out.push(("k".into(), u.stiffness, p.springs[0]));
+                }
+                out.push((
+                    "fn".into(),
+                    u.natural_frequency_hz,
+                    mode.natural_frequency_hz,
+                ));
+                out.push(("ζ".into(), u.damping_ratio, mode.damping_ratio));
+            }
+        }
+        FrfFit::Modes(m) if m.modes.len() == truth.modes.len() => {
+            for (r, (fit, t)) in m.modes.iter().zip(&truth.modes).enumerate() {
+                out.push((
+                    format!("fn{}", r + 1),
+                    fit.natural_frequency_hz,
+                    t.natural_frequency_hz,
+                ));
+                out.push((format!("ζ{}", r + 1), fit.damping_ratio, t.damping_ratio));
+            }
+        }
+        FrfFit::Modes(_) => {}
+    }
+    out
+}
+
+fn scale_known(o: &FrfOutcome) -> bool {
+    o.config
+        .frequency_response
+        .as_ref()
+        .is_none_or(|s| s.force_scale_known)
+}
+
+/// The report; `figures` are the base names written.
+pub(crate) fn markdown(o: &FrfOutcome, figures: &[&str]) -> String {
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(w, "# Experiment `{}`\n", o.config.name);
+    if !o.config.description.is_empty() {
+        let _ = writeln!(w, "{}\n", o.config.description.trim());
+    }
+    let _ = writeln!(w, "Frequency-domain identification from {}.\n", o.source);
+    let _ = writeln!(w, "| run | |\n|---|---|");
+    let _ = writeln!(w, "| config | `{}` |", o.config_path.display());
+    let _ = writeln!(
+        w,
+        "| command | `{} {}` |",
+        o.command,
+        o.config_path.display()
+    );
+    let _ = writeln!(w, "| seed | {} |", o.seed);
+    let _ = writeln!(
+        w,
+        "| toolkit version | {} |\n",
+        crate::results::CRATE_VERSION
+    );
+    data_section(w, o);
+    match &o.fit {
+        FrfFit::OneMode(f) => one_mode_section(w, o, f),
+        FrfFit::Modes(m) => modes_section(w, o, m),
+    }
+    if let Some(t) = &o.truth {
+        let _ = writeln!(
+            w,
+            "The true values lie inside the 95 % intervals for {}.\n",
+            covered(o, t)
+        );
+    }
+    for (name, caption) in [
+        ("frf_fit_bode", "Bode plot: the data and the fitted model"),
+        (
+            "frf_fit_nyquist",
+            "Nyquist plot: the data and the fitted model",
+        ),
+        ("frf_coherence", "Ordinary coherence of the estimate"),
+        ("frf_stabilization", "Stabilization diagram"),
+    ] {
+        if figures.contains(&name) {
+            let _ = writeln!(w, "![{caption}]({name}.png)\n");
+        }
+    }
+    let _ = writeln!(w, "## Timings\n\n| stage | ms |\n|---|---|");
+    for (name, d) in &o.timings {
+        let _ = writeln!(w, "| {name} | {} |", crate::fmt::millis(*d));
+    }
+    s
+}
+
+fn data_section(w: &mut String, o: &FrfOutcome) {
+    let d = &o.data;
+    let n = d.frequency.len();
+    let _ = writeln!(w, "## Data\n");
+    let _ = writeln!(
+        w,
+        "{n} lines from {} to {} Hz, {}; {} averages.",
+        sig(d.frequency[0], 4),
+        sig(d.frequency[n - 1], 4),
+        d.kind,
+        d.averages
+    );
+    if d.averages > 1 {
+        let low = d.coherence.iter().skip(1).copied().fold(1.0, f64::min);
+        let _ = write!(w, " The coherence is at least {} above 0 Hz.", sig(low, 3));
+    }
+    if let Some(tau) = d.exponential_decay {
+        let _ = write!(
+            w,
+            " An exponential window e^(−t/τ), τ = {tau} s, was applied: it adds the damping ratio 1/(ωn·τ) to a mode, which the fit takes off (below)."
+        );
+    }
+    let _ = writeln!(w, "\n");
+}
+
+fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) {
+    let u = &f.uncertainty;
+    let _ = writeln!(w, "## One mode\n\n{}\n", first_line(&f.to_string()));
+    let truth = o.truth.as_ref().filter(|t| t.plant.len() == 1);
+    let mode = truth.and_then(|t| t.modes.first());
+    let classroom = o.classroom.first().copied().flatten();
+    let _ = writeln!(
+        w,
+        "| quantity | estimate | 95 % interval | half-power / peak | truth |\n|---|---|---|---|---|"
+    );
+    let mut rows: Vec<(&str, &Interval, Option<f64>, Option<f64>)> = Vec::new();
+    if scale_known(o) {
+        let p = truth.map(|t| &t.plant);
+        rows.push(("m [kg]", &u.mass, None, p.map(|p| p.masses[0])));
+        rows.push(("c [N·s/m]", &u.damping, None, p.map(|p| p.dampers[0])));
+        rows.push(("k [N/m]", &u.stiffness, None, p.map(|p| p.springs[0])));
+    } else {
+        rows.push((
+            "gain 1/m [1/kg]",
+            &f.gain,
+            None,
+            truth.map(|t| 1.0 / t.plant.masses[0]),
+        ));
+    }
+    rows.push((
+        "fn [Hz]",
+        &u.natural_frequency_hz,
+        classroom.map(|c| c.natural_frequency_hz),
+        mode.map(|m| m.natural_frequency_hz),
+    ));
+    rows.push((
+        "ζ [-]",
+        &u.damping_ratio,
+        classroom.map(|c| c.damping_ratio),
+        mode.map(|m| m.damping_ratio),
+    ));
+    for (name, i, c, t) in rows {
+        row(w, name, i, c, t);
+    }
+    let _ = writeln!(w);
+    window_note(w, f.window_correction.as_ref(), classroom.as_ref());
+}
+
+fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) {
+    let _ = writeln!(w, "## Modes\n\n{}\n", first_line(&m.to_string()));
+    let _ = writeln!(w, "{}\n", first_line(&m.diagram.to_string()));
+    let _ = writeln!(
+        w,
+        "| mode | fn [Hz] | ζ [-] | modal constant A | B | stable orders | half-power fn, ζ | true fn, ζ |\n|---|---|---|---|---|---|---|---|"
+    );
+    let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
+    for (r, mode) in m.modes.iter().enumerate() {
+        let classroom = o.classroom.get(r).copied().flatten();
+        let t = truth.map(|t| t.modes[r]);
+        let _ = writeln!(
+            w,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            r + 1,
+            interval(&mode.natural_frequency_hz),
+            interval(&mode.damping_ratio),
+            interval(&mode.modal_constant),
+            interval(&mode.modal_constant_imaginary),
+            mode.stable_orders,
+            classroom.map_or("—".into(), |c| format!(
+                "{}, {}",
+                sig(c.natural_frequency_hz, 5),
+                sig(c.damping_ratio, 3)
+            )),
+            t.map_or("—".into(), |t| format!(
+                "{}, {}",
+                sig(t.natural_frequency_hz, 6),
+                sig(t.damping_ratio, 4)
+            )),
+        );
+    }
+    let _ = writeln!(
+        w,
+        "\nResidual terms: lower L = {} (the modes below the band, −L/ω²), upper U = {} (those above).\n",
+        interval(&m.lower_residual),
+        interval(&m.upper_residual)
+    );
+    for (r, mode) in m.modes.iter().enumerate() {
+        if let Some(c) = &mode.window_correction {
+            let _ = writeln!(w, "Mode {}: {c}.\n", r + 1);
+        }
+    }
+}
+
+/// What the exponential window did, stated: ζ as fitted and what was taken off.
+fn window_note(w: &mut String, c: Option<&msd_ident::WindowCorrection>, h: Option<&HalfPower>) {
+    if let Some(c) = c {
+        let _ = writeln!(
+            w,
+            "The exponential window (τ = {} s) raised the fitted ζ to {}; {} of it (≈ 1/(ωn·τ)) was taken off.\n",
+            c.decay_time,
+            sig(c.damping_ratio_windowed, 4),
+            sig(c.damping_ratio_added, 4)
+        );
+    }
+    if let Some(h) = h.filter(|h| h.damping_ratio_added > 0.0) {
+        let _ = writeln!(
+            w,
+            "The half-power ζ was corrected by the same window: {} taken off.\n",
+            sig(h.damping_ratio_added, 4)
+        );
+    }
+}
+
+fn row(w: &mut String, name: &str, i: &Interval, classroom: Option<f64>, truth: Option<f64>) {
+    let _ = writeln!(
+        w,
+        "| {name} | {} | {} … {} | {} | {} |",
+        sig(i.value, 6),
+        sig(i.ci95[0], 6),
+        sig(i.ci95[1], 6),
+        classroom.map_or("—".into(), |v| sig(v, 5)),
+        truth.map_or("—".into(), |v| sig(v, 6)),
+    );
+}
+
+fn interval(i: &Interval) -> String {
+    format!(
+        "{} ({} … {})",
+        sig(i.value, 5),
+        sig(i.ci95[0], 5),
+        sig(i.ci95[1], 5)
+    )
+}
+
+fn first_line(text: &str) -> &str {
+    text.lines().next().unwrap_or("")
+}

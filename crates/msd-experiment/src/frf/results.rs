@@ -1,0 +1,216 @@
+//! `results.json` of a frequency-domain experiment: the library's result types where
+//! they are the answer (intervals, modes, the diagram), named sections around them.
+
+use super::{FrfFit, FrfOutcome, Truth};
+use crate::config::{ChainPlant, Config};
+use msd_ident::{
+    HalfPower, Interval, ModalParameters, Mode, StabilizationDiagram, WindowCorrection,
+};
+use msd_opt::LmExit;
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+#[derive(Serialize)]
+struct Results<'a> {
+    experiment: Experiment<'a>,
+    config: &'a Config,
+    data: Data<'a>,
+    /// One mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    estimate: Option<Estimate>,
+    /// Several modes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    modes: Option<&'a [Mode]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    modal_fit: Option<ModalSummary<'a>>,
+    /// Peak picking and half-power bandwidth per mode (null where unreadable).
+    classroom: &'a [Option<HalfPower>],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    truth: Option<TruthSection<'a>>,
+    timings_ms: BTreeMap<String, f64>,
+}
+
+#[derive(Serialize)]
+struct Experiment<'a> {
+    name: &'a str,
+    description: &'a str,
+    kind: &'static str,
+    config_file: String,
+    seed: u64,
+    crate_version: &'static str,
+    #[serde(rename = "crate")]
+    toolkit: &'static str,
+}
+
+#[derive(Serialize)]
+struct Data<'a> {
+    source: &'a str,
+    lines: usize,
+    band_hz: [f64; 2],
+    quantity: String,
+    averages: usize,
+    exponential_decay: Option<f64>,
+    noise_bandwidth: f64,
+    min_coherence: f64,
+}
+
+#[derive(Serialize)]
+struct Estimate {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mass: Option<Interval>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    damping: Option<Interval>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stiffness: Option<Interval>,
+    natural_frequency_hz: Interval,
+    damping_ratio: Interval,
+    gain: Interval,
+    window_correction: Option<WindowCorrection>,
+    band_hz: [f64; 2],
+    lines: usize,
+    weighting: String,
+    noise_sigma: f64,
+    degrees_of_freedom: usize,
+    relative_error: f64,
+    iterations: usize,
+    evaluations: usize,
+    exit: LmExit,
+}
+
+#[derive(Serialize)]
+struct ModalSummary<'a> {
+    lower_residual: Interval,
+    upper_residual: Interval,
+    band_hz: [f64; 2],
+    lines: usize,
+    weighting: String,
+    noise_sigma: f64,
+    degrees_of_freedom: usize,
+    relative_error: f64,
+    iterations: usize,
+    evaluations: usize,
+    exit: LmExit,
+    stabilization: &'a StabilizationDiagram,
+}
+
+#[derive(Serialize)]
+struct TruthSection<'a> {
+    #[serde(flatten)]
+    plant: &'a ChainPlant,
+    /// m, c, k of a one-mass plant.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mass: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    damping: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stiffness: Option<f64>,
+    modes: &'a [ModalParameters],
+}
+
+fn ms(d: Duration) -> f64 {
+    (d.as_secs_f64() * 1e6).round() / 1e3
+}
+
+/// The whole document; `extra` are the writing stages' timings, `total` the wall time.
+pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Duration) -> Value {
+    let one_mass = o.truth.as_ref().filter(|t| t.plant.len() == 1);
+    let results = Results {
+        experiment: Experiment {
+            name: &o.config.name,
+            description: &o.config.description,
+            kind: "frequency_response",
+            config_file: o.config_path.display().to_string(),
+            seed: o.seed,
+            crate_version: crate::results::CRATE_VERSION,
+            toolkit: "msd-experiment",
+        },
+        config: &o.config,
+        data: Data {
+            source: &o.source,
+            lines: o.data.frequency.len(),
+            band_hz: [
+                o.data.frequency[0],
+                o.data.frequency[o.data.frequency.len() - 1],
+            ],
+            quantity: o.data.kind.to_string(),
+            averages: o.data.averages,
+            exponential_decay: o.data.exponential_decay,
+            noise_bandwidth: o.data.noise_bandwidth,
+            min_coherence: o.data.coherence.iter().copied().fold(1.0, f64::min),
+        },
+        estimate: one_mode(o),
+        modes: match &o.fit {
+            FrfFit::Modes(m) => Some(&m.modes),
+            FrfFit::OneMode(_) => None,
+        },
+        modal_fit: modal(o),
+        classroom: &o.classroom,
+        truth: o.truth.as_ref().map(|t: &Truth| TruthSection {
+            plant: &t.plant,
+            mass: one_mass.map(|t| t.plant.masses[0]),
+            damping: one_mass.map(|t| t.plant.dampers[0]),
+            stiffness: one_mass.map(|t| t.plant.springs[0]),
+            modes: &t.modes,
+        }),
+        timings_ms: o
+            .timings
+            .iter()
+            .chain(extra)
+            .map(|(n, d)| (n.to_string(), ms(*d)))
+            .chain(std::iter::once(("total".to_string(), ms(total))))
+            .collect(),
+    };
+    serde_json::to_value(&results).unwrap_or(Value::Null)
+}
+
+fn one_mode(o: &FrfOutcome) -> Option<Estimate> {
+    let FrfFit::OneMode(f) = &o.fit else {
+        return None;
+    };
+    let u = &f.uncertainty;
+    let known = o
+        .config
+        .frequency_response
+        .as_ref()
+        .is_none_or(|s| s.force_scale_known);
+    Some(Estimate {
+        mass: known.then_some(u.mass),
+        damping: known.then_some(u.damping),
+        stiffness: known.then_some(u.stiffness),
+        natural_frequency_hz: u.natural_frequency_hz,
+        damping_ratio: u.damping_ratio,
+        gain: f.gain,
+        window_correction: f.window_correction,
+        band_hz: f.band_hz,
+        lines: f.lines,
+        weighting: f.weighting.to_string(),
+        noise_sigma: u.sigma,
+        degrees_of_freedom: u.degrees_of_freedom,
+        relative_error: f.relative_error,
+        iterations: f.iterations,
+        evaluations: f.evaluations,
+        exit: f.exit,
+    })
+}
+
+fn modal(o: &FrfOutcome) -> Option<ModalSummary<'_>> {
+    let FrfFit::Modes(m) = &o.fit else {
+        return None;
+    };
+    Some(ModalSummary {
+        lower_residual: m.lower_residual,
+        upper_residual: m.upper_residual,
+        band_hz: m.band_hz,
+        lines: m.lines,
+        weighting: m.weighting.to_string(),
+        noise_sigma: m.sigma,
+        degrees_of_freedom: m.degrees_of_freedom,
+        relative_error: m.relative_error,
+        iterations: m.iterations,
+        evaluations: m.evaluations,
+        exit: m.exit,
+        stabilization: &m.diagram,
+    })
+}

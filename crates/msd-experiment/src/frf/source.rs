@@ -1,0 +1,268 @@
+//! The frequency response of a `[frequency_response]` section: simulated (a stepped sine,
+//! hammer hits) or read (a CSV table, a UFF file, CSV time records).
+
+use super::csv::{self, Request};
+use crate::config::{
+    ChainPlant, Column, FrequencyResponseSection, HammerSource, RecordsSource, Spacing,
+    SweepSource, TableSource, UffSource,
+};
+use crate::{ExperimentError, Result};
+use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate, gaussian_noise};
+use std::path::Path;
+
+/// A frequency response and where it came from.
+pub(crate) struct Loaded {
+    pub frf: FrequencyResponseEstimate,
+    /// One line for the report: the source and its size.
+    pub description: String,
+}
+
+/// The section's frequency response; `dir` resolves relative paths, `seed` the noise.
+pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) -> Result<Loaded> {
+    let plant = section.plant.as_ref();
+    let plant_of =
+        || plant.ok_or_else(|| ExperimentError::config("frequency_response", "plant: missing"));
+    if let Some(s) = &section.sweep {
+        return sweep(s, plant_of()?, seed);
+    }
+    if let Some(h) = &section.hammer {
+        return hammer(h, plant_of()?, &section.estimator, seed);
+    }
+    if let Some(t) = &section.table {
+        return table(t, &dir.join(&t.path));
+    }
+    if let Some(u) = &section.uff {
+        return uff(u, &dir.join(&u.path));
+    }
+    if let Some(r) = &section.records {
+        return records(r, &dir.join(&r.path), &section.estimator);
+    }
+    Err(ExperimentError::config("frequency_response", "no source"))
+}
+
+fn run_error(e: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> ExperimentError {
+    ExperimentError::run("frequency response", e)
+}
+
+fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
+    let [low, high] = s.band_hz;
+    let step = |i: usize| i as f64 / (s.lines - 1) as f64;
+    let f: Vec<f64> = (0..s.lines)
+        .map(|i| match s.spacing {
+            Spacing::Logarithmic => low * (high / low).powf(step(i)),
+            Spacing::Linear => low + (high - low) * step(i),
+        })
+        .collect();
+    let frf = msd_ident::synthetic_frequency_response(&f, s.relative_noise, seed, |f| {
+        plant.receptance(f)
+    })
+    .map_err(run_error)?;
+    Ok(Loaded {
+        frf,
+        description: format!(
+            "a stepped sine simulated on the plant: {} {} spaced frequencies, {low}–{high} Hz, {} % complex noise",
+            s.lines,
+            match s.spacing {
+                Spacing::Logarithmic => "logarithmically",
+                Spacing::Linear => "evenly",
+            },
+            100.0 * s.relative_noise
+        ),
+    })
+}
+
+/// One hit: a half-sine pulse of `peak` N starting at `h.trigger`.
+fn pulse(h: &HammerSource, peak: f64, n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / h.sample_rate - h.trigger;
+            if (0.0..=h.pulse_width).contains(&t) {
+                peak * (std::f64::consts::PI * t / h.pulse_width).sin()
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
+fn hammer(h: &HammerSource, plant: &ChainPlant, options: &FrfOptions, seed: u64) -> Result<Loaded> {
+    let n = (h.duration * h.sample_rate).round() as usize;
+    let spread =
+        gaussian_noise(seed, "hammer.force_peak", h.force_spread, h.hits).map_err(run_error)?;
+    let mut channels = Vec::with_capacity(h.hits);
+    for (i, s) in spread.iter().enumerate() {
+        let force = pulse(h, h.force_peak * (1.0 + s).max(0.1), n);
+        let mut response = plant.hit_response(&force, 1.0 / h.sample_rate);
+        let peak = response.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let noise = |name: &str, sigma: f64| {
+            gaussian_noise(seed, &format!("hammer.{name}.{i}"), sigma, n).map_err(run_error)
+        };
+        let force_noise = noise("force", h.force_noise)?;
+        let response_noise = noise("response", h.response_noise * peak)?;
+        let force: Vec<f64> = force.iter().zip(&force_noise).map(|(a, b)| a + b).collect();
+        for (y, e) in response.iter_mut().zip(&response_noise) {
+            *y += e;
+        }
+        channels.push((force, response));
+    }
+    let records: Vec<Record<'_>> = channels
+        .iter()
+        .map(|(input, output)| Record { input, output })
+        .collect();
+    let frf = frf_estimate(&records, h.sample_rate, options).map_err(run_error)?;
+    Ok(Loaded {
+        frf,
+        description: format!(
+            "{} hammer hits simulated on the plant ({} s records at {} Hz, {} ms half-sine pulses of {} N ± {} %, noise {} N on the force and {} % of the peak on the response)",
+            h.hits,
+            h.duration,
+            h.sample_rate,
+            1e3 * h.pulse_width,
+            h.force_peak,
+            100.0 * h.force_spread,
+            h.force_noise,
+            100.0 * h.response_noise
+        ),
+    })
+}
+
+fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
+    let key = |k: &str| format!("frequency_response.table.{k}");
+    let mut columns = vec![(key("frequency"), &t.frequency)];
+    let polar = t.magnitude.is_some();
+    for (name, c) in [
+        ("magnitude", &t.magnitude),
+        ("phase", &t.phase),
+        ("real", &t.real),
+        ("imaginary", &t.imaginary),
+    ] {
+        if let Some(c) = c {
+            columns.push((key(name), c));
+        }
+    }
+    let read = csv::read(&Request {
+        path,
+        path_key: "frequency_response.table.path",
+        delimiter: t.delimiter,
+        header: t.header,
+        columns,
+    })?;
+    let [f, a, b] = [0, 1, 2].map(|i| read.values[i].as_slice());
+    increasing(path, f, &read.lines, &t.frequency)?;
+    let fail = |e: msd_signal::SignalError| ExperimentError::data(path, e.to_string());
+    let mut frf = if polar {
+        let phase: Vec<f64> = if t.phase_in_degrees {
+            b.to_vec()
+        } else {
+            b.iter().map(|p| p.to_degrees()).collect()
+        };
+        FrequencyResponseEstimate::from_magnitude_phase(f, a, &phase).map_err(fail)?
+    } else {
+        FrequencyResponseEstimate::from_real_imaginary(f, a, b).map_err(fail)?
+    };
+    frf.kind = t.kind;
+    Ok(Loaded {
+        description: format!(
+            "the table {} ({} lines, {}–{} Hz, {})",
+            path.display(),
+            f.len(),
+            f[0],
+            f[f.len() - 1],
+            if polar {
+                "magnitude and phase"
+            } else {
+                "real and imaginary parts"
+            }
+        ),
+        frf,
+    })
+}
+
+/// Refuses frequencies that are negative or do not increase, naming the line.
+fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column) -> Result<()> {
+    if f[0] < 0.0 {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "line {}, column {column}: {} Hz: expected a frequency >= 0",
+                lines[0], f[0]
+            ),
+        ));
+    }
+    match f.windows(2).position(|w| w[1] <= w[0]) {
+        Some(i) => Err(ExperimentError::data(
+            path,
+            format!(
+                "line {}, column {column} (frequency_response.table.frequency): {} Hz is not above the previous line's {} Hz: expected increasing frequencies, one row per line",
+                lines[i + 1],
+                f[i + 1],
+                f[i]
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
+    let fail = |message: String| ExperimentError::data(path, message);
+    let file = msd_uff::read(path).map_err(|e| fail(e.to_string()))?;
+    let (index, function) = super::uff::pick(&file, u.function).map_err(fail)?;
+    let frf = super::uff::to_estimate(function, u.kind).map_err(|e| {
+        fail(format!(
+            "dataset 58 #{} (frequency_response.uff.function): {e}",
+            index + 1
+        ))
+    })?;
+    Ok(Loaded {
+        description: format!(
+            "dataset 58 #{} of {} ({}, response {}:{}, reference {}:{}, {} lines, {})",
+            index + 1,
+            path.display(),
+            function.function_type,
+            function.response_node,
+            function.response_direction,
+            function.reference_node,
+            function.reference_direction,
+            function.len(),
+            frf.kind
+        ),
+        frf,
+    })
+}
+
+fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loaded> {
+    let key = |k: &str, i: usize| format!("frequency_response.records.{k}[{i}]");
+    let mut columns = Vec::new();
+    for (i, (f, x)) in r.force.iter().zip(&r.response).enumerate() {
+        columns.push((key("force", i), f));
+        columns.push((key("response", i), x));
+    }
+    let read = csv::read(&Request {
+        path,
+        path_key: "frequency_response.records.path",
+        delimiter: r.delimiter,
+        header: r.header,
+        columns,
+    })?;
+    let records: Vec<Record<'_>> = read
+        .values
+        .chunks_exact(2)
+        .map(|pair| Record {
+            input: &pair[0],
+            output: &pair[1],
+        })
+        .collect();
+    let frf = frf_estimate(&records, r.sample_rate, options)
+        .map_err(|e| ExperimentError::data(path, e.to_string()))?;
+    Ok(Loaded {
+        description: format!(
+            "{} records of {} samples at {} Hz from {} ({})",
+            records.len(),
+            read.lines.len(),
+            r.sample_rate,
+            path.display(),
+            options.kind
+        ),
+        frf,
+    })
+}
