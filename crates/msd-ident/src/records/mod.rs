@@ -63,7 +63,7 @@ use msd_opt::levenberg_marquardt;
 use problem::{Joint, RecordRows};
 use std::time::Instant;
 
-/// Fits one plant to `records` jointly (see the [module doc](self) for the model and the
+/// Fits one plant to `records` jointly (see the module documentation of `records` for the model and the
 /// method).
 ///
 /// Refused, naming the record and the channel: no records, a record without channels,
