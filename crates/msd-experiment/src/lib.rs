@@ -188,19 +188,12 @@ fn write_timed(
         staging.write(name, text.as_bytes())?;
     }
     let report = report::markdown(outcome, &figures, &extra, started.elapsed());
-    staging.write("report.md", report.as_bytes())?;
-    let svg = |png: &str| {
-        let name = png.strip_suffix(".png")?;
-        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
-    };
-    let page = report::html_page(&report, &outcome.config.name, svg);
-    staging.write("report.html", page.as_bytes())?;
+    crate::report::write_pages(&staging, &report, &outcome.config.name)?;
     extra.push(("report", t.elapsed()));
 
     let total = started.elapsed();
     let json = results::to_json(outcome, &extra, total);
-    let text = serde_json::to_string_pretty(&json).map_err(|e| ExperimentError::run("write", e))?;
-    staging.write("results.json", format!("{text}\n").as_bytes())?;
+    crate::results::write_json(&staging, &json)?;
     staging.commit()?;
     let summary = summary::text(outcome, &extra, total, target);
     Ok(RunSummary {

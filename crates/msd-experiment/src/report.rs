@@ -13,6 +13,21 @@ mod html;
 mod nonlinear;
 
 pub(crate) use html::page as html_page;
+
+/// Writes `report.md` and `report.html` (titled `title`, each figure's SVG inlined from
+/// the staging folder) into `staging`.
+pub(crate) fn write_pages(
+    staging: &crate::output::Staging,
+    markdown: &str,
+    title: &str,
+) -> crate::Result<()> {
+    staging.write("report.md", markdown.as_bytes())?;
+    let svg = |png: &str| {
+        let name = png.strip_suffix(".png")?;
+        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
+    };
+    staging.write("report.html", html_page(markdown, title, svg).as_bytes())
+}
 pub use html::self_contained_problems;
 
 /// The paper's reported R² on the identification and validation data.

@@ -541,3 +541,13 @@ fn nonlinear(n: &crate::nonlinear::NonlinearOutcome) -> NonlinearSection<'_> {
         }),
     }
 }
+
+/// Writes `json` as `results.json` (pretty, with a final newline) into `staging`.
+pub(crate) fn write_json(
+    staging: &crate::output::Staging,
+    json: &serde_json::Value,
+) -> crate::Result<()> {
+    let text =
+        serde_json::to_string_pretty(json).map_err(|e| crate::ExperimentError::run("write", e))?;
+    staging.write("results.json", format!("{text}\n").as_bytes())
+}

@@ -209,17 +209,10 @@ pub fn write(outcome: &FrfOutcome, target: &Path, started: Instant) -> Result<cr
     let mut extra = vec![("figures", t.elapsed())];
     let t = Instant::now();
     let markdown = report::markdown(outcome, &figures);
-    staging.write("report.md", markdown.as_bytes())?;
-    let svg = |png: &str| {
-        let name = png.strip_suffix(".png")?;
-        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
-    };
-    let page = crate::report::html_page(&markdown, &outcome.config.name, svg);
-    staging.write("report.html", page.as_bytes())?;
+    crate::report::write_pages(&staging, &markdown, &outcome.config.name)?;
     extra.push(("report", t.elapsed()));
     let json = to_json(outcome, &extra, started.elapsed());
-    let text = serde_json::to_string_pretty(&json).map_err(|e| ExperimentError::run("write", e))?;
-    staging.write("results.json", format!("{text}\n").as_bytes())?;
+    crate::results::write_json(&staging, &json)?;
     staging.commit()?;
     Ok(crate::RunSummary {
         out_dir: target.to_path_buf(),

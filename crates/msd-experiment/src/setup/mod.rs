@@ -88,19 +88,11 @@ pub fn write(outcome: &SetupOutcome, target: &Path, started: Instant) -> Result<
         staging.write(&name, text.as_bytes())?;
     }
     let markdown = report::markdown(outcome, &figures);
-    staging.write("report.md", markdown.as_bytes())?;
-    let svg = |png: &str| {
-        let name = png.strip_suffix(".png")?;
-        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
-    };
-    let page = crate::report::html_page(&markdown, &outcome.config.name, svg);
-    staging.write("report.html", page.as_bytes())?;
+    crate::report::write_pages(&staging, &markdown, &outcome.config.name)?;
     extra.push(("report", t.elapsed()));
     let total = started.elapsed();
     let json = results::to_json(outcome, &extra, total)?;
-    let text =
-        serde_json::to_string_pretty(&json).map_err(|e| crate::ExperimentError::run("write", e))?;
-    staging.write("results.json", format!("{text}\n").as_bytes())?;
+    crate::results::write_json(&staging, &json)?;
     staging.commit()?;
     let summary = format!(
         "{}\nresults in {}\n",

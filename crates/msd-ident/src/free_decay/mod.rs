@@ -51,6 +51,31 @@ pub enum KnownParameter {
     Stiffness(f64),
 }
 
+impl KnownParameter {
+    /// Checks that a known mass or stiffness is finite and > 0.
+    ///
+    /// ```
+    /// use msd_ident::KnownParameter;
+    /// assert!(KnownParameter::Mass(2.5).validate().is_ok());
+    /// assert!(KnownParameter::Stiffness(-1.0).validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let (name, value) = match *self {
+            KnownParameter::Mass(v) => ("known mass", v),
+            KnownParameter::Stiffness(v) => ("known stiffness", v),
+            KnownParameter::None => return Ok(()),
+        };
+        if value.is_finite() && value > 0.0 {
+            return Ok(());
+        }
+        Err(IdentError::InvalidParameter {
+            name,
+            value,
+            expected: "a finite number > 0",
+        })
+    }
+}
+
 /// Options of [`free_decay`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -261,21 +286,7 @@ fn check_input(dt: f64, response: &[f64], options: &FreeDecayOptions) -> Result<
             value,
         });
     }
-    let known = match options.known {
-        KnownParameter::Mass(v) => Some(("known mass", v)),
-        KnownParameter::Stiffness(v) => Some(("known stiffness", v)),
-        KnownParameter::None => None,
-    };
-    if let Some((name, value)) = known
-        && !(value.is_finite() && value > 0.0)
-    {
-        return Err(IdentError::InvalidParameter {
-            name,
-            value,
-            expected: "a finite number > 0",
-        });
-    }
-    Ok(())
+    options.known.validate()
 }
 
 fn identifiable(known: KnownParameter) -> Vec<&'static str> {

@@ -165,20 +165,7 @@ impl RecordsOptions {
     /// Checks the options alone (the records are checked by the fit), naming the first
     /// one out of range or the combination that cannot work.
     pub fn validate(&self) -> Result<()> {
-        let known = match self.known {
-            KnownParameter::Mass(v) => Some(("known mass", v)),
-            KnownParameter::Stiffness(v) => Some(("known stiffness", v)),
-            KnownParameter::None => None,
-        };
-        if let Some((name, value)) = known
-            && !(value.is_finite() && value > 0.0)
-        {
-            return Err(IdentError::InvalidParameter {
-                name,
-                value,
-                expected: "a finite number > 0",
-            });
-        }
+        self.known.validate()?;
         if let Some(guess) = &self.initial_guess {
             guess.validate()?;
         }
