@@ -24,6 +24,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
+mod dynamometer;
 mod frequency;
 pub mod harness;
 pub mod report;
@@ -100,6 +101,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
     rows.extend(rows::simulation(budget, &experiment)?);
     // Cheap enough for the smoke test, which so checks them too.
     rows.extend(setups::setups(budget, &experiment)?);
+    rows.extend(dynamometer::dynamometer_rows(budget)?);
     if !options.smoke {
         rows.extend(rows::identification(budget, &experiment)?);
         rows.extend(rows::nonlinear(budget, &experiment)?);
