@@ -2,45 +2,8 @@
 //! each with one or several sensors, the plant driven by a force on the mass, by the
 //! base's acceleration or displacement, or by nothing (free decays).
 //!
-//! ## The model
-//! Every drive is one linear model of the plant ([`Drive`] gives the equations); each
-//! channel is the displacement, velocity or acceleration of the mass, absolute or
-//! relative to the base ([`Frame`]), plus its own offset. What each setup identifies:
-//! a force drive m, c and k; the base drives and free decays ωn and ζ only (scaling m, c
-//! and k together leaves those records unchanged), and m, c, k with a known mass or
-//! static stiffness. A velocity or acceleration channel does not see a displacement
-//! sensor's offset: each channel of each record has its own.
-//!
-//! ## The algorithm
-//! Maximum likelihood with each sensor's noise level unknown: weighted least squares
-//! with weights 1/σ̂², σ̂ re-estimated from the residuals between passes until it
-//! settles. Each pass is Levenberg–Marquardt in ln m, ln c, ln k with the exact
-//! sensitivities, each record's initial state and offsets eliminated by linear least
-//! squares (variable projection, see `problem.rs`). The covariance is the weighted
-//! Gauss–Newton one, which accounts for the eliminated quantities exactly; intervals use
-//! Student's t and, for derived quantities, the delta method.
-//!
-//! ```
-//! use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
-//!     InitialState, Parameters, Record, RecordsOptions, ResponseQuantity};
-//! use msd_signal::{gaussian_noise, paper_identification_input};
-//! // The paper's plant and input, an accelerometer on the mass (σ = 0.05 m/s², seed 1).
-//! let p = Parameters::PAPER;
-//! let force = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
-//! let a = simulate_response(&p, Drive::Force, &force, InitialState::REST,
-//!     ResponseQuantity::Acceleration, Frame::Absolute)?;
-//! let noise = gaussian_noise(1, "accelerometer", 0.05, a.len())?;
-//! let samples = a.iter().zip(&noise).map(|(a, n)| a + n).collect();
-//! let channel = Channel { name: "accelerometer".into(), quantity: ResponseQuantity::Acceleration,
-//!     frame: Frame::Absolute, samples };
-//! let record = Record { name: "run 1".into(), excitation: force, channels: vec![channel] };
-//! let fit = fit_records(&[record], &RecordsOptions::default())?;
-//! assert_eq!(fit.plant.identifiable.len(), 5);
-//! assert!(fit.plant.stiffness.unwrap().contains(p.stiffness), "{fit}");
-//! assert!((fit.noise[0].sigma / 0.05 - 1.0).abs() < 0.05, "{fit}");
-//! println!("{fit}");
-//! # Ok::<(), msd_ident::IdentError>(())
-//! ```
+//! [`fit_records`] documents the model and the method; `problem.rs` the variable
+//! projection, `model.rs` the equations of each drive.
 
 mod check;
 mod guess;
@@ -63,8 +26,47 @@ use msd_opt::levenberg_marquardt;
 use problem::{Joint, RecordRows};
 use std::time::Instant;
 
-/// Fits one plant to `records` jointly (see the [module doc](self) for the model and the
-/// method).
+/// Fits one plant to `records` jointly.
+///
+/// ## The model
+/// Every drive is one linear model of the plant ([`Drive`] gives the equations); each
+/// channel is the displacement, velocity or acceleration of the mass, absolute or
+/// relative to the base ([`Frame`]), plus its own offset. What each setup identifies:
+/// a force drive m, c and k; the base drives and free decays ωn and ζ only (scaling m, c
+/// and k together leaves those records unchanged), and m, c, k with a known mass or
+/// static stiffness. A velocity or acceleration channel does not see a displacement
+/// sensor's offset: each channel of each record has its own.
+///
+/// ## The algorithm
+/// Maximum likelihood with each sensor's noise level unknown: weighted least squares
+/// with weights 1/σ̂², σ̂ re-estimated from the residuals between passes until it
+/// settles. Each pass is Levenberg–Marquardt in ln m, ln c, ln k with the exact
+/// sensitivities, each record's initial state and offsets eliminated by linear least
+/// squares (variable projection, see `problem.rs`). The covariance is the weighted
+/// Gauss–Newton one, which accounts for the eliminated quantities exactly; intervals use
+/// Student's t and, for derived quantities, the delta method.
+///
+/// ```
+/// use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
+///     InitialState, Parameters, Record, RecordsOptions, ResponseQuantity};
+/// use msd_signal::{gaussian_noise, paper_identification_input};
+/// // The paper's plant and input, an accelerometer on the mass (σ = 0.05 m/s², seed 1).
+/// let p = Parameters::PAPER;
+/// let force = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
+/// let a = simulate_response(&p, Drive::Force, &force, InitialState::REST,
+///     ResponseQuantity::Acceleration, Frame::Absolute)?;
+/// let noise = gaussian_noise(1, "accelerometer", 0.05, a.len())?;
+/// let samples = a.iter().zip(&noise).map(|(a, n)| a + n).collect();
+/// let channel = Channel { name: "accelerometer".into(), quantity: ResponseQuantity::Acceleration,
+///     frame: Frame::Absolute, samples };
+/// let record = Record { name: "run 1".into(), excitation: force, channels: vec![channel] };
+/// let fit = fit_records(&[record], &RecordsOptions::default())?;
+/// assert_eq!(fit.plant.identifiable.len(), 5);
+/// assert!(fit.plant.stiffness.unwrap().contains(p.stiffness), "{fit}");
+/// assert!((fit.noise[0].sigma / 0.05 - 1.0).abs() < 0.05, "{fit}");
+/// println!("{fit}");
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 ///
 /// Refused, naming the record and the channel: no records, a record without channels,
 /// records of different sampling intervals, a channel whose length differs from its
