@@ -8,7 +8,10 @@
 mod check;
 mod guess;
 mod intervals;
+mod linear;
+mod loo;
 mod model;
+mod noise;
 mod plan;
 mod problem;
 mod result;
@@ -21,8 +24,10 @@ pub use setup::{Channel, Drive, Frame, Record, RecordsOptions};
 
 use crate::{IdentError, InitialState, KnownParameter, Result};
 use check::check_records;
-use model::{OutputKind, Plant};
+use loo::leave_one_out;
+use model::Plant;
 use msd_opt::levenberg_marquardt;
+use noise::{initial_sigmas, noise_levels, residual_sigmas};
 use problem::{Joint, RecordRows};
 use std::time::Instant;
 
@@ -130,7 +135,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
 
 /// m, c, k held fixed: the mass at 1 unless a force drives (c, k are then per unit
 /// mass), and a known one with a force drive.
-fn fixed_parameters(options: &RecordsOptions) -> [Option<f64>; 3] {
+pub(super) fn fixed_parameters(options: &RecordsOptions) -> [Option<f64>; 3] {
     match (options.drive.estimates_mass(), options.known) {
         (false, _) => [Some(1.0), None, None],
         (true, KnownParameter::Mass(m)) => [Some(m), None, None],
@@ -163,40 +168,6 @@ fn by_name<'s>(names: &'s [String], sigma: &'s [f64]) -> impl Fn(&str) -> f64 + 
         let g = names.iter().position(|n| n == name);
         g.map_or(1.0, |g| sigma[g])
     }
-}
-
-/// A first noise level per sensor from the median absolute second difference (its
-/// variance is 6σ² for white noise on a smooth signal), so that sensors in different
-/// units start with sensible weights.
-fn initial_sigmas(problem: &Joint<'_>) -> Vec<f64> {
-    (0..problem.group_names.len())
-        .map(|g| {
-            let mut d2 = Vec::new();
-            let mut scale = 0.0f64;
-            for rec in &problem.records {
-                for (ch, channel) in rec.record.channels.iter().enumerate() {
-                    if rec.groups[ch] == g {
-                        d2.extend(
-                            channel
-                                .samples
-                                .windows(3)
-                                .map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()),
-                        );
-                        scale = channel.samples.iter().fold(scale, |s, v| s.max(v.abs()));
-                    }
-                }
-            }
-            let mid = d2.len() / 2;
-            let median = *d2.select_nth_unstable_by(mid, f64::total_cmp).1;
-            floor(median / (0.674_489_75 * 6f64.sqrt()), scale)
-        })
-        .collect()
-}
-
-/// A noise level of at least 1e-12 of the channel's scale (a noise-free record would
-/// otherwise give an infinite weight).
-fn floor(sigma: f64, scale: f64) -> f64 {
-    sigma.max(1e-12 * scale).max(f64::MIN_POSITIVE)
 }
 
 /// Weighted passes until the noise levels settle: returns x̂, the passes and the
@@ -252,48 +223,6 @@ fn solve(
     }
 }
 
-/// σ̂ of each group: √(SSE / (N·(N_total − p)/N_total)), each sensor its share of the
-/// degrees of freedom.
-fn residual_sigmas(problem: &Joint<'_>, dof: usize) -> Vec<f64> {
-    let groups = problem.group_names.len();
-    let (mut sse, mut count, mut scale) = (
-        vec![0.0; groups],
-        vec![0usize; groups],
-        vec![0.0f64; groups],
-    );
-    for rec in &problem.records {
-        for (ch, channel) in rec.record.channels.iter().enumerate() {
-            let g = rec.groups[ch];
-            for (i, y) in channel.samples.iter().enumerate() {
-                sse[g] += (y - problem.model(rec, ch, i)).powi(2);
-                scale[g] = scale[g].max(y.abs());
-            }
-            count[g] += rec.len;
-        }
-    }
-    let share = dof as f64 / problem.rows as f64;
-    (0..groups)
-        .map(|g| floor((sse[g] / (count[g] as f64 * share)).sqrt(), scale[g]))
-        .collect()
-}
-
-fn noise_levels(problem: &Joint<'_>, sigma: &[f64]) -> Vec<ChannelNoise> {
-    problem
-        .group_names
-        .iter()
-        .enumerate()
-        .map(|(g, name)| ChannelNoise {
-            channel: name.clone(),
-            sigma: sigma[g],
-            samples: problem
-                .records
-                .iter()
-                .map(|r| r.len * r.groups.iter().filter(|&&x| x == g).count())
-                .sum(),
-        })
-        .collect()
-}
-
 /// The initial state, offsets and channel fits of one record (the problem prepared).
 fn record_fit(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> RecordFit {
     let s = problem.initial_state(rec);
@@ -315,7 +244,7 @@ fn record_fit(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> Rec
     }
 }
 
-fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<ChannelFit> {
+pub(super) fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<ChannelFit> {
     let offsets = problem.offsets(rec);
     rec.record
         .channels
@@ -331,62 +260,4 @@ fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<ChannelFit> {
             }
         })
         .collect()
-}
-
-/// Each record predicted by the plant fitted to the others, from the joint estimate
-/// `x` with the joint noise levels held.
-fn leave_one_out(
-    records: &[Record],
-    kinds: &[Vec<OutputKind>],
-    options: &RecordsOptions,
-    x: &[f64],
-    sigma: impl Fn(&str) -> f64 + Copy,
-    notes: &mut Vec<String>,
-) -> Vec<LeftOut> {
-    let fixed = fixed_parameters(options);
-    let mut out = Vec::with_capacity(records.len());
-    for (r, left) in records.iter().enumerate() {
-        let others: Vec<&Record> = records
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| *i != r)
-            .map(|(_, rec)| rec)
-            .collect();
-        let other_kinds: Vec<Vec<OutputKind>> = kinds
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| *i != r)
-            .map(|(_, k)| k.clone())
-            .collect();
-        let mut rest = Joint::new(&others, &other_kinds, options, fixed);
-        rest.set_sigmas(sigma);
-        let theta = match levenberg_marquardt(&mut rest, x, &options.levenberg_marquardt) {
-            Ok(lm) => rest.theta(&lm.x),
-            Err(e) => {
-                notes.push(format!(
-                    "leave-one-out: the fit without record `{}` failed: {e}",
-                    left.name
-                ));
-                continue;
-            }
-        };
-        let mut one = Joint::new(&[left], std::slice::from_ref(&kinds[r]), options, fixed);
-        one.set_sigmas(sigma);
-        if !one.prepare(theta) {
-            notes.push(format!(
-                "leave-one-out: record `{}` cannot be predicted by the others' plant",
-                left.name
-            ));
-            continue;
-        }
-        one.solve_linear();
-        let [m, c, k] = theta;
-        out.push(LeftOut {
-            record: left.name.clone(),
-            natural_frequency_hz: (k / m).sqrt() / (2.0 * std::f64::consts::PI),
-            damping_ratio: c / (2.0 * (k * m).sqrt()),
-            channels: channel_fits(&one, &one.records[0]),
-        });
-    }
-    out
 }
