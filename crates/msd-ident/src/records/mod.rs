@@ -22,7 +22,7 @@ pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, sim
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
 pub use setup::{Channel, Drive, Frame, Record, RecordsOptions};
 
-use crate::{IdentError, InitialState, KnownParameter, Result};
+use crate::{ClassroomEstimates, IdentError, InitialState, KnownParameter, Result};
 use check::check_records;
 use loo::leave_one_out;
 use model::Plant;
@@ -87,7 +87,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
     let dof = degrees_of_freedom(&problem)?;
     let mut sigma = initial_sigmas(&problem);
     problem.set_sigmas(by_name(&problem.group_names.clone(), &sigma));
-    let theta0 = guess::initial_theta(&mut problem, options)?;
+    let theta0 = guess::initial_theta(&problem, options)?;
     let mut notes = Vec::new();
     let (x, passes, iterations) =
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
@@ -103,6 +103,12 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
             ),
         });
     }
+    let records_fit: Vec<RecordFit> = problem
+        .records
+        .iter()
+        .map(|rec| record_fit(&problem, rec, theta))
+        .collect();
+    notes.extend(poor_fits(&records_fit));
     let names = problem.group_names.clone();
     let leave_one_out = (options.leave_one_out && records.len() >= 2).then(|| {
         let x = x.clone();
@@ -119,11 +125,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         drive: options.drive,
         plant,
         noise: noise_levels(&problem, &sigma),
-        records: problem
-            .records
-            .iter()
-            .map(|rec| record_fit(&problem, rec, theta))
-            .collect(),
+        records: records_fit,
         leave_one_out,
         passes,
         iterations,
@@ -223,6 +225,23 @@ fn solve(
     }
 }
 
+/// A note for each channel the model does not explain (R² < 0.5): a wrong drive,
+/// quantity, frame or unit fits, but explains nothing.
+fn poor_fits(records: &[RecordFit]) -> Vec<String> {
+    let channels = records
+        .iter()
+        .flat_map(|r| r.channels.iter().map(move |c| (r, c)));
+    channels
+        .filter(|(_, c)| c.fit.r_squared < 0.5)
+        .map(|(r, c)| {
+            format!(
+                "record `{}`, channel `{}`: R² = {:.3}, the model does not explain this channel; check the drive, the quantity, the frame and the units",
+                r.name, c.channel, c.fit.r_squared
+            )
+        })
+        .collect()
+}
+
 /// The initial state, offsets and channel fits of one record (the problem prepared).
 fn record_fit(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> RecordFit {
     let s = problem.initial_state(rec);
@@ -241,6 +260,12 @@ fn record_fit(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> Rec
             velocity: plant.velocity(s, u0),
         },
         channels: channel_fits(problem, rec),
+        classroom: (problem.drive == Drive::None)
+            .then(|| {
+                let dt = rec.record.excitation.dt();
+                ClassroomEstimates::from_record(dt, &rec.record.channels[0].samples).ok()
+            })
+            .flatten(),
     }
 }
 

@@ -2,7 +2,7 @@
 
 use super::intervals::PlantIntervals;
 use super::setup::Drive;
-use crate::{FitMetrics, InitialState};
+use crate::{ClassroomEstimates, FitMetrics, InitialState};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -33,7 +33,7 @@ pub struct ChannelFit {
 ///
 /// ```
 /// use msd_ident::{InitialState, RecordFit};
-/// let record = RecordFit { name: "run 1".into(), initial_state: InitialState::REST, channels: vec![] };
+/// let record = RecordFit { name: "run 1".into(), initial_state: InitialState::REST, channels: vec![], classroom: None };
 /// assert_eq!(serde_json::to_value(&record)?["initial_state"]["velocity"], 0.0);
 /// # Ok::<(), serde_json::Error>(())
 /// ```
@@ -46,6 +46,9 @@ pub struct RecordFit {
     pub initial_state: InitialState,
     /// Each channel, in the record's order.
     pub channels: Vec<ChannelFit>,
+    /// A free decay's classroom estimates (logarithmic decrement, damped frequency) from
+    /// its first channel, for comparison with the fit; `None` for the other drives.
+    pub classroom: Option<ClassroomEstimates>,
 }
 
 /// The estimated noise level of one sensor (over every record that has it).
@@ -146,12 +149,14 @@ pub struct RecordsFit {
 
 impl std::fmt::Display for RecordsFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        let (records, passes) = (self.records.len(), self.passes);
         writeln!(
             f,
-            "{} record(s), {}: {} passes, {} iterations, {:.1} ms",
-            self.records.len(),
+            "{records} record{}, {}: {passes} pass{}, {} iterations, {:.1} ms",
+            plural(records),
             self.drive,
-            self.passes,
+            if passes == 1 { "" } else { "es" },
             self.iterations,
             self.wall_time.as_secs_f64() * 1e3
         )?;

@@ -545,6 +545,14 @@ fn repeated_free_decays_with_a_known_mass_give_c_and_k_with_coverage() {
             (record.initial_state.displacement - start.displacement).abs() < 5.0 * sigma,
             "{fit}"
         );
+        let classroom = record
+            .classroom
+            .expect("a free decay's classroom estimates");
+        // The textbook reading of the peaks, not the fit: within 5 % of the truth.
+        assert!(
+            (classroom.damping_ratio / P.damping_ratio() - 1.0).abs() < 0.05,
+            "{classroom}"
+        );
     }
     let laser = planned(
         "laser",
