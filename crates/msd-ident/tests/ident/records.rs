@@ -548,11 +548,15 @@ fn repeated_free_decays_with_a_known_mass_give_c_and_k_with_coverage() {
         let classroom = record
             .classroom
             .expect("a free decay's classroom estimates");
-        // The textbook reading of the peaks, not the fit: within 5 % of the truth.
+        // The zero crossings' timing jitter is σ/(A·ωd) ≈ 0.015 s at the last counted swing
+        // (A ≈ 10σ) over a 9 s span: fd within 1 % (the decrement, read off noisy
+        // extremes, is biased and only reported).
+        let fd = P.damped_natural_frequency().unwrap() / (2.0 * PI);
         assert!(
-            (classroom.damping_ratio / P.damping_ratio() - 1.0).abs() < 0.05,
+            (classroom.damped_frequency_hz / fd - 1.0).abs() < 0.01,
             "{classroom}"
         );
+        assert!(classroom.damping_ratio > 0.0, "{classroom}");
     }
     let laser = planned(
         "laser",
