@@ -14,6 +14,12 @@
 //!   [`Uncertainty`] (covariance, 95 % intervals, identifiability warnings);
 //! - validation: [`validate_model`], [`residual_analysis`] (Ljung–Box, residual–input
 //!   correlation, verdicts in words) and [`frequency_check`];
+//! - every lab setup as one joint fit, [`fit_records`]: a force on the mass, the base's
+//!   acceleration or displacement, or a free decay ([`Drive`]); displacement, velocity and
+//!   acceleration sensors, absolute or relative ([`Channel`], [`Frame`]), several at once
+//!   with their noise levels estimated; several [`Record`]s of one rig with
+//!   leave-one-record-out validation; what each setup identifies said in
+//!   [`PlantIntervals`], its Cramér–Rao prediction by [`predicted_records_uncertainty`];
 //! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals), the
 //!   classroom [`half_power`] estimates, the [`stabilization_diagram`] and [`fit_modes`]
 //!   (several modes with intervals);

@@ -15,15 +15,37 @@ use crate::{ClassroomEstimates, IdentError, KnownParameter, Result};
 use std::f64::consts::PI;
 
 /// θ₀ (m, c, k; m = 1 and c, k per unit mass unless the drive is a force).
-pub(crate) fn initial_theta(problem: &mut Joint<'_>, options: &RecordsOptions) -> Result<[f64; 3]> {
+pub(crate) fn initial_theta(problem: &Joint<'_>, options: &RecordsOptions) -> Result<[f64; 3]> {
     let candidates = match options.initial_guess {
         Some(g) => vec![(g.natural_frequency(), g.damping_ratio().max(1e-4))],
         None if problem.drive == Drive::None => classroom_candidates(problem)?,
         None => arx_candidates(problem),
     };
+    // Scored on the first record alone: the candidates come from it, and the guess then
+    // costs the same whatever the number of records.
+    let first = &problem.records[0];
+    let weights: Vec<(&str, f64)> = first
+        .record
+        .channels
+        .iter()
+        .map(|c| c.name.as_str())
+        .zip(first.weights.iter().copied())
+        .collect();
+    let mut scorer = Joint::new(
+        &[first.record],
+        std::slice::from_ref(&first.kinds),
+        options,
+        [None; 3],
+    );
+    scorer.set_sigmas(|name| {
+        weights
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(1.0, |(_, w)| 1.0 / w)
+    });
     let best = candidates
         .into_iter()
-        .filter_map(|(wn, zeta)| score(problem, wn, zeta).map(|(cost, m)| (cost, wn, zeta, m)))
+        .filter_map(|(wn, zeta)| score(&mut scorer, wn, zeta).map(|(cost, m)| (cost, wn, zeta, m)))
         .min_by(|a, b| a.0.total_cmp(&b.0));
     let Some((_, wn, zeta, gain_mass)) = best else {
         return Err(IdentError::Setup {

@@ -2,50 +2,16 @@
 //! each with one or several sensors, the plant driven by a force on the mass, by the
 //! base's acceleration or displacement, or by nothing (free decays).
 //!
-//! ## The model
-//! Every drive is one linear model of the plant ([`Drive`] gives the equations); each
-//! channel is the displacement, velocity or acceleration of the mass, absolute or
-//! relative to the base ([`Frame`]), plus its own offset. What each setup identifies:
-//! a force drive m, c and k; the base drives and free decays ωn and ζ only (scaling m, c
-//! and k together leaves those records unchanged), and m, c, k with a known mass or
-//! static stiffness. A velocity or acceleration channel does not see a displacement
-//! sensor's offset: each channel of each record has its own.
-//!
-//! ## The algorithm
-//! Maximum likelihood with each sensor's noise level unknown: weighted least squares
-//! with weights 1/σ̂², σ̂ re-estimated from the residuals between passes until it
-//! settles. Each pass is Levenberg–Marquardt in ln m, ln c, ln k with the exact
-//! sensitivities, each record's initial state and offsets eliminated by linear least
-//! squares (variable projection, see `problem.rs`). The covariance is the weighted
-//! Gauss–Newton one, which accounts for the eliminated quantities exactly; intervals use
-//! Student's t and, for derived quantities, the delta method.
-//!
-//! ```
-//! use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
-//!     InitialState, Parameters, Record, RecordsOptions, ResponseQuantity};
-//! use msd_signal::{gaussian_noise, paper_identification_input};
-//! // The paper's plant and input, an accelerometer on the mass (σ = 0.05 m/s², seed 1).
-//! let p = Parameters::PAPER;
-//! let force = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
-//! let a = simulate_response(&p, Drive::Force, &force, InitialState::REST,
-//!     ResponseQuantity::Acceleration, Frame::Absolute)?;
-//! let noise = gaussian_noise(1, "accelerometer", 0.05, a.len())?;
-//! let samples = a.iter().zip(&noise).map(|(a, n)| a + n).collect();
-//! let channel = Channel { name: "accelerometer".into(), quantity: ResponseQuantity::Acceleration,
-//!     frame: Frame::Absolute, samples };
-//! let record = Record { name: "run 1".into(), excitation: force, channels: vec![channel] };
-//! let fit = fit_records(&[record], &RecordsOptions::default())?;
-//! assert_eq!(fit.plant.identifiable.len(), 5);
-//! assert!(fit.plant.stiffness.unwrap().contains(p.stiffness), "{fit}");
-//! assert!((fit.noise[0].sigma / 0.05 - 1.0).abs() < 0.05, "{fit}");
-//! println!("{fit}");
-//! # Ok::<(), msd_ident::IdentError>(())
-//! ```
+//! [`fit_records`] documents the model and the method; `problem.rs` the variable
+//! projection, `model.rs` the equations of each drive.
 
 mod check;
 mod guess;
 mod intervals;
+mod linear;
+mod loo;
 mod model;
+mod noise;
 mod plan;
 mod problem;
 mod result;
@@ -56,15 +22,56 @@ pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, sim
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
 pub use setup::{Channel, Drive, Frame, Record, RecordsOptions};
 
-use crate::{IdentError, InitialState, KnownParameter, Result};
+use crate::{ClassroomEstimates, IdentError, InitialState, KnownParameter, Result};
 use check::check_records;
-use model::{OutputKind, Plant};
+use loo::leave_one_out;
+use model::Plant;
 use msd_opt::levenberg_marquardt;
+use noise::{initial_sigmas, noise_levels, residual_sigmas};
 use problem::{Joint, RecordRows};
 use std::time::Instant;
 
-/// Fits one plant to `records` jointly (see the module documentation of `records` for the model and the
-/// method).
+/// Fits one plant to `records` jointly.
+///
+/// ## The model
+/// Every drive is one linear model of the plant ([`Drive`] gives the equations); each
+/// channel is the displacement, velocity or acceleration of the mass, absolute or
+/// relative to the base ([`Frame`]), plus its own offset. What each setup identifies:
+/// a force drive m, c and k; the base drives and free decays ωn and ζ only (scaling m, c
+/// and k together leaves those records unchanged), and m, c, k with a known mass or
+/// static stiffness. A velocity or acceleration channel does not see a displacement
+/// sensor's offset: each channel of each record has its own.
+///
+/// ## The algorithm
+/// Maximum likelihood with each sensor's noise level unknown: weighted least squares
+/// with weights 1/σ̂², σ̂ re-estimated from the residuals between passes until it
+/// settles. Each pass is Levenberg–Marquardt in ln m, ln c, ln k with the exact
+/// sensitivities, each record's initial state and offsets eliminated by linear least
+/// squares (variable projection, see `problem.rs`). The covariance is the weighted
+/// Gauss–Newton one, which accounts for the eliminated quantities exactly; intervals use
+/// Student's t and, for derived quantities, the delta method.
+///
+/// ```
+/// use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
+///     InitialState, Parameters, Record, RecordsOptions, ResponseQuantity};
+/// use msd_signal::{gaussian_noise, paper_identification_input};
+/// // The paper's plant and input, an accelerometer on the mass (σ = 0.05 m/s², seed 1).
+/// let p = Parameters::PAPER;
+/// let force = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
+/// let a = simulate_response(&p, Drive::Force, &force, InitialState::REST,
+///     ResponseQuantity::Acceleration, Frame::Absolute)?;
+/// let noise = gaussian_noise(1, "accelerometer", 0.05, a.len())?;
+/// let samples = a.iter().zip(&noise).map(|(a, n)| a + n).collect();
+/// let channel = Channel { name: "accelerometer".into(), quantity: ResponseQuantity::Acceleration,
+///     frame: Frame::Absolute, samples };
+/// let record = Record { name: "run 1".into(), excitation: force, channels: vec![channel] };
+/// let fit = fit_records(&[record], &RecordsOptions::default())?;
+/// assert_eq!(fit.plant.identifiable.len(), 5);
+/// assert!(fit.plant.stiffness.unwrap().contains(p.stiffness), "{fit}");
+/// assert!((fit.noise[0].sigma / 0.05 - 1.0).abs() < 0.05, "{fit}");
+/// println!("{fit}");
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 ///
 /// Refused, naming the record and the channel: no records, a record without channels,
 /// records of different sampling intervals, a channel whose length differs from its
@@ -80,7 +87,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
     let dof = degrees_of_freedom(&problem)?;
     let mut sigma = initial_sigmas(&problem);
     problem.set_sigmas(by_name(&problem.group_names.clone(), &sigma));
-    let theta0 = guess::initial_theta(&mut problem, options)?;
+    let theta0 = guess::initial_theta(&problem, options)?;
     let mut notes = Vec::new();
     let (x, passes, iterations) =
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
@@ -96,6 +103,12 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
             ),
         });
     }
+    let records_fit: Vec<RecordFit> = problem
+        .records
+        .iter()
+        .map(|rec| record_fit(&problem, rec, theta))
+        .collect();
+    notes.extend(poor_fits(&records_fit));
     let names = problem.group_names.clone();
     let leave_one_out = (options.leave_one_out && records.len() >= 2).then(|| {
         let x = x.clone();
@@ -112,11 +125,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         drive: options.drive,
         plant,
         noise: noise_levels(&problem, &sigma),
-        records: problem
-            .records
-            .iter()
-            .map(|rec| record_fit(&problem, rec, theta))
-            .collect(),
+        records: records_fit,
         leave_one_out,
         passes,
         iterations,
@@ -128,7 +137,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
 
 /// m, c, k held fixed: the mass at 1 unless a force drives (c, k are then per unit
 /// mass), and a known one with a force drive.
-fn fixed_parameters(options: &RecordsOptions) -> [Option<f64>; 3] {
+pub(super) fn fixed_parameters(options: &RecordsOptions) -> [Option<f64>; 3] {
     match (options.drive.estimates_mass(), options.known) {
         (false, _) => [Some(1.0), None, None],
         (true, KnownParameter::Mass(m)) => [Some(m), None, None],
@@ -161,40 +170,6 @@ fn by_name<'s>(names: &'s [String], sigma: &'s [f64]) -> impl Fn(&str) -> f64 + 
         let g = names.iter().position(|n| n == name);
         g.map_or(1.0, |g| sigma[g])
     }
-}
-
-/// A first noise level per sensor from the median absolute second difference (its
-/// variance is 6σ² for white noise on a smooth signal), so that sensors in different
-/// units start with sensible weights.
-fn initial_sigmas(problem: &Joint<'_>) -> Vec<f64> {
-    (0..problem.group_names.len())
-        .map(|g| {
-            let mut d2 = Vec::new();
-            let mut scale = 0.0f64;
-            for rec in &problem.records {
-                for (ch, channel) in rec.record.channels.iter().enumerate() {
-                    if rec.groups[ch] == g {
-                        d2.extend(
-                            channel
-                                .samples
-                                .windows(3)
-                                .map(|w| (w[2] - 2.0 * w[1] + w[0]).abs()),
-                        );
-                        scale = channel.samples.iter().fold(scale, |s, v| s.max(v.abs()));
-                    }
-                }
-            }
-            let mid = d2.len() / 2;
-            let median = *d2.select_nth_unstable_by(mid, f64::total_cmp).1;
-            floor(median / (0.674_489_75 * 6f64.sqrt()), scale)
-        })
-        .collect()
-}
-
-/// A noise level of at least 1e-12 of the channel's scale (a noise-free record would
-/// otherwise give an infinite weight).
-fn floor(sigma: f64, scale: f64) -> f64 {
-    sigma.max(1e-12 * scale).max(f64::MIN_POSITIVE)
 }
 
 /// Weighted passes until the noise levels settle: returns x̂, the passes and the
@@ -250,44 +225,19 @@ fn solve(
     }
 }
 
-/// σ̂ of each group: √(SSE / (N·(N_total − p)/N_total)), each sensor its share of the
-/// degrees of freedom.
-fn residual_sigmas(problem: &Joint<'_>, dof: usize) -> Vec<f64> {
-    let groups = problem.group_names.len();
-    let (mut sse, mut count, mut scale) = (
-        vec![0.0; groups],
-        vec![0usize; groups],
-        vec![0.0f64; groups],
-    );
-    for rec in &problem.records {
-        for (ch, channel) in rec.record.channels.iter().enumerate() {
-            let g = rec.groups[ch];
-            for (i, y) in channel.samples.iter().enumerate() {
-                sse[g] += (y - problem.model(rec, ch, i)).powi(2);
-                scale[g] = scale[g].max(y.abs());
-            }
-            count[g] += rec.len;
-        }
-    }
-    let share = dof as f64 / problem.rows as f64;
-    (0..groups)
-        .map(|g| floor((sse[g] / (count[g] as f64 * share)).sqrt(), scale[g]))
-        .collect()
-}
-
-fn noise_levels(problem: &Joint<'_>, sigma: &[f64]) -> Vec<ChannelNoise> {
-    problem
-        .group_names
+/// A note for each channel the model does not explain (R² < 0.5): a wrong drive,
+/// quantity, frame or unit fits, but explains nothing.
+fn poor_fits(records: &[RecordFit]) -> Vec<String> {
+    let channels = records
         .iter()
-        .enumerate()
-        .map(|(g, name)| ChannelNoise {
-            channel: name.clone(),
-            sigma: sigma[g],
-            samples: problem
-                .records
-                .iter()
-                .map(|r| r.len * r.groups.iter().filter(|&&x| x == g).count())
-                .sum(),
+        .flat_map(|r| r.channels.iter().map(move |c| (r, c)));
+    channels
+        .filter(|(_, c)| c.fit.r_squared < 0.5)
+        .map(|(r, c)| {
+            format!(
+                "record `{}`, channel `{}`: R² = {:.3}, the model does not explain this channel; check the drive, the quantity, the frame and the units",
+                r.name, c.channel, c.fit.r_squared
+            )
         })
         .collect()
 }
@@ -310,10 +260,16 @@ fn record_fit(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> Rec
             velocity: plant.velocity(s, u0),
         },
         channels: channel_fits(problem, rec),
+        classroom: (problem.drive == Drive::None)
+            .then(|| {
+                let dt = rec.record.excitation.dt();
+                ClassroomEstimates::from_record(dt, &rec.record.channels[0].samples).ok()
+            })
+            .flatten(),
     }
 }
 
-fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<ChannelFit> {
+pub(super) fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<ChannelFit> {
     let offsets = problem.offsets(rec);
     rec.record
         .channels
@@ -329,62 +285,4 @@ fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<ChannelFit> {
             }
         })
         .collect()
-}
-
-/// Each record predicted by the plant fitted to the others, from the joint estimate
-/// `x` with the joint noise levels held.
-fn leave_one_out(
-    records: &[Record],
-    kinds: &[Vec<OutputKind>],
-    options: &RecordsOptions,
-    x: &[f64],
-    sigma: impl Fn(&str) -> f64 + Copy,
-    notes: &mut Vec<String>,
-) -> Vec<LeftOut> {
-    let fixed = fixed_parameters(options);
-    let mut out = Vec::with_capacity(records.len());
-    for (r, left) in records.iter().enumerate() {
-        let others: Vec<&Record> = records
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| *i != r)
-            .map(|(_, rec)| rec)
-            .collect();
-        let other_kinds: Vec<Vec<OutputKind>> = kinds
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| *i != r)
-            .map(|(_, k)| k.clone())
-            .collect();
-        let mut rest = Joint::new(&others, &other_kinds, options, fixed);
-        rest.set_sigmas(sigma);
-        let theta = match levenberg_marquardt(&mut rest, x, &options.levenberg_marquardt) {
-            Ok(lm) => rest.theta(&lm.x),
-            Err(e) => {
-                notes.push(format!(
-                    "leave-one-out: the fit without record `{}` failed: {e}",
-                    left.name
-                ));
-                continue;
-            }
-        };
-        let mut one = Joint::new(&[left], std::slice::from_ref(&kinds[r]), options, fixed);
-        one.set_sigmas(sigma);
-        if !one.prepare(theta) {
-            notes.push(format!(
-                "leave-one-out: record `{}` cannot be predicted by the others' plant",
-                left.name
-            ));
-            continue;
-        }
-        one.solve_linear();
-        let [m, c, k] = theta;
-        out.push(LeftOut {
-            record: left.name.clone(),
-            natural_frequency_hz: (k / m).sqrt() / (2.0 * std::f64::consts::PI),
-            damping_ratio: c / (2.0 * (k * m).sqrt()),
-            channels: channel_fits(&one, &one.records[0]),
-        });
-    }
-    out
 }

@@ -8,7 +8,14 @@ use super::setup::{Channel, Drive, Frame, Record, RecordsOptions};
 use crate::{Excitation, IdentError, InitialState, Parameters, ResponseQuantity, Result};
 use msd_ode::{SVector, SampledInput};
 
-/// A sensor of a planned record: what it will measure and its noise level.
+/// A sensor of a planned record: what it will measure and its noise level (see
+/// [`predicted_records_uncertainty`] for a plan).
+///
+/// ```
+/// use msd_ident::{PlannedChannel, ResponseQuantity};
+/// let acc = PlannedChannel { name: "acc".into(), quantity: ResponseQuantity::Acceleration, sigma: 0.05, ..Default::default() };
+/// assert_eq!(acc.frame, msd_ident::Frame::Absolute);
+/// ```
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct PlannedChannel {
     /// The sensor's name (channels of one name share σ).
@@ -22,7 +29,17 @@ pub struct PlannedChannel {
 }
 
 /// A planned record: its drive, its initial state (what rings a free decay) and its
-/// sensors.
+/// sensors (see [`predicted_records_uncertainty`] for a plan).
+///
+/// ```
+/// use msd_ident::{Excitation, InitialState, PlannedChannel, PlannedRecord};
+/// let pluck = PlannedRecord { name: "pluck".into(),
+///     excitation: Excitation::from_samples(0.0, 0.002, vec![0.0; 5001])?,
+///     initial_state: InitialState { displacement: 0.01, velocity: 0.0 },
+///     channels: vec![PlannedChannel { name: "laser".into(), sigma: 2e-4, ..Default::default() }] };
+/// assert_eq!(pluck.excitation.len(), 5001);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlannedRecord {
     /// The run's name.

@@ -11,12 +11,13 @@
 //! Schur complement of the full Gauss–Newton matrix in (θ, β), so its inverse is the
 //! full covariance of θ: the nuisance parameters are accounted for exactly.
 
+use super::linear::LinearSolve;
 use super::model::{OutputKind, OutputMap, Plant};
 use super::setup::{Drive, Record, RecordsOptions};
 use crate::Result;
 use msd_ode::{Hold, SVector, SampledInput};
 use msd_opt::LeastSquaresProblem;
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use nalgebra::DMatrix;
 
 /// One record's rows: channel-major, row = start + channel·len + sample.
 pub(crate) struct RecordRows<'a> {
@@ -30,7 +31,7 @@ pub(crate) struct RecordRows<'a> {
     pub start: usize,
     pub len: usize,
     /// The factorised Gram matrix of W·G, when there is a β.
-    linear: Option<LinearSolve>,
+    pub linear: Option<LinearSolve>,
     /// β̂: the initial state (when estimated), then the offsets (when estimated).
     pub beta: Vec<f64>,
 }
@@ -44,11 +45,11 @@ pub(crate) struct Joint<'a> {
     dt: f64,
     fixed: [Option<f64>; 3],
     pub free: Vec<usize>,
-    state: bool,
-    offset: bool,
+    pub state: bool,
+    pub offset: bool,
     pub rows: usize,
-    basis: Vec<[f64; 2]>,
-    forced: Vec<f64>,
+    pub basis: Vec<[f64; 2]>,
+    pub forced: Vec<f64>,
     zeros: Vec<f64>,
     pub evaluations: usize,
 }
@@ -188,119 +189,10 @@ impl<'a> Joint<'a> {
         ok
     }
 
-    /// The rows of channel `ch` of a record.
-    fn rows_of(rec: &RecordRows<'_>, ch: usize) -> std::ops::Range<usize> {
-        let first = rec.start + ch * rec.len;
-        first..first + rec.len
-    }
-
-    /// The Gram matrix (W·G)ᵀ(W·G) of a record: per channel, Σ g·gᵀ, Σ g and the count
-    /// weighted by w².
-    fn gram(&self, rec: &RecordRows<'_>) -> DMatrix<f64> {
-        let q = self.linear_count(rec.maps.len());
-        let first = 2 * usize::from(self.state);
-        let mut gram = DMatrix::zeros(q, q);
-        for (ch, &w) in rec.weights.iter().enumerate() {
-            let w2 = w * w;
-            let (mut s00, mut s01, mut s11, mut s0, mut s1) = (0.0, 0.0, 0.0, 0.0, 0.0);
-            for g in &self.basis[Self::rows_of(rec, ch)] {
-                s00 += g[0] * g[0];
-                s01 += g[0] * g[1];
-                s11 += g[1] * g[1];
-                s0 += g[0];
-                s1 += g[1];
-            }
-            if self.state {
-                gram[(0, 0)] += w2 * s00;
-                gram[(0, 1)] += w2 * s01;
-                gram[(1, 0)] += w2 * s01;
-                gram[(1, 1)] += w2 * s11;
-            }
-            if self.offset {
-                let o = first + ch;
-                gram[(o, o)] = w2 * rec.len as f64;
-                if self.state {
-                    [gram[(0, o)], gram[(1, o)]] = [w2 * s0, w2 * s1];
-                    [gram[(o, 0)], gram[(o, 1)]] = [w2 * s0, w2 * s1];
-                }
-            }
-        }
-        gram
-    }
-
-    /// (W·G)ᵀ·v for a record, `v(ch)` giving channel ch's rows of a vector already
-    /// weighted by w.
-    fn moments<'v>(&self, rec: &RecordRows<'_>, v: impl Fn(usize) -> &'v [f64]) -> DVector<f64> {
-        let first = 2 * usize::from(self.state);
-        let mut rhs = DVector::zeros(self.linear_count(rec.maps.len()));
-        for (ch, &w) in rec.weights.iter().enumerate() {
-            let (mut a, mut b, mut sum) = (0.0, 0.0, 0.0);
-            for (g, v) in self.basis[Self::rows_of(rec, ch)].iter().zip(v(ch)) {
-                a += g[0] * v;
-                b += g[1] * v;
-                sum += v;
-            }
-            if self.state {
-                rhs[0] += w * a;
-                rhs[1] += w * b;
-            }
-            if self.offset {
-                rhs[first + ch] = w * sum;
-            }
-        }
-        rhs
-    }
-
-    /// The fitted part of channel `ch`, G·β (unweighted), as (state coefficients, offset).
-    fn fitted(&self, _rec: &RecordRows<'_>, beta: &[f64], ch: usize) -> ([f64; 2], f64) {
-        let first = 2 * usize::from(self.state);
-        let state = if self.state {
-            [beta[0], beta[1]]
-        } else {
-            [0.0; 2]
-        };
-        let offset = if self.offset { beta[first + ch] } else { 0.0 };
-        (state, offset)
-    }
-
-    /// β̂ of every record from the data (after [`prepare`](Self::prepare)).
-    pub(crate) fn solve_linear(&mut self) {
-        let mut weighted = vec![0.0; self.records.iter().map(|r| r.len).max().unwrap_or(0)];
-        let mut records = std::mem::take(&mut self.records);
-        for rec in &mut records {
-            let Some(linear) = &rec.linear else {
-                rec.beta.clear();
-                continue;
-            };
-            let channels = rec.record.channels.len();
-            let mut rhs = DVector::zeros(self.linear_count(channels));
-            for ch in 0..channels {
-                let w = rec.weights[ch];
-                let rows = Self::rows_of(rec, ch);
-                for ((out, y), f) in weighted
-                    .iter_mut()
-                    .zip(&rec.record.channels[ch].samples)
-                    .zip(&self.forced[rows])
-                {
-                    *out = w * (y - f);
-                }
-                rhs += self.moments_of_channel(rec, ch, &weighted[..rec.len]);
-            }
-            rec.beta = linear.solve(&rhs).iter().copied().collect();
-        }
-        self.records = records;
-    }
-
-    /// [`moments`](Self::moments) of one channel's weighted rows `v` (zero elsewhere).
-    fn moments_of_channel(&self, rec: &RecordRows<'_>, ch: usize, v: &[f64]) -> DVector<f64> {
-        let empty: &[f64] = &[];
-        self.moments(rec, |c| if c == ch { v } else { empty })
-    }
-
     /// The model of one row (unweighted): f + G·β.
     pub(crate) fn model(&self, rec: &RecordRows<'_>, ch: usize, i: usize) -> f64 {
         let row = rec.start + ch * rec.len + i;
-        let (state, offset) = self.fitted(rec, &rec.beta, ch);
+        let (state, offset) = self.fitted(&rec.beta, ch);
         let g = self.basis[row];
         self.forced[row] + g[0] * state[0] + g[1] * state[1] + offset
     }
@@ -333,7 +225,7 @@ impl<'a> Joint<'a> {
         for rec in &self.records {
             for (ch, channel) in rec.record.channels.iter().enumerate() {
                 let w = rec.weights[ch];
-                let (state, offset) = self.fitted(rec, &rec.beta, ch);
+                let (state, offset) = self.fitted(&rec.beta, ch);
                 let rows = Self::rows_of(rec, ch);
                 let model = self.forced[rows.clone()]
                     .iter()
@@ -400,23 +292,6 @@ impl<'a> Joint<'a> {
                     .collect()
             })
             .collect()
-    }
-
-    /// Removes from the record's rows of `v` their projection on the span of W·G.
-    fn project(&self, rec: &RecordRows<'_>, v: &mut [f64]) {
-        let Some(linear) = &rec.linear else {
-            return;
-        };
-        let coef = linear.solve(&self.moments(rec, |ch| &v[Self::rows_of(rec, ch)]));
-        let coef: Vec<f64> = coef.iter().copied().collect();
-        for ch in 0..rec.maps.len() {
-            let w = rec.weights[ch];
-            let (state, offset) = self.fitted(rec, &coef, ch);
-            let rows = Self::rows_of(rec, ch);
-            for (v, g) in v[rows.clone()].iter_mut().zip(&self.basis[rows]) {
-                *v -= w * (g[0] * state[0] + g[1] * state[1] + offset);
-            }
-        }
     }
 
     /// The projected weighted data and response from rest, P⊥·W·y and P⊥·W·f, for the
@@ -488,31 +363,4 @@ fn product(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
             a[1][0] * b[0][1] + a[1][1] * b[1][1],
         ],
     ]
-}
-
-/// A Gram matrix factorised with its diagonal scaled to 1 (so the units of the columns
-/// do not matter).
-struct LinearSolve {
-    cholesky: Cholesky<f64, Dyn>,
-    scale: DVector<f64>,
-}
-
-impl LinearSolve {
-    fn new(gram: DMatrix<f64>) -> Option<Self> {
-        let q = gram.nrows();
-        let scale = DVector::from_fn(q, |i, _| 1.0 / gram[(i, i)].sqrt());
-        if !scale.iter().all(|s| s.is_finite()) {
-            return None;
-        }
-        let scaled = DMatrix::from_fn(q, q, |r, c| gram[(r, c)] * scale[r] * scale[c]);
-        Some(Self {
-            cholesky: scaled.cholesky()?,
-            scale,
-        })
-    }
-
-    fn solve(&self, rhs: &DVector<f64>) -> DVector<f64> {
-        let scaled = rhs.component_mul(&self.scale);
-        self.cholesky.solve(&scaled).component_mul(&self.scale)
-    }
 }

@@ -2,11 +2,20 @@
 
 use super::intervals::PlantIntervals;
 use super::setup::Drive;
-use crate::{FitMetrics, InitialState};
+use crate::{ClassroomEstimates, FitMetrics, InitialState};
 use serde::Serialize;
 use std::time::Duration;
 
 /// One channel of one record: its offset, and how well the model follows it.
+///
+/// ```
+/// use msd_ident::{ChannelFit, FitMetrics};
+/// let model = vec![0.0, 1.0, 2.0];
+/// let fit = ChannelFit { channel: "acc".into(), offset: 0.0,
+///     fit: FitMetrics::new(&[0.0, 1.1, 1.9], &model), model };
+/// assert!(serde_json::to_value(&fit)?.get("model").is_none()); // the samples stay out of JSON
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ChannelFit {
     /// The channel's name.
@@ -21,6 +30,13 @@ pub struct ChannelFit {
 }
 
 /// One record of a joint fit.
+///
+/// ```
+/// use msd_ident::{InitialState, RecordFit};
+/// let record = RecordFit { name: "run 1".into(), initial_state: InitialState::REST, channels: vec![], classroom: None };
+/// assert_eq!(serde_json::to_value(&record)?["initial_state"]["velocity"], 0.0);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RecordFit {
     /// The record's name.
@@ -30,9 +46,19 @@ pub struct RecordFit {
     pub initial_state: InitialState,
     /// Each channel, in the record's order.
     pub channels: Vec<ChannelFit>,
+    /// A free decay's classroom estimates (logarithmic decrement, damped frequency) from
+    /// its first channel, for comparison with the fit; `None` for the other drives.
+    pub classroom: Option<ClassroomEstimates>,
 }
 
 /// The estimated noise level of one sensor (over every record that has it).
+///
+/// ```
+/// use msd_ident::ChannelNoise;
+/// let noise = ChannelNoise { channel: "laser".into(), sigma: 1e-3, samples: 7501 };
+/// assert_eq!(serde_json::to_value(&noise)?["sigma"], 1e-3);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ChannelNoise {
     /// The channel's name.
@@ -46,6 +72,13 @@ pub struct ChannelNoise {
 
 /// One record predicted by the plant fitted to the other records (its own initial state
 /// and offsets fitted with that plant held).
+///
+/// ```
+/// use msd_ident::LeftOut;
+/// let left = LeftOut { record: "run 3".into(), natural_frequency_hz: 1.1, damping_ratio: 0.05, channels: vec![] };
+/// assert_eq!(serde_json::to_value(&left)?["record"], "run 3");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LeftOut {
     /// The record left out.
@@ -63,6 +96,31 @@ pub struct LeftOut {
 /// Serializes the plant's intervals at the top level (`identifiable`, `mass`, …,
 /// `damping_ratio`), then the noise levels, the records, the leave-one-out predictions,
 /// the counts and `wall_time_s`. Displays a compact table.
+///
+/// ```
+/// use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
+///     InitialState, KnownParameter, Parameters, Record, RecordsOptions, ResponseQuantity};
+/// use msd_signal::gaussian_noise;
+/// // Two plucks of the paper's plant, 4 s at 5 ms, a laser with σ = 0.1 mm, the mass weighed.
+/// let grid = Excitation::from_samples(0.0, 0.005, vec![0.0; 801])?;
+/// let pluck = |name: &str, x0: f64, seed: u64| -> msd_ident::Result<Record> {
+///     let start = InitialState { displacement: x0, velocity: 0.0 };
+///     let x = simulate_response(&Parameters::PAPER, Drive::None, &grid, start,
+///         ResponseQuantity::Displacement, Frame::Absolute)?;
+///     let noise = gaussian_noise(seed, "laser", 1e-4, x.len())?;
+///     let samples = x.iter().zip(&noise).map(|(x, n)| x + n).collect();
+///     Ok(Record { name: name.into(), excitation: grid.clone(),
+///         channels: vec![Channel { name: "laser".into(), samples, ..Default::default() }] })
+/// };
+/// let options = RecordsOptions { drive: Drive::None, known: KnownParameter::Mass(2.5), ..Default::default() };
+/// let fit = fit_records(&[pluck("1", 0.01, 1)?, pluck("2", -0.02, 2)?], &options)?;
+/// let json = serde_json::to_value(&fit).expect("serializable");
+/// assert_eq!(json["identifiable"][0], "natural_frequency_hz");
+/// assert!(json["damping"]["ci95"].is_array() && json["records"][1]["channels"][0]["fit"]["r2"].is_number());
+/// assert_eq!(fit.leave_one_out.as_ref().map(Vec::len), Some(2));
+/// assert!(fit.to_string().contains("R² by others"));
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RecordsFit {
     /// What drove the plant.
@@ -91,12 +149,14 @@ pub struct RecordsFit {
 
 impl std::fmt::Display for RecordsFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        let (records, passes) = (self.records.len(), self.passes);
         writeln!(
             f,
-            "{} record(s), {}: {} passes, {} iterations, {:.1} ms",
-            self.records.len(),
+            "{records} record{}, {}: {passes} pass{}, {} iterations, {:.1} ms",
+            plural(records),
             self.drive,
-            self.passes,
+            if passes == 1 { "" } else { "es" },
             self.iterations,
             self.wall_time.as_secs_f64() * 1e3
         )?;

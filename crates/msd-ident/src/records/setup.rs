@@ -61,6 +61,13 @@ impl Drive {
 /// base. With a fixed base ([`Drive::Force`], [`Drive::None`]) the two are the same.
 ///
 /// By default [`Frame::Absolute`].
+///
+/// ```
+/// use msd_ident::Frame;
+/// assert_eq!(serde_json::to_value(Frame::Relative)?, "relative");
+/// assert_eq!(Frame::default(), Frame::Absolute);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Frame {
@@ -75,6 +82,15 @@ pub enum Frame {
 ///
 /// Each channel of each record has its own offset (the sensor's zero): a velocity or
 /// acceleration channel does not see a displacement sensor's offset, and the reverse.
+///
+/// ```
+/// use msd_ident::{Channel, Frame, ResponseQuantity};
+/// let lvdt = Channel { name: "lvdt".into(), quantity: ResponseQuantity::Displacement,
+///     frame: Frame::Relative, samples: vec![0.0, 1e-3, 2e-3] };
+/// let json = serde_json::to_value(&lvdt)?;
+/// assert_eq!((json["quantity"].as_str(), json["frame"].as_str()), (Some("displacement"), Some("relative")));
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct Channel {
     /// The sensor's name; channels of the same name in several records share one noise
@@ -89,6 +105,17 @@ pub struct Channel {
 }
 
 /// One test run: the drive's samples and the sensors' records.
+///
+/// ```
+/// use msd_ident::{Channel, Excitation, Record, ResponseQuantity};
+/// // A pluck: no drive, so the excitation only gives the grid (100 samples of 10 ms).
+/// let grid = Excitation::from_samples(0.0, 0.01, vec![0.0; 100])?;
+/// let samples = (0..100).map(|i| (-0.1 * i as f64).exp() * (0.5 * i as f64).cos()).collect();
+/// let record = Record { name: "pluck 1".into(), excitation: grid,
+///     channels: vec![Channel { name: "laser".into(), samples, ..Default::default() }] };
+/// assert_eq!(record.channels[0].quantity, ResponseQuantity::Displacement);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
     /// The run's name, for the tables and the messages.

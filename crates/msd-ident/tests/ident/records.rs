@@ -545,6 +545,18 @@ fn repeated_free_decays_with_a_known_mass_give_c_and_k_with_coverage() {
             (record.initial_state.displacement - start.displacement).abs() < 5.0 * sigma,
             "{fit}"
         );
+        let classroom = record
+            .classroom
+            .expect("a free decay's classroom estimates");
+        // The zero crossings' timing jitter is σ/(A·ωd) ≈ 0.015 s at the last counted swing
+        // (A ≈ 10σ) over a 9 s span: fd within 1 % (the decrement, read off noisy
+        // extremes, is biased and only reported).
+        let fd = P.damped_natural_frequency().unwrap() / (2.0 * PI);
+        assert!(
+            (classroom.damped_frequency_hz / fd - 1.0).abs() < 0.01,
+            "{classroom}"
+        );
+        assert!(classroom.damping_ratio > 0.0, "{classroom}");
     }
     let laser = planned(
         "laser",
