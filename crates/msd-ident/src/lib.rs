@@ -17,6 +17,8 @@
 //! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals), the
 //!   classroom [`half_power`] estimates, the [`stabilization_diagram`] and [`fit_modes`]
 //!   (several modes with intervals);
+//! - planning the test: [`predicted_uncertainty`] (the Cramér–Rao bound of an input) and
+//!   [`design_input`] (the input that minimises it within the rig's limits);
 //! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
 //!   [`SyntheticOptions`].
 //!
@@ -51,6 +53,7 @@ mod arx;
 mod base_excitation;
 mod correlation;
 mod data;
+mod design;
 mod error;
 mod estimate;
 mod fft;
@@ -75,6 +78,10 @@ pub use arx::arx_initial_guess;
 pub use base_excitation::{BaseExcitation, BaseExcitationOptions, base_excitation};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
+pub use design::{
+    Aggregate, Criterion, Design, DesignConstraints, DesignOptions, InputComparison, Normalise,
+    RobustBox, StepOption, design_input,
+};
 pub use error::{IdentError, Result};
 pub use estimate::{
     Estimate, EstimationOptions, FixedParameters, GuessSource, Method, MultistartSettings,

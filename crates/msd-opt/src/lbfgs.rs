@@ -56,8 +56,9 @@ impl Default for LbfgsOptions {
     }
 }
 
-/// Why [`lbfgs`](crate::lbfgs()) stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Why [`lbfgs`](crate::lbfgs()) stopped. Serializes in snake case.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum LbfgsExit {
     /// The gradient is within `gradient_tolerance`.
     Gradient,
