@@ -166,7 +166,7 @@ pub struct DesignOptions {
     pub robust: RobustBox,
     /// Starting points: Schroeder phases, then seeded random phases. By default 1.
     pub starts: usize,
-    /// L-BFGS iterations per sharpness stage (3 stages). By default 60.
+    /// L-BFGS iterations per sharpness stage (3 stages). By default 100.
     pub iterations: usize,
     /// Seed of the random phases and of the robust box's plants. By default 0.
     pub seed: u64,
@@ -182,7 +182,7 @@ impl Default for DesignOptions {
             segments: 1,
             robust: RobustBox::default(),
             starts: 1,
-            iterations: 60,
+            iterations: 100,
             seed: 0,
         }
     }
