@@ -62,7 +62,11 @@ pub struct DesignReport {
 
 impl std::fmt::Display for DesignReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(f, "design `{}` (designed in {:.3} s)", self.name, self.design_seconds)?;
+        writeln!(
+            f,
+            "design `{}` (designed in {:.3} s)",
+            self.name, self.design_seconds
+        )?;
         writeln!(f, "{}", self.design)?;
         if let Some(v) = &self.verification {
             writeln!(
@@ -87,25 +91,43 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
     let config = Config::load(config_path)?;
     let refuse = |why: &str| ExperimentError::config(config_path, why.to_string());
     let Some(design_options) = config.design else {
-        return Err(refuse("design needs a [design] section (see configs/design-paper.toml)"));
+        return Err(refuse(
+            "design needs a [design] section (see configs/design-paper.toml)",
+        ));
     };
     let (plant, sigma) = match (&config.plant, &config.noise) {
         (Some(plant), Some(noise)) if noise.sigma > 0.0 && config.identification.is_some() => {
             (plant.parameters(), noise.sigma)
         }
-        _ => return Err(refuse(
-            "design needs a synthetic config: [plant] (the prior guess), [time], [identification.input] (the reference input) and [noise] with sigma > 0",
-        )),
+        _ => {
+            return Err(refuse(
+                "design needs a synthetic config: [plant] (the prior guess), [time], [identification.input] (the reference input) and [noise] with sigma > 0",
+            ));
+        }
     };
-    let reference = crate::data::load(&config, config_path, config.seed)?.identification.excitation;
+    let reference = crate::data::load(&config, config_path, config.seed)?
+        .identification
+        .excitation;
     let started = Instant::now();
-    let design = msd_ident::design_input(&plant, &reference, sigma, &design_options).map_err(|e| match e {
-        IdentError::InvalidDesign { .. } => ExperimentError::config(config_path, e.to_string()),
-        e => ExperimentError::run("design", e),
-    })?;
+    let design = msd_ident::design_input(&plant, &reference, sigma, &design_options).map_err(
+        |e| match e {
+            IdentError::InvalidDesign { .. } => ExperimentError::config(config_path, e.to_string()),
+            e => ExperimentError::run("design", e),
+        },
+    )?;
     let design_seconds = started.elapsed().as_secs_f64();
-    let verification = verify(&designed_config(&config, &design), config_path, &design, options.verify)?;
-    Ok(DesignReport { name: config.name.clone(), design, verification, design_seconds })
+    let verification = verify(
+        &designed_config(&config, &design),
+        config_path,
+        &design,
+        options.verify,
+    )?;
+    Ok(DesignReport {
+        name: config.name.clone(),
+        design,
+        verification,
+        design_seconds,
+    })
 }
 
 /// The config that runs the designed test: `config` with the designed force as its
@@ -113,25 +135,44 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
 pub fn designed_config(config: &Config, design: &Design) -> Config {
     let mut c = config.clone();
     c.name = format!("{}-designed", config.name);
-    c.description = format!("The {} input designed by `design` from {}", design.criterion, config.name);
-    c.identification = Some(crate::config::InputSection { input: design.signal.clone() });
+    c.description = format!(
+        "The {} input designed by `design` from {}",
+        design.criterion, config.name
+    );
+    c.identification = Some(crate::config::InputSection {
+        input: design.signal.clone(),
+    });
     c.design = None;
     c.output.dir = None;
     c
 }
 
 /// The standard deviations of m, c, k over `seeds` simulated tests of `config`.
-fn verify(config: &Config, config_path: &Path, design: &Design, seeds: usize) -> Result<Option<Verification>> {
+fn verify(
+    config: &Config,
+    config_path: &Path,
+    design: &Design,
+    seeds: usize,
+) -> Result<Option<Verification>> {
     if seeds == 0 {
         return Ok(None);
     }
     if seeds < 2 {
-        return Err(ExperimentError::config(config_path, "--verify = 1: expected at least 2 simulated tests"));
+        return Err(ExperimentError::config(
+            config_path,
+            "--verify = 1: expected at least 2 simulated tests",
+        ));
     }
-    let mut values = [Vec::with_capacity(seeds), Vec::with_capacity(seeds), Vec::with_capacity(seeds)];
+    let mut values = [
+        Vec::with_capacity(seeds),
+        Vec::with_capacity(seeds),
+        Vec::with_capacity(seeds),
+    ];
     for seed in 0..seeds as u64 {
         let data = crate::data::load(config, config_path, seed)?;
-        let p = estimate(&data.identification, &config.estimation).map_err(|e| ExperimentError::run("design --verify", e))?.parameters;
+        let p = estimate(&data.identification, &config.estimation)
+            .map_err(|e| ExperimentError::run("design --verify", e))?
+            .parameters;
         for (v, x) in values.iter_mut().zip([p.mass, p.damping, p.stiffness]) {
             v.push(x);
         }
@@ -144,7 +185,11 @@ fn verify(config: &Config, config_path: &Path, design: &Design, seeds: usize) ->
     let standard_deviations = [sd(&values[0]), sd(&values[1]), sd(&values[2])];
     let predicted = design.comparison.design;
     let ratios = std::array::from_fn(|i| standard_deviations[i] / predicted[i]);
-    Ok(Some(Verification { seeds, standard_deviations, ratios }))
+    Ok(Some(Verification {
+        seeds,
+        standard_deviations,
+        ratios,
+    }))
 }
 
 /// Writes `report`'s files for `config` into `target` atomically.
@@ -161,10 +206,14 @@ pub fn write(report: &DesignReport, config: &Config, target: &Path) -> Result<()
     let toml = toml::to_string(&designed).map_err(|e| ExperimentError::run("design", e))?;
     let header = "# Written by `design`: the designed test, synthetic on the prior plant.\n# Run it with `cargo xtask experiment designed.toml`.\n\n";
     staging.write("designed.toml", format!("{header}{toml}").as_bytes())?;
-    let json = serde_json::to_string_pretty(report).map_err(|e| ExperimentError::run("design", e))?;
+    let json =
+        serde_json::to_string_pretty(report).map_err(|e| ExperimentError::run("design", e))?;
     staging.write("design.json", format!("{json}\n").as_bytes())?;
     crate::plots::register_fonts();
-    crate::plots::save(&crate::plots::design::DesignFigure::new(&report.design), staging.path())?;
+    crate::plots::save(
+        &crate::plots::design::DesignFigure::new(&report.design),
+        staging.path(),
+    )?;
     staging.commit()
 }
 
@@ -185,11 +234,18 @@ pub struct DesignArgs {
 /// `design`: designs, prints the comparison and writes the files (into `--out`, else
 /// `<results_root>/<name>-design`, `results_root` by default `msd-results`).
 pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()> {
-    let options = DesignRunOptions { verify: args.verify, out: args.out.clone(), results_root };
+    let options = DesignRunOptions {
+        verify: args.verify,
+        out: args.out.clone(),
+        results_root,
+    };
     let report = design(&args.config, &options)?;
     let config = Config::load(&args.config)?;
     let target = options.out.clone().unwrap_or_else(|| {
-        let root = options.results_root.clone().unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RESULTS_ROOT));
+        let root = options
+            .results_root
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RESULTS_ROOT));
         root.join(format!("{}-design", config.name))
     });
     write(&report, &config, &target)?;
