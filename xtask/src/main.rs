@@ -48,6 +48,9 @@ enum Command {
     /// section; write designed_input.csv, designed.toml, design.json and the figure
     /// design into target/experiments/<name>-design/; --verify N checks it on N
     /// simulated tests.
+    // The lines above are also the --help text, where [design] and <name> are meant as
+    // written.
+    #[allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
     Design(msd_experiment::design::DesignArgs),
     /// Measure the paper experiment's speed: one table (median, min–max, multiple of the
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and

@@ -221,6 +221,8 @@ pub fn write(report: &DesignReport, config: &Config, target: &Path) -> Result<()
 #[derive(Debug, Clone, clap::Args)]
 pub struct DesignArgs {
     /// A synthetic config with a [design] section, e.g. configs/design-paper.toml.
+    // This line is also the --help text, where [design] is meant as written.
+    #[allow(rustdoc::broken_intra_doc_links)]
     pub config: PathBuf,
     /// Output folder [default: <name>-design/ under the results folder].
     #[allow(rustdoc::invalid_html_tags)]

@@ -44,6 +44,9 @@ enum Command {
     /// rig's limits (peak and RMS force, stroke, band), from a config with a [design]
     /// section; write designed_input.csv, designed.toml, design.json and the figure
     /// design into msd-results/<name>-design/; --verify N checks it on N simulated tests.
+    // The lines above are also the --help text, where [design] and <name> are meant as
+    // written.
+    #[allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
     Design(msd_experiment::design::DesignArgs),
 }
 

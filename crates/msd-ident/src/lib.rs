@@ -53,7 +53,7 @@ mod arx;
 mod base_excitation;
 mod correlation;
 mod data;
-mod design;
+pub mod design;
 mod error;
 mod estimate;
 mod fft;

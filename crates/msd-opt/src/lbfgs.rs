@@ -142,7 +142,7 @@ pub fn lbfgs<F: FnMut(&[f64], &mut [f64]) -> f64>(
         }
         memory.direction(&g, &mut d);
         let mut slope = dot(&g, &d);
-        if !(slope < 0.0) {
+        if slope.is_nan() || slope >= 0.0 {
             memory.clear();
             d.iter_mut().zip(&g).for_each(|(d, g)| *d = -g);
             slope = -dot(&g, &g);

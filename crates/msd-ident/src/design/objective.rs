@@ -139,8 +139,8 @@ impl<'a> Objective<'a> {
             self.parts.push((value, d * g * d));
         }
         let (value, weights) = aggregate(self.aggregate, &self.parts, self.sharpness);
-        for p in 0..self.plants.len() {
-            let g = 2.0 * weights[p] * self.parts[p].1;
+        for (p, weight) in weights.iter().enumerate() {
+            let g = 2.0 * weight * self.parts[p].1;
             let sens = &self.sens[p];
             for n in 0..self.layout.samples {
                 let j = [sens[0][n], sens[1][n], sens[2][n]];
@@ -219,8 +219,7 @@ impl<'a> Objective<'a> {
 /// Σₙ J(n) J(n)ᵀ of the three sensitivity series.
 fn gram(s: &[Vec<f64>; 3]) -> Matrix3<f64> {
     let mut g = [0.0; 6];
-    for n in 0..s[0].len() {
-        let (a, b, c) = (s[0][n], s[1][n], s[2][n]);
+    for ((a, b), c) in s[0].iter().zip(&s[1]).zip(&s[2]) {
         g[0] += a * a;
         g[1] += a * b;
         g[2] += a * c;

@@ -149,7 +149,7 @@ fn to_signal(layout: &Layout, w: &[f64], gain: f64, t0: f64) -> Signal {
                 frequency: omega / TAU,
                 phase,
                 t_on: t0 + a as f64 * layout.dt,
-                t_off: (b < layout.samples).then(|| t0 + b as f64 * layout.dt),
+                t_off: (b < layout.samples).then_some(t0 + b as f64 * layout.dt),
             });
         }
     }
