@@ -18,7 +18,7 @@
 //!   maximum of the force, stroke and RMS ratios to their limits: it does not change when
 //!   the force is scaled, so the limits are met by scaling the optimum at the end. The
 //!   smooth maximum is sharpened in three stages (p = 8, 32, 128), each minimised by
-//!   L-BFGS ([`msd_opt::lbfgs`]).
+//!   L-BFGS ([`msd_opt::lbfgs()`]).
 //! * The result is scaled so that the largest of force, RMS force and stroke (the last
 //!   from the exact simulation of the sampled force on the prior plant) meets its limit,
 //!   and compared with the reference input by the Cramér–Rao bound
