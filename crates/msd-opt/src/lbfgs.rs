@@ -107,7 +107,7 @@ impl fmt::Display for LbfgsResult {
 }
 
 /// Minimises `f(x, gradient) -> value` (the closure writes the gradient at `x` into its
-/// second argument) from `x0`. See the [module docs](crate::lbfgs) for the algorithm.
+/// second argument) from `x0`. See the [module docs](mod@crate::lbfgs) for the algorithm.
 ///
 /// Errors: an empty or non-finite `x0`, a `memory` of 0, a negative tolerance.
 pub fn lbfgs<F: FnMut(&[f64], &mut [f64]) -> f64>(
