@@ -11,9 +11,10 @@ use serde::Serialize;
 ///
 /// ```
 /// use msd_ident::{InputComparison, Excitation, Parameters};
-/// use msd_signal::paper_identification_input;
+/// use msd_signal::{Signal, paper_identification_input};
 /// let paper = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
-/// let doubled = Excitation::from_samples(0.0, 0.002, paper.samples().iter().map(|f| 2.0 * f).collect())?;
+/// let twice = Signal::Scaled { gain: 2.0, signal: Box::new(paper_identification_input()) };
+/// let doubled = Excitation::from_signal(twice, 0.0, 0.002, 7501)?;
 /// let c = InputComparison::new(&Parameters::PAPER, &doubled, &paper, 2.5e-3)?;
 /// // Twice the force, half the standard errors: every ratio is 1/2.
 /// assert!((c.determinant_ratio - 0.5).abs() < 1e-9 && (c.worst_ratio - 0.5).abs() < 1e-9);
