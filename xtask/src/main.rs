@@ -43,6 +43,15 @@ enum Command {
     /// and the force or record length that reaches the target; --verify N checks it on N
     /// simulated tests.
     Plan(msd_experiment::plan::PlanArgs),
+    /// Design the input that minimises the predicted uncertainty of m, c, k within the
+    /// rig's limits (peak and RMS force, stroke, band), from a config with a [design]
+    /// section; write designed_input.csv, designed.toml, design.json and the figure
+    /// design into target/experiments/<name>-design/; --verify N checks it on N
+    /// simulated tests.
+    // The lines above are also the --help text, where [design] and <name> are meant as
+    // written.
+    #[allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
+    Design(msd_experiment::design::DesignArgs),
     /// Measure the paper experiment's speed: one table (median, min–max, multiple of the
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and
     /// runs the measurements in release mode (the first build takes a few minutes).
@@ -85,6 +94,9 @@ fn try_main() -> Result<(), ExperimentError> {
         }
         Some(Command::Experiment(args)) => experiment(args),
         Some(Command::Plan(args)) => msd_experiment::plan::run_plan(&args),
+        Some(Command::Design(args)) => {
+            msd_experiment::design::run_design(&args, Some(xtask::results_root()))
+        }
         Some(Command::FetchData(args)) => fetch_data(&args),
         Some(Command::Bench(args)) => bench_in_release(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),

@@ -109,6 +109,10 @@ pub struct Config {
     /// What is written.
     #[serde(default)]
     pub output: OutputSection,
+    /// Excitation design (`msd design`, [`crate::design`]): msd-ident's options, as
+    /// they are. Off unless given; a run ignores it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design: Option<msd_ident::DesignOptions>,
 }
 
 fn default_seed() -> u64 {
@@ -761,6 +765,7 @@ impl Config {
             nonlinear: None,
             frequency_response: None,
             output: OutputSection::default(),
+            design: None,
         }
     }
 

@@ -40,6 +40,14 @@ enum Command {
     /// and the force or record length that reaches the target; --verify N checks it on N
     /// simulated tests.
     Plan(msd_experiment::plan::PlanArgs),
+    /// Design the input that minimises the predicted uncertainty of m, c, k within the
+    /// rig's limits (peak and RMS force, stroke, band), from a config with a [design]
+    /// section; write designed_input.csv, designed.toml, design.json and the figure
+    /// design into msd-results/<name>-design/; --verify N checks it on N simulated tests.
+    // The lines above are also the --help text, where [design] and <name> are meant as
+    // written.
+    #[allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
+    Design(msd_experiment::design::DesignArgs),
 }
 
 fn main() -> ExitCode {
@@ -47,6 +55,7 @@ fn main() -> ExitCode {
     match command {
         Command::Run(args) => cli::exit(cli::run(&args, &args.options(None, "msd run"))),
         Command::Plan(args) => cli::exit(msd_experiment::plan::run_plan(&args)),
+        Command::Design(args) => cli::exit(msd_experiment::design::run_design(&args, None)),
         Command::FetchData(args) => cli::exit(cli::fetch_data(
             &args,
             std::path::Path::new("../shared/data/real"),

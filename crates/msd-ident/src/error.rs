@@ -76,6 +76,17 @@ pub enum IdentError {
         /// Length of the data.
         len: usize,
     },
+    /// An excitation design's option or constraint is out of range, named by its key in
+    /// a config's `[design]` section.
+    #[error("invalid design.{key} = {value}: expected {expected}")]
+    InvalidDesign {
+        /// The key, e.g. `constraints.max_stroke`.
+        key: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// What is allowed, with the numbers it depends on.
+        expected: String,
+    },
     /// The data cannot determine the parameters.
     #[error("parameters are not identifiable from these data: {reason}")]
     NotIdentifiable {

@@ -26,6 +26,8 @@
 //! - imposed motion, measured force (a damper test machine): [`dynamometer`] gives each
 //!   condition's loop energy, equivalent damping, storage stiffness and loss factor, and
 //!   fits and ranks the damping laws across all conditions;
+//! - planning the test: [`predicted_uncertainty`] (the Cramér–Rao bound of an input) and
+//!   [`design_input`] (the input that minimises it within the rig's limits);
 //! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
 //!   [`SyntheticOptions`].
 //!
@@ -60,6 +62,7 @@ mod arx;
 mod base_excitation;
 mod correlation;
 mod data;
+pub mod design;
 mod dynamometer;
 mod error;
 mod estimate;
@@ -89,6 +92,10 @@ pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use dynamometer::{
     Condition, ConditionSummary, Dynamometer, DynamometerOptions, LawFit, MIN_CYCLES, Stroke,
     SyntheticDynamometer, dynamometer, synthetic_dynamometer,
+};
+pub use design::{
+    Aggregate, Criterion, Design, DesignConstraints, DesignOptions, InputComparison, Normalise,
+    RobustBox, StepOption, design_input,
 };
 pub use error::{IdentError, Result};
 pub use estimate::{

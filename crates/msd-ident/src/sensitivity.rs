@@ -50,24 +50,7 @@ pub fn sensitivities<F: FnMut(usize, &SensitivitySample)>(
     mut output: F,
 ) -> Result<()> {
     parameters.validate()?;
-    let (m, c, k) = (parameters.mass, parameters.damping, parameters.stiffness);
-    let mut a = SMatrix::<f64, 8, 8>::zeros();
-    // Each (x_j, v_j) block has the plant's dynamics.
-    for block in 0..4 {
-        let r = 2 * block;
-        a[(r, r + 1)] = 1.0;
-        a[(r + 1, r)] = -k / m;
-        a[(r + 1, r + 1)] = -c / m;
-    }
-    // Coupling to the response.
-    a[(3, 0)] = k / (m * m);
-    a[(3, 1)] = c / (m * m);
-    a[(5, 1)] = -1.0 / m;
-    a[(7, 0)] = -1.0 / m;
-    let mut b = SVector::<f64, 8>::zeros();
-    b[1] = 1.0 / m;
-    b[3] = -1.0 / (m * m);
-    let sim = ExactSimulator::new(&LtiModel { a, b }, excitation.dt(), hold)?;
+    let sim = ExactSimulator::new(&sensitivity_model(parameters), excitation.dt(), hold)?;
     let t = sim.transition();
     let phi = [[t[(0, 0)], t[(0, 1)]], [t[(1, 0)], t[(1, 1)]]];
     let mut z0 = SVector::<f64, 8>::zeros();
@@ -94,4 +77,27 @@ pub fn sensitivities<F: FnMut(usize, &SensitivitySample)>(
         output(i, &sample);
     })?;
     Ok(())
+}
+
+/// The 8-state system z' = A z + b u of the response (x, v) and its sensitivities
+/// (x_m, v_m, x_c, v_c, x_k, v_k), in that order (the equations in the module docs).
+pub(crate) fn sensitivity_model(parameters: &Parameters) -> LtiModel<8> {
+    let (m, c, k) = (parameters.mass, parameters.damping, parameters.stiffness);
+    let mut a = SMatrix::<f64, 8, 8>::zeros();
+    // Each (x_j, v_j) block has the plant's dynamics.
+    for block in 0..4 {
+        let r = 2 * block;
+        a[(r, r + 1)] = 1.0;
+        a[(r + 1, r)] = -k / m;
+        a[(r + 1, r + 1)] = -c / m;
+    }
+    // Coupling to the response.
+    a[(3, 0)] = k / (m * m);
+    a[(3, 1)] = c / (m * m);
+    a[(5, 1)] = -1.0 / m;
+    a[(7, 0)] = -1.0 / m;
+    let mut b = SVector::<f64, 8>::zeros();
+    b[1] = 1.0 / m;
+    b[3] = -1.0 / (m * m);
+    LtiModel { a, b }
 }

@@ -8,6 +8,8 @@
 //! - [`levenberg_marquardt`](crate::levenberg_marquardt()): MINPACK's `lmder` (Moré's trust-region
 //!   Levenberg–Marquardt with QR and Givens rotations) plus box bounds and finite
 //!   differences; the result carries the Jacobian at the solution.
+//! - [`lbfgs`](crate::lbfgs()): limited-memory BFGS with Armijo backtracking, for smooth
+//!   problems with a gradient (excitation design).
 //! - [`multistart`](crate::multistart()): seeded Latin-hypercube or Halton starting points, refined by
 //!   either method on a local rayon pool, ranked; identical for any thread count.
 //!
@@ -40,12 +42,14 @@
 
 pub mod bounds;
 pub mod error;
+pub mod lbfgs;
 pub mod levenberg_marquardt;
 pub mod multistart;
 pub mod nelder_mead;
 
 pub use bounds::Bounds;
 pub use error::{OptError, ThreadPoolError};
+pub use lbfgs::{LbfgsExit, LbfgsOptions, LbfgsResult, lbfgs};
 pub use levenberg_marquardt::{
     FiniteDifference, LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult,
     LmExit, ResidualFn, levenberg_marquardt,

@@ -10,6 +10,8 @@
 //! - `residual_correlation`: residual autocorrelation and residual–input
 //!   cross-correlation with their bands;
 //! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked;
+//! - `design` (written by `design`, not by a run): the designed force, its lines over
+//!   the prior plant's |H|, its predicted standard errors beside the reference's;
 //! - `nonlinear_residuals` (with `[nonlinear]`): the validation residuals of every
 //!   candidate model over time, their RMS in the legend.
 //!
@@ -19,6 +21,7 @@
 //! Long records are thinned for drawing only: lines keep each pixel column's minimum
 //! and maximum (so no peak is lost), markers are subsampled evenly.
 
+pub(crate) mod design;
 mod diagnostics;
 mod models;
 pub(crate) mod time;

@@ -1,6 +1,7 @@
 //! Integration tests of msd-experiment: one test binary, one module per topic.
 
 mod cli;
+mod design;
 #[cfg(feature = "download")]
 mod download;
 mod fetch;

@@ -3,6 +3,7 @@
 mod base_excitation;
 mod common;
 mod data;
+mod design;
 mod diagnostics;
 mod dynamometer;
 mod error_paths;

@@ -1,0 +1,257 @@
+//! `design`: the input that will give the smallest uncertainty of m, c and k within the
+//! rig's limits, designed before the test from a synthetic config with a `[design]`
+//! section ([`msd_ident::design_input`]).
+//!
+//! The config's `[plant]` is the prior guess, its `[time]` grid, `[noise]` and
+//! identification input the reference test the design is compared with. The outputs go
+//! into the run's folder: `designed_input.csv` (`t,force`), `designed.toml` (the config
+//! with the designed force as its identification input: `cargo xtask experiment` runs
+//! it on the prior plant), `design.json`, and the figure `design` (PNG and SVG). With
+//! `verify`, that many simulated tests of the design check its prediction.
+//!
+//! ```
+//! use msd_experiment::design::{DesignRunOptions, design};
+//! let options = DesignRunOptions { verify: 0, ..DesignRunOptions::default() };
+//! let report = design("../../configs/design-paper.toml".as_ref(), &options)?;
+//! assert!(report.design.comparison.determinant_ratio <= 0.40);
+//! assert!(report.design.peak_stroke <= 0.1115);
+//! # Ok::<(), msd_experiment::ExperimentError>(())
+//! ```
+
+use crate::config::Config;
+use crate::{ExperimentError, Result};
+use msd_ident::{Design, IdentError, estimate};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Options of [`design`] and [`run_design`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DesignRunOptions {
+    /// Simulated tests to check the prediction with (0: none). By default 0.
+    pub verify: usize,
+    /// The output folder, instead of `<results_root>/<name>-design`.
+    pub out: Option<PathBuf>,
+    /// Where result folders go. By default `msd-results` in the current folder.
+    pub results_root: Option<PathBuf>,
+}
+
+/// The spread of simulated tests of the design beside its prediction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verification {
+    /// Simulated tests (noise seeds 0 … seeds − 1).
+    pub seeds: usize,
+    /// The standard deviations of m, c, k over them.
+    pub standard_deviations: [f64; 3],
+    /// Each over the predicted standard error.
+    pub ratios: [f64; 3],
+}
+
+/// A design, its comparison with the config's input, and its check.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DesignReport {
+    /// The config's name.
+    pub name: String,
+    /// The design (signal, peaks, predicted standard errors beside the reference's).
+    pub design: Design,
+    /// The simulated check, when asked.
+    pub verification: Option<Verification>,
+    /// Time of the design stage, s.
+    pub design_seconds: f64,
+}
+
+impl std::fmt::Display for DesignReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "design `{}` (designed in {:.3} s)",
+            self.name, self.design_seconds
+        )?;
+        writeln!(f, "{}", self.design)?;
+        if let Some(v) = &self.verification {
+            writeln!(
+                f,
+                "  simulated over {} seeds: sd of m, c, k = {:.4e}, {:.4e}, {:.4e} ({:.3}, {:.3}, {:.3} × predicted)",
+                v.seeds,
+                v.standard_deviations[0],
+                v.standard_deviations[1],
+                v.standard_deviations[2],
+                v.ratios[0],
+                v.ratios[1],
+                v.ratios[2]
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Designs the input of the config at `config_path` (and checks it when asked); writes
+/// nothing.
+pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignReport> {
+    let config = Config::load(config_path)?;
+    let refuse = |why: &str| ExperimentError::config(config_path, why.to_string());
+    let Some(design_options) = config.design else {
+        return Err(refuse(
+            "design needs a [design] section (see configs/design-paper.toml)",
+        ));
+    };
+    let (plant, sigma) = match (&config.plant, &config.noise) {
+        (Some(plant), Some(noise)) if noise.sigma > 0.0 && config.identification.is_some() => {
+            (plant.parameters(), noise.sigma)
+        }
+        _ => {
+            return Err(refuse(
+                "design needs a synthetic config: [plant] (the prior guess), [time], [identification.input] (the reference input) and [noise] with sigma > 0",
+            ));
+        }
+    };
+    let reference = crate::data::load(&config, config_path, config.seed)?
+        .identification
+        .excitation;
+    let started = Instant::now();
+    let design = msd_ident::design_input(&plant, &reference, sigma, &design_options).map_err(
+        |e| match e {
+            IdentError::InvalidDesign { .. } => ExperimentError::config(config_path, e.to_string()),
+            e => ExperimentError::run("design", e),
+        },
+    )?;
+    let design_seconds = started.elapsed().as_secs_f64();
+    let verification = verify(
+        &designed_config(&config, &design),
+        config_path,
+        &design,
+        options.verify,
+    )?;
+    Ok(DesignReport {
+        name: config.name.clone(),
+        design,
+        verification,
+        design_seconds,
+    })
+}
+
+/// The config that runs the designed test: `config` with the designed force as its
+/// identification input, named `<name>-designed`, without `[design]`.
+pub fn designed_config(config: &Config, design: &Design) -> Config {
+    let mut c = config.clone();
+    c.name = format!("{}-designed", config.name);
+    c.description = format!(
+        "The {} input designed by `design` from {}",
+        design.criterion, config.name
+    );
+    c.identification = Some(crate::config::InputSection {
+        input: design.signal.clone(),
+    });
+    c.design = None;
+    c.output.dir = None;
+    c
+}
+
+/// The standard deviations of m, c, k over `seeds` simulated tests of `config`.
+fn verify(
+    config: &Config,
+    config_path: &Path,
+    design: &Design,
+    seeds: usize,
+) -> Result<Option<Verification>> {
+    if seeds == 0 {
+        return Ok(None);
+    }
+    if seeds < 2 {
+        return Err(ExperimentError::config(
+            config_path,
+            "--verify = 1: expected at least 2 simulated tests",
+        ));
+    }
+    let mut values = [
+        Vec::with_capacity(seeds),
+        Vec::with_capacity(seeds),
+        Vec::with_capacity(seeds),
+    ];
+    for seed in 0..seeds as u64 {
+        let data = crate::data::load(config, config_path, seed)?;
+        let p = estimate(&data.identification, &config.estimation)
+            .map_err(|e| ExperimentError::run("design --verify", e))?
+            .parameters;
+        for (v, x) in values.iter_mut().zip([p.mass, p.damping, p.stiffness]) {
+            v.push(x);
+        }
+    }
+    let sd = |v: &[f64]| {
+        let n = v.len() as f64;
+        let mean = v.iter().sum::<f64>() / n;
+        (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+    };
+    let standard_deviations = [sd(&values[0]), sd(&values[1]), sd(&values[2])];
+    let predicted = design.comparison.design;
+    let ratios = std::array::from_fn(|i| standard_deviations[i] / predicted[i]);
+    Ok(Some(Verification {
+        seeds,
+        standard_deviations,
+        ratios,
+    }))
+}
+
+/// Writes `report`'s files for `config` into `target` atomically.
+pub fn write(report: &DesignReport, config: &Config, target: &Path) -> Result<()> {
+    crate::output::check_target(target)?;
+    let staging = crate::output::Staging::new(target)?;
+    let mut csv = String::from("t,force\n");
+    let e = &report.design.excitation;
+    for (t, u) in e.times().iter().zip(e.samples()) {
+        csv.push_str(&format!("{t},{u}\n"));
+    }
+    staging.write("designed_input.csv", csv.as_bytes())?;
+    let designed = designed_config(config, &report.design);
+    let toml = toml::to_string(&designed).map_err(|e| ExperimentError::run("design", e))?;
+    let header = "# Written by `design`: the designed test, synthetic on the prior plant.\n# Run it with `cargo xtask experiment designed.toml`.\n\n";
+    staging.write("designed.toml", format!("{header}{toml}").as_bytes())?;
+    let json =
+        serde_json::to_string_pretty(report).map_err(|e| ExperimentError::run("design", e))?;
+    staging.write("design.json", format!("{json}\n").as_bytes())?;
+    crate::plots::register_fonts();
+    crate::plots::save(
+        &crate::plots::design::DesignFigure::new(&report.design),
+        staging.path(),
+    )?;
+    staging.commit()
+}
+
+/// The arguments of `design` (`msd design`, `cargo xtask design`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct DesignArgs {
+    /// A synthetic config with a [design] section, e.g. configs/design-paper.toml.
+    // This line is also the --help text, where [design] is meant as written.
+    #[allow(rustdoc::broken_intra_doc_links)]
+    pub config: PathBuf,
+    /// Output folder [default: <name>-design/ under the results folder].
+    #[allow(rustdoc::invalid_html_tags)]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Check the prediction against N simulated tests of the design (seeds 0 … N−1).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub verify: usize,
+}
+
+/// `design`: designs, prints the comparison and writes the files (into `--out`, else
+/// `<results_root>/<name>-design`, `results_root` by default `msd-results`).
+pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()> {
+    let options = DesignRunOptions {
+        verify: args.verify,
+        out: args.out.clone(),
+        results_root,
+    };
+    let report = design(&args.config, &options)?;
+    let config = Config::load(&args.config)?;
+    let target = options.out.clone().unwrap_or_else(|| {
+        let root = options
+            .results_root
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RESULTS_ROOT));
+        root.join(format!("{}-design", config.name))
+    });
+    write(&report, &config, &target)?;
+    print!("{report}");
+    println!("written: {}", target.display());
+    Ok(())
+}

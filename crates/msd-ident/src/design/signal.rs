@@ -1,0 +1,162 @@
+//! From options to the design's layout and starting point, and from the optimised
+//! amplitudes to a force that meets the limits.
+
+use super::DesignOptions;
+use super::basis::Layout;
+use super::options::DesignConstraints;
+use crate::{Backend, Excitation, InitialState, Parameters, Result, simulate};
+use msd_signal::Signal;
+use rustfft::num_complex::Complex64;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// The lines, segments and step of `options` on `reference`'s record (validated).
+pub(super) fn layout(options: &DesignOptions, reference: &Excitation) -> Layout {
+    let (samples, dt) = (reference.len(), reference.dt());
+    let period = samples - 1;
+    let spacing = 1.0 / (dt * period as f64);
+    let [low, high] = options.constraints.band_hz;
+    let first = ((low / spacing - 1e-9).ceil() as usize).max(1);
+    let last = ((high / spacing + 1e-9).floor() as usize).min((period - 1) / 2);
+    let all: Vec<usize> = (first..=last).collect();
+    let lines = if all.len() <= options.lines {
+        all
+    } else if options.lines == 1 {
+        vec![all[all.len() / 2]]
+    } else {
+        let step = (all.len() - 1) as f64 / (options.lines - 1) as f64;
+        let mut picked: Vec<usize> = (0..options.lines)
+            .map(|i| all[(i as f64 * step).round() as usize])
+            .collect();
+        picked.dedup();
+        picked
+    };
+    let s = options.segments;
+    let edges: Vec<usize> = (0..=s)
+        .map(|i| (i * period).div_ceil(s).min(period))
+        .collect();
+    let mut segments: Vec<(usize, usize)> = edges.windows(2).map(|e| (e[0], e[1])).collect();
+    if let Some(last) = segments.last_mut() {
+        last.1 = samples;
+    }
+    let step = options.constraints.step.map(|st| {
+        let n = ((st.time - reference.t0()) / dt).round() as usize;
+        n.min(samples - 1)
+    });
+    Layout {
+        samples,
+        dt,
+        lines,
+        segments,
+        step,
+    }
+}
+
+/// Start `start`'s amplitudes: every line at the same amplitude with Schroeder phases
+/// (start 0) or seeded random ones, and a step as strong as the multisine's RMS.
+pub(super) fn initial(
+    layout: &Layout,
+    start: usize,
+    seed: u64,
+    max_force: f64,
+) -> Result<Vec<f64>> {
+    let lines = layout.lines.len();
+    let count = lines * layout.segments.len();
+    let noise = msd_signal::gaussian_noise(
+        seed.wrapping_add(start as u64),
+        "design.phases",
+        1.0,
+        2 * count,
+    )?;
+    let a = max_force / (count as f64).sqrt();
+    let mut w = Vec::with_capacity(layout.variables());
+    for i in 0..count {
+        let l = (i % lines) as f64;
+        let phase = match start {
+            0 => -PI * l * (l + 1.0) / lines as f64,
+            _ => noise[2 * i + 1].atan2(noise[2 * i]),
+        };
+        w.extend([a * phase.cos(), a * phase.sin()]);
+    }
+    if layout.step.is_some() {
+        w.push(a * (count as f64 / 2.0).sqrt());
+    }
+    Ok(w)
+}
+
+/// A design scaled to its limits, and its peaks.
+pub(super) struct Scaled {
+    pub signal: Signal,
+    pub excitation: Excitation,
+    pub step_amplitude: f64,
+    pub peak_force: f64,
+    pub rms_force: f64,
+    pub peak_stroke: f64,
+}
+
+/// Scales `w` so that the largest of |force|/max_force, RMS/max_rms_force and, on the
+/// exact response of the sampled force on `prior`, |x|/max_stroke is 1 − 10⁻⁹.
+pub(super) fn scaled(
+    layout: &Layout,
+    w: &[f64],
+    prior: &Parameters,
+    reference: &Excitation,
+    constraints: &DesignConstraints,
+) -> Result<Scaled> {
+    let measure = |gain: f64| -> Result<(Signal, Excitation, [f64; 3])> {
+        let signal = to_signal(layout, w, gain, reference.t0());
+        let excitation =
+            Excitation::from_signal(signal.clone(), reference.t0(), layout.dt, layout.samples)?;
+        let x = simulate(prior, &excitation, InitialState::REST, &Backend::EXACT)?;
+        let u = excitation.samples();
+        let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let rms = (u.iter().map(|u| u * u).sum::<f64>() / u.len() as f64).sqrt();
+        let peaks = [peak(u), rms, peak(&x)];
+        Ok((signal, excitation, peaks))
+    };
+    let (_, _, [force, rms, stroke]) = measure(1.0)?;
+    let ratio = (force / constraints.max_force)
+        .max(stroke / constraints.max_stroke)
+        .max(constraints.max_rms_force.map_or(0.0, |limit| rms / limit));
+    let gain = (1.0 - 1e-9) / ratio;
+    let (signal, excitation, [peak_force, rms_force, peak_stroke]) = measure(gain)?;
+    Ok(Scaled {
+        signal,
+        excitation,
+        step_amplitude: gain * layout.step_amplitude(w),
+        peak_force,
+        rms_force,
+        peak_stroke,
+    })
+}
+
+/// The force gain·(step + Σ windowed sines) of `w`, in absolute time from `t0`:
+/// Re(a·e^{iω(t − t0)}) = |a|·sin(ωt + arg a + π/2 − ω·t0).
+fn to_signal(layout: &Layout, w: &[f64], gain: f64, t0: f64) -> Signal {
+    let mut terms = Vec::new();
+    if let Some(n) = layout.step {
+        terms.push(Signal::Step {
+            amplitude: gain * layout.step_amplitude(w),
+            time: t0 + n as f64 * layout.dt,
+        });
+    }
+    for (s, &(a, b)) in layout.segments.iter().enumerate() {
+        for l in 0..layout.lines.len() {
+            let amplitude: Complex64 = gain * layout.amplitude(w, s, l);
+            let omega = layout.omega(l);
+            let phase = (amplitude.arg() + FRAC_PI_2 - omega * t0).rem_euclid(TAU);
+            terms.push(Signal::Sine {
+                amplitude: amplitude.norm(),
+                frequency: omega / TAU,
+                phase,
+                t_on: t0 + a as f64 * layout.dt,
+                t_off: (b < layout.samples).then_some(t0 + b as f64 * layout.dt),
+            });
+        }
+    }
+    Signal::Sum { terms }
+}
+
+#[cfg(test)]
+pub(super) fn to_signal_for_tests(layout: &Layout, w: &[f64], t0: f64) -> Signal {
+    to_signal(layout, w, 1.0, t0)
+}

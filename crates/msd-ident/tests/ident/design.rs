@@ -1,0 +1,180 @@
+//! Excitation design: the reference's Cramér–Rao bound, the limits on the simulated
+//! response, the criterion against the reference, and the refused constraints.
+
+use msd_ident::{
+    Backend, Criterion, DesignOptions, Excitation, IdentError, InitialState, InputComparison,
+    Normalise, Parameters, StepOption, design_input, simulate,
+};
+use msd_signal::{Signal, paper_identification_input};
+
+fn paper() -> Excitation {
+    Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501).unwrap()
+}
+
+/// The paper input's Cramér–Rao standard deviations are the (m 0.00145 kg,
+/// c 0.00524 N·s/m, k 0.0645 N/m) within 1 % (they are given to three digits).
+#[test]
+fn the_paper_inputs_bound_is_the_published_one() {
+    let p = paper();
+    let c = InputComparison::new(&Parameters::PAPER, &p, &p, 2.5e-3).unwrap();
+    for (se, expected) in c.reference.iter().zip([0.00145, 0.00524, 0.0645]) {
+        assert!((se / expected - 1.0).abs() < 0.01, "{se} vs {expected}");
+    }
+    assert!((c.determinant_ratio - 1.0).abs() < 1e-12);
+}
+
+/// A D-optimal design with a step: the sampled force, the RMS force and the exact
+/// simulated displacement on the prior stay within their limits and reach the binding
+/// one (to 1e-6), every line lies in the band, the step is at least its minimum, and
+/// the design beats the reference on its criterion.
+#[test]
+fn a_design_keeps_its_limits_on_the_simulated_response() {
+    let reference = paper();
+    let mut options = DesignOptions {
+        lines: 30,
+        iterations: 40,
+        ..DesignOptions::default()
+    };
+    let c = &mut options.constraints;
+    c.band_hz = [0.4, 3.0];
+    c.max_rms_force = Some(5.0);
+    c.step = Some(StepOption {
+        time: 0.5,
+        min_amplitude: 2.0,
+    });
+    let design = design_input(&Parameters::PAPER, &reference, 2.5e-3, &options).unwrap();
+    let x = simulate(
+        &Parameters::PAPER,
+        &design.excitation,
+        InitialState::REST,
+        &Backend::EXACT,
+    )
+    .unwrap();
+    let u = design.excitation.samples();
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let rms = (u.iter().map(|u| u * u).sum::<f64>() / u.len() as f64).sqrt();
+    let ratios = [peak(u) / 9.0, peak(&x) / 0.1115, rms / 5.0];
+    assert!(ratios.iter().all(|r| *r <= 1.0), "{ratios:?}");
+    assert!(
+        ratios.iter().any(|r| *r > 1.0 - 1e-6),
+        "no limit reached: {ratios:?}"
+    );
+    assert!((design.peak_stroke - peak(&x)).abs() <= 1e-12, "{design}");
+    let Signal::Sum { terms } = &design.signal else {
+        panic!("a sum")
+    };
+    for t in terms {
+        match t {
+            Signal::Sine { frequency, .. } => {
+                assert!((0.4..=3.0).contains(frequency), "{frequency}")
+            }
+            Signal::Step { amplitude, time } => {
+                assert_eq!(*time, 0.5);
+                assert!(amplitude.abs() >= 2.0 * 0.99, "step {amplitude}");
+            }
+            other => panic!("unexpected term {other:?}"),
+        }
+    }
+    assert!(design.comparison.determinant_ratio < 1.0, "{design}");
+}
+
+/// Each criterion's design (default settings: 60 lines, 3 × 100 iterations) is at least
+/// as good as the other two on its own measure: the D design on det(cov), the A design
+/// on the trace, the minimax design (relative to the reference's standard errors) on
+/// the worst ratio; the optimiser is local, hence a 2 % allowance.
+#[test]
+fn each_criterion_wins_on_its_own_measure() {
+    let reference = paper();
+    let run = |criterion, normalise| {
+        let options = DesignOptions {
+            criterion,
+            normalise,
+            ..DesignOptions::default()
+        };
+        design_input(&Parameters::PAPER, &reference, 2.5e-3, &options)
+            .unwrap()
+            .comparison
+    };
+    let d = run(Criterion::DOptimal, Normalise::Prior);
+    let a = run(Criterion::AOptimal, Normalise::Prior);
+    let minimax = run(Criterion::Minimax, Normalise::Reference);
+    let all = format!("{d}\n{a}\n{minimax}");
+    assert!(
+        d.determinant_ratio <= 1.02 * a.determinant_ratio.min(minimax.determinant_ratio),
+        "{all}"
+    );
+    assert!(
+        a.trace_ratio <= 1.02 * d.trace_ratio.min(minimax.trace_ratio),
+        "{all}"
+    );
+    assert!(
+        minimax.worst_ratio <= 1.02 * d.worst_ratio.min(a.worst_ratio),
+        "{all}"
+    );
+}
+
+fn refused(edit: impl Fn(&mut DesignOptions)) -> IdentError {
+    let mut options = DesignOptions::default();
+    edit(&mut options);
+    design_input(&Parameters::PAPER, &paper(), 2.5e-3, &options).unwrap_err()
+}
+
+#[test]
+fn bad_constraints_are_refused_by_their_key() {
+    // A 20 N step deflects the 120 N/m prior by 1/6 m, more than the 0.1115 m stroke.
+    let err = refused(|o| {
+        o.constraints.max_force = 30.0;
+        o.constraints.step = Some(StepOption {
+            time: 0.5,
+            min_amplitude: 20.0,
+        });
+    });
+    assert!(
+        matches!(
+            err,
+            IdentError::InvalidDesign {
+                key: "constraints.max_stroke",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains("static deflection 0.16666"),
+        "{err}"
+    );
+    let err = refused(|o| o.constraints.band_hz = [2.0, 2.0]);
+    assert!(
+        matches!(
+            err,
+            IdentError::InvalidDesign {
+                key: "constraints.band_hz",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("the band is empty"), "{err}");
+    let err = refused(|o| o.constraints.band_hz = [1.0, 260.0]);
+    assert_eq!(
+        err.to_string(),
+        "invalid design.constraints.band_hz = 260: expected an upper edge below the Nyquist frequency 250 Hz of the record"
+    );
+    let err = refused(|o| o.constraints.band_hz = [0.01, 0.05]);
+    assert!(
+        err.to_string()
+            .contains("a line of the record's frequency grid"),
+        "{err}"
+    );
+    let err = refused(|o| o.robust.spread = 1.5);
+    assert!(
+        matches!(
+            err,
+            IdentError::InvalidDesign {
+                key: "robust.spread",
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
