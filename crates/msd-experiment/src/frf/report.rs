@@ -127,7 +127,7 @@ fn data_section(w: &mut String, o: &FrfOutcome) {
     let _ = writeln!(w, "## Data\n");
     let _ = writeln!(
         w,
-        "{n} lines from {} to {} Hz, {}; {} averages.",
+        "{n} lines from {} to {} Hz, {}; averaged over {} segments.",
         sig(d.frequency[0], 4),
         sig(d.frequency[n - 1], 4),
         d.kind,
