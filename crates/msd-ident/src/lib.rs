@@ -89,13 +89,13 @@ pub use arx::arx_initial_guess;
 pub use base_excitation::{BaseExcitation, BaseExcitationOptions, base_excitation};
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
-pub use dynamometer::{
-    Condition, ConditionSummary, Dynamometer, DynamometerOptions, LawFit, MIN_CYCLES, Stroke,
-    SyntheticDynamometer, dynamometer, synthetic_dynamometer,
-};
 pub use design::{
     Aggregate, Criterion, Design, DesignConstraints, DesignOptions, InputComparison, Normalise,
     RobustBox, StepOption, design_input,
+};
+pub use dynamometer::{
+    Condition, ConditionSummary, Dynamometer, DynamometerOptions, LawFit, MIN_CYCLES, Stroke,
+    SyntheticDynamometer, dynamometer, synthetic_dynamometer,
 };
 pub use error::{IdentError, Result};
 pub use estimate::{
