@@ -64,6 +64,22 @@ pub fn setups(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Row>>
     };
     fit_records(&one, &joint).map_err(fail("bench: accelerometer"))?;
     fit_records(&ten, &joint).map_err(fail("bench: 10 records"))?;
+    let (decay_records, base_records) = pipeline_records(experiment, &decay)?;
+    let known_mass = RecordsOptions {
+        known: KnownParameter::Mass(p.mass),
+        ..joint.clone()
+    };
+    let decay_joint = RecordsOptions {
+        drive: Drive::None,
+        estimate_initial_state: true,
+        ..known_mass.clone()
+    };
+    let base_joint = RecordsOptions {
+        drive: Drive::BaseAcceleration,
+        ..known_mass
+    };
+    fit_records(&decay_records, &decay_joint).map_err(fail("bench: free decay records"))?;
+    fit_records(&base_records, &base_joint).map_err(fail("bench: base excitation records"))?;
     let single = measure(budget, || fit_records(&one, &joint).ok());
     let repeated = measure(budget, || fit_records(&ten, &joint).ok());
     let ratio = repeated.median() / single.median();
@@ -91,6 +107,18 @@ pub fn setups(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Row>>
             "setups",
             "base excitation (unit-mass LM + exact), 7501 samples",
             measure(budget, || base_excitation(&table, &known).ok()),
+        )
+        .target(Target::Seconds(5e-3)),
+        Row::new(
+            "setups",
+            "free decay as `[setup]` runs it (records engine, mass known), 7501 samples",
+            measure(budget, || fit_records(&decay_records, &decay_joint).ok()),
+        )
+        .target(Target::Seconds(5e-3)),
+        Row::new(
+            "setups",
+            "base excitation as `[setup]` runs it (records engine: relative displacement + absolute acceleration, mass known), 7501 samples",
+            measure(budget, || fit_records(&base_records, &base_joint).ok()),
         )
         .target(Target::Seconds(5e-3)),
         Row::new(
@@ -137,4 +165,80 @@ fn accelerometer_records(experiment: &PaperExperiment) -> Result<(Vec<Record>, V
         }],
     };
     Ok((vec![record(0)], (0..10).map(record).collect()))
+}
+
+/// The free decay (one displacement channel) and the base excitation (the paper's input
+/// as the table's acceleration; relative displacement, σ 2.5 mm, and absolute
+/// acceleration, σ 0.05 m/s²) as the `[setup]` pipeline fits them.
+fn pipeline_records(
+    experiment: &PaperExperiment,
+    decay: &[f64],
+) -> Result<(Vec<Record>, Vec<Record>)> {
+    let table = &experiment.identification.excitation;
+    let noise: Vec<f64> = experiment
+        .identification
+        .output
+        .iter()
+        .zip(&experiment.identification_truth)
+        .map(|(y, x)| y - x)
+        .collect();
+    let channel =
+        |name: &str, quantity, frame, clean: Vec<f64>, scale: f64, shift: usize| Channel {
+            name: name.into(),
+            quantity,
+            frame,
+            samples: (0..clean.len())
+                .map(|i| clean[i] + scale * noise[(i + shift) % noise.len()])
+                .collect(),
+        };
+    let response = |quantity, frame| {
+        simulate_response(
+            &Parameters::PAPER,
+            Drive::BaseAcceleration,
+            table,
+            InitialState::REST,
+            quantity,
+            frame,
+        )
+        .map_err(fail("bench: base excitation records"))
+    };
+    let relative = response(ResponseQuantity::Displacement, Frame::Relative)?;
+    let absolute = response(ResponseQuantity::Acceleration, Frame::Absolute)?;
+    let base = Record {
+        name: "table".into(),
+        excitation: table.clone(),
+        channels: vec![
+            channel(
+                "laser",
+                ResponseQuantity::Displacement,
+                Frame::Relative,
+                relative,
+                1.0,
+                0,
+            ),
+            channel(
+                "accelerometer",
+                ResponseQuantity::Acceleration,
+                Frame::Absolute,
+                absolute,
+                0.05 / PaperExperiment::SIGMA,
+                701,
+            ),
+        ],
+    };
+    let zero = Excitation::from_samples(0.0, PaperExperiment::DT, vec![0.0; decay.len()])
+        .map_err(fail("bench: free decay records"))?;
+    let ring = Record {
+        name: "ring-down".into(),
+        excitation: zero,
+        channels: vec![channel(
+            "laser",
+            ResponseQuantity::Displacement,
+            Frame::Absolute,
+            decay.to_vec(),
+            0.0,
+            0,
+        )],
+    };
+    Ok((vec![ring], vec![base]))
 }

@@ -175,12 +175,17 @@ fn synthetic(
         return Ok(records);
     }
     let n = time.samples();
+    // The drive as a lab records it: its samples only (no breakpoints between them), so
+    // that the synthetic run and its measured template (which reads these samples back)
+    // describe the same experiment, the one the fit's model assumes.
     let input = match &config.identification {
-        Some(section) => Some(
-            Excitation::from_signal(section.input.clone(), time.start, time.dt, n).map_err(
-                |e| ExperimentError::config(config_path, format!("identification.input: {e}")),
-            )?,
-        ),
+        Some(section) => {
+            let signal =
+                |e| ExperimentError::config(config_path, format!("identification.input: {e}"));
+            let x = Excitation::from_signal(section.input.clone(), time.start, time.dt, n)
+                .map_err(signal)?;
+            Some(Excitation::from_samples(x.t0(), x.dt(), x.samples().to_vec()).map_err(signal)?)
+        }
         None => None,
     };
     let clean = simulate_channels(

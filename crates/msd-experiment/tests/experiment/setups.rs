@@ -27,10 +27,9 @@ fn assert_truth_inside(results: &Value, keys: &[&str]) {
 
 /// The measured template's estimates agree with the synthetic run's on the same noise:
 /// within 3 of the measured run's standard errors. The two differ by what estimating
-/// the initial state and the offsets adds (at most their variances' difference) and by
-/// the input read back from samples, whose step has lost its exact breakpoint (a
-/// fraction of a standard error on these records); a column read wrongly or scaled
-/// wrongly is off by many.
+/// the initial state and the offsets adds (at most their variances' difference; the
+/// synthetic drive is its samples alone, as the CSV files hold it); a column read
+/// wrongly or scaled wrongly is off by many.
 fn assert_agree(measured: &Value, synthetic: &Value, keys: &[&str]) {
     for key in keys {
         let m = &measured["estimate"][*key];
@@ -102,8 +101,9 @@ fn accelerometer_and_laser_are_fitted_together_and_their_noise_estimated() {
         let sigma = n["sigma"].as_f64().unwrap();
         assert!((sigma / truth - 1.0).abs() < 0.05, "{n}");
     }
-    // The measured template reads the same numbers back.
+    // The measured template reads the same numbers back, and its intervals hold the truth.
     assert_agree(&m, &s, &ALL);
+    assert_covers(&m, &s["truth"], &ALL);
 }
 
 #[test]
@@ -119,6 +119,7 @@ fn repeats_give_one_row_per_record_and_leave_one_out() {
     }
     assert_eq!(m["records"].as_array().unwrap().len(), 5);
     assert_agree(&m, &s, &ALL);
+    assert_covers(&m, &s["truth"], &ALL);
 }
 
 #[test]
