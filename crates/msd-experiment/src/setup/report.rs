@@ -217,14 +217,19 @@ fn estimate_section(s: &mut String, o: &SetupOutcome) {
         if has_truth { "---|---|" } else { "" }
     );
     for (_, label, iv, truth) in rows {
-        let _ = write!(
-            s,
-            "| {label} | {} | {} | [{}, {}] |",
-            sig(iv.value, 6),
-            sig(iv.standard_error, 3),
-            sig(iv.ci95[0], 6),
-            sig(iv.ci95[1], 6)
-        );
+        if iv.standard_error == 0.0 {
+            // A known (weighed) mass or static stiffness: given, not estimated.
+            let _ = write!(s, "| {label} | {} | known, fixed | — |", sig(iv.value, 6));
+        } else {
+            let _ = write!(
+                s,
+                "| {label} | {} | {} | [{}, {}] |",
+                sig(iv.value, 6),
+                sig(iv.standard_error, 3),
+                sig(iv.ci95[0], 6),
+                sig(iv.ci95[1], 6)
+            );
+        }
         if has_truth {
             let t = truth.map_or("—".into(), |t| sig(t, 6));
             let inside = truth.map_or("—", |t| if iv.contains(t) { "yes" } else { "**no**" });

@@ -43,7 +43,7 @@ pub(crate) fn initial_theta(problem: &Joint<'_>, options: &RecordsOptions) -> Re
             .find(|(n, _)| *n == name)
             .map_or(1.0, |(_, w)| 1.0 / w)
     });
-    let best = candidates
+    let best = distinct(candidates)
         .into_iter()
         .filter_map(|(wn, zeta)| score(&mut scorer, wn, zeta).map(|(cost, m)| (cost, wn, zeta, m)))
         .min_by(|a, b| a.0.total_cmp(&b.0));
@@ -93,19 +93,21 @@ fn classroom_candidates(problem: &Joint<'_>) -> Result<Vec<(f64, f64)>> {
 fn arx_candidates(problem: &Joint<'_>) -> Vec<(f64, f64)> {
     const MIN_DECIMATED: usize = 100;
     let record = problem.records[0].record;
-    let mut candidates = Vec::new();
-    for channel in &record.channels {
-        let mut levels = vec![(
-            record.excitation.samples().to_vec(),
-            channel.samples.clone(),
-        )];
-        while let Some((u, y)) = levels.last().filter(|(_, y)| y.len() / 2 >= MIN_DECIMATED) {
-            match (msd_signal::decimate(u, 2), msd_signal::decimate(y, 2)) {
-                (Ok(du), Ok(dy)) => levels.push((du, dy)),
-                _ => break,
+    let cascade = |x: &[f64]| {
+        let mut levels = vec![x.to_vec()];
+        while let Some(last) = levels.last().filter(|x| x.len() / 2 >= MIN_DECIMATED) {
+            match msd_signal::decimate(last, 2) {
+                Ok(d) => levels.push(d),
+                Err(_) => break,
             }
         }
-        for (j, (u, y)) in levels.iter().enumerate().rev() {
+        levels
+    };
+    let drive = cascade(record.excitation.samples());
+    let mut candidates = Vec::new();
+    for channel in &record.channels {
+        let response = cascade(&channel.samples);
+        for (j, (u, y)) in drive.iter().zip(&response).enumerate().rev() {
             let dt = record.excitation.dt() * (1u64 << j) as f64;
             if let Ok((wn, zeta)) = arx_poles(u, y, dt) {
                 candidates.push((wn, zeta));
@@ -116,6 +118,22 @@ fn arx_candidates(problem: &Joint<'_>) -> Vec<(f64, f64)> {
         }
     }
     candidates
+}
+
+/// The candidates without near-repeats: one within 2 % in ωn and 10 % in ζ of a kept
+/// one starts Levenberg–Marquardt in the same basin, and scoring it would cost a
+/// simulation of the record for nothing (the channels of one record and the rates of
+/// the cascade mostly agree that closely).
+fn distinct(candidates: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let mut kept: Vec<(f64, f64)> = Vec::with_capacity(candidates.len());
+    for (wn, zeta) in candidates {
+        let near =
+            |&(w, z): &(f64, f64)| ((wn - w) / w).abs() < 0.02 && ((zeta - z) / z).abs() < 0.1;
+        if !kept.iter().any(near) {
+            kept.push((wn, zeta));
+        }
+    }
+    kept
 }
 
 /// The projected cost of (ωn, ζ) and, with a force drive, the best mass (the inverse
