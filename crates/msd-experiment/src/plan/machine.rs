@@ -213,7 +213,7 @@ mod tests {
     use super::*;
 
     /// Whole cycles add information in proportion: twice the cycles, the standard
-    /// errors over √2 (to the rounding of each condition's samples to the grid).
+    /// errors over √2 (exactly when every period is a whole number of samples, as here).
     #[test]
     fn errors_scale_as_one_over_the_root_of_the_cycles() {
         let path = std::path::PathBuf::from("../../configs/damper-test-machine.toml");
@@ -231,7 +231,7 @@ mod tests {
         let (five, ten) = (at(5), at(10));
         for (a, b) in five.coefficients.iter().zip(&ten.coefficients) {
             let ratio = b.standard_error / a.standard_error;
-            assert!((ratio * 2f64.sqrt() - 1.0).abs() < 1e-2, "{ratio}");
+            assert!((ratio * 2f64.sqrt() - 1.0).abs() < 1e-9, "{ratio}");
         }
     }
 }

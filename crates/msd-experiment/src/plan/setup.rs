@@ -294,19 +294,25 @@ mod tests {
     use super::*;
 
     /// The amplitude factor is exact: the drive and the initial state doubled, every
-    /// standard error halves, with initial states and offsets estimated (free decay),
-    /// two channels (accelerometer, base excitation) and five records (repeats).
+    /// standard error halves, for each shipped setup (two channels, base excitation, a
+    /// free decay, five records) as shipped and with every record's initial state and
+    /// every channel's offset estimated.
     #[test]
     fn errors_scale_as_one_over_the_amplitude() {
         for name in ["accelerometer", "base-excitation", "free-decay", "repeats"] {
             let path = std::path::PathBuf::from(format!("../../configs/{name}.toml"));
-            let config = Config::load(&path).unwrap();
-            let p = Planned::new(&config, &path).unwrap();
-            let (one, two) = (p.predict(2.0, 1.0).unwrap(), p.predict(2.0, 2.0).unwrap());
-            for n in estimated(&one) {
-                let (a, b) = (interval(&one, n).unwrap(), interval(&two, n).unwrap());
-                let ratio = b.standard_error / a.standard_error;
-                assert!((ratio - 0.5).abs() < 1e-9, "{name} {n}: {ratio}");
+            let shipped = Config::load(&path).unwrap();
+            let mut estimated_states = shipped.clone();
+            estimated_states.estimation.estimate_initial_state = true;
+            estimated_states.estimation.estimate_offset = true;
+            for config in [shipped, estimated_states] {
+                let p = Planned::new(&config, &path).unwrap();
+                let (one, two) = (p.predict(2.0, 1.0).unwrap(), p.predict(2.0, 2.0).unwrap());
+                for n in estimated(&one) {
+                    let (a, b) = (interval(&one, n).unwrap(), interval(&two, n).unwrap());
+                    let ratio = b.standard_error / a.standard_error;
+                    assert!((ratio - 0.5).abs() < 1e-9, "{name} {n}: {ratio}");
+                }
             }
         }
     }
