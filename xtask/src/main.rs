@@ -39,9 +39,10 @@ enum Command {
     /// workspace (or --from DIR), else downloaded from the official archive (or --url).
     FetchData(cli::FetchArgs),
     /// Predict the precision of a planned test before running it (Cramér–Rao bound from
-    /// the exact sensitivities): standard errors and 95 % half-widths of m, c, k, fn, ζ,
-    /// and the force or record length that reaches the target; --verify N checks it on N
-    /// simulated tests.
+    /// the exact sensitivities), for the paper's setup and every setup section: standard
+    /// errors and 95 % half-widths of what the setup identifies, their correlation, and
+    /// the record length, drive amplitude or repeats that reach the target; --verify N
+    /// checks it on N simulated tests.
     Plan(msd_experiment::plan::PlanArgs),
     /// Design the input that minimises the predicted uncertainty of m, c, k within the
     /// rig's limits (peak and RMS force, stroke, band), from a config with a [design]

@@ -94,8 +94,9 @@ pub use design::{
     RobustBox, StepOption, design_input,
 };
 pub use dynamometer::{
-    Condition, ConditionSummary, Dynamometer, DynamometerOptions, LawFit, MIN_CYCLES, Stroke,
-    SyntheticDynamometer, dynamometer, synthetic_dynamometer,
+    Condition, ConditionSummary, Dynamometer, DynamometerNoise, DynamometerOptions, LawFit,
+    MIN_CYCLES, Stroke, SyntheticDynamometer, dynamometer, predicted_dynamometer,
+    synthetic_dynamometer,
 };
 pub use error::{IdentError, Result};
 pub use estimate::{

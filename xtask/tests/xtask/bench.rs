@@ -19,6 +19,12 @@ fn smoke_run_gives_a_table_with_the_expected_columns() {
         names.iter().any(|n| n.starts_with("base excitation")),
         "{names:?}"
     );
+    assert!(
+        names
+            .iter()
+            .any(|n| n.starts_with("plan: configs/damper-test-machine.toml")),
+        "{names:?}"
+    );
 
     let md = report.markdown();
     assert!(

@@ -157,11 +157,7 @@ fn synthetic(
         |what: &str| ExperimentError::config(config_path, format!("{what}: missing section"));
     let plant = config.plant.ok_or_else(|| missing("plant"))?;
     let time = config.time.ok_or_else(|| missing("time"))?;
-    let default_sigma = config.noise.map_or(0.0, |n| n.sigma);
-    let sigmas: Vec<f64> = channels
-        .iter()
-        .map(|r| r.sigma.unwrap_or(default_sigma))
-        .collect();
+    let sigmas = channel_sigmas(config, channels);
     let mut records = Vec::new();
     if setup.excitation == ExcitationKind::ImposedDisplacement {
         for (i, c) in setup.conditions.iter().enumerate() {
@@ -175,19 +171,7 @@ fn synthetic(
         return Ok(records);
     }
     let n = time.samples();
-    // The drive as a lab records it: its samples only (no breakpoints between them), so
-    // that the synthetic run and its measured template (which reads these samples back)
-    // describe the same experiment, the one the fit's model assumes.
-    let input = match &config.identification {
-        Some(section) => {
-            let signal =
-                |e| ExperimentError::config(config_path, format!("identification.input: {e}"));
-            let x = Excitation::from_signal(section.input.clone(), time.start, time.dt, n)
-                .map_err(signal)?;
-            Some(Excitation::from_samples(x.t0(), x.dt(), x.samples().to_vec()).map_err(signal)?)
-        }
-        None => None,
-    };
+    let input = synthetic_input(config, config_path)?;
     let clean = simulate_channels(
         &plant,
         setup.excitation,
@@ -208,6 +192,31 @@ fn synthetic(
         records.push(noisy(name, record, &sigmas, setup.input_sigma, seed)?);
     }
     Ok(records)
+}
+
+/// Each channel's noise level: its own `sigma`, else `[noise] sigma`, else 0.
+pub(crate) fn channel_sigmas(config: &Config, channels: &[Response]) -> Vec<f64> {
+    let default_sigma = config.noise.map_or(0.0, |n| n.sigma);
+    channels
+        .iter()
+        .map(|r| r.sigma.unwrap_or(default_sigma))
+        .collect()
+}
+
+/// The synthetic drive: `[identification.input]` on the `[time]` grid (none for a free
+/// decay or a test machine), as a lab records it: its samples alone, no breakpoints
+/// between them, so that the synthetic run and its measured template (which reads these
+/// samples back) describe the same experiment, the one the fit's model assumes.
+pub(crate) fn synthetic_input(config: &Config, config_path: &Path) -> Result<Option<Excitation>> {
+    let (Some(section), Some(time)) = (&config.identification, config.time) else {
+        return Ok(None);
+    };
+    let signal = |e| ExperimentError::config(config_path, format!("identification.input: {e}"));
+    let x = Excitation::from_signal(section.input.clone(), time.start, time.dt, time.samples())
+        .map_err(signal)?;
+    Excitation::from_samples(x.t0(), x.dt(), x.samples().to_vec())
+        .map(Some)
+        .map_err(signal)
 }
 
 /// A noise-free record.

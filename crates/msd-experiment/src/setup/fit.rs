@@ -2,7 +2,7 @@
 //! test machine's analysis.
 
 use super::{SetupData, SetupOutcome};
-use crate::config::{Config, ExcitationKind, Frame, Quantity};
+use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
 use crate::tables::Table;
 use crate::{ExperimentError, Result};
 use msd_ident::{
@@ -40,48 +40,18 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
         other => ExperimentError::data(config_path, format!("setup: {other}")),
     };
     if setup.excitation == ExcitationKind::ImposedDisplacement {
-        let conditions: Vec<Condition> = data
-            .records
-            .iter()
-            .map(|r| Condition {
-                name: r.name.clone(),
-                dt: r.dt,
-                displacement: r
-                    .input
-                    .as_ref()
-                    .map_or_else(Vec::new, |x| x.samples().to_vec()),
-                force: r.channels[0].clone(),
-                frequency_hz: r.frequency,
-            })
-            .collect();
-        let options = DynamometerOptions {
-            known_mass: setup.known_mass,
-            ..DynamometerOptions::default()
-        };
-        let result = dynamometer(&conditions, &options).map_err(refused)?;
+        let result =
+            dynamometer(&machine_conditions(data), &machine_options(setup)).map_err(refused)?;
         return Ok(SetupFit::Machine(Box::new(result)));
     }
     let records = ident_records(data)?;
-    let known = match (setup.known_mass, setup.known_stiffness) {
-        (Some(m), _) => KnownParameter::Mass(m),
-        (None, Some(k)) => KnownParameter::Stiffness(k),
-        (None, None) => KnownParameter::None,
-    };
-    let options = RecordsOptions {
-        drive: drive(setup.excitation),
-        known,
-        initial_guess: config.estimation.initial_guess,
-        estimate_initial_state: config.estimation.estimate_initial_state
-            || setup.excitation == ExcitationKind::None,
-        estimate_offset: config.estimation.estimate_offset,
-        ..RecordsOptions::default()
-    };
+    let options = records_options(config);
     let fit = fit_records(&records, &options).map_err(refused)?;
     let classroom = match (setup.excitation, data.records.first()) {
         (ExcitationKind::None, Some(r)) => {
             let options = FreeDecayOptions {
                 response: quantity(data.channels[0].quantity),
-                known,
+                known: options.known,
             };
             free_decay(r.dt, &r.channels[0], &options)
                 .ok()
@@ -93,6 +63,52 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
         fit: Box::new(fit),
         classroom,
     })
+}
+
+/// The joint fit's options of a `[setup]` config: its drive, known mass or stiffness
+/// and `[estimation]` (a free decay always estimates its initial state).
+pub(crate) fn records_options(config: &Config) -> RecordsOptions {
+    let setup = config.setup.as_ref();
+    let excitation = setup.map_or(ExcitationKind::Force, |s| s.excitation);
+    let known = match setup.map(|s| (s.known_mass, s.known_stiffness)) {
+        Some((Some(m), _)) => KnownParameter::Mass(m),
+        Some((None, Some(k))) => KnownParameter::Stiffness(k),
+        _ => KnownParameter::None,
+    };
+    RecordsOptions {
+        drive: drive(excitation),
+        known,
+        initial_guess: config.estimation.initial_guess,
+        estimate_initial_state: config.estimation.estimate_initial_state
+            || excitation == ExcitationKind::None,
+        estimate_offset: config.estimation.estimate_offset,
+        ..RecordsOptions::default()
+    }
+}
+
+/// The test machine's conditions: each record's stroke and force.
+pub(crate) fn machine_conditions(data: &SetupData) -> Vec<Condition> {
+    data.records
+        .iter()
+        .map(|r| Condition {
+            name: r.name.clone(),
+            dt: r.dt,
+            displacement: r
+                .input
+                .as_ref()
+                .map_or_else(Vec::new, |x| x.samples().to_vec()),
+            force: r.channels[0].clone(),
+            frequency_hz: r.frequency,
+        })
+        .collect()
+}
+
+/// The test machine's analysis options of a `[setup]` config.
+pub(crate) fn machine_options(setup: &crate::config::SetupSection) -> DynamometerOptions {
+    DynamometerOptions {
+        known_mass: setup.known_mass,
+        ..DynamometerOptions::default()
+    }
 }
 
 fn drive(kind: ExcitationKind) -> msd_ident::Drive {
@@ -112,8 +128,21 @@ fn quantity(q: Quantity) -> ResponseQuantity {
     }
 }
 
+/// The channel a response describes, without samples.
+pub(crate) fn channel(c: &Response) -> Channel {
+    Channel {
+        name: c.channel_name(),
+        quantity: quantity(c.quantity),
+        frame: match c.frame {
+            Frame::Absolute => msd_ident::Frame::Absolute,
+            Frame::Relative => msd_ident::Frame::Relative,
+        },
+        samples: Vec::new(),
+    }
+}
+
 /// The records as msd-ident takes them (a free decay's excitation is zero).
-fn ident_records(data: &SetupData) -> Result<Vec<Record>> {
+pub(crate) fn ident_records(data: &SetupData) -> Result<Vec<Record>> {
     data.records
         .iter()
         .map(|r| {
@@ -127,13 +156,8 @@ fn ident_records(data: &SetupData) -> Result<Vec<Record>> {
                 .iter()
                 .zip(&data.channels)
                 .map(|(samples, c)| Channel {
-                    name: c.channel_name(),
-                    quantity: quantity(c.quantity),
-                    frame: match c.frame {
-                        Frame::Absolute => msd_ident::Frame::Absolute,
-                        Frame::Relative => msd_ident::Frame::Relative,
-                    },
                     samples: samples.clone(),
+                    ..channel(c)
                 })
                 .collect();
             Ok(Record {

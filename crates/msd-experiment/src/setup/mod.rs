@@ -9,8 +9,8 @@
 //! files and `results.json` follow the setup.
 
 pub mod data;
-mod fit;
-mod machine;
+pub(crate) mod fit;
+pub(crate) mod machine;
 mod plots;
 mod report;
 mod report_machine;

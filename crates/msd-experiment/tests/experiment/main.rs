@@ -8,4 +8,5 @@ mod fetch;
 mod frf_uff;
 mod in_memory;
 mod plan;
+mod plan_setups;
 mod setups;

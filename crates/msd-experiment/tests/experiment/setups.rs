@@ -66,7 +66,7 @@ fn assert_covers(results: &Value, truth: &Value, keys: &[&str]) {
     }
 }
 
-const ALL: [&str; 5] = [
+pub(crate) const ALL: [&str; 5] = [
     "mass",
     "damping",
     "stiffness",

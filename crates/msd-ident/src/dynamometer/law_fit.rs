@@ -199,13 +199,15 @@ fn solve(normal: &Normal, columns: &[usize], known_mass: Option<f64>) -> Option<
     })
 }
 
-/// Fits `law` to the prepared conditions (see the module doc for the covariance).
+/// Fits `law` to the prepared conditions (see the module doc for the covariance); with
+/// `force_sigma`, the force noise's σ is that instead of the residual's (a plan).
 pub(crate) fn fit_law(
     law: DampingLaw,
     prepared: &[Prepared],
     normal: &Normal,
     smoothing_velocity: f64,
     options: &DynamometerOptions,
+    force_sigma: Option<f64>,
 ) -> Result<LawFit> {
     let (columns, names) = design(law, options);
     let solved =
@@ -229,7 +231,10 @@ pub(crate) fn fit_law(
     );
     let stroke = stroke_noise(law, prepared, &solved, &fitted);
     // The force noise: the SSE less the stroke noise's expected share of it.
-    let sigma2 = (sse - stroke.residual_share).max(0.0) / dof as f64;
+    let sigma2 = force_sigma.map_or_else(
+        || (sse - stroke.residual_share).max(0.0) / dof as f64,
+        |s| s * s,
+    );
     let covariance =
         &solved.inverse * sigma2 + &solved.inverse * stroke.covariance_term * &solved.inverse;
     let t = t_975(dof);

@@ -231,6 +231,84 @@ impl std::fmt::Display for Dynamometer {
 /// ```
 pub fn dynamometer(conditions: &[Condition], options: &DynamometerOptions) -> Result<Dynamometer> {
     options.validate()?;
+    let (summaries, laws) = fit_laws(conditions, options, None)?;
+    let mut laws = laws;
+    let (best, verdict) = rank(&mut laws);
+    Ok(Dynamometer {
+        conditions: summaries,
+        laws,
+        best,
+        harmonics: options.harmonics,
+        verdict,
+    })
+}
+
+/// The noise levels of a planned test machine.
+///
+/// ```
+/// let noise = msd_ident::DynamometerNoise { force_sigma: 2.0, stroke_sigma: 1e-5 };
+/// assert!(noise.stroke_sigma < noise.force_sigma);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DynamometerNoise {
+    /// The load cell's white noise σ_F, N (> 0).
+    pub force_sigma: f64,
+    /// The stroke sensor's white noise σₓ, m (≥ 0).
+    pub stroke_sigma: f64,
+}
+
+/// The prediction of [`dynamometer`]'s intervals before the test: each law of `options`
+/// fitted to the noise-free `conditions` (the planned strokes and the prior plant's
+/// force), its covariance the analysis's own — σ_F²·(XᵀX)⁻¹ plus the stroke noise carried
+/// through the harmonic fits — with the noise levels of `noise` in place of the
+/// estimated ones. For the plant's own law the values are the plant's and the
+/// covariance is exact for the force noise (linear least squares given the strokes) and
+/// first order for the stroke noise.
+///
+/// ```
+/// use msd_ident::{dynamometer, predicted_dynamometer, synthetic_dynamometer, DampingLaw,
+///     DynamometerNoise, DynamometerOptions, SyntheticDynamometer};
+/// let mut spec = SyntheticDynamometer::default();
+/// let noise = DynamometerNoise { force_sigma: spec.force_noise, stroke_sigma: 0.0 };
+/// (spec.force_noise, spec.displacement_noise) = (0.0, 0.0); // the planned strokes, noise-free
+/// let options = DynamometerOptions { laws: vec![DampingLaw::QuadraticViscous], ..Default::default() };
+/// let planned = predicted_dynamometer(&synthetic_dynamometer(&spec)?, &noise, &options)?;
+/// let c2 = planned[0].coefficient("quadratic_damping").unwrap();
+/// assert!((c2.value / spec.plant.quadratic_damping() - 1.0).abs() < 1e-6);
+/// assert!(c2.standard_error > 0.0);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn predicted_dynamometer(
+    conditions: &[Condition],
+    noise: &DynamometerNoise,
+    options: &DynamometerOptions,
+) -> Result<Vec<LawFit>> {
+    options.validate()?;
+    let valid = |v: f64, low: f64| v.is_finite() && v >= low;
+    if !(valid(noise.force_sigma, 0.0) && noise.force_sigma > 0.0) {
+        return Err(IdentError::InvalidParameter {
+            name: "force_sigma",
+            value: noise.force_sigma,
+            expected: "a finite noise level > 0 N",
+        });
+    }
+    if !valid(noise.stroke_sigma, 0.0) {
+        return Err(IdentError::InvalidParameter {
+            name: "stroke_sigma",
+            value: noise.stroke_sigma,
+            expected: "a finite noise level ≥ 0 m",
+        });
+    }
+    Ok(fit_laws(conditions, options, Some(noise))?.1)
+}
+
+/// Each condition's summary and each law's fit; with `noise`, the noise levels given
+/// instead of estimated.
+fn fit_laws(
+    conditions: &[Condition],
+    options: &DynamometerOptions,
+    noise: Option<&DynamometerNoise>,
+) -> Result<(Vec<ConditionSummary>, Vec<LawFit>)> {
     if conditions.is_empty() {
         return Err(IdentError::TooFewSamples {
             got: 0,
@@ -241,7 +319,10 @@ pub fn dynamometer(conditions: &[Condition], options: &DynamometerOptions) -> Re
     let mut summaries = Vec::with_capacity(conditions.len());
     let mut prepared = Vec::with_capacity(conditions.len());
     for c in conditions {
-        let (summary, ready) = prepare(c, options.harmonics)?;
+        let (summary, mut ready) = prepare(c, options.harmonics)?;
+        if let Some(noise) = noise {
+            ready.fit.stroke_sigma = noise.stroke_sigma;
+        }
         summaries.push(summary);
         prepared.push(ready);
     }
@@ -258,19 +339,13 @@ pub fn dynamometer(conditions: &[Condition], options: &DynamometerOptions) -> Re
     let mut laws = Vec::with_capacity(options.laws.len());
     for &law in &options.laws {
         if laws.iter().all(|l: &LawFit| l.law != law) {
+            let sigma = noise.map(|n| n.force_sigma);
             laws.push(law_fit::fit_law(
-                law, &prepared, &normal, smoothing, options,
+                law, &prepared, &normal, smoothing, options, sigma,
             )?);
         }
     }
-    let (best, verdict) = rank(&mut laws);
-    Ok(Dynamometer {
-        conditions: summaries,
-        laws,
-        best,
-        harmonics: options.harmonics,
-        verdict,
-    })
+    Ok((summaries, laws))
 }
 
 /// Validates one condition, finds its frequency and whole cycles, fits its harmonics.

@@ -26,6 +26,7 @@ use std::f64::consts::PI;
 ///     identifiable: vec!["natural_frequency_hz", "damping_ratio"],
 ///     mass: None, damping: None, stiffness: None,
 ///     natural_frequency_hz: fixed(1.1), damping_ratio: fixed(0.05),
+///     correlation: vec![vec![1.0, -0.1], vec![-0.1, 1.0]],
 ///     degrees_of_freedom: 100, note: None,
 /// };
 /// assert!(plant.to_string().starts_with("fn = 1.100000"));
@@ -48,6 +49,9 @@ pub struct PlantIntervals {
     pub natural_frequency_hz: Interval,
     /// ζ.
     pub damping_ratio: Interval,
+    /// The estimates' correlation, rows and columns in the order of `identifiable`; a
+    /// known quantity (no variance) has a row and column of zeros.
+    pub correlation: Vec<Vec<f64>>,
     /// Samples minus estimated quantities (all records and channels).
     pub degrees_of_freedom: usize,
     /// Why m, c and k are not given, when they are not.
@@ -127,9 +131,12 @@ pub(crate) fn plant_intervals(
     degrees_of_freedom: usize,
 ) -> PlantIntervals {
     let t = t_975(degrees_of_freedom);
+    let covariance = |a: [f64; 3], b: [f64; 3]| {
+        let (a, b) = (nalgebra::Vector3::from(a), nalgebra::Vector3::from(b));
+        (a.transpose() * cov * b)[(0, 0)]
+    };
     let interval = |value: f64, e: [f64; 3]| {
-        let e = nalgebra::Vector3::from(e);
-        let var = (e.transpose() * cov * e)[(0, 0)].max(0.0);
+        let var = covariance(e, e).max(0.0);
         Interval::new(value, value.abs() * var.sqrt(), t)
     };
     let [m, c, k] = theta;
@@ -153,8 +160,11 @@ pub(crate) fn plant_intervals(
         (false, KnownParameter::None) => None,
     };
     let mut identifiable = vec!["natural_frequency_hz", "damping_ratio"];
-    if physical.is_some() {
+    // ln q = eᵀ ln θ + const for each identifiable quantity, in order.
+    let mut exponents = vec![[-0.5, 0.0, 0.5], [-0.5, 1.0, -0.5]];
+    if let Some(q) = physical {
         identifiable.extend(["mass", "damping", "stiffness"]);
+        exponents.extend(q.map(|(_, e)| e));
     }
     let pick = |i: usize| physical.map(|q| interval(q[i].0, q[i].1));
     PlantIntervals {
@@ -164,6 +174,7 @@ pub(crate) fn plant_intervals(
         stiffness: pick(2),
         natural_frequency_hz: interval(wn / (2.0 * PI), [-0.5, 0.0, 0.5]),
         damping_ratio: interval(c / (2.0 * (k * m).sqrt()), [-0.5, 1.0, -0.5]),
+        correlation: correlation(&exponents, covariance),
         degrees_of_freedom,
         note: physical.is_none().then(|| {
             format!(
@@ -172,4 +183,34 @@ pub(crate) fn plant_intervals(
             )
         }),
     }
+}
+
+/// The correlation of the quantities ln q = eᵀ ln θ (zero for a quantity without
+/// variance) from `covariance(a, b)` = aᵀ·Cov(ln θ)·b.
+fn correlation(
+    exponents: &[[f64; 3]],
+    covariance: impl Fn([f64; 3], [f64; 3]) -> f64,
+) -> Vec<Vec<f64>> {
+    let sd: Vec<f64> = exponents
+        .iter()
+        .map(|&e| covariance(e, e).max(0.0).sqrt())
+        .collect();
+    exponents
+        .iter()
+        .zip(&sd)
+        .map(|(&a, &sa)| {
+            exponents
+                .iter()
+                .zip(&sd)
+                .map(|(&b, &sb)| {
+                    let s = sa * sb;
+                    if s > 0.0 {
+                        (covariance(a, b) / s).clamp(-1.0, 1.0)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
+        .collect()
 }
