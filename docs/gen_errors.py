@@ -76,7 +76,9 @@ def variants(path, enum):
             continue
         m = re.match(r"([A-Z][A-Za-z0-9]+)\b", line)
         if m and msg is not None:
-            res.append((m.group(1), " ".join(doc), msg))
+            # The cause is the doc's first paragraph (an example below it stays out).
+            cause = doc[: doc.index("")] if "" in doc else doc
+            res.append((m.group(1), " ".join(cause), msg))
             doc, msg = [], None
             depth = line.count("{") + line.count("(") - line.count("}") - line.count(")")
             while depth > 0:
