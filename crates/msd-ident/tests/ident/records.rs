@@ -734,8 +734,19 @@ fn bad_records_and_setups_are_refused_with_located_messages() {
     );
     assert!(twice.contains("two channels of this name"), "{twice}");
     // No records, no channels.
+    let none = fit_records(&[], &options).unwrap_err();
+    assert!(
+        matches!(
+            none,
+            IdentError::Setup {
+                setup: "force drive",
+                ..
+            }
+        ),
+        "{none}"
+    );
     assert_eq!(
-        message(&[], &options),
+        none.to_string(),
         "force drive: no records to fit: give at least one record"
     );
     assert!(
