@@ -101,6 +101,9 @@ pub(crate) fn markdown(o: &FrfOutcome, figures: &[&str]) -> String {
             covered(o, t)
         );
     }
+    if let Some(td) = &o.time_domain {
+        super::time_domain::markdown(w, td);
+    }
     for (name, caption) in [
         ("frf_fit_bode", "Bode plot: the data and the fitted model"),
         (
