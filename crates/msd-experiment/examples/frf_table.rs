@@ -14,13 +14,7 @@ use std::fmt::Write;
 
 /// The file's contents.
 pub fn stepped_sine_table() -> String {
-    let plant = ChainPlant {
-        masses: vec![2.5],
-        springs: vec![120.0],
-        dampers: vec![1.8],
-        force_at: 1,
-        response_at: 1,
-    };
+    let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     let f: Vec<f64> = (0..30).map(|i| 0.3 * 10f64.powf(i as f64 / 29.0)).collect();
     let frf = msd_ident::synthetic_frequency_response(&f, 0.01, 21, |f| plant.receptance(f))
         .expect("a valid synthetic response");

@@ -91,18 +91,36 @@ fn a_two_mass_hammer_test_says_why_it_is_not_compared() {
 #[test]
 fn a_one_mass_hammer_test_is_compared() {
     let dir = tempfile::tempdir().expect("a folder");
-    let path = dir.path().join("hammer-1dof.toml");
-    std::fs::write(&path, HAMMER_1DOF).expect("written");
+    let td = time_domain_of(dir.path(), HAMMER_1DOF);
+    assert_eq!(td["hold"], "first");
+    assert_agreement(&td);
+}
+
+/// The `time_domain` section of the run of `config`, written into `dir`.
+fn time_domain_of(dir: &std::path::Path, config: &str) -> serde_json::Value {
+    let path = dir.join("config.toml");
+    std::fs::write(&path, config).expect("written");
     let options = RunOptions {
-        out: Some(dir.path().join("out")),
+        out: Some(dir.join("out")),
         ..RunOptions::default()
     };
     let run = run_experiment(&path, &options).expect("runs");
-    let td = &run.results["time_domain"];
-    assert_eq!(td["hold"], "first");
+    run.results["time_domain"].clone()
+}
+
+/// Every quantity's |d| ≤ 1.96 (see the first test) and the time-domain interval
+/// covers the truth.
+fn assert_agreement(td: &serde_json::Value) {
     for c in td["comparison"].as_array().expect("compared") {
         let d = c["difference_se"].as_f64().unwrap();
+        println!("{}: {d:+.2} combined SE", c["quantity"]);
         assert!(d.abs() <= 1.96, "{}: {d}", c["quantity"]);
+        let ci = &c["time_domain"]["ci95"];
+        let truth = c["truth"].as_f64().unwrap();
+        assert!(
+            ci[0].as_f64() <= Some(truth) && Some(truth) <= ci[1].as_f64(),
+            "{c}"
+        );
     }
 }
 
@@ -204,13 +222,7 @@ fn the_simulated_sources_refuse_estimator_settings_that_cannot_work() {
 fn measured_records_are_compared_with_a_cubic_hold() {
     use msd_experiment::config::ChainPlant;
     use msd_signal::{FrfKind, Multisine, MultisineSpec, PhaseScheme, Signal, gaussian_noise};
-    let plant = ChainPlant {
-        masses: vec![2.5],
-        springs: vec![120.0],
-        dampers: vec![1.8],
-        force_at: 1,
-        response_at: 1,
-    };
+    let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     let force = Signal::Multisine(
         Multisine::new(MultisineSpec {
             base_frequency: 0.05,
@@ -243,29 +255,11 @@ fn measured_records_are_compared_with_a_cubic_hold() {
     }
     let dir = tempfile::tempdir().expect("a folder");
     std::fs::write(dir.path().join("records.csv"), csv).expect("written");
-    let path = dir.path().join("records.toml");
-    std::fs::write(
-        &path,
+    let td = time_domain_of(
+        dir.path(),
         "name = \"r\"\n[frequency_response.records]\npath = \"records.csv\"\nsample_rate = 200.0\nforce = [\"f1\", \"f2\"]\nresponse = [\"x1\", \"x2\"]\n[frequency_response.estimator]\nwelch = { window = \"rectangular\" }\n[frequency_response.one_mode]\nband_hz = [0.05, 5.0]\n[frequency_response.plant]\nmasses = [2.5]\nsprings = [120.0]\ndampers = [1.8]\n",
-    )
-    .expect("written");
-    let options = RunOptions {
-        out: Some(dir.path().join("out")),
-        ..RunOptions::default()
-    };
-    let run = run_experiment(&path, &options).expect("runs");
-    let td = &run.results["time_domain"];
+    );
     assert_eq!(td["hold"], "cubic");
     assert_eq!(td["records"], 2);
-    for c in td["comparison"].as_array().expect("compared") {
-        let d = c["difference_se"].as_f64().unwrap();
-        println!("{}: {d:+.2} combined SE", c["quantity"]);
-        assert!(d.abs() <= 1.96, "{}: {d}", c["quantity"]);
-        let ci = &c["time_domain"]["ci95"];
-        let truth = c["truth"].as_f64().unwrap();
-        assert!(
-            ci[0].as_f64() <= Some(truth) && Some(truth) <= ci[1].as_f64(),
-            "{c}"
-        );
-    }
+    assert_agreement(&td);
 }

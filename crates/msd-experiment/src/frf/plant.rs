@@ -8,6 +8,25 @@ use nalgebra::DMatrix;
 use std::f64::consts::TAU;
 
 impl ChainPlant {
+    /// One mass on a spring and a damper to the ground, force and response on it: the
+    /// single-degree-of-freedom plant m·x″ + c·x′ + k·x = F.
+    ///
+    /// ```
+    /// use msd_experiment::config::ChainPlant;
+    /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
+    /// assert_eq!((plant.len(), plant.force_at, plant.response_at), (1, 1, 1));
+    /// assert_eq!(plant.springs, [120.0]);
+    /// ```
+    pub fn one_mass(mass: f64, damping: f64, stiffness: f64) -> Self {
+        Self {
+            masses: vec![mass],
+            springs: vec![stiffness],
+            dampers: vec![damping],
+            force_at: 1,
+            response_at: 1,
+        }
+    }
+
     /// The number of masses.
     pub fn len(&self) -> usize {
         self.masses.len()
@@ -155,8 +174,7 @@ impl ChainPlant {
     /// ```
     /// use msd_experiment::config::ChainPlant;
     /// use msd_signal::FrfKind;
-    /// let plant = ChainPlant { masses: vec![2.5], springs: vec![120.0], dampers: vec![1.8],
-    ///     force_at: 1, response_at: 1 };
+    /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     /// // A constant 1 N from rest: x ≈ 0, x″ = F/m at the first instant.
     /// let a = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Accelerance);
     /// assert!((a[0] - 1.0 / 2.5).abs() < 1e-15);
@@ -257,13 +275,7 @@ mod tests {
     fn velocity_and_acceleration_follow_the_step_response() {
         // 1 N from rest on m, c, k: x = (1/k)·(1 − e^(−σt)(cos ωd·t + (σ/ωd)·sin ωd·t)),
         // x′ = (ωn²/(k·ωd))·e^(−σt)·sin ωd·t (σ = ζωn), and m·x″ = 1 − c·x′ − k·x.
-        let plant = ChainPlant {
-            masses: vec![2.5],
-            springs: vec![120.0],
-            dampers: vec![1.8],
-            force_at: 1,
-            response_at: 1,
-        };
+        let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
         let (m, c, k, dt): (f64, f64, f64, f64) = (2.5, 1.8, 120.0, 1e-2);
         let force = vec![1.0; 500];
         let [x, v, a] = [FrfKind::Receptance, FrfKind::Mobility, FrfKind::Accelerance]
