@@ -48,8 +48,8 @@ mod frf;
 mod nonlinear;
 mod setup;
 pub use frf::{
-    ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, Spacing, SweepSource,
-    TableSource, UffSource,
+    ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ShakerSource, Spacing,
+    SweepSource, TableSource, UffSource,
 };
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
 pub use setup::{ExcitationKind, Frame, Quantity, Response, SetupSection, StrokeCondition};

@@ -5,5 +5,6 @@ mod bad_input;
 mod determinism;
 mod experiment;
 mod faults;
+mod frf_compare;
 mod frf_experiment;
 mod nonlinear_experiment;

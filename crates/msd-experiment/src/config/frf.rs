@@ -4,7 +4,7 @@
 //!
 //! A config with this section and no time-domain sections (`[plant]`, `[data]`, …) is a
 //! frequency-domain experiment of its own. Exactly one source: `sweep`, `hammer`,
-//! `table`, `uff` or `records`. One mode is fitted unless `[frequency_response.modes]`
+//! `shaker`, `table`, `uff` or `records`. One mode is fitted unless `[frequency_response.modes]`
 //! is given (msd-ident's [`OneModeOptions`] and [`ModalOptions`], as they are).
 //!
 //! ```
@@ -26,13 +26,13 @@
 //! let bad = text.replace("lines = 40", "lines = 40\n[frequency_response.uff]\npath = \"x.uff\"");
 //! let err = Config::from_toml_str(&bad, "sweep.toml").unwrap_err();
 //! assert_eq!(err.to_string(), "sweep.toml:10: frequency_response.uff: a second source beside \
-//!     `sweep`: expected exactly one of sweep, hammer, table, uff, records");
+//!     `sweep`: expected exactly one of sweep, hammer, shaker, table, uff, records");
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
 use super::{Column, Config, check_non_negative, check_positive, default_true, library_error};
 use msd_ident::{ModalOptions, OneModeOptions};
-use msd_signal::{FrfKind, FrfOptions};
+use msd_signal::{FrfKind, FrfOptions, Signal, Window};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -52,6 +52,10 @@ pub struct FrequencyResponseSection {
     /// Hammer hits simulated on the plant.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hammer: Option<HammerSource>,
+    /// Time records of a shaker's force (a signal, e.g. a random-phase multisine)
+    /// simulated on the plant.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shaker: Option<ShakerSource>,
     /// A measured table (CSV), one row per line.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<TableSource>,
@@ -61,9 +65,10 @@ pub struct FrequencyResponseSection {
     /// Measured time records (CSV): force and response columns, one pair per record.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub records: Option<RecordsSource>,
-    /// How time records (`hammer`, `records`) become a frequency response: msd-signal's
-    /// [`FrfOptions`] (estimator, Welch segments, impact windows, response quantity). By
-    /// default H1 over whole records with a Hann window, receptance.
+    /// How time records (`hammer`, `shaker`, `records`) become a frequency response: msd-signal's
+    /// [`FrfOptions`] (estimator, Welch segments, impact windows, response quantity: the
+    /// simulated sources measure the quantity of `kind`). By default H1 over whole
+    /// records with a Hann window, receptance.
     #[serde(default)]
     pub estimator: FrfOptions,
     /// One mode: msd-ident's [`OneModeOptions`] (`band_hz`, `weighting`). By default
@@ -188,6 +193,43 @@ fn two_percent() -> f64 {
     0.02
 }
 
+/// Time records of a shaker simulated on the plant: one run of the force signal from
+/// rest, the first `settle` seconds left out (the start transient), then `records`
+/// consecutive records of `duration` seconds; the response is computed exactly (the
+/// force linear between samples) as the quantity of `estimator.kind`, with noise on
+/// both channels. A multisine whose period is `duration` makes every record one period
+/// of the steady state: with a rectangular window its lines do not leak.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShakerSource {
+    /// Number of records. By default 4.
+    #[serde(default = "four")]
+    pub records: usize,
+    /// Sampling rate, Hz (> 0).
+    pub sample_rate: f64,
+    /// Length of each record, s.
+    pub duration: f64,
+    /// Seconds simulated before the first record. By default 0.
+    #[serde(default)]
+    pub settle: f64,
+    /// The force, N: any msd-signal [`Signal`] (`kind = "multisine"`, `"prbs"`, …),
+    /// t = 0 at the start of the run.
+    pub force: Signal,
+    /// Noise on the force channel, as a share of the force's RMS. By default 0: the
+    /// time-domain fit of the records takes the measured force as exact, and noise on it
+    /// adds a resonant residual its intervals do not account for (H1 is biased low by
+    /// it, by 1/(1 + noise-to-signal power) per line).
+    #[serde(default)]
+    pub force_noise: f64,
+    /// Noise on the response channel, as a share of the response's RMS. By default 0.02.
+    #[serde(default = "two_percent")]
+    pub response_noise: f64,
+}
+
+fn four() -> usize {
+    4
+}
+
 /// A measured frequency response as a CSV table: a frequency column and either
 /// magnitude and phase or real and imaginary columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -283,10 +325,11 @@ impl FrequencyResponseSection {
             .unwrap_or("none")
     }
 
-    fn sources(&self) -> [(&'static str, bool); 5] {
+    fn sources(&self) -> [(&'static str, bool); 6] {
         [
             ("sweep", self.sweep.is_some()),
             ("hammer", self.hammer.is_some()),
+            ("shaker", self.shaker.is_some()),
             ("table", self.table.is_some()),
             ("uff", self.uff.is_some()),
             ("records", self.records.is_some()),
@@ -300,7 +343,7 @@ impl FrequencyResponseSection {
             .into_iter()
             .filter_map(|(n, g)| g.then_some(n))
             .collect();
-        let expected = "expected exactly one of sweep, hammer, table, uff, records";
+        let expected = "expected exactly one of sweep, hammer, shaker, table, uff, records";
         match given.as_slice() {
             [] => return err("frequency_response", format!(": no source: {expected}")),
             [_] => {}
@@ -313,7 +356,7 @@ impl FrequencyResponseSection {
         }
         if let Some(plant) = &self.plant {
             plant.validate()?;
-        } else if self.sweep.is_some() || self.hammer.is_some() {
+        } else if self.sweep.is_some() || self.hammer.is_some() || self.shaker.is_some() {
             return err(
                 "frequency_response.plant",
                 ": missing: a simulated source needs the plant { masses, springs, dampers }".into(),
@@ -354,6 +397,10 @@ impl FrequencyResponseSection {
         }
         if let Some(h) = &self.hammer {
             h.validate()?;
+            h.validate_windows(&self.estimator)?;
+        }
+        if let Some(s) = &self.shaker {
+            s.validate()?;
         }
         if let Some(t) = &self.table {
             let pairs = (
@@ -468,6 +515,84 @@ impl HammerSource {
             );
         }
         Ok(())
+    }
+}
+
+impl HammerSource {
+    /// Each hit is one record: the estimator's windows must keep the hit. Impact windows
+    /// (the force window at least to the end of the pulse, within the record), or a
+    /// rectangular window over the whole record; a Hann window would zero the hit at
+    /// the record's start.
+    fn validate_windows(&self, estimator: &FrfOptions) -> Check {
+        let key = |k: &str| format!("frequency_response.estimator.{k}");
+        let Some(impact) = &estimator.impact else {
+            if estimator.welch.window != Window::Rectangular {
+                return err(
+                    &key("welch.window"),
+                    " = \"hann\": expected `impact` windows or `welch.window = \"rectangular\"` with the hammer source (a Hann window zeroes the hit at the record's start)".into(),
+                );
+            }
+            return match estimator.welch.segment_length {
+                Some(l) => err(
+                    &key("welch.segment_length"),
+                    format!(
+                        " = {l}: expected none with the hammer source (each hit is one record)"
+                    ),
+                ),
+                None => Ok(()),
+            };
+        };
+        let pulse_end = self.trigger + self.pulse_width;
+        let width = impact.force_width.unwrap_or(self.duration / 10.0);
+        if !(pulse_end..=self.duration).contains(&width) {
+            return err(
+                &key("impact.force_width"),
+                format!(
+                    " = {width} s{}: expected the force window to keep the pulse and end within the record: from trigger + pulse_width ({} + {} s) to duration ({} s)",
+                    if impact.force_width.is_none() {
+                        " (a tenth of the record)"
+                    } else {
+                        ""
+                    },
+                    self.trigger,
+                    self.pulse_width,
+                    self.duration
+                ),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl ShakerSource {
+    fn validate(&self) -> Check {
+        let key = |k: &str| format!("frequency_response.shaker.{k}");
+        check_positive(&key("sample_rate"), self.sample_rate)?;
+        check_positive(&key("duration"), self.duration)?;
+        for (name, v) in [
+            ("settle", self.settle),
+            ("force_noise", self.force_noise),
+            ("response_noise", self.response_noise),
+        ] {
+            check_non_negative(&key(name), v)?;
+        }
+        if self.records == 0 {
+            return err(&key("records"), " = 0: expected at least 1".into());
+        }
+        let per_record = self.duration * self.sample_rate;
+        let total = self.settle * self.sample_rate + self.records as f64 * per_record;
+        if per_record < 8.0 || total > 1e7 {
+            return err(
+                &key("duration"),
+                format!(
+                    " = {}: expected at least 8 samples per record and at most 1e7 in all (settle included)",
+                    self.duration
+                ),
+            );
+        }
+        self.force
+            .validate()
+            .map_err(|e| (key("force"), format!(": {e}")))
     }
 }
 

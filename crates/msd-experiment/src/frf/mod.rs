@@ -5,7 +5,9 @@
 //!
 //! [`run`] computes an [`FrfOutcome`]; [`write()`] writes its figures (`frf_fit_bode`,
 //! `frf_fit_nyquist`, `frf_coherence`, `frf_stabilization`), `report.md`, `report.html`
-//! and `results.json` into one folder atomically. [`crate::run_experiment`] does both for
+//! and `results.json` into one folder atomically. When the frequency response comes from
+//! time records, the same records are also fitted in the time domain and the two
+//! estimates compared ([`TimeDomain`]). [`crate::run_experiment`] does both for
 //! a config that has only this section.
 //!
 //! ```
@@ -35,7 +37,9 @@ mod plant;
 mod plots;
 mod report;
 mod results;
+mod simulate;
 mod source;
+mod time_domain;
 mod uff;
 
 use crate::config::{ChainPlant, Config};
@@ -48,6 +52,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 pub use results::to_json;
+pub use time_domain::{Difference, TimeDomain, TimeFit};
 
 /// What was fitted: one mode or several.
 #[derive(Debug, Clone)]
@@ -90,6 +95,9 @@ pub struct FrfOutcome {
     pub classroom: Vec<Option<HalfPower>>,
     /// The truth, when the plant is given.
     pub truth: Option<Truth>,
+    /// The time-domain fit of the same records and the comparison, when the frequency
+    /// response was estimated from time records.
+    pub time_domain: Option<TimeDomain>,
     /// Wall time of each stage.
     pub timings: Vec<(&'static str, Duration)>,
 }
@@ -122,6 +130,13 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
         modes: plant.modes(),
         plant,
     });
+    let t = Instant::now();
+    let time_domain = loaded.time.as_ref().map(|records| {
+        time_domain::compare(records, &fit, truth.as_ref(), section.force_scale_known)
+    });
+    if time_domain.is_some() {
+        timings.push(("time-domain fit", t.elapsed()));
+    }
     Ok(FrfOutcome {
         command: options.command.clone().unwrap_or_else(|| "msd run".into()),
         config_path: config_path.to_path_buf(),
@@ -132,6 +147,7 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
         fit,
         classroom,
         truth,
+        time_domain,
         timings,
     })
 }
@@ -195,6 +211,9 @@ impl std::fmt::Display for FrfOutcome {
         if let Some(t) = &self.truth {
             let covered = report::covered(self, t);
             write!(f, "\ntruth inside the 95 % intervals: {covered}")?;
+        }
+        if let Some(td) = &self.time_domain {
+            write!(f, "\n{td}")?;
         }
         Ok(())
     }

@@ -3,11 +3,30 @@
 
 use crate::config::ChainPlant;
 use msd_ident::ModalParameters;
-use msd_signal::Complex64;
+use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
 use std::f64::consts::TAU;
 
 impl ChainPlant {
+    /// One mass on a spring and a damper to the ground, force and response on it: the
+    /// single-degree-of-freedom plant m·x″ + c·x′ + k·x = F.
+    ///
+    /// ```
+    /// use msd_experiment::config::ChainPlant;
+    /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
+    /// assert_eq!((plant.len(), plant.force_at, plant.response_at), (1, 1, 1));
+    /// assert_eq!(plant.springs, [120.0]);
+    /// ```
+    pub fn one_mass(mass: f64, damping: f64, stiffness: f64) -> Self {
+        Self {
+            masses: vec![mass],
+            springs: vec![stiffness],
+            dampers: vec![damping],
+            force_at: 1,
+            response_at: 1,
+        }
+    }
+
     /// The number of masses.
     pub fn len(&self) -> usize {
         self.masses.len()
@@ -145,10 +164,26 @@ impl ChainPlant {
         }
     }
 
-    /// The response displacement to the force samples `force` (N, every `dt` s, the
-    /// force linear between samples), from rest: exact, by the matrix exponential of the
-    /// state equations augmented with the force and its slope.
-    pub fn hit_response(&self, force: &[f64], dt: f64) -> Vec<f64> {
+    /// The response to the force samples `force` (N, every `dt` s, the force linear
+    /// between samples), from rest, as the quantity of `kind`: the displacement
+    /// (receptance), velocity (mobility) or acceleration (accelerance) of the response
+    /// mass. Exact: the state equations augmented with the force and its slope are
+    /// advanced by one matrix exponential per step, and the acceleration is the state
+    /// equation's row, a = (A·x + B·F)[n + response].
+    ///
+    /// ```
+    /// use msd_experiment::config::ChainPlant;
+    /// use msd_signal::FrfKind;
+    /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
+    /// // A constant 1 N from rest: x ≈ 0, x″ = F/m at the first instant.
+    /// let a = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Accelerance);
+    /// assert!((a[0] - 1.0 / 2.5).abs() < 1e-15);
+    /// let x = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Receptance);
+    /// assert_eq!(x[0], 0.0);
+    /// // ½·(F/m)·t², to a relative (c/m)·t/3 ≈ 2e-4 (the next term of the series).
+    /// assert!((x[1] / (0.5 * 1e-6 / 2.5) - 1.0).abs() < 1e-3);
+    /// ```
+    pub fn sampled_response(&self, force: &[f64], dt: f64, kind: FrfKind) -> Vec<f64> {
         let (a, b) = self.state_space();
         let n2 = a.nrows();
         let mut augmented = DMatrix::zeros(n2 + 2, n2 + 2);
@@ -161,10 +196,17 @@ impl ChainPlant {
             e.column(n2).rows(0, n2).clone_owned(),
             e.column(n2 + 1).rows(0, n2).clone_owned(),
         );
+        let r = self.response_at - 1;
+        let velocity = n2 / 2 + r;
+        let (row, gain) = (a.row(velocity).transpose(), b[(velocity, 0)]);
         let mut x = nalgebra::DVector::zeros(n2);
         let mut out = Vec::with_capacity(force.len());
         for (k, &u) in force.iter().enumerate() {
-            out.push(x[self.response_at - 1]);
+            out.push(match kind {
+                FrfKind::Receptance => x[r],
+                FrfKind::Mobility => x[velocity],
+                FrfKind::Accelerance => row.dot(&x) + gain * u,
+            });
             let next = force.get(k + 1).copied().unwrap_or(u);
             x = &phi * &x + &g1 * u + &g2 * ((next - u) / dt);
         }
@@ -220,12 +262,39 @@ mod tests {
     fn a_step_settles_at_the_static_deflection() {
         // 1 N on mass 2 for 60 s (the slow mode decays as e^(−0.5 t)): the springs in series, 1/20000 + 1/10000 m.
         let plant = two_masses(2, 2);
-        let y = plant.hit_response(&vec![1.0; 60_000], 1e-3);
+        let y = plant.sampled_response(&vec![1.0; 60_000], 1e-3, FrfKind::Receptance);
         let end = y[y.len() - 1];
         assert!(
             (end / (1.0 / 20_000.0 + 1.0 / 10_000.0) - 1.0).abs() < 1e-6,
             "{end}"
         );
         assert_eq!(y[0], 0.0);
+    }
+
+    #[test]
+    fn velocity_and_acceleration_follow_the_step_response() {
+        // 1 N from rest on m, c, k: x = (1/k)·(1 − e^(−σt)(cos ωd·t + (σ/ωd)·sin ωd·t)),
+        // x′ = (ωn²/(k·ωd))·e^(−σt)·sin ωd·t (σ = ζωn), and m·x″ = 1 − c·x′ − k·x.
+        let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
+        let (m, c, k, dt): (f64, f64, f64, f64) = (2.5, 1.8, 120.0, 1e-2);
+        let force = vec![1.0; 500];
+        let [x, v, a] = [FrfKind::Receptance, FrfKind::Mobility, FrfKind::Accelerance]
+            .map(|kind| plant.sampled_response(&force, dt, kind));
+        let (wn2, sigma) = (k / m, c / (2.0 * m));
+        let wd = (wn2 - sigma * sigma).sqrt();
+        for i in (0..500).step_by(37) {
+            let t = i as f64 * dt;
+            let decay = (-sigma * t).exp();
+            let x_exact = (1.0 - decay * ((wd * t).cos() + sigma / wd * (wd * t).sin())) / k;
+            let v_exact = wn2 / (k * wd) * decay * (wd * t).sin();
+            // The matrix exponential is exact to rounding (≈ 1e-16 of the state's scale,
+            // 1/k = 8e-3 m and 1e-2 m/s), accumulated over at most 500 steps.
+            assert!((x[i] - x_exact).abs() < 1e-13, "x at {t}");
+            assert!((v[i] - v_exact).abs() < 1e-13, "v at {t}");
+            assert!(
+                (m * a[i] - (1.0 - c * v[i] - k * x[i])).abs() < 1e-13,
+                "a at {t}"
+            );
+        }
     }
 }

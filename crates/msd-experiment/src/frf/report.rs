@@ -101,6 +101,9 @@ pub(crate) fn markdown(o: &FrfOutcome, figures: &[&str]) -> String {
             covered(o, t)
         );
     }
+    if let Some(td) = &o.time_domain {
+        super::time_domain::markdown(w, td);
+    }
     for (name, caption) in [
         ("frf_fit_bode", "Bode plot: the data and the fitted model"),
         (
@@ -134,8 +137,23 @@ fn data_section(w: &mut String, o: &FrfOutcome) {
         d.averages
     );
     if d.averages > 1 {
-        let low = d.coherence.iter().skip(1).copied().fold(1.0, f64::min);
-        let _ = write!(w, " The coherence is at least {} above 0 Hz.", sig(low, 3));
+        let [from, to] = match &o.fit {
+            FrfFit::OneMode(f) => f.band_hz,
+            FrfFit::Modes(m) => m.band_hz,
+        };
+        let low = d
+            .frequency
+            .iter()
+            .zip(&d.coherence)
+            .filter(|(f, _)| (from..=to).contains(*f))
+            .fold(1.0, |low, (_, g)| g.min(low));
+        let _ = write!(
+            w,
+            " The coherence is at least {} in the fitted band ({}–{} Hz).",
+            sig(low, 3),
+            sig(from, 4),
+            sig(to, 4)
+        );
     }
     if let Some(tau) = d.exponential_decay {
         let _ = write!(

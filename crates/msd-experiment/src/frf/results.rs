@@ -29,6 +29,9 @@ struct Results<'a> {
     classroom: &'a [Option<HalfPower>],
     #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<TruthSection<'a>>,
+    /// The time-domain fit of the same records and the comparison, or why not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    time_domain: Option<&'a super::TimeDomain>,
     timings_ms: BTreeMap<String, f64>,
 }
 
@@ -154,6 +157,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             stiffness: one_mass.map(|t| t.plant.springs[0]),
             modes: &t.modes,
         }),
+        time_domain: o.time_domain.as_ref(),
         timings_ms: o
             .timings
             .iter()

@@ -1,13 +1,17 @@
-//! The frequency response of a `[frequency_response]` section: simulated (a stepped sine,
-//! hammer hits) or read (a CSV table, a UFF file, CSV time records).
+//! The frequency response of a `[frequency_response]` section: simulated (a stepped sine;
+//! hammer hits and shaker records in `simulate.rs`) or read (a CSV table, a UFF file, CSV
+//! time records).
 
 use super::csv::{self, Request};
+use super::simulate;
+use super::time_domain::TimeRecords;
 use crate::config::{
-    ChainPlant, Column, FrequencyResponseSection, HammerSource, RecordsSource, Spacing,
-    SweepSource, TableSource, UffSource,
+    ChainPlant, Column, FrequencyResponseSection, RecordsSource, Spacing, SweepSource, TableSource,
+    UffSource,
 };
 use crate::{ExperimentError, Result};
-use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate, gaussian_noise};
+use msd_ode::Hold;
+use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};
 use std::path::Path;
 
 /// A frequency response and where it came from.
@@ -15,6 +19,8 @@ pub(crate) struct Loaded {
     pub frf: FrequencyResponseEstimate,
     /// One line for the report: the source and its size.
     pub description: String,
+    /// The time records it was estimated from, if it was.
+    pub time: Option<TimeRecords>,
 }
 
 /// The section's frequency response; `dir` resolves relative paths, `seed` the noise.
@@ -26,7 +32,10 @@ pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) ->
         return sweep(s, plant_of()?, seed);
     }
     if let Some(h) = &section.hammer {
-        return hammer(h, plant_of()?, &section.estimator, seed);
+        return simulate::hammer(h, plant_of()?, &section.estimator, seed);
+    }
+    if let Some(s) = &section.shaker {
+        return simulate::shaker(s, plant_of()?, &section.estimator, seed);
     }
     if let Some(t) = &section.table {
         return table(t, &dir.join(&t.path));
@@ -40,7 +49,7 @@ pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) ->
     Err(ExperimentError::config("frequency_response", "no source"))
 }
 
-fn run_error(e: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> ExperimentError {
+pub(super) fn run_error(e: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> ExperimentError {
     ExperimentError::run("frequency response", e)
 }
 
@@ -59,6 +68,7 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
     .map_err(run_error)?;
     Ok(Loaded {
         frf,
+        time: None,
         description: format!(
             "a stepped sine simulated on the plant: {} {} spaced frequencies, {low}–{high} Hz, {} % complex noise",
             s.lines,
@@ -67,61 +77,6 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
                 Spacing::Linear => "evenly",
             },
             100.0 * s.relative_noise
-        ),
-    })
-}
-
-/// One hit: a half-sine pulse of `peak` N starting at `h.trigger`.
-fn pulse(h: &HammerSource, peak: f64, n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|i| {
-            let t = i as f64 / h.sample_rate - h.trigger;
-            if (0.0..=h.pulse_width).contains(&t) {
-                peak * (std::f64::consts::PI * t / h.pulse_width).sin()
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
-
-fn hammer(h: &HammerSource, plant: &ChainPlant, options: &FrfOptions, seed: u64) -> Result<Loaded> {
-    let n = (h.duration * h.sample_rate).round() as usize;
-    let spread =
-        gaussian_noise(seed, "hammer.force_peak", h.force_spread, h.hits).map_err(run_error)?;
-    let mut channels = Vec::with_capacity(h.hits);
-    for (i, s) in spread.iter().enumerate() {
-        let force = pulse(h, h.force_peak * (1.0 + s).max(0.1), n);
-        let mut response = plant.hit_response(&force, 1.0 / h.sample_rate);
-        let peak = response.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let noise = |name: &str, sigma: f64| {
-            gaussian_noise(seed, &format!("hammer.{name}.{i}"), sigma, n).map_err(run_error)
-        };
-        let force_noise = noise("force", h.force_noise)?;
-        let response_noise = noise("response", h.response_noise * peak)?;
-        let force: Vec<f64> = force.iter().zip(&force_noise).map(|(a, b)| a + b).collect();
-        for (y, e) in response.iter_mut().zip(&response_noise) {
-            *y += e;
-        }
-        channels.push((force, response));
-    }
-    let records: Vec<Record<'_>> = channels
-        .iter()
-        .map(|(input, output)| Record { input, output })
-        .collect();
-    let frf = frf_estimate(&records, h.sample_rate, options).map_err(run_error)?;
-    Ok(Loaded {
-        frf,
-        description: format!(
-            "{} hammer hits simulated on the plant ({} s records at {} Hz, {} ms half-sine pulses of {} N ± {} %, noise {} N on the force and {} % of the peak on the response)",
-            h.hits,
-            h.duration,
-            h.sample_rate,
-            1e3 * h.pulse_width,
-            h.force_peak,
-            100.0 * h.force_spread,
-            h.force_noise,
-            100.0 * h.response_noise
         ),
     })
 }
@@ -162,6 +117,7 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
     };
     frf.kind = t.kind;
     Ok(Loaded {
+        time: None,
         description: format!(
             "the table {} ({} lines, {}–{} Hz, {})",
             path.display(),
@@ -214,6 +170,7 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
         ))
     })?;
     Ok(Loaded {
+        time: None,
         description: format!(
             "dataset 58 #{} of {} ({}, response {}:{}, reference {}:{}, {} lines, {})",
             index + 1,
@@ -254,15 +211,28 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
         .collect();
     let frf = frf_estimate(&records, r.sample_rate, options)
         .map_err(|e| ExperimentError::data(path, e.to_string()))?;
+    let description = format!(
+        "{} records of {} samples at {} Hz from {} ({})",
+        records.len(),
+        read.lines.len(),
+        r.sample_rate,
+        path.display(),
+        options.kind
+    );
+    let mut values = read.values.into_iter();
+    let mut channels = Vec::new();
+    while let (Some(force), Some(response)) = (values.next(), values.next()) {
+        channels.push([force, response]);
+    }
     Ok(Loaded {
-        description: format!(
-            "{} records of {} samples at {} Hz from {} ({})",
-            records.len(),
-            read.lines.len(),
-            r.sample_rate,
-            path.display(),
-            options.kind
-        ),
+        description,
         frf,
+        // Measured: the force between samples is not known, cubic as the library's default.
+        time: Some(TimeRecords {
+            channels,
+            sample_rate: r.sample_rate,
+            kind: options.kind,
+            hold: Hold::Cubic,
+        }),
     })
 }
