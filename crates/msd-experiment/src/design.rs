@@ -7,7 +7,9 @@
 //! into the run's folder: `designed_input.csv` (`t,force`), `designed.toml` (the config
 //! with the designed force as its identification input: `cargo xtask experiment` runs
 //! it on the prior plant), `design.json`, and the figure `design` (PNG and SVG). With
-//! `verify`, that many simulated tests of the design check its prediction.
+//! `verify`, that many simulated tests of the design check its prediction. A sequential
+//! design takes its prior plant, robust box and noise from a pilot test instead
+//! ([`Pilot`], `[pilot]` in the config, as configs/design-sequential.toml).
 //!
 //! ```
 //! use msd_experiment::design::{DesignRunOptions, design};
@@ -18,9 +20,13 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
-use crate::config::Config;
+mod pilot;
+
+pub use pilot::{Pilot, PilotSection};
+
+use crate::config::{Config, Noise, Plant};
 use crate::{ExperimentError, Result};
-use msd_ident::{Design, IdentError, estimate};
+use msd_ident::{Design, IdentError, RobustBox, estimate};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -52,6 +58,12 @@ pub struct Verification {
 pub struct DesignReport {
     /// The config's name.
     pub name: String,
+    /// The config as designed: with a pilot, its plant and (without `[noise]`) its noise
+    /// are the pilot's.
+    #[serde(skip)]
+    pub config: Config,
+    /// The pilot of a sequential design.
+    pub pilot: Option<Pilot>,
     /// The design (signal, peaks, predicted standard errors beside the reference's).
     pub design: Design,
     /// The simulated check, when asked.
@@ -67,6 +79,9 @@ impl std::fmt::Display for DesignReport {
             "design `{}` (designed in {:.3} s)",
             self.name, self.design_seconds
         )?;
+        if let Some(pilot) = &self.pilot {
+            writeln!(f, "{pilot}")?;
+        }
         writeln!(f, "{}", self.design)?;
         if let Some(v) = &self.verification {
             writeln!(
@@ -86,9 +101,9 @@ impl std::fmt::Display for DesignReport {
 }
 
 /// Designs the input of the config at `config_path` (and checks it when asked); writes
-/// nothing.
+/// nothing. With a `[pilot]`, the pilot is run or read first.
 pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignReport> {
-    let config = Config::load(config_path)?;
+    let (config, pilot) = resolve(Config::load(config_path)?, config_path)?;
     let refuse = |why: &str| ExperimentError::config(config_path, why.to_string());
     let Some(design_options) = config.design else {
         return Err(refuse(
@@ -101,7 +116,7 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
         }
         _ => {
             return Err(refuse(
-                "design needs a synthetic config: [plant] (the prior guess), [time], [identification.input] (the reference input) and [noise] with sigma > 0",
+                "design needs a synthetic config: [plant] (the prior guess) or [pilot], [time], [identification.input] (the reference input) and [noise] with sigma > 0 (or a pilot's noise estimate)",
             ));
         }
     };
@@ -124,10 +139,42 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
     )?;
     Ok(DesignReport {
         name: config.name.clone(),
+        config,
+        pilot,
         design,
         verification,
         design_seconds,
     })
+}
+
+/// `config` with its pilot's estimate as the plant, the pilot's σ̂ as the noise when
+/// it has no `[noise]`, and the robust box around the estimate (its plants and
+/// aggregate as configured).
+fn resolve(mut config: Config, config_path: &Path) -> Result<(Config, Option<Pilot>)> {
+    let Some(section) = &config.pilot else {
+        return Ok((config, None));
+    };
+    let pilot = Pilot::load(section, config_path)?;
+    let p = pilot.plant();
+    config.plant = Some(Plant {
+        mass: p.mass,
+        damping: p.damping,
+        stiffness: p.stiffness,
+        initial_state: msd_ident::InitialState::REST,
+        coulomb_force: 0.0,
+        quadratic_damping: 0.0,
+        cubic_stiffness: 0.0,
+    });
+    config.noise = config.noise.or(Some(Noise {
+        sigma: pilot.noise_sigma,
+    }));
+    if let Some(design) = &mut config.design {
+        design.robust = RobustBox {
+            aggregate: design.robust.aggregate,
+            ..RobustBox::around(&pilot.estimate, design.robust.plants)
+        };
+    }
+    Ok((config, Some(pilot)))
 }
 
 /// The config that runs the designed test: `config` with the designed force as its
@@ -143,6 +190,7 @@ pub fn designed_config(config: &Config, design: &Design) -> Config {
         input: design.signal.clone(),
     });
     c.design = None;
+    c.pilot = None;
     c.output.dir = None;
     c
 }
@@ -242,7 +290,7 @@ pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()
         results_root,
     };
     let report = design(&args.config, &options)?;
-    let config = Config::load(&args.config)?;
+    let config = &report.config;
     let target = options.out.clone().unwrap_or_else(|| {
         let root = options
             .results_root
@@ -250,7 +298,7 @@ pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()
             .unwrap_or_else(|| PathBuf::from(crate::DEFAULT_RESULTS_ROOT));
         root.join(format!("{}-design", config.name))
     });
-    write(&report, &config, &target)?;
+    write(&report, config, &target)?;
     print!("{report}");
     println!("written: {}", target.display());
     Ok(())

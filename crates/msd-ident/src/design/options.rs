@@ -122,18 +122,20 @@ impl Default for RobustBox {
 }
 
 impl RobustBox {
-    /// The box of a sequential design: around a pilot test's estimate, three of its
-    /// largest relative standard errors wide (at least 1 %), instead of a guessed ±30 %.
+    /// The box of a sequential design: around a pilot test's estimate of m, c and k,
+    /// three of its largest relative standard errors wide (at least 1 %), instead of a
+    /// guessed ±30 %.
     ///
     /// ```
     /// use msd_ident::{estimate, EstimationOptions, PaperExperiment, RobustBox};
     /// let pilot = estimate(&PaperExperiment::generate(3)?.identification, &EstimationOptions::fast())?;
-    /// let robust = RobustBox::around(&pilot.uncertainty, 9);
+    /// let u = &pilot.uncertainty;
+    /// let robust = RobustBox::around(&[u.mass, u.damping, u.stiffness], 9);
     /// assert!(robust.spread >= 0.01 && robust.spread < 0.3);
     /// # Ok::<(), msd_ident::IdentError>(())
     /// ```
-    pub fn around(pilot: &crate::Uncertainty, plants: usize) -> Self {
-        let worst = [pilot.mass, pilot.damping, pilot.stiffness]
+    pub fn around(pilot: &[crate::Interval; 3], plants: usize) -> Self {
+        let worst = pilot
             .iter()
             .map(|iv| iv.standard_error / iv.value.abs())
             .fold(0.0, f64::max);
