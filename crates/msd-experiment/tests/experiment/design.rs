@@ -116,7 +116,8 @@ fn bad_constraints_exit_2_naming_their_key() {
 /// The shipped sequential config runs in a fresh clone: `design` runs its pilot
 /// (configs/paper-fast.toml) first; the pilot's estimate is the prior (the first plant,
 /// the plant of the comparison and of designed.toml), its largest relative standard
-/// error × 3 (at least 1 %) the box every other plant lies in, its σ̂ the noise.
+/// error × 3 (at least 1 %) the box every other plant lies in (each within the stroke
+/// limit), its σ̂ the noise.
 #[test]
 fn the_sequential_design_takes_its_prior_from_the_pilot() {
     let path = config("design-sequential.toml");
@@ -140,6 +141,8 @@ fn the_sequential_design_takes_its_prior_from_the_pilot() {
         .fold(0.0, f64::max);
     let spread = (3.0 * worst).max(0.01);
     assert_eq!(d.plants.len(), 9);
+    // The shipped config keeps the stroke on the whole box.
+    assert!(d.plant_strokes.iter().all(|x| *x <= 0.1115), "{report}");
     for p in &d.plants {
         for (x, x0) in [
             (p.mass, prior.mass),

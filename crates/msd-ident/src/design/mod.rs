@@ -47,6 +47,7 @@ mod signal;
 pub use compare::InputComparison;
 pub use options::{
     Aggregate, Criterion, DesignConstraints, DesignOptions, Normalise, RobustBox, StepOption,
+    StrokeOn,
 };
 
 use crate::{Excitation, Parameters, Result};
@@ -78,6 +79,11 @@ pub struct Design {
     pub peak_stroke: f64,
     /// The plants it was optimised over, the prior first.
     pub plants: Vec<Parameters>,
+    /// Largest |displacement| of the exact response on each of `plants`, m: within
+    /// `max_stroke` on every one only with [`StrokeOn::EveryPlant`].
+    pub plant_strokes: Vec<f64>,
+    /// The plants the stroke limit holds on.
+    pub stroke_on: StrokeOn,
     /// Its predicted standard errors beside the reference's, on the prior plant.
     pub comparison: InputComparison,
     /// L-BFGS iterations, over all stages and starts.
@@ -106,6 +112,19 @@ impl std::fmt::Display for Design {
             "  peak force {:.4} N, RMS force {:.4} N, peak stroke {:.5} m on the prior",
             self.peak_force, self.rms_force, self.peak_stroke
         )?;
+        if let [_, others @ ..] = self.plant_strokes.as_slice()
+            && !others.is_empty()
+        {
+            let top = others.iter().fold(0.0f64, |m, x| m.max(*x));
+            let holds = match self.stroke_on {
+                StrokeOn::Prior => "the stroke limit holds on the prior only",
+                StrokeOn::EveryPlant => "the stroke limit holds on every plant",
+            };
+            writeln!(
+                f,
+                "  peak stroke on the box's other plants up to {top:.5} m: {holds}"
+            )?;
+        }
         writeln!(
             f,
             "  L-BFGS: {} iterations, {} evaluations ({})",
@@ -137,6 +156,10 @@ pub fn design_input(
         stroke: c.max_stroke,
         rms_force: c.max_rms_force,
         min_step: c.step.map_or(0.0, |s| s.min_amplitude),
+        stroke_plants: match c.stroke_on {
+            StrokeOn::Prior => 1,
+            StrokeOn::EveryPlant => plants.len(),
+        },
     };
     let mut objective = Objective::new(
         &layout,
@@ -180,7 +203,7 @@ pub fn design_input(
     let Some((_, w, exit)) = best else {
         unreachable!("validated: at least one start")
     };
-    let scaled = signal::scaled(&layout, &w, prior, reference, c)?;
+    let scaled = signal::scaled(&layout, &w, &plants, reference, c)?;
     let comparison = InputComparison::new(prior, &scaled.excitation, reference, sigma)?;
     Ok(Design {
         criterion: options.criterion,
@@ -192,8 +215,10 @@ pub fn design_input(
         step_amplitude: scaled.step_amplitude,
         peak_force: scaled.peak_force,
         rms_force: scaled.rms_force,
-        peak_stroke: scaled.peak_stroke,
+        peak_stroke: scaled.peak_strokes[0],
         plants,
+        plant_strokes: scaled.peak_strokes,
+        stroke_on: c.stroke_on,
         comparison,
         iterations,
         evaluations,

@@ -3,7 +3,7 @@
 
 use super::DesignOptions;
 use super::basis::Layout;
-use super::options::DesignConstraints;
+use super::options::{DesignConstraints, StrokeOn};
 use crate::{Backend, Excitation, InitialState, Parameters, Result, simulate};
 use msd_signal::Signal;
 use rustfft::num_complex::Complex64;
@@ -90,42 +90,61 @@ pub(super) struct Scaled {
     pub step_amplitude: f64,
     pub peak_force: f64,
     pub rms_force: f64,
-    pub peak_stroke: f64,
+    /// The peak |displacement| on each plant, the prior first.
+    pub peak_strokes: Vec<f64>,
 }
 
 /// Scales `w` so that the largest of |force|/max_force, RMS/max_rms_force and, on the
-/// exact response of the sampled force on `prior`, |x|/max_stroke is 1 − 10⁻⁹.
+/// exact response of the sampled force on the prior (or on each of `plants`, as
+/// `stroke_on` says), |x|/max_stroke is 1 − 10⁻⁹.
 pub(super) fn scaled(
     layout: &Layout,
     w: &[f64],
-    prior: &Parameters,
+    plants: &[Parameters],
     reference: &Excitation,
     constraints: &DesignConstraints,
 ) -> Result<Scaled> {
-    let measure = |gain: f64| -> Result<(Signal, Excitation, [f64; 3])> {
+    let measure = |gain: f64| -> Result<(Signal, Excitation, [f64; 2], Vec<f64>)> {
         let signal = to_signal(layout, w, gain, reference.t0());
         let excitation =
             Excitation::from_signal(signal.clone(), reference.t0(), layout.dt, layout.samples)?;
-        let x = simulate(prior, &excitation, InitialState::REST, &Backend::EXACT)?;
-        let u = excitation.samples();
         let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let rms = (u.iter().map(|u| u * u).sum::<f64>() / u.len() as f64).sqrt();
-        let peaks = [peak(u), rms, peak(&x)];
-        Ok((signal, excitation, peaks))
+        let strokes = plants
+            .iter()
+            .map(|p| {
+                Ok(peak(&simulate(
+                    p,
+                    &excitation,
+                    InitialState::REST,
+                    &Backend::EXACT,
+                )?))
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        let u = excitation.samples();
+        let peaks = [
+            peak(u),
+            (u.iter().map(|u| u * u).sum::<f64>() / u.len() as f64).sqrt(),
+        ];
+        Ok((signal, excitation, peaks, strokes))
     };
-    let (_, _, [force, rms, stroke]) = measure(1.0)?;
+    let limited = match constraints.stroke_on {
+        StrokeOn::Prior => 1,
+        StrokeOn::EveryPlant => plants.len(),
+    };
+    let (_, _, [force, rms], strokes) = measure(1.0)?;
+    let stroke = strokes[..limited].iter().fold(0.0f64, |m, x| m.max(*x));
     let ratio = (force / constraints.max_force)
         .max(stroke / constraints.max_stroke)
         .max(constraints.max_rms_force.map_or(0.0, |limit| rms / limit));
     let gain = (1.0 - 1e-9) / ratio;
-    let (signal, excitation, [peak_force, rms_force, peak_stroke]) = measure(gain)?;
+    let (signal, excitation, [peak_force, rms_force], peak_strokes) = measure(gain)?;
     Ok(Scaled {
         signal,
         excitation,
         step_amplitude: gain * layout.step_amplitude(w),
         peak_force,
         rms_force,
-        peak_stroke,
+        peak_strokes,
     })
 }
 
