@@ -15,13 +15,16 @@
 //!   plant; no ODE is solved while optimising.
 //! * The cost is the criterion (D: det, A: trace, minimax: worst diagonal of the
 //!   inverse information) combined over the plants, plus twice the log of a smooth
-//!   maximum of the force, stroke and RMS ratios to their limits: it does not change when
+//!   maximum of the force, stroke and RMS ratios to their limits (and a penalty on a
+//!   step below its least height): it does not change when
 //!   the force is scaled, so the limits are met by scaling the optimum at the end. The
 //!   smooth maximum is sharpened in three stages (p = 8, 32, 128), each minimised by
 //!   L-BFGS ([`msd_opt::lbfgs()`]).
 //! * The result is scaled so that the largest of force, RMS force and stroke (the last
-//!   from the exact simulation of the sampled force on the prior plant) meets its limit,
-//!   and compared with the reference input by the Cramér–Rao bound
+//!   from the exact simulation of the sampled force on the prior plant, or on every
+//!   plant with [`StrokeOn::EveryPlant`]) meets its limit; a step left below its least
+//!   height is raised to it and the multisine scaled down until the limits hold again.
+//!   It is compared with the reference input by the Cramér–Rao bound
 //!   ([`predicted_uncertainty`](crate::predicted_uncertainty)).
 //!
 //! Sequential design: design from a pilot test's estimate instead of a guess, with

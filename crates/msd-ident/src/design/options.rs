@@ -337,6 +337,29 @@ impl DesignOptions {
                 expected,
             ));
         }
+        let signal = msd_signal::Signal::Step {
+            amplitude: min,
+            time: step.time,
+        };
+        let force =
+            Excitation::from_signal(signal, reference.t0(), reference.dt(), reference.len())?;
+        let x = crate::simulate(
+            prior,
+            &force,
+            crate::InitialState::REST,
+            &crate::Backend::EXACT,
+        )?;
+        let peak = x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if peak > self.constraints.max_stroke {
+            let expected = format!(
+                "at least the peak response {peak:.6} m of the required step on the prior (its overshoot included)"
+            );
+            return Err(invalid(
+                "constraints.max_stroke",
+                self.constraints.max_stroke,
+                expected,
+            ));
+        }
         Ok(())
     }
 }

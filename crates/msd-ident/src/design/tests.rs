@@ -140,3 +140,25 @@ fn the_gradient_equals_central_differences() {
         }
     }
 }
+
+/// A step below its least height after scaling is raised to it, and the multisine's
+/// gain bisected to the limits: the step is exactly the least height and the largest
+/// peak ratio is within (1 − 1e-6, 1].
+#[test]
+fn a_step_below_its_least_height_is_raised_to_it() {
+    let (layout, mut w, reference) = setup();
+    let last = w.len() - 1;
+    w[last] = -1e-3; // a step far below the others
+    let constraints = super::DesignConstraints {
+        step: Some(StepOption {
+            time: 0.5,
+            min_amplitude: 3.0,
+        }),
+        ..super::DesignConstraints::default()
+    };
+    let plants = [Parameters::PAPER];
+    let scaled = signal::scaled(&layout, &w, &plants, &reference, &constraints).unwrap();
+    assert_eq!(scaled.step_amplitude, -3.0);
+    let ratio = (scaled.peak_force / 9.0).max(scaled.peak_strokes[0] / 0.1115);
+    assert!(ratio <= 1.0 && ratio > 1.0 - 1e-6, "{ratio}");
+}

@@ -25,7 +25,8 @@ fn the_paper_inputs_bound_is_the_published_one() {
 
 /// A D-optimal design with a step: the sampled force, the RMS force and the exact
 /// simulated displacement on the prior stay within their limits and reach the binding
-/// one (to 1e-6), every line lies in the band, the step is at least its minimum, and
+/// one (to 1e-6), every line lies in the band, the step is at least its minimum (a
+/// hard limit: the step is raised to it and the multisine scaled down if needed), and
 /// the design beats the reference on its criterion.
 #[test]
 fn a_design_keeps_its_limits_on_the_simulated_response() {
@@ -40,7 +41,7 @@ fn a_design_keeps_its_limits_on_the_simulated_response() {
     c.max_rms_force = Some(5.0);
     c.step = Some(StepOption {
         time: 0.5,
-        min_amplitude: 2.0,
+        min_amplitude: 4.0,
     });
     let design = design_input(&Parameters::PAPER, &reference, 2.5e-3, &options).unwrap();
     let x = simulate(
@@ -70,7 +71,7 @@ fn a_design_keeps_its_limits_on_the_simulated_response() {
             }
             Signal::Step { amplitude, time } => {
                 assert_eq!(*time, 0.5);
-                assert!(amplitude.abs() >= 2.0 * 0.99, "step {amplitude}");
+                assert!(amplitude.abs() >= 4.0, "step {amplitude}");
             }
             other => panic!("unexpected term {other:?}"),
         }
@@ -189,6 +190,18 @@ fn bad_constraints_are_refused_by_their_key() {
     );
     assert!(
         err.to_string().contains("static deflection 0.16666"),
+        "{err}"
+    );
+    // An 8 N step deflects the prior by 1/15 m statically, but overshoots to 0.123 m
+    // (1 + e^{−πζ/√(1−ζ²)} = 1.85 times, ζ = 0.052).
+    let err = refused(|o| {
+        o.constraints.step = Some(StepOption {
+            time: 0.5,
+            min_amplitude: 8.0,
+        });
+    });
+    assert!(
+        err.to_string().starts_with("invalid design.constraints.max_stroke = 0.1115: expected at least the peak response 0.123"),
         "{err}"
     );
     let err = refused(|o| o.constraints.band_hz = [2.0, 2.0]);
