@@ -15,17 +15,21 @@ use msd_signal::paper_identification_input;
 
 fn main() -> Result<(), msd_ident::IdentError> {
     let paper = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
-    println!("plants lines iterations starts stroke on | time s | prior | box mean | box worst");
-    for (plants, lines, iterations, starts, stroke_on) in [
-        (1, 60, 100, 1, StrokeOn::Prior),
-        (9, 60, 100, 1, StrokeOn::Prior),
-        (9, 60, 200, 1, StrokeOn::Prior),
-        (9, 90, 100, 1, StrokeOn::Prior),
-        (9, 60, 100, 3, StrokeOn::Prior),
-        (9, 60, 100, 1, StrokeOn::EveryPlant),
+    println!(
+        "plants lines segments iterations starts stroke on | time s | prior | box mean | box worst"
+    );
+    for (plants, lines, segments, iterations, starts, stroke_on) in [
+        (1, 60, 1, 100, 1, StrokeOn::Prior),
+        (9, 60, 1, 100, 1, StrokeOn::Prior),
+        (9, 60, 1, 200, 1, StrokeOn::Prior),
+        (9, 90, 1, 100, 1, StrokeOn::Prior),
+        (9, 60, 1, 100, 3, StrokeOn::Prior),
+        (9, 60, 3, 100, 1, StrokeOn::Prior),
+        (9, 60, 1, 100, 1, StrokeOn::EveryPlant),
     ] {
         let mut options = DesignOptions {
             lines,
+            segments,
             iterations,
             starts,
             robust: RobustBox {
@@ -65,7 +69,7 @@ fn main() -> Result<(), msd_ident::IdentError> {
         let mean = ratios.iter().map(|r| r.ln()).sum::<f64>() / ratios.len() as f64;
         let worst = ratios.iter().copied().fold(0.0, f64::max);
         println!(
-            "{plants:>6} {lines:>5} {iterations:>10} {starts:>6} {:>11} | {seconds:>6.2} | {:.3} | {:.3} | {worst:.3}   strokes on the box: up to {:.4} m",
+            "{plants:>6} {lines:>5} {segments:>8} {iterations:>10} {starts:>6} {:>11} | {seconds:>6.2} | {:.3} | {:.3} | {worst:.3}   strokes on the box: up to {:.4} m",
             format!("{stroke_on:?}"),
             design.comparison.determinant_ratio,
             mean.exp(),
