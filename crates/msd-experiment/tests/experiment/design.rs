@@ -30,7 +30,7 @@ fn the_d_optimal_design_beats_the_paper_input_and_its_prediction_holds() {
     let c = &report.design.comparison;
     assert!(c.determinant_ratio <= 0.40, "{report}");
     let v = report.verification.as_ref().unwrap();
-    let tolerance = 3.0 / (2.0 * 1800.0_f64).sqrt();
+    let tolerance = 3.0 * v.sampling_error;
     assert!((tolerance - 0.05).abs() < 1e-12);
     for ratio in v.ratios {
         assert!((ratio - 1.0).abs() <= tolerance, "{report}");
