@@ -113,6 +113,10 @@ pub struct Config {
     /// they are. Off unless given; a run ignores it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub design: Option<msd_ident::DesignOptions>,
+    /// Sequential design: the pilot test whose estimate replaces `[plant]` as the
+    /// design's prior ([`crate::design::Pilot`]). Off unless given; only with `[design]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pilot: Option<crate::design::PilotSection>,
 }
 
 fn default_seed() -> u64 {
@@ -766,6 +770,7 @@ impl Config {
             frequency_response: None,
             output: OutputSection::default(),
             design: None,
+            pilot: None,
         }
     }
 
@@ -814,6 +819,9 @@ impl Config {
             if self.frequency_only() {
                 return Ok(());
             }
+        }
+        if let Some(pilot) = &self.pilot {
+            self.validate_pilot(pilot)?;
         }
         match (&self.setup, self.kind()) {
             (Some(setup), kind) => setup.validate_config(self, kind)?,
@@ -869,6 +877,35 @@ impl Config {
         Ok(())
     }
 
+    /// A `[pilot]` needs a `[design]`, one source, and no `[plant]` (its estimate is the
+    /// plant) nor `[data]`.
+    fn validate_pilot(
+        &self,
+        pilot: &crate::design::PilotSection,
+    ) -> std::result::Result<(), (String, String)> {
+        pilot.validate()?;
+        let refuse = |field: &str, why: &str| Err((field.to_string(), why.to_string()));
+        if self.design.is_none() {
+            return refuse(
+                "pilot",
+                ": only with a [design] section (the pilot's estimate is the design's prior)",
+            );
+        }
+        if self.plant.is_some() {
+            return refuse(
+                "plant",
+                ": not with [pilot]: the pilot's estimate is the prior plant (remove one of them)",
+            );
+        }
+        if self.data.is_some() || self.setup.is_some() {
+            return refuse(
+                "pilot",
+                ": only in a synthetic design config ([time], [identification.input], [validation.input]; no [data] or [setup])",
+            );
+        }
+        Ok(())
+    }
+
     fn validate_synthetic(&self) -> std::result::Result<(), (String, String)> {
         let missing = |field: &str, what: &str| {
             Err((
@@ -878,15 +915,17 @@ impl Config {
                 ),
             ))
         };
-        let Some(plant) = &self.plant else {
+        // A sequential design's plant (and by default its noise) come from its pilot.
+        let pilot = self.pilot.is_some();
+        if self.plant.is_none() && !pilot {
             return missing("plant", "the true plant { mass, damping, stiffness }");
-        };
+        }
         let Some(time) = &self.time else {
             return missing("time", "the time grid { duration, dt }");
         };
-        let Some(noise) = &self.noise else {
+        if self.noise.is_none() && !pilot {
             return missing("noise", "the noise level { sigma }");
-        };
+        }
         let Some(identification) = &self.identification else {
             return missing(
                 "identification",
@@ -899,9 +938,13 @@ impl Config {
                 "the validation input [validation.input]",
             );
         };
-        validate_plant(plant)?;
+        if let Some(plant) = &self.plant {
+            validate_plant(plant)?;
+        }
         validate_time(time)?;
-        check_non_negative("noise.sigma", noise.sigma)?;
+        if let Some(noise) = &self.noise {
+            check_non_negative("noise.sigma", noise.sigma)?;
+        }
         if let Err(e) = identification.input.validate() {
             return Err(("identification.input".into(), format!(": {e}")));
         }

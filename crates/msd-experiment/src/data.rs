@@ -109,7 +109,13 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<Experiment
 fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<ExperimentData> {
     let missing =
         |what: &str| ExperimentError::config(config_path, format!("{what}: missing section"));
-    let plant = config.plant.ok_or_else(|| missing("plant"))?;
+    let plant = config.plant.ok_or_else(|| match config.pilot {
+        Some(_) => ExperimentError::config(
+            config_path,
+            "plant: missing section: this config takes its plant from its [pilot]; run it with `design`, then the designed.toml it writes",
+        ),
+        None => missing("plant"),
+    })?;
     let time = config.time.ok_or_else(|| missing("time"))?;
     let noise = config.noise.ok_or_else(|| missing("noise"))?;
     let id_input = config

@@ -91,7 +91,7 @@ pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use design::{
     Aggregate, Criterion, Design, DesignConstraints, DesignOptions, InputComparison, Normalise,
-    RobustBox, StepOption, design_input,
+    RobustBox, StepOption, StrokeOn, design_input,
 };
 pub use dynamometer::{
     Condition, ConditionSummary, Dynamometer, DynamometerNoise, DynamometerOptions, LawFit,

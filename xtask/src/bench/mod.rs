@@ -8,7 +8,8 @@
 //! diagnostics and the frequency check, the estimation of each nonlinear model
 //! structure, the Silverbox comparison of nonlinear models (when its record is fetched)
 //! with one simulation by RK4 and by ode45, a three-mode frequency-domain fit, the
-//! measurement setups (free decay, base excitation, the plan), Monte Carlo N = 1000 on
+//! measurement setups (free decay, base excitation, the plan), the excitation design
+//! (the shipped D-optimal configs, on the prior and robust), Monte Carlo N = 1000 on
 //! 1 and 2 threads, the
 //! whole pipeline without figures and the figures alone, and scaling in the record
 //! length and the number of draws. [`report`] renders the table as text, Markdown and
@@ -24,6 +25,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
+mod design;
 mod dynamometer;
 mod frequency;
 pub mod harness;
@@ -109,6 +111,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         rows.extend(silverbox);
         derived.extend(silverbox_derived);
         rows.extend(frequency::frequency_domain(budget)?);
+        rows.extend(design::design_rows(budget)?);
         let (mc, mc_derived) = rows::monte_carlo(budget, &experiment)?;
         rows.extend(mc);
         derived.extend(mc_derived);

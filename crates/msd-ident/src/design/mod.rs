@@ -15,13 +15,16 @@
 //!   plant; no ODE is solved while optimising.
 //! * The cost is the criterion (D: det, A: trace, minimax: worst diagonal of the
 //!   inverse information) combined over the plants, plus twice the log of a smooth
-//!   maximum of the force, stroke and RMS ratios to their limits: it does not change when
+//!   maximum of the force, stroke and RMS ratios to their limits (and a penalty on a
+//!   step below its least height): it does not change when
 //!   the force is scaled, so the limits are met by scaling the optimum at the end. The
 //!   smooth maximum is sharpened in three stages (p = 8, 32, 128), each minimised by
 //!   L-BFGS ([`msd_opt::lbfgs()`]).
 //! * The result is scaled so that the largest of force, RMS force and stroke (the last
-//!   from the exact simulation of the sampled force on the prior plant) meets its limit,
-//!   and compared with the reference input by the Cramér–Rao bound
+//!   from the exact simulation of the sampled force on the prior plant, or on every
+//!   plant with [`StrokeOn::EveryPlant`]) meets its limit; a step left below its least
+//!   height is raised to it and the multisine scaled down until the limits hold again.
+//!   It is compared with the reference input by the Cramér–Rao bound
 //!   ([`predicted_uncertainty`](crate::predicted_uncertainty)).
 //!
 //! Sequential design: design from a pilot test's estimate instead of a guess, with
@@ -47,6 +50,7 @@ mod signal;
 pub use compare::InputComparison;
 pub use options::{
     Aggregate, Criterion, DesignConstraints, DesignOptions, Normalise, RobustBox, StepOption,
+    StrokeOn,
 };
 
 use crate::{Excitation, Parameters, Result};
@@ -78,6 +82,11 @@ pub struct Design {
     pub peak_stroke: f64,
     /// The plants it was optimised over, the prior first.
     pub plants: Vec<Parameters>,
+    /// Largest |displacement| of the exact response on each of `plants`, m: within
+    /// `max_stroke` on every one only with [`StrokeOn::EveryPlant`].
+    pub plant_strokes: Vec<f64>,
+    /// The plants the stroke limit holds on.
+    pub stroke_on: StrokeOn,
     /// Its predicted standard errors beside the reference's, on the prior plant.
     pub comparison: InputComparison,
     /// L-BFGS iterations, over all stages and starts.
@@ -106,6 +115,19 @@ impl std::fmt::Display for Design {
             "  peak force {:.4} N, RMS force {:.4} N, peak stroke {:.5} m on the prior",
             self.peak_force, self.rms_force, self.peak_stroke
         )?;
+        if let [_, others @ ..] = self.plant_strokes.as_slice()
+            && !others.is_empty()
+        {
+            let top = others.iter().fold(0.0f64, |m, x| m.max(*x));
+            let holds = match self.stroke_on {
+                StrokeOn::Prior => "the stroke limit holds on the prior only",
+                StrokeOn::EveryPlant => "the stroke limit holds on every plant",
+            };
+            writeln!(
+                f,
+                "  peak stroke on the box's other plants up to {top:.5} m: {holds}"
+            )?;
+        }
         writeln!(
             f,
             "  L-BFGS: {} iterations, {} evaluations ({})",
@@ -137,6 +159,10 @@ pub fn design_input(
         stroke: c.max_stroke,
         rms_force: c.max_rms_force,
         min_step: c.step.map_or(0.0, |s| s.min_amplitude),
+        stroke_plants: match c.stroke_on {
+            StrokeOn::Prior => 1,
+            StrokeOn::EveryPlant => plants.len(),
+        },
     };
     let mut objective = Objective::new(
         &layout,
@@ -180,7 +206,7 @@ pub fn design_input(
     let Some((_, w, exit)) = best else {
         unreachable!("validated: at least one start")
     };
-    let scaled = signal::scaled(&layout, &w, prior, reference, c)?;
+    let scaled = signal::scaled(&layout, &w, &plants, reference, c)?;
     let comparison = InputComparison::new(prior, &scaled.excitation, reference, sigma)?;
     Ok(Design {
         criterion: options.criterion,
@@ -192,8 +218,10 @@ pub fn design_input(
         step_amplitude: scaled.step_amplitude,
         peak_force: scaled.peak_force,
         rms_force: scaled.rms_force,
-        peak_stroke: scaled.peak_stroke,
+        peak_stroke: scaled.peak_strokes[0],
         plants,
+        plant_strokes: scaled.peak_strokes,
+        stroke_on: c.stroke_on,
         comparison,
         iterations,
         evaluations,

@@ -4,8 +4,9 @@
 //! of the force, the peaks as the force).
 //!
 //! ## The smooth peak
-//! r = (Σᵢ |eᵢ|^p)^{1/p} over the force samples over the peak force, the prior plant's
-//! displacement samples over the stroke, and the RMS force over its limit: an upper
+//! r = (Σᵢ |eᵢ|^p)^{1/p} over the force samples over the peak force, the displacement
+//! samples of the prior plant (or of every plant) over the stroke, and the RMS force
+//! over its limit: an upper
 //! bound of the largest ratio, within the factor (count)^{1/p} of it. The design is
 //! scaled by the exact largest ratio at the end, so the limits hold on the samples.
 
@@ -21,6 +22,8 @@ pub(crate) struct Limits {
     pub stroke: f64,
     pub rms_force: Option<f64>,
     pub min_step: f64,
+    /// The stroke is limited on the first `stroke_plants` plants (1: the prior).
+    pub stroke_plants: usize,
 }
 
 /// The cost of a design: what to evaluate it on and its buffers.
@@ -36,7 +39,8 @@ pub(crate) struct Objective<'a> {
     pub units: Vec<[f64; 3]>,
     transform: Transform,
     force: Vec<f64>,
-    stroke: Vec<f64>,
+    /// The displacement of each plant the stroke is limited on, the prior first.
+    strokes: Vec<Vec<f64>>,
     /// Per plant: m·x_m, c·x_c, k·x_k.
     sens: Vec<[Vec<f64>; 3]>,
     adjoint: [Vec<f64>; 3],
@@ -68,7 +72,7 @@ impl<'a> Objective<'a> {
             units: vec![[1.0; 3]; plants.len()],
             transform: Transform::new(layout.period()),
             force: vec![0.0; n],
-            stroke: vec![0.0; n],
+            strokes: vec![vec![0.0; n]; limits.stroke_plants.clamp(1, plants.len())],
             sens: plants
                 .iter()
                 .map(|_| std::array::from_fn(|_| vec![0.0; n]))
@@ -80,27 +84,39 @@ impl<'a> Objective<'a> {
         }
     }
 
-    /// The force and the prior plant's displacement of `w`.
+    /// The force and the prior plant's displacement of `w` (and the displacements of
+    /// the other plants the stroke is limited on).
     pub fn signals(&mut self, w: &[f64]) -> (&[f64], &[f64]) {
         let (layout, basis) = (self.layout, &self.plants[0]);
         let transform = &mut self.transform;
-        let (force, stroke) = (&mut self.force, &mut self.stroke);
+        let (force, strokes) = (&mut self.force, &mut self.strokes);
         force.fill(0.0);
-        stroke.fill(0.0);
+        strokes.iter_mut().for_each(|x| x.fill(0.0));
         for (s, &(a, b)) in layout.segments.iter().enumerate() {
             let pair = |l: usize| {
                 let amplitude = layout.amplitude(w, s, l);
                 [amplitude, basis.line_outputs[l][0] * amplitude]
             };
-            transform.add_lines(layout, pair, (a, b), force, Some(stroke));
-            free_edges(layout, basis, w, s, &[0], std::slice::from_mut(stroke));
+            transform.add_lines(layout, pair, (a, b), force, Some(&mut strokes[0]));
+            for (p, (basis, x)) in self.plants.iter().zip(strokes.iter_mut()).enumerate() {
+                if p > 0 {
+                    let one = |l: usize| {
+                        let x = basis.line_outputs[l][0] * layout.amplitude(w, s, l);
+                        [x, Complex64::default()]
+                    };
+                    transform.add_lines(layout, one, (a, b), x, None);
+                }
+                free_edges(layout, basis, w, s, &[0], std::slice::from_mut(x));
+            }
         }
         if let Some(n_s) = layout.step {
             let d = layout.step_amplitude(w);
             force[n_s..].iter_mut().for_each(|u| *u += d);
-            step(basis, d, n_s, &[0], std::slice::from_mut(stroke));
+            for (basis, x) in self.plants.iter().zip(strokes.iter_mut()) {
+                step(basis, d, n_s, &[0], std::slice::from_mut(x));
+            }
         }
-        (&self.force, &self.stroke)
+        (&self.force, &self.strokes[0])
     }
 
     /// The relative Fisher information (up to 1/σ²) of `w` on plant `p`.
@@ -160,6 +176,7 @@ impl<'a> Objective<'a> {
             stroke: x_max,
             rms_force,
             min_step,
+            ..
         } = self.limits;
         let _ = self.signals(w);
         let n = self.layout.samples as f64;
@@ -167,7 +184,7 @@ impl<'a> Objective<'a> {
         let rho = rms_force.map(|r| rms / r);
         let p = self.sharpness;
         let largest = (self.force.iter().map(|u| u.abs() / f_max))
-            .chain(self.stroke.iter().map(|x| x.abs() / x_max))
+            .chain(self.strokes.iter().flatten().map(|x| x.abs() / x_max))
             .chain(rho)
             .fold(0.0f64, f64::max);
         if !(largest > 0.0 && largest.is_finite()) {
@@ -178,8 +195,9 @@ impl<'a> Objective<'a> {
             .iter()
             .map(|u| (u.abs() / f_max / largest).powf(p)))
         .chain(
-            self.stroke
+            self.strokes
                 .iter()
+                .flatten()
                 .map(|x| (x.abs() / x_max / largest).powf(p)),
         )
         .chain(rho.map(|r| (r / largest).powf(p)))
@@ -208,10 +226,17 @@ impl<'a> Objective<'a> {
                 *a += d_rho * u / (n * rho * limit * limit);
             }
         }
-        for (a, x) in stroke.iter_mut().zip(&self.stroke) {
+        for (a, x) in stroke.iter_mut().zip(&self.strokes[0]) {
             *a = scale * soft(x / x_max) / x_max;
         }
         self.signal_adjoint(w, grad);
+        for p in 1..self.strokes.len() {
+            let [_, _, other] = &mut self.adjoint;
+            for (a, x) in other.iter_mut().zip(&self.strokes[p]) {
+                *a = scale * soft(x / x_max) / x_max;
+            }
+            self.stroke_adjoint(w, p, grad);
+        }
         2.0 * r.ln() + STEP_PENALTY * shortfall * shortfall
     }
 }
@@ -333,6 +358,22 @@ impl Objective<'_> {
             let steady: f64 = force[n_s..].iter().sum();
             grad[w.len() - 1] +=
                 steady + step_adjoint(basis, n_s, &[0], std::slice::from_ref(stroke));
+        }
+    }
+
+    /// grad += (d(plant `p`'s displacement) / d w)ᵀ·adjoint[2].
+    fn stroke_adjoint(&mut self, w: &[f64], p: usize, grad: &mut [f64]) {
+        let (layout, basis) = (self.layout, &self.plants[p]);
+        let [_, _, v] = &self.adjoint;
+        for (s, &window) in layout.segments.iter().enumerate() {
+            let (pp, qq) = (&mut self.p, &mut self.q);
+            self.transform
+                .project_lines(layout, (v, None), window, pp, qq);
+            add_line_gradient(layout, s, |l| basis.line_outputs[l][0], pp, grad);
+            free_edges_adjoint(layout, basis, s, &[0], std::slice::from_ref(v), grad);
+        }
+        if let Some(n_s) = layout.step {
+            grad[w.len() - 1] += step_adjoint(basis, n_s, &[0], std::slice::from_ref(v));
         }
     }
 }

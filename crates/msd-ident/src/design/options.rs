@@ -53,6 +53,19 @@ pub enum Aggregate {
     Worst,
 }
 
+/// The plants the stroke limit holds on. In TOML `"prior"` or `"every_plant"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrokeOn {
+    /// The prior plant only (the other plants of a robust box may exceed it: the design
+    /// reports their peaks). The default.
+    #[default]
+    Prior,
+    /// Every plant of the robust box: the rig's travel is safe whichever of them is the
+    /// real plant, at the price of less force near the softest plants' resonances.
+    EveryPlant,
+}
+
 /// A step in the input, for the static stiffness: its time, and the least height the
 /// test needs (its amplitude is optimised with the rest).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -75,8 +88,9 @@ pub struct DesignConstraints {
     /// Largest RMS force, N. By default none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_rms_force: Option<f64>,
-    /// Largest |displacement| on the prior plant (the stroke), m. By default 0.1115, the
-    /// paper input's peak on the paper's plant.
+    /// Largest |displacement| (the stroke) on the prior plant, or on every plant of the
+    /// box (`stroke_on`), m. By default 0.1115, the paper input's peak on the paper's
+    /// plant.
     pub max_stroke: f64,
     /// The band of the excited lines, Hz. By default 0.2 … 4.2 (61 lines of a 15 s
     /// record's grid, around the paper plant's 1.10 Hz mode).
@@ -84,6 +98,8 @@ pub struct DesignConstraints {
     /// An optional step. By default none.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step: Option<StepOption>,
+    /// The plants `max_stroke` holds on. By default the prior only.
+    pub stroke_on: StrokeOn,
 }
 
 impl Default for DesignConstraints {
@@ -94,6 +110,7 @@ impl Default for DesignConstraints {
             max_stroke: 0.1115,
             band_hz: [0.2, 4.2],
             step: None,
+            stroke_on: StrokeOn::Prior,
         }
     }
 }
@@ -122,18 +139,20 @@ impl Default for RobustBox {
 }
 
 impl RobustBox {
-    /// The box of a sequential design: around a pilot test's estimate, three of its
-    /// largest relative standard errors wide (at least 1 %), instead of a guessed ±30 %.
+    /// The box of a sequential design: around a pilot test's estimate of m, c and k,
+    /// three of its largest relative standard errors wide (at least 1 %), instead of a
+    /// guessed ±30 %.
     ///
     /// ```
     /// use msd_ident::{estimate, EstimationOptions, PaperExperiment, RobustBox};
     /// let pilot = estimate(&PaperExperiment::generate(3)?.identification, &EstimationOptions::fast())?;
-    /// let robust = RobustBox::around(&pilot.uncertainty, 9);
+    /// let u = &pilot.uncertainty;
+    /// let robust = RobustBox::around(&[u.mass, u.damping, u.stiffness], 9);
     /// assert!(robust.spread >= 0.01 && robust.spread < 0.3);
     /// # Ok::<(), msd_ident::IdentError>(())
     /// ```
-    pub fn around(pilot: &crate::Uncertainty, plants: usize) -> Self {
-        let worst = [pilot.mass, pilot.damping, pilot.stiffness]
+    pub fn around(pilot: &[crate::Interval; 3], plants: usize) -> Self {
+        let worst = pilot
             .iter()
             .map(|iv| iv.standard_error / iv.value.abs())
             .fold(0.0, f64::max);
@@ -311,6 +330,29 @@ impl DesignOptions {
         if deflection > self.constraints.max_stroke {
             let expected = format!(
                 "at least the static deflection {deflection} m of the required step (step.min_amplitude / stiffness)"
+            );
+            return Err(invalid(
+                "constraints.max_stroke",
+                self.constraints.max_stroke,
+                expected,
+            ));
+        }
+        let signal = msd_signal::Signal::Step {
+            amplitude: min,
+            time: step.time,
+        };
+        let force =
+            Excitation::from_signal(signal, reference.t0(), reference.dt(), reference.len())?;
+        let x = crate::simulate(
+            prior,
+            &force,
+            crate::InitialState::REST,
+            &crate::Backend::EXACT,
+        )?;
+        let peak = x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if peak > self.constraints.max_stroke {
+            let expected = format!(
+                "at least the peak response {peak:.6} m of the required step on the prior (its overshoot included)"
             );
             return Err(invalid(
                 "constraints.max_stroke",

@@ -3,8 +3,8 @@
 
 use super::DesignOptions;
 use super::basis::Layout;
-use super::options::DesignConstraints;
-use crate::{Backend, Excitation, InitialState, Parameters, Result, simulate};
+use super::options::{DesignConstraints, StrokeOn};
+use crate::{Backend, Excitation, IdentError, InitialState, Parameters, Result, simulate};
 use msd_signal::Signal;
 use rustfft::num_complex::Complex64;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -90,52 +90,124 @@ pub(super) struct Scaled {
     pub step_amplitude: f64,
     pub peak_force: f64,
     pub rms_force: f64,
-    pub peak_stroke: f64,
+    /// The peak |displacement| on each plant, the prior first.
+    pub peak_strokes: Vec<f64>,
+}
+
+/// A candidate force and its ratios to the limits.
+struct Measured {
+    signal: Signal,
+    excitation: Excitation,
+    peak_force: f64,
+    rms_force: f64,
+    peak_strokes: Vec<f64>,
+    /// The largest ratio of a peak to its limit.
+    ratio: f64,
 }
 
 /// Scales `w` so that the largest of |force|/max_force, RMS/max_rms_force and, on the
-/// exact response of the sampled force on `prior`, |x|/max_stroke is 1 − 10⁻⁹.
+/// exact response of the sampled force on the prior (or on each of `plants`, as
+/// `stroke_on` says), |x|/max_stroke is 1 − 10⁻⁹. When that leaves the step below its
+/// least height (its penalty is soft while optimising), the step is raised to it and
+/// the multisine's gain bisected to the largest the limits allow (every peak, so the
+/// largest ratio, is convex in that gain: the gains within the limits are an interval
+/// from 0).
 pub(super) fn scaled(
     layout: &Layout,
     w: &[f64],
-    prior: &Parameters,
+    plants: &[Parameters],
     reference: &Excitation,
     constraints: &DesignConstraints,
 ) -> Result<Scaled> {
-    let measure = |gain: f64| -> Result<(Signal, Excitation, [f64; 3])> {
-        let signal = to_signal(layout, w, gain, reference.t0());
+    let limited = match constraints.stroke_on {
+        StrokeOn::Prior => 1,
+        StrokeOn::EveryPlant => plants.len(),
+    };
+    let measure = |gain: f64, step: f64| -> Result<Measured> {
+        let signal = to_signal(layout, w, gain, step, reference.t0());
         let excitation =
             Excitation::from_signal(signal.clone(), reference.t0(), layout.dt, layout.samples)?;
-        let x = simulate(prior, &excitation, InitialState::REST, &Backend::EXACT)?;
-        let u = excitation.samples();
         let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let rms = (u.iter().map(|u| u * u).sum::<f64>() / u.len() as f64).sqrt();
-        let peaks = [peak(u), rms, peak(&x)];
-        Ok((signal, excitation, peaks))
+        let x = |p| simulate(p, &excitation, InitialState::REST, &Backend::EXACT);
+        let peak_strokes = plants
+            .iter()
+            .map(|p| Ok(peak(&x(p)?)))
+            .collect::<Result<Vec<f64>>>()?;
+        let u = excitation.samples();
+        let (peak_force, rms_force) = (
+            peak(u),
+            (u.iter().map(|u| u * u).sum::<f64>() / u.len() as f64).sqrt(),
+        );
+        let stroke = peak_strokes[..limited]
+            .iter()
+            .fold(0.0f64, |m, x| m.max(*x));
+        let ratio = (peak_force / constraints.max_force)
+            .max(stroke / constraints.max_stroke)
+            .max(
+                constraints
+                    .max_rms_force
+                    .map_or(0.0, |limit| rms_force / limit),
+            );
+        Ok(Measured {
+            signal,
+            excitation,
+            peak_force,
+            rms_force,
+            peak_strokes,
+            ratio,
+        })
     };
-    let (_, _, [force, rms, stroke]) = measure(1.0)?;
-    let ratio = (force / constraints.max_force)
-        .max(stroke / constraints.max_stroke)
-        .max(constraints.max_rms_force.map_or(0.0, |limit| rms / limit));
-    let gain = (1.0 - 1e-9) / ratio;
-    let (signal, excitation, [peak_force, rms_force, peak_stroke]) = measure(gain)?;
+    let d = layout.step_amplitude(w);
+    let target = 1.0 - 1e-9;
+    let gain = target / measure(1.0, d)?.ratio;
+    let least = constraints.step.map_or(0.0, |s| s.min_amplitude);
+    let (gain, step) = if (gain * d).abs() >= least {
+        (gain, gain * d)
+    } else {
+        let step = least.copysign(d);
+        let alone = measure(0.0, step)?.ratio;
+        if alone > target {
+            return Err(IdentError::InvalidDesign {
+                key: if limited > 1 {
+                    "constraints.stroke_on"
+                } else {
+                    "constraints.max_stroke"
+                },
+                value: alone,
+                expected: format!(
+                    "a step of the least height {least} N within the limits on its own (it alone reaches {alone:.4} × the tightest limit, its overshoot included)"
+                ),
+            });
+        }
+        let (mut low, mut high) = (0.0, gain);
+        for _ in 0..40 {
+            let mid = 0.5 * (low + high);
+            if measure(mid, step)?.ratio <= target {
+                low = mid;
+            } else {
+                high = mid;
+            }
+        }
+        (low, step)
+    };
+    let m = measure(gain, step)?;
     Ok(Scaled {
-        signal,
-        excitation,
-        step_amplitude: gain * layout.step_amplitude(w),
-        peak_force,
-        rms_force,
-        peak_stroke,
+        signal: m.signal,
+        excitation: m.excitation,
+        step_amplitude: step,
+        peak_force: m.peak_force,
+        rms_force: m.rms_force,
+        peak_strokes: m.peak_strokes,
     })
 }
 
-/// The force gain·(step + Σ windowed sines) of `w`, in absolute time from `t0`:
-/// Re(a·e^{iω(t − t0)}) = |a|·sin(ωt + arg a + π/2 − ω·t0).
-fn to_signal(layout: &Layout, w: &[f64], gain: f64, t0: f64) -> Signal {
+/// The force `step`·H(t − step time) + gain·Σ windowed sines of `w`, in absolute time
+/// from `t0`: Re(a·e^{iω(t − t0)}) = |a|·sin(ωt + arg a + π/2 − ω·t0).
+fn to_signal(layout: &Layout, w: &[f64], gain: f64, step: f64, t0: f64) -> Signal {
     let mut terms = Vec::new();
     if let Some(n) = layout.step {
         terms.push(Signal::Step {
-            amplitude: gain * layout.step_amplitude(w),
+            amplitude: step,
             time: t0 + n as f64 * layout.dt,
         });
     }
@@ -158,5 +230,5 @@ fn to_signal(layout: &Layout, w: &[f64], gain: f64, t0: f64) -> Signal {
 
 #[cfg(test)]
 pub(super) fn to_signal_for_tests(layout: &Layout, w: &[f64], t0: f64) -> Signal {
-    to_signal(layout, w, 1.0, t0)
+    to_signal(layout, w, 1.0, layout.step_amplitude(w), t0)
 }

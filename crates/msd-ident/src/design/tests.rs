@@ -36,6 +36,7 @@ fn superposition_matches_the_exact_simulation() {
         stroke: 1.0,
         rms_force: None,
         min_step: 0.0,
+        stroke_plants: 1,
     };
     let mut objective = Objective::new(
         &layout,
@@ -102,17 +103,21 @@ fn the_gradient_equals_central_differences() {
         .iter()
         .map(|p| PlantBasis::new(p, &layout).unwrap())
         .collect();
-    let limits = Limits {
-        force: 9.0,
-        stroke: 0.1,
-        rms_force: Some(5.0),
-        min_step: 50.0,
-    };
-    for (criterion, aggregate) in [
-        (Criterion::DOptimal, Aggregate::Average),
-        (Criterion::AOptimal, Aggregate::Worst),
-        (Criterion::Minimax, Aggregate::Average),
+    // The stroke on the prior only, and on both plants.
+    for (criterion, aggregate, stroke_plants) in [
+        (Criterion::DOptimal, Aggregate::Average, 1),
+        (Criterion::AOptimal, Aggregate::Worst, 1),
+        (Criterion::Minimax, Aggregate::Average, 1),
+        (Criterion::DOptimal, Aggregate::Worst, 2),
+        (Criterion::Minimax, Aggregate::Average, 2),
     ] {
+        let limits = Limits {
+            force: 9.0,
+            stroke: 0.1,
+            rms_force: Some(5.0),
+            min_step: 50.0,
+            stroke_plants,
+        };
         let mut objective = Objective::new(&layout, &bases, limits, criterion, aggregate);
         objective.sharpness = 8.0;
         let mut grad = vec![0.0; w.len()];
@@ -129,9 +134,31 @@ fn the_gradient_equals_central_differences() {
                 / (2.0 * h);
             assert!(
                 (diff - grad[i]).abs() < 1e-5 * norm,
-                "{criterion} variable {i}: {diff} vs {}",
+                "{criterion}, stroke on {stroke_plants}, variable {i}: {diff} vs {}",
                 grad[i]
             );
         }
     }
+}
+
+/// A step below its least height after scaling is raised to it, and the multisine's
+/// gain bisected to the limits: the step is exactly the least height and the largest
+/// peak ratio is within (1 − 1e-6, 1].
+#[test]
+fn a_step_below_its_least_height_is_raised_to_it() {
+    let (layout, mut w, reference) = setup();
+    let last = w.len() - 1;
+    w[last] = -1e-3; // a step far below the others
+    let constraints = super::DesignConstraints {
+        step: Some(StepOption {
+            time: 0.5,
+            min_amplitude: 3.0,
+        }),
+        ..super::DesignConstraints::default()
+    };
+    let plants = [Parameters::PAPER];
+    let scaled = signal::scaled(&layout, &w, &plants, &reference, &constraints).unwrap();
+    assert_eq!(scaled.step_amplitude, -3.0);
+    let ratio = (scaled.peak_force / 9.0).max(scaled.peak_strokes[0] / 0.1115);
+    assert!(ratio <= 1.0 && ratio > 1.0 - 1e-6, "{ratio}");
 }

@@ -3,7 +3,7 @@
 
 use msd_ident::{
     Backend, Criterion, DesignOptions, Excitation, IdentError, InitialState, InputComparison,
-    Normalise, Parameters, StepOption, design_input, simulate,
+    Normalise, Parameters, RobustBox, StepOption, StrokeOn, design_input, simulate,
 };
 use msd_signal::{Signal, paper_identification_input};
 
@@ -25,7 +25,8 @@ fn the_paper_inputs_bound_is_the_published_one() {
 
 /// A D-optimal design with a step: the sampled force, the RMS force and the exact
 /// simulated displacement on the prior stay within their limits and reach the binding
-/// one (to 1e-6), every line lies in the band, the step is at least its minimum, and
+/// one (to 1e-6), every line lies in the band, the step is at least its minimum (a
+/// hard limit: the step is raised to it and the multisine scaled down if needed), and
 /// the design beats the reference on its criterion.
 #[test]
 fn a_design_keeps_its_limits_on_the_simulated_response() {
@@ -40,7 +41,7 @@ fn a_design_keeps_its_limits_on_the_simulated_response() {
     c.max_rms_force = Some(5.0);
     c.step = Some(StepOption {
         time: 0.5,
-        min_amplitude: 2.0,
+        min_amplitude: 4.0,
     });
     let design = design_input(&Parameters::PAPER, &reference, 2.5e-3, &options).unwrap();
     let x = simulate(
@@ -70,12 +71,60 @@ fn a_design_keeps_its_limits_on_the_simulated_response() {
             }
             Signal::Step { amplitude, time } => {
                 assert_eq!(*time, 0.5);
-                assert!(amplitude.abs() >= 2.0 * 0.99, "step {amplitude}");
+                assert!(amplitude.abs() >= 4.0, "step {amplitude}");
             }
             other => panic!("unexpected term {other:?}"),
         }
     }
     assert!(design.comparison.determinant_ratio < 1.0, "{design}");
+}
+
+/// A robust design (4 plants in ±30 %) keeps the stroke on every plant's simulated
+/// response with `stroke_on = every_plant` (the largest at the limit, to 1e-6), and
+/// reports each plant's peak as simulated; on the prior only, the softer plants of the
+/// box go past the limit (and the design says so).
+#[test]
+fn a_robust_design_keeps_the_stroke_on_every_plant_when_asked() {
+    let reference = paper();
+    let mut options = DesignOptions {
+        lines: 20,
+        iterations: 20,
+        robust: RobustBox {
+            plants: 4,
+            ..RobustBox::default()
+        },
+        ..DesignOptions::default()
+    };
+    let peak = |p: &Parameters, e: &Excitation| {
+        let x = simulate(p, e, InitialState::REST, &Backend::EXACT).unwrap();
+        x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    let prior_only = design_input(&Parameters::PAPER, &reference, 2.5e-3, &options).unwrap();
+    options.constraints.stroke_on = StrokeOn::EveryPlant;
+    let every = design_input(&Parameters::PAPER, &reference, 2.5e-3, &options).unwrap();
+    for design in [&prior_only, &every] {
+        for (p, reported) in design.plants.iter().zip(&design.plant_strokes) {
+            assert!(
+                (peak(p, &design.excitation) - reported).abs() <= 1e-12,
+                "{design}"
+            );
+        }
+    }
+    let top = |d: &msd_ident::Design| d.plant_strokes.iter().fold(0.0f64, |m, x| m.max(*x));
+    assert!(top(&prior_only) > 0.1115, "{prior_only}");
+    assert!(
+        prior_only.to_string().contains("holds on the prior only"),
+        "{prior_only}"
+    );
+    let (top, force) = (top(&every), every.peak_force);
+    assert!(
+        top <= 0.1115 && (top > 0.1115 * (1.0 - 1e-6) || force > 9.0 * (1.0 - 1e-6)),
+        "{every}"
+    );
+    assert!(
+        every.to_string().contains("holds on every plant"),
+        "{every}"
+    );
 }
 
 /// Each criterion's design (default settings: 60 lines, 3 × 100 iterations) is at least
@@ -141,6 +190,18 @@ fn bad_constraints_are_refused_by_their_key() {
     );
     assert!(
         err.to_string().contains("static deflection 0.16666"),
+        "{err}"
+    );
+    // An 8 N step deflects the prior by 1/15 m statically, but overshoots to 0.123 m
+    // (1 + e^{−πζ/√(1−ζ²)} = 1.85 times, ζ = 0.052).
+    let err = refused(|o| {
+        o.constraints.step = Some(StepOption {
+            time: 0.5,
+            min_amplitude: 8.0,
+        });
+    });
+    assert!(
+        err.to_string().starts_with("invalid design.constraints.max_stroke = 0.1115: expected at least the peak response 0.123"),
         "{err}"
     );
     let err = refused(|o| o.constraints.band_hz = [2.0, 2.0]);

@@ -1,0 +1,193 @@
+//! Sequential design: the prior plant, the robust box and the noise level from a pilot
+//! test instead of a guess.
+//!
+//! A design config with a `[pilot]` section has no `[plant]`: the pilot's estimate of m,
+//! c and k is the prior, the box is three of its largest relative standard errors wide
+//! ([`msd_ident::RobustBox::around`]), and without a `[noise]` section the pilot's noise
+//! estimate σ̂ is the planned test's noise. The pilot is either a config, run first
+//! (its data generated or read and m, c, k estimated, as `experiment` does), or the
+//! `results.json` of a pilot run already made.
+//!
+//! ```
+//! use msd_experiment::design::{PilotSection, Pilot};
+//! let section = PilotSection { config: Some("paper-fast.toml".into()), results: None };
+//! let pilot = Pilot::load(&section, "../../configs/design-sequential.toml".as_ref())?;
+//! assert_eq!(pilot.name, "paper-fast");
+//! // The paper's test pins the plant (m = 2.5, c = 1.8, k = 120) to a fraction of a percent.
+//! assert!((pilot.plant().stiffness / 120.0 - 1.0).abs() < 0.005);
+//! # Ok::<(), msd_experiment::ExperimentError>(())
+//! ```
+
+use crate::config::Config;
+use crate::{ExperimentError, Result};
+use msd_ident::{Interval, Parameters};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// `[pilot]`: where a sequential design takes its prior from. Exactly one key; the path
+/// is relative to the design config's folder.
+///
+/// ```
+/// use msd_experiment::design::PilotSection;
+/// let section: PilotSection = toml::from_str(r#"results = "pilot/results.json""#).unwrap();
+/// assert_eq!(section.results.unwrap().to_str(), Some("pilot/results.json"));
+/// assert!(toml::from_str::<PilotSection>(r#"file = "pilot.toml""#).is_err()); // unknown key
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PilotSection {
+    /// A pilot experiment's config (synthetic or measured, force and displacement): its
+    /// identification data are generated or read and m, c, k estimated before the
+    /// design.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub config: Option<PathBuf>,
+    /// The `results.json` of a pilot run already made (`cargo xtask experiment`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub results: Option<PathBuf>,
+}
+
+impl PilotSection {
+    /// Checks that exactly one source is given: the field and the rest of the message,
+    /// as [`Config`]'s checks return them.
+    pub(crate) fn validate(&self) -> std::result::Result<(), (String, String)> {
+        match (&self.config, &self.results) {
+            (Some(p), None) | (None, Some(p)) if !p.as_os_str().is_empty() => Ok(()),
+            (Some(_), Some(_)) => Err((
+                "pilot".into(),
+                ": both `config` and `results` given: expected exactly one".into(),
+            )),
+            _ => Err((
+                "pilot".into(),
+                ": expected `config = \"pilot.toml\"` (run first) or `results = \"…/results.json\"` (a run already made)".into(),
+            )),
+        }
+    }
+}
+
+/// A pilot's estimate, as a sequential design uses it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Pilot {
+    /// The pilot experiment's name.
+    pub name: String,
+    /// The file it was read from (the config run, or the results file).
+    pub source: PathBuf,
+    /// Its m, c, k with their standard errors and 95 % intervals.
+    pub estimate: [Interval; 3],
+    /// Its estimate σ̂ of the noise, in the output unit.
+    pub noise_sigma: f64,
+}
+
+impl Pilot {
+    /// Runs or reads the pilot of `section`; `design_config` resolves its path and names
+    /// the design config in errors.
+    pub fn load(section: &PilotSection, design_config: &Path) -> Result<Self> {
+        let folder = design_config.parent().unwrap_or(Path::new(""));
+        match (&section.config, &section.results) {
+            (Some(config), None) => run(&folder.join(config), design_config),
+            (None, Some(results)) => read(&folder.join(results)),
+            _ => Err(ExperimentError::config(
+                design_config,
+                "pilot: expected exactly one of `config` and `results`",
+            )),
+        }
+    }
+
+    /// The estimate as the design's prior plant.
+    pub fn plant(&self) -> Parameters {
+        let [m, c, k] = self.estimate;
+        Parameters {
+            mass: m.value,
+            damping: c.value,
+            stiffness: k.value,
+        }
+    }
+}
+
+impl std::fmt::Display for Pilot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [m, c, k] = self.estimate;
+        write!(
+            f,
+            "  prior from the pilot `{}` ({}): m {:.5} ± {:.2e}, c {:.5} ± {:.2e}, k {:.4} ± {:.2e}, σ̂ {:.3e}",
+            self.name,
+            self.source.display(),
+            m.value,
+            m.standard_error,
+            c.value,
+            c.standard_error,
+            k.value,
+            k.standard_error,
+            self.noise_sigma
+        )
+    }
+}
+
+/// Loads the pilot config at `path`, generates or reads its identification record and
+/// estimates m, c, k as the config says.
+fn run(path: &Path, design_config: &Path) -> Result<Pilot> {
+    let config = Config::load(path)?;
+    if config.setup.is_some() || config.frequency_response.is_some() || config.pilot.is_some() {
+        return Err(ExperimentError::config(
+            design_config,
+            format!(
+                "pilot.config = {:?}: a [setup], [frequency_response] or [pilot] config: expected a force-and-displacement experiment (as configs/paper-fast.toml)",
+                path.display().to_string()
+            ),
+        ));
+    }
+    let data = crate::data::load(&config, path, config.seed)?;
+    let fit = msd_ident::estimate(&data.identification, &config.estimation)
+        .map_err(|e| ExperimentError::run("design: pilot estimation", e))?;
+    let u = &fit.uncertainty;
+    Ok(Pilot {
+        name: config.name,
+        source: path.to_path_buf(),
+        estimate: [u.mass, u.damping, u.stiffness],
+        noise_sigma: u.sigma,
+    })
+}
+
+/// The parts of a `results.json` a design reads.
+#[derive(Deserialize)]
+struct Results {
+    experiment: ExperimentName,
+    estimate: Estimate,
+}
+
+#[derive(Deserialize)]
+struct ExperimentName {
+    name: String,
+}
+
+#[derive(Deserialize)]
+struct Estimate {
+    mass: Interval,
+    damping: Interval,
+    stiffness: Interval,
+    noise_sigma: f64,
+}
+
+/// Reads a pilot run's `results.json`.
+fn read(path: &Path) -> Result<Pilot> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        ExperimentError::data(path, format!("cannot read the pilot's results: {e}"))
+    })?;
+    let results: Results = serde_json::from_str(&text).map_err(|e| {
+        ExperimentError::data(
+            path,
+            format!("{e}: expected the results.json of a force-and-displacement run (`cargo xtask experiment`), with experiment.name and estimate.mass, .damping, .stiffness, .noise_sigma"),
+        )
+    })?;
+    let e = results.estimate;
+    let pilot = Pilot {
+        name: results.experiment.name,
+        source: path.to_path_buf(),
+        estimate: [e.mass, e.damping, e.stiffness],
+        noise_sigma: e.noise_sigma,
+    };
+    pilot
+        .plant()
+        .validate()
+        .map_err(|err| ExperimentError::data(path, format!("estimate: {err}")))?;
+    Ok(pilot)
+}
