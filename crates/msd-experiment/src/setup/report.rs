@@ -86,13 +86,12 @@ pub(crate) fn summary(o: &SetupOutcome) -> String {
         channel_names(o).join(", ")
     );
     for (_, label, iv, truth) in estimates(o) {
-        let _ = write!(
-            s,
-            "  {label:<22} {}  95 % [{}, {}]",
-            sig(iv.value, 6),
-            sig(iv.ci95[0], 6),
-            sig(iv.ci95[1], 6)
-        );
+        let _ = write!(s, "  {label:<22} {}  ", sig(iv.value, 6));
+        if iv.standard_error == 0.0 {
+            s.push_str("known, fixed");
+        } else {
+            let _ = write!(s, "95 % [{}, {}]", sig(iv.ci95[0], 6), sig(iv.ci95[1], 6));
+        }
         if let Some(t) = truth {
             let _ = write!(s, "  (true {})", sig(t, 6));
         }
