@@ -137,16 +137,7 @@ fn data_section(w: &mut String, o: &FrfOutcome) {
         d.averages
     );
     if d.averages > 1 {
-        let [from, to] = match &o.fit {
-            FrfFit::OneMode(f) => f.band_hz,
-            FrfFit::Modes(m) => m.band_hz,
-        };
-        let low = d
-            .frequency
-            .iter()
-            .zip(&d.coherence)
-            .filter(|(f, _)| (from..=to).contains(*f))
-            .fold(1.0, |low, (_, g)| g.min(low));
+        let ([from, to], low) = fitted_band_coherence(o);
         let _ = write!(
             w,
             " The coherence is at least {} in the fitted band ({}–{} Hz).",
@@ -295,4 +286,21 @@ fn interval(i: &Interval) -> String {
 
 fn first_line(text: &str) -> &str {
     text.lines().next().unwrap_or("")
+}
+
+/// The fitted band and the lowest coherence within it (the lines outside it may carry no
+/// force at all, and their coherence says nothing of the fit).
+pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
+    let [from, to] = match &o.fit {
+        FrfFit::OneMode(f) => f.band_hz,
+        FrfFit::Modes(m) => m.band_hz,
+    };
+    let low = o
+        .data
+        .frequency
+        .iter()
+        .zip(&o.data.coherence)
+        .filter(|(f, _)| (from..=to).contains(*f))
+        .fold(1.0, |low, (_, g)| g.min(low));
+    ([from, to], low)
 }

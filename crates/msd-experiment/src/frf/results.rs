@@ -56,6 +56,7 @@ struct Data<'a> {
     averages: usize,
     exponential_decay: Option<f64>,
     noise_bandwidth: f64,
+    /// The lowest coherence in the fitted band.
     min_coherence: f64,
 }
 
@@ -141,7 +142,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             averages: o.data.averages,
             exponential_decay: o.data.exponential_decay,
             noise_bandwidth: o.data.noise_bandwidth,
-            min_coherence: o.data.coherence.iter().copied().fold(1.0, f64::min),
+            min_coherence: super::report::fitted_band_coherence(o).1,
         },
         estimate: one_mode(o),
         modes: match &o.fit {
