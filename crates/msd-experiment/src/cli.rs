@@ -103,8 +103,19 @@ pub fn run(args: &RunArgs, options: &RunOptions) -> Result<(), ExperimentError> 
             .unwrap_or_else(|| "unknown panic".into());
         ExperimentError::run("experiment", format!("internal error: {why}"))
     })??;
-    print!("{}", run.summary);
+    print_stdout(&run.summary);
     Ok(())
+}
+
+/// Prints `text` on standard output; a reader that has gone (`msd plan … | head`) ends
+/// the printing quietly instead of a panic.
+///
+/// ```
+/// msd_experiment::cli::print_stdout("plan `paper`: …\n");
+/// ```
+pub fn print_stdout(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
 }
 
 /// The arguments of `fetch-data`.

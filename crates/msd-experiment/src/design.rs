@@ -304,7 +304,6 @@ pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()
         root.join(format!("{}-design", config.name))
     });
     write(&report, config, &target)?;
-    print!("{report}");
-    println!("written: {}", target.display());
+    crate::cli::print_stdout(&format!("{report}written: {}\n", target.display()));
     Ok(())
 }

@@ -221,6 +221,6 @@ pub fn run_plan(args: &PlanArgs) -> Result<()> {
         target: args.target,
         verify: args.verify,
     };
-    print!("{}", plan(&args.config, &options)?);
+    crate::cli::print_stdout(&plan(&args.config, &options)?.to_string());
     Ok(())
 }

@@ -124,3 +124,23 @@ fn help_names_the_run_command_and_bad_input_exits_2_writing_nothing() {
     assert!(err.starts_with("error: bad.toml"), "{err}");
     assert!(!dir.path().join("msd-results").exists());
 }
+
+/// `msd plan … | head -1`: a reader that closes its end before the plan is printed ends
+/// the printing quietly (exit 0), not with a panic (exit 101) on the broken pipe.
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    let mut child = Command::new(installed())
+        .args([
+            "plan",
+            workspace_config("paper-fast.toml").to_str().unwrap(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("msd runs");
+    drop(child.stdout.take()); // the reader goes before the plan is computed
+    let out = child.wait_with_output().expect("msd ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
