@@ -1,0 +1,291 @@
+//! The checks of the `[frequency_response]` section: exactly one source, and every value
+//! of the plant, the simulated sources and the estimator in range, each error naming its
+//! key.
+
+use super::{ChainPlant, Check, FrequencyResponseSection, HammerSource, ShakerSource};
+use crate::config::{check_non_negative, check_positive, library_error};
+use msd_signal::{FrfOptions, Window};
+
+impl FrequencyResponseSection {
+    /// The name of the one source given.
+    pub fn source_name(&self) -> &'static str {
+        self.sources()
+            .into_iter()
+            .find_map(|(name, given)| given.then_some(name))
+            .unwrap_or("none")
+    }
+
+    fn sources(&self) -> [(&'static str, bool); 6] {
+        [
+            ("sweep", self.sweep.is_some()),
+            ("hammer", self.hammer.is_some()),
+            ("shaker", self.shaker.is_some()),
+            ("table", self.table.is_some()),
+            ("uff", self.uff.is_some()),
+            ("records", self.records.is_some()),
+        ]
+    }
+
+    /// Checks every value; errors name the key.
+    pub(crate) fn validate(&self) -> Check {
+        let given: Vec<&str> = self
+            .sources()
+            .into_iter()
+            .filter_map(|(n, g)| g.then_some(n))
+            .collect();
+        let expected = "expected exactly one of sweep, hammer, shaker, table, uff, records";
+        match given.as_slice() {
+            [] => return err("frequency_response", format!(": no source: {expected}")),
+            [_] => {}
+            [first, second, ..] => {
+                return err(
+                    &format!("frequency_response.{second}"),
+                    format!(": a second source beside `{first}`: {expected}"),
+                );
+            }
+        }
+        if let Some(plant) = &self.plant {
+            plant.validate()?;
+        } else if self.sweep.is_some() || self.hammer.is_some() || self.shaker.is_some() {
+            return err(
+                "frequency_response.plant",
+                ": missing: a simulated source needs the plant { masses, springs, dampers }".into(),
+            );
+        }
+        self.validate_sources()?;
+        self.estimator
+            .validate()
+            .map_err(|e| ("frequency_response.estimator".into(), format!(": {e}")))?;
+        match &self.modes {
+            Some(m) => m
+                .validate()
+                .map_err(|e| library_error("frequency_response.modes", e)),
+            None => self
+                .one_mode
+                .validate()
+                .map_err(|e| library_error("frequency_response.one_mode", e)),
+        }
+    }
+
+    fn validate_sources(&self) -> Check {
+        if let Some(s) = &self.sweep {
+            let [low, high] = s.band_hz;
+            check_positive("frequency_response.sweep.band_hz", low)?;
+            if !(high.is_finite() && high > low) {
+                return err(
+                    "frequency_response.sweep.band_hz",
+                    format!(" = [{low}, {high}]: expected 0 < first < last (Hz)"),
+                );
+            }
+            if s.lines < 4 {
+                return err(
+                    "frequency_response.sweep.lines",
+                    format!(" = {}: expected at least 4", s.lines),
+                );
+            }
+            check_non_negative("frequency_response.sweep.relative_noise", s.relative_noise)?;
+        }
+        if let Some(h) = &self.hammer {
+            h.validate()?;
+            h.validate_windows(&self.estimator)?;
+        }
+        if let Some(s) = &self.shaker {
+            s.validate()?;
+        }
+        if let Some(t) = &self.table {
+            let pairs = (
+                t.magnitude.is_some() && t.phase.is_some(),
+                t.real.is_some() && t.imaginary.is_some(),
+            );
+            let partial = t.magnitude.is_some() || t.phase.is_some();
+            if pairs.0 == pairs.1 || (pairs.1 && partial) {
+                return err(
+                    "frequency_response.table",
+                    ": expected either `magnitude` and `phase` or `real` and `imaginary` columns"
+                        .into(),
+                );
+            }
+        }
+        if let Some(r) = &self.records {
+            check_positive("frequency_response.records.sample_rate", r.sample_rate)?;
+            if r.force.is_empty() || r.force.len() != r.response.len() {
+                return err(
+                    "frequency_response.records.response",
+                    format!(
+                        ": {} force and {} response columns: expected one pair per record",
+                        r.force.len(),
+                        r.response.len()
+                    ),
+                );
+            }
+        }
+        if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
+            return err(
+                "frequency_response.uff.function",
+                " = 0: expected a dataset number from 1".into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl ChainPlant {
+    fn validate(&self) -> Check {
+        let key = |k: &str| format!("frequency_response.plant.{k}");
+        let n = self.masses.len();
+        if !(1..=8).contains(&n) {
+            return err(&key("masses"), format!(": {n} masses: expected 1 to 8"));
+        }
+        for (name, values) in [("springs", &self.springs), ("dampers", &self.dampers)] {
+            if values.len() != n {
+                return err(
+                    &key(name),
+                    format!(
+                        ": {} values for {n} masses: expected one per mass",
+                        values.len()
+                    ),
+                );
+            }
+        }
+        for i in 0..n {
+            check_positive(&key(&format!("masses[{i}]")), self.masses[i])?;
+            check_positive(&key(&format!("springs[{i}]")), self.springs[i])?;
+            check_non_negative(&key(&format!("dampers[{i}]")), self.dampers[i])?;
+        }
+        for (name, at) in [
+            ("force_at", self.force_at),
+            ("response_at", self.response_at),
+        ] {
+            if !(1..=n).contains(&at) {
+                return err(
+                    &key(name),
+                    format!(" = {at}: expected a mass from 1 to {n}"),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+impl HammerSource {
+    fn validate(&self) -> Check {
+        let key = |k: &str| format!("frequency_response.hammer.{k}");
+        check_positive(&key("sample_rate"), self.sample_rate)?;
+        check_positive(&key("duration"), self.duration)?;
+        check_positive(&key("force_peak"), self.force_peak)?;
+        for (name, v) in [
+            ("trigger", self.trigger),
+            ("force_spread", self.force_spread),
+            ("force_noise", self.force_noise),
+            ("response_noise", self.response_noise),
+        ] {
+            check_non_negative(&key(name), v)?;
+        }
+        if self.hits == 0 {
+            return err(&key("hits"), " = 0: expected at least 1".into());
+        }
+        check_positive(&key("pulse_width"), self.pulse_width)?;
+        if self.pulse_width * self.sample_rate < 2.0 {
+            return err(
+                &key("pulse_width"),
+                format!(
+                    " = {}: expected at least two samples (2/sample_rate)",
+                    self.pulse_width
+                ),
+            );
+        }
+        let samples = self.duration * self.sample_rate;
+        if self.trigger + self.pulse_width >= self.duration || samples > 1e7 {
+            return err(
+                &key("duration"),
+                format!(
+                    " = {}: expected the pulse inside the record and at most 1e7 samples",
+                    self.duration
+                ),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl HammerSource {
+    /// Each hit is one record: the estimator's windows must keep the hit. Impact windows
+    /// (the force window at least to the end of the pulse, within the record), or a
+    /// rectangular window over the whole record; a Hann window would zero the hit at
+    /// the record's start.
+    fn validate_windows(&self, estimator: &FrfOptions) -> Check {
+        let key = |k: &str| format!("frequency_response.estimator.{k}");
+        let Some(impact) = &estimator.impact else {
+            if estimator.welch.window != Window::Rectangular {
+                return err(
+                    &key("welch.window"),
+                    " = \"hann\": expected `impact` windows or `welch.window = \"rectangular\"` with the hammer source (a Hann window zeroes the hit at the record's start)".into(),
+                );
+            }
+            return match estimator.welch.segment_length {
+                Some(l) => err(
+                    &key("welch.segment_length"),
+                    format!(
+                        " = {l}: expected none with the hammer source (each hit is one record)"
+                    ),
+                ),
+                None => Ok(()),
+            };
+        };
+        let pulse_end = self.trigger + self.pulse_width;
+        let width = impact.force_width.unwrap_or(self.duration / 10.0);
+        if !(pulse_end..=self.duration).contains(&width) {
+            return err(
+                &key("impact.force_width"),
+                format!(
+                    " = {width} s{}: expected the force window to keep the pulse and end within the record: from trigger + pulse_width ({} + {} s) to duration ({} s)",
+                    if impact.force_width.is_none() {
+                        " (a tenth of the record)"
+                    } else {
+                        ""
+                    },
+                    self.trigger,
+                    self.pulse_width,
+                    self.duration
+                ),
+            );
+        }
+        Ok(())
+    }
+}
+
+impl ShakerSource {
+    fn validate(&self) -> Check {
+        let key = |k: &str| format!("frequency_response.shaker.{k}");
+        check_positive(&key("sample_rate"), self.sample_rate)?;
+        check_positive(&key("duration"), self.duration)?;
+        for (name, v) in [
+            ("settle", self.settle),
+            ("force_noise", self.force_noise),
+            ("response_noise", self.response_noise),
+        ] {
+            check_non_negative(&key(name), v)?;
+        }
+        if self.records == 0 {
+            return err(&key("records"), " = 0: expected at least 1".into());
+        }
+        let per_record = self.duration * self.sample_rate;
+        let total = self.settle * self.sample_rate + self.records as f64 * per_record;
+        if per_record < 8.0 || total > 1e7 {
+            return err(
+                &key("duration"),
+                format!(
+                    " = {}: expected at least 8 samples per record and at most 1e7 in all (settle included)",
+                    self.duration
+                ),
+            );
+        }
+        self.force
+            .validate()
+            .map_err(|e| (key("force"), format!(": {e}")))
+    }
+}
+
+fn err(field: &str, message: String) -> Check {
+    Err((field.to_string(), message))
+}
