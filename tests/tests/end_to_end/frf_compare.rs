@@ -215,6 +215,17 @@ fn the_simulated_sources_refuse_estimator_settings_that_cannot_work() {
             .replace("frequency = 1.0", "frequency = -1.0"),
         &["frequency_response.shaker.force", "frequency"],
     );
+    let fine = shaker.replace("records = 0", "records = 2");
+    refused(
+        "long.toml",
+        &fine.replace("duration = 20.0", "duration = 20000.0"),
+        &["frequency_response.shaker.duration = 20000", "at most 1e6"],
+    );
+    refused(
+        "impact.toml",
+        &format!("{fine}[frequency_response.estimator]\nimpact = {{ decay_time = 1.0 }}\n"),
+        &["frequency_response.estimator.impact", "with a shaker"],
+    );
 }
 
 /// Measured records read from CSV are compared too, the force cubic between samples

@@ -196,11 +196,14 @@ fn two_percent() -> f64 {
 }
 
 /// Time records of a shaker simulated on the plant: one run of the force signal from
-/// rest, the first `settle` seconds left out (the start transient), then `records`
-/// consecutive records of `duration` seconds; the response is computed exactly (the
-/// force linear between samples) as the quantity of `estimator.kind`, with noise on
-/// both channels. A multisine whose period is `duration` makes every record one period
-/// of the steady state: with a rectangular window its lines do not leak.
+/// rest, the first `settle` seconds left out, then `records` consecutive records of
+/// `duration` seconds; the response is computed exactly for a force linear between
+/// points 16 times denser than the samples (so that the sampled force is, to
+/// (π·f/(16·fs))²/3, the continuous one), as the quantity of `estimator.kind`, with
+/// noise on both channels. A multisine whose period is `duration` makes every record one
+/// period of the steady state once the start transient has died out (give `settle` a few
+/// time constants 1/(ζ·ωn) of the slowest mode): with a rectangular window its lines do
+/// not leak.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShakerSource {
@@ -211,7 +214,9 @@ pub struct ShakerSource {
     pub sample_rate: f64,
     /// Length of each record, s.
     pub duration: f64,
-    /// Seconds simulated before the first record. By default 0.
+    /// Seconds simulated before the first record. By default 0: the first record then
+    /// holds the start transient from rest, which leaks into H1 (the time-domain fit
+    /// models it); a few time constants 1/(ζ·ωn) leave the steady state alone.
     #[serde(default)]
     pub settle: f64,
     /// The force, N: any msd-signal [`Signal`] (`kind = "multisine"`, `"prbs"`, …),

@@ -91,6 +91,14 @@ impl FrequencyResponseSection {
         }
         if let Some(s) = &self.shaker {
             s.validate()?;
+            if self.estimator.impact.is_some() {
+                // An exponential window on a continuous signal adds damping to every
+                // line, and a force window cuts the force off.
+                return err(
+                    "frequency_response.estimator.impact",
+                    ": given with a shaker: expected no impact windows (they are for hammer hits; a shaker's records take a rectangular or Hann window)".into(),
+                );
+            }
         }
         if let Some(t) = &self.table {
             let pairs = (
@@ -271,11 +279,13 @@ impl ShakerSource {
         }
         let per_record = self.duration * self.sample_rate;
         let total = self.settle * self.sample_rate + self.records as f64 * per_record;
-        if per_record < 8.0 || total > 1e7 {
+        // The force is simulated 16 times finer than it is sampled (simulate.rs): 1e6
+        // samples are 1.6e7 simulated steps, 128 MB of force.
+        if per_record < 8.0 || total > 1e6 {
             return err(
                 &key("duration"),
                 format!(
-                    " = {}: expected at least 8 samples per record and at most 1e7 in all (settle included)",
+                    " = {}: expected at least 8 samples per record and at most 1e6 in all (settle included)",
                     self.duration
                 ),
             );
