@@ -903,6 +903,15 @@ impl Config {
                 ": only in a synthetic design config ([time], [identification.input], [validation.input]; no [data] or [setup])",
             );
         }
+        let spread = self.design.as_ref().map_or(0.3, |d| d.robust.spread);
+        if spread != msd_ident::RobustBox::default().spread {
+            return Err((
+                "design.robust.spread".into(),
+                format!(
+                    " = {spread}: not with [pilot]: the pilot's standard errors set the box (±3 of its largest relative standard error); remove the key"
+                ),
+            ));
+        }
         Ok(())
     }
 

@@ -215,6 +215,25 @@ fn verify(
             "--verify = 1: expected at least 2 simulated tests",
         ));
     }
+    // The prediction is of m, c and k estimated from rest without an offset; a check
+    // fitted otherwise would compare two different experiments.
+    let e = &config.estimation;
+    let differs = [
+        ("estimation.fixed", e.fixed != Default::default()),
+        (
+            "estimation.estimate_initial_state",
+            e.estimate_initial_state,
+        ),
+        ("estimation.estimate_offset", e.estimate_offset),
+    ];
+    if let Some((key, _)) = differs.iter().find(|(_, d)| *d) {
+        return Err(ExperimentError::config(
+            config_path,
+            format!(
+                "--verify with {key} set: expected m, c and k all estimated from rest without an offset, as the design's prediction assumes (remove {key} to verify)"
+            ),
+        ));
+    }
     let mut values = [
         Vec::with_capacity(seeds),
         Vec::with_capacity(seeds),

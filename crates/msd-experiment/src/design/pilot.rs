@@ -92,6 +92,30 @@ impl Pilot {
         }
     }
 
+    /// The pilot itself if it can be a prior: a physical plant, σ̂ > 0 and finite
+    /// standard errors ≥ 0; otherwise an error naming its source and the value.
+    fn checked(self) -> Result<Self> {
+        let bad = |what: String| ExperimentError::data(&self.source, format!("the pilot's {what}"));
+        self.plant()
+            .validate()
+            .map_err(|err| bad(format!("estimate: {err}")))?;
+        if !(self.noise_sigma.is_finite() && self.noise_sigma > 0.0) {
+            return Err(bad(format!(
+                "estimate.noise_sigma = {}: expected a finite σ̂ > 0",
+                self.noise_sigma
+            )));
+        }
+        for (name, iv) in ["mass", "damping", "stiffness"].iter().zip(&self.estimate) {
+            if !(iv.standard_error.is_finite() && iv.standard_error >= 0.0) {
+                return Err(bad(format!(
+                    "estimate.{name}.standard_error = {}: expected a finite value ≥ 0",
+                    iv.standard_error
+                )));
+            }
+        }
+        Ok(self)
+    }
+
     /// The estimate as the design's prior plant.
     pub fn plant(&self) -> Parameters {
         let [m, c, k] = self.estimate;
@@ -139,12 +163,13 @@ fn run(path: &Path, design_config: &Path) -> Result<Pilot> {
     let fit = msd_ident::estimate(&data.identification, &config.estimation)
         .map_err(|e| ExperimentError::run("design: pilot estimation", e))?;
     let u = &fit.uncertainty;
-    Ok(Pilot {
+    Pilot {
         name: config.name,
         source: path.to_path_buf(),
         estimate: [u.mass, u.damping, u.stiffness],
         noise_sigma: u.sigma,
-    })
+    }
+    .checked()
 }
 
 /// The parts of a `results.json` a design reads.
@@ -179,15 +204,11 @@ fn read(path: &Path) -> Result<Pilot> {
         )
     })?;
     let e = results.estimate;
-    let pilot = Pilot {
+    Pilot {
         name: results.experiment.name,
         source: path.to_path_buf(),
         estimate: [e.mass, e.damping, e.stiffness],
         noise_sigma: e.noise_sigma,
-    };
-    pilot
-        .plant()
-        .validate()
-        .map_err(|err| ExperimentError::data(path, format!("estimate: {err}")))?;
-    Ok(pilot)
+    }
+    .checked()
 }

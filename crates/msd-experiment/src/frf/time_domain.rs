@@ -109,7 +109,8 @@ pub struct Difference {
     pub time_domain: Interval,
     /// The true value of a synthetic plant.
     pub truth: Option<f64>,
-    /// (frequency − time)/√(SE_f² + SE_t²).
+    /// (frequency − time)/√(SE_f² + SE_t²) (a quantity whose two standard errors are
+    /// both 0, from noise-free records, is not compared).
     pub difference_se: f64,
 }
 
@@ -237,6 +238,10 @@ fn differences(
         .filter_map(|(quantity, f, t, truth)| {
             let t = t?;
             let combined = f.standard_error.hypot(t.standard_error);
+            // Noise-free records give both standard errors 0: a difference has no scale.
+            if !(combined.is_finite() && combined > 0.0) {
+                return None;
+            }
             Some(Difference {
                 quantity,
                 frequency_domain: f,

@@ -19,11 +19,25 @@ impl std::fmt::Display for Plan {
         for q in &short {
             writeln!(f, "  {}", reaching(self, q))?;
         }
+        let absolute: Vec<&str> = self
+            .quantities
+            .iter()
+            .filter(|q| !q.relative_half_width.is_finite())
+            .map(|q| q.name)
+            .collect();
         if short.is_empty() {
+            let which = if absolute.is_empty() {
+                "every quantity"
+            } else {
+                "every other quantity"
+            };
+            writeln!(f, "  {which} within ±{} % (95 %)", 100.0 * self.target)?;
+        }
+        if !absolute.is_empty() {
             writeln!(
                 f,
-                "  every quantity within ±{} % (95 %)",
-                100.0 * self.target
+                "  {}: a prior of 0 has no relative width (its standard error above is absolute)",
+                absolute.join(", ")
             )?;
         }
         Ok(())

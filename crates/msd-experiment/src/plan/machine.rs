@@ -46,7 +46,8 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
                 relative_half_width: w,
                 amplitude_factor: None,
                 duration_needed_s: None,
-                repeats_needed: repeats_needed(setup.cycles, w, options.target),
+                repeats_needed: repeats_needed(setup.cycles, w, options.target)
+                    .map(|n| n.max(msd_ident::MIN_CYCLES)),
                 simulated_standard_deviation: verified.as_ref().map(|v| v[j]),
             }
         })

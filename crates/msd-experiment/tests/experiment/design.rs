@@ -245,4 +245,52 @@ fn a_pilot_results_file_gives_the_same_prior_as_its_config() {
             && missing.contains("cannot read the pilot's results"),
         "{missing}"
     );
+    // A spread beside a pilot (whose standard errors set the box) is refused, not ignored.
+    let spread = sequential.replace("plants = 3", "plants = 3\nspread = 0.2");
+    std::fs::write(dir.path().join("f.toml"), spread).unwrap();
+    let err = design(&dir.path().join("f.toml"), &DesignRunOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("f.toml") && err.contains("design.robust.spread = 0.2: not with [pilot]"),
+        "{err}"
+    );
+    // A results file whose σ̂ is 0 cannot set the noise: refused naming the file and key.
+    let results = dir.path().join("pilot-run/results.json");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&results).unwrap()).unwrap();
+    json["estimate"]["noise_sigma"] = 0.0.into();
+    std::fs::write(dir.path().join("zero.json"), json.to_string()).unwrap();
+    let zero = from("results = \"zero.json\"", "g.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        zero.contains("zero.json")
+            && zero.contains("estimate.noise_sigma = 0: expected a finite σ̂ > 0"),
+        "{zero}"
+    );
+}
+
+/// `--verify` fits its simulated tests as the config says; one that fits an offset (or
+/// the initial state, or holds a parameter) is not the experiment the prediction is of,
+/// and is refused naming the key.
+#[test]
+fn verify_refuses_estimation_the_prediction_does_not_assume() {
+    let text = std::fs::read_to_string(config("design-paper.toml"))
+        .unwrap()
+        .replace("iterations = 100", "iterations = 5");
+    assert!(text.contains("[estimation]\n"));
+    let offset = text.replace("[estimation]\n", "[estimation]\nestimate_offset = true\n");
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("offset.toml");
+    std::fs::write(&file, offset).unwrap();
+    let options = DesignRunOptions {
+        verify: 2,
+        ..DesignRunOptions::default()
+    };
+    let err = design(&file, &options).unwrap_err().to_string();
+    assert!(
+        err.contains("offset.toml") && err.contains("--verify with estimation.estimate_offset set"),
+        "{err}"
+    );
 }

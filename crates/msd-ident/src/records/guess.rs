@@ -120,15 +120,17 @@ fn arx_candidates(problem: &Joint<'_>) -> Vec<(f64, f64)> {
     candidates
 }
 
-/// The candidates without near-repeats: one within 2 % in ωn and 10 % in ζ of a kept
-/// one starts Levenberg–Marquardt in the same basin, and scoring it would cost a
-/// simulation of the record for nothing (the channels of one record and the rates of
-/// the cascade mostly agree that closely).
+/// The usable candidates (finite, ωn > 0, ζ > 0: what [`score`] can simulate) without
+/// near-repeats, in their order: one within 2 % in ωn and 10 % in ζ of a kept one (on a
+/// log scale, so the test is symmetric) starts Levenberg–Marquardt in the same basin, and
+/// scoring it would cost a simulation of the record for nothing (the channels of one
+/// record and the rates of the cascade mostly agree that closely).
 fn distinct(candidates: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     let mut kept: Vec<(f64, f64)> = Vec::with_capacity(candidates.len());
-    for (wn, zeta) in candidates {
-        let near =
-            |&(w, z): &(f64, f64)| ((wn - w) / w).abs() < 0.02 && ((zeta - z) / z).abs() < 0.1;
+    let usable =
+        |&(wn, zeta): &(f64, f64)| wn.is_finite() && wn > 0.0 && zeta.is_finite() && zeta > 0.0;
+    for (wn, zeta) in candidates.into_iter().filter(usable) {
+        let near = |&(w, z): &(f64, f64)| (wn / w).ln().abs() < 0.02 && (zeta / z).ln().abs() < 0.1;
         if !kept.iter().any(near) {
             kept.push((wn, zeta));
         }
@@ -155,4 +157,26 @@ fn score(problem: &mut Joint<'_>, wn: f64, zeta: f64) -> Option<(f64, f64)> {
     };
     let cost = yy - 2.0 * gain * yf + gain * gain * ff;
     (cost.is_finite() && gain > 0.0).then_some((cost, 1.0 / gain))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::distinct;
+
+    #[test]
+    fn near_repeats_collapse_and_an_unusable_candidate_suppresses_nothing() {
+        let candidates = vec![
+            (f64::NAN, 0.05),
+            (6.9, -0.01),
+            (6.0, 0.05),
+            (6.05, 0.052), // within 1 % and 4 % of the first usable: dropped
+            (6.0, 0.06),   // ζ 18 % away: kept
+            (6.3, 0.05),   // ωn 5 % away: kept
+            (5.95, 0.0505),
+        ];
+        assert_eq!(
+            distinct(candidates),
+            vec![(6.0, 0.05), (6.0, 0.06), (6.3, 0.05)]
+        );
+    }
 }
