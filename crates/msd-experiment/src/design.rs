@@ -234,26 +234,16 @@ fn verify(
             ),
         ));
     }
-    let mut values = [
-        Vec::with_capacity(seeds),
-        Vec::with_capacity(seeds),
-        Vec::with_capacity(seeds),
-    ];
+    let mut draws = Vec::with_capacity(seeds);
     for seed in 0..seeds as u64 {
         let data = crate::data::load(config, config_path, seed)?;
         let p = estimate(&data.identification, &config.estimation)
             .map_err(|e| ExperimentError::run("design --verify", e))?
             .parameters;
-        for (v, x) in values.iter_mut().zip([p.mass, p.damping, p.stiffness]) {
-            v.push(x);
-        }
+        draws.push(vec![p.mass, p.damping, p.stiffness]);
     }
-    let sd = |v: &[f64]| {
-        let n = v.len() as f64;
-        let mean = v.iter().sum::<f64>() / n;
-        (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
-    };
-    let standard_deviations = [sd(&values[0]), sd(&values[1]), sd(&values[2])];
+    let sd = crate::plan::standard_deviations(&draws);
+    let standard_deviations = [sd[0], sd[1], sd[2]];
     let predicted = design.comparison.design;
     let ratios = std::array::from_fn(|i| standard_deviations[i] / predicted[i]);
     Ok(Some(Verification {

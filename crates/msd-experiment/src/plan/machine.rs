@@ -96,15 +96,11 @@ fn synthetic<'a>(config: &'a Config, path: &Path) -> Result<(&'a SetupSection, P
     }
 }
 
-/// The damping law of the prior plant.
+/// The damping law of the prior plant (its nonlinear model's, as the run simulates it).
 fn plant_law(plant: &Plant) -> DampingLaw {
-    if plant.quadratic_damping != 0.0 {
-        DampingLaw::QuadraticViscous
-    } else if plant.coulomb_force != 0.0 {
-        DampingLaw::CoulombViscous
-    } else {
-        DampingLaw::Viscous
-    }
+    plant
+        .nonlinear()
+        .map_or(DampingLaw::Viscous, |n| n.structure.damping)
 }
 
 /// The load cell's σ (the response's) and the stroke sensor's (`setup.input_sigma`).

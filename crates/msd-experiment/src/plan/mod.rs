@@ -26,6 +26,8 @@ mod display;
 mod force;
 mod machine;
 mod search;
+
+pub(crate) use search::standard_deviations;
 mod setup;
 
 use crate::config::Config;

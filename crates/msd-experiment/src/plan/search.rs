@@ -47,7 +47,7 @@ pub(super) fn repeats_needed(planned: usize, now: f64, target: f64) -> Option<us
 }
 
 /// The sample standard deviation (n − 1) of each column of `draws` (one row per draw).
-pub(super) fn standard_deviations(draws: &[Vec<f64>]) -> Vec<f64> {
+pub(crate) fn standard_deviations(draws: &[Vec<f64>]) -> Vec<f64> {
     let columns = draws.first().map_or(0, Vec::len);
     let n = draws.len() as f64;
     (0..columns)
