@@ -105,6 +105,57 @@ struct Measured {
     ratio: f64,
 }
 
+/// The limit a step of the least height passes on its own, named by its key with its
+/// configured value.
+fn step_refused(
+    alone: &Measured,
+    limited: usize,
+    constraints: &DesignConstraints,
+    least: f64,
+) -> IdentError {
+    let stroke = alone.peak_strokes[..limited]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(*x));
+    let on = if limited > 1 {
+        "on the box's plants"
+    } else {
+        "on the prior"
+    };
+    let mut limits = vec![
+        (
+            "constraints.max_force",
+            constraints.max_force,
+            alone.peak_force / constraints.max_force,
+            format!("peak force {:.4} N", alone.peak_force),
+        ),
+        (
+            "constraints.max_stroke",
+            constraints.max_stroke,
+            stroke / constraints.max_stroke,
+            format!("peak stroke {stroke:.4} m {on}, its overshoot included"),
+        ),
+    ];
+    if let Some(limit) = constraints.max_rms_force {
+        limits.push((
+            "constraints.max_rms_force",
+            limit,
+            alone.rms_force / limit,
+            format!("RMS force {:.4} N", alone.rms_force),
+        ));
+    }
+    let (key, value, _, what) = limits
+        .into_iter()
+        .max_by(|a, b| a.2.total_cmp(&b.2))
+        .expect("two limits at least");
+    IdentError::InvalidDesign {
+        key,
+        value,
+        expected: format!(
+            "a limit the step of the least height (constraints.step.min_amplitude = {least} N) meets on its own: it alone gives {what}"
+        ),
+    }
+}
+
 /// Scales `w` so that the largest of |force|/max_force, RMS/max_rms_force and, on the
 /// exact response of the sampled force on the prior (or on each of `plants`, as
 /// `stroke_on` says), |x|/max_stroke is 1 − 10⁻⁹. When that leaves the step below its
@@ -165,19 +216,9 @@ pub(super) fn scaled(
         (gain, gain * d)
     } else {
         let step = least.copysign(d);
-        let alone = measure(0.0, step)?.ratio;
-        if alone > target {
-            return Err(IdentError::InvalidDesign {
-                key: if limited > 1 {
-                    "constraints.stroke_on"
-                } else {
-                    "constraints.max_stroke"
-                },
-                value: alone,
-                expected: format!(
-                    "a step of the least height {least} N within the limits on its own (it alone reaches {alone:.4} × the tightest limit, its overshoot included)"
-                ),
-            });
+        let alone = measure(0.0, step)?;
+        if alone.ratio > target {
+            return Err(step_refused(&alone, limited, constraints, least));
         }
         let (mut low, mut high) = (0.0, gain);
         for _ in 0..40 {

@@ -204,6 +204,28 @@ fn bad_constraints_are_refused_by_their_key() {
         err.to_string().starts_with("invalid design.constraints.max_stroke = 0.1115: expected at least the peak response 0.123"),
         "{err}"
     );
+    // A 6 N step from 0.5 s to 15 s has an RMS of 6·√(14.5/15) = 5.90 N on its own: an
+    // RMS limit of 3 N cannot hold, and the error names that limit with its value.
+    let err = refused(|o| {
+        o.iterations = 2;
+        o.constraints.max_rms_force = Some(3.0);
+        o.constraints.step = Some(StepOption {
+            time: 0.5,
+            min_amplitude: 6.0,
+        });
+    });
+    assert!(
+        matches!(
+            err,
+            IdentError::InvalidDesign {
+                key: "constraints.max_rms_force",
+                value: 3.0,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("RMS force 5.8"), "{err}");
     let err = refused(|o| o.constraints.band_hz = [2.0, 2.0]);
     assert!(
         matches!(
