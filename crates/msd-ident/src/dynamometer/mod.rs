@@ -263,7 +263,10 @@ pub struct DynamometerNoise {
 /// through the harmonic fits — with the noise levels of `noise` in place of the
 /// estimated ones. For the plant's own law the values are the plant's and the
 /// covariance is exact for the force noise (linear least squares given the strokes) and
-/// first order for the stroke noise.
+/// first order for the stroke noise. Only the coefficients (values, standard errors,
+/// intervals with the run's Student t) are a prediction: the fit statistics of each
+/// [`LawFit`] (`fit`, `bic`, `delta_bic`, `rank`) are those of the
+/// noise-free fit and say nothing of the planned test (`force_sigma` is the σ_F given).
 ///
 /// ```
 /// use msd_ident::{dynamometer, predicted_dynamometer, synthetic_dynamometer, DampingLaw,
