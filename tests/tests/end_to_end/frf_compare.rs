@@ -15,8 +15,10 @@ use msd_tests::{assert_results_file_is, config, run_in_temp};
 /// time-domain fit is the maximum-likelihood fit of white output noise (the force is
 /// noiseless, the model exact), hence efficient; Hausman (1978) then gives
 /// Cov(q̂_f, q̂_t) = Var(q̂_t), so Var(q̂_f − q̂_t) = SE_f² − SE_t² ≤ SE_f² + SE_t², and
-/// P(|d| > 1.96) ≤ 5 % per quantity: a conservative bound (over 20 seeds the largest
-/// |d| of any quantity was 1.74).
+/// P(|d| > 1.96) ≤ 5 % per quantity. Over the five quantities of a run the test uses
+/// the Bonferroni bound |d| ≤ 2.58 (P ≤ 1 % each, ≤ 5 % that any of them passes it), so
+/// that a correct change of the noise stream fails it at most one time in twenty (over
+/// 20 seeds the largest |d| of any quantity was 1.74).
 #[test]
 fn the_frf_records_config_agrees_with_the_time_domain_fit_and_covers_the_truth() {
     let run = run_in_temp(&config("frf-records.toml"), None, None).expect("runs");
@@ -61,7 +63,7 @@ fn the_frf_records_config_agrees_with_the_time_domain_fit_and_covers_the_truth()
         let se = |v: &serde_json::Value| v["standard_error"].as_f64().unwrap();
         let d = (f["value"].as_f64().unwrap() - t["value"].as_f64().unwrap()) / se(f).hypot(se(t));
         assert!((c["difference_se"].as_f64().unwrap() - d).abs() <= 1e-12 * d.abs().max(1.0));
-        assert!(d.abs() <= 1.96, "{name}: the estimates differ by {d} SE");
+        assert!(d.abs() <= 2.58, "{name}: the estimates differ by {d} SE");
     }
     assert_eq!(run.number("time_domain.records"), 4.0);
     assert_eq!(r["time_domain"]["hold"], "cubic");
@@ -112,13 +114,13 @@ fn time_domain_of(dir: &std::path::Path, config: &str) -> serde_json::Value {
     run.results["time_domain"].clone()
 }
 
-/// Every quantity's |d| ≤ 1.96 (see the first test) and the time-domain interval
+/// Every quantity's |d| ≤ 2.58 (see the first test) and the time-domain interval
 /// covers the truth.
 fn assert_agreement(td: &serde_json::Value) {
     for c in td["comparison"].as_array().expect("compared") {
         let d = c["difference_se"].as_f64().unwrap();
         println!("{}: {d:+.2} combined SE", c["quantity"]);
-        assert!(d.abs() <= 1.96, "{}: {d}", c["quantity"]);
+        assert!(d.abs() <= 2.58, "{}: {d}", c["quantity"]);
         let ci = &c["time_domain"]["ci95"];
         let truth = c["truth"].as_f64().unwrap();
         assert!(
