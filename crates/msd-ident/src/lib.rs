@@ -95,7 +95,7 @@ pub use design::{
 };
 pub use dynamometer::{
     Condition, ConditionSummary, Dynamometer, DynamometerNoise, DynamometerOptions, LawFit,
-    MIN_CYCLES, Stroke, SyntheticDynamometer, dynamometer, predicted_dynamometer,
+    MIN_CYCLES, PredictedLaw, Stroke, SyntheticDynamometer, dynamometer, predicted_dynamometer,
     synthetic_dynamometer,
 };
 pub use error::{IdentError, Result};

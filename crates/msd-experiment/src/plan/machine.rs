@@ -9,7 +9,7 @@ use crate::config::{Config, Plant, SetupSection};
 use crate::setup::{data, fit, machine};
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Condition, DampingLaw, DynamometerNoise, DynamometerOptions, LawFit, dynamometer,
+    Condition, DampingLaw, DynamometerNoise, DynamometerOptions, PredictedLaw, dynamometer,
     predicted_dynamometer,
 };
 use std::path::Path;
@@ -153,7 +153,7 @@ fn predict(
     noise: &DynamometerNoise,
     options: &DynamometerOptions,
     path: &Path,
-) -> Result<LawFit> {
+) -> Result<PredictedLaw> {
     let fits = predicted_dynamometer(conditions, noise, options)
         .map_err(|e| ExperimentError::config(path, format!("the planned experiment: {e}")))?;
     fits.into_iter()
@@ -161,18 +161,11 @@ fn predict(
         .ok_or_else(|| ExperimentError::run("plan", "no damping law was fitted"))
 }
 
-fn correlation(fit: &LawFit) -> Correlation {
-    let c = &fit.covariance;
-    let p = c.nrows();
+fn correlation(fit: &PredictedLaw) -> Correlation {
+    let c = fit.correlation();
     Correlation {
         names: fit.names.clone(),
-        matrix: (0..p)
-            .map(|r| {
-                (0..p)
-                    .map(|k| c[(r, k)] / (c[(r, r)] * c[(k, k)]).sqrt())
-                    .collect()
-            })
-            .collect(),
+        matrix: c.row_iter().map(|r| r.iter().copied().collect()).collect(),
     }
 }
 
@@ -195,12 +188,22 @@ fn verify(
         let conditions = fit::machine_conditions(&data::load(config, path, seed)?);
         let result = dynamometer(&conditions, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
-        let fit = result.law(law);
-        let value = |n: &&str| {
-            fit.and_then(|f| f.coefficient(n))
-                .map_or(f64::NAN, |c| c.value)
-        };
-        draws.push(names.iter().map(value).collect());
+        let values = names
+            .iter()
+            .map(|n| {
+                result
+                    .law(law)
+                    .and_then(|f| f.coefficient(n))
+                    .map(|c| c.value)
+                    .ok_or_else(|| {
+                        ExperimentError::run(
+                            "plan --verify",
+                            format!("seed {seed}: the {law:?} law's {n} was not estimated"),
+                        )
+                    })
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        draws.push(values);
     }
     Ok(Some(standard_deviations(&draws)))
 }

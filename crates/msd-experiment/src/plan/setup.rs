@@ -212,8 +212,16 @@ fn verify(p: &Planned<'_>, names: &[&str], seeds: usize) -> Result<Option<Vec<f6
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
         let values = names
             .iter()
-            .map(|n| interval(&fit.plant, n).map_or(f64::NAN, |iv| iv.value));
-        draws.push(values.collect());
+            .map(|n| {
+                interval(&fit.plant, n).map(|iv| iv.value).ok_or_else(|| {
+                    ExperimentError::run(
+                        "plan --verify",
+                        format!("seed {seed}: {n} was not estimated"),
+                    )
+                })
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        draws.push(values);
     }
     Ok(Some(standard_deviations(&draws)))
 }

@@ -8,12 +8,14 @@
 mod condition;
 mod harmonics;
 mod law_fit;
+mod predicted;
 mod regression;
 mod summary;
 mod synthetic;
 
 pub use condition::{Condition, MIN_CYCLES};
 pub use law_fit::LawFit;
+pub use predicted::PredictedLaw;
 pub use summary::ConditionSummary;
 pub use synthetic::{Stroke, SyntheticDynamometer, synthetic_dynamometer};
 
@@ -263,10 +265,7 @@ pub struct DynamometerNoise {
 /// through the harmonic fits — with the noise levels of `noise` in place of the
 /// estimated ones. For the plant's own law the values are the plant's and the
 /// covariance is exact for the force noise (linear least squares given the strokes) and
-/// first order for the stroke noise. Only the coefficients (values, standard errors,
-/// intervals with the run's Student t) are a prediction: the fit statistics of each
-/// [`LawFit`] (`fit`, `bic`, `delta_bic`, `rank`) are those of the
-/// noise-free fit and say nothing of the planned test (`force_sigma` is the σ_F given).
+/// first order for the stroke noise.
 ///
 /// ```
 /// use msd_ident::{dynamometer, predicted_dynamometer, synthetic_dynamometer, DampingLaw,
@@ -285,7 +284,7 @@ pub fn predicted_dynamometer(
     conditions: &[Condition],
     noise: &DynamometerNoise,
     options: &DynamometerOptions,
-) -> Result<Vec<LawFit>> {
+) -> Result<Vec<PredictedLaw>> {
     options.validate()?;
     let valid = |v: f64, low: f64| v.is_finite() && v >= low;
     if !(valid(noise.force_sigma, 0.0) && noise.force_sigma > 0.0) {
@@ -302,7 +301,8 @@ pub fn predicted_dynamometer(
             expected: "a finite noise level ≥ 0 m",
         });
     }
-    Ok(fit_laws(conditions, options, Some(noise))?.1)
+    let (_, laws) = fit_laws(conditions, options, Some(noise))?;
+    Ok(laws.into_iter().map(PredictedLaw::from).collect())
 }
 
 /// Each condition's summary and each law's fit; with `noise`, the noise levels given
