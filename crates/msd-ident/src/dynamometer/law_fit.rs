@@ -64,10 +64,7 @@ pub struct LawFit {
 impl LawFit {
     /// The coefficient `name`, if estimated.
     pub fn coefficient(&self, name: &str) -> Option<&Interval> {
-        self.names
-            .iter()
-            .position(|n| *n == name)
-            .map(|i| &self.coefficients[i])
+        named(&self.names, &self.coefficients, name)
     }
 
     /// The value of `name`: estimated, the known mass, or 0 for a term the law lacks.
@@ -109,6 +106,18 @@ impl std::fmt::Display for LawFit {
             self.delta_bic
         )
     }
+}
+
+/// The coefficient called `name` among `names`.
+pub(super) fn named<'a>(
+    names: &[&str],
+    coefficients: &'a [Interval],
+    name: &str,
+) -> Option<&'a Interval> {
+    names
+        .iter()
+        .position(|n| *n == name)
+        .map(|i| &coefficients[i])
 }
 
 /// The columns and names of `law`'s regression.

@@ -40,10 +40,7 @@ pub struct PredictedLaw {
 impl PredictedLaw {
     /// The coefficient `name`, if the law has it.
     pub fn coefficient(&self, name: &str) -> Option<&Interval> {
-        self.names
-            .iter()
-            .position(|n| *n == name)
-            .map(|i| &self.coefficients[i])
+        super::law_fit::named(&self.names, &self.coefficients, name)
     }
 
     /// The coefficients' correlation matrix, rows in the order of `names`.
