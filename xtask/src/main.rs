@@ -238,11 +238,11 @@ fn bench_run(args: &BenchArgs) -> Result<(), ExperimentError> {
     let report = run(&options)?;
     let dir = out_dir();
     write(&report, &dir)?;
-    print!("{}", report.text());
-    println!(
-        "written: {} and {}",
+    msd_experiment::cli::print_stdout(&format!(
+        "{}written: {} and {}\n",
+        report.text(),
         dir.join("bench.json").display(),
         dir.join("bench.md").display()
-    );
+    ));
     Ok(())
 }
