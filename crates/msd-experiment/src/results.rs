@@ -14,6 +14,7 @@ use msd_ode::Stats;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
+use std::path::Path;
 use std::time::Duration;
 
 /// The version of the toolkit that wrote a results file.
@@ -47,17 +48,46 @@ struct Results<'a> {
     timings_ms: BTreeMap<String, f64>,
 }
 
+/// The `experiment` section every results.json opens with (paper, frequency-response
+/// and setup runs alike).
 #[derive(Serialize)]
-struct Experiment<'a> {
+pub(crate) struct Experiment<'a> {
     name: &'a str,
     description: &'a str,
     kind: &'static str,
     config_file: String,
     seed: u64,
-    threads: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    threads: Option<usize>,
     crate_version: &'static str,
     #[serde(rename = "crate")]
     toolkit: &'static str,
+}
+
+impl<'a> Experiment<'a> {
+    /// The section of a run of `config` (read from `config_path`) of `kind` with `seed`
+    /// (and the Monte Carlo's `threads`, where there is one).
+    pub(crate) fn new(
+        config: &'a Config,
+        config_path: &Path,
+        kind: &'static str,
+        seed: u64,
+        threads: Option<usize>,
+    ) -> Self {
+        Self {
+            name: &config.name,
+            description: &config.description,
+            kind,
+            config_file: config_path
+                .file_name()
+                .map(|f| f.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            seed,
+            threads,
+            crate_version: CRATE_VERSION,
+            toolkit: "msd-experiment (msd-toolkit)",
+        }
+    }
 }
 
 /// The true plant and how far the estimate is from it, in its own standard errors.
@@ -203,23 +233,11 @@ pub fn to_json(
 }
 
 fn experiment(o: &Outcome) -> Experiment<'_> {
-    Experiment {
-        name: &o.config.name,
-        description: &o.config.description,
-        kind: match o.data.kind {
-            Kind::Synthetic => "synthetic",
-            Kind::Measured => "measured",
-        },
-        config_file: o
-            .config_path
-            .file_name()
-            .map(|f| f.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        seed: o.seed,
-        threads: o.threads,
-        crate_version: CRATE_VERSION,
-        toolkit: "msd-experiment (msd-toolkit)",
-    }
+    let kind = match o.data.kind {
+        Kind::Synthetic => "synthetic",
+        Kind::Measured => "measured",
+    };
+    Experiment::new(&o.config, &o.config_path, kind, o.seed, Some(o.threads))
 }
 
 fn truth(plant: &Parameters, u: &msd_ident::Uncertainty) -> Truth {

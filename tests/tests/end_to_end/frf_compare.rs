@@ -24,6 +24,8 @@ fn the_frf_records_config_agrees_with_the_time_domain_fit_and_covers_the_truth()
     let run = run_in_temp(&config("frf-records.toml"), None, None).expect("runs");
     let r = &run.summary.results;
     assert_eq!(run.number("data.averages"), 4.0);
+    assert_eq!(r["experiment"]["kind"], "frequency_response");
+    assert_eq!(r["experiment"]["config_file"], "frf-records.toml");
     // The lines above the multisine's band carry no force (coherence 0); the key is the
     // fitted band's lowest, which the report states too.
     let coherence = run.number("data.min_coherence");

@@ -3,6 +3,7 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::config::{ChainPlant, Config};
+use crate::results::Experiment;
 use msd_ident::{
     HalfPower, Interval, ModalParameters, Mode, StabilizationDiagram, WindowCorrection,
 };
@@ -33,18 +34,6 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     time_domain: Option<&'a super::TimeDomain>,
     timings_ms: BTreeMap<String, f64>,
-}
-
-#[derive(Serialize)]
-struct Experiment<'a> {
-    name: &'a str,
-    description: &'a str,
-    kind: &'static str,
-    config_file: String,
-    seed: u64,
-    crate_version: &'static str,
-    #[serde(rename = "crate")]
-    toolkit: &'static str,
 }
 
 #[derive(Serialize)]
@@ -121,15 +110,13 @@ fn ms(d: Duration) -> f64 {
 pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Duration) -> Value {
     let one_mass = o.truth.as_ref().filter(|t| t.plant.len() == 1);
     let results = Results {
-        experiment: Experiment {
-            name: &o.config.name,
-            description: &o.config.description,
-            kind: "frequency_response",
-            config_file: o.config_path.display().to_string(),
-            seed: o.seed,
-            crate_version: crate::results::CRATE_VERSION,
-            toolkit: "msd-experiment",
-        },
+        experiment: Experiment::new(
+            &o.config,
+            &o.config_path,
+            "frequency_response",
+            o.seed,
+            None,
+        ),
         config: &o.config,
         data: Data {
             source: &o.source,

@@ -1,4 +1,4 @@
-//! `results.json` of a setup run: `setup` (excitation, responses), `estimate`
+//! `results.json` of a setup run: `experiment` (as every run's), `setup` (excitation, responses), `estimate`
 //! (`identifiable` and `<name>.value` / `.ci95` of each identifiable quantity), and what
 //! each setup adds: `noise` (per channel), `records[]`, `leave_one_out`,
 //! `free_decay.log_decrement`, `dynamometer.conditions[]` and `.laws[]`; `truth` for
@@ -7,6 +7,7 @@
 use super::report::estimates;
 use super::{SetupFit, SetupOutcome};
 use crate::config::{Plant, Response};
+use crate::results::Experiment;
 use crate::{ExperimentError, Result};
 use msd_ident::Interval;
 use serde::Serialize;
@@ -15,9 +16,7 @@ use std::time::Duration;
 
 #[derive(Serialize)]
 struct Results<'a> {
-    name: &'a str,
-    description: &'a str,
-    seed: u64,
+    experiment: Experiment<'a>,
     command: &'a str,
     setup: SetupInfo<'a>,
     estimate: Estimate,
@@ -101,9 +100,17 @@ pub(crate) fn to_json(
     timings.insert("total", total.as_secs_f64() * 1e3);
     let setup = &o.data.setup;
     let results = Results {
-        name: &o.config.name,
-        description: &o.config.description,
-        seed: o.seed,
+        experiment: Experiment::new(
+            &o.config,
+            &o.config_path,
+            if o.data.files.is_empty() {
+                "synthetic"
+            } else {
+                "measured"
+            },
+            o.seed,
+            None,
+        ),
         command: &o.command,
         setup: SetupInfo {
             excitation: setup.excitation.name(),

@@ -94,6 +94,11 @@ fn accelerometer_and_laser_are_fitted_together_and_their_noise_estimated() {
     let (s, m) = synthetic_then_measured("accelerometer");
     assert_truth_inside(&s, &ALL);
     assert_eq!(s["setup"]["excitation"], "force");
+    // The header every results.json opens with.
+    assert_eq!(s["experiment"]["name"], "accelerometer");
+    assert_eq!(s["experiment"]["kind"], "synthetic");
+    assert_eq!(s["experiment"]["config_file"], "accelerometer.toml");
+    assert_eq!(m["experiment"]["kind"], "measured");
     assert_eq!(s["setup"]["responses"].as_array().unwrap().len(), 2);
     let noise = s["noise"].as_array().unwrap();
     // σ̂ of 7501 samples: within 5 % of the truth (its relative SE is 1/√(2·7501) = 0.8 %).
