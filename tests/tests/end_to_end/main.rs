@@ -7,4 +7,5 @@ mod experiment;
 mod faults;
 mod frf_compare;
 mod frf_experiment;
+mod golden;
 mod nonlinear_experiment;
