@@ -39,7 +39,7 @@ pub mod summary;
 pub mod tables;
 
 pub use error::{ExperimentError, Result};
-pub use pipeline::{Outcome, RunOptions};
+pub use pipeline::{FrequencyStage, Outcome, RunOptions};
 
 use config::Config;
 use output::Staging;

@@ -44,19 +44,45 @@ pub struct Outcome {
     /// their mean (the regression F-test): white residuals alone do not make it adequate.
     pub significance: msd_ident::FTest,
     /// Frequency-domain consistency check on the record `[frequency_check] data` names
-    /// (validation by default).
-    pub frequency: Option<msd_ident::FrequencyCheck>,
-    /// Why the frequency check, though enabled, could not be done on these data (no
-    /// resonance in the excited band — an over-damped plant, or a mode outside the band —
-    /// or no input power above DC): the check's reason, in words. The run goes on
-    /// without it.
-    pub frequency_skipped: Option<String>,
+    /// (validation by default): done, skipped with its reason, or off.
+    pub frequency: FrequencyStage,
     /// Monte Carlo band on the validation record.
     pub monte_carlo: Option<MonteCarloOutcome>,
     /// Nonlinear models estimated or compared (`[nonlinear]`).
     pub nonlinear: Option<crate::nonlinear::NonlinearOutcome>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
+}
+
+/// What became of the frequency-domain consistency check.
+#[derive(Debug, Clone)]
+pub enum FrequencyStage {
+    /// Not asked for (`[frequency_check] enabled = false`).
+    Off,
+    /// Done.
+    Checked(Box<msd_ident::FrequencyCheck>),
+    /// Asked for, but not possible on these data (no resonance in the excited band — an
+    /// over-damped plant, or a mode outside the band — or no input power above DC): the
+    /// check's reason, in words. The run goes on without it.
+    Skipped(String),
+}
+
+impl FrequencyStage {
+    /// The check, when it was done.
+    pub fn check(&self) -> Option<&msd_ident::FrequencyCheck> {
+        match self {
+            Self::Checked(check) => Some(check),
+            _ => None,
+        }
+    }
+
+    /// Why it was skipped, when it was.
+    pub fn skipped(&self) -> Option<&str> {
+        match self {
+            Self::Skipped(reason) => Some(reason),
+            _ => None,
+        }
+    }
 }
 
 /// The model's prediction on the validation record.
@@ -210,7 +236,7 @@ pub fn run_on_data(
     );
     timed("residuals", t);
 
-    let (frequency, frequency_skipped) = if config.frequency_check.enabled {
+    let frequency = if config.frequency_check.enabled {
         progress.stage("frequency check");
         let t = Instant::now();
         let set = match config.frequency_check.data {
@@ -225,15 +251,15 @@ pub fn run_on_data(
         );
         timed("frequency_check", t);
         match check {
-            Ok(check) => (Some(check), None),
+            Ok(check) => FrequencyStage::Checked(Box::new(check)),
             // Nothing to measure (no resonance in the excited band — a damper past
             // critical damping, a mode the input misses — or no input power): the other
             // stages still stand, so the run goes on and says why.
-            Err(IdentError::NotIdentifiable { reason }) => (None, Some(reason)),
+            Err(IdentError::NotIdentifiable { reason }) => FrequencyStage::Skipped(reason),
             Err(e) => return Err(ExperimentError::run("frequency check", e)),
         }
     } else {
-        (None, None)
+        FrequencyStage::Off
     };
 
     let monte_carlo = if config.monte_carlo.enabled {
@@ -287,7 +313,6 @@ pub fn run_on_data(
         estimation_solver,
         residuals,
         frequency,
-        frequency_skipped,
         monte_carlo,
         nonlinear,
         timings,

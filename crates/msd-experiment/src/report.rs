@@ -131,10 +131,10 @@ pub fn markdown(
     if let Some(note) = crate::summary::insignificance(&o.significance) {
         verdicts.push(format!("But {note}."));
     }
-    if let Some(f) = &o.frequency {
+    if let Some(f) = o.frequency.check() {
         verdicts.push(f.verdict.clone());
     }
-    if let Some(reason) = &o.frequency_skipped {
+    if let Some(reason) = o.frequency.skipped() {
         verdicts.push(format!("The frequency-domain check was skipped: {reason}."));
     }
     if let Some(mc) = &o.monte_carlo {
@@ -438,7 +438,7 @@ pub fn markdown(
     }
 
     // Frequency.
-    if let Some(f) = &o.frequency {
+    if let Some(f) = o.frequency.check() {
         let _ = writeln!(w, "## Frequency-domain consistency\n");
         let _ = writeln!(w, "{}\n", f.verdict);
         let _ = writeln!(w, "| | fn [Hz] | ζ |\n|---|---|---|");
@@ -466,7 +466,7 @@ pub fn markdown(
             let _ = writeln!(w, "![Bode plot](frf_bode.png)\n");
         }
     }
-    if let Some(reason) = &o.frequency_skipped {
+    if let Some(reason) = o.frequency.skipped() {
         let _ = writeln!(w, "## Frequency-domain consistency\n");
         let _ = writeln!(
             w,
@@ -565,7 +565,7 @@ pub fn markdown(
     if o.residuals.is_some() {
         let _ = writeln!(w, "- `residual_correlation.csv`: the correlation curves;");
     }
-    if o.frequency.is_some() {
+    if o.frequency.check().is_some() {
         let _ = writeln!(w, "- `frf.csv`: the frequency responses;");
     }
     if o.nonlinear.is_some() {

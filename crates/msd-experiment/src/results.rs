@@ -323,13 +323,13 @@ fn validation(o: &Outcome) -> ValidationSection<'_> {
 }
 
 fn frequency(o: &Outcome) -> Option<FrequencySection<'_>> {
-    if let Some(reason) = &o.frequency_skipped {
+    if let Some(reason) = o.frequency.skipped() {
         return Some(FrequencySection::Skipped {
             skipped: true,
             reason,
         });
     }
-    o.frequency.as_ref().map(|f: &FrequencyCheck| {
+    o.frequency.check().map(|f: &FrequencyCheck| {
         let mut check = serde_json::to_value(f).unwrap_or(Value::Null);
         if let Value::Object(map) = &mut check {
             // The curves go to frf.csv; keep the scalars here.

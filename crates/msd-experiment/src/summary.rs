@@ -129,14 +129,14 @@ pub fn text(
             }
         );
     }
-    if let Some(f) = &o.frequency {
+    if let Some(f) = o.frequency.check() {
         // The check's own rendering: the numbers on one line, its verdict on the next.
         for (i, line) in f.to_string().lines().enumerate() {
             let label = if i == 0 { "frequency" } else { "" };
             let _ = writeln!(s, "  {label:<14} {line}");
         }
     }
-    if let Some(reason) = &o.frequency_skipped {
+    if let Some(reason) = o.frequency.skipped() {
         let _ = writeln!(s, "  frequency      skipped: {reason}");
     }
     if let Some(mc) = &o.monte_carlo {

@@ -118,7 +118,7 @@ pub fn csv_files(outcome: &Outcome) -> Vec<(&'static str, String)> {
         files.push(("residual_correlation.csv", t.render()));
     }
 
-    if let Some(f) = &o.frequency {
+    if let Some(f) = o.frequency.check() {
         let mut t = Table::new();
         t.column("frequency_hz", &f.frequency_hz);
         t.column("empirical_magnitude", &f.empirical_magnitude);

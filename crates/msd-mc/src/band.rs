@@ -167,13 +167,7 @@ fn band_and_counts(
     let pool = crate::pool(options.threads)?;
     let nominal_response = simulate(nominal, excitation, initial, backend)?;
     let batch = BatchSimulator::new(excitation, backend)?;
-    let plan = MemoryPlan::new(
-        n,
-        points,
-        options.threads,
-        levels.len(),
-        options.max_buffer_bytes,
-    );
+    let plan = MemoryPlan::new(n, points, levels.len(), options.max_buffer_bytes);
 
     let drawn: Vec<Option<Parameters>> = pool.install(|| {
         (0..n)

@@ -73,23 +73,16 @@ pub struct MemoryPlan {
 
 impl MemoryPlan {
     /// The plan for N `samples` of `points` values with `levels` percentile levels and
-    /// chunk buffers of at most `max_buffer_bytes` (≥ 22·N) together. `threads` does not
-    /// change the plan (the pipeline has one percentile task and a shared simulation).
+    /// chunk buffers of at most `max_buffer_bytes` (≥ 22·N) together. The thread count
+    /// does not enter: the pipeline has one percentile task and a shared simulation.
     ///
     /// ```
     /// use msd_mc::MemoryPlan;
-    /// let plan = MemoryPlan::new(100_000, 7501, 2, 3, 256 << 20);
+    /// let plan = MemoryPlan::new(100_000, 7501, 3, 256 << 20);
     /// assert_eq!((plan.chunk_points, plan.chunks), (32, 235));
     /// assert!(plan.peak_bytes < 160 << 20);
     /// ```
-    pub fn new(
-        samples: usize,
-        points: usize,
-        threads: usize,
-        levels: usize,
-        max_buffer_bytes: usize,
-    ) -> Self {
-        let _ = threads;
+    pub fn new(samples: usize, points: usize, levels: usize, max_buffer_bytes: usize) -> Self {
         let n = samples.max(1).next_multiple_of(GROUP);
         let column = GROUP_COLUMN_BYTES * (n / GROUP);
         let affordable = (max_buffer_bytes / column).max(1);
@@ -389,7 +382,7 @@ mod tests {
 
     fn run_with(n: usize, threads: usize, budget: usize) -> (MemoryPlan, EngineOutput) {
         let levels = [5.0, 50.0, 95.0];
-        let plan = MemoryPlan::new(n, 40, threads, 3, budget);
+        let plan = MemoryPlan::new(n, 40, 3, budget);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
@@ -447,7 +440,7 @@ mod tests {
     #[test]
     fn a_late_failure_asks_for_a_restart_without_the_sample() {
         let (n, levels) = (200, [5.0, 50.0, 95.0]);
-        let plan = MemoryPlan::new(n, 40, 1, 3, GROUP_COLUMN_BYTES * 4 * 10);
+        let plan = MemoryPlan::new(n, 40, 3, GROUP_COLUMN_BYTES * 4 * 10);
         assert_eq!(plan.chunks, 4);
         let late = |i: usize| i == 3 || i == 77;
         let pool = rayon::ThreadPoolBuilder::new()
@@ -477,7 +470,7 @@ mod tests {
         let (done, finished) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let (n, levels) = (200, [5.0, 50.0, 95.0]);
-            let plan = MemoryPlan::new(n, 40, 1, 3, GROUP_COLUMN_BYTES * 4 * 10);
+            let plan = MemoryPlan::new(n, 40, 3, GROUP_COLUMN_BYTES * 4 * 10);
             for threads in [2, 3, 8] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -513,7 +506,7 @@ mod tests {
         let (done, finished) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
             let (n, levels) = (300, [50.0]);
-            let plan = MemoryPlan::new(n, 40, 1, 1, GROUP_COLUMN_BYTES * 5 * 4);
+            let plan = MemoryPlan::new(n, 40, 1, GROUP_COLUMN_BYTES * 5 * 4);
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(3)
                 .build()
@@ -558,7 +551,7 @@ mod tests {
     fn memory_for_a_hundred_thousand_samples_is_bounded() {
         let default_budget = crate::McOptions::default().max_buffer_bytes;
         for budget in [default_budget, GROUP_COLUMN_BYTES * 1563] {
-            let plan = MemoryPlan::new(100_000, 7501, 2, 3, budget);
+            let plan = MemoryPlan::new(100_000, 7501, 3, budget);
             assert!(plan.buffer_bytes <= budget);
             assert!(plan.peak_bytes < 160 << 20, "{plan:?}");
             assert_eq!(plan.chunks, 7501usize.div_ceil(plan.chunk_points));

@@ -17,12 +17,11 @@
 //! time axis is walked in cache-sized chunks ([`MemoryPlan`]) whose percentiles are
 //! tracked level by level while the next chunk is simulated. Similar draws are
 //! simulated side by side, so that a level's search skips whole blocks of them by their
-//! smallest and largest value. The paper's N = 1000 × 7501 points needs 1 MiB of
-//! buffers and 0.5 MiB of states (2.2 MiB in all, against 60 MB for the whole N × T
-//! matrix); N = 100 000 about 134 MiB in all (its run peaks at 137 MiB of resident
-//! memory, program included: `tests/memory.rs`). [`McOptions::max_buffer_bytes`] bounds
-//! the buffers (a smaller budget
-//! means shorter chunks, never a different result).
+//! smallest and largest value. Memory grows as N, not N × T: the paper's N = 1000 × 7501
+//! points need about 2 MiB in all (the whole matrix would be 60 MB), and
+//! [`MemoryPlan::peak_bytes`] states the bound for any N before anything is allocated.
+//! [`McOptions::max_buffer_bytes`] bounds the buffers (a smaller budget means shorter
+//! chunks, never a different result).
 //!
 //! ```
 //! use msd_ident::{Backend, PaperExperiment, Parameters};

@@ -120,7 +120,7 @@ pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
         save(&f, dir)?;
         written.push(f.name());
     }
-    if let Some(fc) = &outcome.frequency {
+    if let Some(fc) = outcome.frequency.check() {
         let f = diagnostics::Bode::new(
             fc,
             outcome.estimate.parameters,

@@ -6,8 +6,7 @@
 //! tolerance bound derived below; estimates (both methods) within 4 Cramér–Rao standard
 //! deviations of the truth, with a reported standard error within 25 % of the bound
 //! (an interval that is too narrow is a wrong number too); validation residuals with the
-//! RMS of the noise; a frequency check that agrees with the truth. Tests marked
-//! `#[ignore = "bug: …"]` state what msd-ident should do and does not yet.
+//! RMS of the noise; a frequency check that agrees with the truth.
 
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
