@@ -37,7 +37,7 @@ pub struct Outcome {
     pub validation: ValidationOutcome,
     /// ode45 statistics (accepted steps, rejected steps, right-hand-side evaluations) of
     /// one simulation of the identification record at θ̂, for the ode45 backend.
-    pub estimation_solver: Option<msd_ode::Stats>,
+    pub estimation_solver: Option<msd_ident::Ode45Stats>,
     /// Residual diagnostics of the identification residuals.
     pub residuals: Option<msd_ident::ResidualAnalysis>,
     /// Whether the model explains the identification data significantly better than
@@ -107,7 +107,7 @@ pub struct ValidationOutcome {
     pub truth_fit: Option<FitMetrics>,
     /// ode45 statistics of the prediction (accepted steps, rejected steps, right-hand-side
     /// evaluations), for the ode45 backend.
-    pub solver: Option<msd_ode::Stats>,
+    pub solver: Option<msd_ident::Ode45Stats>,
 }
 
 /// The Monte Carlo band on the validation record.
@@ -393,7 +393,7 @@ fn ode45_stats(
     excitation: &msd_ident::Excitation,
     initial: InitialState,
     backend: &Backend,
-) -> Option<msd_ode::Stats> {
+) -> Option<msd_ident::Ode45Stats> {
     let mut out = vec![0.0; excitation.len()];
     simulate_into(parameters, excitation, initial, backend, &mut out)
         .ok()

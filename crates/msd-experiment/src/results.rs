@@ -7,10 +7,10 @@
 
 use crate::config::{Config, Kind};
 use crate::pipeline::Outcome;
+use msd_ident::Ode45Stats as Stats;
 use msd_ident::{
     Backend, FitMetrics, FrequencyCheck, InitialState, Interval, Parameters, ResidualAnalysis,
 };
-use msd_ode::Stats;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;

@@ -60,6 +60,7 @@
 
 mod arx;
 mod base_excitation;
+mod chain;
 mod correlation;
 mod data;
 pub mod design;
@@ -87,6 +88,7 @@ mod validation;
 
 pub use arx::arx_initial_guess;
 pub use base_excitation::{BaseExcitation, BaseExcitationOptions, base_excitation};
+pub use chain::ChainPlant;
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};
 pub use design::{
@@ -114,6 +116,12 @@ pub use frf::{
     fit_modes, fit_one_mode, half_power, stabilization_diagram, synthetic_frequency_response,
 };
 pub use metrics::{FTest, FitMetrics};
+/// The solver types that appear in this crate's options and results: how a sampled
+/// input is held between samples, ode45's step counts, and why Levenberg–Marquardt
+/// stopped.
+pub use msd_ode::{Hold, Stats as Ode45Stats};
+#[doc(no_inline)]
+pub use msd_opt::LmExit;
 pub use nonlinear::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, DampingLaw, FixedModel,
     ModelStructure, NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions,
@@ -126,7 +134,7 @@ pub use params::{InitialState, PARAMETER_NAMES, Parameters};
 pub use records::{
     Channel, ChannelFit, ChannelNoise, Drive, Frame, LeftOut, PlannedChannel, PlannedRecord,
     PlantIntervals, Record, RecordFit, RecordsFit, RecordsOptions, fit_records,
-    predicted_records_uncertainty, simulate_response,
+    predicted_records_uncertainty, simulate_channels, simulate_response,
 };
 pub use residuals::{
     CorrelationTest, LjungBox, ResidualAnalysis, ResidualOptions, ljung_box, residual_analysis,

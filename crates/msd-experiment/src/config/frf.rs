@@ -87,28 +87,7 @@ pub struct FrequencyResponseSection {
     pub force_scale_known: bool,
 }
 
-/// A chain of masses fixed to the ground at one end: spring and damper i join mass i to
-/// mass i − 1 (the first to the ground). One mass is the single-degree-of-freedom plant.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ChainPlant {
-    /// Masses, kg (> 0), from the ground out; 1 to 8 of them.
-    pub masses: Vec<f64>,
-    /// Stiffnesses, N/m (> 0), one per mass.
-    pub springs: Vec<f64>,
-    /// Viscous dampers, N·s/m (≥ 0), one per mass.
-    pub dampers: Vec<f64>,
-    /// The mass the force acts on, numbered from 1 at the ground. By default 1.
-    #[serde(default = "first")]
-    pub force_at: usize,
-    /// The mass whose displacement is measured. By default 1.
-    #[serde(default = "first")]
-    pub response_at: usize,
-}
-
-fn first() -> usize {
-    1
-}
+pub use msd_ident::ChainPlant;
 
 /// How the lines of a simulated sweep are spaced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -33,7 +33,6 @@
 //! [`FrequencyResponseSection`]: crate::config::FrequencyResponseSection
 
 mod csv;
-mod plant;
 mod plots;
 mod report;
 mod results;

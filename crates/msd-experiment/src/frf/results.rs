@@ -4,10 +4,10 @@
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::config::{ChainPlant, Config};
 use crate::results::Experiment;
+use msd_ident::LmExit;
 use msd_ident::{
     HalfPower, Interval, ModalParameters, Mode, StabilizationDiagram, WindowCorrection,
 };
-use msd_opt::LmExit;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;

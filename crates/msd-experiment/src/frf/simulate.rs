@@ -7,7 +7,7 @@ use super::source::{Loaded, run_error};
 use super::time_domain::TimeRecords;
 use crate::Result;
 use crate::config::{ChainPlant, HammerSource, ShakerSource};
-use msd_ode::Hold;
+use msd_ident::Hold;
 use msd_signal::{FrfOptions, Record, frf_estimate, gaussian_noise};
 
 /// `clean` plus Gaussian noise of standard deviation `sigma` (stream `name` of `seed`).

@@ -10,7 +10,7 @@ use crate::config::{
     UffSource,
 };
 use crate::{ExperimentError, Result};
-use msd_ode::Hold;
+use msd_ident::Hold;
 use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};
 use std::path::Path;
 

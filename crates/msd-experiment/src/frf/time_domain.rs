@@ -43,11 +43,11 @@
 
 use super::{FrfFit, Truth};
 use crate::fmt::sig;
+use msd_ident::Hold;
 use msd_ident::{
     Channel, ChannelNoise, Drive, Excitation, Frame, IdentError, Interval, OneModeFit,
     PlantIntervals, Record, RecordsOptions, ResponseQuantity, fit_records,
 };
-use msd_ode::Hold;
 use msd_signal::FrfKind;
 use serde::Serialize;
 use std::fmt::Write;

@@ -2,11 +2,10 @@
 //! from the exact simulation, each with its own noise stream) or read from the measured
 //! files (one record per file).
 
-use crate::config::{Config, ExcitationKind, Frame, Plant, Quantity, Response, SetupSection};
+use crate::config::{Config, ExcitationKind, Plant, Response, SetupSection};
 use crate::data::{ColumnSpec, read_columns};
 use crate::{ExperimentError, Result};
 use msd_ident::Excitation;
-use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
 use msd_signal::gaussian_noise;
 use std::path::{Path, PathBuf};
 
@@ -172,13 +171,15 @@ fn synthetic(
     }
     let n = time.samples();
     let input = synthetic_input(config, config_path)?;
-    let clean = simulate_channels(
-        &plant,
-        setup.excitation,
+    let sensors: Vec<_> = channels.iter().map(super::fit::sensor).collect();
+    let clean = msd_ident::simulate_channels(
+        &plant.parameters(),
+        plant.initial_state,
+        super::fit::drive(setup.excitation),
         input.as_ref(),
         n,
         time.dt,
-        channels,
+        &sensors,
     )
     .map_err(|e| ExperimentError::run("data", e))?;
     for r in 0..setup.records {
@@ -266,84 +267,4 @@ fn noisy(
         truth: Some(clean.channels),
         frequency: None,
     })
-}
-
-/// The noise-free channels of a linear plant driven by `excitation` (or released from
-/// its initial state): the exact simulation of the state, each channel a combination of
-/// the state and the drive.
-fn simulate_channels(
-    plant: &Plant,
-    excitation: ExcitationKind,
-    input: Option<&Excitation>,
-    n: usize,
-    dt: f64,
-    channels: &[Response],
-) -> msd_ident::Result<Vec<Vec<f64>>> {
-    let (m, c, k) = (plant.mass, plant.damping, plant.stiffness);
-    let a = SMatrix::<f64, 2, 2>::new(0.0, 1.0, -k / m, -c / m);
-    // The state: (x, x′) with a force; (y, y′) relative to a base driven by z″;
-    // (x, w = x′ − (c/m)·z) with a base driven by z, so that no derivative of z appears.
-    let b = match excitation {
-        ExcitationKind::BaseAcceleration => SVector::<f64, 2>::new(0.0, -1.0),
-        ExcitationKind::BaseDisplacement => SVector::<f64, 2>::new(c / m, (k - c * c / m) / m),
-        _ => SVector::<f64, 2>::new(0.0, 1.0 / m),
-    };
-    let zeros = vec![0.0; n];
-    let (values, breakpoints) = match input {
-        Some(x) => (x.samples(), x.breakpoints()),
-        None => (zeros.as_slice(), &[][..]),
-    };
-    let sim = ExactSimulator::new(&LtiModel { a, b }, dt, Hold::Cubic)?;
-    let s0 = plant.initial_state;
-    let x0 = match excitation {
-        ExcitationKind::BaseDisplacement => {
-            SVector::<f64, 2>::new(s0.displacement, s0.velocity - c / m * values[0])
-        }
-        _ => SVector::<f64, 2>::new(s0.displacement, s0.velocity),
-    };
-    let mut out = vec![vec![0.0; n]; channels.len()];
-    sim.simulate_with(
-        &x0,
-        &SampledInput {
-            values,
-            breakpoints,
-        },
-        |i, s| {
-            let u = values[i];
-            for (column, r) in out.iter_mut().zip(channels) {
-                column[i] = channel_value(plant, excitation, r, s[0], s[1], u);
-            }
-        },
-    )?;
-    Ok(out)
-}
-
-/// One channel's value from the state (s0, s1) and the drive u (see
-/// [`simulate_channels`] for what the state is).
-fn channel_value(
-    plant: &Plant,
-    excitation: ExcitationKind,
-    r: &Response,
-    s0: f64,
-    s1: f64,
-    u: f64,
-) -> f64 {
-    let (m, c, k) = (plant.mass, plant.damping, plant.stiffness);
-    match (excitation, r.quantity, r.frame) {
-        (ExcitationKind::BaseAcceleration, q, frame) => {
-            // Relative motion y: y″ = −z″ − (c·y′ + k·y)/m; absolute x″ = y″ + z″.
-            let relative_acc = -u - (c * s1 + k * s0) / m;
-            match (q, frame) {
-                (Quantity::Displacement, _) => s0,
-                (Quantity::Velocity, _) => s1,
-                (_, Frame::Relative) => relative_acc,
-                _ => relative_acc + u,
-            }
-        }
-        (ExcitationKind::BaseDisplacement, _, Frame::Absolute) => s0,
-        (ExcitationKind::BaseDisplacement, _, Frame::Relative) => s0 - u,
-        (_, Quantity::Displacement, _) => s0,
-        (_, Quantity::Velocity, _) => s1,
-        (_, _, _) => (u - c * s1 - k * s0) / m,
-    }
 }

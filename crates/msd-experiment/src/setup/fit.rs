@@ -111,7 +111,7 @@ pub(crate) fn machine_options(setup: &crate::config::SetupSection) -> Dynamomete
     }
 }
 
-fn drive(kind: ExcitationKind) -> msd_ident::Drive {
+pub(crate) fn drive(kind: ExcitationKind) -> msd_ident::Drive {
     match kind {
         ExcitationKind::Force | ExcitationKind::ImposedDisplacement => msd_ident::Drive::Force,
         ExcitationKind::BaseAcceleration => msd_ident::Drive::BaseAcceleration,
@@ -128,15 +128,22 @@ fn quantity(q: Quantity) -> ResponseQuantity {
     }
 }
 
+/// What a response measures and in which frame.
+pub(crate) fn sensor(c: &Response) -> (ResponseQuantity, msd_ident::Frame) {
+    let frame = match c.frame {
+        Frame::Absolute => msd_ident::Frame::Absolute,
+        Frame::Relative => msd_ident::Frame::Relative,
+    };
+    (quantity(c.quantity), frame)
+}
+
 /// The channel a response describes, without samples.
 pub(crate) fn channel(c: &Response) -> Channel {
+    let (quantity, frame) = sensor(c);
     Channel {
         name: c.channel_name(),
-        quantity: quantity(c.quantity),
-        frame: match c.frame {
-            Frame::Absolute => msd_ident::Frame::Absolute,
-            Frame::Relative => msd_ident::Frame::Relative,
-        },
+        quantity,
+        frame,
         samples: Vec::new(),
     }
 }

@@ -6,6 +6,7 @@
 //! projection, `model.rs` the equations of each drive.
 
 mod check;
+mod generate;
 mod guess;
 mod intervals;
 mod linear;
@@ -17,6 +18,7 @@ mod problem;
 mod result;
 mod setup;
 
+pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};

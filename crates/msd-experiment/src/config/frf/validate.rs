@@ -45,7 +45,7 @@ impl FrequencyResponseSection {
             }
         }
         if let Some(plant) = &self.plant {
-            plant.validate()?;
+            validate_chain(plant)?;
         } else if self.sweep.is_some() || self.hammer.is_some() || self.shaker.is_some() {
             return err(
                 "frequency_response.plant",
@@ -137,42 +137,41 @@ impl FrequencyResponseSection {
     }
 }
 
-impl ChainPlant {
-    fn validate(&self) -> Check {
-        let key = |k: &str| format!("frequency_response.plant.{k}");
-        let n = self.masses.len();
-        if !(1..=8).contains(&n) {
-            return err(&key("masses"), format!(": {n} masses: expected 1 to 8"));
-        }
-        for (name, values) in [("springs", &self.springs), ("dampers", &self.dampers)] {
-            if values.len() != n {
-                return err(
-                    &key(name),
-                    format!(
-                        ": {} values for {n} masses: expected one per mass",
-                        values.len()
-                    ),
-                );
-            }
-        }
-        for i in 0..n {
-            check_positive(&key(&format!("masses[{i}]")), self.masses[i])?;
-            check_positive(&key(&format!("springs[{i}]")), self.springs[i])?;
-            check_non_negative(&key(&format!("dampers[{i}]")), self.dampers[i])?;
-        }
-        for (name, at) in [
-            ("force_at", self.force_at),
-            ("response_at", self.response_at),
-        ] {
-            if !(1..=n).contains(&at) {
-                return err(
-                    &key(name),
-                    format!(" = {at}: expected a mass from 1 to {n}"),
-                );
-            }
-        }
-        Ok(())
+/// A chain plant's sizes, values and force and response positions.
+fn validate_chain(plant: &ChainPlant) -> Check {
+    let key = |k: &str| format!("frequency_response.plant.{k}");
+    let n = plant.masses.len();
+    if !(1..=8).contains(&n) {
+        return err(&key("masses"), format!(": {n} masses: expected 1 to 8"));
     }
+    for (name, values) in [("springs", &plant.springs), ("dampers", &plant.dampers)] {
+        if values.len() != n {
+            return err(
+                &key(name),
+                format!(
+                    ": {} values for {n} masses: expected one per mass",
+                    values.len()
+                ),
+            );
+        }
+    }
+    for i in 0..n {
+        check_positive(&key(&format!("masses[{i}]")), plant.masses[i])?;
+        check_positive(&key(&format!("springs[{i}]")), plant.springs[i])?;
+        check_non_negative(&key(&format!("dampers[{i}]")), plant.dampers[i])?;
+    }
+    for (name, at) in [
+        ("force_at", plant.force_at),
+        ("response_at", plant.response_at),
+    ] {
+        if !(1..=n).contains(&at) {
+            return err(
+                &key(name),
+                format!(" = {at}: expected a mass from 1 to {n}"),
+            );
+        }
+    }
+    Ok(())
 }
 
 impl HammerSource {

@@ -1,18 +1,49 @@
-//! The chain plant of a frequency-domain config: its receptance, its modes (from the
-//! eigenvalues of its state matrix) and its exact response to a sampled force.
+//! A chain of masses (M, C, K): its receptance, its modes (from the eigenvalues of its
+//! state matrix) and its exact response to a sampled force, for the frequency-response
+//! sources that simulate one.
 
-use crate::config::ChainPlant;
-use msd_ident::ModalParameters;
+use crate::ModalParameters;
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
+
+/// A chain of masses fixed to the ground at one end: spring and damper i join mass i to
+/// mass i − 1 (the first to the ground). One mass is the single-degree-of-freedom plant.
+///
+/// ```
+/// use msd_ident::ChainPlant;
+/// let plant = ChainPlant { masses: vec![2.0, 1.0], springs: vec![2e4, 1e4], dampers: vec![4.0, 2.0],
+///     force_at: 2, response_at: 2 };
+/// assert_eq!(plant.modes().len(), 2);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainPlant {
+    /// Masses, kg (> 0), from the ground out; 1 to 8 of them.
+    pub masses: Vec<f64>,
+    /// Stiffnesses, N/m (> 0), one per mass.
+    pub springs: Vec<f64>,
+    /// Viscous dampers, N·s/m (≥ 0), one per mass.
+    pub dampers: Vec<f64>,
+    /// The mass the force acts on, numbered from 1 at the ground. By default 1.
+    #[serde(default = "first")]
+    pub force_at: usize,
+    /// The mass whose displacement is measured. By default 1.
+    #[serde(default = "first")]
+    pub response_at: usize,
+}
+
+fn first() -> usize {
+    1
+}
 
 impl ChainPlant {
     /// One mass on a spring and a damper to the ground, force and response on it: the
     /// single-degree-of-freedom plant m·x″ + c·x′ + k·x = F.
     ///
     /// ```
-    /// use msd_experiment::config::ChainPlant;
+    /// use msd_ident::ChainPlant;
     /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     /// assert_eq!((plant.len(), plant.force_at, plant.response_at), (1, 1, 1));
     /// assert_eq!(plant.springs, [120.0]);
@@ -72,7 +103,7 @@ impl ChainPlant {
     /// Z(jω)⁻¹ at the force's row.
     ///
     /// ```
-    /// use msd_experiment::config::ChainPlant;
+    /// use msd_ident::ChainPlant;
     /// let plant = ChainPlant { masses: vec![2.5], springs: vec![120.0], dampers: vec![1.8],
     ///     force_at: 1, response_at: 1 };
     /// let w = std::f64::consts::TAU * 0.7;
@@ -111,7 +142,7 @@ impl ChainPlant {
     /// are not modes and are left out.
     ///
     /// ```
-    /// use msd_experiment::config::ChainPlant;
+    /// use msd_ident::ChainPlant;
     /// let plant = ChainPlant { masses: vec![2.5], springs: vec![120.0], dampers: vec![1.8],
     ///     force_at: 1, response_at: 1 };
     /// let modes = plant.modes();
@@ -172,7 +203,7 @@ impl ChainPlant {
     /// equation's row, a = (A·x + B·F)[n + response].
     ///
     /// ```
-    /// use msd_experiment::config::ChainPlant;
+    /// use msd_ident::ChainPlant;
     /// use msd_signal::FrfKind;
     /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     /// // A constant 1 N from rest: x ≈ 0, x″ = F/m at the first instant.
