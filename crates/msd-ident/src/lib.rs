@@ -59,7 +59,6 @@
 //! ```
 
 mod arx;
-mod base_excitation;
 mod chain;
 mod correlation;
 mod data;
@@ -71,6 +70,7 @@ mod fft;
 mod free_decay;
 mod frequency;
 mod frf;
+mod least_squares;
 mod local;
 mod metrics;
 mod nonlinear;
@@ -87,7 +87,6 @@ mod uncertainty;
 mod validation;
 
 pub use arx::arx_initial_guess;
-pub use base_excitation::{BaseExcitation, BaseExcitationOptions, base_excitation};
 pub use chain::ChainPlant;
 pub use correlation::{autocorrelation, cross_correlation};
 pub use data::{DataSet, Excitation, MIN_SAMPLES};

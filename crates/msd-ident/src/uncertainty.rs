@@ -9,6 +9,7 @@
 //! to unit norm, so it does not depend on the units. The intervals are only as good as
 //! the model: they assume white Gaussian output noise and a correct model structure.
 
+use crate::least_squares::{self, Linearization};
 use crate::{IdentError, Parameters, Result};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -165,48 +166,13 @@ pub(crate) fn from_jacobian(
             why: "confidence intervals need more samples than parameters",
         });
     }
-    let jtj = jacobian.transpose() * jacobian;
-    let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
-    if let Some(j) = norms.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(IdentError::NotIdentifiable {
-            reason: format!(
-                "the output does not depend on {} (its sensitivity is zero): the input does not excite the system",
-                names[j]
-            ),
-        });
-    }
-    let scaled = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
-    let eigen = scaled.clone().symmetric_eigen();
-    let (min_eig, max_eig) = eigen
-        .eigenvalues
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
-    let condition_number = if min_eig > 0.0 {
-        max_eig / min_eig
-    } else {
-        f64::INFINITY
-    };
-    if condition_number.is_nan() || condition_number >= 1e14 {
-        return Err(IdentError::NotIdentifiable {
-            reason: format!(
-                "the sensitivity matrix is singular (condition number {condition_number:.1e}): some parameters cannot be told apart with this input"
-            ),
-        });
-    }
-    let scaled_inverse = scaled
-        .try_inverse()
-        .ok_or_else(|| IdentError::NotIdentifiable {
-            reason: "the sensitivity matrix cannot be inverted".into(),
-        })?;
+    let linearization = Linearization::new(jacobian).map_err(|e| e.error("the output", &names))?;
+    let condition_number = linearization.condition_number;
     let dof = n - p;
     let sigma2 = sse / dof as f64;
-    let covariance = DMatrix::from_fn(p, p, |r, c| {
-        sigma2 * scaled_inverse[(r, c)] / (norms[r] * norms[c])
-    });
+    let covariance = linearization.covariance(sigma2);
     let se: Vec<f64> = (0..p).map(|j| covariance[(j, j)].max(0.0).sqrt()).collect();
-    let correlation = DMatrix::from_fn(p, p, |r, c| covariance[(r, c)] / (se[r] * se[c]));
+    let correlation = least_squares::correlation(&covariance);
     let t = t_975(dof);
 
     let theta = parameters.to_array();
@@ -215,20 +181,12 @@ pub(crate) fn from_jacobian(
         (Some(a), Some(b)) => covariance[(a, b)],
         _ => 0.0,
     };
-    let delta = |gradient: [f64; 3]| -> f64 {
-        let mut var = 0.0;
-        for i in 0..3 {
-            for j in 0..3 {
-                var += gradient[i] * cov(i, j) * gradient[j];
-            }
-        }
-        var.max(0.0).sqrt()
-    };
+    let delta = |gradient: [f64; 3]| least_squares::delta_variance(&gradient, cov);
     let (m, c, k) = (theta[0], theta[1], theta[2]);
     let fnat = parameters.natural_frequency_hz();
     let zeta = parameters.damping_ratio();
-    let fn_se = delta([-fnat / (2.0 * m), 0.0, fnat / (2.0 * k)]);
-    let zeta_se = delta([
+    let fn_var = delta([-fnat / (2.0 * m), 0.0, fnat / (2.0 * k)]);
+    let zeta_var = delta([
         -zeta / (2.0 * m),
         1.0 / (2.0 * (m * k).sqrt()),
         -zeta / (2.0 * k),
@@ -262,8 +220,8 @@ pub(crate) fn from_jacobian(
         mass: Interval::new(m, param_se(0), t),
         damping: Interval::new(c, param_se(1), t),
         stiffness: Interval::new(k, param_se(2), t),
-        natural_frequency_hz: Interval::new(fnat, fn_se, t),
-        damping_ratio: Interval::new(zeta, zeta_se, t),
+        natural_frequency_hz: Interval::from_variance(fnat, fn_var, t),
+        damping_ratio: Interval::from_variance(zeta, zeta_var, t),
         warnings,
     })
 }

@@ -371,7 +371,7 @@ fn every_shipped_config_computes_the_golden_numbers() {
     assert!(checked >= 20, "only {checked} configs found");
     assert!(
         problems.is_empty(),
-        "{} differences from tests/golden/ (first 40):\n{}",
+        "{} differences from tests/golden/ (first 400):\n{}",
         problems.len(),
         problems
             .iter()

@@ -10,10 +10,9 @@ use crate::Result;
 use msd_experiment::config::Config;
 use msd_experiment::plan::{PlanOptions, plan_config};
 use msd_ident::{
-    Backend, BaseExcitationOptions, Channel, DataSet, Drive, EstimationOptions, Excitation, Frame,
-    FreeDecayOptions, InitialState, KnownParameter, PaperExperiment, Parameters, Record,
-    RecordsOptions, ResponseQuantity, base_excitation, fit_records, free_decay,
-    predicted_uncertainty, simulate, simulate_response,
+    Channel, Drive, EstimationOptions, Excitation, Frame, FreeDecayOptions, InitialState,
+    KnownParameter, PaperExperiment, Parameters, Record, RecordsOptions, ResponseQuantity,
+    fit_records, free_decay, predicted_uncertainty, simulate_response,
 };
 
 /// Free decay, base excitation and the Cramér–Rao plan on records of the paper's length.
@@ -39,24 +38,6 @@ pub fn setups(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Row>>
         ..FreeDecayOptions::default()
     };
     free_decay(dt, &decay, &options).map_err(fail("bench: free decay"))?;
-    // The paper's plant on a table whose acceleration is the paper's input.
-    let base = experiment.identification.excitation.clone();
-    let force = base.samples().iter().map(|a| -p.mass * a).collect();
-    let force = Excitation::from_samples(0.0, dt, force).map_err(fail("bench: base excitation"))?;
-    let y = simulate(&p, &force, InitialState::REST, &Backend::EXACT)
-        .map_err(fail("bench: base excitation"))?;
-    let y: Vec<f64> = y
-        .iter()
-        .zip(noise)
-        .zip(clean)
-        .map(|((y, n), c)| y + (n - c))
-        .collect();
-    let table = DataSet::new("table", base, y).map_err(fail("bench: base excitation"))?;
-    let known = BaseExcitationOptions {
-        known_mass: Some(p.mass),
-        ..BaseExcitationOptions::default()
-    };
-    base_excitation(&table, &known).map_err(fail("bench: base excitation"))?;
     let input = &experiment.identification.excitation;
     let plan_options = EstimationOptions::default();
     let (one, ten) = accelerometer_records(experiment)?;
@@ -103,12 +84,6 @@ pub fn setups(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Row>>
             "setups",
             "free decay (closed form, LM), 7501 samples",
             measure(budget, || free_decay(dt, &decay, &options).ok()),
-        )
-        .target(Target::Seconds(5e-3)),
-        Row::new(
-            "setups",
-            "base excitation (unit-mass LM + exact), 7501 samples",
-            measure(budget, || base_excitation(&table, &known).ok()),
         )
         .target(Target::Seconds(5e-3)),
         Row::new(

@@ -18,6 +18,7 @@ mod classroom;
 
 pub use classroom::ClassroomEstimates;
 
+use crate::least_squares::{Linearization, delta_variance};
 use crate::uncertainty::t_975;
 use crate::{FitMetrics, IdentError, Interval, Result};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
@@ -210,16 +211,20 @@ pub fn free_decay(dt: f64, response: &[f64], options: &FreeDecayOptions) -> Resu
     // Covariance in (ωn, ζ, A, B, offset): the residual Jacobian's ln ωn column / ωn.
     let mut j = lm.jacobian.clone();
     j.column_mut(0).scale_mut(1.0 / wn);
-    let cov = (j.transpose() * &j)
-        .try_inverse()
-        .ok_or_else(|| not_a_decay("the Fisher information is singular".into()))?
-        * (sigma * sigma);
+    let names = [
+        "natural_frequency",
+        "damping_ratio",
+        "cosine",
+        "sine",
+        "offset",
+    ];
+    let cov = Linearization::new(&j)
+        .map_err(|e| not_a_decay(e.reason("the record", &names)))?
+        .covariance(sigma * sigma);
     let t = t_975(dof);
-    let delta = |grad: [f64; 5]| -> f64 {
-        let g = DVector::from_row_slice(&grad);
-        (g.transpose() * &cov * &g)[(0, 0)].max(0.0).sqrt()
+    let interval = |value: f64, grad: [f64; 5]| {
+        Interval::from_variance(value, delta_variance(&grad, |r, c| cov[(r, c)]), t)
     };
-    let interval = |value: f64, grad: [f64; 5]| Interval::new(value, delta(grad), t);
     let root = (1.0 - zeta * zeta).sqrt();
     let state = initial_state(options.response, wn, zeta, a, b);
     let state_grad =

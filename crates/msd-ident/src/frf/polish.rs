@@ -14,6 +14,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::lines::Lines;
 use super::modal::{term, term_with_gradient};
+use crate::least_squares::Linearization;
 use crate::{IdentError, Result};
 
 /// Parameters per mode.
@@ -122,20 +123,9 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
 
 /// s²(JᵀJ)⁻¹, inverted with the columns scaled to unit norm.
 fn covariance(jacobian: &DMatrix<f64>, s2: f64) -> Result<DMatrix<f64>> {
-    let jtj = jacobian.transpose() * jacobian;
-    let p = jtj.nrows();
-    let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
-    let scaled = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
-    let inverse = scaled
-        .cholesky()
-        .map(|c| c.inverse())
-        .filter(|_| norms.iter().all(|n| n.is_finite() && *n > 0.0))
-        .ok_or_else(|| IdentError::NotIdentifiable {
-            reason: "the modal parameters cannot be told apart: JᵀJ is singular".into(),
-        })?;
-    Ok(DMatrix::from_fn(p, p, |r, c| {
-        s2 * inverse[(r, c)] / (norms[r] * norms[c])
-    }))
+    Linearization::new(jacobian)
+        .map(|l| l.covariance(s2))
+        .map_err(|e| e.error("the modal fit's lines", &[]))
 }
 
 /// Typical sizes of the parameters, so that the solver's variables are near 1: ωn and

@@ -6,6 +6,7 @@ use super::estimate::NonlinearOptions;
 use super::model::{Forces, ModelStructure, NonlinearParameters};
 use super::rk4::Columns;
 use super::simulate::{NonlinearSimulation, NonlinearSolver, Simulator, checked_forces};
+use crate::least_squares::{self, Linearization};
 use crate::{DataSet, IdentError, InitialState, Interval, Parameters, Result};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
 use nalgebra::DMatrix;
@@ -283,7 +284,7 @@ pub(super) struct Statistics {
 
 impl Statistics {
     /// σ̂² = SSE/(N − p), covariance σ̂²·D(JᵀJ)⁻¹D, the correlation and the condition
-    /// number of JᵀJ with unit-norm columns.
+    /// number of JᵀJ with unit-norm columns (refused at 10¹⁴, as every fit does).
     pub fn new(
         at: &AtOptimum,
         scaling: &Scaling,
@@ -294,29 +295,21 @@ impl Statistics {
         let sse: f64 = at.residuals.iter().map(|v| v * v).sum();
         let dof = n - p;
         let sigma2 = sse / dof as f64;
-        let jtj = at.jacobian.transpose() * &at.jacobian;
-        let inverse = jtj
-            .clone()
-            .try_inverse()
-            .ok_or_else(|| IdentError::NotIdentifiable {
-                reason: format!("{structure}: JᵀJ is singular at the estimate"),
-            })?;
-        let norms: Vec<f64> = (0..p).map(|j| jtj[(j, j)].sqrt()).collect();
-        let normalised = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
-        let eigenvalues = normalised.symmetric_eigen().eigenvalues;
-        let (low, high) = eigenvalues
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
+        let mut names = structure.parameter_names();
+        names.extend(["x0", "v0"]);
+        names.truncate(p);
+        let linearization = Linearization::new(&at.jacobian)
+            .map_err(|e| e.error(&format!("the record ({structure})"), &names))?;
+        // In the physical parameters θ = θ(z): D·Cov(z)·D with D = dθ/dz diagonal.
         let d = scaling.derivative(z);
-        let covariance = DMatrix::from_fn(p, p, |r, c| sigma2 * d[r] * inverse[(r, c)] * d[c]);
-        let correlation = DMatrix::from_fn(p, p, |r, c| {
-            covariance[(r, c)] / (covariance[(r, r)] * covariance[(c, c)]).sqrt()
-        });
+        let in_z = linearization.covariance(sigma2);
+        let covariance = DMatrix::from_fn(p, p, |r, c| d[r] * in_z[(r, c)] * d[c]);
+        let correlation = least_squares::correlation(&covariance);
         Ok(Self {
             sse,
             dof,
             sigma2,
-            condition_number: if low > 0.0 { high / low } else { f64::INFINITY },
+            condition_number: linearization.condition_number,
             covariance,
             correlation,
             t: crate::uncertainty::t_975(dof),

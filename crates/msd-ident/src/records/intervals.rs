@@ -9,8 +9,9 @@
 
 use super::problem::Joint;
 use super::setup::Drive;
+use crate::least_squares::Linearization;
 use crate::uncertainty::t_975;
-use crate::{IdentError, Interval, KnownParameter, Result};
+use crate::{Interval, KnownParameter, Result};
 use nalgebra::{DMatrix, Matrix3};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -87,36 +88,24 @@ pub(crate) fn log_covariance(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Mat
     let p = problem.free.len();
     let mut j = DMatrix::<f64>::zeros(problem.rows, p);
     problem.fill_jacobian(theta, &mut j)?;
-    let jtj = j.tr_mul(&j);
-    let names = ["mass", "damping", "stiffness"];
-    let norms: Vec<f64> = (0..p).map(|i| jtj[(i, i)].sqrt()).collect();
-    if let Some(i) = norms.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(IdentError::NotIdentifiable {
-            reason: format!(
-                "the records do not depend on {} beyond what the initial states and offsets explain: the drive does not excite the plant",
-                names[problem.free[i]]
-            ),
-        });
-    }
-    let scaled = DMatrix::from_fn(p, p, |r, c| jtj[(r, c)] / (norms[r] * norms[c]));
-    let eigen = scaled.clone().symmetric_eigen().eigenvalues;
-    let (lo, hi) = eigen.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
-        (lo.min(v), hi.max(v))
-    });
-    let inverse = scaled.try_inverse().filter(|_| lo > 0.0 && hi / lo < 1e14);
-    let Some(inverse) = inverse else {
-        return Err(IdentError::NotIdentifiable {
-            reason: format!(
-                "the sensitivities of {:?} are linearly dependent (condition number {:.1e}): these records cannot tell them apart",
-                problem.free.iter().map(|&i| names[i]).collect::<Vec<_>>(),
-                hi / lo
-            ),
-        });
-    };
+    let names: Vec<&str> = problem
+        .free
+        .iter()
+        .map(|&i| ["mass", "damping", "stiffness"][i])
+        .collect();
+    // The Jacobian is weighted by 1/σ̂ per channel: the covariance is (JᵀJ)⁻¹.
+    let inverse = Linearization::new(&j)
+        .map_err(|e| {
+            e.error(
+                "the records (beyond their initial states and offsets)",
+                &names,
+            )
+        })?
+        .covariance(1.0);
     let mut cov = Matrix3::zeros();
     for (a, &pa) in problem.free.iter().enumerate() {
         for (b, &pb) in problem.free.iter().enumerate() {
-            cov[(pa, pb)] = inverse[(a, b)] / (norms[a] * norms[b]);
+            cov[(pa, pb)] = inverse[(a, b)];
         }
     }
     Ok(cov)

@@ -1,6 +1,5 @@
 //! Integration tests of msd-ident: one test binary, one module per topic.
 
-mod base_excitation;
 mod common;
 mod data;
 mod design;
