@@ -92,6 +92,7 @@ fn compare_json(a: &Value, b: &Value, path: &str, out: &mut Vec<String>) {
         (Value::Object(x), Value::Object(y)) => {
             for (k, v) in x {
                 match y.get(k) {
+                    Some(w) if k == "covariance" && compare_covariance(v, w) => {}
                     Some(w) => compare_json(v, w, &format!("{path}.{k}"), out),
                     None => out.push(format!("{path}.{k}: missing now")),
                 }
@@ -108,6 +109,32 @@ fn compare_json(a: &Value, b: &Value, path: &str, out: &mut Vec<String>) {
         _ if a == b => {}
         _ => out.push(format!("{path}: golden {a}, now {b}")),
     }
+}
+
+/// Whether two covariance matrices agree, each entry to [`RELATIVE`] of √(Σᵢᵢ·Σⱼⱼ): the
+/// scale of a covariance is its variances' (an entry near zero against them, as between
+/// orthogonal regressors, is rounding noise and carries no digits of its own).
+fn compare_covariance(a: &Value, b: &Value) -> bool {
+    let matrix = |v: &Value| -> Option<Vec<Vec<f64>>> {
+        v.as_array()?
+            .iter()
+            .map(|row| row.as_array()?.iter().map(Value::as_f64).collect())
+            .collect()
+    };
+    let (Some(a), Some(b)) = (matrix(a), matrix(b)) else {
+        return false;
+    };
+    let n = a.len();
+    let square = |m: &[Vec<f64>]| m.iter().all(|row| row.len() == n);
+    if b.len() != n || !square(&a) || !square(&b) {
+        return false;
+    }
+    (0..n).all(|i| {
+        (0..n).all(|j| {
+            let scale = (a[i][i] * a[j][j]).abs().sqrt();
+            a[i][j] == b[i][j] || (a[i][j] - b[i][j]).abs() <= RELATIVE * scale
+        })
+    })
 }
 
 fn close(p: f64, q: f64) -> bool {

@@ -6,6 +6,7 @@ use super::harmonics::derivative;
 use super::regression::{
     ACCELERATION, COULOMB, DISPLACEMENT, Normal, ONE, Prepared, QUADRATIC, VELOCITY, row, select,
 };
+use crate::least_squares::Linearization;
 use crate::uncertainty::t_975;
 use crate::{DampingLaw, FitMetrics, IdentError, Interval, Result};
 use nalgebra::{DMatrix, DVector};
@@ -192,15 +193,13 @@ fn solve(normal: &Normal, columns: &[usize], known_mass: Option<f64>) -> Option<
     let rhs = DVector::from_fn(p, |r, _| {
         normal.rhs[columns[r]] - known_mass.unwrap_or(0.0) * at(columns[r], ACCELERATION)
     });
-    let scale = DVector::from_fn(p, |r, _| 1.0 / gram[(r, r)].sqrt());
-    let scaled = DMatrix::from_fn(p, p, |r, c| gram[(r, c)] * scale[r] * scale[c]);
-    let eigen = scaled.clone().symmetric_eigenvalues();
-    let condition_number = eigen.max() / eigen.min();
-    if !(condition_number.is_finite() && condition_number > 0.0 && condition_number < 1e12) {
+    let linearization = Linearization::from_normal_matrix(&gram).ok()?;
+    let condition_number = linearization.condition_number;
+    // Regressors this close to collinear leave β to rounding.
+    if condition_number >= 1e12 {
         return None;
     }
-    let scaled_inverse = scaled.cholesky()?.inverse();
-    let inverse = DMatrix::from_fn(p, p, |r, c| scaled_inverse[(r, c)] * scale[r] * scale[c]);
+    let inverse = linearization.covariance(1.0);
     Some(Solved {
         beta: &inverse * rhs,
         inverse,
