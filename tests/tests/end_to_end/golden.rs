@@ -8,7 +8,9 @@
 //! that moves a number past 1e-12 is a change of arithmetic, and must be explained and the
 //! files written anew with `MSD_BLESS_GOLDEN=1 cargo test -p msd-tests --test end_to_end
 //! golden`. Wall times, thread counts and paths (which differ between machines and runs)
-//! are left out. The templates read the files their synthetic runs wrote, as shipped.
+//! are left out. Each run's `report.md` and printed summary are pinned as text too, so
+//! that their rendering can be restructured safely. The templates read the files their
+//! synthetic runs wrote, as shipped.
 
 use msd_experiment::{RunOptions, run_experiment};
 use msd_tests::{real_data, root, without_timings};
@@ -68,7 +70,6 @@ fn strip_volatile(v: &mut Value) {
         }
         Value::Array(items) => items.iter_mut().for_each(strip_volatile),
         Value::String(s) if s.contains('/') => {
-            let absolute = |w: &str| w.trim_start_matches(['`', '(', '"', '\'']).starts_with('/');
             let words: Vec<&str> = s
                 .split(' ')
                 .map(|w| if absolute(w) { "<path>" } else { w })
@@ -76,6 +77,69 @@ fn strip_volatile(v: &mut Value) {
             *s = words.join(" ");
         }
         _ => {}
+    }
+}
+
+/// A report or summary without what differs between runs and machines: the timings
+/// (the rows of a `| stage |` table, a summary's `time [ms]` line), the worker threads,
+/// the command line and absolute paths.
+fn normalised_text(text: &str) -> String {
+    let mut out = String::new();
+    let mut in_timings = false;
+    for line in text.lines() {
+        in_timings = (in_timings && line.starts_with('|')) || line.starts_with("| stage |");
+        let volatile = ["| worker threads |", "| command |"]
+            .iter()
+            .any(|p| line.starts_with(p))
+            || line.contains("time [ms]");
+        if in_timings || volatile {
+            continue;
+        }
+        let words: Vec<&str> = line
+            .split(' ')
+            .map(|w| if absolute(w) { "<path>" } else { w })
+            .collect();
+        out.push_str(&words.join(" "));
+        out.push('\n');
+    }
+    out
+}
+
+/// Whether a word of a message is an absolute path (possibly quoted).
+fn absolute(word: &str) -> bool {
+    word.trim_start_matches(['`', '(', '"', '\''])
+        .starts_with('/')
+}
+
+/// Checks (or, blessing, writes) one golden text, line by line.
+fn check_text(file: &Path, now: &str, out: &mut Vec<String>) {
+    if bless() {
+        return write(file, now);
+    }
+    let Some(golden) = read(file) else {
+        return out.push(format!("{}: no golden file (bless to write it)", rel(file)));
+    };
+    let (g, n): (Vec<&str>, Vec<&str>) = (golden.lines().collect(), now.lines().collect());
+    for (i, (a, b)) in g
+        .iter()
+        .zip(&n)
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .take(5)
+    {
+        out.push(format!(
+            "{} line {}: golden `{a}`, now `{b}`",
+            rel(file),
+            i + 1
+        ));
+    }
+    if g.len() != n.len() {
+        out.push(format!(
+            "{}: {} lines golden, {} now",
+            rel(file),
+            g.len(),
+            n.len()
+        ));
     }
 }
 
@@ -281,6 +345,13 @@ fn check_experiment(config: &Path, out: &Path, case: &str, problems: &mut Vec<St
     check_json(
         &dir.join("results.json"),
         &normalised(&summary.results),
+        problems,
+    );
+    let report = read(&out.join("report.md")).unwrap_or_default();
+    check_text(&dir.join("report.md"), &normalised_text(&report), problems);
+    check_text(
+        &dir.join("summary.txt"),
+        &normalised_text(&summary.summary),
         problems,
     );
     let fingerprints: serde_json::Map<String, Value> = csv_files(out)
