@@ -45,59 +45,113 @@ pub fn markdown(
     extra: &[(&'static str, Duration)],
     elapsed: Duration,
 ) -> String {
-    let o = outcome;
-    let e = &o.estimate;
-    let u = &e.uncertainty;
-    let id = &o.data.identification;
-    let units = parameter_units(&id.input_unit, &id.output_unit);
+    let id = &outcome.data.identification;
     let (factor, out_unit) = display_output(&id.output_unit);
-    let has = |name: &str| figures.contains(&name);
+    let page = Page {
+        outcome,
+        figures,
+        units: parameter_units(&id.input_unit, &id.output_unit),
+        factor,
+        out_unit,
+    };
     let mut s = String::new();
-    let w = &mut s;
+    // Writing into a String cannot fail.
+    let _ = sections(&mut s, &page, extra, elapsed);
+    s
+}
 
-    let _ = writeln!(w, "# Experiment `{}`\n", o.config.name);
-    if !o.config.description.is_empty() {
-        let _ = writeln!(w, "{}\n", o.config.description.trim());
+/// What every section reads: the outcome, the figures written and the output's display
+/// unit.
+struct Page<'a> {
+    outcome: &'a Outcome,
+    figures: &'a [&'a str],
+    units: [String; 3],
+    /// Output values are multiplied by this for display in `out_unit` (m → mm).
+    factor: f64,
+    out_unit: String,
+}
+
+impl Page<'_> {
+    /// Whether the figure `name` was written.
+    fn has(&self, name: &str) -> bool {
+        self.figures.contains(&name)
     }
-    let _ = writeln!(
+}
+
+fn sections(
+    w: &mut String,
+    c: &Page<'_>,
+    extra: &[(&'static str, Duration)],
+    elapsed: Duration,
+) -> std::fmt::Result {
+    header(w, c)?;
+    in_short(w, c)?;
+    data(w, c)?;
+    parameters(w, c)?;
+    fit(w, c)?;
+    residuals(w, c)?;
+    frequency(w, c)?;
+    monte_carlo(w, c)?;
+    if let Some(n) = &c.outcome.nonlinear {
+        nonlinear::section(w, c.outcome, n, c.has("nonlinear_residuals"))?;
+    }
+    timings(w, c, extra, elapsed)?;
+    files(w, c)
+}
+
+/// The title, the description and the run's table.
+fn header(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    let e = &o.estimate;
+    writeln!(w, "# Experiment `{}`\n", o.config.name)?;
+    if !o.config.description.is_empty() {
+        writeln!(w, "{}\n", o.config.description.trim())?;
+    }
+    writeln!(
         w,
         "Identification of mass *m*, damping *c* and stiffness *k* of m·x″ + c·x′ + k·x = F(t) from {}.\n",
         match o.data.kind {
             Kind::Synthetic => "synthetic data generated from a known plant".to_string(),
             Kind::Measured => "a measured record".to_string(),
         }
-    );
+    )?;
     let config_file = o
         .config_path
         .file_name()
         .map(|f| f.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let _ = writeln!(w, "| run | |\n|---|---|");
+    writeln!(w, "| run | |\n|---|---|")?;
     if config_file.is_empty() {
-        let _ = writeln!(w, "| config | built by the calling program (Rust API) |");
+        writeln!(w, "| config | built by the calling program (Rust API) |")?;
     } else {
-        let _ = writeln!(w, "| config | `{config_file}` |");
-        let _ = writeln!(
+        writeln!(w, "| config | `{config_file}` |")?;
+        writeln!(
             w,
             "| command | `{} {}` |",
             o.command,
             o.config_path.display()
-        );
+        )?;
     }
     if o.data.kind == Kind::Synthetic {
-        let _ = writeln!(w, "| seed | {} |", o.seed);
+        writeln!(w, "| seed | {} |", o.seed)?;
     }
-    let _ = writeln!(w, "| toolkit version | {} |", crate::results::CRATE_VERSION);
-    let _ = writeln!(
+    writeln!(w, "| toolkit version | {} |", crate::results::CRATE_VERSION)?;
+    writeln!(
         w,
         "| method | {} on {} |",
         method_name(e.method),
         e.backend.name()
-    );
-    let _ = writeln!(w, "| worker threads | {} |\n", o.threads);
+    )?;
+    writeln!(w, "| worker threads | {} |\n", o.threads)?;
+    Ok(())
+}
 
-    // The story in one paragraph.
-    let _ = writeln!(w, "## In short\n");
+/// The story in one paragraph: fit, truth, residuals, frequency, Monte Carlo, warnings.
+fn in_short(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    let u = &o.estimate.uncertainty;
+    let e = &o.estimate;
+    writeln!(w, "## In short\n")?;
     let mut verdicts = vec![format!(
         "The model explains {:.2} % of the variance of the identification data (R² = {:.4}) and {:.2} % of the validation data it never saw (R² = {:.4}).",
         100.0 * e.fit.r_squared,
@@ -148,19 +202,23 @@ pub fn markdown(
     for warning in u.warnings.iter().chain(&o.data.notes) {
         verdicts.push(format!("Warning: {warning}."));
     }
-    let _ = writeln!(w, "{}\n", verdicts.join(" "));
+    writeln!(w, "{}\n", verdicts.join(" "))?;
+    Ok(())
+}
 
-    // Data.
-    let _ = writeln!(w, "## Data\n");
+/// Where the records come from, and their grids.
+fn data(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    writeln!(w, "## Data\n")?;
     match &o.data.source {
         crate::data::Source::InMemory => {
-            let _ = writeln!(
+            writeln!(
                 w,
                 "Both records were given in memory by the calling program (no file was read).\n"
-            );
+            )?;
         }
         crate::data::Source::Synthetic { sigma } => {
-            let _ = writeln!(
+            writeln!(
                 w,
                 "Both records are simulated {} and corrupted with white Gaussian noise of σ = {} {} (independent seeded streams \"identification\" and \"validation\").\n",
                 match o.config.plant.as_ref().and_then(|p| p.nonlinear()) {
@@ -169,9 +227,9 @@ pub fn markdown(
                     ),
                     None => "exactly from the true plant".to_string(),
                 },
-                sig(sigma * factor, 3),
-                out_unit
-            );
+                sig(sigma * c.factor, 3),
+                c.out_unit
+            )?;
         }
         crate::data::Source::Measured {
             path,
@@ -180,7 +238,7 @@ pub fn markdown(
             estimation_range,
             validation_range,
         } => {
-            let _ = writeln!(
+            writeln!(
                 w,
                 "File `{}`: {rows} rows, dt = {} s ({} Hz) after preprocessing. Estimation samples {}..{}, validation samples {}..{} (0-based, end excluded).\n",
                 path.file_name()
@@ -192,15 +250,15 @@ pub fn markdown(
                 estimation_range[1],
                 validation_range[0],
                 validation_range[1]
-            );
+            )?;
         }
     }
-    let _ = writeln!(
+    writeln!(
         w,
         "| record | samples | t₀ [s] | dt [s] | duration [s] |\n|---|---|---|---|---|"
-    );
+    )?;
     for d in [&o.data.identification, &o.data.validation] {
-        let _ = writeln!(
+        writeln!(
             w,
             "| {} | {} | {} | {} | {} |",
             d.name,
@@ -208,20 +266,26 @@ pub fn markdown(
             short(d.excitation.t0()),
             short(d.excitation.dt()),
             short(d.excitation.dt() * (d.len() - 1) as f64)
-        );
+        )?;
     }
-    let _ = writeln!(w);
+    writeln!(w)?;
+    Ok(())
+}
 
-    // Parameters.
-    let _ = writeln!(w, "## Estimated parameters\n");
+/// The estimates with their intervals, the solver's account and the correlation.
+fn parameters(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    let e = &o.estimate;
+    let u = &e.uncertainty;
+    writeln!(w, "## Estimated parameters\n")?;
     let truth = o.data.truth;
     let header = if truth.is_some() {
         "| quantity | true | estimate | standard error | 95 % interval | error / SE |\n|---|---|---|---|---|---|"
     } else {
         "| quantity | estimate | standard error | 95 % interval |\n|---|---|---|---|"
     };
-    let _ = writeln!(w, "{header}");
-    let rows = parameter_rows(u, truth, &units);
+    writeln!(w, "{header}")?;
+    let rows = parameter_rows(u, truth, &c.units);
     for (name, true_value, i) in rows {
         let interval = format!("[{}, {}]", sig(i.ci95[0], 5), sig(i.ci95[1], 5));
         match true_value {
@@ -231,33 +295,33 @@ pub fn markdown(
                 } else {
                     0.0
                 };
-                let _ = writeln!(
+                writeln!(
                     w,
                     "| {name} | {} | {} | {} | {interval} | {z:+.2} |",
                     sig(t, 5),
                     sig(i.value, 5),
                     sig(i.standard_error, 3)
-                );
+                )?;
             }
             None => {
-                let _ = writeln!(
+                writeln!(
                     w,
                     "| {name} | {} | {} | {interval} |",
                     sig(i.value, 5),
                     sig(i.standard_error, 3)
-                );
+                )?;
             }
         }
     }
-    let _ = writeln!(
+    writeln!(
         w,
         "\nωn = {} rad/s. Intervals: Gauss–Newton covariance σ̂²(JᵀJ)⁻¹ from the exact sensitivities (σ̂ = {} {}, {} degrees of freedom), Student's t; fn and ζ by the delta method.\n",
         sig(e.parameters.natural_frequency(), 5),
-        sig(u.sigma * factor, 4),
-        out_unit,
+        sig(u.sigma * c.factor, 4),
+        c.out_unit,
         u.degrees_of_freedom
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         w,
         "Solver: {} ({}): {} iterations, {} cost evaluations{}, {}; final cost Σr² = {}. Condition number of the scaled JᵀJ: {}.\n",
         crate::fmt::solver_start(e),
@@ -279,40 +343,52 @@ pub fn markdown(
         },
         sig(e.cost, 5),
         sig(u.condition_number, 3)
-    );
+    )?;
     if let Some(s) = o.estimation_solver {
         let (a, r, n) = (s.accepted_steps, s.rejected_steps, s.rhs_evaluations);
-        let _ = write!(
+        write!(
             w,
             "ode45 at θ̂ on the identification record: {a} accepted and {r} rejected steps, {n} right-hand-side evaluations"
-        );
+        )?;
         match o.validation.solver {
             Some(s) => {
                 let (a, r, n) = (s.accepted_steps, s.rejected_steps, s.rhs_evaluations);
-                let _ = writeln!(w, "; on the validation record: {a}, {r} and {n}.\n");
+                writeln!(w, "; on the validation record: {a}, {r} and {n}.\n")?;
             }
             None => {
-                let _ = writeln!(w, ".\n");
+                writeln!(w, ".\n")?;
             }
         }
     }
+    correlation(w, u)
+}
+
+/// The estimates' correlation matrix (one estimated quantity has none).
+fn correlation(w: &mut String, u: &msd_ident::Uncertainty) -> std::fmt::Result {
     let names = &u.names;
     if names.len() > 1 {
-        let _ = writeln!(w, "Correlation of the estimates:\n");
-        let _ = writeln!(w, "| | {} |", names.join(" | "));
-        let _ = writeln!(w, "|---|{}", "---|".repeat(names.len()));
+        writeln!(w, "Correlation of the estimates:\n")?;
+        writeln!(w, "| | {} |", names.join(" | "))?;
+        writeln!(w, "|---|{}", "---|".repeat(names.len()))?;
         for r in 0..names.len() {
             let cells: Vec<String> = (0..names.len())
                 .map(|c| format!("{:+.3}", u.correlation[(r, c)]))
                 .collect();
-            let _ = writeln!(w, "| {} | {} |", names[r], cells.join(" | "));
+            writeln!(w, "| {} | {} |", names[r], cells.join(" | "))?;
         }
-        let _ = writeln!(w);
+        writeln!(w)?;
     }
+    Ok(())
+}
 
-    // Fit.
-    let _ = writeln!(w, "## Fit\n");
-    let _ = writeln!(
+/// R², fit % and RMS error on both records, figures 2 and 3.
+fn fit(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    let out_unit = &c.out_unit;
+    let e = &o.estimate;
+    let truth = o.data.truth;
+    writeln!(w, "## Fit\n")?;
+    writeln!(
         w,
         "| record | R² | fit % | RMS error [{out_unit}] |{}\n|---|---|---|---|{}",
         if truth.is_some() {
@@ -321,12 +397,12 @@ pub fn markdown(
             ""
         },
         if truth.is_some() { "---|" } else { "" }
-    );
+    )?;
     let ceiling = |t: &Option<Vec<f64>>, y: &[f64]| {
         t.as_ref()
             .map(|t| msd_ident::FitMetrics::new(y, t).r_squared)
     };
-    for (name, fit, c) in [
+    for (name, fit, true_r2) in [
         (
             "identification",
             &e.fit,
@@ -338,43 +414,43 @@ pub fn markdown(
             o.validation.truth_fit.map(|f| f.r_squared),
         ),
     ] {
-        let _ = writeln!(
+        writeln!(
             w,
             "| {name} | {:.5} | {:.2} | {} |{}",
             fit.r_squared,
             fit.fit_percent,
-            sig(fit.residual_rms * factor, 4),
-            c.map(|c| format!(" {c:.5} |")).unwrap_or_default()
-        );
+            sig(fit.residual_rms * c.factor, 4),
+            true_r2.map(|r2| format!(" {r2:.5} |")).unwrap_or_default()
+        )?;
     }
     if truth.is_some() {
-        let _ = writeln!(
+        writeln!(
             w,
             "\nThe R² of the true (noise-free) response is the best any model can reach on these noisy records. The paper reports R² = {} (identification) and {} (validation).",
             PAPER_R2[0], PAPER_R2[1]
-        );
+        )?;
     }
     if o.validation.scored_from > 0 {
-        let _ = writeln!(
+        writeln!(
             w,
             "\nThe validation prediction starts from the initial state that best explains its first {} samples (parameters held); those samples are not scored.",
             o.validation.scored_from
-        );
+        )?;
     }
-    let _ = writeln!(w);
-    if has("fig2_identification") {
-        let _ = writeln!(
+    writeln!(w)?;
+    if c.has("fig2_identification") {
+        writeln!(
             w,
             "![Figure 2: excitation, measurement and model fit, residuals](fig2_identification.png)\n"
-        );
-        let _ = writeln!(
+        )?;
+        writeln!(
             w,
             "*Figure 2 — identification: the excitation (top), the measurement and the model's fit (middle), the residuals (bottom).*\n"
-        );
+        )?;
     }
-    if has("fig3_validation") {
-        let _ = writeln!(w, "![Figure 3: validation](fig3_validation.png)\n");
-        let _ = writeln!(
+    if c.has("fig3_validation") {
+        writeln!(w, "![Figure 3: validation](fig3_validation.png)\n")?;
+        writeln!(
             w,
             "*Figure 3 — validation on data never used for fitting: measurements, the model's prediction{}.*\n",
             if o.data.validation_truth.is_some() {
@@ -382,23 +458,27 @@ pub fn markdown(
             } else {
                 ""
             }
-        );
+        )?;
     }
+    Ok(())
+}
 
-    // Residuals.
+/// The residual tests.
+fn residuals(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
     if let Some(r) = &o.residuals {
-        let _ = writeln!(w, "## Residual diagnostics\n");
-        let _ = writeln!(w, "{}\n", r.verdict);
-        let _ = writeln!(w, "| test | statistic | passed |\n|---|---|---|");
-        let _ = writeln!(
+        writeln!(w, "## Residual diagnostics\n")?;
+        writeln!(w, "{}\n", r.verdict)?;
+        writeln!(w, "| test | statistic | passed |\n|---|---|---|")?;
+        writeln!(
             w,
             "| whiteness (Ljung–Box, {} lags) | Q = {:.2}, p = {:.4} | {} |",
             r.ljung_box.degrees_of_freedom,
             r.ljung_box.q,
             r.ljung_box.p_value,
             yes(r.whiteness_passed)
-        );
-        let _ = writeln!(
+        )?;
+        writeln!(
             w,
             "| autocorrelation inside ±{:.4} | {} of {} lags outside, max \\|r\\| = {:.4} | {} |",
             r.autocorrelation.bound,
@@ -406,8 +486,8 @@ pub fn markdown(
             r.autocorrelation.lags.len().saturating_sub(1),
             r.autocorrelation.max_abs,
             yes(r.autocorrelation.passed)
-        );
-        let _ = writeln!(
+        )?;
+        writeln!(
             w,
             "| residual–input cross-correlation | max \\|ρ\\| = {:.4}, {} of {} lags outside ±{:.4} | {} |",
             r.cross_correlation.max_abs,
@@ -415,73 +495,82 @@ pub fn markdown(
             r.cross_correlation.lags.len(),
             r.cross_correlation.bound,
             yes(r.cross_correlation_passed)
-        );
+        )?;
         if let Some(vr) = &o.validation.residual_analysis {
-            let _ = writeln!(
+            writeln!(
                 w,
                 "| validation residuals: Ljung–Box | Q = {:.2}, p = {:.4} | {} |",
                 vr.ljung_box.q,
                 vr.ljung_box.p_value,
                 yes(vr.whiteness_passed)
-            );
-            let _ = writeln!(
+            )?;
+            writeln!(
                 w,
                 "| validation residuals: input cross-correlation | max \\|ρ\\| = {:.4} | {} |",
                 vr.cross_correlation.max_abs,
                 yes(vr.cross_correlation_passed)
-            );
+            )?;
         }
-        let _ = writeln!(w);
-        if has("residual_correlation") {
-            let _ = writeln!(w, "![Residual correlations](residual_correlation.png)\n");
+        writeln!(w)?;
+        if c.has("residual_correlation") {
+            writeln!(w, "![Residual correlations](residual_correlation.png)\n")?;
         }
     }
+    Ok(())
+}
 
-    // Frequency.
+/// The frequency-domain check, or why it was skipped.
+fn frequency(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
     if let Some(f) = o.frequency.check() {
-        let _ = writeln!(w, "## Frequency-domain consistency\n");
-        let _ = writeln!(w, "{}\n", f.verdict);
-        let _ = writeln!(w, "| | fn [Hz] | ζ |\n|---|---|---|");
-        let _ = writeln!(
+        writeln!(w, "## Frequency-domain consistency\n")?;
+        writeln!(w, "{}\n", f.verdict)?;
+        writeln!(w, "| | fn [Hz] | ζ |\n|---|---|---|")?;
+        writeln!(
             w,
             "| single-mode fit to the {} data's DFT | {} | {} |",
             o.config.frequency_check.data.name(),
             sig(f.natural_frequency_hz, 5),
             sig(f.damping_ratio, 4)
-        );
-        let _ = writeln!(
+        )?;
+        writeln!(
             w,
             "| identified model | {} | {} |",
             sig(f.model_natural_frequency_hz, 5),
             sig(f.model_damping_ratio, 4)
-        );
-        let _ = writeln!(
+        )?;
+        writeln!(
             w,
             "\nFit band {}–{} Hz; normalised output error of the model in the band {:.3}.\n",
             sig(f.band_hz[0], 3),
             sig(f.band_hz[1], 3),
             f.model_relative_error
-        );
-        if has("frf_bode") {
-            let _ = writeln!(w, "![Bode plot](frf_bode.png)\n");
+        )?;
+        if c.has("frf_bode") {
+            writeln!(w, "![Bode plot](frf_bode.png)\n")?;
         }
     }
     if let Some(reason) = o.frequency.skipped() {
-        let _ = writeln!(w, "## Frequency-domain consistency\n");
-        let _ = writeln!(
+        writeln!(w, "## Frequency-domain consistency\n")?;
+        writeln!(
             w,
             "Skipped: {reason}. The check fits one underdamped mode (ζ < 1) to the record's \
              spectrum where the input excites it; without such a resonance there (a damper \
              at or past critical damping, a mode outside the excited band) or without input \
              power it has nothing to measure, and the time-domain results above stand \
              without it.\n"
-        );
+        )?;
     }
+    Ok(())
+}
 
-    // Monte Carlo.
+/// The Monte Carlo band.
+fn monte_carlo(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    let out_unit = &c.out_unit;
     if let Some(mc) = &o.monte_carlo {
-        let _ = writeln!(w, "## Monte Carlo robustness\n");
-        let _ = writeln!(
+        writeln!(w, "## Monte Carlo robustness\n")?;
+        writeln!(
             w,
             "{} parameter sets drawn independently and uniformly within ±{:.0} % of θ̂ ({} on the validation record, {} thread{}), each simulated on the validation input; the pointwise {:.0}th and {:.0}th percentiles form the band.\n",
             mc.samples,
@@ -491,64 +580,75 @@ pub fn markdown(
             if mc.threads == 1 { "" } else { "s" },
             mc.percentiles[0],
             mc.percentiles[1]
-        );
+        )?;
         let widths: Vec<f64> = mc.upper.iter().zip(&mc.lower).map(|(h, l)| h - l).collect();
         let mean = widths.iter().sum::<f64>() / widths.len().max(1) as f64;
         let max = widths.iter().copied().fold(0.0, f64::max);
-        let _ = writeln!(w, "| quantity | value |\n|---|---|");
-        let _ = writeln!(
+        writeln!(w, "| quantity | value |\n|---|---|")?;
+        writeln!(
             w,
             "| measurements inside the band | {:.1} % |",
             mc.coverage * 100.0
-        );
+        )?;
         if let Some(tc) = mc.truth_coverage {
-            let _ = writeln!(w, "| true response inside the band | {:.1} % |", tc * 100.0);
+            writeln!(w, "| true response inside the band | {:.1} % |", tc * 100.0)?;
         }
-        let _ = writeln!(
+        writeln!(
             w,
             "| mean band width | {} {out_unit} |",
-            sig(mean * factor, 3)
-        );
-        let _ = writeln!(
+            sig(mean * c.factor, 3)
+        )?;
+        writeln!(
             w,
             "| largest band width | {} {out_unit} |",
-            sig(max * factor, 3)
-        );
+            sig(max * c.factor, 3)
+        )?;
         if mc.failed_samples > 0 {
-            let _ = writeln!(
+            writeln!(
                 w,
                 "| draws that failed to simulate | {} |",
                 mc.failed_samples
-            );
+            )?;
         }
-        let _ = writeln!(w);
-        if has("fig4_monte_carlo") {
-            let _ = writeln!(w, "![Figure 4: Monte Carlo band](fig4_monte_carlo.png)\n");
-            let _ = writeln!(
+        writeln!(w)?;
+        if c.has("fig4_monte_carlo") {
+            writeln!(w, "![Figure 4: Monte Carlo band](fig4_monte_carlo.png)\n")?;
+            writeln!(
                 w,
                 "*Figure 4 — Monte Carlo: the band of predictions under ±{:.0} % parameter variation, the nominal prediction and the measurements. The band is widest where the response is most sensitive to the parameters.*\n",
                 mc.spread * 100.0
-            );
+            )?;
         }
     }
+    Ok(())
+}
 
-    if let Some(n) = &o.nonlinear {
-        nonlinear::section(w, o, n, has("nonlinear_residuals"));
-    }
-
-    // Timings and files.
-    let _ = writeln!(w, "## Timings\n");
-    let _ = writeln!(w, "| stage | time [ms] |\n|---|---|");
+/// The stages' wall times.
+fn timings(
+    w: &mut String,
+    c: &Page<'_>,
+    extra: &[(&'static str, Duration)],
+    elapsed: Duration,
+) -> std::fmt::Result {
+    let o = c.outcome;
+    writeln!(w, "## Timings\n")?;
+    writeln!(w, "| stage | time [ms] |\n|---|---|")?;
     for (name, d) in o.timings.iter().chain(extra) {
-        let _ = writeln!(w, "| {} | {} |", stage_label(name), millis(*d));
+        writeln!(w, "| {} | {} |", stage_label(name), millis(*d))?;
     }
-    let _ = writeln!(w, "| total before this report | {} |\n", millis(elapsed));
-    let _ = writeln!(w, "## Files\n");
-    let _ = writeln!(
+    writeln!(w, "| total before this report | {} |\n", millis(elapsed))?;
+    Ok(())
+}
+
+/// The files of the result folder.
+fn files(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
+    let o = c.outcome;
+    writeln!(w, "## Files\n")?;
+    writeln!(
         w,
         "- `results.json`: every number of this report, the config as read, the seed and version;"
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         w,
         "- `identification.csv`, `validation.csv`: t, input, measured, model, residual{}{};",
         if o.data.validation_truth.is_some() {
@@ -561,27 +661,27 @@ pub fn markdown(
         } else {
             ""
         }
-    );
+    )?;
     if o.residuals.is_some() {
-        let _ = writeln!(w, "- `residual_correlation.csv`: the correlation curves;");
+        writeln!(w, "- `residual_correlation.csv`: the correlation curves;")?;
     }
     if o.frequency.check().is_some() {
-        let _ = writeln!(w, "- `frf.csv`: the frequency responses;");
+        writeln!(w, "- `frf.csv`: the frequency responses;")?;
     }
     if o.nonlinear.is_some() {
-        let _ = writeln!(
+        writeln!(
             w,
             "- `nonlinear.csv`: each nonlinear candidate's validation prediction and residuals;"
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         w,
         "- figures as PNG and SVG: {}.",
-        figures
+        c.figures
             .iter()
             .map(|f| format!("`{f}`"))
             .collect::<Vec<_>>()
             .join(", ")
-    );
-    s
+    )?;
+    Ok(())
 }

@@ -50,12 +50,17 @@ fn error_share(r: &msd_ident::ComparisonRow) -> String {
 }
 
 /// Appends the section to `w`; `has_figure` says whether `nonlinear_residuals` was drawn.
-pub(super) fn section(w: &mut String, o: &Outcome, n: &NonlinearOutcome, has_figure: bool) {
+pub(super) fn section(
+    w: &mut String,
+    o: &Outcome,
+    n: &NonlinearOutcome,
+    has_figure: bool,
+) -> std::fmt::Result {
     let c = &n.comparison;
     let id = &o.data.identification;
     let options = o.config.nonlinear.as_ref();
-    let _ = writeln!(w, "## Beyond linear: nonlinear models\n");
-    let _ = writeln!(
+    writeln!(w, "## Beyond linear: nonlinear models\n")?;
+    writeln!(
         w,
         "{} m·x″ + f_d(x′) + f_s(x) = F(t), estimated by output error on the identification record ({} samples; {} on {}, the Jacobian from the forward sensitivities, from the linear estimate) and predicting the validation record{}. {}\n",
         if n.comparison_asked {
@@ -80,7 +85,7 @@ pub(super) fn section(w: &mut String, o: &Outcome, n: &NonlinearOutcome, has_fig
         } else {
             "Scored as a comparison would score it (SSE, AIC, BIC on the identification record)."
         }
-    );
+    )?;
     if let Some(p) = &n.plant {
         let values: Vec<String> = p
             .names()
@@ -88,31 +93,59 @@ pub(super) fn section(w: &mut String, o: &Outcome, n: &NonlinearOutcome, has_fig
             .zip(&p.values)
             .map(|(name, v)| format!("{name} = {}", sig(*v, 5)))
             .collect();
-        let _ = writeln!(
+        writeln!(
             w,
             "The data were simulated from a plant with nonlinear terms, model `{}`: {}.\n",
             p.structure,
             values.join(", ")
-        );
+        )?;
     }
-    let _ = writeln!(w, "{c}");
+    writeln!(w, "{c}")?;
     if c.rows.len() > 1 && !c.best().whiteness_passed {
-        let _ = writeln!(
+        writeln!(
             w,
             "BIC assumes independent residuals; the best model's are not white, so the BIC margins overstate the evidence: weigh the validation RMS errors as well.\n"
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         w,
         "Parameters of each candidate (95 % intervals from the Gauss–Newton covariance, Student's t):\n"
-    );
+    )?;
+    parameter_table(w, o, n)?;
+    writeln!(w, "Simulation of each candidate at its estimate:\n")?;
+    for r in &c.rows {
+        writeln!(w, "- `{}`: {}{}", r.structure, r.simulation, error_share(r))?;
+    }
+    writeln!(w)?;
+    if has_figure {
+        writeln!(
+            w,
+            "![Validation residuals of the candidate models](nonlinear_residuals.png)\n"
+        )?;
+        writeln!(
+            w,
+            "*Validation residuals (measured − model) of each candidate over time, with their RMS in the legend{}.*\n",
+            if c.rows.len() > 1 {
+                "; the best-ranked drawn last, on top"
+            } else {
+                ""
+            }
+        )?;
+    }
+    Ok(())
+}
+
+/// Each candidate's parameters with their intervals (and the truth when known).
+fn parameter_table(w: &mut String, o: &Outcome, n: &NonlinearOutcome) -> std::fmt::Result {
+    let c = &n.comparison;
+    let id = &o.data.identification;
     let with_truth = n.plant.is_some();
-    let _ = writeln!(
+    writeln!(
         w,
         "| model | parameter | estimate | standard error | 95 % interval |{}\n|---|---|---|---|---|{}",
         if with_truth { " true |" } else { "" },
         if with_truth { "---|" } else { "" }
-    );
+    )?;
     for r in &c.rows {
         let units = units(&r.names, &id.input_unit, &id.output_unit);
         for ((name, iv), unit) in r.names.iter().zip(&r.intervals).zip(&units) {
@@ -120,7 +153,7 @@ pub(super) fn section(w: &mut String, o: &Outcome, n: &NonlinearOutcome, has_fig
                 .plant
                 .as_ref()
                 .map(|p| p.get(name).map(|v| sig(v, 5)).unwrap_or_else(|| "0".into()));
-            let _ = writeln!(
+            writeln!(
                 w,
                 "| {} | {name} [{unit}] | {} | {} | [{}, {}] |{}",
                 r.structure,
@@ -129,28 +162,9 @@ pub(super) fn section(w: &mut String, o: &Outcome, n: &NonlinearOutcome, has_fig
                 sig(iv.ci95[0], 5),
                 sig(iv.ci95[1], 5),
                 truth.map(|t| format!(" {t} |")).unwrap_or_default()
-            );
+            )?;
         }
     }
-    let _ = writeln!(w);
-    let _ = writeln!(w, "Simulation of each candidate at its estimate:\n");
-    for r in &c.rows {
-        let _ = writeln!(w, "- `{}`: {}{}", r.structure, r.simulation, error_share(r));
-    }
-    let _ = writeln!(w);
-    if has_figure {
-        let _ = writeln!(
-            w,
-            "![Validation residuals of the candidate models](nonlinear_residuals.png)\n"
-        );
-        let _ = writeln!(
-            w,
-            "*Validation residuals (measured − model) of each candidate over time, with their RMS in the legend{}.*\n",
-            if c.rows.len() > 1 {
-                "; the best-ranked drawn last, on top"
-            } else {
-                ""
-            }
-        );
-    }
+    writeln!(w)?;
+    Ok(())
 }
