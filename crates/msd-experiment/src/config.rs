@@ -37,7 +37,7 @@
 
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Backend, EstimationOptions, InitialState, MIN_SAMPLES, Parameters, ResidualOptions,
+    Backend, EstimationOptions, InitialState, Parameters, ResidualOptions, data::MIN_SAMPLES,
 };
 use msd_mc::{McOptions, Sampling};
 use msd_signal::Signal;
@@ -112,7 +112,7 @@ pub struct Config {
     /// Excitation design (`msd design`, [`crate::design`]): msd-ident's options, as
     /// they are. Off unless given; a run ignores it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub design: Option<msd_ident::DesignOptions>,
+    pub design: Option<msd_ident::design::DesignOptions>,
     /// Sequential design: the pilot test whose estimate replaces `[plant]` as the
     /// design's prior ([`crate::design::Pilot`]). Off unless given; only with `[design]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -170,8 +170,11 @@ impl Plant {
     ///     toml::from_str("mass = 2.5\ndamping = 1.8\nstiffness = 120.0\ncubic_stiffness = 3000.0").unwrap();
     /// assert_eq!(plant.nonlinear().unwrap().structure.name(), "viscous+cubic");
     /// ```
-    pub fn nonlinear(&self) -> Option<msd_ident::NonlinearParameters> {
-        use msd_ident::{DampingLaw, ModelStructure, StiffnessLaw};
+    pub fn nonlinear(&self) -> Option<msd_ident::nonlinear::NonlinearParameters> {
+        use msd_ident::{
+            ModelStructure,
+            nonlinear::{DampingLaw, StiffnessLaw},
+        };
         let (damping, extra) = if self.coulomb_force != 0.0 {
             (DampingLaw::CoulombViscous, Some(self.coulomb_force))
         } else if self.quadratic_damping != 0.0 {
@@ -194,7 +197,7 @@ impl Plant {
         let mut values = vec![self.mass, self.damping, self.stiffness];
         values.extend(extra);
         values.extend(cubic);
-        Some(msd_ident::NonlinearParameters { structure, values })
+        Some(msd_ident::nonlinear::NonlinearParameters { structure, values })
     }
 }
 
@@ -904,7 +907,7 @@ impl Config {
             );
         }
         let spread = self.design.as_ref().map_or(0.3, |d| d.robust.spread);
-        if spread != msd_ident::RobustBox::default().spread {
+        if spread != msd_ident::design::RobustBox::default().spread {
             return Err((
                 "design.robust.spread".into(),
                 format!(

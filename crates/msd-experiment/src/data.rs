@@ -9,7 +9,8 @@
 use crate::config::{Columns, Config, DataSection, Kind, Preprocess, Range};
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    DataSet, Excitation, Parameters, SyntheticOptions, synthetic_data, synthetic_nonlinear_data,
+    DataSet, Excitation, Parameters, SyntheticOptions, nonlinear::synthetic_nonlinear_data,
+    synthetic_data,
 };
 use std::path::{Path, PathBuf};
 
@@ -181,9 +182,9 @@ fn plant_record(
         Some(nonlinear) => synthetic_nonlinear_data(
             &nonlinear,
             excitation,
-            &msd_ident::NonlinearSimulation {
-                solver: msd_ident::NonlinearSolver::Ode45,
-                ..msd_ident::NonlinearSimulation::default()
+            &msd_ident::nonlinear::NonlinearSimulation {
+                solver: msd_ident::nonlinear::NonlinearSolver::Ode45,
+                ..msd_ident::nonlinear::NonlinearSimulation::default()
             },
             &options,
         ),
@@ -225,13 +226,13 @@ fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> 
         ));
     }
     let initial = val_spec.initial_samples;
-    if initial + msd_ident::MIN_SAMPLES > val[1] - val[0] {
+    if initial + msd_ident::data::MIN_SAMPLES > val[1] - val[0] {
         return Err(ExperimentError::config(
             config_path,
             format!(
                 "data.validation.initial_samples = {initial}: expected fewer than the {} samples of the validation range less {}",
                 val[1] - val[0],
-                msd_ident::MIN_SAMPLES
+                msd_ident::data::MIN_SAMPLES
             ),
         ));
     }
@@ -353,11 +354,11 @@ fn resolve_range(
         }
         (None, None) => [0, n],
     };
-    if b.saturating_sub(a) < msd_ident::MIN_SAMPLES {
+    if b.saturating_sub(a) < msd_ident::data::MIN_SAMPLES {
         return Err(format!(
             "{field}: [{a}, {b}) holds {} samples: expected at least {}",
             b.saturating_sub(a),
-            msd_ident::MIN_SAMPLES
+            msd_ident::data::MIN_SAMPLES
         ));
     }
     Ok([a, b])

@@ -26,7 +26,11 @@ pub use pilot::{Pilot, PilotSection};
 
 use crate::config::{Config, Noise, Plant};
 use crate::{ExperimentError, Result};
-use msd_ident::{Design, IdentError, RobustBox, estimate};
+use msd_ident::{
+    IdentError,
+    design::{Design, RobustBox},
+    estimate,
+};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -17,9 +17,11 @@ use crate::config::{Config, NonlinearSection};
 use crate::data::ExperimentData;
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Comparison, ComparisonOptions, Estimate, NonlinearMultistart, NonlinearOptions,
-    NonlinearParameters, ResidualOptions, ValidationStart, assess_estimate, compare_models,
-    estimate_nonlinear,
+    Estimate, NonlinearOptions, ResidualOptions, compare_models, estimate_nonlinear,
+    nonlinear::{
+        Comparison, ComparisonOptions, NonlinearMultistart, NonlinearParameters, ValidationStart,
+        assess_estimate,
+    },
 };
 
 /// What the nonlinear-models stage produced.
@@ -123,7 +125,7 @@ pub fn run(
 }
 
 /// The verdict of a single estimated model, against the linear model's validation RMS.
-fn single_verdict(row: &msd_ident::ComparisonRow, linear_rms: f64) -> String {
+fn single_verdict(row: &msd_ident::nonlinear::ComparisonRow, linear_rms: f64) -> String {
     format!(
         "One model estimated: {} ({} estimated quantities, {}). On the validation data its RMS error is {:.4e} against {:.4e} for the linear model of the estimation stage ({:+.1} %); its residuals {} white (Ljung–Box p = {:.3}) and {} with the input.",
         row.structure,

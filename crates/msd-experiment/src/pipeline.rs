@@ -8,8 +8,9 @@ use crate::data::{self, ExperimentData};
 use crate::progress::Progress;
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Backend, Estimate, FitMetrics, FixedModel, IdentError, InitialState, Parameters,
-    ResidualOptions, ValidationOptions, estimate, fit_initial_state, frequency_check,
+    Backend, Estimate, FitMetrics, IdentError, InitialState, Parameters, ResidualOptions,
+    ValidationOptions, estimate, frequency_check,
+    nonlinear::{FixedModel, fit_initial_state},
     residual_analysis, simulate_into, validate_model,
 };
 use msd_mc::{McOptions, monte_carlo_band_with_progress};

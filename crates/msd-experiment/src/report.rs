@@ -326,8 +326,8 @@ fn parameters(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
         "Solver: {} ({}): {} iterations, {} cost evaluations{}, {}; final cost Σr² = {}. Condition number of the scaled JᵀJ: {}.\n",
         crate::fmt::solver_start(e),
         match e.initial_guess.1 {
-            msd_ident::GuessSource::Given => "given",
-            msd_ident::GuessSource::Automatic => "automatic ARX guess",
+            msd_ident::estimate::GuessSource::Given => "given",
+            msd_ident::estimate::GuessSource::Automatic => "automatic ARX guess",
         },
         e.iterations,
         e.evaluations,

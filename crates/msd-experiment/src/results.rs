@@ -458,8 +458,8 @@ struct NonlinearSection<'a> {
 struct CandidateSection<'a> {
     rank: usize,
     model: String,
-    damping: msd_ident::DampingLaw,
-    stiffness: msd_ident::StiffnessLaw,
+    damping: msd_ident::nonlinear::DampingLaw,
+    stiffness: msd_ident::nonlinear::StiffnessLaw,
     parameters: BTreeMap<&'a str, Interval>,
     estimated: usize,
     samples: usize,
@@ -470,7 +470,7 @@ struct CandidateSection<'a> {
     validation: CandidateValidation,
     converged: bool,
     simulations: usize,
-    simulation: &'a msd_ident::SimulationUsed,
+    simulation: &'a msd_ident::nonlinear::SimulationUsed,
 }
 
 #[derive(Serialize)]
@@ -496,7 +496,7 @@ struct PlantSection {
     parameters: BTreeMap<&'static str, f64>,
 }
 
-fn candidate((i, r): (usize, &msd_ident::ComparisonRow)) -> CandidateSection<'_> {
+fn candidate((i, r): (usize, &msd_ident::nonlinear::ComparisonRow)) -> CandidateSection<'_> {
     CandidateSection {
         rank: i + 1,
         model: r.structure.name(),

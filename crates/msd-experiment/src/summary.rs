@@ -43,7 +43,7 @@ pub fn text(
         s,
         "  {}{}: {} iterations, {} evaluations, {}",
         crate::fmt::solver_start(e),
-        if e.initial_guess.1 == msd_ident::GuessSource::Automatic {
+        if e.initial_guess.1 == msd_ident::estimate::GuessSource::Automatic {
             " (automatic)"
         } else {
             ""
@@ -205,7 +205,7 @@ fn nonlinear_line(n: &crate::nonlinear::NonlinearOutcome, factor: f64, unit: &st
             c.rows.len(),
             runner.delta_bic,
             runner.structure,
-            msd_ident::bic_evidence(runner.delta_bic),
+            msd_ident::nonlinear::bic_evidence(runner.delta_bic),
             rms(best.validation_rms),
             linear
                 .filter(|l| !l.structure.eq(&best.structure))

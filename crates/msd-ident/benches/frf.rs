@@ -4,8 +4,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use msd_ident::{
-    FrfWeighting, ModalOptions, ModalParameters, OneModeOptions, Parameters, fit_modes,
-    fit_one_mode, model_response, stabilization_diagram, synthetic_frequency_response,
+    ModalOptions, OneModeOptions, Parameters, fit_modes, fit_one_mode,
+    frequency::model_response,
+    frf::{FrfWeighting, ModalParameters, stabilization_diagram, synthetic_frequency_response},
 };
 use msd_signal::FrequencyResponseEstimate;
 use std::hint::black_box;

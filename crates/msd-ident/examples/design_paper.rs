@@ -6,7 +6,8 @@
 //! ```
 
 use msd_ident::{
-    Criterion, DesignOptions, Excitation, Normalise, Parameters, RobustBox, StepOption,
+    Excitation, Parameters,
+    design::{Criterion, DesignOptions, Normalise, RobustBox, StepOption},
     design_input,
 };
 use msd_signal::paper_identification_input;

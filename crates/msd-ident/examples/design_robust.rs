@@ -9,7 +9,9 @@
 //! ```
 
 use msd_ident::{
-    DesignOptions, Excitation, InputComparison, Parameters, RobustBox, StrokeOn, design_input,
+    Excitation, Parameters,
+    design::{DesignOptions, InputComparison, RobustBox, StrokeOn},
+    design_input,
 };
 use msd_signal::paper_identification_input;
 

@@ -10,8 +10,9 @@
 //! ```
 
 use msd_ident::{
-    Criterion, DesignOptions, EstimationOptions, Excitation, Normalise, Parameters,
-    SyntheticOptions, design_input, estimate, predicted_uncertainty, synthetic_data,
+    EstimationOptions, Excitation, Parameters, SyntheticOptions,
+    design::{Criterion, DesignOptions, Normalise},
+    design_input, estimate, predicted_uncertainty, synthetic_data,
 };
 use msd_signal::paper_identification_input;
 

@@ -3,8 +3,8 @@
 //! `cargo run --release -p msd-ident --example validation_timing`
 use msd_ident::{
     Backend, FrequencyCheckOptions, InitialState, PaperExperiment, Parameters, ResidualOptions,
-    ValidationOptions, cross_correlation, frequency_check, residual_analysis, simulate,
-    validate_model,
+    ValidationOptions, correlation::cross_correlation, frequency_check, residual_analysis,
+    simulate, validate_model,
 };
 use std::time::Instant;
 

@@ -25,7 +25,7 @@ use nalgebra::{DMatrix, DVector};
 /// sample rates, keeping the candidate that best reproduces the measured output.
 ///
 /// ```
-/// use msd_ident::{arx_initial_guess, simulate, Backend, DataSet, Excitation, InitialState, Parameters};
+/// use msd_ident::{simulate, Backend, DataSet, Excitation, InitialState, Parameters, arx::arx_initial_guess};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
 /// let y = simulate(&Parameters::PAPER, &input, InitialState::REST, &Backend::EXACT)?;

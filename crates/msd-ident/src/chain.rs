@@ -2,7 +2,7 @@
 //! state matrix) and its exact response to a sampled force, for the frequency-response
 //! sources that simulate one.
 
-use crate::ModalParameters;
+use crate::frf::ModalParameters;
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};

@@ -5,7 +5,7 @@ use msd_signal::Complex64;
 /// Sample autocorrelation r₀…r_L of `x` (mean removed, normalised by lag 0).
 ///
 /// ```
-/// let r = msd_ident::autocorrelation(&[1.0, -1.0, 1.0, -1.0], 2);
+/// let r = msd_ident::correlation::autocorrelation(&[1.0, -1.0, 1.0, -1.0], 2);
 /// assert_eq!(r, vec![1.0, -0.75, 0.5]);
 /// ```
 pub fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
@@ -29,7 +29,7 @@ pub fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
 /// // y is x delayed by one sample: the correlation peaks at τ = 1.
 /// let x = [0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0, -1.0];
 /// let y = [0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 1.0, 0.0];
-/// let rho = msd_ident::cross_correlation(&y, &x, 2);
+/// let rho = msd_ident::correlation::cross_correlation(&y, &x, 2);
 /// let best = rho.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
 /// assert_eq!(best as i64 - 2, 1);
 /// ```

@@ -173,7 +173,7 @@ impl std::fmt::Display for ResidualAnalysis {
 /// Ljung–Box statistic of the autocorrelation `r` (with `r[0] = 1`) of a series of length `n`.
 ///
 /// ```
-/// let lb = msd_ident::ljung_box(&[1.0, 0.5, 0.25], 4);
+/// let lb = msd_ident::residuals::ljung_box(&[1.0, 0.5, 0.25], 4);
 /// // Q = 4·6·(0.25/3 + 0.0625/2) = 2.75
 /// assert!((lb.q - 2.75).abs() < 1e-12);
 /// assert_eq!(lb.degrees_of_freedom, 2);

@@ -5,7 +5,7 @@ use msd_signal::{NoiseStream, paper_identification_input, paper_validation_input
 use serde::{Deserialize, Serialize};
 
 /// How [`synthetic_data`] and
-/// [`synthetic_nonlinear_data`](crate::synthetic_nonlinear_data) make a record: the
+/// [`synthetic_nonlinear_data`](crate::nonlinear::synthetic_nonlinear_data) make a record: the
 /// data set's name, the initial state, and white Gaussian noise of standard deviation
 /// `sigma` from the named stream of `seed` (msd-signal's ChaCha streams: the same
 /// (seed, stream) gives the same noise on every platform, and different streams are

@@ -5,9 +5,9 @@
 
 use crate::{cases, wild_count, wild_f64};
 use msd_ident::{
-    Backend, DataSet, EstimationOptions, Excitation, FixedParameters, FrequencyCheckOptions,
-    IdentError, InitialState, Method, MultistartSettings, ParameterBounds, Parameters,
-    ResidualOptions, SyntheticOptions,
+    Backend, DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
+    InitialState, Method, Parameters, ResidualOptions, SyntheticOptions,
+    estimate::{FixedParameters, MultistartSettings, ParameterBounds},
 };
 use msd_ode::{ExactSimulator, Hold, LtiModel, Ode45Options, OdeError, SMatrix, SVector};
 use msd_opt::{

@@ -7,7 +7,9 @@ use super::report::{Row, Target};
 use super::rows::fail;
 use crate::Result;
 use msd_ident::{
-    DampingLaw, DynamometerOptions, SyntheticDynamometer, dynamometer, synthetic_dynamometer,
+    DynamometerOptions, dynamometer,
+    dynamometer::{SyntheticDynamometer, synthetic_dynamometer},
+    nonlinear::DampingLaw,
 };
 
 /// The dynamometer identification of the default synthetic record.

@@ -5,7 +5,8 @@ use super::report::{Row, Target};
 use super::rows::fail;
 use crate::Result;
 use msd_ident::{
-    FrfWeighting, ModalOptions, ModalParameters, fit_modes, synthetic_frequency_response,
+    ModalOptions, fit_modes,
+    frf::{FrfWeighting, ModalParameters, synthetic_frequency_response},
 };
 
 /// Three modes (fn 10, 23, 41 Hz; ζ 1 %, 2 %, 0.5 %) in 2000 lines with 1 % noise:

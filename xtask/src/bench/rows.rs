@@ -6,11 +6,14 @@ use super::report::{Row, Target, duration};
 use super::simulate_once;
 use crate::{ExperimentError, Result, config::Config, pipeline, progress::Progress};
 use msd_ident::{
-    Backend, DampingLaw, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions,
-    InitialState, ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation,
-    NonlinearSolver, PaperExperiment, Parameters, ResidualOptions, StiffnessLaw, SyntheticOptions,
-    ValidationOptions, estimate, estimate_nonlinear, frequency_check, residual_analysis,
-    simulate_nonlinear, synthetic_data, validate_model,
+    Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, InitialState,
+    ModelStructure, NonlinearOptions, PaperExperiment, Parameters, ResidualOptions,
+    SyntheticOptions, ValidationOptions, estimate, estimate_nonlinear, frequency_check,
+    nonlinear::{
+        DampingLaw, NonlinearParameters, NonlinearSimulation, NonlinearSolver, StiffnessLaw,
+        simulate_nonlinear,
+    },
+    residual_analysis, synthetic_data, validate_model,
 };
 use msd_mc::{McOptions, monte_carlo_band};
 use msd_ode::Hold;

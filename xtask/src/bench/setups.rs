@@ -12,7 +12,7 @@ use msd_experiment::plan::{PlanOptions, plan_config};
 use msd_ident::{
     Channel, Drive, EstimationOptions, Excitation, Frame, FreeDecayOptions, InitialState,
     KnownParameter, PaperExperiment, Parameters, Record, RecordsOptions, ResponseQuantity,
-    fit_records, free_decay, predicted_uncertainty, simulate_response,
+    fit_records, free_decay, predicted_uncertainty, records::simulate_response,
 };
 
 /// Free decay, base excitation and the Cramér–Rao plan on records of the paper's length.

@@ -103,7 +103,7 @@ pub enum Spacing {
 
 /// A stepped sine simulated on the plant: each line the exact response with complex
 /// noise of relative size `relative_noise` (msd-ident's
-/// [`synthetic_frequency_response`](msd_ident::synthetic_frequency_response)).
+/// [`synthetic_frequency_response`](msd_ident::frf::synthetic_frequency_response)).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepSource {

@@ -4,7 +4,7 @@
 //! [`compare_models`](msd_ident::compare_models). Off unless present.
 //!
 //! ```
-//! use msd_ident::{DampingLaw, ModelStructure, StiffnessLaw};
+//! use msd_ident::{ModelStructure, nonlinear::{DampingLaw, StiffnessLaw}};
 //! use msd_experiment::config::{Candidates, NonlinearSection};
 //! let section: NonlinearSection = toml::from_str(r#"
 //!     compare = [{ damping = "viscous", stiffness = "cubic" }]
@@ -18,7 +18,10 @@
 //! ```
 
 use super::{check_positive, default_true};
-use msd_ident::{ModelStructure, NonlinearMethod, NonlinearSimulation, SmoothingVelocity};
+use msd_ident::{
+    ModelStructure,
+    nonlinear::{NonlinearMethod, NonlinearSimulation, SmoothingVelocity},
+};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// The `[nonlinear]` section.
@@ -64,7 +67,7 @@ pub struct NonlinearSection {
     pub multistart: Option<NonlinearMultistartSection>,
 }
 
-/// `[nonlinear.multistart]`: msd-ident's [`msd_ident::NonlinearMultistart`], its
+/// `[nonlinear.multistart]`: msd-ident's [`msd_ident::nonlinear::NonlinearMultistart`], its
 /// threads set by the run (`--threads`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -82,7 +85,7 @@ pub struct NonlinearMultistartSection {
 
 impl Default for NonlinearMultistartSection {
     fn default() -> Self {
-        let d = msd_ident::NonlinearMultistart::default();
+        let d = msd_ident::nonlinear::NonlinearMultistart::default();
         Self {
             starts: d.starts,
             decades: d.decades,

@@ -277,13 +277,13 @@ pub fn read_columns(
         }
     }
     let rows = values.first().map_or(time.len(), Vec::len);
-    if rows < msd_ident::MIN_SAMPLES {
+    if rows < msd_ident::data::MIN_SAMPLES {
         return Err(ExperimentError::data(
             path,
             format!(
                 "{} data rows: expected at least {}",
                 rows,
-                msd_ident::MIN_SAMPLES
+                msd_ident::data::MIN_SAMPLES
             ),
         ));
     }

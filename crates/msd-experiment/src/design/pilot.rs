@@ -3,7 +3,7 @@
 //!
 //! A design config with a `[pilot]` section has no `[plant]`: the pilot's estimate of m,
 //! c and k is the prior, the box is three of its largest relative standard errors wide
-//! ([`msd_ident::RobustBox::around`]), and without a `[noise]` section the pilot's noise
+//! ([`msd_ident::design::RobustBox::around`]), and without a `[noise]` section the pilot's noise
 //! estimate σ̂ is the planned test's noise. The pilot is either a config, run first
 //! (its data generated or read and m, c, k estimated, as `experiment` does), or the
 //! `results.json` of a pilot run already made.

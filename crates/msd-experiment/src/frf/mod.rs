@@ -44,7 +44,8 @@ mod uff;
 use crate::config::{ChainPlant, Config};
 use crate::{ExperimentError, Result, RunOptions};
 use msd_ident::{
-    HalfPower, ModalFit, ModalParameters, OneModeFit, fit_modes, fit_one_mode, half_power,
+    ModalFit, OneModeFit, fit_modes, fit_one_mode,
+    frf::{HalfPower, ModalParameters, half_power},
 };
 use msd_signal::FrequencyResponseEstimate;
 use std::path::{Path, PathBuf};

@@ -290,7 +290,7 @@ impl Figure for Coherence<'_> {
     }
 }
 
-struct Stabilization<'a>(&'a msd_ident::StabilizationDiagram);
+struct Stabilization<'a>(&'a msd_ident::frf::StabilizationDiagram);
 
 impl Figure for Stabilization<'_> {
     fn name(&self) -> &'static str {
@@ -318,7 +318,7 @@ impl Figure for Stabilization<'_> {
             .y_label_formatter(&tick)
             .draw()
             .map_err(text)?;
-        let pick = |keep: fn(&msd_ident::DiagramPole) -> bool| -> Vec<(f64, f64)> {
+        let pick = |keep: fn(&msd_ident::frf::DiagramPole) -> bool| -> Vec<(f64, f64)> {
             d.orders
                 .iter()
                 .flat_map(|o| {

@@ -3,7 +3,7 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::fmt::sig;
-use msd_ident::{HalfPower, Interval, ModalFit, OneModeFit};
+use msd_ident::{Interval, ModalFit, OneModeFit, frf::HalfPower};
 use std::fmt::Write;
 
 /// "a of b quantities (names)": how many fitted fn and ζ (and m, c, k of a one-mass
@@ -244,7 +244,11 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) {
 }
 
 /// What the exponential window did, stated: ζ as fitted and what was taken off.
-fn window_note(w: &mut String, c: Option<&msd_ident::WindowCorrection>, h: Option<&HalfPower>) {
+fn window_note(
+    w: &mut String,
+    c: Option<&msd_ident::frf::WindowCorrection>,
+    h: Option<&HalfPower>,
+) {
     if let Some(c) = c {
         let _ = writeln!(
             w,

@@ -6,7 +6,8 @@ use crate::config::{ChainPlant, Config};
 use crate::results::Experiment;
 use msd_ident::LmExit;
 use msd_ident::{
-    HalfPower, Interval, ModalParameters, Mode, StabilizationDiagram, WindowCorrection,
+    Interval,
+    frf::{HalfPower, ModalParameters, Mode, StabilizationDiagram, WindowCorrection},
 };
 use serde::Serialize;
 use serde_json::Value;

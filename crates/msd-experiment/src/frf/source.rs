@@ -62,7 +62,7 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
             Spacing::Linear => low + (high - low) * step(i),
         })
         .collect();
-    let frf = msd_ident::synthetic_frequency_response(&f, s.relative_noise, seed, |f| {
+    let frf = msd_ident::frf::synthetic_frequency_response(&f, s.relative_noise, seed, |f| {
         plant.receptance(f)
     })
     .map_err(run_error)?;

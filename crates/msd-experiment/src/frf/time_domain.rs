@@ -45,8 +45,9 @@ use super::{FrfFit, Truth};
 use crate::fmt::sig;
 use msd_ident::Hold;
 use msd_ident::{
-    Channel, ChannelNoise, Drive, Excitation, Frame, IdentError, Interval, OneModeFit,
-    PlantIntervals, Record, RecordsOptions, ResponseQuantity, fit_records,
+    Channel, Drive, Excitation, Frame, IdentError, Interval, OneModeFit, Record, RecordsOptions,
+    ResponseQuantity, fit_records,
+    records::{ChannelNoise, PlantIntervals},
 };
 use msd_signal::FrfKind;
 use serde::Serialize;

@@ -1,6 +1,6 @@
 //! A damper test machine (`setup.excitation = "imposed_displacement"`): the
 //! coefficients of the prior plant's damping law, predicted by
-//! [`msd_ident::predicted_dynamometer`] on the planned strokes; the check runs the
+//! [`msd_ident::dynamometer::predicted_dynamometer`] on the planned strokes; the check runs the
 //! machine's analysis on simulated conditions as the run does.
 
 use super::search::{repeats_needed, standard_deviations};
@@ -9,8 +9,9 @@ use crate::config::{Config, Plant, SetupSection};
 use crate::setup::{data, fit, machine};
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Condition, DampingLaw, DynamometerNoise, DynamometerOptions, PredictedLaw, dynamometer,
-    predicted_dynamometer,
+    DynamometerOptions, dynamometer,
+    dynamometer::{Condition, DynamometerNoise, PredictedLaw, predicted_dynamometer},
+    nonlinear::DampingLaw,
 };
 use std::path::Path;
 
@@ -47,7 +48,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
                 amplitude_factor: None,
                 duration_needed_s: None,
                 repeats_needed: repeats_needed(setup.cycles, w, options.target)
-                    .map(|n| n.max(msd_ident::MIN_CYCLES)),
+                    .map(|n| n.max(msd_ident::dynamometer::MIN_CYCLES)),
                 simulated_standard_deviation: verified.as_ref().map(|v| v[j]),
             }
         })

@@ -4,9 +4,9 @@
 //! noise levels, `[setup]` and `[estimation]` the planned test. The prediction is the
 //! Cramér–Rao bound from the exact sensitivities: [`msd_ident::predicted_uncertainty`]
 //! for the paper's setup (a force, one displacement channel),
-//! [`msd_ident::predicted_records_uncertainty`] for a `[setup]` (any drive, several
+//! [`msd_ident::records::predicted_records_uncertainty`] for a `[setup]` (any drive, several
 //! channels and records), and the least-squares covariance of the damping law's
-//! coefficients for a test machine ([`msd_ident::predicted_dynamometer`]). Beside it,
+//! coefficients for a test machine ([`msd_ident::dynamometer::predicted_dynamometer`]). Beside it,
 //! what reaches a target precision — the drive's amplitude (the errors scale exactly as
 //! 1/amplitude), repeats (as 1/√records), a longer record (by search) — and with
 //! `verify` the spread of that many simulated experiments, fitted as the run fits them.

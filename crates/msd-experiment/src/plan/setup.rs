@@ -1,5 +1,5 @@
 //! A `[setup]` config (any drive, several channels and records):
-//! [`msd_ident::predicted_records_uncertainty`] on the records the run would simulate,
+//! [`msd_ident::records::predicted_records_uncertainty`] on the records the run would simulate,
 //! and for the check the run's own joint fit of simulated records.
 
 use super::search::{duration_needed, repeats_needed, standard_deviations};
@@ -8,8 +8,8 @@ use crate::config::{Config, ExcitationKind, SetupSection, TimeGrid};
 use crate::setup::{data, fit};
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Excitation, InitialState, Interval, PlannedChannel, PlannedRecord, PlantIntervals,
-    RecordsOptions, fit_records, predicted_records_uncertainty,
+    Excitation, InitialState, Interval, RecordsOptions, fit_records,
+    records::{PlannedChannel, PlannedRecord, PlantIntervals, predicted_records_uncertainty},
 };
 use std::path::Path;
 

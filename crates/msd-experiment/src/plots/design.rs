@@ -5,7 +5,7 @@ use super::{
     BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, limits, suptitle, text,
     thin_line, tick, title_style,
 };
-use msd_ident::Design;
+use msd_ident::design::Design;
 use msd_signal::Signal;
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -4,7 +4,7 @@ use super::{
     BLUE, DARK, Draw, Figure, GRAY, RED, Units, draw_legend, house_mesh, suptitle, text, thin_line,
     tick, title_style,
 };
-use msd_ident::{CorrelationTest, FrequencyCheck, ResidualAnalysis};
+use msd_ident::{FrequencyCheck, ResidualAnalysis, residuals::CorrelationTest};
 use plotters::coord::Shift;
 use plotters::coord::combinators::LogCoord;
 use plotters::coord::ranged1d::Ranged;

@@ -26,12 +26,12 @@ fn units(names: &[String], input: &str, output: &str) -> Vec<String> {
 
 /// The solver of the estimates, for the section's first sentence.
 fn simulator(
-    used: Option<msd_ident::SimulationUsed>,
+    used: Option<msd_ident::nonlinear::SimulationUsed>,
     section: Option<&crate::config::NonlinearSection>,
 ) -> String {
     let simulation = section.map(|s| s.simulation).unwrap_or_default();
     match used.map(|u| u.solver) {
-        Some(msd_ident::NonlinearSolver::Ode45) => format!(
+        Some(msd_ident::nonlinear::NonlinearSolver::Ode45) => format!(
             "ode45 on the continuous force with RelTol {:e} and AbsTol {:e}",
             simulation.rel_tol, simulation.abs_tol
         ),
@@ -41,7 +41,7 @@ fn simulator(
 
 /// " (0.24 % of σ̂)": the RK4 output's error by step doubling against the row's
 /// σ̂ = √(SSE/(N − p)); empty under ode45.
-fn error_share(r: &msd_ident::ComparisonRow) -> String {
+fn error_share(r: &msd_ident::nonlinear::ComparisonRow) -> String {
     let sigma = (r.sse / r.samples.saturating_sub(r.estimated).max(1) as f64).sqrt();
     match r.simulation.error_estimate {
         Some(e) if sigma > 0.0 => format!(" ({:.2} % of σ̂)", 100.0 * e / sigma),
@@ -70,7 +70,7 @@ pub(super) fn section(
         },
         id.len(),
         match options.map(|s| s.method) {
-            Some(msd_ident::NonlinearMethod::NelderMead) => "Nelder–Mead",
+            Some(msd_ident::nonlinear::NonlinearMethod::NelderMead) => "Nelder–Mead",
             _ => "Levenberg–Marquardt",
         },
         simulator(c.rows.first().map(|r| r.simulation), options),

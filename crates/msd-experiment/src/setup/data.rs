@@ -172,7 +172,7 @@ fn synthetic(
     let n = time.samples();
     let input = synthetic_input(config, config_path)?;
     let sensors: Vec<_> = channels.iter().map(super::fit::sensor).collect();
-    let clean = msd_ident::simulate_channels(
+    let clean = msd_ident::records::simulate_channels(
         &plant.parameters(),
         plant.initial_state,
         super::fit::drive(setup.excitation),

@@ -6,9 +6,9 @@ use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
 use crate::tables::Table;
 use crate::{ExperimentError, Result};
 use msd_ident::{
-    Channel, Condition, Dynamometer, DynamometerOptions, Excitation, FreeDecay, FreeDecayOptions,
-    KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity, dynamometer, fit_records,
-    free_decay,
+    Channel, Dynamometer, DynamometerOptions, Excitation, FreeDecay, FreeDecayOptions,
+    KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity, dynamometer,
+    dynamometer::Condition, fit_records, free_decay,
 };
 use std::path::Path;
 

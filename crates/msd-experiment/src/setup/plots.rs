@@ -117,7 +117,7 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
 }
 
 /// A condition in the legend: its frequency and stroke amplitude.
-fn condition_label(c: &msd_ident::ConditionSummary) -> String {
+fn condition_label(c: &msd_ident::dynamometer::ConditionSummary) -> String {
     format!(
         "{} Hz, {} mm",
         crate::fmt::sig(c.frequency_hz, 3),

@@ -2,7 +2,7 @@
 
 use super::{SetupFit, SetupOutcome};
 use crate::fmt::{millis, sig};
-use msd_ident::{DampingLaw, Interval, RecordsFit};
+use msd_ident::{Interval, RecordsFit, nonlinear::DampingLaw};
 use std::fmt::Write;
 
 /// The name of a damping law in words.

@@ -21,11 +21,11 @@ struct Results<'a> {
     setup: SetupInfo<'a>,
     estimate: Estimate,
     #[serde(skip_serializing_if = "Option::is_none")]
-    noise: Option<&'a [msd_ident::ChannelNoise]>,
+    noise: Option<&'a [msd_ident::records::ChannelNoise]>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    records: Option<&'a [msd_ident::RecordFit]>,
+    records: Option<&'a [msd_ident::records::RecordFit]>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    leave_one_out: Option<&'a [msd_ident::LeftOut]>,
+    leave_one_out: Option<&'a [msd_ident::records::LeftOut]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     free_decay: Option<FreeDecaySection<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -57,7 +57,7 @@ struct Estimate {
 #[derive(Serialize)]
 struct FreeDecaySection<'a> {
     log_decrement: f64,
-    classroom: &'a msd_ident::ClassroomEstimates,
+    classroom: &'a msd_ident::free_decay::ClassroomEstimates,
     closed_form_damping_ratio: Interval,
 }
 

@@ -10,7 +10,7 @@ use serde::Serialize;
 /// the design's over the reference's.
 ///
 /// ```
-/// use msd_ident::{InputComparison, Excitation, Parameters};
+/// use msd_ident::{Excitation, Parameters, design::InputComparison};
 /// use msd_signal::{Signal, paper_identification_input};
 /// let paper = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
 /// let twice = Signal::Scaled { gain: 2.0, signal: Box::new(paper_identification_input()) };

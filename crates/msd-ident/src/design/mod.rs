@@ -31,7 +31,7 @@
 //! [`RobustBox::around`] its uncertainty.
 //!
 //! ```
-//! use msd_ident::{design_input, Criterion, DesignOptions, Excitation, Parameters};
+//! use msd_ident::{design_input, Excitation, Parameters, design::{Criterion, DesignOptions}};
 //! use msd_signal::paper_identification_input;
 //! let paper = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
 //! let options = DesignOptions { lines: 20, iterations: 20, ..DesignOptions::default() };

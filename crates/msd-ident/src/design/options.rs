@@ -144,7 +144,7 @@ impl RobustBox {
     /// guessed ±30 %.
     ///
     /// ```
-    /// use msd_ident::{estimate, EstimationOptions, PaperExperiment, RobustBox};
+    /// use msd_ident::{estimate, EstimationOptions, PaperExperiment, design::RobustBox};
     /// let pilot = estimate(&PaperExperiment::generate(3)?.identification, &EstimationOptions::fast())?;
     /// let u = &pilot.uncertainty;
     /// let robust = RobustBox::around(&[u.mass, u.damping, u.stiffness], 9);
@@ -234,7 +234,7 @@ impl DesignOptions {
     /// error naming its key.
     ///
     /// ```
-    /// use msd_ident::{DesignOptions, Excitation, IdentError, Parameters};
+    /// use msd_ident::{Excitation, IdentError, Parameters, design::DesignOptions};
     /// let reference = Excitation::from_samples(0.0, 0.002, vec![0.0; 7501])?;
     /// let mut options = DesignOptions::default();
     /// options.constraints.band_hz = [1.0, 300.0];

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 /// lets its harmonic fit average and its noise be estimated.
 ///
 /// ```
-/// assert_eq!(msd_ident::MIN_CYCLES, 2);
+/// assert_eq!(msd_ident::dynamometer::MIN_CYCLES, 2);
 /// ```
 pub const MIN_CYCLES: usize = 2;
 
@@ -15,7 +15,7 @@ pub const MIN_CYCLES: usize = 2;
 /// force, sampled together every `dt` seconds.
 ///
 /// ```
-/// use msd_ident::Condition;
+/// use msd_ident::dynamometer::Condition;
 /// let dt = 1e-3;
 /// let x: Vec<f64> = (0..1000).map(|i| 0.01 * (2.0 * std::f64::consts::PI * 4.0 * i as f64 * dt).sin()).collect();
 /// let force = x.iter().map(|x| 5000.0 * x).collect();

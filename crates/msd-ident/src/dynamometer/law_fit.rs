@@ -8,7 +8,7 @@ use super::regression::{
 };
 use crate::least_squares::Linearization;
 use crate::uncertainty::t_975;
-use crate::{DampingLaw, FitMetrics, IdentError, Interval, Result};
+use crate::{FitMetrics, IdentError, Interval, Result, nonlinear::DampingLaw};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
@@ -18,8 +18,7 @@ use serde::Serialize;
 /// Displays as one row of the laws table (see [`Dynamometer`](super::Dynamometer)).
 ///
 /// ```
-/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
-///     SyntheticDynamometer};
+/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
 /// let options = DynamometerOptions { laws: vec![DampingLaw::QuadraticViscous], ..Default::default() };
 /// let fit = &dynamometer(&conditions, &options)?.laws[0];

@@ -3,7 +3,7 @@
 //! measures it and the force F, and F = m·x″ + f_d(x′) + k·x (+ a load-cell offset F₀)
 //! with f_d one of the [`DampingLaw`]s.
 //!
-//! See [`dynamometer`] for the method.
+//! See [`dynamometer()`] for the method.
 
 mod condition;
 mod harmonics;
@@ -19,13 +19,16 @@ pub use predicted::PredictedLaw;
 pub use summary::ConditionSummary;
 pub use synthetic::{Stroke, SyntheticDynamometer, synthetic_dynamometer};
 
-use crate::{DampingLaw, IdentError, Result, SmoothingVelocity, bic_evidence};
+use crate::{
+    IdentError, Result,
+    nonlinear::{DampingLaw, SmoothingVelocity, bic_evidence},
+};
 use harmonics::{HarmonicFit, estimate_frequency};
 use regression::{Needs, Normal, Prepared};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Options of [`dynamometer`].
+/// Options of [`dynamometer()`].
 ///
 /// ```
 /// use msd_ident::DynamometerOptions;
@@ -103,13 +106,12 @@ impl DynamometerOptions {
     }
 }
 
-/// The result of [`dynamometer`]: each condition's summary and each law's fit.
+/// The result of [`dynamometer()`]: each condition's summary and each law's fit.
 ///
 /// Displays as two Markdown tables (conditions; laws, ranked) and the verdict.
 ///
 /// ```
-/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
-///     SyntheticDynamometer};
+/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
 /// let result = dynamometer(&conditions, &DynamometerOptions::default())?;
 /// assert_eq!(result.laws[result.best].rank, 1);
@@ -200,7 +202,7 @@ impl std::fmt::Display for Dynamometer {
 /// 3. Across all conditions, each requested law by linear least squares on the regressors
 ///    x̂″, x̂′, x̂, the law's term (x̂′|x̂′| or tanh(x̂′/v_s)) and 1 ([`LawFit`]); the laws
 ///    ranked by BIC = N·ln(SSE/N) + p·ln N and the margin graded on Kass & Raftery's
-///    scale ([`bic_evidence`](crate::bic_evidence)).
+///    scale ([`bic_evidence`]).
 ///
 /// ## The intervals
 /// The covariance of the coefficients β̂ is the least-squares one, σ̂_F²·(XᵀX)⁻¹, plus the
@@ -220,8 +222,7 @@ impl std::fmt::Display for Dynamometer {
 /// analysis refuses otherwise.
 ///
 /// ```
-/// use msd_ident::{dynamometer, synthetic_dynamometer, DampingLaw, DynamometerOptions,
-///     SyntheticDynamometer};
+/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let spec = SyntheticDynamometer::default(); // a quadratic damper, 5 frequencies × 2 strokes
 /// let conditions = synthetic_dynamometer(&spec)?;
 /// let result = dynamometer(&conditions, &DynamometerOptions::default())?;
@@ -248,7 +249,7 @@ pub fn dynamometer(conditions: &[Condition], options: &DynamometerOptions) -> Re
 /// The noise levels of a planned test machine.
 ///
 /// ```
-/// let noise = msd_ident::DynamometerNoise { force_sigma: 2.0, stroke_sigma: 1e-5 };
+/// let noise = msd_ident::dynamometer::DynamometerNoise { force_sigma: 2.0, stroke_sigma: 1e-5 };
 /// assert!(noise.stroke_sigma < noise.force_sigma);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -259,7 +260,7 @@ pub struct DynamometerNoise {
     pub stroke_sigma: f64,
 }
 
-/// The prediction of [`dynamometer`]'s intervals before the test: each law of `options`
+/// The prediction of [`dynamometer()`]'s intervals before the test: each law of `options`
 /// fitted to the noise-free `conditions` (the planned strokes and the prior plant's
 /// force), its covariance the analysis's own — σ_F²·(XᵀX)⁻¹ plus the stroke noise carried
 /// through the harmonic fits — with the noise levels of `noise` in place of the
@@ -268,8 +269,7 @@ pub struct DynamometerNoise {
 /// first order for the stroke noise.
 ///
 /// ```
-/// use msd_ident::{dynamometer, predicted_dynamometer, synthetic_dynamometer, DampingLaw,
-///     DynamometerNoise, DynamometerOptions, SyntheticDynamometer};
+/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{predicted_dynamometer, synthetic_dynamometer, DynamometerNoise, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let mut spec = SyntheticDynamometer::default();
 /// let noise = DynamometerNoise { force_sigma: spec.force_noise, stroke_sigma: 0.0 };
 /// (spec.force_noise, spec.displacement_noise) = (0.0, 0.0); // the planned strokes, noise-free

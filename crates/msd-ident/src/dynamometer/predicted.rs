@@ -1,7 +1,7 @@
 //! A damping law's coefficients as a planned test will give them.
 
 use super::LawFit;
-use crate::{DampingLaw, Interval};
+use crate::{Interval, nonlinear::DampingLaw};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -10,8 +10,7 @@ use serde::Serialize;
 /// plant gives, the standard errors and 95 % intervals the run will report.
 ///
 /// ```
-/// use msd_ident::{predicted_dynamometer, synthetic_dynamometer, DampingLaw,
-///     DynamometerNoise, DynamometerOptions, SyntheticDynamometer};
+/// use msd_ident::{DynamometerOptions, dynamometer::{predicted_dynamometer, synthetic_dynamometer, DynamometerNoise, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let spec = SyntheticDynamometer { force_noise: 0.0, displacement_noise: 0.0, ..Default::default() };
 /// let noise = DynamometerNoise { force_sigma: 1.0, stroke_sigma: 0.0 };
 /// let options = DynamometerOptions { laws: vec![DampingLaw::Viscous], ..Default::default() };

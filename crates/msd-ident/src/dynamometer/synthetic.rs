@@ -1,7 +1,10 @@
 //! Synthetic test-machine records with known truth, for tests, configs and teaching.
 
 use super::Condition;
-use crate::{DampingLaw, IdentError, ModelStructure, NonlinearParameters, Result, StiffnessLaw};
+use crate::{
+    IdentError, ModelStructure, Result,
+    nonlinear::{DampingLaw, NonlinearParameters, StiffnessLaw},
+};
 use msd_signal::gaussian_noise;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -9,7 +12,7 @@ use std::f64::consts::PI;
 /// One imposed sine stroke x = X·sin(2π·f·t).
 ///
 /// ```
-/// use msd_ident::Stroke;
+/// use msd_ident::dynamometer::Stroke;
 /// let s = Stroke { frequency_hz: 8.0, amplitude: 0.025 };
 /// let peak_velocity = 2.0 * std::f64::consts::PI * s.frequency_hz * s.amplitude;
 /// assert!((peak_velocity - 1.2566).abs() < 1e-4);
@@ -32,7 +35,7 @@ pub struct Stroke {
 /// LVDT's), seed 1.
 ///
 /// ```
-/// use msd_ident::{DampingLaw, SyntheticDynamometer};
+/// use msd_ident::{dynamometer::SyntheticDynamometer, nonlinear::DampingLaw};
 /// let spec = SyntheticDynamometer::default();
 /// assert_eq!(spec.plant.structure.damping, DampingLaw::QuadraticViscous);
 /// assert_eq!((spec.strokes.len(), spec.cycles, spec.dt), (10, 4, 5e-4));
@@ -97,7 +100,7 @@ impl Default for SyntheticDynamometer {
 /// samples and is named like `2 Hz, 25 mm`.
 ///
 /// ```
-/// use msd_ident::{synthetic_dynamometer, SyntheticDynamometer};
+/// use msd_ident::{dynamometer::{synthetic_dynamometer, SyntheticDynamometer}};
 /// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
 /// assert_eq!(conditions.len(), 10);
 /// assert_eq!(conditions[0].name, "1 Hz, 10 mm");

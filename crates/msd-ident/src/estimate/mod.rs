@@ -2,7 +2,7 @@
 //!
 //! Two methods (see [`Method`]): the paper's Nelder–Mead on the summed squared output
 //! error, and Levenberg–Marquardt on the residual vector with the exact Jacobian from
-//! the sensitivity equations. Either can run on either [`Backend`](crate::Backend), from a
+//! the sensitivity equations. Either can run on either [`Backend`], from a
 //! given θ₀ or from the automatic ARX guess, with fixed parameters, bounds and
 //! multistart. Every estimate comes with fit metrics and, from the exact sensitivities at
 //! θ̂, a Gauss–Newton covariance with confidence intervals.
@@ -22,7 +22,7 @@ use crate::local::Local;
 use crate::uncertainty::{Uncertainty, from_jacobian};
 use crate::{
     Backend, DataSet, FitMetrics, IdentError, InitialState, Parameters, Result, StopReason,
-    arx_initial_guess,
+    arx::arx_initial_guess,
 };
 use layout::Layout;
 use msd_ode::Hold;
@@ -36,7 +36,7 @@ use std::time::{Duration, Instant};
 /// Displays as "given" or "automatic (ARX)"; serializes as "given" or "automatic".
 ///
 /// ```
-/// use msd_ident::GuessSource;
+/// use msd_ident::estimate::GuessSource;
 /// assert_eq!(GuessSource::Automatic.to_string(), "automatic (ARX)");
 /// assert_eq!(serde_json::to_value(GuessSource::Given)?, "given");
 /// # Ok::<(), serde_json::Error>(())

@@ -6,7 +6,7 @@ use crate::uncertainty::from_jacobian;
 use crate::{EstimationOptions, Excitation, IdentError, Parameters, Result, Uncertainty};
 
 /// The Cramér–Rao prediction of an estimate's uncertainty: the intervals that
-/// [`estimate`](crate::estimate) will report on a record of `excitation` from the plant
+/// [`estimate`](crate::estimate()) will report on a record of `excitation` from the plant
 /// `plant` with white measurement noise of standard deviation `sigma`, estimating what
 /// `options` estimates (its fixed parameters, initial state and offset). The covariance
 /// is σ²(JᵀJ)⁻¹ with J the exact sensitivities at the plant: the smallest any unbiased

@@ -15,7 +15,7 @@ use std::f64::consts::PI;
 /// (half a period apart), the equilibrium read off successive extremes.
 ///
 /// ```
-/// use msd_ident::ClassroomEstimates;
+/// use msd_ident::free_decay::ClassroomEstimates;
 /// // Successive peaks in ratio 3 : 2.
 /// let delta = 1.5f64.ln();
 /// let (fd, dt) = (2.0, 1e-3);

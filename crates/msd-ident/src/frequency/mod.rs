@@ -7,7 +7,7 @@
 //!   segmentation of a 15 s record, so averaging is not an option): msd-signal's
 //!   [`DftPair::hann_h1`](msd_signal::DftPair::hann_h1), which equals its `h1_estimate`
 //!   with one periodic-Hann segment and mean detrending, computed from the same single
-//!   FFT ([`DftPair`](msd_signal::DftPair)) as the fit below. With one segment the
+//!   FFT ([`DftPair`]) as the fit below. With one segment the
 //!   coherence is 1 by construction and says nothing; it is reported for completeness.
 //! - For ωn and ζ, a parametric single-mode fit to the record's DFT (rectangular window,
 //!   no averaging): Y(ω) = (G·U(ω) + a + j·b·ω) / (ωn² − ω² + 2jζωnω). The numerator term

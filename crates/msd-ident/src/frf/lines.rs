@@ -13,7 +13,7 @@ use crate::{IdentError, Result};
 /// fit estimates from the residuals).
 ///
 /// ```
-/// use msd_ident::{FrfWeighting, OneModeOptions};
+/// use msd_ident::{OneModeOptions, frf::FrfWeighting};
 /// let options: OneModeOptions = toml::from_str(r#"weighting = "relative""#)?;
 /// assert_eq!(options.weighting, FrfWeighting::Relative);
 /// assert_eq!(OneModeOptions::default().weighting, FrfWeighting::Coherence);

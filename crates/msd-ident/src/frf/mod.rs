@@ -25,7 +25,7 @@
 //!   intervals.
 //!
 //! ```
-//! use msd_ident::{fit_one_mode, model_response, OneModeOptions, Parameters};
+//! use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response};
 //! use msd_signal::FrequencyResponseEstimate;
 //! // The paper's plant measured at 40 frequencies (exact values, as magnitude and phase).
 //! let f: Vec<f64> = (0..40).map(|i| 0.25 + 0.0577 * i as f64).collect();

@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 /// B = 2·ωn·Re R.
 ///
 /// ```
-/// use msd_ident::ModalParameters;
+/// use msd_ident::frf::ModalParameters;
 /// // The paper's plant, m = 2.5 kg, k = 120 N/m, c = 1.8 N·s/m: A = 1/m.
 /// let mode = ModalParameters {
 ///     natural_frequency_hz: (120.0f64 / 2.5).sqrt() / std::f64::consts::TAU,

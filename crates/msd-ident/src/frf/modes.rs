@@ -16,7 +16,7 @@ use super::window::{WindowCorrection, unshift_pole};
 use crate::uncertainty::t_975;
 use crate::{IdentError, Interval, Result};
 
-/// Options of [`fit_modes`] and [`stabilization_diagram`](crate::stabilization_diagram)
+/// Options of [`fit_modes`] and [`stabilization_diagram`](crate::frf::stabilization_diagram)
 /// (in TOML: a table with any of these fields).
 ///
 /// ```
@@ -118,7 +118,7 @@ impl ModalOptions {
 /// One mode of a [`ModalFit`], every quantity with its 95 % interval.
 ///
 /// ```
-/// use msd_ident::{fit_modes, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// use msd_ident::{fit_modes, ModalOptions, frf::{synthetic_frequency_response, ModalParameters}};
 /// let truth = ModalParameters { natural_frequency_hz: 12.0, damping_ratio: 0.02,
 ///     modal_constant: 0.5, modal_constant_imaginary: 0.0 };
 /// let f: Vec<f64> = (1..=400).map(|i| 0.05 * i as f64).collect();
@@ -163,7 +163,7 @@ impl Mode {
 /// every field (the diagram included).
 ///
 /// ```
-/// use msd_ident::{fit_modes, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// use msd_ident::{fit_modes, ModalOptions, frf::{synthetic_frequency_response, ModalParameters}};
 /// let modes = [(6.0, 0.02, 1.0), (15.0, 0.01, 0.3)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
 /// let f: Vec<f64> = (1..=800).map(|i| 0.025 * i as f64).collect();
@@ -279,7 +279,7 @@ fn scientific(i: &Interval) -> String {
 /// Fits several modes to `frf` (converted to receptance): H(ω) = Σ_r H_r(ω) − L/ω² + U.
 ///
 /// ## The algorithm
-/// The [`stabilization_diagram`](crate::stabilization_diagram) gives the poles (fn, ζ)
+/// The [`stabilization_diagram`](crate::frf::stabilization_diagram) gives the poles (fn, ζ)
 /// of the selected modes; LSFD (linear least squares for fixed poles) the modal
 /// constants A + jB and the residual terms L and U; weights relative to |H| are then
 /// taken from this model rather than the measured |H| (as in [`fit_one_mode`](crate::fit_one_mode)),
@@ -294,7 +294,7 @@ fn scientific(i: &Interval) -> String {
 /// that does not converge.
 ///
 /// ```
-/// use msd_ident::{fit_modes, ModalOptions, ModalParameters};
+/// use msd_ident::{fit_modes, ModalOptions, frf::ModalParameters};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let truth = [(8.0, 0.02, 1.0), (17.0, 0.01, -0.5)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });

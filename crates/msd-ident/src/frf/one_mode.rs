@@ -18,7 +18,7 @@ use crate::{IdentError, Interval, PARAMETER_NAMES, Parameters, Result, Uncertain
 /// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
 ///
 /// ```
-/// use msd_ident::{FrfWeighting, OneModeOptions};
+/// use msd_ident::{OneModeOptions, frf::FrfWeighting};
 /// let options: OneModeOptions = toml::from_str("band_hz = [0.5, 2.0]\nweighting = \"variance\"")?;
 /// assert_eq!(options.band_hz, Some([0.5, 2.0]));
 /// assert_eq!(options.weighting, FrfWeighting::Variance);
@@ -49,7 +49,7 @@ impl OneModeOptions {
 /// the half-power estimate; serializes with every field.
 ///
 /// ```
-/// use msd_ident::{fit_one_mode, model_response, synthetic_frequency_response, OneModeOptions, Parameters};
+/// use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response, frf::synthetic_frequency_response};
 /// let f: Vec<f64> = (0..40).map(|i| 0.25 + 0.0577 * i as f64).collect();
 /// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {
 ///     model_response(&Parameters::PAPER, std::f64::consts::TAU * f)
@@ -95,7 +95,7 @@ impl OneModeFit {
     /// exponential window: the windowed response H(s + 1/τ), which the data show).
     ///
     /// ```
-    /// # use msd_ident::{fit_one_mode, OneModeOptions, Parameters, model_response};
+    /// # use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response};
     /// # use msd_signal::FrequencyResponseEstimate;
     /// let f: Vec<f64> = (1..=40).map(|i| 0.06 * i as f64).collect();
     /// let h = f.iter().map(|f| model_response(&Parameters::PAPER, std::f64::consts::TAU * f)).collect();
@@ -161,7 +161,7 @@ impl std::fmt::Display for OneModeFit {
 /// correction c < 0), a fit that does not converge.
 ///
 /// ```
-/// use msd_ident::{fit_one_mode, model_response, OneModeOptions, Parameters};
+/// use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response};
 /// use msd_signal::FrequencyResponseEstimate;
 /// // A stepped sine on the paper's plant at 40 frequencies, exact.
 /// let f: Vec<f64> = (1..=40).map(|i| 0.06 * i as f64).collect();

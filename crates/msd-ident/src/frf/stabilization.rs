@@ -14,7 +14,7 @@ use crate::{IdentError, Result};
 /// One pole of one model order in the diagram.
 ///
 /// ```
-/// use msd_ident::{stabilization_diagram, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// use msd_ident::{ModalOptions, frf::{stabilization_diagram, synthetic_frequency_response, ModalParameters}};
 /// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
 /// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
@@ -73,7 +73,7 @@ pub struct StableMode {
 /// for a plot.
 ///
 /// ```
-/// use msd_ident::{stabilization_diagram, synthetic_frequency_response, ModalOptions, ModalParameters};
+/// use msd_ident::{ModalOptions, frf::{stabilization_diagram, synthetic_frequency_response, ModalParameters}};
 /// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
 /// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
@@ -138,7 +138,7 @@ impl std::fmt::Display for StabilizationDiagram {
 /// without variances, fewer stable modes than `mode_count`.
 ///
 /// ```
-/// use msd_ident::{stabilization_diagram, ModalOptions, ModalParameters};
+/// use msd_ident::{ModalOptions, frf::{stabilization_diagram, ModalParameters}};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let modes = [(8.0, 0.02, 1.0), (17.0, 0.01, -0.5)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });

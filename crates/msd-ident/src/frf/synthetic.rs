@@ -14,7 +14,7 @@ use crate::Result;
 /// non-finite noise level, and a response that is not finite.
 ///
 /// ```
-/// use msd_ident::{synthetic_frequency_response, model_response, Parameters};
+/// use msd_ident::{Parameters, frequency::model_response, frf::synthetic_frequency_response};
 /// // The paper's plant measured at 40 frequencies with 1 % complex noise.
 /// let f: Vec<f64> = (0..40).map(|i| 0.25 + 2.25 * i as f64 / 39.0).collect();
 /// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {

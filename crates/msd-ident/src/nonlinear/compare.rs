@@ -213,7 +213,7 @@ pub fn bic_evidence(delta: f64) -> &'static str {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FixedModel<'a> {
     /// A linear model whose output carries a constant sensor `offset`, simulated by
-    /// `backend`: the fit is [`estimate`](crate::estimate)'s Levenberg–Marquardt with m,
+    /// `backend`: the fit is [`estimate`](crate::estimate())'s Levenberg–Marquardt with m,
     /// c, k and the offset fixed (exact sensitivities on the exact backend).
     Linear {
         /// m, c, k.
@@ -240,8 +240,7 @@ pub enum FixedModel<'a> {
 /// validation's initial state from its first outputs).
 ///
 /// ```
-/// use msd_ident::{fit_initial_state, simulate, Backend, DataSet, Excitation, FixedModel,
-///     InitialState, Parameters};
+/// use msd_ident::{simulate, Backend, DataSet, Excitation, InitialState, Parameters, nonlinear::{fit_initial_state, FixedModel}};
 /// let input = Excitation::from_samples(0.0, 0.002, vec![0.0; 200])?;
 /// let start = InitialState { displacement: 0.01, velocity: -0.2 };
 /// let ringing = simulate(&Parameters::PAPER, &input, start, &Backend::EXACT)?;
@@ -274,7 +273,7 @@ pub fn fit_initial_state(
                 method: crate::Method::LevenbergMarquardt,
                 backend,
                 initial_guess: Some(*parameters),
-                fixed: crate::FixedParameters {
+                fixed: crate::estimate::FixedParameters {
                     mass: Some(parameters.mass),
                     damping: Some(parameters.damping),
                     stiffness: Some(parameters.stiffness),
@@ -352,9 +351,7 @@ fn predict(
 /// tests against the linear model's.
 ///
 /// ```
-/// use msd_ident::{compare_models, synthetic_nonlinear_data, ComparisonOptions, DampingLaw,
-///     Excitation, ModelStructure, NonlinearParameters, NonlinearSimulation, Parameters,
-///     StiffnessLaw, SyntheticOptions};
+/// use msd_ident::{compare_models, Excitation, ModelStructure, Parameters, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, ComparisonOptions, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
 /// let sim = NonlinearSimulation::default();
@@ -443,9 +440,7 @@ fn score(
 /// same row as a comparison would give it.
 ///
 /// ```
-/// use msd_ident::{assess_estimate, estimate_nonlinear, synthetic_nonlinear_data,
-///     ComparisonOptions, DampingLaw, Excitation, ModelStructure, NonlinearOptions,
-///     NonlinearParameters, NonlinearSimulation, StiffnessLaw, SyntheticOptions};
+/// use msd_ident::{estimate_nonlinear, Excitation, ModelStructure, NonlinearOptions, SyntheticOptions, nonlinear::{assess_estimate, synthetic_nonlinear_data, ComparisonOptions, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;

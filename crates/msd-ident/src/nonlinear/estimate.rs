@@ -82,7 +82,7 @@ pub struct NonlinearOptions {
     /// The simulator. By default [`NonlinearSimulation::default`].
     pub simulation: NonlinearSimulation,
     /// Linear parameters to start from (nonlinear coefficients start at 0). `None`:
-    /// [`estimate`] with its default (fast) options. By default `None`.
+    /// [`estimate()`] with its default (fast) options. By default `None`.
     pub linear_start: Option<Parameters>,
     /// The initial state (or its start value when estimated). By default at rest.
     pub initial_state: InitialState,
@@ -211,7 +211,7 @@ impl std::fmt::Display for NonlinearEstimate {
     }
 }
 
-/// The linear start: given, or [`estimate`] with its default (fast) options.
+/// The linear start: given, or [`estimate()`] with its default (fast) options.
 fn linear_start(data: &DataSet, options: &NonlinearOptions) -> Result<Parameters> {
     match options.linear_start {
         Some(p) => {
@@ -381,7 +381,7 @@ impl Search<'_> {
 /// Estimates the parameters of `structure` on `data` by output error.
 ///
 /// ## The algorithm
-/// 1. Linear start: `options.linear_start` or [`estimate`] with its default options
+/// 1. Linear start: `options.linear_start` or [`estimate()`] with its default options
 ///    (Levenberg–Marquardt on the exact simulator from the ARX guess); nonlinear
 ///    coefficients start at 0. The Coulomb smoothing velocity is fixed from that start.
 /// 2. Scaled parameters z: ln m, ln c, ln k, and the nonlinear coefficients divided by
@@ -398,8 +398,7 @@ impl Search<'_> {
 ///    Student-t 95 % intervals; under RK4 the output's error by step doubling.
 ///
 /// ```
-/// use msd_ident::{estimate_nonlinear, synthetic_nonlinear_data, Excitation, ModelStructure,
-///     NonlinearOptions, NonlinearParameters, NonlinearSimulation, Parameters, SyntheticOptions};
+/// use msd_ident::{estimate_nonlinear, Excitation, ModelStructure, NonlinearOptions, Parameters, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, NonlinearParameters, NonlinearSimulation}};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
@@ -507,8 +506,7 @@ pub fn estimate_nonlinear(
 /// [`synthetic_data`](crate::synthetic_data).
 ///
 /// ```
-/// use msd_ident::{synthetic_nonlinear_data, Excitation, ModelStructure, NonlinearParameters,
-///     NonlinearSimulation, Parameters, SyntheticOptions};
+/// use msd_ident::{Excitation, ModelStructure, Parameters, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, NonlinearParameters, NonlinearSimulation}};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 501)?;
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);

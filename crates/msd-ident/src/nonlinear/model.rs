@@ -29,7 +29,7 @@ pub enum StiffnessLaw {
 /// law. A set of candidates is data (e.g. a list in a config), not code.
 ///
 /// ```
-/// use msd_ident::{DampingLaw, ModelStructure, StiffnessLaw};
+/// use msd_ident::{ModelStructure, nonlinear::{DampingLaw, StiffnessLaw}};
 /// let s = ModelStructure { damping: DampingLaw::CoulombViscous, stiffness: StiffnessLaw::Cubic };
 /// assert_eq!(s.parameter_names(), ["mass", "damping", "stiffness", "coulomb_force", "cubic_stiffness"]);
 /// assert_eq!(s.name(), "coulomb_viscous+cubic");
@@ -124,7 +124,7 @@ impl ModelStructure {
 /// [`ModelStructure::parameter_names`].
 ///
 /// ```
-/// use msd_ident::{DampingLaw, ModelStructure, NonlinearParameters, Parameters, StiffnessLaw};
+/// use msd_ident::{ModelStructure, Parameters, nonlinear::{DampingLaw, NonlinearParameters, StiffnessLaw}};
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let p = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 4000.0])?;
 /// assert_eq!(p.cubic_stiffness(), 4000.0);

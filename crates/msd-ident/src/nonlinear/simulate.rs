@@ -121,7 +121,7 @@ impl NonlinearSimulation {
     /// by its samples, ode45 when its signal is known; any other solver as it is.
     ///
     /// ```
-    /// use msd_ident::{Excitation, NonlinearSimulation, NonlinearSolver};
+    /// use msd_ident::{Excitation, nonlinear::{NonlinearSimulation, NonlinearSolver}};
     /// use msd_signal::paper_identification_input;
     /// let measured = Excitation::from_samples(0.0, 0.01, vec![0.0; 20])?;
     /// let known = Excitation::from_signal(paper_identification_input(), 0.0, 0.01, 20)?;
@@ -197,8 +197,7 @@ fn nominal_rms_velocity(x: &[f64], dt: f64) -> f64 {
 /// evaluations a sub-step; a pass redone with more sub-steps counts as rejected).
 ///
 /// ```
-/// use msd_ident::{simulate, simulate_nonlinear, Backend, Excitation, InitialState,
-///     ModelStructure, NonlinearParameters, NonlinearSimulation, NonlinearSolver, Parameters};
+/// use msd_ident::{simulate, Backend, Excitation, InitialState, ModelStructure, Parameters, nonlinear::{simulate_nonlinear, NonlinearParameters, NonlinearSimulation, NonlinearSolver}};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 2001)?;
 /// // The linear member of the family agrees with the exact linear simulation, by
@@ -254,8 +253,7 @@ pub struct NonlinearSensitivities {
 /// estimator uses. v_s is the Coulomb smoothing velocity (ignored without a Coulomb law).
 ///
 /// ```
-/// use msd_ident::{nonlinear_sensitivities, Excitation, InitialState, DampingLaw,
-///     ModelStructure, NonlinearParameters, NonlinearSimulation, StiffnessLaw};
+/// use msd_ident::{Excitation, InitialState, ModelStructure, nonlinear::{nonlinear_sensitivities, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
 /// use msd_signal::paper_identification_input;
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let p = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;
@@ -309,7 +307,7 @@ pub fn nonlinear_sensitivities(
 /// `ode45, Jacobian by RK4 on the cubic hold with 1 sub-step a sample`.
 ///
 /// ```
-/// use msd_ident::{NonlinearSolver, SimulationUsed};
+/// use msd_ident::{nonlinear::{NonlinearSolver, SimulationUsed}};
 /// use msd_ode::Hold;
 /// let used = SimulationUsed { solver: NonlinearSolver::Rk4, hold: Hold::Cubic,
 ///     steps_per_sample: 8, error_estimate: Some(1.2e-7) };

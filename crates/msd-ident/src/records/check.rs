@@ -2,7 +2,7 @@
 
 use super::model::OutputKind;
 use super::setup::{Record, RecordsOptions};
-use crate::{IdentError, MIN_SAMPLES, Result};
+use crate::{IdentError, Result, data::MIN_SAMPLES};
 
 /// Checks every record against the options; returns each channel's output kind.
 pub(crate) fn check_records(

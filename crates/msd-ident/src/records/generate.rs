@@ -17,11 +17,11 @@ use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
 /// relative) only.
 ///
 /// This is the synthetic tests' generator on the physical parameters; the model that
-/// [`fit_records`](crate::fit_records) fits is [`simulate_response`](crate::simulate_response)
+/// [`fit_records`](crate::fit_records) fits is [`simulate_response`](crate::records::simulate_response)
 /// (the same system, its own rounding).
 ///
 /// ```
-/// use msd_ident::{simulate_channels, Drive, Frame, InitialState, Parameters, ResponseQuantity};
+/// use msd_ident::{Drive, Frame, InitialState, Parameters, ResponseQuantity, records::simulate_channels};
 /// let released = InitialState { displacement: 0.01, velocity: 0.0 };
 /// let channels = [(ResponseQuantity::Displacement, Frame::Absolute),
 ///     (ResponseQuantity::Acceleration, Frame::Absolute)];

@@ -3,7 +3,7 @@
 //!
 //! Every channel of a linear plant shares the plant's poles, so an ARX(2, 3) fit of any
 //! channel against the drive (decimated by 2, 4, … as in
-//! [`arx_initial_guess`](crate::arx_initial_guess), from the coarsest rate to the first
+//! [`arx_initial_guess`](crate::arx::arx_initial_guess), from the coarsest rate to the first
 //! that resolves the resonance well) proposes ωn and ζ; a free decay's
 //! candidates are its classroom estimates. With a force drive the outputs scale as 1/m
 //! at fixed ωn and ζ, so the mass of each candidate is a linear least-squares gain.
@@ -11,7 +11,7 @@
 use super::problem::Joint;
 use super::setup::{Drive, RecordsOptions};
 use crate::arx::arx_poles;
-use crate::{ClassroomEstimates, IdentError, KnownParameter, Result};
+use crate::{IdentError, KnownParameter, Result, free_decay::ClassroomEstimates};
 use std::f64::consts::PI;
 
 /// θ₀ (m, c, k; m = 1 and c, k per unit mass unless the drive is a force).

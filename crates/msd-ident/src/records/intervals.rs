@@ -21,7 +21,7 @@ use std::f64::consts::PI;
 /// Displays one line per identified quantity, then the note.
 ///
 /// ```
-/// use msd_ident::{Interval, PlantIntervals};
+/// use msd_ident::{Interval, records::PlantIntervals};
 /// let fixed = |v: f64| Interval { value: v, standard_error: 0.0, ci95: [v, v] };
 /// let plant = PlantIntervals {
 ///     identifiable: vec!["natural_frequency_hz", "damping_ratio"],

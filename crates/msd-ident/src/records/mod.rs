@@ -24,7 +24,7 @@ pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, sim
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
 pub use setup::{Channel, Drive, Frame, Record, RecordsOptions};
 
-use crate::{ClassroomEstimates, IdentError, InitialState, KnownParameter, Result};
+use crate::{IdentError, InitialState, KnownParameter, Result, free_decay::ClassroomEstimates};
 use check::check_records;
 use loo::leave_one_out;
 use model::Plant;
@@ -54,8 +54,7 @@ use std::time::Instant;
 /// Student's t and, for derived quantities, the delta method.
 ///
 /// ```
-/// use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
-///     InitialState, Parameters, Record, RecordsOptions, ResponseQuantity};
+/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, Parameters, Record, RecordsOptions, ResponseQuantity, records::simulate_response};
 /// use msd_signal::{gaussian_noise, paper_identification_input};
 /// // The paper's plant and input, an accelerometer on the mass (σ = 0.05 m/s², seed 1).
 /// let p = Parameters::PAPER;

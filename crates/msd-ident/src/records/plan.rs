@@ -12,7 +12,7 @@ use msd_ode::{SVector, SampledInput};
 /// [`predicted_records_uncertainty`] for a plan).
 ///
 /// ```
-/// use msd_ident::{PlannedChannel, ResponseQuantity};
+/// use msd_ident::{ResponseQuantity, records::PlannedChannel};
 /// let acc = PlannedChannel { name: "acc".into(), quantity: ResponseQuantity::Acceleration, sigma: 0.05, ..Default::default() };
 /// assert_eq!(acc.frame, msd_ident::Frame::Absolute);
 /// ```
@@ -32,7 +32,7 @@ pub struct PlannedChannel {
 /// sensors (see [`predicted_records_uncertainty`] for a plan).
 ///
 /// ```
-/// use msd_ident::{Excitation, InitialState, PlannedChannel, PlannedRecord};
+/// use msd_ident::{Excitation, InitialState, records::{PlannedChannel, PlannedRecord}};
 /// let pluck = PlannedRecord { name: "pluck".into(),
 ///     excitation: Excitation::from_samples(0.0, 0.002, vec![0.0; 5001])?,
 ///     initial_state: InitialState { displacement: 0.01, velocity: 0.0 },
@@ -59,8 +59,7 @@ pub struct PlannedRecord {
 /// with the fit's Student's t. The values are the plant's own.
 ///
 /// ```
-/// use msd_ident::{predicted_records_uncertainty, Excitation, Parameters, PlannedChannel,
-///     PlannedRecord, RecordsOptions, ResponseQuantity};
+/// use msd_ident::{Excitation, Parameters, RecordsOptions, ResponseQuantity, records::{predicted_records_uncertainty, PlannedChannel, PlannedRecord}};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
 /// let accelerometer = PlannedChannel { name: "acc".into(), quantity: ResponseQuantity::Acceleration,
@@ -217,8 +216,7 @@ fn state(plant: &Plant, initial: InitialState, excitation: &Excitation) -> [f64;
 /// records. A free decay ignores the excitation's samples.
 ///
 /// ```
-/// use msd_ident::{simulate, simulate_response, Backend, Drive, Excitation, Frame,
-///     InitialState, Parameters, ResponseQuantity};
+/// use msd_ident::{simulate, Backend, Drive, Excitation, Frame, InitialState, Parameters, ResponseQuantity, records::simulate_response};
 /// use msd_signal::paper_identification_input;
 /// let force = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
 /// let p = Parameters::PAPER;

@@ -2,14 +2,14 @@
 
 use super::intervals::PlantIntervals;
 use super::setup::Drive;
-use crate::{ClassroomEstimates, FitMetrics, InitialState};
+use crate::{FitMetrics, InitialState, free_decay::ClassroomEstimates};
 use serde::Serialize;
 use std::time::Duration;
 
 /// One channel of one record: its offset, and how well the model follows it.
 ///
 /// ```
-/// use msd_ident::{ChannelFit, FitMetrics};
+/// use msd_ident::{FitMetrics, records::ChannelFit};
 /// let model = vec![0.0, 1.0, 2.0];
 /// let fit = ChannelFit { channel: "acc".into(), offset: 0.0,
 ///     fit: FitMetrics::new(&[0.0, 1.1, 1.9], &model), model };
@@ -32,7 +32,7 @@ pub struct ChannelFit {
 /// One record of a joint fit.
 ///
 /// ```
-/// use msd_ident::{InitialState, RecordFit};
+/// use msd_ident::{InitialState, records::RecordFit};
 /// let record = RecordFit { name: "run 1".into(), initial_state: InitialState::REST, channels: vec![], classroom: None };
 /// assert_eq!(serde_json::to_value(&record)?["initial_state"]["velocity"], 0.0);
 /// # Ok::<(), serde_json::Error>(())
@@ -54,7 +54,7 @@ pub struct RecordFit {
 /// The estimated noise level of one sensor (over every record that has it).
 ///
 /// ```
-/// use msd_ident::ChannelNoise;
+/// use msd_ident::records::ChannelNoise;
 /// let noise = ChannelNoise { channel: "laser".into(), sigma: 1e-3, samples: 7501 };
 /// assert_eq!(serde_json::to_value(&noise)?["sigma"], 1e-3);
 /// # Ok::<(), serde_json::Error>(())
@@ -74,7 +74,7 @@ pub struct ChannelNoise {
 /// and offsets fitted with that plant held).
 ///
 /// ```
-/// use msd_ident::LeftOut;
+/// use msd_ident::records::LeftOut;
 /// let left = LeftOut { record: "run 3".into(), natural_frequency_hz: 1.1, damping_ratio: 0.05, channels: vec![] };
 /// assert_eq!(serde_json::to_value(&left)?["record"], "run 3");
 /// # Ok::<(), serde_json::Error>(())
@@ -98,8 +98,7 @@ pub struct LeftOut {
 /// the counts and `wall_time_s`. Displays a compact table.
 ///
 /// ```
-/// use msd_ident::{fit_records, simulate_response, Channel, Drive, Excitation, Frame,
-///     InitialState, KnownParameter, Parameters, Record, RecordsOptions, ResponseQuantity};
+/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, KnownParameter, Parameters, Record, RecordsOptions, ResponseQuantity, records::simulate_response};
 /// use msd_signal::gaussian_noise;
 /// // Two plucks of the paper's plant, 4 s at 5 ms, a laser with σ = 0.1 mm, the mass weighed.
 /// let grid = Excitation::from_samples(0.0, 0.005, vec![0.0; 801])?;

@@ -148,7 +148,7 @@ fn paper_experiment_is_reproducible_and_streams_are_independent() {
         .zip(&a.validation_truth)
         .map(|(y, x)| y - x)
         .collect();
-    let rho = msd_ident::cross_correlation(&ea, &eb, 0)[0];
+    let rho = msd_ident::correlation::cross_correlation(&ea, &eb, 0)[0];
     assert!(rho.abs() < 4.0 / (7501f64).sqrt(), "{rho}");
     let sd = (ea.iter().map(|v| v * v).sum::<f64>() / ea.len() as f64).sqrt();
     // Sample std within 4 standard errors (σ/√(2N)) of 2.5 mm.

@@ -2,8 +2,11 @@
 //! response, the criterion against the reference, and the refused constraints.
 
 use msd_ident::{
-    Backend, Criterion, DesignOptions, Excitation, IdentError, InitialState, InputComparison,
-    Normalise, Parameters, RobustBox, StepOption, StrokeOn, design_input, simulate,
+    Backend, Excitation, IdentError, InitialState, Parameters,
+    design::{
+        Criterion, DesignOptions, InputComparison, Normalise, RobustBox, StepOption, StrokeOn,
+    },
+    design_input, simulate,
 };
 use msd_signal::{Signal, paper_identification_input};
 
@@ -110,7 +113,7 @@ fn a_robust_design_keeps_the_stroke_on_every_plant_when_asked() {
             );
         }
     }
-    let top = |d: &msd_ident::Design| d.plant_strokes.iter().fold(0.0f64, |m, x| m.max(*x));
+    let top = |d: &msd_ident::design::Design| d.plant_strokes.iter().fold(0.0f64, |m, x| m.max(*x));
     assert!(top(&prior_only) > 0.1115, "{prior_only}");
     assert!(
         prior_only.to_string().contains("holds on the prior only"),

@@ -2,8 +2,11 @@
 
 use msd_ident::{
     DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError, PaperExperiment,
-    Parameters, ResidualOptions, SyntheticOptions, ValidationOptions, autocorrelation,
-    cross_correlation, estimate, frequency_check, ljung_box, residual_analysis, validate_model,
+    Parameters, ResidualOptions, SyntheticOptions, ValidationOptions,
+    correlation::{autocorrelation, cross_correlation},
+    estimate, frequency_check, residual_analysis,
+    residuals::ljung_box,
+    validate_model,
 };
 use msd_ode::{Ode45Options, SVector, ode45};
 use msd_signal::{gaussian_noise, paper_identification_input};

@@ -3,8 +3,9 @@
 //! the refusals.
 
 use msd_ident::{
-    Condition, DampingLaw, DynamometerOptions, IdentError, ModelStructure, NonlinearParameters,
-    StiffnessLaw, Stroke, SyntheticDynamometer, dynamometer, synthetic_dynamometer,
+    DynamometerOptions, IdentError, ModelStructure, dynamometer,
+    dynamometer::{Condition, Stroke, SyntheticDynamometer, synthetic_dynamometer},
+    nonlinear::{DampingLaw, NonlinearParameters, StiffnessLaw},
 };
 use std::f64::consts::PI;
 

@@ -3,8 +3,9 @@
 
 use crate::common::{cramer_rao, crb_std};
 use msd_ident::{
-    Backend, EstimationOptions, Excitation, FixedParameters, IdentError, InitialState, Method,
-    MultistartSettings, PaperExperiment, Parameters, StopReason, SyntheticOptions, estimate,
+    Backend, EstimationOptions, Excitation, IdentError, InitialState, Method, PaperExperiment,
+    Parameters, StopReason, SyntheticOptions, estimate,
+    estimate::{FixedParameters, MultistartSettings},
     synthetic_data,
 };
 use msd_opt::NelderMeadExit;
@@ -399,7 +400,7 @@ fn bad_input_is_a_specific_error() {
         "{e}"
     );
     let e = bad(EstimationOptions {
-        bounds: msd_ident::ParameterBounds {
+        bounds: msd_ident::estimate::ParameterBounds {
             stiffness: Some([200.0, 100.0]),
             ..Default::default()
         },

@@ -14,11 +14,14 @@
 //! benchmark README and configs/silverbox.toml do).
 
 use msd_ident::{
-    ComparisonOptions, DampingLaw, DataSet, Excitation, IdentError, InitialState, ModelStructure,
-    NonlinearMethod, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, NonlinearSolver, Parameters, SmoothingVelocity, StiffnessLaw,
-    SyntheticOptions, ValidationStart, compare_models, estimate_nonlinear, synthetic_data,
-    synthetic_nonlinear_data,
+    DataSet, Excitation, IdentError, InitialState, ModelStructure, NonlinearOptions, Parameters,
+    SyntheticOptions, compare_models, estimate_nonlinear,
+    nonlinear::{
+        ComparisonOptions, DampingLaw, NonlinearMethod, NonlinearMultistart, NonlinearParameters,
+        NonlinearSimulation, NonlinearSolver, SmoothingVelocity, StiffnessLaw, ValidationStart,
+        synthetic_nonlinear_data,
+    },
+    synthetic_data,
 };
 use msd_signal::{paper_identification_input, paper_validation_input};
 use std::time::Instant;
@@ -397,8 +400,9 @@ fn nonlinear_synthetic_data_starts_from_the_given_state() -> Result<(), IdentErr
 #[test]
 fn fit_initial_state_recovers_a_known_start() -> Result<(), IdentError> {
     use msd_ident::{
-        Backend, FixedModel, InitialState, Parameters, fit_initial_state, simulate,
-        simulate_nonlinear,
+        Backend, InitialState, Parameters,
+        nonlinear::{FixedModel, fit_initial_state, simulate_nonlinear},
+        simulate,
     };
     let input = Excitation::from_signal(paper_validation_input(), 0.0, DT, 400)?;
     let start = InitialState {

@@ -8,10 +8,13 @@
 
 use crate::nonlinear::{DT, SAMPLES, SIGMA, plant, silverbox, slice, structure};
 use msd_ident::{
-    ComparisonOptions, DampingLaw, DataSet, Excitation, IdentError, InitialState, ModelStructure,
-    NonlinearOptions, NonlinearParameters, NonlinearSimulation, NonlinearSolver, StiffnessLaw,
-    SyntheticOptions, ValidationStart, assess_estimate, estimate_nonlinear,
-    nonlinear_sensitivities, simulate_nonlinear, synthetic_nonlinear_data,
+    DataSet, Excitation, IdentError, InitialState, ModelStructure, NonlinearOptions,
+    SyntheticOptions, estimate_nonlinear,
+    nonlinear::{
+        ComparisonOptions, DampingLaw, NonlinearParameters, NonlinearSimulation, NonlinearSolver,
+        StiffnessLaw, ValidationStart, assess_estimate, nonlinear_sensitivities,
+        simulate_nonlinear, synthetic_nonlinear_data,
+    },
 };
 use msd_ode::{Hold, Ode45Options, SVector, SampledInput, ode45};
 use msd_signal::{paper_identification_input, paper_validation_input};

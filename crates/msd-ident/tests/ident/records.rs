@@ -9,8 +9,12 @@
 
 use msd_ident::{
     Backend, Channel, Drive, Excitation, Frame, IdentError, InitialState, Interval, KnownParameter,
-    Parameters, PlannedChannel, PlannedRecord, PlantIntervals, Record, RecordsFit, RecordsOptions,
-    ResponseQuantity, fit_records, predicted_records_uncertainty, simulate, simulate_response,
+    Parameters, Record, RecordsFit, RecordsOptions, ResponseQuantity, fit_records,
+    records::{
+        PlannedChannel, PlannedRecord, PlantIntervals, predicted_records_uncertainty,
+        simulate_response,
+    },
+    simulate,
 };
 use msd_signal::{gaussian_noise, paper_identification_input};
 use std::f64::consts::PI;

@@ -2,10 +2,14 @@
 //! and texts a reader relies on.
 
 use msd_ident::{
-    Backend, CandidateFailure, Comparison, ComparisonOptions, EstimationOptions, Excitation,
-    GuessSource, InitialState, Method, ModelStructure, NonlinearOptions, NonlinearParameters,
-    NonlinearSimulation, NonlinearSolver, PaperExperiment, Parameters, SyntheticOptions,
-    assess_estimate, estimate, estimate_nonlinear, synthetic_nonlinear_data,
+    Backend, EstimationOptions, Excitation, InitialState, Method, ModelStructure, NonlinearOptions,
+    PaperExperiment, Parameters, SyntheticOptions, estimate,
+    estimate::GuessSource,
+    estimate_nonlinear,
+    nonlinear::{
+        CandidateFailure, Comparison, ComparisonOptions, NonlinearParameters, NonlinearSimulation,
+        NonlinearSolver, assess_estimate, synthetic_nonlinear_data,
+    },
 };
 use msd_signal::{paper_identification_input, paper_validation_input};
 use serde_json::{Value, json};

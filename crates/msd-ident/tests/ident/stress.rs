@@ -10,8 +10,9 @@
 
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
-    InitialState, Method, MultistartSettings, Parameters, SyntheticOptions, ValidationOptions,
-    frequency_check, sensitivities, simulate, simulate_into, synthetic_data, validate_model,
+    InitialState, Method, Parameters, SyntheticOptions, ValidationOptions,
+    estimate::MultistartSettings, frequency_check, sensitivities, simulate, simulate_into,
+    synthetic_data, validate_model,
 };
 use msd_signal::{Signal, Sweep};
 

@@ -2,8 +2,8 @@
 //! 1 % noise; the stabilization diagram, the polished parameters and their intervals.
 
 use msd_ident::{
-    FrfWeighting, IdentError, ModalOptions, ModalParameters, fit_modes, stabilization_diagram,
-    synthetic_frequency_response,
+    IdentError, ModalOptions, fit_modes,
+    frf::{FrfWeighting, ModalParameters, stabilization_diagram, synthetic_frequency_response},
 };
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 

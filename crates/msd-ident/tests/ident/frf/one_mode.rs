@@ -3,8 +3,9 @@
 
 use super::table;
 use msd_ident::{
-    FrfWeighting, IdentError, OneModeOptions, Parameters, fit_one_mode, half_power, model_response,
-    synthetic_frequency_response,
+    IdentError, OneModeOptions, Parameters, fit_one_mode,
+    frequency::model_response,
+    frf::{FrfWeighting, half_power, synthetic_frequency_response},
 };
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use std::f64::consts::TAU;
