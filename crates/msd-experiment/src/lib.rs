@@ -34,6 +34,7 @@ pub mod plots;
 pub mod progress;
 pub mod report;
 pub mod results;
+pub mod run;
 pub mod setup;
 pub mod summary;
 pub mod tables;
@@ -42,7 +43,6 @@ pub use error::{ExperimentError, Result};
 pub use pipeline::{FrequencyStage, Outcome, RunOptions};
 
 use config::Config;
-use output::Staging;
 use progress::Progress;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -96,11 +96,8 @@ pub fn output_dir(config: &Config, config_path: &Path, options: &RunOptions) -> 
 pub fn run_experiment(config_path: &Path, options: &RunOptions) -> Result<RunSummary> {
     let started = Instant::now();
     let config = Config::load(config_path)?;
-    if config.frequency_only() {
-        return frf::run_experiment(config, config_path, options, started);
-    }
     let progress = Progress::new(options.progress);
-    let result = run_and_write(config, config_path, options, &progress, started);
+    let result = run::run_and_write(config, config_path, options, &progress, started);
     progress.finish();
     result
 }
@@ -135,24 +132,6 @@ pub fn run_in_memory(
     outcome
 }
 
-fn run_and_write(
-    config: Config,
-    config_path: &Path,
-    options: &RunOptions,
-    progress: &Progress,
-    started: Instant,
-) -> Result<RunSummary> {
-    let target = output_dir(&config, config_path, options);
-    output::check_target(&target)?;
-    if config.setup.is_some() {
-        let outcome = setup::run(config, config_path, options, progress)?;
-        progress.stage("report");
-        return setup::write(&outcome, &target, started);
-    }
-    let outcome = pipeline::run_stages(config, config_path, options, progress)?;
-    write_timed(&outcome, &target, progress, started)
-}
-
 /// Writes `outcome` into the folder `target` atomically (figures, CSV tables,
 /// `report.md`, `report.html`, `results.json`; nothing is left behind if a write fails) and returns
 /// the summary the command prints.
@@ -167,44 +146,9 @@ pub fn write_outcome(outcome: &Outcome, target: &Path) -> Result<RunSummary> {
     let computed: std::time::Duration = outcome.timings.iter().map(|(_, d)| *d).sum();
     let now = Instant::now();
     let started = now.checked_sub(computed).unwrap_or(now);
-    write_timed(outcome, target, &Progress::hidden(), started)
+    run::write_paper(outcome, target, started)
 }
 
-/// [`write_outcome`] with progress and the instant the run began (for the total time).
-fn write_timed(
-    outcome: &Outcome,
-    target: &Path,
-    progress: &Progress,
-    started: Instant,
-) -> Result<RunSummary> {
-    progress.stage("figures");
-    let staging = Staging::new(target)?;
-    let t = Instant::now();
-    let figures = plots::write_all(outcome, staging.path())?;
-    let mut extra = vec![("figures", t.elapsed())];
-
-    progress.stage("report");
-    let t = Instant::now();
-    for (name, text) in tables::csv_files(outcome) {
-        staging.write(name, text.as_bytes())?;
-    }
-    let report = report::markdown(outcome, &figures, &extra, started.elapsed());
-    crate::report::write_pages(&staging, &report, &outcome.config.name)?;
-    extra.push(("report", t.elapsed()));
-
-    let total = started.elapsed();
-    let json = results::to_json(outcome, &extra, total);
-    crate::results::write_json(&staging, &json)?;
-    staging.commit()?;
-    let summary = summary::text(outcome, &extra, total, target);
-    Ok(RunSummary {
-        out_dir: target.to_path_buf(),
-        summary,
-        results: json,
-    })
-}
-
-/// The workspace README's Rust examples, compiled as doctests so they cannot rot.
 #[cfg(doctest)]
 #[doc = include_str!("../../../README.md")]
 pub struct ReadmeExamples;

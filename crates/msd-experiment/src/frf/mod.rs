@@ -3,12 +3,12 @@
 //! intervals, the classroom peak-picking and half-power estimates beside the fit, and
 //! the truth when the plant is known.
 //!
-//! [`run`] computes an [`FrfOutcome`]; [`write()`] writes its figures (`frf_fit_bode`,
-//! `frf_fit_nyquist`, `frf_coherence`, `frf_stabilization`), `report.md`, `report.html`
-//! and `results.json` into one folder atomically. When the frequency response comes from
+//! [`run`] computes an [`FrfOutcome`]; [`crate::run_experiment`] also writes its figures
+//! (`frf_fit_bode`, `frf_fit_nyquist`, `frf_coherence`, `frf_stabilization`),
+//! `report.md`, `report.html` and `results.json` into one folder atomically, through the
+//! one writer of every kind ([`crate::run`]). When the frequency response comes from
 //! time records, the same records are also fitted in the time domain and the two
-//! estimates compared ([`TimeDomain`]). [`crate::run_experiment`] does both for
-//! a config that has only this section.
+//! estimates compared ([`TimeDomain`]).
 //!
 //! ```
 //! use msd_experiment::{RunOptions, config::Config, frf};
@@ -219,36 +219,6 @@ impl std::fmt::Display for FrfOutcome {
     }
 }
 
-/// Writes `outcome` into `target` atomically: the figures, `report.md`, `report.html`,
-/// `results.json`; returns what the command prints.
-pub fn write(outcome: &FrfOutcome, target: &Path, started: Instant) -> Result<crate::RunSummary> {
-    let staging = crate::output::Staging::new(target)?;
-    let t = Instant::now();
-    let figures = plots::write_all(outcome, staging.path())?;
-    let mut extra = vec![("figures", t.elapsed())];
-    let t = Instant::now();
-    let markdown = report::markdown(outcome, &figures);
-    crate::report::write_pages(&staging, &markdown, &outcome.config.name)?;
-    extra.push(("report", t.elapsed()));
-    let json = to_json(outcome, &extra, started.elapsed());
-    crate::results::write_json(&staging, &json)?;
-    staging.commit()?;
-    Ok(crate::RunSummary {
-        out_dir: target.to_path_buf(),
-        summary: format!("{outcome}\nresults in {}\n", target.display()),
-        results: json,
-    })
-}
-
-/// [`run`] and [`write`] for a config that has only a `[frequency_response]` section.
-pub(crate) fn run_experiment(
-    config: Config,
-    config_path: &Path,
-    options: &RunOptions,
-    started: Instant,
-) -> Result<crate::RunSummary> {
-    let target = crate::output_dir(&config, config_path, options);
-    crate::output::check_target(&target)?;
-    let outcome = run(config, config_path, options)?;
-    write(&outcome, &target, started)
-}
+// The parts the writer (`crate::run`) takes besides `to_json`: the figures and the report.
+pub(crate) use plots::write_all as figures;
+pub(crate) use report::markdown as report;

@@ -20,9 +20,8 @@ pub use data::{SetupData, SetupRecord};
 pub use fit::SetupFit;
 
 use crate::config::Config;
-use crate::output::Staging;
 use crate::progress::Progress;
-use crate::{Result, RunOptions, RunSummary};
+use crate::{Result, RunOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -75,33 +74,10 @@ pub fn run(
     })
 }
 
-/// Writes `outcome` into `target` atomically: figures, one CSV file per record (the
-/// columns a measured config of the same setup reads back), `report.md`,
-/// `report.html` and `results.json`.
-pub fn write(outcome: &SetupOutcome, target: &Path, started: Instant) -> Result<RunSummary> {
-    let staging = Staging::new(target)?;
-    let t = Instant::now();
-    let figures = plots::write_all(outcome, staging.path())?;
-    let mut extra = vec![("figures", t.elapsed())];
-    let t = Instant::now();
-    for (name, text) in fit::record_files(outcome) {
-        staging.write(&name, text.as_bytes())?;
-    }
-    let markdown = report::markdown(outcome, &figures);
-    crate::report::write_pages(&staging, &markdown, &outcome.config.name)?;
-    extra.push(("report", t.elapsed()));
-    let total = started.elapsed();
-    let json = results::to_json(outcome, &extra, total)?;
-    crate::results::write_json(&staging, &json)?;
-    staging.commit()?;
-    let summary = format!(
-        "{}\nresults in {}\n",
-        report::summary(outcome),
-        target.display()
-    );
-    Ok(RunSummary {
-        out_dir: target.to_path_buf(),
-        summary,
-        results: json,
-    })
-}
+// The parts the writer (`crate::run`) takes: figures, one CSV file per record (the
+// columns a measured config of the same setup reads back), the report, results.json and
+// the summary.
+pub(crate) use fit::record_files as tables;
+pub(crate) use plots::write_all as figures;
+pub(crate) use report::{markdown as report, summary};
+pub(crate) use results::to_json as results;
