@@ -46,12 +46,14 @@ use std::path::{Path, PathBuf};
 
 mod frf;
 mod nonlinear;
+mod pilot;
 mod setup;
 pub use frf::{
     ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ShakerSource, Spacing,
     SweepSource, TableSource, UffSource,
 };
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
+pub use pilot::PilotSection;
 pub use setup::{ExcitationKind, Frame, Quantity, Response, SetupSection, StrokeCondition};
 
 /// A whole experiment config.
@@ -116,7 +118,7 @@ pub struct Config {
     /// Sequential design: the pilot test whose estimate replaces `[plant]` as the
     /// design's prior ([`crate::design::Pilot`]). Off unless given; only with `[design]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pilot: Option<crate::design::PilotSection>,
+    pub pilot: Option<PilotSection>,
 }
 
 fn default_seed() -> u64 {
@@ -882,10 +884,7 @@ impl Config {
 
     /// A `[pilot]` needs a `[design]`, one source, and no `[plant]` (its estimate is the
     /// plant) nor `[data]`.
-    fn validate_pilot(
-        &self,
-        pilot: &crate::design::PilotSection,
-    ) -> std::result::Result<(), (String, String)> {
+    fn validate_pilot(&self, pilot: &PilotSection) -> std::result::Result<(), (String, String)> {
         pilot.validate()?;
         let refuse = |field: &str, why: &str| Err((field.to_string(), why.to_string()));
         if self.design.is_none() {

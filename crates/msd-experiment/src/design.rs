@@ -22,7 +22,8 @@
 
 mod pilot;
 
-pub use pilot::{Pilot, PilotSection};
+pub use crate::config::PilotSection;
+pub use pilot::Pilot;
 
 use crate::config::{Config, Noise, Plant};
 use crate::{ExperimentError, Result};
