@@ -65,8 +65,6 @@ impl Singular {
 impl Linearization {
     /// The linearisation of `jacobian` (rows × parameters).
     pub(crate) fn new(jacobian: &DMatrix<f64>) -> Result<Self, Singular> {
-        // Jᵀ·J through the matrix product (not `tr_mul`'s dot products): the designs'
-        // units come from this path, and their optimisation is sensitive to the last bit.
         Self::from_normal_matrix(&(jacobian.transpose() * jacobian))
     }
 

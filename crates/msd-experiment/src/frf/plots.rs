@@ -5,8 +5,8 @@
 use super::{FrfFit, FrfOutcome};
 use crate::Result;
 use crate::plots::{
-    BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, limits, save, suptitle, text,
-    tick, title_style,
+    BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, limits, phase_panel, save,
+    suptitle, text, tick, title_style,
 };
 use msd_signal::Complex64;
 use plotters::coord::Shift;
@@ -177,21 +177,7 @@ impl Figure for Bode<'_> {
             .collect();
         let ys: Vec<f64> = phase.iter().chain(&model_phase).map(|p| p.1).collect();
         let (plo, phi) = limits([ys.as_slice()]);
-        let mut chart = ChartBuilder::on(&bottom)
-            .caption("Phase", title_style())
-            .margin(14)
-            .margin_right(28)
-            .x_label_area_size(52)
-            .y_label_area_size(96)
-            .build_cartesian_2d((f0..f1).log_scale(), plo..phi)
-            .map_err(text)?;
-        house_mesh(&mut chart.configure_mesh())
-            .x_desc("frequency f [Hz]")
-            .y_desc("phase ∠H(f) [°]")
-            .y_label_formatter(&tick)
-            .x_label_formatter(&|x| tick(x))
-            .draw()
-            .map_err(text)?;
+        let mut chart = phase_panel(&bottom, (f0, f1), (plo, phi))?;
         chart
             .draw_series(phase.iter().map(|&p| Circle::new(p, 4, BLUE.filled())))
             .map_err(text)?;

@@ -1,8 +1,8 @@
 //! Diagnostic figures: residual correlations and the frequency-response (Bode) check.
 
 use super::{
-    BLUE, DARK, Draw, Figure, GRAY, RED, Units, draw_legend, house_mesh, suptitle, text, thin_line,
-    tick, title_style,
+    BLUE, DARK, Draw, Figure, GRAY, RED, Units, draw_legend, house_mesh, phase_panel, suptitle,
+    text, thin_line, tick, title_style,
 };
 use msd_ident::{FrequencyCheck, ResidualAnalysis, residuals::CorrelationTest};
 use plotters::coord::Shift;
@@ -313,21 +313,7 @@ impl Figure for Bode<'_> {
             (plo / 45.0).floor() * 45.0 - 60.0,
             (phi / 45.0).ceil() * 45.0 + 60.0,
         );
-        let mut chart = ChartBuilder::on(&bottom)
-            .caption("Phase", title_style())
-            .margin(14)
-            .margin_right(28)
-            .x_label_area_size(52)
-            .y_label_area_size(96)
-            .build_cartesian_2d((f0..f1).log_scale(), plo..phi)
-            .map_err(text)?;
-        house_mesh(&mut chart.configure_mesh())
-            .x_desc("frequency f [Hz]")
-            .y_desc("phase ∠H(f) [°]")
-            .y_label_formatter(&tick)
-            .x_label_formatter(&|v| format!("{v}"))
-            .draw()
-            .map_err(text)?;
+        let mut chart = phase_panel(&bottom, (f0, f1), (plo, phi))?;
         chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(b0.max(f0), plo), (b1.min(f1), phi)],

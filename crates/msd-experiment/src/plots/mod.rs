@@ -30,7 +30,9 @@ use crate::pipeline::Outcome;
 use crate::{ExperimentError, Result};
 use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
+use plotters::coord::combinators::LogCoord;
 use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
@@ -211,6 +213,33 @@ pub(crate) fn tick(v: &f64) -> String {
     } else {
         format!("{r}")
     }
+}
+
+/// The phase panel of a Bode plot in the house style: log frequency from `f0` to `f1`
+/// Hz, phase from `lo` to `hi` degrees, captioned and meshed; the caller draws the
+/// series (the one panel of the frequency check's and the frequency-response fit's
+/// figures).
+pub(crate) fn phase_panel<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    (f0, f1): (f64, f64),
+    (lo, hi): (f64, f64),
+) -> std::result::Result<ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, RangedCoordf64>>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption("Phase", title_style())
+        .margin(14)
+        .margin_right(28)
+        .x_label_area_size(52)
+        .y_label_area_size(96)
+        .build_cartesian_2d((f0..f1).log_scale(), lo..hi)
+        .map_err(text)?;
+    house_mesh(&mut chart.configure_mesh())
+        .x_desc("frequency f [Hz]")
+        .y_desc("phase ∠H(f) [°]")
+        .y_label_formatter(&tick)
+        .x_label_formatter(&|x| tick(x))
+        .draw()
+        .map_err(text)?;
+    Ok(chart)
 }
 
 /// The house style of a chart's mesh: axis descriptions, tick labels, light and bold
