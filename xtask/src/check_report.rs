@@ -91,7 +91,7 @@ pub fn browser(html_path: &Path, figures: usize, out: &Path) -> Result<Check> {
 
 /// The text checks; returns the number of figures.
 fn check_text(html: &str, markdown: &str) -> Result<usize> {
-    let problems = msd_experiment::report::self_contained_problems(html);
+    let problems = msd_experiment::page::self_contained_problems(html);
     if !problems.is_empty() {
         return Err(fail(format!(
             "report.html is not self-contained: it has {}",

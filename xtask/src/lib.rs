@@ -10,7 +10,7 @@
 pub mod bench;
 pub mod check_report;
 
-use msd_experiment::{ExperimentError, Result, RunOptions, config, fmt, pipeline, plots, progress};
+use msd_experiment::{ExperimentError, Result, RunOptions, config, fmt, paper, progress};
 use std::path::{Path, PathBuf};
 
 /// The workspace root (the folder above `xtask/`).

@@ -107,16 +107,7 @@ pub fn run(args: &RunArgs, options: &RunOptions) -> Result<(), ExperimentError> 
     Ok(())
 }
 
-/// Prints `text` on standard output; a reader that has gone (`msd plan … | head`) ends
-/// the printing quietly instead of a panic.
-///
-/// ```
-/// msd_experiment::cli::print_stdout("plan `paper`: …\n");
-/// ```
-pub fn print_stdout(text: &str) {
-    use std::io::Write;
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
-}
+pub use crate::output::print_stdout;
 
 /// The arguments of `fetch-data`.
 ///

@@ -318,6 +318,6 @@ pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()
         root.join(format!("{}-design", config.name))
     });
     write(&report, config, &target)?;
-    crate::cli::print_stdout(&format!("{report}written: {}\n", target.display()));
+    crate::output::print_stdout(&format!("{report}written: {}\n", target.display()));
     Ok(())
 }

@@ -2,11 +2,14 @@
 //! records you already hold in memory) in, a typed [`Outcome`] and a folder of results
 //! out.
 //!
-//! A run reads a config ([`config`]), generates or loads the data ([`data`]), runs the
-//! stages ([`pipeline`]: estimation, validation, residual diagnostics, frequency check,
-//! Monte Carlo, and nonlinear models ([`nonlinear`]) when asked), and writes figures
-//! ([`plots`]), CSV tables ([`tables`]), a report ([`report`]) and `results.json`
-//! ([`results`]) into one folder atomically ([`output`]).
+//! A run reads a config ([`config`]), which is one kind of experiment
+//! ([`run::ExperimentKind`]): the paper's workflow ([`paper`]: estimation, validation,
+//! residual diagnostics, frequency check, Monte Carlo, nonlinear models), a lab setup
+//! ([`setup`]) or a frequency response ([`frf`]). Its module generates or loads the data
+//! and computes an outcome; one writer ([`run`]) turns any outcome into figures (in the
+//! house style of [`plots`]), CSV tables, a report ([`page`] for its HTML) and
+//! `results.json` ([`results`] for the shared header), in one folder atomically
+//! ([`output`]). `plan` and `design` are commands of their own.
 //!
 //! The same library is the `msd` command (`cargo install --path crates/msd-experiment`,
 //! then `msd run configs/paper.toml`) and `cargo xtask experiment` inside the workspace.
@@ -26,21 +29,21 @@ mod error;
 pub mod fetch;
 pub mod fmt;
 pub mod frf;
-pub mod nonlinear;
+pub mod options;
 pub mod output;
-pub mod pipeline;
+pub mod page;
+pub mod paper;
 pub mod plan;
 pub mod plots;
 pub mod progress;
-pub mod report;
 pub mod results;
 pub mod run;
 pub mod setup;
-pub mod summary;
-pub mod tables;
+mod table;
 
 pub use error::{ExperimentError, Result};
-pub use pipeline::{FrequencyStage, Outcome, RunOptions};
+pub use options::RunOptions;
+pub use paper::{FrequencyStage, Outcome};
 
 use config::Config;
 use progress::Progress;
@@ -127,7 +130,7 @@ pub fn run_in_memory(
 ) -> Result<Outcome> {
     config.check_options()?;
     let progress = Progress::new(options.progress);
-    let outcome = pipeline::run_on_data(config, Path::new(""), data, options, &progress);
+    let outcome = paper::run_on_data(config, Path::new(""), data, options, &progress);
     progress.finish();
     outcome
 }

@@ -376,3 +376,14 @@ impl Drop for Staging {
         }
     }
 }
+
+/// Prints `text` on standard output; a reader that has gone (`msd plan … | head`) ends
+/// the printing quietly instead of a panic.
+///
+/// ```
+/// msd_experiment::output::print_stdout("plan `paper`: …\n");
+/// ```
+pub fn print_stdout(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}

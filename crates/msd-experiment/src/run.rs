@@ -3,13 +3,13 @@
 //! tables, `report.md` and `report.html`, `results.json`), atomically, and the summary.
 //!
 //! The kinds sit below this module and know nothing of each other: the paper workflow
-//! ([`pipeline`]), the lab setups ([`setup`]) and the
+//! ([`paper`]), the lab setups ([`setup`]) and the
 //! frequency response ([`frf`]). `plan` and `design` are commands of their own.
 
 use crate::config::Config;
 use crate::output::Staging;
 use crate::progress::Progress;
-use crate::{Outcome, Result, RunOptions, RunSummary, frf, pipeline, setup};
+use crate::{Outcome, Result, RunOptions, RunSummary, frf, paper, setup};
 use serde_json::Value;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -69,7 +69,7 @@ pub(crate) fn run_and_write(
     crate::output::check_target(&target)?;
     match ExperimentKind::of(&config) {
         ExperimentKind::Paper => {
-            let outcome = pipeline::run_stages(config, config_path, options, progress)?;
+            let outcome = paper::run_stages(config, config_path, options, progress)?;
             write(Finished::Paper(&outcome), &target, progress, started)
         }
         ExperimentKind::Setup => {
@@ -105,7 +105,7 @@ pub(crate) fn write(
         staging.write(&name, text.as_bytes())?;
     }
     let report = run.report(&figures, &extra, started.elapsed());
-    crate::report::write_pages(&staging, &report, &run.config().name)?;
+    crate::page::write_pages(&staging, &report, &run.config().name)?;
     extra.push(("report", t.elapsed()));
 
     let total = started.elapsed();
@@ -130,7 +130,7 @@ impl Finished<'_> {
 
     fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
         match self {
-            Self::Paper(o) => crate::plots::write_all(o, dir),
+            Self::Paper(o) => crate::paper::figures::write_all(o, dir),
             Self::Setup(o) => setup::figures(o, dir),
             Self::FrequencyResponse(o) => frf::figures(o, dir),
         }
@@ -138,7 +138,7 @@ impl Finished<'_> {
 
     fn tables(&self) -> Vec<(String, String)> {
         match self {
-            Self::Paper(o) => crate::tables::csv_files(o)
+            Self::Paper(o) => crate::paper::tables::csv_files(o)
                 .into_iter()
                 .map(|(name, text)| (name.to_string(), text))
                 .collect(),
@@ -154,7 +154,7 @@ impl Finished<'_> {
         elapsed: Duration,
     ) -> String {
         match self {
-            Self::Paper(o) => crate::report::markdown(o, figures, extra, elapsed),
+            Self::Paper(o) => crate::paper::report::markdown(o, figures, extra, elapsed),
             Self::Setup(o) => setup::report(o, figures),
             Self::FrequencyResponse(o) => frf::report(o, figures),
         }
@@ -162,7 +162,7 @@ impl Finished<'_> {
 
     fn results(&self, extra: &[(&'static str, Duration)], total: Duration) -> Result<Value> {
         match self {
-            Self::Paper(o) => Ok(crate::results::to_json(o, extra, total)),
+            Self::Paper(o) => Ok(crate::paper::results::to_json(o, extra, total)),
             Self::Setup(o) => setup::results(o, extra, total),
             Self::FrequencyResponse(o) => Ok(frf::to_json(o, extra, total)),
         }
@@ -175,7 +175,7 @@ impl Finished<'_> {
         target: &Path,
     ) -> String {
         match self {
-            Self::Paper(o) => crate::summary::text(o, extra, total, target),
+            Self::Paper(o) => crate::paper::summary::text(o, extra, total, target),
             Self::Setup(o) => {
                 format!("{}\nresults in {}\n", setup::summary(o), target.display())
             }

@@ -187,7 +187,7 @@ fn paper_writes_every_output_file() {
     // nothing fetched from elsewhere, a print style sheet with the run's name and page
     // numbers. (`cargo xtask check-report` opens it in a browser.)
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
-    let problems = msd_experiment::report::self_contained_problems(&html);
+    let problems = msd_experiment::page::self_contained_problems(&html);
     assert!(problems.is_empty(), "report.html: {problems:?}");
     for heading in report.lines().filter_map(|l| l.strip_prefix("## ")) {
         assert!(html.contains(&format!("<h2>{heading}</h2>")), "{heading}");

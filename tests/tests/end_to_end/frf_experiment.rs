@@ -44,7 +44,7 @@ fn the_stepped_sine_config_has_m_c_k_inside_their_intervals() {
         assert!(parse_svg(&run.out().join(format!("{figure}.svg"))) > 0);
     }
     let page = std::fs::read_to_string(run.out().join("report.html")).expect("html");
-    assert!(msd_experiment::report::self_contained_problems(&page).is_empty());
+    assert!(msd_experiment::page::self_contained_problems(&page).is_empty());
 }
 
 /// The 95 % intervals of m, c and k cover the truth in 95 ± 3 % of 200 noise seeds

@@ -251,7 +251,7 @@ fn peak_memory_of_pipeline(config: &Path) -> Option<f64> {
 pub fn pipeline_peak_memory(config: &Path) -> Result<f64> {
     let loaded = crate::config::Config::load(config)?;
     let progress = crate::progress::Progress::new(false);
-    crate::pipeline::run_stages(loaded, config, &crate::RunOptions::default(), &progress)?;
+    crate::paper::run_stages(loaded, config, &crate::RunOptions::default(), &progress)?;
     report::peak_rss_mib()
         .ok_or_else(|| ExperimentError::run("bench", "no VmHWM in /proc/self/status"))
 }

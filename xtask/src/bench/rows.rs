@@ -4,7 +4,7 @@
 use super::harness::{Budget, measure, measure_batched};
 use super::report::{Row, Target, duration};
 use super::simulate_once;
-use crate::{ExperimentError, Result, config::Config, pipeline, progress::Progress};
+use crate::{ExperimentError, Result, config::Config, paper, progress::Progress};
 use msd_ident::{
     Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, InitialState,
     ModelStructure, NonlinearOptions, PaperExperiment, Parameters, ResidualOptions,
@@ -202,7 +202,7 @@ pub fn silverbox(budget: &Budget) -> Result<(Vec<Row>, Vec<String>)> {
     }
     let path = root.join("configs").join("silverbox-models.toml");
     let config = Config::load(&path)?;
-    let o = pipeline::run_stages(
+    let o = paper::run_stages(
         config,
         &path,
         &crate::RunOptions::default(),
@@ -216,7 +216,7 @@ pub fn silverbox(budget: &Budget) -> Result<(Vec<Row>, Vec<String>)> {
     })?;
     let linear_rms = o.validation.fit.residual_rms;
     let stage = || {
-        msd_experiment::nonlinear::run(
+        msd_experiment::paper::nonlinear::run(
             section,
             &o.config,
             &o.data,
@@ -417,9 +417,9 @@ pub fn pipeline(budget: &Budget, out: &Path) -> Result<Vec<Row>> {
     for (file, target) in [("paper-fast.toml", 25e-3), ("paper.toml", 100e-3)] {
         let path = root.join(file);
         let config = Config::load(&path)?;
-        let outcome = pipeline::run_stages(config.clone(), &path, &options, &progress)?;
+        let outcome = paper::run_stages(config.clone(), &path, &options, &progress)?;
         let samples = measure(budget, || {
-            pipeline::run_stages(config.clone(), &path, &options, &progress).ok()
+            paper::run_stages(config.clone(), &path, &options, &progress).ok()
         });
         rows.push(
             Row::new(
@@ -439,8 +439,10 @@ pub fn pipeline(budget: &Budget, out: &Path) -> Result<Vec<Row>> {
     if let Some(outcome) = paper_outcome {
         let dir = out.join("figures");
         std::fs::create_dir_all(&dir).map_err(|e| ExperimentError::run("bench: figures", e))?;
-        let written = crate::plots::write_all(&outcome, &dir)?;
-        let samples = measure(budget, || crate::plots::write_all(&outcome, &dir).ok());
+        let written = crate::paper::figures::write_all(&outcome, &dir)?;
+        let samples = measure(budget, || {
+            crate::paper::figures::write_all(&outcome, &dir).ok()
+        });
         rows.push(
             Row::new("pipeline", "figures alone (PNG and SVG)", samples)
                 .target(Target::Seconds(1.5))

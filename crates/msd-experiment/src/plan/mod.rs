@@ -223,6 +223,6 @@ pub fn run_plan(args: &PlanArgs) -> Result<()> {
         target: args.target,
         verify: args.verify,
     };
-    crate::cli::print_stdout(&plan(&args.config, &options)?.to_string());
+    crate::output::print_stdout(&plan(&args.config, &options)?.to_string());
     Ok(())
 }

@@ -1,32 +1,16 @@
-//! Figures, each written as PNG and SVG by plotters with the bundled DejaVu Sans font
-//! (no system fonts or libraries needed).
-//!
-//! - `fig2_identification`: excitation, measurement and model fit, residuals (the
-//!   paper's Figure 2);
-//! - `fig3_validation`: validation measurements, model prediction and, for synthetic
-//!   data, the true response (Figure 3);
-//! - `fig4_monte_carlo`: the Monte Carlo band, nominal prediction and measurements
-//!   (Figure 4);
-//! - `residual_correlation`: residual autocorrelation and residual–input
-//!   cross-correlation with their bands;
-//! - `frf_bode`: the data's H1 frequency response beside the model's, ωn marked;
-//! - `design` (written by `design`, not by a run): the designed force, its lines over
-//!   the prior plant's |H|, its predicted standard errors beside the reference's;
-//! - `nonlinear_residuals` (with `[nonlinear]`): the validation residuals of every
-//!   candidate model over time, their RMS in the legend.
-//!
-//! The house style of a chart (mesh, legend box, figure title) is one helper each here:
-//! `house_mesh`, `draw_legend` and `suptitle`.
+//! The house style of every figure, written as PNG and SVG by plotters with the bundled
+//! DejaVu Sans font (no system fonts or libraries needed): colours, text styles, the
+//! mesh, the legend box and the figure title (`house_mesh`, `draw_legend`, `suptitle`),
+//! the Bode phase panel, panels of time series (`panel`), and `save` in both
+//! formats. Each kind of experiment draws its own figures with them (the paper's in
+//! `crate::paper`); the design figure is `design`.
 //!
 //! Long records are thinned for drawing only: lines keep each pixel column's minimum
 //! and maximum (so no peak is lost), markers are subsampled evenly.
 
 pub(crate) mod design;
-mod diagnostics;
-mod models;
-pub(crate) mod time;
+pub(crate) mod panel;
 
-use crate::pipeline::Outcome;
 use crate::{ExperimentError, Result};
 use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
@@ -100,84 +84,6 @@ pub(crate) fn save(figure: &impl Figure, dir: &Path) -> Result<()> {
         root.present().map_err(text).map_err(fail)?;
     }
     Ok(())
-}
-
-/// Writes every figure the outcome supports; returns the base names written.
-pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
-    register_fonts();
-    let mut written = Vec::new();
-    let units = Units::of(outcome);
-    let f2 = time::Identification::new(outcome, &units);
-    save(&f2, dir)?;
-    written.push(f2.name());
-    let f3 = time::validation(outcome, &units);
-    save(&f3, dir)?;
-    written.push(f3.name());
-    if let Some(f4) = time::monte_carlo(outcome, &units) {
-        save(&f4, dir)?;
-        written.push(f4.name());
-    }
-    if let Some(r) = &outcome.residuals {
-        let f = diagnostics::Correlation::new(r);
-        save(&f, dir)?;
-        written.push(f.name());
-    }
-    if let Some(fc) = outcome.frequency.check() {
-        let f = diagnostics::Bode::new(
-            fc,
-            outcome.estimate.parameters,
-            &units,
-            outcome.config.frequency_check.data.name(),
-        );
-        save(&f, dir)?;
-        written.push(f.name());
-    }
-    if let Some(f) = models::residuals(outcome, &units) {
-        save(&f, dir)?;
-        written.push(f.name());
-    }
-    Ok(written)
-}
-
-/// Display units: displacement in mm when the data are in metres.
-#[derive(Debug, Clone)]
-pub(crate) struct Units {
-    /// Factor from the output unit to the displayed one.
-    pub output_factor: f64,
-    /// Displayed output unit.
-    pub output: String,
-    /// Input unit.
-    pub input: String,
-    /// What the output is called on axes ("displacement" for metres, else "output y").
-    pub output_name: &'static str,
-    /// What the input is called on axes ("force F" for newtons, else "input u").
-    pub input_name: &'static str,
-}
-
-impl Units {
-    fn of(outcome: &Outcome) -> Self {
-        let set = &outcome.data.identification;
-        let (output_factor, output) = if set.output_unit == "m" {
-            (1e3, "mm".to_string())
-        } else {
-            (1.0, set.output_unit.clone())
-        };
-        Self {
-            output_factor,
-            output,
-            input: set.input_unit.clone(),
-            output_name: if set.output_unit == "m" {
-                "displacement"
-            } else {
-                "output y"
-            },
-            input_name: if set.input_unit == "N" {
-                "force F"
-            } else {
-                "input u"
-            },
-        }
-    }
 }
 
 /// Title style.

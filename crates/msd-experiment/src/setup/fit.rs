@@ -3,7 +3,7 @@
 
 use super::{SetupData, SetupOutcome};
 use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
-use crate::tables::Table;
+use crate::table::Table;
 use crate::{ExperimentError, Result};
 use msd_ident::{
     Channel, Dynamometer, DynamometerOptions, Excitation, FreeDecay, FreeDecayOptions,

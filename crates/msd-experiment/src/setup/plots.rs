@@ -10,7 +10,7 @@
 use super::fit::models;
 use super::{SetupFit, SetupOutcome};
 use crate::Result;
-use crate::plots::time::{Curve, Panel, Style};
+use crate::plots::panel::{Curve, Panel, Style};
 use crate::plots::{BLUE, Draw, Figure, RED, register_fonts, save, suptitle};
 use plotters::coord::Shift;
 use plotters::prelude::*;

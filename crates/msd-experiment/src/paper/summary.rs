@@ -2,7 +2,7 @@
 //! records, residual, frequency and Monte Carlo verdicts, and the time of each stage.
 
 use crate::fmt::{display_output, millis, parameter_rows, parameter_units, sig};
-use crate::pipeline::Outcome;
+use crate::paper::Outcome;
 use std::fmt::Write;
 use std::path::Path;
 use std::time::Duration;
@@ -181,7 +181,11 @@ pub fn text(
 
 /// One line on the nonlinear models: the winner, its BIC margin and validation RMS
 /// against the linear model's (or the one model's scores).
-fn nonlinear_line(n: &crate::nonlinear::NonlinearOutcome, factor: f64, unit: &str) -> String {
+fn nonlinear_line(
+    n: &crate::paper::nonlinear::NonlinearOutcome,
+    factor: f64,
+    unit: &str,
+) -> String {
     let c = &n.comparison;
     let best = c.best();
     let rms = |v: f64| format!("{} {unit}", sig(v * factor, 4));
@@ -231,7 +235,7 @@ fn nonlinear_line(n: &crate::nonlinear::NonlinearOutcome, factor: f64, unit: &st
 /// ```
 /// use msd_ident::FitMetrics;
 /// let flat = FitMetrics::new(&[1.0, 2.0, 1.0, 2.0], &[1.5, 1.6, 1.5, 1.4]).f_test(3);
-/// let text = msd_experiment::summary::insignificance(&flat).unwrap();
+/// let text = msd_experiment::paper::summary::insignificance(&flat).unwrap();
 /// assert!(text.contains("not explain the data significantly better than their mean"));
 /// ```
 pub fn insignificance(test: &msd_ident::FTest) -> Option<String> {

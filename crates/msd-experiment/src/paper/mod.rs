@@ -1,7 +1,17 @@
-//! The stages of an experiment, each timed: data → estimation → validation → residual
-//! diagnostics → frequency check → Monte Carlo → nonlinear models (when the config has
-//! a `[nonlinear]` section, [`crate::nonlinear`]). Writing (figures, CSV, report,
-//! results.json) is [`crate::output`]'s job.
+//! The paper's workflow, one kind of experiment: its stages, each timed (data →
+//! estimation → validation → residual diagnostics → frequency check → Monte Carlo →
+//! nonlinear models when the config has a `[nonlinear]` section, [`nonlinear`]), and
+//! the parts the writer ([`crate::run`]) takes: [`figures`], [`tables`], [`report`],
+//! [`results`] and [`summary`].
+
+pub mod figures;
+pub mod nonlinear;
+pub mod report;
+pub mod results;
+pub mod summary;
+pub mod tables;
+
+pub use crate::options::RunOptions;
 
 use crate::config::{Config, Kind, RecordChoice};
 use crate::data::{self, ExperimentData};
@@ -50,7 +60,7 @@ pub struct Outcome {
     /// Monte Carlo band on the validation record.
     pub monte_carlo: Option<MonteCarloOutcome>,
     /// Nonlinear models estimated or compared (`[nonlinear]`).
-    pub nonlinear: Option<crate::nonlinear::NonlinearOutcome>,
+    pub nonlinear: Option<crate::paper::nonlinear::NonlinearOutcome>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
 }
@@ -138,31 +148,6 @@ pub struct MonteCarloOutcome {
     pub coverage: f64,
     /// Share of the noise-free true response inside the band (synthetic only).
     pub truth_coverage: Option<f64>,
-}
-
-/// Options of a run that do not belong in the config.
-///
-/// ```
-/// let options = msd_experiment::RunOptions::default();
-/// assert_eq!(options.results_root, None); // outputs go to ./msd-results/<name>/
-/// assert_eq!(options.command, None); // the report names `msd run`
-/// ```
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct RunOptions {
-    /// Output folder instead of the config's `output.dir` or `<results_root>/<name>`.
-    pub out: Option<PathBuf>,
-    /// The folder under which a run writes `<name>/` when neither `out` nor the config's
-    /// `output.dir` is given. By default `msd-results` in the current folder;
-    /// `cargo xtask experiment` sets the workspace's `target/experiments`.
-    pub results_root: Option<PathBuf>,
-    /// The command the report shows before the config's path. By default `msd run`.
-    pub command: Option<String>,
-    /// Seed instead of the config's.
-    pub seed: Option<u64>,
-    /// Worker threads instead of the config's.
-    pub threads: Option<usize>,
-    /// Draw progress bars on stderr (only sensible on a terminal). By default false.
-    pub progress: bool,
 }
 
 /// Runs every computing stage of the experiment in `config_path`.
@@ -285,7 +270,7 @@ pub fn run_on_data(
         Some(section) => {
             progress.stage("nonlinear models");
             let t = Instant::now();
-            let n = crate::nonlinear::run(
+            let n = crate::paper::nonlinear::run(
                 section,
                 &config,
                 &data,

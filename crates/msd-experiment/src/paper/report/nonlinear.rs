@@ -2,8 +2,8 @@
 //! candidate's parameters with their intervals, and the residual figure.
 
 use crate::fmt::{parameter_units, sig};
-use crate::nonlinear::NonlinearOutcome;
-use crate::pipeline::Outcome;
+use crate::paper::Outcome;
+use crate::paper::nonlinear::NonlinearOutcome;
 use std::fmt::Write;
 
 /// Units of the parameters named `names` for data in `input` and `output` units.

@@ -1,8 +1,9 @@
 //! Diagnostic figures: residual correlations and the frequency-response (Bode) check.
 
-use super::{
-    BLUE, DARK, Draw, Figure, GRAY, RED, Units, draw_legend, house_mesh, phase_panel, suptitle,
-    text, thin_line, tick, title_style,
+use super::Units;
+use crate::plots::{
+    BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, phase_panel, suptitle, text,
+    thin_line, tick, title_style,
 };
 use msd_ident::{FrequencyCheck, ResidualAnalysis, residuals::CorrelationTest};
 use plotters::coord::Shift;

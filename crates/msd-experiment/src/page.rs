@@ -147,7 +147,7 @@ fn css_string(text: &str) -> String {
 /// fonts, images or frames, remote addresses in attributes or styles. Empty when none.
 ///
 /// ```
-/// use msd_experiment::report::self_contained_problems;
+/// use msd_experiment::page::self_contained_problems;
 /// assert!(self_contained_problems("<p>ok</p>").is_empty());
 /// let bad = r#"<img src="fig.png"><script src="https://x.invalid/a.js"></script>"#;
 /// let problems = self_contained_problems(bad);
@@ -172,4 +172,19 @@ pub fn self_contained_problems(page: &str) -> Vec<String> {
         .filter(|(needle, _)| lower.contains(needle))
         .map(|(needle, what)| format!("{what} (`{needle}`)"))
         .collect()
+}
+
+/// Writes `report.md` and `report.html` (titled `title`, each figure's SVG inlined from
+/// the staging folder) into `staging`.
+pub(crate) fn write_pages(
+    staging: &crate::output::Staging,
+    markdown: &str,
+    title: &str,
+) -> crate::Result<()> {
+    staging.write("report.md", markdown.as_bytes())?;
+    let svg = |png: &str| {
+        let name = png.strip_suffix(".png")?;
+        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
+    };
+    staging.write("report.html", page(markdown, title, svg).as_bytes())
 }

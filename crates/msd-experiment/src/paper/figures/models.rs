@@ -2,9 +2,11 @@
 //! time, overlaid in one panel (worst-ranked first, so the best lies on top) with their
 //! RMS in the legend, and a zoomed window for a long record.
 
-use super::time::{Curve, Panel, PanelFigure, Style, zoom_range};
-use super::{BLUE, GRAY, ORANGE, RED, Units, scaled};
-use crate::pipeline::Outcome;
+use super::Units;
+use super::time::zoom_range;
+use crate::paper::Outcome;
+use crate::plots::panel::{Curve, Panel, PanelFigure, Style};
+use crate::plots::{BLUE, GRAY, ORANGE, RED, scaled};
 use plotters::prelude::*;
 
 /// Colours of the candidates by rank (the linear model is always gray).

@@ -1,34 +1,16 @@
-//! `report.md`: the run told for a person, with the figures embedded.
+//! The paper workflow's `report.md`: the run told for a person, with the figures
+//! embedded.
 
+use super::Outcome;
+use super::summary::stage_label;
 use crate::config::Kind;
 use crate::fmt::{
     display_output, method_name, millis, parameter_rows, parameter_units, short, sig,
 };
-use crate::pipeline::Outcome;
-use crate::summary::stage_label;
 use std::fmt::Write;
 use std::time::Duration;
 
-mod html;
 mod nonlinear;
-
-pub(crate) use html::page as html_page;
-
-/// Writes `report.md` and `report.html` (titled `title`, each figure's SVG inlined from
-/// the staging folder) into `staging`.
-pub(crate) fn write_pages(
-    staging: &crate::output::Staging,
-    markdown: &str,
-    title: &str,
-) -> crate::Result<()> {
-    staging.write("report.md", markdown.as_bytes())?;
-    let svg = |png: &str| {
-        let name = png.strip_suffix(".png")?;
-        std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
-    };
-    staging.write("report.html", html_page(markdown, title, svg).as_bytes())
-}
-pub use html::self_contained_problems;
 
 /// The paper's reported R² on the identification and validation data.
 pub const PAPER_R2: [f64; 2] = [0.9907, 0.9949];
@@ -182,7 +164,7 @@ fn in_short(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
     if let Some(r) = &o.residuals {
         verdicts.push(r.verdict.clone());
     }
-    if let Some(note) = crate::summary::insignificance(&o.significance) {
+    if let Some(note) = crate::paper::summary::insignificance(&o.significance) {
         verdicts.push(format!("But {note}."));
     }
     if let Some(f) = o.frequency.check() {

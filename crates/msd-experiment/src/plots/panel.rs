@@ -1,0 +1,233 @@
+//! Panels of time series (curves, a shaded band, a legend, a zoomed copy) and the
+//! figure of one panel: the pieces of every time-domain figure.
+
+use super::{
+    Draw, Figure, GRAY, draw_legend, house_mesh, limits, suptitle, text, thin_line, thin_points,
+    tick, title_style,
+};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// Most points of a drawn line (twice the pixel width: min and max per column).
+const LINE_POINTS: usize = 8000;
+/// Most markers drawn per series.
+const MARKERS: usize = 4000;
+/// How a curve is drawn.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Style {
+    /// Solid line of a width.
+    Line(RGBColor, u32),
+    /// Dashed line of a width.
+    Dashed(RGBColor, u32),
+    /// Markers of a radius.
+    Points(RGBColor, u32),
+}
+
+/// One curve of a panel.
+pub(crate) struct Curve<'a> {
+    pub label: String,
+    pub x: &'a [f64],
+    pub y: Vec<f64>,
+    pub style: Style,
+}
+
+/// A shaded band between two curves.
+pub(crate) struct Band<'a> {
+    pub label: String,
+    pub x: &'a [f64],
+    pub lower: Vec<f64>,
+    pub upper: Vec<f64>,
+}
+
+/// One panel of time series.
+pub(crate) struct Panel<'a> {
+    pub title: String,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub x_range: (f64, f64),
+    pub curves: Vec<Curve<'a>>,
+    pub band: Option<Band<'a>>,
+    pub legend: Option<SeriesLabelPosition>,
+}
+
+fn window<'a>(x: &'a [f64], y: &[f64], range: (f64, f64)) -> (&'a [f64], Vec<f64>) {
+    let a = x.partition_point(|t| *t < range.0);
+    let b = x.partition_point(|t| *t <= range.1);
+    (&x[a..b], y[a..b].to_vec())
+}
+
+impl<'a> Panel<'a> {
+    /// The same panel restricted to the times in `range`.
+    pub(crate) fn zoomed(&self, range: (f64, f64), title: String) -> Panel<'a> {
+        Panel {
+            title,
+            x_desc: self.x_desc.clone(),
+            y_desc: self.y_desc.clone(),
+            x_range: range,
+            curves: self
+                .curves
+                .iter()
+                .map(|c| {
+                    let (x, y) = window(c.x, &c.y, range);
+                    Curve {
+                        label: c.label.clone(),
+                        x,
+                        y,
+                        style: c.style,
+                    }
+                })
+                .collect(),
+            band: self.band.as_ref().map(|b| {
+                let (x, lower) = window(b.x, &b.lower, range);
+                let (_, upper) = window(b.x, &b.upper, range);
+                Band {
+                    label: b.label.clone(),
+                    x,
+                    lower,
+                    upper,
+                }
+            }),
+            legend: self.legend.clone(),
+        }
+    }
+
+    /// Draws the panel on `area`.
+    pub(crate) fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> Draw {
+        let band_series: Vec<&[f64]> = self
+            .band
+            .iter()
+            .flat_map(|b| [b.lower.as_slice(), b.upper.as_slice()])
+            .collect();
+        let (lo, hi) = limits(
+            self.curves
+                .iter()
+                .map(|c| c.y.as_slice())
+                .chain(band_series),
+        );
+        let mut chart = ChartBuilder::on(area)
+            .caption(&self.title, title_style())
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(86)
+            .build_cartesian_2d(self.x_range.0..self.x_range.1, lo..hi)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc(self.x_desc.as_str())
+            .y_desc(self.y_desc.as_str())
+            .x_labels(12)
+            .y_labels(7)
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        if let Some(b) = &self.band {
+            let upper = thin_line(b.x, &b.upper, LINE_POINTS);
+            let lower = thin_line(b.x, &b.lower, LINE_POINTS);
+            let outline: Vec<(f64, f64)> =
+                upper.into_iter().chain(lower.into_iter().rev()).collect();
+            let fill = GRAY.mix(0.45);
+            chart
+                .draw_series(std::iter::once(Polygon::new(outline, fill.filled())))
+                .map_err(text)?
+                .label(b.label.as_str())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 7), (x + 24, y + 7)], fill.filled()));
+        }
+        for c in &self.curves {
+            match c.style {
+                Style::Points(color, radius) => {
+                    let style = color.mix(0.55).filled();
+                    let anno = chart
+                        .draw_series(
+                            thin_points(c.x, &c.y, MARKERS)
+                                .into_iter()
+                                .map(move |p| Circle::new(p, radius, style)),
+                        )
+                        .map_err(text)?;
+                    // An empty label: no legend entry (e.g. a fit drawn over its data).
+                    if !c.label.is_empty() {
+                        anno.label(c.label.as_str())
+                            .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
+                    }
+                }
+                Style::Line(color, width) => {
+                    let anno = chart
+                        .draw_series(LineSeries::new(
+                            thin_line(c.x, &c.y, LINE_POINTS),
+                            color.stroke_width(width),
+                        ))
+                        .map_err(text)?;
+                    // An empty label: no legend entry (e.g. a fit drawn over its data).
+                    if !c.label.is_empty() {
+                        anno.label(c.label.as_str()).legend(move |(x, y)| {
+                            PathElement::new(
+                                vec![(x, y), (x + 24, y)],
+                                color.stroke_width(width + 1),
+                            )
+                        });
+                    }
+                }
+                Style::Dashed(color, width) => {
+                    let anno = chart
+                        .draw_series(DashedLineSeries::new(
+                            thin_line(c.x, &c.y, LINE_POINTS),
+                            9,
+                            6,
+                            color.stroke_width(width),
+                        ))
+                        .map_err(text)?;
+                    // An empty label: no legend entry (e.g. a fit drawn over its data).
+                    if !c.label.is_empty() {
+                        anno.label(c.label.as_str()).legend(move |(x, y)| {
+                            PathElement::new(
+                                vec![(x, y), (x + 10, y)],
+                                color.stroke_width(width + 1),
+                            )
+                        });
+                    }
+                }
+            }
+        }
+        if let Some(position) = self.legend.clone() {
+            draw_legend(&mut chart, position)?;
+        }
+        Ok(())
+    }
+}
+
+/// A figure of one time panel, with a zoomed copy below it for a long record.
+pub(crate) struct PanelFigure<'a> {
+    /// File name without extension.
+    pub name: &'static str,
+    /// The figure's title.
+    pub title: String,
+    /// The whole record.
+    pub panel: Panel<'a>,
+    /// A window of it, for a long record.
+    pub zoom: Option<Panel<'a>>,
+}
+
+impl Figure for PanelFigure<'_> {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn size(&self) -> (u32, u32) {
+        if self.zoom.is_some() {
+            (1400, 1100)
+        } else {
+            (1400, 720)
+        }
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let area = suptitle(root, &self.title)?;
+        match &self.zoom {
+            None => self.panel.draw(&area),
+            Some(zoom) => {
+                let h = area.dim_in_pixel().1 as i32;
+                let (top, bottom) = area.split_vertically(h / 2);
+                self.panel.draw(&top)?;
+                zoom.draw(&bottom)
+            }
+        }
+    }
+}
