@@ -127,3 +127,9 @@ impl FitMetrics {
         }
     }
 }
+
+/// The residuals measured − model, sample by sample.
+pub(crate) fn residuals(measured: &[f64], model: &[f64]) -> Vec<f64> {
+    debug_assert_eq!(measured.len(), model.len());
+    measured.iter().zip(model).map(|(y, m)| y - m).collect()
+}

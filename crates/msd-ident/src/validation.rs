@@ -90,12 +90,7 @@ pub fn validate_model(
     for m in &mut model_output {
         *m += options.offset;
     }
-    let residuals: Vec<f64> = data
-        .output
-        .iter()
-        .zip(&model_output)
-        .map(|(y, m)| y - m)
-        .collect();
+    let residuals = crate::metrics::residuals(&data.output, &model_output);
     let fit = FitMetrics::new(&data.output, &model_output);
     let residual_analysis =
         residual_analysis(&residuals, data.excitation.samples(), &options.residuals)?;

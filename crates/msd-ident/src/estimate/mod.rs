@@ -278,12 +278,7 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
         });
     }
     let model_output = cost.model;
-    let residuals: Vec<f64> = data
-        .output
-        .iter()
-        .zip(&model_output)
-        .map(|(y, m)| y - m)
-        .collect();
+    let residuals = crate::metrics::residuals(&data.output, &model_output);
     let fit = FitMetrics::new(&data.output, &model_output);
     let jacobian = output_jacobian(data, &raw_layout, &v_raw)?;
     let mut uncertainty = from_jacobian(

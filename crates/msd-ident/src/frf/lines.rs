@@ -248,3 +248,23 @@ impl Lines {
         }
     }
 }
+
+/// The first line of a modal fit's display: what was fitted, to how many lines in which
+/// band, the weighting, the iterations and the relative error.
+pub(super) fn fit_line(
+    f: &mut std::fmt::Formatter<'_>,
+    what: &str,
+    lines: usize,
+    band_hz: [f64; 2],
+    weighting: FrfWeighting,
+    iterations: usize,
+    relative_error: f64,
+) -> std::fmt::Result {
+    write!(
+        f,
+        "{what} fitted to {lines} lines, {:.4}–{:.4} Hz ({weighting} weighting), {iterations} iterations; relative error {:.2} %",
+        band_hz[0],
+        band_hz[1],
+        100.0 * relative_error
+    )
+}

@@ -234,16 +234,16 @@ impl ModalFit {
 
 impl std::fmt::Display for ModalFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
+        let what = format!("{} modes", self.modes.len());
+        let (lines, band, iterations) = (self.lines, self.band_hz, self.iterations);
+        super::lines::fit_line(
             f,
-            "{} modes fitted to {} lines, {:.4}–{:.4} Hz ({} weighting), {} iterations; relative error {:.2} %",
-            self.modes.len(),
-            self.lines,
-            self.band_hz[0],
-            self.band_hz[1],
+            &what,
+            lines,
+            band,
             self.weighting,
-            self.iterations,
-            100.0 * self.relative_error
+            iterations,
+            self.relative_error,
         )?;
         for (i, m) in self.modes.iter().enumerate() {
             write!(

@@ -115,16 +115,17 @@ impl OneModeFit {
 
 impl std::fmt::Display for OneModeFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(
+        let (lines, band, iterations) = (self.lines, self.band_hz, self.iterations);
+        super::lines::fit_line(
             f,
-            "one mode fitted to {} lines, {:.4}–{:.4} Hz ({} weighting), {} iterations; relative error {:.2} %",
-            self.lines,
-            self.band_hz[0],
-            self.band_hz[1],
+            "one mode",
+            lines,
+            band,
             self.weighting,
-            self.iterations,
-            100.0 * self.relative_error
+            iterations,
+            self.relative_error,
         )?;
+        writeln!(f)?;
         writeln!(f, "{}", self.uncertainty)?;
         write!(f, "gain 1/m = {}", self.gain)?;
         if let Some(c) = &self.window_correction {
