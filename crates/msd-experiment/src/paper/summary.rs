@@ -24,13 +24,31 @@ pub fn text(
     total: Duration,
     out_dir: &Path,
 ) -> String {
-    let o = outcome;
-    let e = &o.estimate;
-    let u = &e.uncertainty;
-    let set = &o.data.identification;
-    let units = parameter_units(&set.input_unit, &set.output_unit);
-    let (factor, out_unit) = display_output(&set.output_unit);
     let mut s = String::new();
+    // Writing into a String cannot fail.
+    let _ = sections(&mut s, outcome, extra, total, out_dir);
+    s
+}
+
+fn sections(
+    w: &mut String,
+    o: &Outcome,
+    extra: &[(&'static str, Duration)],
+    total: Duration,
+    out_dir: &Path,
+) -> std::fmt::Result {
+    let set = &o.data.identification;
+    let (factor, out_unit) = display_output(&set.output_unit);
+    header(w, o)?;
+    parameters(w, o)?;
+    fits(w, o, factor, &out_unit)?;
+    checks(w, o, factor, &out_unit)?;
+    footer(w, o, extra, total, out_dir)
+}
+
+/// The experiment's name and data, and how the solver ended.
+fn header(w: &mut String, o: &Outcome) -> std::fmt::Result {
+    let e = &o.estimate;
     let kind = match o.data.kind {
         crate::config::Kind::Synthetic => format!("synthetic data, seed {}", o.seed),
         crate::config::Kind::Measured if o.data.source == crate::data::Source::InMemory => {
@@ -38,9 +56,9 @@ pub fn text(
         }
         crate::config::Kind::Measured => "measured data".to_string(),
     };
-    let _ = writeln!(s, "experiment `{}` ({kind})", o.config.name);
-    let _ = writeln!(
-        s,
+    writeln!(w, "experiment `{}` ({kind})", o.config.name)?;
+    writeln!(
+        w,
         "  {}{}: {} iterations, {} evaluations, {}",
         crate::fmt::solver_start(e),
         if e.initial_guess.1 == msd_ident::estimate::GuessSource::Automatic {
@@ -55,66 +73,86 @@ pub fn text(
         } else {
             format!("NOT converged ({})", e.stop.optimiser_reason())
         }
-    );
-    let _ = writeln!(s);
+    )?;
+    Ok(())
+}
+
+/// The parameters with their intervals (and the truth), ωn and the warnings.
+fn parameters(w: &mut String, o: &Outcome) -> std::fmt::Result {
+    let e = &o.estimate;
+    let u = &e.uncertainty;
+    let set = &o.data.identification;
+    let units = parameter_units(&set.input_unit, &set.output_unit);
+    writeln!(w)?;
     let truth = o.data.truth;
-    let _ = writeln!(
-        s,
+    writeln!(
+        w,
         "  {:<14} {:>10} {:>11}   95 % interval",
         "parameter",
         if truth.is_some() { "true" } else { "" },
         "estimate",
-    );
+    )?;
     let rows = parameter_rows(u, truth, &units);
     for (name, true_value, i) in rows {
-        let _ = writeln!(
-            s,
+        writeln!(
+            w,
             "  {:<14} {:>10} {:>11}   [{}, {}]",
             name,
             true_value.map(|v| sig(v, 5)).unwrap_or_default(),
             sig(i.value, 5),
             sig(i.ci95[0], 5),
             sig(i.ci95[1], 5)
-        );
+        )?;
     }
-    let _ = writeln!(
-        s,
+    writeln!(
+        w,
         "  ωn = {} rad/s",
         sig(e.parameters.natural_frequency(), 5)
-    );
+    )?;
     let insignificant = insignificance(&o.significance);
     for warning in u.warnings.iter().chain(&o.data.notes).chain(&insignificant) {
-        let _ = writeln!(s, "  warning        {warning}");
+        writeln!(w, "  warning        {warning}")?;
     }
-    let _ = writeln!(s);
-    let _ = writeln!(
-        s,
+    Ok(())
+}
+
+/// R², fit % and RMS error on both records.
+fn fits(w: &mut String, o: &Outcome, factor: f64, out_unit: &str) -> std::fmt::Result {
+    let e = &o.estimate;
+    writeln!(w)?;
+    writeln!(
+        w,
         "  {:<14} {:>8} {:>7} {:>12}",
         "data", "R²", "fit %", "RMS error"
-    );
+    )?;
     let v = &o.validation;
     for (name, fit) in [("identification", &e.fit), ("validation", &v.fit)] {
-        let _ = writeln!(
-            s,
+        writeln!(
+            w,
             "  {:<14} {:>8.5} {:>7.2} {:>9} {}",
             name,
             fit.r_squared,
             fit.fit_percent,
             sig(fit.residual_rms * factor, 4),
             out_unit
-        );
+        )?;
     }
     if v.scored_from > 0 {
-        let _ = writeln!(
-            s,
+        writeln!(
+            w,
             "  (validation scored after the first {} samples, which set the initial state)",
             v.scored_from
-        );
+        )?;
     }
-    let _ = writeln!(s);
+    Ok(())
+}
+
+/// The residual tests, the frequency check, the Monte Carlo band, the nonlinear models.
+fn checks(w: &mut String, o: &Outcome, factor: f64, out_unit: &str) -> std::fmt::Result {
+    writeln!(w)?;
     if let Some(r) = &o.residuals {
-        let _ = writeln!(
-            s,
+        writeln!(
+            w,
             "  residuals      {}: {}; {}",
             r.ljung_box,
             if r.whiteness_passed {
@@ -127,21 +165,21 @@ pub fn text(
             } else {
                 "correlated with the input"
             }
-        );
+        )?;
     }
     if let Some(f) = o.frequency.check() {
         // The check's own rendering: the numbers on one line, its verdict on the next.
         for (i, line) in f.to_string().lines().enumerate() {
             let label = if i == 0 { "frequency" } else { "" };
-            let _ = writeln!(s, "  {label:<14} {line}");
+            writeln!(w, "  {label:<14} {line}")?;
         }
     }
     if let Some(reason) = o.frequency.skipped() {
-        let _ = writeln!(s, "  frequency      skipped: {reason}");
+        writeln!(w, "  frequency      skipped: {reason}")?;
     }
     if let Some(mc) = &o.monte_carlo {
-        let _ = writeln!(
-            s,
+        writeln!(
+            w,
             "  Monte Carlo    {} draws within ±{:.0} % on {} thread{}: the {:.0} % band holds {:.1} % of the validation measurements",
             mc.samples,
             mc.spread * 100.0,
@@ -149,34 +187,45 @@ pub fn text(
             if mc.threads == 1 { "" } else { "s" },
             mc.percentiles[1] - mc.percentiles[0],
             mc.coverage * 100.0
-        );
+        )?;
     }
     if let Some(n) = &o.nonlinear {
-        let _ = writeln!(
-            s,
+        writeln!(
+            w,
             "  nonlinear      {}",
-            nonlinear_line(n, factor, &out_unit)
-        );
+            nonlinear_line(n, factor, out_unit)
+        )?;
     }
+    Ok(())
+}
+
+/// The stages' times and where the report is.
+fn footer(
+    w: &mut String,
+    o: &Outcome,
+    extra: &[(&'static str, Duration)],
+    total: Duration,
+    out_dir: &Path,
+) -> std::fmt::Result {
     let times: Vec<String> = o
         .timings
         .iter()
         .chain(extra)
         .map(|(name, d)| format!("{} {}", stage_label(name), millis(*d)))
         .collect();
-    let _ = writeln!(s);
-    let _ = writeln!(
-        s,
+    writeln!(w)?;
+    writeln!(
+        w,
         "  time [ms]      {} · total {}",
         times.join(" · "),
         millis(total)
-    );
-    let _ = writeln!(
-        s,
+    )?;
+    writeln!(
+        w,
         "  report         {} (and report.md)",
         out_dir.join("report.html").display()
-    );
-    s
+    )?;
+    Ok(())
 }
 
 /// One line on the nonlinear models: the winner, its BIC margin and validation RMS
