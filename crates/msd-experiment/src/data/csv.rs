@@ -80,20 +80,7 @@ pub fn read_columns(
     path_key: &str,
     columns: &[ColumnSpec],
 ) -> Result<Table> {
-    let file = std::fs::File::open(path).map_err(|e| {
-        ExperimentError::data(
-            path,
-            match crate::fetch::command_for(path) {
-                Some(command) => {
-                    format!("cannot open the data file ({path_key}): {e}; fetch it with {command}")
-                }
-                None => format!("cannot open the data file ({path_key}): {e}"),
-            },
-        )
-    })?;
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
-        .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
+    let bytes = read_bytes(path, path_key)?;
     // Line numbers come from byte offsets (the csv crate's own count is off by one
     // with CRLF line endings): line of byte b = 1 + number of '\n' before b.
     let newlines: Vec<usize> = bytes
@@ -150,32 +137,7 @@ pub fn read_columns(
     } else {
         None
     };
-    let find = |role: &str, key: &str, c: &Column| -> Result<usize> {
-        match (c, &header) {
-            (Column::Index(i), _) => Ok(*i),
-            (Column::Name(name), Some((names, line))) => names
-                .iter()
-                .position(|h| h == name)
-                .ok_or_else(|| {
-                    let found: Vec<String> = names
-                        .iter()
-                        .filter(|h| !h.is_empty())
-                        .map(|h| format!("`{h}`"))
-                        .collect();
-                    ExperimentError::data(
-                        path,
-                        format!(
-                            "line {line}: no {role} column named `{name}` ({key}): the header has {}",
-                            found.join(", ")
-                        ),
-                    )
-                }),
-            (Column::Name(name), None) => Err(ExperimentError::data(
-                path,
-                format!("{key} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"),
-            )),
-        }
-    };
+    let find = |role: &str, key: &str, c: &Column| column_index(path, &header, role, key, c);
     let indices = columns
         .iter()
         .map(|c| find(&c.role, &c.key, &c.column))
@@ -213,53 +175,9 @@ pub fn read_columns(
             continue; // a blank line
         }
         let expected = *fields.get_or_insert(r.len());
-        if r.len() > expected {
-            return Err(ExperimentError::data(
-                path,
-                format!(
-                    "line {line}: the row has {} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {:?})?",
-                    r.len(),
-                    if header.is_some() {
-                        "header"
-                    } else {
-                        "first row"
-                    },
-                    d.delimiter
-                ),
-            ));
-        }
+        check_width(path, line, r.len(), expected, header.is_some(), d.delimiter)?;
         for (slot, &(spec, index)) in cells.iter().enumerate() {
-            let (role, column, scale) = (&spec.role, &spec.column, spec.scale);
-            let cell = r.get(index).ok_or_else(|| {
-                ExperimentError::data(
-                    path,
-                    format!(
-                        "line {line}: the row has {} fields, no {role} column {column} (index {index})",
-                        r.len()
-                    ),
-                )
-            })?;
-            let value = parse_cell(cell).map_err(|why| {
-                ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
-            })?;
-            let scaled = value * scale;
-            if !scaled.is_finite() {
-                return Err(ExperimentError::data(
-                    path,
-                    format!(
-                        "line {line}, {role} column {column}: {value} × the scale {scale} ({}) overflows: expected a finite value",
-                        spec.scale_key
-                    ),
-                ));
-            }
-            if scaled.abs() > LARGEST_VALUE {
-                return Err(ExperimentError::data(
-                    path,
-                    format!(
-                        "line {line}, {role} column {column}: {scaled:e} is too large to compute with (sums of its square overflow): expected |value| <= {LARGEST_VALUE:e}; check the column and its scale"
-                    ),
-                ));
-            }
+            let (value, scaled) = cell_value(path, line, &r, spec, index)?;
             match values.get_mut(slot) {
                 Some(column) => column.push(scaled),
                 None => time.push(value),
@@ -287,7 +205,142 @@ pub fn read_columns(
             ),
         ));
     }
-    let dt = match d.sample_rate {
+    let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
+    Ok(Table {
+        time,
+        columns: values,
+        dt,
+    })
+}
+
+/// The bytes of the data file `path` (`path_key` names it in messages).
+fn read_bytes(path: &Path, path_key: &str) -> Result<Vec<u8>> {
+    let file = std::fs::File::open(path).map_err(|e| {
+        ExperimentError::data(
+            path,
+            match crate::fetch::command_for(path) {
+                Some(command) => {
+                    format!("cannot open the data file ({path_key}): {e}; fetch it with {command}")
+                }
+                None => format!("cannot open the data file ({path_key}): {e}"),
+            },
+        )
+    })?;
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
+        .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
+    Ok(bytes)
+}
+
+/// The 0-based index of column `c` (an index, or a name looked up in the header).
+fn column_index(
+    path: &Path,
+    header: &Option<(Vec<String>, usize)>,
+    role: &str,
+    key: &str,
+    c: &Column,
+) -> Result<usize> {
+    match (c, header) {
+        (Column::Index(i), _) => Ok(*i),
+        (Column::Name(name), Some((names, line))) => {
+            names.iter().position(|h| h == name).ok_or_else(|| {
+                let found: Vec<String> = names
+                    .iter()
+                    .filter(|h| !h.is_empty())
+                    .map(|h| format!("`{h}`"))
+                    .collect();
+                ExperimentError::data(
+                    path,
+                    format!(
+                        "line {line}: no {role} column named `{name}` ({key}): the header has {}",
+                        found.join(", ")
+                    ),
+                )
+            })
+        }
+        (Column::Name(name), None) => Err(ExperimentError::data(
+            path,
+            format!(
+                "{key} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"
+            ),
+        )),
+    }
+}
+
+/// Refuses a row with more fields than the header (or the first data row) has: a
+/// decimal comma or a wrong delimiter would shift the columns.
+fn check_width(
+    path: &Path,
+    line: usize,
+    fields: usize,
+    expected: usize,
+    has_header: bool,
+    delimiter: char,
+) -> Result<()> {
+    if fields <= expected {
+        return Ok(());
+    }
+    Err(ExperimentError::data(
+        path,
+        format!(
+            "line {line}: the row has {fields} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {delimiter:?})?",
+            if has_header { "header" } else { "first row" },
+        ),
+    ))
+}
+
+/// The value of one cell (`spec`'s column, at `index` of row `r` on `line`) as read and
+/// scaled, refused when it is not a number, overflows or is too large to square.
+fn cell_value(
+    path: &Path,
+    line: usize,
+    r: &csv::StringRecord,
+    spec: &ColumnSpec,
+    index: usize,
+) -> Result<(f64, f64)> {
+    let (role, column, scale) = (&spec.role, &spec.column, spec.scale);
+    let cell = r.get(index).ok_or_else(|| {
+        ExperimentError::data(
+            path,
+            format!(
+                "line {line}: the row has {} fields, no {role} column {column} (index {index})",
+                r.len()
+            ),
+        )
+    })?;
+    let value = parse_cell(cell).map_err(|why| {
+        ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
+    })?;
+    let scaled = value * scale;
+    if !scaled.is_finite() {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "line {line}, {role} column {column}: {value} × the scale {scale} ({}) overflows: expected a finite value",
+                spec.scale_key
+            ),
+        ));
+    }
+    if scaled.abs() > LARGEST_VALUE {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "line {line}, {role} column {column}: {scaled:e} is too large to compute with (sums of its square overflow): expected |value| <= {LARGEST_VALUE:e}; check the column and its scale"
+            ),
+        ));
+    }
+    Ok((value, scaled))
+}
+
+/// The time grid of `rows` samples: from the sample rate, or the time column's values
+/// checked for a uniform step (within 1 %) and regularised onto it.
+fn time_grid(
+    path: &Path,
+    sample_rate: Option<f64>,
+    mut time: Vec<f64>,
+    rows: usize,
+) -> Result<(Vec<f64>, f64)> {
+    let dt = match sample_rate {
         Some(fs) => {
             let dt = 1.0 / fs;
             time = (0..rows).map(|i| i as f64 * dt).collect();
@@ -315,11 +368,7 @@ pub fn read_columns(
             dt
         }
     };
-    Ok(Table {
-        time,
-        columns: values,
-        dt,
-    })
+    Ok((time, dt))
 }
 
 fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) -> String {
