@@ -214,38 +214,8 @@ pub fn frequency_check(
     let df = fs / n as f64;
     let half = n / 2;
     let power: Vec<f64> = uf[..=half].iter().map(|c| c.norm_sqr()).collect();
-    let peak_power = power[1..].iter().fold(0.0f64, |m, &p| m.max(p));
-    // Relative to the signal's energy (Parseval: Σ|U_k|² = N Σu²), so FFT rounding of a
-    // constant input does not count as excitation.
-    let energy: f64 = u.iter().map(|v| v * v).sum::<f64>() * n as f64;
-    // The shared FFT leaks rounding of the output into the input's spectrum: at most
-    // c·ε·log₂N·√N·‖z‖₂ per line (normwise FFT error, c = 10), z = (u − ū) + i(y − ȳ).
-    let centred = |x: &[f64]| {
-        let mean = x.iter().sum::<f64>() / n as f64;
-        x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>()
-    };
-    let leak = 10.0
-        * f64::EPSILON
-        * (n as f64).log2().max(1.0)
-        * (n as f64).sqrt()
-        * (centred(u) + centred(y)).sqrt();
-    if peak_power.is_nan() || peak_power <= 1e-24 * energy || peak_power <= leak * leak {
-        return Err(IdentError::NotIdentifiable {
-            reason: "the input has no power above DC: no frequency response can be measured".into(),
-        });
-    }
-    let band = match options.band_hz {
-        Some(b) => b,
-        None => {
-            let excited: Vec<usize> = (1..=half)
-                .filter(|&k| power[k] >= options.power_threshold * peak_power)
-                .collect();
-            [
-                excited[0] as f64 * df,
-                excited[excited.len() - 1] as f64 * df,
-            ]
-        }
-    };
+    let peak_power = peak_input_power(&power, u, y)?;
+    let band = fit_band(options, &power, peak_power, df);
     let bins: Vec<usize> = (1..=half)
         .filter(|&k| (band[0]..=band[1]).contains(&(k as f64 * df)))
         .collect();
@@ -292,26 +262,13 @@ pub fn frequency_check(
     let resolved = 2.0 * zeta * natural_frequency_hz >= df;
     let reaches = inside || resolved;
     if !(zeta < 1.0 && wn > 0.0 && wn < PI * fs && reaches) {
-        let number = |v: f64| match v.abs() {
-            a if !a.is_finite() => "unbounded".to_string(),
-            a if (1e-3..1e4).contains(&a) => format!("{v:.4}"),
-            _ => format!("{v:.3e}"),
-        };
-        let (f, z, model) = (
-            number(natural_frequency_hz),
-            number(zeta),
+        let reason = no_resonance(
+            lines,
+            natural_frequency_hz,
+            zeta,
+            df,
             parameters.damping_ratio(),
         );
-        let (lo, hi) = (lines[0], lines[1]);
-        let reason = if zeta >= 1.0 || !zeta.is_finite() {
-            format!(
-                "no resonance in the data: the single-mode fit at {lo:.4}–{hi:.4} Hz ran off to ζ = {z} ≥ 1 (fn = {f} Hz), an over-damped response (the model's ζ is {model:.3})"
-            )
-        } else {
-            format!(
-                "no resonance at the fitted frequencies {lo:.4}–{hi:.4} Hz: the fit ran off to fn = {f} Hz, ζ = {z}, a mode outside them and narrower (2ζ·fn) than their spacing {df:.4} Hz (the model's ζ is {model:.3}); excite the resonance or widen the band"
-            )
-        };
         return Err(IdentError::NotIdentifiable { reason });
     }
 
@@ -320,27 +277,7 @@ pub fn frequency_check(
         .iter()
         .map(|&w| model_response(parameters, w))
         .collect();
-    let model_relative_error = {
-        let denominators: Vec<Complex64> = omega
-            .iter()
-            .map(|&w| {
-                Complex64::new(
-                    parameters.stiffness - parameters.mass * w * w,
-                    parameters.damping * w,
-                )
-            })
-            .collect();
-        let mut sse = 0.0;
-        let mut energy = 0.0;
-        // Remove the transient a + jbω over the model's own denominator by least squares.
-        let (a, b) = transient_for(&omega, &ub, &yb, &model_h, &denominators);
-        for i in 0..omega.len() {
-            let predicted = model_h[i] * ub[i] + Complex64::new(a, b * omega[i]) / denominators[i];
-            sse += (yb[i] - predicted).norm_sqr();
-            energy += yb[i].norm_sqr();
-        }
-        (sse / energy).sqrt()
-    };
+    let model_relative_error = model_relative_error(parameters, &omega, &ub, &yb, &model_h);
 
     // Bode arrays: H1 over the whole record, periodic Hann window, from the same FFT.
     let f_max = (3.0 * band[1]).min(fs / 2.0);
@@ -353,25 +290,7 @@ pub fn frequency_check(
         .iter()
         .map(|&f| model_response(parameters, 2.0 * PI * f))
         .collect();
-    // Absurd (valid but huge) parameters overflow k − mω²: say so rather than print NaN.
-    if let Some(bad) = model_h
-        .iter()
-        .chain(&model_curve)
-        .find(|h| !(h.re.is_finite() && h.im.is_finite()))
-    {
-        return Err(IdentError::InvalidParameter {
-            name: "parameters (model frequency response)",
-            value: if bad.re.is_finite() { bad.im } else { bad.re },
-            expected: "m, c, k whose response 1/(k − mω² + jcω) is finite over the band",
-        });
-    }
-    if !model_relative_error.is_finite() {
-        return Err(IdentError::InvalidParameter {
-            name: "parameters (model relative error)",
-            value: model_relative_error,
-            expected: "a model whose prediction of the record's spectrum is finite",
-        });
-    }
+    check_finite(&model_h, &model_curve, model_relative_error)?;
 
     let model_fn = parameters.natural_frequency_hz();
     let model_zeta = parameters.damping_ratio();
@@ -385,24 +304,13 @@ pub fn frequency_check(
     let consistent = frequency_error.abs() <= options.frequency_tolerance
         && damping_error.abs() <= options.damping_tolerance
         && model_relative_error <= options.max_relative_error;
-    let verdict = if consistent {
-        format!(
-            "Consistent: the data's resonance is at {natural_frequency_hz:.4} Hz with ζ = {zeta:.4}, the model's at {model_fn:.4} Hz with ζ = {model_zeta:.4} ({:+.2} % and {:+.1} %); the model explains the measured spectrum to {:.1} %.",
-            100.0 * frequency_error,
-            100.0 * damping_error,
-            100.0 * model_relative_error
-        )
-    } else {
-        format!(
-            "Inconsistent: the data's resonance is at {natural_frequency_hz:.4} Hz with ζ = {zeta:.4}, the model's at {model_fn:.4} Hz with ζ = {model_zeta:.4} ({:+.2} % and {:+.1} %, allowed ±{:.0} % and ±{:.0} %); the model leaves {:.1} % of the measured spectrum unexplained (allowed {:.0} %).",
-            100.0 * frequency_error,
-            100.0 * damping_error,
-            100.0 * options.frequency_tolerance,
-            100.0 * options.damping_tolerance,
-            100.0 * model_relative_error,
-            100.0 * options.max_relative_error
-        )
-    };
+    let verdict = verdict(
+        consistent,
+        [natural_frequency_hz, zeta],
+        [model_fn, model_zeta],
+        [frequency_error, damping_error, model_relative_error],
+        options,
+    );
     Ok(FrequencyCheck {
         empirical_magnitude: keep.iter().map(|&k| h1.h[k].norm()).collect(),
         empirical_phase_deg: unwrap_degrees(keep.iter().map(|&k| h1.h[k].arg())),
@@ -422,6 +330,164 @@ pub fn frequency_check(
         consistent,
         verdict,
     })
+}
+
+/// The input's largest line power above DC (`power` from bin 0 to Nyquist), refused
+/// when the input carries none beyond the FFT's own rounding.
+fn peak_input_power(power: &[f64], u: &[f64], y: &[f64]) -> Result<f64> {
+    let n = u.len();
+    let peak_power = power[1..].iter().fold(0.0f64, |m, &p| m.max(p));
+    // Relative to the signal's energy (Parseval: Σ|U_k|² = N Σu²), so FFT rounding of a
+    // constant input does not count as excitation.
+    let energy: f64 = u.iter().map(|v| v * v).sum::<f64>() * n as f64;
+    // The shared FFT leaks rounding of the output into the input's spectrum: at most
+    // c·ε·log₂N·√N·‖z‖₂ per line (normwise FFT error, c = 10), z = (u − ū) + i(y − ȳ).
+    let centred = |x: &[f64]| {
+        let mean = x.iter().sum::<f64>() / n as f64;
+        x.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>()
+    };
+    let leak = 10.0
+        * f64::EPSILON
+        * (n as f64).log2().max(1.0)
+        * (n as f64).sqrt()
+        * (centred(u) + centred(y)).sqrt();
+    if peak_power.is_nan() || peak_power <= 1e-24 * energy || peak_power <= leak * leak {
+        return Err(IdentError::NotIdentifiable {
+            reason: "the input has no power above DC: no frequency response can be measured".into(),
+        });
+    }
+    Ok(peak_power)
+}
+
+/// The fit band: the configured one, or the lines where the input's power is at least
+/// `power_threshold` of its peak.
+fn fit_band(options: &FrequencyCheckOptions, power: &[f64], peak_power: f64, df: f64) -> [f64; 2] {
+    let half = power.len() - 1;
+    match options.band_hz {
+        Some(b) => b,
+        None => {
+            let excited: Vec<usize> = (1..=half)
+                .filter(|&k| power[k] >= options.power_threshold * peak_power)
+                .collect();
+            [
+                excited[0] as f64 * df,
+                excited[excited.len() - 1] as f64 * df,
+            ]
+        }
+    }
+}
+
+/// Absurd (valid but huge) parameters overflow k − mω²: say so rather than print NaN.
+fn check_finite(
+    model_h: &[Complex64],
+    model_curve: &[Complex64],
+    model_relative_error: f64,
+) -> Result<()> {
+    if let Some(bad) = model_h
+        .iter()
+        .chain(model_curve)
+        .find(|h| !(h.re.is_finite() && h.im.is_finite()))
+    {
+        return Err(IdentError::InvalidParameter {
+            name: "parameters (model frequency response)",
+            value: if bad.re.is_finite() { bad.im } else { bad.re },
+            expected: "m, c, k whose response 1/(k − mω² + jcω) is finite over the band",
+        });
+    }
+    if !model_relative_error.is_finite() {
+        return Err(IdentError::InvalidParameter {
+            name: "parameters (model relative error)",
+            value: model_relative_error,
+            expected: "a model whose prediction of the record's spectrum is finite",
+        });
+    }
+    Ok(())
+}
+
+/// Why the single-mode fit found no resonance at the fitted `lines` (Hz, `df` apart):
+/// it ran off to ζ ≥ 1, or to a mode outside the lines narrower than their spacing.
+fn no_resonance(
+    lines: [f64; 2],
+    natural_frequency_hz: f64,
+    zeta: f64,
+    df: f64,
+    model: f64,
+) -> String {
+    let number = |v: f64| match v.abs() {
+        a if !a.is_finite() => "unbounded".to_string(),
+        a if (1e-3..1e4).contains(&a) => format!("{v:.4}"),
+        _ => format!("{v:.3e}"),
+    };
+    let (f, z) = (number(natural_frequency_hz), number(zeta));
+    let (lo, hi) = (lines[0], lines[1]);
+    if zeta >= 1.0 || !zeta.is_finite() {
+        format!(
+            "no resonance in the data: the single-mode fit at {lo:.4}–{hi:.4} Hz ran off to ζ = {z} ≥ 1 (fn = {f} Hz), an over-damped response (the model's ζ is {model:.3})"
+        )
+    } else {
+        format!(
+            "no resonance at the fitted frequencies {lo:.4}–{hi:.4} Hz: the fit ran off to fn = {f} Hz, ζ = {z}, a mode outside them and narrower (2ζ·fn) than their spacing {df:.4} Hz (the model's ζ is {model:.3}); excite the resonance or widen the band"
+        )
+    }
+}
+
+/// The model's output error in the band, relative to the data's energy there, with the
+/// transient term a + jbω over the model's own denominator fitted for it.
+fn model_relative_error(
+    parameters: &Parameters,
+    omega: &[f64],
+    ub: &[Complex64],
+    yb: &[Complex64],
+    model_h: &[Complex64],
+) -> f64 {
+    let denominators: Vec<Complex64> = omega
+        .iter()
+        .map(|&w| {
+            Complex64::new(
+                parameters.stiffness - parameters.mass * w * w,
+                parameters.damping * w,
+            )
+        })
+        .collect();
+    let mut sse = 0.0;
+    let mut energy = 0.0;
+    // Remove the transient a + jbω over the model's own denominator by least squares.
+    let (a, b) = transient_for(omega, ub, yb, model_h, &denominators);
+    for i in 0..omega.len() {
+        let predicted = model_h[i] * ub[i] + Complex64::new(a, b * omega[i]) / denominators[i];
+        sse += (yb[i] - predicted).norm_sqr();
+        energy += yb[i].norm_sqr();
+    }
+    (sse / energy).sqrt()
+}
+
+/// The check's verdict in words: the two resonances, their differences against the
+/// tolerances, and how much of the spectrum the model explains.
+fn verdict(
+    consistent: bool,
+    [natural_frequency_hz, zeta]: [f64; 2],
+    [model_fn, model_zeta]: [f64; 2],
+    [frequency_error, damping_error, model_relative_error]: [f64; 3],
+    options: &FrequencyCheckOptions,
+) -> String {
+    if consistent {
+        format!(
+            "Consistent: the data's resonance is at {natural_frequency_hz:.4} Hz with ζ = {zeta:.4}, the model's at {model_fn:.4} Hz with ζ = {model_zeta:.4} ({:+.2} % and {:+.1} %); the model explains the measured spectrum to {:.1} %.",
+            100.0 * frequency_error,
+            100.0 * damping_error,
+            100.0 * model_relative_error
+        )
+    } else {
+        format!(
+            "Inconsistent: the data's resonance is at {natural_frequency_hz:.4} Hz with ζ = {zeta:.4}, the model's at {model_fn:.4} Hz with ζ = {model_zeta:.4} ({:+.2} % and {:+.1} %, allowed ±{:.0} % and ±{:.0} %); the model leaves {:.1} % of the measured spectrum unexplained (allowed {:.0} %).",
+            100.0 * frequency_error,
+            100.0 * damping_error,
+            100.0 * options.frequency_tolerance,
+            100.0 * options.damping_tolerance,
+            100.0 * model_relative_error,
+            100.0 * options.max_relative_error
+        )
+    }
 }
 
 /// H(jω) = 1/(k − mω² + jcω) of the displacement per unit force.
