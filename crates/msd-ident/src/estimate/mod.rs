@@ -231,34 +231,7 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
         }
     };
 
-    let (best, starts) = match &options.multistart {
-        None => (local(&v0)?, 1),
-        Some(ms) => {
-            let (bounds, pick) = multistart_box(options, &layout, &theta0, ms);
-            let ms_options = MultistartOptions {
-                starts: ms.starts,
-                seed: ms.seed,
-                threads: ms.threads,
-                ..MultistartOptions::default()
-            };
-            let ranked = multistart(&bounds, &ms_options, |point| {
-                // Sampled coordinates are log-parameters; convert for Nelder–Mead.
-                let mut start = v0.clone();
-                for (k, &column) in pick.iter().enumerate() {
-                    start[column] = if log { point[k] } else { point[k].exp() };
-                }
-                local(&start)
-            })?;
-            let total = ranked.len();
-            let best = ranked
-                .into_iter()
-                .next()
-                .ok_or_else(|| IdentError::EstimationFailed {
-                    reason: "no multistart run finished".into(),
-                })?;
-            (best.result, total)
-        }
-    };
+    let (best, starts) = run_starts(options, &layout, &theta0, &v0, &local)?;
     let stop = best
         .finished()
         .map_err(|why| IdentError::EstimationFailed {
@@ -334,6 +307,46 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
         residuals,
         uncertainty,
     })
+}
+
+/// The local search from `v0`, or from every start of the configured multistart (the
+/// best run, and how many starts ran).
+fn run_starts(
+    options: &EstimationOptions,
+    layout: &Layout,
+    theta0: &Parameters,
+    v0: &[f64],
+    local: &(dyn Fn(&[f64]) -> std::result::Result<Local, msd_opt::OptError> + Sync),
+) -> Result<(Local, usize)> {
+    let log = options.method == Method::LevenbergMarquardt;
+    match &options.multistart {
+        None => Ok((local(v0)?, 1)),
+        Some(ms) => {
+            let (bounds, pick) = multistart_box(options, layout, theta0, ms);
+            let ms_options = MultistartOptions {
+                starts: ms.starts,
+                seed: ms.seed,
+                threads: ms.threads,
+                ..MultistartOptions::default()
+            };
+            let ranked = multistart(&bounds, &ms_options, |point| {
+                // Sampled coordinates are log-parameters; convert for Nelder–Mead.
+                let mut start = v0.to_vec();
+                for (k, &column) in pick.iter().enumerate() {
+                    start[column] = if log { point[k] } else { point[k].exp() };
+                }
+                local(&start)
+            })?;
+            let total = ranked.len();
+            let best = ranked
+                .into_iter()
+                .next()
+                .ok_or_else(|| IdentError::EstimationFailed {
+                    reason: "no multistart run finished".into(),
+                })?;
+            Ok((best.result, total))
+        }
+    }
 }
 
 fn nelder_mead_options(options: &EstimationOptions, layout: &Layout) -> msd_opt::NelderMeadOptions {
