@@ -305,42 +305,76 @@ impl Figure for Bode<'_> {
         }
         draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)?;
 
-        let (plo, phi) = mod_ph
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
-        let (plo, phi) = (
-            (plo / 45.0).floor() * 45.0 - 60.0,
-            (phi / 45.0).ceil() * 45.0 + 60.0,
-        );
-        let mut chart = phase_panel(&bottom, (f0, f1), (plo, phi))?;
+        let curves = PhaseCurves {
+            f: &f,
+            data: &emp_ph,
+            model_at_data: &mod_ph,
+            dense: &dense,
+            model: &dense_ph,
+        };
+        draw_phase(&bottom, &curves, [b0, b1], fn_model)
+    }
+}
+
+/// The curves of the Bode check's phase panel, degrees.
+struct PhaseCurves<'a> {
+    /// The data's frequencies, Hz.
+    f: &'a [f64],
+    /// The data's phase, wrapped near the model's.
+    data: &'a [f64],
+    /// The model's phase at the data's frequencies.
+    model_at_data: &'a [f64],
+    /// A dense logarithmic grid, Hz.
+    dense: &'a [f64],
+    /// The model's phase on it.
+    model: &'a [f64],
+}
+
+/// The Bode check's phase panel: the fit band shaded, the data, the model and its fn.
+fn draw_phase<DB: DrawingBackend>(
+    bottom: &DrawingArea<DB, Shift>,
+    c: &PhaseCurves<'_>,
+    [b0, b1]: [f64; 2],
+    fn_model: f64,
+) -> Draw {
+    let (f0, f1) = (c.f[0], c.f[c.f.len() - 1]);
+    let band = RGBColor(255, 220, 150).mix(0.3);
+    let (plo, phi) = c
+        .model_at_data
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    let (plo, phi) = (
+        (plo / 45.0).floor() * 45.0 - 60.0,
+        (phi / 45.0).ceil() * 45.0 + 60.0,
+    );
+    let mut chart = phase_panel(bottom, (f0, f1), (plo, phi))?;
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(b0.max(f0), plo), (b1.min(f1), phi)],
+            band.filled(),
+        )))
+        .map_err(text)?;
+    let clamped: Vec<f64> = c.data.iter().map(|v| v.clamp(plo, phi)).collect();
+    draw_data(&mut chart, c.f, &clamped, [b0, b1], false)?;
+    chart
+        .draw_series(LineSeries::new(
+            c.dense.iter().copied().zip(c.model.iter().copied()),
+            RED.stroke_width(3),
+        ))
+        .map_err(text)?;
+    if fn_model > f0 && fn_model < f1 {
         chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(b0.max(f0), plo), (b1.min(f1), phi)],
-                band.filled(),
-            )))
-            .map_err(text)?;
-        let clamped: Vec<f64> = emp_ph.iter().map(|v| v.clamp(plo, phi)).collect();
-        draw_data(&mut chart, &f, &clamped, [b0, b1], false)?;
-        chart
-            .draw_series(LineSeries::new(
-                dense.iter().copied().zip(dense_ph.iter().copied()),
-                RED.stroke_width(3),
+            .draw_series(DashedLineSeries::new(
+                vec![(fn_model, plo), (fn_model, phi)],
+                8,
+                5,
+                BLACK.stroke_width(2),
             ))
             .map_err(text)?;
-        if fn_model > f0 && fn_model < f1 {
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(fn_model, plo), (fn_model, phi)],
-                    8,
-                    5,
-                    BLACK.stroke_width(2),
-                ))
-                .map_err(text)?;
-        }
-        Ok(())
     }
+    Ok(())
 }
 
 /// The data's curve: blue inside the excited band, light gray outside (where the input
