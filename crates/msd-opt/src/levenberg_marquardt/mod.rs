@@ -97,6 +97,178 @@ struct Work {
 }
 
 impl Work {
+    /// QR with column pivoting of the Jacobian, with the columns of the active set (the
+    /// variables on a bound that the gradient Jᵀr pushes outward) zeroed; the column
+    /// norms of J.
+    fn factor(&mut self, x: &[f64], fvec: &[f64], options: &LevenbergMarquardtOptions) {
+        let (m, n) = self.jac.shape();
+        let w = self;
+        w.qr.copy_from_slice(w.jac.as_slice());
+        for j in 0..n {
+            let column = &w.jac.as_slice()[j * m..(j + 1) * m];
+            w.col_norms[j] = enorm(column);
+            if let Some(b) = &options.bounds {
+                let g: f64 = column.iter().zip(fvec).map(|(a, r)| a * r).sum();
+                let fixed = b.lower[j] == b.upper[j];
+                let at_lower = x[j] <= b.lower[j] && g > 0.0;
+                let at_upper = x[j] >= b.upper[j] && g < 0.0;
+                if fixed || at_lower || at_upper {
+                    w.qr[j * m..(j + 1) * m].iter_mut().for_each(|v| *v = 0.0);
+                }
+            }
+        }
+        qrfac(
+            m,
+            n,
+            &mut w.qr,
+            &mut w.ipvt,
+            &mut w.rdiag,
+            &mut w.qr_norms,
+            &mut w.wa1,
+        );
+    }
+
+    /// The first iteration's diagonal scaling (the column norms, or the given one), the
+    /// scaled norm of x and the initial trust radius.
+    fn initial_scaling(&mut self, x: &[f64], options: &LevenbergMarquardtOptions) -> (f64, f64) {
+        let n = x.len();
+        let w = self;
+        match &options.diagonal {
+            Some(d) => w.diag.copy_from_slice(d),
+            None => {
+                for j in 0..n {
+                    w.diag[j] = if w.col_norms[j] == 0.0 {
+                        1.0
+                    } else {
+                        w.col_norms[j]
+                    };
+                }
+            }
+        }
+        for j in 0..n {
+            w.wa3[j] = w.diag[j] * x[j];
+        }
+        let xnorm = enorm(&w.wa3);
+        let mut delta = options.initial_step_bound * xnorm;
+        if delta == 0.0 {
+            delta = options.initial_step_bound;
+        }
+        (xnorm, delta)
+    }
+
+    /// Forms qtf = the first n components of Qᵀ·r (R's diagonal back in place) and
+    /// returns the scaled gradient norm: the largest cosine between r and a column of J.
+    fn gradient_norm(&mut self, fvec: &[f64], fnorm: f64) -> f64 {
+        let (m, n) = self.jac.shape();
+        let w = self;
+        w.wa4.copy_from_slice(fvec);
+        for j in 0..n {
+            let cj = j * m;
+            if w.qr[cj + j] != 0.0 {
+                let mut sum = 0.0;
+                for i in j..m {
+                    sum += w.qr[cj + i] * w.wa4[i];
+                }
+                let temp = -sum / w.qr[cj + j];
+                for i in j..m {
+                    w.wa4[i] += w.qr[cj + i] * temp;
+                }
+            }
+            w.qr[cj + j] = w.rdiag[j];
+            w.qtf[j] = w.wa4[j];
+        }
+
+        let mut gnorm = 0.0_f64;
+        if fnorm != 0.0 {
+            for j in 0..n {
+                let l = w.ipvt[j];
+                if w.qr_norms[l] != 0.0 {
+                    let mut sum = 0.0;
+                    for i in 0..=j {
+                        sum += w.qr[i + j * m] * (w.qtf[i] / fnorm);
+                    }
+                    gnorm = gnorm.max((sum / w.qr_norms[l]).abs());
+                }
+            }
+        }
+        gnorm
+    }
+
+    /// The predicted reduction of ‖r‖² by the step and the directional derivative, both
+    /// scaled by ‖r‖²: from R for an interior step, from J along a projected (clipped) one.
+    fn predicted_reduction(
+        &mut self,
+        fvec: &[f64],
+        fnorm: f64,
+        par: f64,
+        pnorm: f64,
+        clipped: bool,
+    ) -> (f64, f64) {
+        let (m, n) = self.jac.shape();
+        let w = self;
+        if !clipped {
+            for j in 0..n {
+                w.wa3[j] = 0.0;
+            }
+            for j in 0..n {
+                let temp = w.step[w.ipvt[j]];
+                for i in 0..=j {
+                    w.wa3[i] += w.qr[i + j * m] * temp;
+                }
+            }
+            let temp1 = enorm(&w.wa3) / fnorm;
+            let temp2 = (par.sqrt() * pnorm) / fnorm;
+            (
+                temp1 * temp1 + temp2 * temp2 / 0.5,
+                -(temp1 * temp1 + temp2 * temp2),
+            )
+        } else {
+            // Linear model along the projected step: ‖r + J·p‖².
+            w.wa4.iter_mut().for_each(|v| *v = 0.0);
+            for j in 0..n {
+                let pj = w.step[j];
+                if pj != 0.0 {
+                    for (acc, a) in w.wa4.iter_mut().zip(&w.jac.as_slice()[j * m..]) {
+                        *acc += a * pj;
+                    }
+                }
+            }
+            let jp = enorm(&w.wa4) / fnorm;
+            let rjp: f64 =
+                w.wa4.iter().zip(fvec).map(|(a, r)| a * r).sum::<f64>() / (fnorm * fnorm);
+            (-(2.0 * rjp + jp * jp), rjp)
+        }
+    }
+
+    /// The trial point x + p for the step p that lmpar left in `step` (negated), projected
+    /// onto the bounds; returns the scaled step norm ‖D·p‖ and whether the projection
+    /// clipped the step.
+    fn trial_step(&mut self, x: &[f64], options: &LevenbergMarquardtOptions) -> (f64, bool) {
+        let n = x.len();
+        let w = self;
+        let mut clipped = false;
+        for j in 0..n {
+            w.step[j] = -w.step[j];
+            w.trial[j] = x[j] + w.step[j];
+        }
+        if let Some(b) = &options.bounds {
+            b.project(&mut w.trial);
+            for j in 0..n {
+                let p = w.trial[j] - x[j];
+                if p != w.step[j] {
+                    clipped = true;
+                    w.step[j] = p;
+                }
+            }
+        }
+        debug_assert!(options.bounds.as_ref().is_none_or(|b| b.contains(&w.trial)));
+        for j in 0..n {
+            w.wa3[j] = w.diag[j] * w.step[j];
+        }
+        let pnorm = enorm(&w.wa3);
+        (pnorm, clipped)
+    }
+
     fn new(m: usize, n: usize) -> Self {
         Self {
             jac: DMatrix::zeros(m, n),
@@ -219,19 +391,113 @@ fn finite_differences<P: LeastSquaresProblem + ?Sized>(
     }
 }
 
-/// Solves `min ‖r(x)‖²` (within the bounds, if any) from `x0` by MINPACK's
-/// Levenberg–Marquardt method.
-///
-/// # Errors
-/// Bad input ([`OptError::EmptyStart`], [`OptError::NonFiniteStart`], an invalid
-/// option, bounds or diagonal that do not fit, [`OptError::TooFewResiduals`]), or a
-/// problem that cannot be started ([`OptError::InitialResiduals`],
-/// [`OptError::InitialJacobian`]). Everything after the start ends in an [`LmExit`].
-pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
+/// MINPACK's update of the trust radius `delta` and the Levenberg–Marquardt parameter
+/// `par` from the step's ratio of actual to predicted reduction.
+fn update_radius(
+    ratio: f64,
+    [actred, dirder]: [f64; 2],
+    [fnorm, fnorm1, pnorm]: [f64; 3],
+    delta: &mut f64,
+    par: &mut f64,
+) {
+    if ratio <= 0.25 {
+        let mut temp = if actred >= 0.0 {
+            0.5
+        } else {
+            0.5 * dirder / (dirder + 0.5 * actred)
+        };
+        if 0.1 * fnorm1 >= fnorm || temp < 0.1 || !temp.is_finite() {
+            temp = 0.1;
+        }
+        *delta = temp * delta.min(pnorm / 0.1);
+        *par /= temp;
+    } else if *par == 0.0 || ratio >= 0.75 {
+        *delta = pnorm / 0.5;
+        *par *= 0.5;
+    }
+}
+
+/// What the convergence tests look at after a step.
+struct Tests {
+    actred: f64,
+    prered: f64,
+    ratio: f64,
+    delta: f64,
+    xnorm: f64,
+    gnorm: f64,
+    nfev: usize,
+}
+
+impl Tests {
+    /// Why to stop, if so: the tolerances met, else the evaluation budget or a tolerance
+    /// too small for double precision (the last one found wins, as MINPACK).
+    fn stop(&self, options: &LevenbergMarquardtOptions, max_evaluations: usize) -> Option<LmExit> {
+        let Tests {
+            actred,
+            prered,
+            ratio,
+            delta,
+            xnorm,
+            gnorm,
+            nfev,
+        } = *self;
+        let eps = f64::EPSILON;
+        let f_small = actred.abs() <= options.f_tolerance
+            && prered <= options.f_tolerance
+            && 0.5 * ratio <= 1.0;
+        let x_small = delta <= options.x_tolerance * xnorm;
+        match (f_small, x_small) {
+            (true, true) => return Some(LmExit::FAndXTolerance),
+            (true, false) => return Some(LmExit::FTolerance),
+            (false, true) => return Some(LmExit::XTolerance),
+            (false, false) => {}
+        }
+        let mut stop = None;
+        if nfev >= max_evaluations {
+            stop = Some(LmExit::MaxEvaluations);
+        }
+        if actred.abs() <= eps && prered <= eps && 0.5 * ratio <= 1.0 {
+            stop = Some(LmExit::FToleranceTooSmall);
+        }
+        if delta <= eps * xnorm {
+            stop = Some(LmExit::XToleranceTooSmall);
+        }
+        if gnorm <= eps {
+            stop = Some(LmExit::GToleranceTooSmall);
+        }
+        stop
+    }
+}
+
+/// The start projected onto the bounds and its residuals, refused when they cannot be
+/// evaluated or are not finite.
+fn start<P: LeastSquaresProblem + ?Sized>(
     problem: &mut P,
     x0: &[f64],
     options: &LevenbergMarquardtOptions,
-) -> Result<LevenbergMarquardtResult, OptError> {
+    m: usize,
+) -> Result<(Vec<f64>, Vec<f64>), OptError> {
+    let mut x = x0.to_vec();
+    if let Some(b) = &options.bounds {
+        b.project(&mut x);
+    }
+    let mut fvec = vec![0.0; m];
+    if !problem.residuals(&x, &mut fvec) {
+        return Err(OptError::InitialResiduals { index: None });
+    }
+    if let Some(index) = fvec.iter().position(|v| !v.is_finite()) {
+        return Err(OptError::InitialResiduals { index: Some(index) });
+    }
+    Ok((x, fvec))
+}
+
+/// Refuses what cannot start: an empty or non-finite start, invalid options, fewer
+/// residuals than parameters, bounds or a diagonal of the wrong length. Returns (m, n).
+fn check_inputs<P: LeastSquaresProblem + ?Sized>(
+    problem: &P,
+    x0: &[f64],
+    options: &LevenbergMarquardtOptions,
+) -> Result<(usize, usize), OptError> {
     check_start(x0)?;
     options.validate()?;
     let n = x0.len();
@@ -254,21 +520,27 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
             found: d.len(),
         });
     }
+    Ok((m, n))
+}
+
+/// Solves `min ‖r(x)‖²` (within the bounds, if any) from `x0` by MINPACK's
+/// Levenberg–Marquardt method.
+///
+/// # Errors
+/// Bad input ([`OptError::EmptyStart`], [`OptError::NonFiniteStart`], an invalid
+/// option, bounds or diagonal that do not fit, [`OptError::TooFewResiduals`]), or a
+/// problem that cannot be started ([`OptError::InitialResiduals`],
+/// [`OptError::InitialJacobian`]). Everything after the start ends in an [`LmExit`].
+pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
+    problem: &mut P,
+    x0: &[f64],
+    options: &LevenbergMarquardtOptions,
+) -> Result<LevenbergMarquardtResult, OptError> {
+    let (m, n) = check_inputs(problem, x0, options)?;
     let max_evaluations = options.max_evaluations.unwrap_or(100 * (n + 1));
-    let eps = f64::EPSILON;
 
     let mut w = Work::new(m, n);
-    let mut x = x0.to_vec();
-    if let Some(b) = &options.bounds {
-        b.project(&mut x);
-    }
-    let mut fvec = vec![0.0; m];
-    if !problem.residuals(&x, &mut fvec) {
-        return Err(OptError::InitialResiduals { index: None });
-    }
-    if let Some(index) = fvec.iter().position(|v| !v.is_finite()) {
-        return Err(OptError::InitialResiduals { index: Some(index) });
-    }
+    let (mut x, mut fvec) = start(problem, x0, options, m)?;
     let mut nfev = 1;
     let mut njev = 0;
     let mut fd_evaluations = 0;
@@ -293,86 +565,13 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
         }
         jacobian_current = true;
 
-        // Active set: variables on a bound that the gradient Jᵀr pushes outward.
-        w.qr.copy_from_slice(w.jac.as_slice());
-        for j in 0..n {
-            let column = &w.jac.as_slice()[j * m..(j + 1) * m];
-            w.col_norms[j] = enorm(column);
-            if let Some(b) = &options.bounds {
-                let g: f64 = column.iter().zip(&fvec).map(|(a, r)| a * r).sum();
-                let fixed = b.lower[j] == b.upper[j];
-                let at_lower = x[j] <= b.lower[j] && g > 0.0;
-                let at_upper = x[j] >= b.upper[j] && g < 0.0;
-                if fixed || at_lower || at_upper {
-                    w.qr[j * m..(j + 1) * m].iter_mut().for_each(|v| *v = 0.0);
-                }
-            }
-        }
-        qrfac(
-            m,
-            n,
-            &mut w.qr,
-            &mut w.ipvt,
-            &mut w.rdiag,
-            &mut w.qr_norms,
-            &mut w.wa1,
-        );
+        w.factor(&x, &fvec, options);
 
         if iter == 1 {
-            match &options.diagonal {
-                Some(d) => w.diag.copy_from_slice(d),
-                None => {
-                    for j in 0..n {
-                        w.diag[j] = if w.col_norms[j] == 0.0 {
-                            1.0
-                        } else {
-                            w.col_norms[j]
-                        };
-                    }
-                }
-            }
-            for j in 0..n {
-                w.wa3[j] = w.diag[j] * x[j];
-            }
-            xnorm = enorm(&w.wa3);
-            delta = options.initial_step_bound * xnorm;
-            if delta == 0.0 {
-                delta = options.initial_step_bound;
-            }
+            (xnorm, delta) = w.initial_scaling(&x, options);
         }
 
-        // qtf = first n components of Qᵀ·r.
-        w.wa4.copy_from_slice(&fvec);
-        for j in 0..n {
-            let cj = j * m;
-            if w.qr[cj + j] != 0.0 {
-                let mut sum = 0.0;
-                for i in j..m {
-                    sum += w.qr[cj + i] * w.wa4[i];
-                }
-                let temp = -sum / w.qr[cj + j];
-                for i in j..m {
-                    w.wa4[i] += w.qr[cj + i] * temp;
-                }
-            }
-            w.qr[cj + j] = w.rdiag[j];
-            w.qtf[j] = w.wa4[j];
-        }
-
-        // Scaled gradient norm (largest cosine between r and a column of J).
-        let mut gnorm = 0.0_f64;
-        if fnorm != 0.0 {
-            for j in 0..n {
-                let l = w.ipvt[j];
-                if w.qr_norms[l] != 0.0 {
-                    let mut sum = 0.0;
-                    for i in 0..=j {
-                        sum += w.qr[i + j * m] * (w.qtf[i] / fnorm);
-                    }
-                    gnorm = gnorm.max((sum / w.qr_norms[l]).abs());
-                }
-            }
-        }
+        let gnorm = w.gradient_norm(&fvec, fnorm);
         if gnorm <= options.g_tolerance {
             break LmExit::Gradient;
         }
@@ -398,26 +597,7 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
                 &mut w.wa1,
                 &mut w.wa2,
             );
-            let mut clipped = false;
-            for j in 0..n {
-                w.step[j] = -w.step[j];
-                w.trial[j] = x[j] + w.step[j];
-            }
-            if let Some(b) = &options.bounds {
-                b.project(&mut w.trial);
-                for j in 0..n {
-                    let p = w.trial[j] - x[j];
-                    if p != w.step[j] {
-                        clipped = true;
-                        w.step[j] = p;
-                    }
-                }
-            }
-            debug_assert!(options.bounds.as_ref().is_none_or(|b| b.contains(&w.trial)));
-            for j in 0..n {
-                w.wa3[j] = w.diag[j] * w.step[j];
-            }
-            let pnorm = enorm(&w.wa3);
+            let (pnorm, clipped) = w.trial_step(&x, options);
             if pnorm == 0.0 {
                 break 'outer LmExit::XTolerance;
             }
@@ -435,56 +615,16 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
             };
 
             // Predicted reduction and directional derivative, both scaled by ‖r‖².
-            let (prered, dirder) = if !clipped {
-                for j in 0..n {
-                    w.wa3[j] = 0.0;
-                }
-                for j in 0..n {
-                    let temp = w.step[w.ipvt[j]];
-                    for i in 0..=j {
-                        w.wa3[i] += w.qr[i + j * m] * temp;
-                    }
-                }
-                let temp1 = enorm(&w.wa3) / fnorm;
-                let temp2 = (par.sqrt() * pnorm) / fnorm;
-                (
-                    temp1 * temp1 + temp2 * temp2 / 0.5,
-                    -(temp1 * temp1 + temp2 * temp2),
-                )
-            } else {
-                // Linear model along the projected step: ‖r + J·p‖².
-                w.wa4.iter_mut().for_each(|v| *v = 0.0);
-                for j in 0..n {
-                    let pj = w.step[j];
-                    if pj != 0.0 {
-                        for (acc, a) in w.wa4.iter_mut().zip(&w.jac.as_slice()[j * m..]) {
-                            *acc += a * pj;
-                        }
-                    }
-                }
-                let jp = enorm(&w.wa4) / fnorm;
-                let rjp: f64 =
-                    w.wa4.iter().zip(&fvec).map(|(a, r)| a * r).sum::<f64>() / (fnorm * fnorm);
-                (-(2.0 * rjp + jp * jp), rjp)
-            };
+            let (prered, dirder) = w.predicted_reduction(&fvec, fnorm, par, pnorm, clipped);
             let ratio = if prered > 0.0 { actred / prered } else { 0.0 };
 
-            // Update the trust radius.
-            if ratio <= 0.25 {
-                let mut temp = if actred >= 0.0 {
-                    0.5
-                } else {
-                    0.5 * dirder / (dirder + 0.5 * actred)
-                };
-                if 0.1 * fnorm1 >= fnorm || temp < 0.1 || !temp.is_finite() {
-                    temp = 0.1;
-                }
-                delta = temp * delta.min(pnorm / 0.1);
-                par /= temp;
-            } else if par == 0.0 || ratio >= 0.75 {
-                delta = pnorm / 0.5;
-                par *= 0.5;
-            }
+            update_radius(
+                ratio,
+                [actred, dirder],
+                [fnorm, fnorm1, pnorm],
+                &mut delta,
+                &mut par,
+            );
 
             if ratio >= 1e-4 {
                 x.copy_from_slice(&w.trial);
@@ -498,32 +638,16 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
                 jacobian_current = false;
             }
 
-            // Convergence tests.
-            let f_small = actred.abs() <= options.f_tolerance
-                && prered <= options.f_tolerance
-                && 0.5 * ratio <= 1.0;
-            let x_small = delta <= options.x_tolerance * xnorm;
-            match (f_small, x_small) {
-                (true, true) => break 'outer LmExit::FAndXTolerance,
-                (true, false) => break 'outer LmExit::FTolerance,
-                (false, true) => break 'outer LmExit::XTolerance,
-                (false, false) => {}
-            }
-            // Termination and stringent tolerances (the last one found wins, as MINPACK).
-            let mut stop = None;
-            if nfev >= max_evaluations {
-                stop = Some(LmExit::MaxEvaluations);
-            }
-            if actred.abs() <= eps && prered <= eps && 0.5 * ratio <= 1.0 {
-                stop = Some(LmExit::FToleranceTooSmall);
-            }
-            if delta <= eps * xnorm {
-                stop = Some(LmExit::XToleranceTooSmall);
-            }
-            if gnorm <= eps {
-                stop = Some(LmExit::GToleranceTooSmall);
-            }
-            if let Some(reason) = stop {
+            let tests = Tests {
+                actred,
+                prered,
+                ratio,
+                delta,
+                xnorm,
+                gnorm,
+                nfev,
+            };
+            if let Some(reason) = tests.stop(options, max_evaluations) {
                 break 'outer reason;
             }
             if ratio >= 1e-4 {
