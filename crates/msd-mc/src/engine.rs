@@ -251,7 +251,6 @@ where
     let claimed: Vec<Padded> = (0..l + groups).map(|_| Padded::default()).collect();
     let threads = pool.current_num_threads();
     let barrier = SpinBarrier::new(threads);
-    let panicked: Mutex<Option<Box<dyn std::any::Any + Send>>> = Mutex::new(None);
     let worker = |w: usize| {
         // Each worker starts with a tracker of its own and its own share of the groups
         // (their states and chunk regions stay in its cache), then helps with the rest.
@@ -287,6 +286,14 @@ where
             }
         }
     };
+    broadcast(pool, &barrier, &worker);
+    finish(&ok[..n], restart.into_inner(), trackers)
+}
+
+/// Runs `worker(index)` on every thread of `pool`; a panic in one aborts the barrier
+/// (so that the others return) and is resumed here once all have.
+fn broadcast(pool: &rayon::ThreadPool, barrier: &SpinBarrier, worker: &(dyn Fn(usize) + Sync)) {
+    let panicked: Mutex<Option<Box<dyn std::any::Any + Send>>> = Mutex::new(None);
     pool.broadcast(|context| {
         let work = || worker(context.index());
         if let Err(payload) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work)) {
@@ -300,8 +307,17 @@ where
     if let Some(payload) = panicked.into_inner().unwrap_or_else(|e| e.into_inner()) {
         std::panic::resume_unwind(payload);
     }
-    let ok: Vec<bool> = ok[..n].iter().map(|f| f.load(Ordering::Relaxed)).collect();
-    if restart.into_inner() {
+}
+
+/// The run's output from the samples' flags and the levels' trackers, or a restart
+/// without the samples that failed after the first chunk.
+fn finish(
+    ok: &[AtomicBool],
+    restart: bool,
+    trackers: Vec<Mutex<Option<Level>>>,
+) -> Result<EngineOutput, Restart> {
+    let ok: Vec<bool> = ok.iter().map(|f| f.load(Ordering::Relaxed)).collect();
+    if restart {
         return Err(Restart(ok));
     }
     let (percentiles, counts) = trackers
