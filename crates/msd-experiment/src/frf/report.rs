@@ -69,40 +69,45 @@ fn scale_known(o: &FrfOutcome) -> bool {
 /// The report; `figures` are the base names written.
 pub(crate) fn markdown(o: &FrfOutcome, figures: &[&str]) -> String {
     let mut s = String::new();
-    let w = &mut s;
-    let _ = writeln!(w, "# Experiment `{}`\n", o.config.name);
+    // Writing into a String cannot fail.
+    let _ = page(&mut s, o, figures);
+    s
+}
+
+fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
+    writeln!(w, "# Experiment `{}`\n", o.config.name)?;
     if !o.config.description.is_empty() {
-        let _ = writeln!(w, "{}\n", o.config.description.trim());
+        writeln!(w, "{}\n", o.config.description.trim())?;
     }
-    let _ = writeln!(w, "Frequency-domain identification from {}.\n", o.source);
-    let _ = writeln!(w, "| run | |\n|---|---|");
-    let _ = writeln!(w, "| config | `{}` |", o.config_path.display());
-    let _ = writeln!(
+    writeln!(w, "Frequency-domain identification from {}.\n", o.source)?;
+    writeln!(w, "| run | |\n|---|---|")?;
+    writeln!(w, "| config | `{}` |", o.config_path.display())?;
+    writeln!(
         w,
         "| command | `{} {}` |",
         o.command,
         o.config_path.display()
-    );
-    let _ = writeln!(w, "| seed | {} |", o.seed);
-    let _ = writeln!(
+    )?;
+    writeln!(w, "| seed | {} |", o.seed)?;
+    writeln!(
         w,
         "| toolkit version | {} |\n",
         crate::results::CRATE_VERSION
-    );
-    data_section(w, o);
+    )?;
+    data_section(w, o)?;
     match &o.fit {
-        FrfFit::OneMode(f) => one_mode_section(w, o, f),
-        FrfFit::Modes(m) => modes_section(w, o, m),
+        FrfFit::OneMode(f) => one_mode_section(w, o, f)?,
+        FrfFit::Modes(m) => modes_section(w, o, m)?,
     }
     if let Some(t) = &o.truth {
-        let _ = writeln!(
+        writeln!(
             w,
             "The true values lie inside the 95 % intervals for {}.\n",
             covered(o, t)
-        );
+        )?;
     }
     if let Some(td) = &o.time_domain {
-        super::time_domain::markdown(w, td);
+        super::time_domain::markdown(w, td)?;
     }
     for (name, caption) in [
         ("frf_fit_bode", "Bode plot: the data and the fitted model"),
@@ -114,57 +119,58 @@ pub(crate) fn markdown(o: &FrfOutcome, figures: &[&str]) -> String {
         ("frf_stabilization", "Stabilization diagram"),
     ] {
         if figures.contains(&name) {
-            let _ = writeln!(w, "![{caption}]({name}.png)\n");
+            writeln!(w, "![{caption}]({name}.png)\n")?;
         }
     }
-    let _ = writeln!(w, "## Timings\n\n| stage | ms |\n|---|---|");
+    writeln!(w, "## Timings\n\n| stage | ms |\n|---|---|")?;
     for (name, d) in &o.timings {
-        let _ = writeln!(w, "| {name} | {} |", crate::fmt::millis(*d));
+        writeln!(w, "| {name} | {} |", crate::fmt::millis(*d))?;
     }
-    s
+    Ok(())
 }
 
-fn data_section(w: &mut String, o: &FrfOutcome) {
+fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
     let d = &o.data;
     let n = d.frequency.len();
-    let _ = writeln!(w, "## Data\n");
-    let _ = writeln!(
+    writeln!(w, "## Data\n")?;
+    writeln!(
         w,
         "{n} lines from {} to {} Hz, {}; averaged over {} segments.",
         sig(d.frequency[0], 4),
         sig(d.frequency[n - 1], 4),
         d.kind,
         d.averages
-    );
+    )?;
     if d.averages > 1 {
         let ([from, to], low) = fitted_band_coherence(o);
-        let _ = write!(
+        write!(
             w,
             " The coherence is at least {} in the fitted band ({}–{} Hz).",
             sig(low, 3),
             sig(from, 4),
             sig(to, 4)
-        );
+        )?;
     }
     if let Some(tau) = d.exponential_decay {
-        let _ = write!(
+        write!(
             w,
             " An exponential window e^(−t/τ), τ = {tau} s, was applied: it adds the damping ratio 1/(ωn·τ) to a mode, which the fit takes off (below)."
-        );
+        )?;
     }
-    let _ = writeln!(w, "\n");
+    writeln!(w, "\n")?;
+    Ok(())
 }
 
-fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) {
+fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt::Result {
     let u = &f.uncertainty;
-    let _ = writeln!(w, "## One mode\n\n{}\n", first_line(&f.to_string()));
+    writeln!(w, "## One mode\n\n{}\n", first_line(&f.to_string()))?;
     let truth = o.truth.as_ref().filter(|t| t.plant.len() == 1);
     let mode = truth.and_then(|t| t.modes.first());
     let classroom = o.classroom.first().copied().flatten();
-    let _ = writeln!(
+    writeln!(
         w,
         "| quantity | estimate | 95 % interval | half-power / peak | truth |\n|---|---|---|---|---|"
-    );
+    )?;
     let mut rows: Vec<(&str, &Interval, Option<f64>, Option<f64>)> = Vec::new();
     if scale_known(o) {
         let p = truth.map(|t| &t.plant);
@@ -192,24 +198,25 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) {
         mode.map(|m| m.damping_ratio),
     ));
     for (name, i, c, t) in rows {
-        row(w, name, i, c, t);
+        row(w, name, i, c, t)?;
     }
-    let _ = writeln!(w);
-    window_note(w, f.window_correction.as_ref(), classroom.as_ref());
+    writeln!(w)?;
+    window_note(w, f.window_correction.as_ref(), classroom.as_ref())?;
+    Ok(())
 }
 
-fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) {
-    let _ = writeln!(w, "## Modes\n\n{}\n", first_line(&m.to_string()));
-    let _ = writeln!(w, "{}\n", first_line(&m.diagram.to_string()));
-    let _ = writeln!(
+fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Result {
+    writeln!(w, "## Modes\n\n{}\n", first_line(&m.to_string()))?;
+    writeln!(w, "{}\n", first_line(&m.diagram.to_string()))?;
+    writeln!(
         w,
         "| mode | fn [Hz] | ζ [-] | modal constant A | B | stable orders | half-power fn, ζ | true fn, ζ |\n|---|---|---|---|---|---|---|---|"
-    );
+    )?;
     let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
     for (r, mode) in m.modes.iter().enumerate() {
         let classroom = o.classroom.get(r).copied().flatten();
         let t = truth.map(|t| t.modes[r]);
-        let _ = writeln!(
+        writeln!(
             w,
             "| {} | {} | {} | {} | {} | {} | {} | {} |",
             r + 1,
@@ -228,19 +235,20 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) {
                 sig(t.natural_frequency_hz, 6),
                 sig(t.damping_ratio, 4)
             )),
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         w,
         "\nResidual terms: lower L = {} (the modes below the band, −L/ω²), upper U = {} (those above).\n",
         interval(&m.lower_residual),
         interval(&m.upper_residual)
-    );
+    )?;
     for (r, mode) in m.modes.iter().enumerate() {
         if let Some(c) = &mode.window_correction {
-            let _ = writeln!(w, "Mode {}: {c}.\n", r + 1);
+            writeln!(w, "Mode {}: {c}.\n", r + 1)?;
         }
     }
+    Ok(())
 }
 
 /// What the exponential window did, stated: ζ as fitted and what was taken off.
@@ -248,27 +256,34 @@ fn window_note(
     w: &mut String,
     c: Option<&msd_ident::frf::WindowCorrection>,
     h: Option<&HalfPower>,
-) {
+) -> std::fmt::Result {
     if let Some(c) = c {
-        let _ = writeln!(
+        writeln!(
             w,
             "The exponential window (τ = {} s) raised the fitted ζ to {}; {} of it (≈ 1/(ωn·τ)) was taken off.\n",
             c.decay_time,
             sig(c.damping_ratio_windowed, 4),
             sig(c.damping_ratio_added, 4)
-        );
+        )?;
     }
     if let Some(h) = h.filter(|h| h.damping_ratio_added > 0.0) {
-        let _ = writeln!(
+        writeln!(
             w,
             "The half-power ζ was corrected by the same window: {} taken off.\n",
             sig(h.damping_ratio_added, 4)
-        );
+        )?;
     }
+    Ok(())
 }
 
-fn row(w: &mut String, name: &str, i: &Interval, classroom: Option<f64>, truth: Option<f64>) {
-    let _ = writeln!(
+fn row(
+    w: &mut String,
+    name: &str,
+    i: &Interval,
+    classroom: Option<f64>,
+    truth: Option<f64>,
+) -> std::fmt::Result {
+    writeln!(
         w,
         "| {name} | {} | {} … {} | {} | {} |",
         sig(i.value, 6),
@@ -276,7 +291,8 @@ fn row(w: &mut String, name: &str, i: &Interval, classroom: Option<f64>, truth: 
         sig(i.ci95[1], 6),
         classroom.map_or("—".into(), |v| sig(v, 5)),
         truth.map_or("—".into(), |v| sig(v, 6)),
-    );
+    )?;
+    Ok(())
 }
 
 fn interval(i: &Interval) -> String {

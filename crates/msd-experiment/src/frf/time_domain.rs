@@ -283,16 +283,16 @@ impl std::fmt::Display for TimeDomain {
 }
 
 /// The report's section.
-pub(crate) fn markdown(w: &mut String, td: &TimeDomain) {
-    let _ = writeln!(w, "## Frequency domain and time domain\n");
+pub(crate) fn markdown(w: &mut String, td: &TimeDomain) -> std::fmt::Result {
+    writeln!(w, "## Frequency domain and time domain\n")?;
     let t = match td {
         TimeDomain::Compared(t) => t,
         TimeDomain::Skipped { reason } => {
-            let _ = writeln!(w, "Not compared: {reason}.\n");
-            return;
+            writeln!(w, "Not compared: {reason}.\n")?;
+            return Ok(());
         }
     };
-    let _ = writeln!(
+    writeln!(
         w,
         "The same {} records ({} samples) fitted in the time domain: msd-ident's `fit_records` with a force drive, each record's initial state and offset estimated, the force {} between samples, started from the frequency-domain estimate ({} iterations, σ̂ = {}).\n",
         t.records,
@@ -304,13 +304,13 @@ pub(crate) fn markdown(w: &mut String, td: &TimeDomain) {
         },
         t.iterations,
         t.noise.first().map_or("—".into(), |n| sig(n.sigma, 3)),
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         w,
         "| quantity | frequency domain ± 95 % | time domain ± 95 % | truth | difference / combined SE |\n|---|---|---|---|---|"
-    );
+    )?;
     for d in &t.comparison {
-        let _ = writeln!(
+        writeln!(
             w,
             "| {} | {} | {} | {} | {:.2} |",
             label(d.quantity),
@@ -318,15 +318,16 @@ pub(crate) fn markdown(w: &mut String, td: &TimeDomain) {
             plus_minus(&d.time_domain),
             d.truth.map_or("—".into(), |v| sig(v, 6)),
             d.difference_se
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         w,
         "\nThe difference is in units of √(SE_f² + SE_t²). Both fits use the same records, so their errors are positively correlated and |difference| ≤ 1.96 is a conservative test of agreement at 95 %.\n"
-    );
+    )?;
     for note in &t.notes {
-        let _ = writeln!(w, "Note: {note}.\n");
+        writeln!(w, "Note: {note}.\n")?;
     }
+    Ok(())
 }
 
 fn label(quantity: &str) -> &str {

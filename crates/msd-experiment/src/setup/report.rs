@@ -117,43 +117,49 @@ fn identifiability_note(o: &SetupOutcome) -> Option<&str> {
 /// `report.md`.
 pub(crate) fn markdown(o: &SetupOutcome, figures: &[&str]) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "# {}\n", o.config.name);
+    // Writing into a String cannot fail.
+    let _ = page(&mut s, o, figures);
+    s
+}
+
+fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result {
+    writeln!(s, "# {}\n", o.config.name)?;
     if !o.config.description.is_empty() {
-        let _ = writeln!(s, "{}\n", o.config.description);
+        writeln!(s, "{}\n", o.config.description)?;
     }
-    let _ = writeln!(
+    writeln!(
         s,
         "Run with `{} {}` (seed {}).\n",
         o.command,
         o.config_path.display(),
         o.seed
-    );
-    setup_section(&mut s, o);
-    estimate_section(&mut s, o);
+    )?;
+    setup_section(s, o)?;
+    estimate_section(s, o)?;
     match &o.fit {
         SetupFit::Records { fit, classroom } => {
-            records_section(&mut s, fit);
+            records_section(s, fit)?;
             if let Some(c) = classroom {
-                classroom_section(&mut s, c);
+                classroom_section(s, c)?;
             }
         }
-        SetupFit::Machine(m) => super::report_machine::section(&mut s, m),
+        SetupFit::Machine(m) => super::report_machine::section(s, m)?,
     }
-    let _ = writeln!(s, "## Figures\n");
+    writeln!(s, "## Figures\n")?;
     for f in figures {
-        let _ = writeln!(s, "![{f}]({f}.png)\n");
+        writeln!(s, "![{f}]({f}.png)\n")?;
     }
-    let _ = writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|");
+    writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
     for (name, d) in &o.timings {
-        let _ = writeln!(s, "| {name} | {} |", millis(*d));
+        writeln!(s, "| {name} | {} |", millis(*d))?;
     }
-    s
+    Ok(())
 }
 
-fn setup_section(s: &mut String, o: &SetupOutcome) {
+fn setup_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
     let setup = &o.data.setup;
-    let _ = writeln!(s, "## Setup\n");
-    let _ = writeln!(
+    writeln!(s, "## Setup\n")?;
+    writeln!(
         s,
         "Excitation: **{}**. Records: {} ({}).",
         setup.excitation.name(),
@@ -163,17 +169,17 @@ fn setup_section(s: &mut String, o: &SetupOutcome) {
         } else {
             "measured"
         }
-    );
+    )?;
     if let Some(m) = setup.known_mass {
-        let _ = writeln!(s, "Known (weighed) mass: {} kg.", sig(m, 6));
+        writeln!(s, "Known (weighed) mass: {} kg.", sig(m, 6))?;
     }
     if let Some(k) = setup.known_stiffness {
-        let _ = writeln!(s, "Known static stiffness: {} N/m.", sig(k, 6));
+        writeln!(s, "Known static stiffness: {} N/m.", sig(k, 6))?;
     }
-    let _ = writeln!(
+    writeln!(
         s,
         "\n| channel | quantity | frame | unit | noise σ (synthetic) |\n|---|---|---|---|---|"
-    );
+    )?;
     let default_sigma = o.config.noise.map(|n| n.sigma);
     for c in &o.data.channels {
         let sigma = if o.data.files.is_empty() {
@@ -181,7 +187,7 @@ fn setup_section(s: &mut String, o: &SetupOutcome) {
         } else {
             "—".into()
         };
-        let _ = writeln!(
+        writeln!(
             s,
             "| {} | {} | {} | {} | {} |",
             c.channel_name(),
@@ -189,75 +195,77 @@ fn setup_section(s: &mut String, o: &SetupOutcome) {
             c.frame.name(),
             c.unit.as_deref().unwrap_or(c.quantity.unit()),
             sigma
-        );
+        )?;
     }
     s.push('\n');
+    Ok(())
 }
 
-fn estimate_section(s: &mut String, o: &SetupOutcome) {
-    let _ = writeln!(s, "## Estimate\n");
+fn estimate_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
+    writeln!(s, "## Estimate\n")?;
     let rows = estimates(o);
     let names: Vec<&str> = rows.iter().map(|r| r.0).collect();
-    let _ = writeln!(s, "The setup identifies: {}.\n", names.join(", "));
+    writeln!(s, "The setup identifies: {}.\n", names.join(", "))?;
     if let Some(note) = identifiability_note(o) {
-        let _ = writeln!(s, "**Not identifiable:** {note}\n");
+        writeln!(s, "**Not identifiable:** {note}\n")?;
     }
     let has_truth = rows.iter().any(|r| r.3.is_some());
-    let _ = write!(
+    write!(
         s,
         "| quantity | estimate | standard error | 95 % interval |"
-    );
+    )?;
     if has_truth {
-        let _ = write!(s, " truth | inside |");
+        write!(s, " truth | inside |")?;
     }
-    let _ = writeln!(
+    writeln!(
         s,
         "\n|---|---|---|---|{}",
         if has_truth { "---|---|" } else { "" }
-    );
+    )?;
     for (_, label, iv, truth) in rows {
         if iv.standard_error == 0.0 {
             // A known (weighed) mass or static stiffness: given, not estimated.
-            let _ = write!(s, "| {label} | {} | known, fixed | — |", sig(iv.value, 6));
+            write!(s, "| {label} | {} | known, fixed | — |", sig(iv.value, 6))?;
         } else {
-            let _ = write!(
+            write!(
                 s,
                 "| {label} | {} | {} | [{}, {}] |",
                 sig(iv.value, 6),
                 sig(iv.standard_error, 3),
                 sig(iv.ci95[0], 6),
                 sig(iv.ci95[1], 6)
-            );
+            )?;
         }
         if has_truth {
             let t = truth.map_or("—".into(), |t| sig(t, 6));
             let inside = truth.map_or("—", |t| if iv.contains(t) { "yes" } else { "**no**" });
-            let _ = write!(s, " {t} | {inside} |");
+            write!(s, " {t} | {inside} |")?;
         }
         s.push('\n');
     }
     s.push('\n');
+    Ok(())
 }
 
-fn records_section(s: &mut String, fit: &RecordsFit) {
-    let _ = writeln!(
+fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
+    writeln!(
         s,
         "## Channels\n\n| channel | estimated noise σ̂ | samples |\n|---|---|---|"
-    );
+    )?;
     for n in &fit.noise {
-        let _ = writeln!(s, "| {} | {} | {} |", n.channel, sig(n.sigma, 4), n.samples);
+        writeln!(s, "| {} | {} | {} |", n.channel, sig(n.sigma, 4), n.samples)?;
     }
-    let _ = writeln!(
+    writeln!(
         s,
         "\n## Records\n\nOne row per record and channel: the fit of the joint estimate.\n"
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         s,
         "| record | channel | R² | fit % | offset | x(t₀) | x′(t₀) |\n|---|---|---|---|---|---|---|"
-    );
+    )?;
     for r in &fit.records {
         for c in &r.channels {
-            let _ = writeln!(
+            writeln!(
                 s,
                 "| {} | {} | {} | {} | {} | {} | {} |",
                 r.name,
@@ -267,17 +275,17 @@ fn records_section(s: &mut String, fit: &RecordsFit) {
                 sig(c.offset, 4),
                 sig(r.initial_state.displacement, 4),
                 sig(r.initial_state.velocity, 4)
-            );
+            )?;
         }
     }
     if let Some(loo) = &fit.leave_one_out {
-        let _ = writeln!(
+        writeln!(
             s,
             "\n## Leave one record out\n\nEach record predicted by the parameters fitted to the others.\n\n| record left out | fn [Hz] | ζ | channel | R² | fit % |\n|---|---|---|---|---|---|"
-        );
+        )?;
         for l in loo {
             for c in &l.channels {
-                let _ = writeln!(
+                writeln!(
                     s,
                     "| {} | {} | {} | {} | {} | {} |",
                     l.record,
@@ -286,40 +294,42 @@ fn records_section(s: &mut String, fit: &RecordsFit) {
                     c.channel,
                     sig(c.fit.r_squared, 6),
                     sig(c.fit.fit_percent, 4)
-                );
+                )?;
             }
         }
     }
     if !fit.notes.is_empty() {
-        let _ = writeln!(s, "\nNotes:\n");
+        writeln!(s, "\nNotes:\n")?;
         for n in &fit.notes {
-            let _ = writeln!(s, "- {n}");
+            writeln!(s, "- {n}")?;
         }
     }
     s.push('\n');
+    Ok(())
 }
 
-fn classroom_section(s: &mut String, c: &msd_ident::FreeDecay) {
+fn classroom_section(s: &mut String, c: &msd_ident::FreeDecay) -> std::fmt::Result {
     let k = &c.classroom;
-    let _ = writeln!(
+    writeln!(
         s,
         "## Free decay: the classroom estimates\n\nFrom the first record alone, for comparison with the fit.\n\n| | classroom | closed-form fit |\n|---|---|---|"
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         s,
         "| logarithmic decrement δ | {} | — |",
         sig(k.log_decrement, 5)
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         s,
         "| ζ = δ/√(4π² + δ²) | {} | {} |",
         sig(k.damping_ratio, 5),
         sig(c.damping_ratio.value, 5)
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         s,
         "| damped frequency fd [Hz] (zero crossings) | {} | {} |\n",
         sig(k.damped_frequency_hz, 6),
         sig(c.damped_frequency_hz.value, 6)
-    );
+    )?;
+    Ok(())
 }

@@ -7,18 +7,18 @@ use msd_ident::Dynamometer;
 use std::fmt::Write;
 
 /// Writes the conditions table and the law comparison.
-pub(crate) fn section(s: &mut String, m: &Dynamometer) {
-    let _ = writeln!(
+pub(crate) fn section(s: &mut String, m: &Dynamometer) -> std::fmt::Result {
+    writeln!(
         s,
         "## Test conditions\n\nPer condition, from the harmonic content of the stroke and the force ({} harmonics): the energy dissipated per cycle E = ∮F dx, the equivalent viscous damping c_eq = E/(π·ω·X²), the storage stiffness k′ (in-phase force over X), the loss factor η and the peaks.\n",
         m.harmonics
-    );
-    let _ = writeln!(
+    )?;
+    writeln!(
         s,
         "| condition | f [Hz] | X [m] | E [J] | c_eq [N·s/m] | k′ [N/m] | η | peak F [N] | peak v [m/s] |\n|---|---|---|---|---|---|---|---|---|"
-    );
+    )?;
     for c in &m.conditions {
-        let _ = writeln!(
+        writeln!(
             s,
             "| {} | {}{} | {} | {} | {} | {} | {} | {} | {} |",
             c.name,
@@ -31,12 +31,12 @@ pub(crate) fn section(s: &mut String, m: &Dynamometer) {
             sig(c.loss_factor, 4),
             sig(c.peak_force, 5),
             sig(c.peak_velocity, 4)
-        );
+        )?;
     }
-    let _ = writeln!(
+    writeln!(
         s,
         "\n## Damping laws\n\nF = m·x″ + k·x + f_d(x′) fitted to every condition at once, ranked by BIC (ΔBIC > 10: very strong evidence against the lower-ranked law).\n\n| rank | law | coefficients (95 % interval) | σ̂ force [N] | R² | ΔBIC |\n|---|---|---|---|---|---|"
-    );
+    )?;
     for law in &m.laws {
         let coefficients: Vec<String> = law
             .names
@@ -51,7 +51,7 @@ pub(crate) fn section(s: &mut String, m: &Dynamometer) {
                 )
             })
             .collect();
-        let _ = writeln!(
+        writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} |",
             law.rank,
@@ -60,7 +60,8 @@ pub(crate) fn section(s: &mut String, m: &Dynamometer) {
             sig(law.force_sigma, 4),
             sig(law.fit.r_squared, 6),
             sig(law.delta_bic, 4)
-        );
+        )?;
     }
-    let _ = writeln!(s, "\n{}\n", m.verdict);
+    writeln!(s, "\n{}\n", m.verdict)?;
+    Ok(())
 }
