@@ -265,8 +265,10 @@ pub struct UffSource {
     /// response function.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub function: Option<usize>,
-    /// What the response measures. By default from the file's ordinate axis
-    /// (displacement, velocity or acceleration), else receptance.
+    /// What the response measures. By default from the file: the ordinate axis's data
+    /// type (displacement, velocity or acceleration) or, when that is "general" or
+    /// unknown, its units (`m/N`, `(m/s)/N`, `(1/N)*(m/s2)`, `g/N`); a file that says
+    /// neither, or whose type and units disagree, is refused until this key says.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kind: Option<FrfKind>,
 }

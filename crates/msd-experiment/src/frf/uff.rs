@@ -53,8 +53,7 @@ pub(crate) fn pick(
 }
 
 /// The frequency response of `function`: complex ordinate values at its abscissa (Hz),
-/// measuring `kind`, else what the ordinate axis says (SDRC data types 8 displacement,
-/// 11 velocity, 12 acceleration), else receptance.
+/// measuring `kind`, else what the file says (see [`measured_kind`]).
 pub(crate) fn to_estimate(
     function: &Function58,
     kind: Option<FrfKind>,
@@ -75,10 +74,150 @@ pub(crate) fn to_estimate(
         .collect();
     let mut frf =
         FrequencyResponseEstimate::new(function.abscissa_values(), h).map_err(|e| e.to_string())?;
-    frf.kind = kind.unwrap_or(match function.ordinate_axis.data_type {
-        11 => FrfKind::Mobility,
-        12 => FrfKind::Accelerance,
-        _ => FrfKind::Receptance,
-    });
+    frf.kind = match kind {
+        Some(kind) => kind,
+        None => measured_kind(function)?,
+    };
     Ok(frf)
+}
+
+/// What a frequency response function measures, from the file: the ordinate axis's
+/// data type (SDRC 8 displacement, 11 velocity, 12 acceleration) and its units and label
+/// (`m/N`, `(m/s)/N`, `(1/N)*(m/s2)`, `g/N`, "accelerance", …), which decide when the type
+/// is 0 (unknown) or 1 (general). A type and units that disagree, or neither saying, is
+/// an error that names what the file holds and the key that settles it.
+fn measured_kind(function: &Function58) -> Result<FrfKind, String> {
+    let axis = &function.ordinate_axis;
+    let by_type = match axis.data_type {
+        8 => Some(FrfKind::Receptance),
+        11 => Some(FrfKind::Mobility),
+        12 => Some(FrfKind::Accelerance),
+        _ => None,
+    };
+    let by_units = kind_from_units(&axis.units).or_else(|| kind_from_units(&axis.label));
+    let says = format!(
+        "the ordinate axis has data type {} with units `{}` and label `{}`",
+        axis.data_type,
+        axis.units.trim(),
+        axis.label.trim()
+    );
+    match (by_type, by_units) {
+        (Some(t), Some(u)) if t != u => Err(format!(
+            "{says}: the type says {t}, the units {u}; set frequency_response.uff.kind to the one measured"
+        )),
+        (Some(kind), _) | (None, Some(kind)) => Ok(kind),
+        (None, None) => Err(format!(
+            "{says}: neither tells receptance, mobility or accelerance; set frequency_response.uff.kind"
+        )),
+    }
+}
+
+/// The quantity a units string or label names, if it names one: acceleration per force
+/// (`m/s2`, `m/s^2`, `m/s**2`, `m/s²`, `g`), velocity per force (`m/s`), displacement per
+/// force (`m`, `mm`, `µm`, `in`), or the FRF's name itself.
+fn kind_from_units(text: &str) -> Option<FrfKind> {
+    let t: String = text
+        .to_lowercase()
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect();
+    if t.is_empty() || t == "none" {
+        return None;
+    }
+    for (names, kind) in [
+        (
+            ["accelerance", "inertance", "acceleration"],
+            FrfKind::Accelerance,
+        ),
+        (["mobility", "velocity", "admittance"], FrfKind::Mobility),
+        (
+            ["receptance", "compliance", "displacement"],
+            FrfKind::Receptance,
+        ),
+    ] {
+        if names.iter().any(|n| t.contains(n)) {
+            return Some(kind);
+        }
+    }
+    let per_s2 = [
+        "/s2", "/s^2", "/s**2", "/s²", "/(s2)", "/(s^2)", "s^-2", "s-2",
+    ];
+    if per_s2.iter().any(|p| t.contains(p)) {
+        return Some(FrfKind::Accelerance);
+    }
+    // `g` (standard gravity) as a unit of its own: `g/n`, `(1/n)*g`, `g`.
+    let units: Vec<&str> = t
+        .split(|c: char| !c.is_alphanumeric() && c != 'µ')
+        .filter(|u| !u.is_empty())
+        .collect();
+    if units.contains(&"g") {
+        return Some(FrfKind::Accelerance);
+    }
+    if t.contains("/s") || t.contains("s^-1") || t.contains("s-1") {
+        return Some(FrfKind::Mobility);
+    }
+    let lengths = ["m", "mm", "µm", "um", "in", "mil"];
+    units
+        .iter()
+        .any(|u| lengths.contains(u))
+        .then_some(FrfKind::Receptance)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn units_name_the_quantity() {
+        let cases = [
+            ("(1/N)*(m/s2)", Some(FrfKind::Accelerance)),
+            ("m/s^2/N", Some(FrfKind::Accelerance)),
+            ("(m/s**2)/N", Some(FrfKind::Accelerance)),
+            ("g/N", Some(FrfKind::Accelerance)),
+            ("Accelerance", Some(FrfKind::Accelerance)),
+            ("(m/s)/N", Some(FrfKind::Mobility)),
+            ("m/N", Some(FrfKind::Receptance)),
+            ("mm/N", Some(FrfKind::Receptance)),
+            ("NONE", None),
+            ("", None),
+            ("N/N", None),
+        ];
+        for (units, kind) in cases {
+            assert_eq!(kind_from_units(units), kind, "{units}");
+        }
+    }
+
+    fn function(data_type: i32, units: &str) -> Function58 {
+        let mut f = Function58::new(
+            FunctionType::FrequencyResponse,
+            msd_uff::Abscissa::Even {
+                start: 0.0,
+                step: 1.0,
+            },
+            Ordinate::Complex(vec![(1.0, 0.0); 4]),
+        );
+        f.ordinate_axis.data_type = data_type;
+        f.ordinate_axis.units = units.into();
+        f
+    }
+
+    #[test]
+    fn a_general_ordinate_takes_its_units_and_a_conflict_is_refused() {
+        assert_eq!(
+            measured_kind(&function(1, "(1/N)*(m/s2)")),
+            Ok(FrfKind::Accelerance)
+        );
+        assert_eq!(measured_kind(&function(8, "m")), Ok(FrfKind::Receptance));
+        assert_eq!(
+            measured_kind(&function(12, "NONE")),
+            Ok(FrfKind::Accelerance)
+        );
+        let conflict = measured_kind(&function(8, "(1/N)*(m/s2)")).expect_err("conflict");
+        assert!(
+            conflict.contains("frequency_response.uff.kind"),
+            "{conflict}"
+        );
+        let unknown = measured_kind(&function(1, "NONE")).expect_err("unknown");
+        assert!(unknown.contains("data type 1"), "{unknown}");
+    }
 }
