@@ -99,7 +99,11 @@ pub fn half_power(frf: &FrequencyResponseEstimate, band_hz: Option<[f64; 2]>) ->
     let crossing = |a: usize, b: usize| f[a] + (level - mag[a]) / (mag[b] - mag[a]) * (f[b] - f[a]);
     let (lower_hz, upper_hz) = (crossing(i, i + 1), crossing(j - 1, j));
     let added = frf.added_damping_ratio(fn_hz);
-    debug_assert!(lower_hz <= fn_hz && fn_hz <= upper_hz);
+    if !(lower_hz <= fn_hz && fn_hz <= upper_hz) {
+        return refuse(format!(
+            "the peak at {fn_hz:.4} Hz is not resolved: its half-power points, interpolated between the lines around it ({lower_hz:.4} and {upper_hz:.4} Hz), do not bracket it; measure more lines near the resonance"
+        ));
+    }
     Ok(HalfPower {
         natural_frequency_hz: fn_hz,
         damping_ratio: (upper_hz - lower_hz) / (2.0 * fn_hz) - added,
@@ -135,5 +139,27 @@ mod tests {
         let (x, top) = vertex([1.0, 1.2, 1.7], [y(1.0), y(1.2), y(1.7)]);
         assert!((x - 1.3).abs() < 1e-12 && (top - 3.0).abs() < 1e-12);
         assert_eq!(vertex([0.0, 1.0, 2.0], [1.0, 2.0, 3.0]), (1.0, 2.0));
+    }
+}
+
+#[cfg(test)]
+mod sparse_tests {
+    use super::*;
+    use crate::{Parameters, frequency::model_response};
+
+    /// A stepped sine of 4 logarithmic lines over 0.25–2.5 Hz on the paper's plant (issue
+    /// 31: this reached an assertion): the peak is not resolved, and the estimate says
+    /// why instead of giving a number.
+    #[test]
+    fn four_lines_give_a_reason_not_a_panic() {
+        let f: Vec<f64> = (0..4).map(|i| 0.25 * 10f64.powf(i as f64 / 3.0)).collect();
+        let h = f
+            .iter()
+            .map(|&f| model_response(&Parameters::PAPER, std::f64::consts::TAU * f))
+            .collect();
+        let frf = FrequencyResponseEstimate::new(f, h).expect("an estimate");
+        let err = half_power(&frf, None).expect_err("four lines do not resolve the peak");
+        assert!(matches!(err, IdentError::NotIdentifiable { .. }), "{err}");
+        assert!(err.to_string().contains("not resolved"), "{err}");
     }
 }
