@@ -93,7 +93,15 @@ pub struct DesignConstraints {
     /// plant.
     pub max_stroke: f64,
     /// The band of the excited lines, Hz. By default 0.2 … 4.2 (61 lines of a 15 s
-    /// record's grid, around the paper plant's 1.10 Hz mode).
+    /// record's grid, around the paper plant's 1.10 Hz mode). Exactly two values.
+    ///
+    /// ```
+    /// use msd_ident::design::DesignConstraints;
+    /// assert!(toml::from_str::<DesignConstraints>("band_hz = [0.5, 3.0]").is_ok());
+    /// let err = toml::from_str::<DesignConstraints>("band_hz = [0.5, 3.0, 9.0]").unwrap_err();
+    /// assert!(err.to_string().contains("expected 2 values [low, high], got 3"), "{err}");
+    /// ```
+    #[serde(deserialize_with = "crate::pair::exactly_two")]
     pub band_hz: [f64; 2],
     /// An optional step. By default none.
     #[serde(skip_serializing_if = "Option::is_none")]
