@@ -142,6 +142,9 @@ struct Results {
 #[derive(Deserialize)]
 struct ExperimentName {
     name: String,
+    /// `synthetic` or `measured` (a time-domain run), `frequency_response`.
+    #[serde(default)]
+    kind: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -163,6 +166,12 @@ fn read(path: &Path) -> Result<Pilot> {
             format!("{e}: expected the results.json of a force-and-displacement run (`cargo xtask experiment`), with experiment.name and estimate.mass, .damping, .stiffness, .noise_sigma"),
         )
     })?;
+    if results.experiment.kind.as_deref() == Some("frequency_response") {
+        return Err(ExperimentError::data(
+            path,
+            "pilot.results: the results.json of a frequency-response run (experiment.kind = \"frequency_response\"): its noise_sigma is a relative error of the FRF, not the displacement noise a design needs; expected the results.json of a force-and-displacement run (`cargo xtask experiment`)",
+        ));
+    }
     let e = results.estimate;
     Pilot {
         name: results.experiment.name,

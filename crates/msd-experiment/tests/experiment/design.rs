@@ -294,3 +294,27 @@ fn verify_refuses_estimation_the_prediction_does_not_assume() {
         "{err}"
     );
 }
+
+/// A `[pilot] results` that is a frequency-response run's `results.json` is refused by
+/// name: its `noise_sigma` is a relative FRF error, not a displacement noise (issue 31).
+#[test]
+fn a_frequency_response_run_is_not_a_pilot() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = msd_experiment::RunOptions {
+        out: Some(dir.path().join("frf-run")),
+        ..Default::default()
+    };
+    msd_experiment::run_experiment(&config("frf-table.toml"), &run).unwrap();
+    let text = std::fs::read_to_string(config("design-sequential.toml"))
+        .unwrap()
+        .replace(
+            "config = \"paper-fast.toml\"",
+            "results = \"frf-run/results.json\"",
+        );
+    let file = dir.path().join("sequential.toml");
+    std::fs::write(&file, text).unwrap();
+    let err = design(&file, &DesignRunOptions::default()).expect_err("refused");
+    let message = err.to_string();
+    assert!(message.contains("frequency_response"), "{message}");
+    assert_eq!(err.exit_code(), 2, "{message}");
+}
