@@ -648,10 +648,13 @@ impl<'de> Deserialize<'de> for Paths {
             One(PathBuf),
             Many(Vec<PathBuf>),
         }
-        Ok(Paths(match OneOrMany::deserialize(d)? {
-            OneOrMany::One(p) => vec![p],
-            OneOrMany::Many(v) => v,
-        }))
+        match OneOrMany::deserialize(d)? {
+            OneOrMany::One(p) => Ok(Paths(vec![p])),
+            OneOrMany::Many(v) if v.is_empty() => Err(serde::de::Error::custom(
+                "an empty list: expected a file name or a list of at least one",
+            )),
+            OneOrMany::Many(v) => Ok(Paths(v)),
+        }
     }
 }
 
@@ -1336,6 +1339,17 @@ pub(crate) fn locate_key(text: &str, path: &str) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_empty_list_of_data_files_names_its_key() {
+        let text = "name = \"x\"\n[data]\npath = []\ninput = \"f\"\noutput = \"x\"\n";
+        let err = Config::from_toml_str(text, "x.toml").expect_err("refused");
+        let message = err.to_string();
+        assert!(
+            message.contains("data.path") && message.contains("empty list"),
+            "{message}"
+        );
+    }
 
     #[test]
     fn locates_keys_in_tables() {
