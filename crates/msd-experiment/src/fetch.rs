@@ -59,7 +59,9 @@ pub struct DataFile {
     pub sha256: &'static str,
 }
 
-/// Where a data set's official archive is, and where its files are inside it.
+/// Where a data set's official archive is, and where its files are inside it: a zip, or
+/// a folder of plain files on the web (`zipped = false`: file NAME is at
+/// `url` + `folder/` + NAME).
 ///
 /// ```
 /// use msd_experiment::fetch::SILVERBOX;
@@ -73,6 +75,8 @@ pub struct Archive {
     pub url: &'static str,
     /// The folder of the set's files inside the archive (`""`: at its root).
     pub folder: &'static str,
+    /// Whether `url` is a zip holding the files (else the files lie under it).
+    pub zipped: bool,
 }
 
 impl Archive {
@@ -80,7 +84,7 @@ impl Archive {
     ///
     /// ```
     /// use msd_experiment::fetch::Archive;
-    /// let flat = Archive { url: "file:///tmp/x.zip", folder: "" };
+    /// let flat = Archive { url: "file:///tmp/x.zip", folder: "", zipped: true };
     /// assert_eq!(flat.member_path("a.csv"), "a.csv");
     /// ```
     pub fn member_path(&self, name: &str) -> String {
@@ -89,6 +93,23 @@ impl Archive {
         } else {
             format!("{}/{name}", self.folder.trim_end_matches('/'))
         }
+    }
+
+    /// Where the file `name` is when the set is not zipped: under `url` (a URL, a
+    /// `file://` URL or a folder), in `folder`.
+    ///
+    /// ```
+    /// use msd_experiment::fetch::Archive;
+    /// let files = Archive { url: "/mirror", folder: "data", zipped: false };
+    /// assert_eq!(files.file_url("a.txt"), "/mirror/data/a.txt");
+    /// ```
+    pub fn file_url(&self, name: &str) -> String {
+        self.file_url_under(self.url, name)
+    }
+
+    /// [`file_url`](Self::file_url) under another base (a `--url` given by the user).
+    pub(crate) fn file_url_under(&self, base: &str, name: &str) -> String {
+        format!("{}/{}", base.trim_end_matches('/'), self.member_path(name))
     }
 }
 
@@ -144,21 +165,57 @@ pub const SILVERBOX: DataSetFiles = DataSetFiles {
     archive: Archive {
         url: "https://drive.google.com/file/d/17iS-6oBUUgrmiAcrZoG9S5sOaljZnDSy/view",
         folder: "SilverboxFiles",
+        zipped: true,
+    },
+};
+
+/// Two measured accelerance FRFs of a real structure from a roving-hammer test
+/// (accelerometer at point 1, hammer at points 1 and 2; 0–1000 Hz every 1 Hz, one
+/// complex number per line in Python's notation), from the public repository ladisk/pyuff
+/// (MIT licence), `data/meas_point_1.txt` and `data/meas_point_2.txt` at commit
+/// 44a12caa81907e2303956dbbb4fbc7267fb77881, taken byte for byte.
+///
+/// ```
+/// use msd_experiment::fetch::{IMPACT_FRF, set_named};
+/// assert_eq!(set_named("impact-frf").unwrap(), IMPACT_FRF);
+/// assert_eq!(
+///     IMPACT_FRF.archive.file_url("meas_point_1.txt"),
+///     "https://raw.githubusercontent.com/ladisk/pyuff/44a12caa81907e2303956dbbb4fbc7267fb77881/data/meas_point_1.txt"
+/// );
+/// ```
+pub const IMPACT_FRF: DataSetFiles = DataSetFiles {
+    name: "impact-frf",
+    files: [
+        DataFile {
+            name: "meas_point_1.txt",
+            bytes: 43_464,
+            sha256: "ae99c87c17747ddc0819dffc6fadaf605385b5e5a0eec43415b724aaccf7223a",
+        },
+        DataFile {
+            name: "meas_point_2.txt",
+            bytes: 44_383,
+            sha256: "872f58a6e812cd9abed390262bec120d9064738524faff082929dd303a17e340",
+        },
+    ],
+    archive: Archive {
+        url: "https://raw.githubusercontent.com/ladisk/pyuff/44a12caa81907e2303956dbbb4fbc7267fb77881/",
+        folder: "data",
+        zipped: false,
     },
 };
 
 /// The known sets, by name.
 ///
 /// ```
-/// assert_eq!(msd_experiment::fetch::SETS[0].name, "silverbox");
+/// assert_eq!(msd_experiment::fetch::SETS.map(|s| s.name), ["silverbox", "impact-frf"]);
 /// ```
-pub const SETS: [DataSetFiles; 1] = [SILVERBOX];
+pub const SETS: [DataSetFiles; 2] = [SILVERBOX, IMPACT_FRF];
 
 /// The set called `name`, or a config error listing the known ones.
 ///
 /// ```
 /// let err = msd_experiment::fetch::set_named("goldbox").unwrap_err();
-/// assert!(err.to_string().contains("expected one of silverbox"), "{err}");
+/// assert!(err.to_string().contains("expected one of silverbox, impact-frf"), "{err}");
 /// ```
 pub fn set_named(name: &str) -> Result<DataSetFiles> {
     SETS.iter()

@@ -47,9 +47,12 @@ fn stem(path: &Path) -> String {
         .into_owned()
 }
 
-/// Whether a config reads the Silverbox record (skipped when it is not fetched).
-fn needs_silverbox(path: &Path) -> bool {
-    std::fs::read_to_string(path).is_ok_and(|t| t.contains("data/silverbox"))
+/// The real data set a config reads, if any (skipped when it is not fetched).
+fn real_set(path: &Path) -> Option<&'static str> {
+    let text = std::fs::read_to_string(path).ok()?;
+    ["silverbox", "impact-frf"]
+        .into_iter()
+        .find(|set| text.contains(&format!("data/{set}/")))
 }
 
 /// `results.json` without what differs between runs and machines: wall times, threads,
@@ -452,11 +455,17 @@ fn check_template(template: &Path, out_root: &Path, problems: &mut Vec<String>) 
 #[test]
 fn every_shipped_config_computes_the_golden_numbers() {
     let temp = tempfile::tempdir().expect("a temporary folder");
-    let silverbox = real_data("silverbox", "golden: the Silverbox configs").is_some();
+    let fetched = |set: &str| real_data(set, &format!("golden: the {set} configs")).is_some();
+    let available = [
+        ("silverbox", fetched("silverbox")),
+        ("impact-frf", fetched("impact-frf")),
+    ];
     let mut problems = Vec::new();
     let mut checked = 0;
     for config in configs_in(&root().join("configs")) {
-        if needs_silverbox(&config) && !silverbox {
+        if let Some(set) = real_set(&config)
+            && !available.iter().any(|&(s, ok)| s == set && ok)
+        {
             continue;
         }
         check_config(&config, temp.path(), &mut problems);
@@ -467,10 +476,16 @@ fn every_shipped_config_computes_the_golden_numbers() {
         checked += 1;
     }
     assert!(checked >= 20, "only {checked} configs found");
+    let mut cases: Vec<&str> = problems
+        .iter()
+        .filter_map(|p| p.split('/').next())
+        .collect();
+    cases.dedup();
     assert!(
         problems.is_empty(),
-        "{} differences from tests/golden/ (first 400):\n{}",
+        "{} differences from tests/golden/ in {} (the first 40):\n{}",
         problems.len(),
+        cases.join(", "),
         problems
             .iter()
             .take(40)

@@ -216,15 +216,28 @@ fn four() -> usize {
     4
 }
 
-/// A measured frequency response as a CSV table: a frequency column and either
-/// magnitude and phase or real and imaginary columns.
+/// A measured frequency response as a CSV table: a frequency column (or
+/// `frequency_step_hz` when the file has none) and either magnitude and phase, real and
+/// imaginary, or one column of complex numbers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TableSource {
     /// The CSV file, relative to the config file.
     pub path: PathBuf,
-    /// The frequency column, Hz (increasing).
-    pub frequency: Column,
+    /// The frequency column, Hz (increasing); or none, with `frequency_step_hz`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<Column>,
+    /// Without a frequency column: line i (from 0) is at `frequency_start_hz` + i ×
+    /// `frequency_step_hz`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency_step_hz: Option<f64>,
+    /// The first line's frequency without a frequency column, Hz. By default 0.
+    #[serde(default)]
+    pub frequency_start_hz: f64,
+    /// A column of complex numbers as text: `a+bj`, `(a+bj)` (Python, NumPy), `a+bi`
+    /// (MATLAB, Octave) or `a` alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub complex: Option<Column>,
     /// The magnitude column (with `phase`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub magnitude: Option<Column>,

@@ -76,6 +76,9 @@ pub fn download(
     if wanted.is_empty() {
         return place(set, into, &[]);
     }
+    if !set.archive.zipped {
+        return download_files(set, url, &wanted, into, options);
+    }
     let archive = if is_http(url) {
         http_get(&direct_url(url), options)?
     } else {
@@ -92,6 +95,29 @@ pub fn download(
         })?;
         check(&bytes, file)
             .map_err(|why| ExperimentError::download(url, format!("member {member}: {why}")))?;
+        checked.push((file, bytes));
+    }
+    place(set, into, &checked)
+}
+
+/// The plain files `wanted` of `set`, each from `base` + its path (see
+/// [`Archive::file_url`](super::Archive::file_url)), all checked before any is written.
+fn download_files(
+    set: &DataSetFiles,
+    base: &str,
+    wanted: &[&DataFile],
+    into: &Path,
+    options: &DownloadOptions,
+) -> Result<Vec<PathBuf>> {
+    let mut checked = Vec::new();
+    for &file in wanted {
+        let url = set.archive.file_url_under(base, file.name);
+        let bytes = if is_http(&url) {
+            http_get(&url, options)?
+        } else {
+            read_local(&url, options)?
+        };
+        check(&bytes, file).map_err(|why| ExperimentError::download(&url, why))?;
         checked.push((file, bytes));
     }
     place(set, into, &checked)

@@ -3,11 +3,14 @@
 
 use crate::config::Column;
 use crate::{ExperimentError, Result};
+use msd_signal::Complex64;
 use std::path::Path;
 
-/// The columns read: `values[c][row]`, and the 1-based line of each row.
+/// The columns read: `values[c][row]`, the complex column if one was asked for, and the
+/// 1-based line of each row.
 pub(crate) struct Columns {
     pub values: Vec<Vec<f64>>,
+    pub complex: Vec<Complex64>,
     pub lines: Vec<usize>,
 }
 
@@ -20,6 +23,8 @@ pub(crate) struct Request<'a> {
     pub delimiter: char,
     pub header: bool,
     pub columns: Vec<(String, &'a Column)>,
+    /// A column of complex numbers as text, `(config key, column)`.
+    pub complex: Option<(String, &'a Column)>,
 }
 
 /// Reads the requested columns; blank lines and `#` comments are passed over.
@@ -64,8 +69,17 @@ pub(crate) fn read(request: &Request<'_>) -> Result<Columns> {
             index_of(column, key, header.as_ref().map(|h| (h, line_of(h)))).map_err(&fail)
         })
         .collect::<Result<Vec<usize>>>()?;
+    let complex = match &request.complex {
+        Some((key, column)) => Some((
+            index_of(column, key, header.as_ref().map(|h| (h, line_of(h)))).map_err(&fail)?,
+            key,
+            *column,
+        )),
+        None => None,
+    };
     let mut out = Columns {
         values: vec![Vec::new(); indices.len()],
+        complex: Vec::new(),
         lines: Vec::new(),
     };
     for r in records {
@@ -74,16 +88,32 @@ pub(crate) fn read(request: &Request<'_>) -> Result<Columns> {
             continue;
         }
         let line = line_of(&r);
+        // The cell of `column` parsed by `parse`, or why not, with the line and the key.
+        let cell =
+            |index: usize,
+             key: &str,
+             column: &Column,
+             parse: &dyn Fn(&str) -> std::result::Result<Complex64, String>| {
+                let text = r.get(index).ok_or_else(|| {
+                    fail(format!(
+                        "line {line}: the row has {} fields, no column {column} ({key})",
+                        r.len()
+                    ))
+                })?;
+                parse(text).map_err(|why: String| {
+                    fail(format!("line {line}, column {column} ({key}): {why}"))
+                })
+            };
         for (c, (&index, (key, column))) in indices.iter().zip(&request.columns).enumerate() {
-            let cell = r.get(index).ok_or_else(|| {
-                fail(format!(
-                    "line {line}: the row has {} fields, no column {column} ({key})",
-                    r.len()
-                ))
-            })?;
-            let value = parse(cell)
-                .map_err(|why| fail(format!("line {line}, column {column} ({key}): {why}")))?;
-            out.values[c].push(value);
+            out.values[c].push(
+                cell(index, key, column, &|t| {
+                    parse(t).map(|v| Complex64::new(v, 0.0))
+                })?
+                .re,
+            );
+        }
+        if let Some((index, key, column)) = complex {
+            out.complex.push(cell(index, key, column, &parse_complex)?);
         }
         out.lines.push(line);
     }
@@ -123,5 +153,65 @@ fn parse(cell: &str) -> std::result::Result<f64, String> {
         Ok(v) => Err(format!("{v}: expected a finite number")),
         Err(_) if cell.is_empty() => Err("empty cell: expected a number".into()),
         Err(_) => Err(format!("`{cell}` is not a number")),
+    }
+}
+
+/// A complex number as text: `a+bj`, `(a+bj)`, `a-bi`, `bj`, `a` (spaces allowed
+/// around the sign), each part a finite number.
+fn parse_complex(cell: &str) -> std::result::Result<Complex64, String> {
+    let text: String = cell
+        .trim_matches('"')
+        .trim()
+        .trim_start_matches('(')
+        .trim_end_matches(')')
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect();
+    let bad =
+        || format!("`{cell}` is not a complex number (expected e.g. `1.5-2e-3j` or `(1.5-2e-3j)`)");
+    if text.is_empty() {
+        return Err("empty cell: expected a complex number".into());
+    }
+    let Some(body) = text.strip_suffix(['j', 'i', 'J', 'I']) else {
+        return parse(&text).map(|re| Complex64::new(re, 0.0));
+    };
+    // The sign that starts the imaginary part: the last + or − not after an exponent's e.
+    let bytes = body.as_bytes();
+    let split = (1..bytes.len())
+        .rev()
+        .find(|&i| matches!(bytes[i], b'+' | b'-') && !matches!(bytes[i - 1], b'e' | b'E'))
+        .unwrap_or(0);
+    let (re, im) = body.split_at(split);
+    let part = |p: &str| match p {
+        "" | "+" => Ok(1.0),
+        "-" => Ok(-1.0),
+        _ => parse(p),
+    };
+    let re = if re.is_empty() { Ok(0.0) } else { parse(re) };
+    match (re, part(im)) {
+        (Ok(re), Ok(im)) => Ok(Complex64::new(re, im)),
+        _ => Err(bad()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn complex_numbers_in_the_usual_notations() {
+        let c = |re, im| Ok(Complex64::new(re, im));
+        assert_eq!(
+            parse_complex("(-0.0774752256830106+2.6838208936737454e-08j)"),
+            c(-0.0774752256830106, 2.6838208936737454e-08)
+        );
+        assert_eq!(parse_complex("1.5e+3-2E-3i"), c(1500.0, -0.002));
+        assert_eq!(parse_complex(" 2 - 3 j "), c(2.0, -3.0));
+        assert_eq!(parse_complex("-4j"), c(0.0, -4.0));
+        assert_eq!(parse_complex("j"), c(0.0, 1.0));
+        assert_eq!(parse_complex("7"), c(7.0, 0.0));
+        for bad in ["1+xj", "(1+2k)", "nan+1j", "1+infj", "()"] {
+            assert!(parse_complex(bad).is_err(), "{bad}");
+        }
     }
 }

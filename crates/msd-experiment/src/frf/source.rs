@@ -83,9 +83,9 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
 
 fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
     let key = |k: &str| format!("frequency_response.table.{k}");
-    let mut columns = vec![(key("frequency"), &t.frequency)];
-    let polar = t.magnitude.is_some();
+    let mut columns = Vec::new();
     for (name, c) in [
+        ("frequency", &t.frequency),
         ("magnitude", &t.magnitude),
         ("phase", &t.phase),
         ("real", &t.real),
@@ -101,34 +101,52 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
         delimiter: t.delimiter,
         header: t.header,
         columns,
+        complex: t.complex.as_ref().map(|c| (key("complex"), c)),
     })?;
-    let [f, a, b] = [0, 1, 2].map(|i| read.values[i].as_slice());
-    increasing(path, f, &read.lines, &t.frequency)?;
+    let rows = read.lines.len();
+    let mut values = read.values.iter().map(Vec::as_slice);
+    let f: Vec<f64> = match (&t.frequency, t.frequency_step_hz) {
+        (Some(column), _) => {
+            let f = values.next().unwrap_or_default().to_vec();
+            increasing(path, &f, &read.lines, column)?;
+            f
+        }
+        (None, step) => {
+            let step = step.unwrap_or(1.0);
+            (0..rows)
+                .map(|i| t.frequency_start_hz + i as f64 * step)
+                .collect()
+        }
+    };
     let fail = |e: msd_signal::SignalError| ExperimentError::data(path, e.to_string());
-    let mut frf = if polar {
+    let (a, b) = (
+        values.next().unwrap_or_default(),
+        values.next().unwrap_or_default(),
+    );
+    let (mut frf, what) = if t.complex.is_some() {
+        let frf = FrequencyResponseEstimate::new(f.clone(), read.complex.clone()).map_err(fail)?;
+        (frf, "complex numbers")
+    } else if t.magnitude.is_some() {
         let phase: Vec<f64> = if t.phase_in_degrees {
             b.to_vec()
         } else {
             b.iter().map(|p| p.to_degrees()).collect()
         };
-        FrequencyResponseEstimate::from_magnitude_phase(f, a, &phase).map_err(fail)?
+        let frf = FrequencyResponseEstimate::from_magnitude_phase(&f, a, &phase).map_err(fail)?;
+        (frf, "magnitude and phase")
     } else {
-        FrequencyResponseEstimate::from_real_imaginary(f, a, b).map_err(fail)?
+        let frf = FrequencyResponseEstimate::from_real_imaginary(&f, a, b).map_err(fail)?;
+        (frf, "real and imaginary parts")
     };
     frf.kind = t.kind;
     Ok(Loaded {
         time: None,
         description: format!(
-            "the table {} ({} lines, {}–{} Hz, {})",
+            "the table {} ({} lines, {}–{} Hz, {what})",
             path.display(),
             f.len(),
             f[0],
             f[f.len() - 1],
-            if polar {
-                "magnitude and phase"
-            } else {
-                "real and imaginary parts"
-            }
         ),
         frf,
     })
@@ -200,6 +218,7 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
         delimiter: r.delimiter,
         header: r.header,
         columns,
+        complex: None,
     })?;
     let records: Vec<Record<'_>> = read
         .values

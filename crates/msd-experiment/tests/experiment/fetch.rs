@@ -23,6 +23,7 @@ pub(crate) const SET: DataSetFiles = DataSetFiles {
         },
     ],
     archive: Archive {
+        zipped: true,
         url: "file:///no/such/tiny.zip",
         folder: "tiny",
     },

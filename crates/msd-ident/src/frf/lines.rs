@@ -26,15 +26,20 @@ pub enum FrfWeighting {
     /// From the coherence: σ_k² ∝ (1 − γ_k²)/(K·γ_k²)·|H_k|², the variance of an H1
     /// estimate averaged over K segments (Bendat & Piersol, "Random Data", eq. 9.90),
     /// with γ² clamped to [1e-6, 1 − 1e-6]. Where the coherence says nothing (one
-    /// segment, a measured table: γ² = 1) this is [`Relative`](Self::Relative). The
-    /// default.
+    /// segment, or γ² = 1 on every line of the band, as in a measured table or a UFF
+    /// file) this is [`Variance`](Self::Variance) when the estimate has variances, else
+    /// [`Uniform`](Self::Uniform): weights relative to |H| would let the
+    /// anti-resonances, where |H| is smallest and the data least certain, dominate,
+    /// and make lightly damped modes unstable in the diagram. The default.
     #[default]
     Coherence,
     /// The estimate's own variances ([`FrequencyResponseEstimate::variance`]).
     Variance,
     /// σ_k ∝ |H_k|: every line measured to the same relative accuracy.
     Relative,
-    /// σ_k equal: the absolute complex error.
+    /// σ_k equal in the quantity measured (receptance, mobility or accelerance, as
+    /// [`FrequencyResponseEstimate::kind`] says): the absolute complex error of the data
+    /// as they were measured, whatever quantity the fit converts them to.
     Uniform,
 }
 
@@ -63,11 +68,17 @@ pub(crate) struct Lines {
     relative_sigma: Vec<f64>,
     /// The band in Hz: the first and last line used.
     pub band_hz: [f64; 2],
+    /// The weighting applied ([`FrfWeighting::Coherence`] without information in the
+    /// coherence becomes [`FrfWeighting::Variance`] or [`FrfWeighting::Uniform`]).
+    pub weighting: FrfWeighting,
     /// Decay time τ of an exponential window on the records, if any.
     pub exponential_decay: Option<f64>,
     /// Over how many lines the errors are correlated (≥ 1): the factor by which a
     /// covariance computed as if the lines were independent is too small.
     pub correlated_lines: f64,
+    /// p of the measured quantity, (jω)^p × receptance: 0 receptance, 1 mobility,
+    /// 2 accelerance. The fit error is reported on the measured quantity.
+    pub measured_power: i32,
 }
 
 /// Checks that the estimate's arrays have one entry per line.
@@ -130,22 +141,33 @@ pub(crate) fn prepare(
     }
     let receptance = frf.to_kind(FrfKind::Receptance);
     let [low, high] = band_hz.unwrap_or([0.0, f64::INFINITY]);
+    let inside = |f: f64| f > 0.0 && f >= low && f <= high;
+    let informative = frf.averages > 1
+        && (frf.frequency.iter().zip(&frf.coherence)).any(|(&f, &g)| inside(f) && g < 1.0 - 1e-6);
+    let weighting = match weighting {
+        FrfWeighting::Coherence if !informative && frf.variance.is_some() => FrfWeighting::Variance,
+        FrfWeighting::Coherence if !informative => FrfWeighting::Uniform,
+        w => w,
+    };
     let averages = frf.averages.max(1) as f64;
+    let measured_power = frf.kind.power();
     let mut lines = Lines {
         omega: Vec::new(),
         h: Vec::new(),
         sigma: Vec::new(),
         relative_sigma: Vec::new(),
         band_hz: [0.0; 2],
+        weighting,
         exponential_decay: frf.exponential_decay,
         correlated_lines: if frf.noise_bandwidth.is_finite() {
             frf.noise_bandwidth.max(1.0)
         } else {
             1.0
         },
+        measured_power,
     };
     for (k, &f) in receptance.frequency.iter().enumerate() {
-        if !(f > 0.0 && f >= low && f <= high) {
+        if !inside(f) {
             continue;
         }
         let h = receptance.h[k];
@@ -162,7 +184,8 @@ pub(crate) fn prepare(
             FrfWeighting::Variance => {
                 (receptance.variance.as_ref().map_or(1.0, |v| v[k]) / 2.0).sqrt()
             }
-            FrfWeighting::Uniform => 0.5f64.sqrt(),
+            // σ of the measured quantity equal: ω^−p in receptance.
+            FrfWeighting::Uniform => 0.5f64.sqrt() * (TAU * f).powi(-measured_power),
             FrfWeighting::Coherence | FrfWeighting::Relative => relative * h.norm(),
         };
         if !(sigma.is_finite() && sigma > 0.0) {
@@ -221,12 +244,47 @@ impl Lines {
         }
     }
 
-    /// The normalised error ‖model − H‖/‖H‖ over the lines.
+    /// Whether the data show a peak at the mode (fn, ζ): within fn ± max(1.5 line
+    /// spacings, 3ζ·fn) the measured magnitude |(jω)^p·H| has a local maximum that
+    /// stands at least √2 above the lowest line on each side of it in that window (and
+    /// at least two lines on each side) (as a
+    /// mode's peak stands above its half-power points). A pole of the model alone (noise,
+    /// or the skirt of another mode) has none.
+    pub(crate) fn has_peak(&self, natural_frequency_hz: f64, damping_ratio: f64) -> bool {
+        let n = self.omega.len();
+        if n < 3 {
+            return true;
+        }
+        let magnitude = |k: usize| self.h[k].norm() * self.omega[k].powi(self.measured_power);
+        let centre = TAU * natural_frequency_hz;
+        let k0 = self.omega.partition_point(|&w| w < centre).clamp(1, n - 1);
+        let spacing = self.omega[k0] - self.omega[k0 - 1];
+        let half_width = (1.5 * spacing).max(3.0 * damping_ratio * centre);
+        let first = self.omega.partition_point(|&w| w < centre - half_width);
+        let last = self.omega.partition_point(|&w| w <= centre + half_width);
+        let Some(peak) = (first.max(1)..last.min(n - 1))
+            .filter(|&k| magnitude(k) >= magnitude(k - 1) && magnitude(k) >= magnitude(k + 1))
+            .max_by(|&a, &b| magnitude(a).total_cmp(&magnitude(b)))
+        else {
+            return false;
+        };
+        let lowest = |range: std::ops::RangeInclusive<usize>| {
+            range.map(magnitude).fold(f64::INFINITY, f64::min)
+        };
+        // At least two lines on each side: a peak between two lines lifts both.
+        let left = lowest(first.min(peak.saturating_sub(2))..=peak - 1);
+        let right = lowest(peak + 1..=(last.max(peak + 3) - 1).min(n - 1));
+        magnitude(peak) >= std::f64::consts::SQRT_2 * left.max(right)
+    }
+
+    /// The normalised error ‖model − H‖/‖H‖ over the lines, in the measured quantity
+    /// ((jω)^p × receptance).
     pub(crate) fn relative_error(&self, model: impl Fn(f64) -> Complex64) -> f64 {
         let (mut sse, mut energy) = (0.0, 0.0);
         for (&w, h) in self.omega.iter().zip(&self.h) {
-            sse += (model(w) - h).norm_sqr();
-            energy += h.norm_sqr();
+            let scale = w.powi(2 * self.measured_power);
+            sse += (model(w) - h).norm_sqr() * scale;
+            energy += h.norm_sqr() * scale;
         }
         (sse / energy).sqrt()
     }
@@ -239,12 +297,14 @@ impl Lines {
         let n = omega.len();
         Self {
             band_hz: [omega[0] / TAU, omega[n - 1] / TAU],
+            weighting: FrfWeighting::Uniform,
             omega,
             h,
             sigma: vec![1.0; n],
             relative_sigma: Vec::new(),
             exponential_decay: None,
             correlated_lines: 1.0,
+            measured_power: 0,
         }
     }
 }

@@ -55,7 +55,7 @@ mod window;
 pub use half_power::{HalfPower, half_power};
 pub use lines::FrfWeighting;
 pub use modal::ModalParameters;
-pub use modes::{ModalFit, ModalOptions, Mode, fit_modes};
+pub use modes::{ModalFit, ModalOptions, Mode, RefusedMode, fit_modes};
 pub use one_mode::{OneModeFit, OneModeOptions, fit_one_mode};
 pub use stabilization::{
     DiagramOrder, DiagramPole, StabilizationDiagram, StableMode, stabilization_diagram,

@@ -8,10 +8,11 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
+use super::lines::Lines;
 use super::lines::{FrfWeighting, check_band, prepare};
 use super::modal::ModalParameters;
-use super::polish::{PER_MODE, lsfd, model, polish};
-use super::stabilization::{StabilizationDiagram, diagram_of};
+use super::polish::{PER_MODE, Polished, lsfd, model, polish};
+use super::stabilization::{StabilizationDiagram, StableMode, diagram_of};
 use super::window::{WindowCorrection, unshift_pole};
 use crate::uncertainty::t_975;
 use crate::{IdentError, Interval, Result};
@@ -191,7 +192,8 @@ pub struct ModalFit {
     pub band_hz: [f64; 2],
     /// Lines fitted (two residuals each).
     pub lines: usize,
-    /// The weighting used.
+    /// The weighting used (`coherence` where the coherence says nothing is `variance`
+    /// or `uniform`).
     pub weighting: FrfWeighting,
     /// σ̂ = √(SSE/(2K − p)) of the weighted residuals.
     pub sigma: f64,
@@ -205,6 +207,8 @@ pub struct ModalFit {
     pub evaluations: usize,
     /// Why it stopped.
     pub exit: LmExit,
+    /// Modes the diagram selected that the final fit moved away (not in `modes`).
+    pub refused: Vec<RefusedMode>,
 }
 
 impl ModalFit {
@@ -259,6 +263,9 @@ impl std::fmt::Display for ModalFit {
                 write!(f, "; {c}")?;
             }
         }
+        for r in &self.refused {
+            write!(f, "\nrefused: {r}")?;
+        }
         write!(
             f,
             "\nlower residual L = {}, upper residual U = {}",
@@ -312,7 +319,7 @@ fn scientific(i: &Interval) -> String {
 /// ```
 pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Result<ModalFit> {
     options.validate()?;
-    let mut lines = prepare(
+    let lines = prepare(
         frf,
         options.band_hz,
         options.weighting,
@@ -321,29 +328,17 @@ pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Res
     let diagram = diagram_of(&lines, options)?;
     if diagram.modes.is_empty() {
         return Err(IdentError::NotIdentifiable {
-            reason: format!("no mode is stable in the stabilization diagram: {diagram}"),
+            reason: format!(
+                "no mode is stable in the stabilization diagram{}",
+                diagram.why_too_few(options)
+            ),
         });
     }
-    let poles: Vec<(f64, f64)> = diagram
-        .modes
-        .iter()
-        .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
-        .collect();
-    if 2 * lines.omega.len() <= PER_MODE * poles.len() + 2 {
-        return Err(IdentError::TooFewSamples {
-            got: lines.omega.len(),
-            needed: (PER_MODE * poles.len() + 2) / 2 + 1,
-            why: "lines for the modal parameters of every stable mode",
-        });
-    }
-    let start = lsfd(&lines, &poles)?;
-    lines.reweight(|w| model(&start, w));
-    let polished = polish(&lines, lsfd(&lines, &poles)?)?;
+    let (polished, lines, selected, refused) = polish_selected(lines, &diagram)?;
     let t = t_975(polished.degrees_of_freedom);
     let theta = &polished.theta;
     let decay = lines.exponential_decay;
-    let modes = diagram
-        .modes
+    let modes = selected
         .iter()
         .enumerate()
         .map(|(r, stable)| {
@@ -367,14 +362,128 @@ pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Res
         relative_error: lines.relative_error(|w| model(theta, w)),
         band_hz: lines.band_hz,
         lines: lines.omega.len(),
-        weighting: options.weighting,
+        weighting: lines.weighting,
         sigma: polished.sigma,
         degrees_of_freedom: polished.degrees_of_freedom,
         iterations: polished.fit.iterations,
         evaluations: polished.fit.evaluations,
         exit: polished.fit.exit,
+        refused,
         diagram,
     })
+}
+
+/// LSFD and the polish on the diagram's modes; a mode the polish moves by more than
+/// its half-power bandwidth, or nearer to another selected mode than to its own column,
+/// is refused and the rest fitted again. Returns the polish, the lines as weighted for
+/// it, the modes kept and those refused.
+fn polish_selected(
+    lines: Lines,
+    diagram: &StabilizationDiagram,
+) -> Result<(Polished, Lines, Vec<StableMode>, Vec<RefusedMode>)> {
+    let mut selected = diagram.modes.clone();
+    let mut refused = Vec::new();
+    loop {
+        let poles: Vec<(f64, f64)> = selected
+            .iter()
+            .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
+            .collect();
+        if 2 * lines.omega.len() <= PER_MODE * poles.len() + 2 {
+            return Err(IdentError::TooFewSamples {
+                got: lines.omega.len(),
+                needed: (PER_MODE * poles.len() + 2) / 2 + 1,
+                why: "lines for the modal parameters of every stable mode",
+            });
+        }
+        let mut weighted = lines.clone();
+        let start = lsfd(&weighted, &poles)?;
+        weighted.reweight(|w| model(&start, w));
+        let polished = polish(&weighted, lsfd(&weighted, &poles)?)?;
+        let moved: Vec<RefusedMode> = (0..selected.len())
+            .filter_map(|r| moved(&polished.theta, &selected, r))
+            .collect();
+        if moved.is_empty() {
+            return Ok((polished, weighted, selected, refused));
+        }
+        selected.retain(|m| {
+            !moved
+                .iter()
+                .any(|x| x.natural_frequency_hz == m.natural_frequency_hz)
+        });
+        refused.extend(moved);
+        if selected.is_empty() {
+            let list: Vec<String> = refused.iter().map(ToString::to_string).collect();
+            return Err(IdentError::NotIdentifiable {
+                reason: format!(
+                    "the final fit moved every selected mode away from its column of the stabilization diagram: {}",
+                    list.join("; ")
+                ),
+            });
+        }
+    }
+}
+
+/// Mode `r` refused if the polish moved it out of its half-power band or nearer to
+/// another selected mode.
+fn moved(theta: &[f64], selected: &[StableMode], r: usize) -> Option<RefusedMode> {
+    let j = PER_MODE * r;
+    let (fitted_hz, zeta) = (theta[j] / TAU, theta[j + 1]);
+    let column = selected[r];
+    let bandwidth =
+        (2.0 * zeta * fitted_hz).max(2.0 * column.damping_ratio * column.natural_frequency_hz);
+    let distance = |m: &StableMode| (m.natural_frequency_hz - fitted_hz).abs();
+    let nearest = selected
+        .iter()
+        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+        .filter(|m| m.natural_frequency_hz != column.natural_frequency_hz);
+    let reason = if let Some(other) = nearest {
+        format!(
+            "moved onto the mode selected at {:.4} Hz",
+            other.natural_frequency_hz
+        )
+    } else if distance(&column).is_nan() || distance(&column) > bandwidth {
+        format!(
+            "moved by {:.4} Hz, more than its half-power bandwidth {:.4} Hz",
+            fitted_hz - column.natural_frequency_hz,
+            bandwidth
+        )
+    } else {
+        return None;
+    };
+    Some(RefusedMode {
+        natural_frequency_hz: column.natural_frequency_hz,
+        fitted_hz,
+        reason,
+    })
+}
+
+/// A mode the stabilization diagram selected but the final fit did not keep at its
+/// column: it is not reported (see [`ModalFit::refused`]).
+///
+/// ```
+/// use msd_ident::frf::RefusedMode;
+/// let r = RefusedMode { natural_frequency_hz: 278.68, fitted_hz: 142.17,
+///     reason: "moved onto the mode selected at 142.1812 Hz".into() };
+/// assert!(r.to_string().starts_with("278.6800 Hz (fitted at 142.1700 Hz): moved onto"));
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RefusedMode {
+    /// Where the diagram selected it, Hz.
+    pub natural_frequency_hz: f64,
+    /// Where the final fit put it, Hz.
+    pub fitted_hz: f64,
+    /// Why it was refused.
+    pub reason: String,
+}
+
+impl std::fmt::Display for RefusedMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{:.4} Hz (fitted at {:.4} Hz): {}",
+            self.natural_frequency_hz, self.fitted_hz, self.reason
+        )
+    }
 }
 
 /// Mode `r` of θ with its intervals (quantile `t`), corrected for an exponential window

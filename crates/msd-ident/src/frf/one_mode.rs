@@ -78,7 +78,8 @@ pub struct OneModeFit {
     pub band_hz: [f64; 2],
     /// Lines fitted (each gives two residuals, real and imaginary).
     pub lines: usize,
-    /// The weighting used.
+    /// The weighting used (`coherence` where the coherence says nothing is `variance`
+    /// or `uniform`).
     pub weighting: FrfWeighting,
     /// ‖H_model − H‖/‖H‖ over the lines (unweighted).
     pub relative_error: f64,
@@ -239,7 +240,7 @@ pub fn fit_one_mode(
         window_correction,
         band_hz: lines.band_hz,
         lines: lines.omega.len(),
-        weighting: options.weighting,
+        weighting: lines.weighting,
         iterations: fit.iterations,
         evaluations: fit.evaluations,
         exit: fit.exit,

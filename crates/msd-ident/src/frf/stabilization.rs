@@ -21,14 +21,15 @@ use crate::{IdentError, Result};
 /// let frf = synthetic_frequency_response(&f, 0.0, 1, |f| mode.receptance(f))?;
 /// let diagram = stabilization_diagram(&frf, &ModalOptions { orders: [2, 10], ..ModalOptions::default() })?;
 /// // The z-domain model needs a little more than the mode's two poles: order 2 puts it
-/// // at 5.13 Hz, order 4 at 4.991 Hz, order 6 at 5.0001 Hz, the first stable one.
+/// // at 5.003 Hz (ζ = 0.0286), order 4 at 4.9997 Hz (ζ = 0.03002: stable in frequency,
+/// // not yet in damping), order 6 at 5.00002 Hz, the first stable in both.
 /// let order_6 = &diagram.orders[2];
 /// assert_eq!(order_6.order, 6);
 /// let pole = order_6.poles.iter().find(|p| p.stable).expect("the mode is stable");
 /// assert!((pole.natural_frequency_hz / 5.0 - 1.0).abs() < 1e-4);
-/// assert!(diagram.orders[1].poles.iter().all(|p| !p.stable));
+/// assert!(diagram.orders[1].poles.iter().all(|p| p.stable_frequency && !p.stable));
 /// assert_eq!(diagram.modes.len(), 1);
-/// assert_eq!(diagram.modes[0].stable_orders, 3); // orders 6, 8, 10
+/// assert_eq!(diagram.modes[0].stable_orders, 4); // stable in frequency at orders 4 to 10
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -63,8 +64,11 @@ pub struct StableMode {
     pub natural_frequency_hz: f64,
     /// The median ζ of its stable poles.
     pub damping_ratio: f64,
-    /// At how many orders it has a stable pole.
+    /// At how many orders it has a pole stable in frequency.
     pub stable_orders: usize,
+    /// Whether the measured magnitude has a peak within its half-power band (or 1.5
+    /// lines): only such columns are selected.
+    pub at_peak: bool,
 }
 
 /// The stabilization diagram of a frequency response and the modes selected from it.
@@ -88,10 +92,33 @@ pub struct StableMode {
 pub struct StabilizationDiagram {
     /// Every order, lowest first.
     pub orders: Vec<DiagramOrder>,
+    /// Every column of poles stable in frequency (the modes' candidates), by frequency.
+    pub candidates: Vec<StableMode>,
     /// The selected modes, by frequency.
     pub modes: Vec<StableMode>,
     /// The first and last line used, Hz.
     pub band_hz: [f64; 2],
+}
+
+impl StabilizationDiagram {
+    /// Why no mode (or too few) was selected: the candidate columns, where they are, the
+    /// likely causes and the keys to change (for an error message).
+    ///
+    /// ```
+    /// use msd_ident::{ModalOptions, frf::{stabilization_diagram, ModalParameters}};
+    /// use msd_signal::{Complex64, FrequencyResponseEstimate};
+    /// // A smooth response with no mode in it.
+    /// let f: Vec<f64> = (1..=200).map(|i| i as f64).collect();
+    /// let h = f.iter().map(|&f| Complex64::new(1.0 + 1e-3 * f, 0.0)).collect();
+    /// let options = ModalOptions::default();
+    /// let diagram = stabilization_diagram(&FrequencyResponseEstimate::new(f, h)?, &options)?;
+    /// assert!(diagram.modes.is_empty());
+    /// assert!(diagram.why_too_few(&options).contains("orders[1]"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn why_too_few(&self, options: &ModalOptions) -> String {
+        explain(&self.candidates, self.orders.len(), options)
+    }
 }
 
 impl std::fmt::Display for StabilizationDiagram {
@@ -186,9 +213,10 @@ pub(crate) fn diagram_of(lines: &Lines, options: &ModalOptions) -> Result<Stabil
             reason: "the LSCF normal equations are singular at every order".into(),
         });
     }
-    let modes = select(&orders, options)?;
+    let (candidates, modes) = select(&orders, lines, options)?;
     Ok(StabilizationDiagram {
         orders,
+        candidates,
         modes,
         band_hz: lines.band_hz,
     })
@@ -226,14 +254,18 @@ fn flag(poles: &mut [DiagramPole], previous: &[DiagramPole], options: &ModalOpti
     }
 }
 
-/// Groups the stable poles by frequency and selects the modes.
-fn select(orders: &[DiagramOrder], options: &ModalOptions) -> Result<Vec<StableMode>> {
+/// Groups the poles stable in frequency into modes and selects those the data show.
+fn select(
+    orders: &[DiagramOrder],
+    lines: &Lines,
+    options: &ModalOptions,
+) -> Result<(Vec<StableMode>, Vec<StableMode>)> {
     let mut stable: Vec<(usize, DiagramPole)> = orders
         .iter()
         .flat_map(|o| {
             o.poles
                 .iter()
-                .filter(|p| p.stable)
+                .filter(|p| p.stable_frequency)
                 .map(move |p| (o.order, *p))
         })
         .collect();
@@ -241,26 +273,20 @@ fn select(orders: &[DiagramOrder], options: &ModalOptions) -> Result<Vec<StableM
         a.1.natural_frequency_hz
             .total_cmp(&b.1.natural_frequency_hz)
     });
-    let mut groups: Vec<Vec<(usize, DiagramPole)>> = Vec::new();
-    for item in stable {
-        match groups.last_mut() {
-            Some(g)
-                if item.1.natural_frequency_hz / g[g.len() - 1].1.natural_frequency_hz - 1.0
-                    <= options.frequency_tolerance =>
-            {
-                g.push(item)
-            }
-            _ => groups.push(vec![item]),
-        }
+    let groups = columns(&stable, options.frequency_tolerance);
+    let mut candidates: Vec<StableMode> = groups.iter().map(|g| summarise(g)).collect();
+    for m in &mut candidates {
+        m.at_peak = lines.has_peak(m.natural_frequency_hz, m.damping_ratio);
     }
-    let mut modes: Vec<StableMode> = groups.iter().map(|g| summarise(g)).collect();
+    let mut modes: Vec<StableMode> = candidates.iter().copied().filter(|m| m.at_peak).collect();
     match options.mode_count {
         Some(count) => {
             if modes.len() < count {
                 return Err(IdentError::NotIdentifiable {
                     reason: format!(
-                        "the stabilization diagram has {} stable modes, {count} were asked for; raise the largest order or widen the tolerances",
-                        modes.len()
+                        "the stabilization diagram has {} stable modes at a peak of the data, {count} were asked for{}",
+                        modes.len(),
+                        explain(&candidates, orders.len(), options)
                     ),
                 });
             }
@@ -273,7 +299,109 @@ fn select(orders: &[DiagramOrder], options: &ModalOptions) -> Result<Vec<StableM
         }
     }
     modes.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
-    Ok(modes)
+    Ok((candidates, modes))
+}
+
+/// The columns of the diagram: poles (sorted by frequency) gathered around seeds, the
+/// densest first. A pole's density is the number of orders with a pole within `tolerance`
+/// of it; each unassigned pole, densest first (then least damped), takes every unassigned
+/// pole within `tolerance`, and keeps the nearest of each order. Unlike chaining poles
+/// whose gaps are below the tolerance, a real mode's column is not merged with the
+/// scattered poles of noise around it.
+fn columns(poles: &[(usize, DiagramPole)], tolerance: f64) -> Vec<Vec<(usize, DiagramPole)>> {
+    let f = |i: usize| poles[i].1.natural_frequency_hz;
+    let window = |i: usize| {
+        let lo = poles.partition_point(|p| p.1.natural_frequency_hz < f(i) * (1.0 - tolerance));
+        let hi = poles.partition_point(|p| p.1.natural_frequency_hz <= f(i) * (1.0 + tolerance));
+        lo..hi
+    };
+    let distinct_orders = |members: &mut Vec<usize>| {
+        members.sort_unstable();
+        members.dedup();
+        members.len()
+    };
+    let density: Vec<usize> = (0..poles.len())
+        .map(|i| distinct_orders(&mut window(i).map(|j| poles[j].0).collect()))
+        .collect();
+    let mut seeds: Vec<usize> = (0..poles.len()).collect();
+    seeds.sort_by(|&a, &b| {
+        density[b]
+            .cmp(&density[a])
+            .then(
+                poles[a]
+                    .1
+                    .damping_ratio
+                    .total_cmp(&poles[b].1.damping_ratio),
+            )
+            .then(a.cmp(&b))
+    });
+    let mut taken = vec![false; poles.len()];
+    let mut groups = Vec::new();
+    for seed in seeds {
+        if taken[seed] {
+            continue;
+        }
+        let mut nearest: Vec<(usize, usize)> = Vec::new(); // (order, pole index)
+        for j in window(seed) {
+            if taken[j] {
+                continue;
+            }
+            taken[j] = true;
+            let distance = |k: usize| (f(k) - f(seed)).abs();
+            match nearest.iter_mut().find(|(o, _)| *o == poles[j].0) {
+                Some(entry) if distance(j) < distance(entry.1) => entry.1 = j,
+                Some(_) => {}
+                None => nearest.push((poles[j].0, j)),
+            }
+        }
+        let mut group: Vec<(usize, DiagramPole)> = nearest.iter().map(|&(_, j)| poles[j]).collect();
+        group.sort_by_key(|(order, _)| *order);
+        groups.push(group);
+    }
+    groups.sort_by(|a, b| {
+        a[0].1
+            .natural_frequency_hz
+            .total_cmp(&b[0].1.natural_frequency_hz)
+    });
+    groups
+}
+
+/// Why a selection found too few modes: the candidate columns, where they are, and the
+/// keys that change the outcome.
+fn explain(candidates: &[StableMode], orders: usize, options: &ModalOptions) -> String {
+    let at_peaks: Vec<StableMode> = candidates.iter().copied().filter(|m| m.at_peak).collect();
+    let needed = (options.min_stable_share * orders as f64).ceil() as usize;
+    let list = |modes: &[StableMode]| {
+        let mut v: Vec<&StableMode> = modes.iter().collect();
+        v.sort_by_key(|m| std::cmp::Reverse(m.stable_orders));
+        v.iter()
+            .take(8)
+            .map(|m| {
+                format!(
+                    "{:.4} Hz ({} orders)",
+                    m.natural_frequency_hz, m.stable_orders
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut text = format!(
+        " ({orders} orders {}–{}; a mode needs poles within frequency_tolerance = {} at {needed} of them (min_stable_share = {}) and a peak of the data within its half-power band): {} candidate columns",
+        options.orders[0],
+        options.orders[1],
+        options.frequency_tolerance,
+        options.min_stable_share,
+        candidates.len(),
+    );
+    if !candidates.is_empty() {
+        text += &format!(" [{}]", list(candidates));
+    }
+    text += &format!(", {} of them at a peak of the data", at_peaks.len());
+    if !at_peaks.is_empty() {
+        text += &format!(" [{}]", list(&at_peaks));
+    }
+    text += ". Likely causes: lightly damped modes need higher orders (raise orders[1], e.g. to 120), noisy lines need a weighting that fits them (weighting = \"uniform\" weights the measured quantity equally), or the band holds no mode (band_hz); mode_count = N selects the N most stable columns";
+    text
 }
 
 /// A group's median fn and ζ and its number of distinct orders.
@@ -290,9 +418,18 @@ fn summarise(group: &[(usize, DiagramPole)]) -> StableMode {
     let mut orders: Vec<usize> = group.iter().map(|(o, _)| *o).collect();
     orders.sort_unstable();
     orders.dedup();
+    // The poles stable in damping too, when there are any: a lightly damped mode's ζ
+    // settles only at the higher orders.
+    let both: Vec<&DiagramPole> = group.iter().map(|(_, p)| p).filter(|p| p.stable).collect();
+    let poles: Vec<&DiagramPole> = if both.is_empty() {
+        group.iter().map(|(_, p)| p).collect()
+    } else {
+        both
+    };
     StableMode {
-        natural_frequency_hz: median(group.iter().map(|(_, p)| p.natural_frequency_hz).collect()),
-        damping_ratio: median(group.iter().map(|(_, p)| p.damping_ratio).collect()),
+        natural_frequency_hz: median(poles.iter().map(|p| p.natural_frequency_hz).collect()),
+        damping_ratio: median(poles.iter().map(|p| p.damping_ratio).collect()),
         stable_orders: orders.len(),
+        at_peak: false,
     }
 }

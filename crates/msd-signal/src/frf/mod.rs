@@ -124,7 +124,12 @@ pub enum FrfKind {
 
 impl FrfKind {
     /// The power p of jω in H = (jω)^p × receptance.
-    pub(crate) fn power(self) -> i32 {
+    ///
+    /// ```
+    /// use msd_signal::FrfKind;
+    /// assert_eq!(FrfKind::Accelerance.power(), 2);
+    /// ```
+    pub fn power(self) -> i32 {
         match self {
             FrfKind::Receptance => 0,
             FrfKind::Mobility => 1,

@@ -105,13 +105,37 @@ impl FrequencyResponseSection {
                 t.magnitude.is_some() && t.phase.is_some(),
                 t.real.is_some() && t.imaginary.is_some(),
             );
-            let partial = t.magnitude.is_some() || t.phase.is_some();
-            if pairs.0 == pairs.1 || (pairs.1 && partial) {
+            let given = [
+                t.magnitude.is_some() || t.phase.is_some(),
+                t.real.is_some() || t.imaginary.is_some(),
+                t.complex.is_some(),
+            ];
+            let complete = [pairs.0, pairs.1, t.complex.is_some()];
+            if given.iter().filter(|&&g| g).count() != 1 || !complete.contains(&true) {
                 return err(
                     "frequency_response.table",
-                    ": expected either `magnitude` and `phase` or `real` and `imaginary` columns"
+                    ": expected either `magnitude` and `phase`, `real` and `imaginary`, or one `complex` column"
                         .into(),
                 );
+            }
+            match (&t.frequency, t.frequency_step_hz) {
+                (Some(_), Some(_)) | (None, None) => {
+                    return err(
+                        "frequency_response.table.frequency",
+                        ": expected either a `frequency` column or `frequency_step_hz` (and `frequency_start_hz`, by default 0) for a file without one".into(),
+                    );
+                }
+                (None, Some(step)) => {
+                    check_positive("frequency_response.table.frequency_step_hz", step)?;
+                    let start = t.frequency_start_hz;
+                    if !(start.is_finite() && start >= 0.0) {
+                        return err(
+                            "frequency_response.table.frequency_start_hz",
+                            format!(" = {start}: expected a finite frequency >= 0 Hz"),
+                        );
+                    }
+                }
+                (Some(_), None) => {}
             }
         }
         if let Some(r) = &self.records {

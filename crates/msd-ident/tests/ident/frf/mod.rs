@@ -4,6 +4,7 @@
 mod impact;
 mod modes;
 mod one_mode;
+mod real_hammer;
 
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 
