@@ -47,6 +47,19 @@ impl Interval {
         }
     }
 
+    /// For a positive quantity (a damping ratio): the interval computed on its logarithm,
+    /// `value`·exp(±`t`·`standard_error`/`value`), which cannot reach zero (the delta
+    /// method: the standard error of ln x is se/x). For small se/x it is `new`'s.
+    pub(crate) fn positive(value: f64, standard_error: f64, t: f64) -> Self {
+        debug_assert!(value > 0.0);
+        let spread = (t * standard_error / value).exp();
+        Self {
+            value,
+            standard_error,
+            ci95: [value / spread, value * spread],
+        }
+    }
+
     /// Whether `x` lies inside the 95 % interval.
     pub fn contains(&self, x: f64) -> bool {
         self.ci95[0] <= x && x <= self.ci95[1]

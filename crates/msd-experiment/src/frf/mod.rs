@@ -120,9 +120,20 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
     let fail = |e: msd_ident::IdentError| ExperimentError::run("frequency-response fit", e);
     let fit = match &section.modes {
         Some(options) => FrfFit::Modes(Box::new(fit_modes(&loaded.frf, options).map_err(fail)?)),
-        None => FrfFit::OneMode(Box::new(
-            fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?,
-        )),
+        None => {
+            let fit = fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?;
+            if fit.negative_modal_constant && section.force_scale_known {
+                return Err(ExperimentError::config(
+                    "frequency_response.force_scale_known",
+                    format!(
+                        "true, but the mode at {:.4} Hz has a negative modal constant (gain {:.4e}): a point FRF's m, c and k are positive, so this is a transfer FRF or a response of reversed sign; set force_scale_known = false for fn, ζ and the (negative) gain",
+                        fit.parameters.natural_frequency_hz(),
+                        fit.gain.value
+                    ),
+                ));
+            }
+            FrfFit::OneMode(Box::new(fit))
+        }
     };
     let classroom = classroom(&loaded.frf, &fit);
     timings.push(("fit", t.elapsed()));

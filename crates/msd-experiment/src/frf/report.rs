@@ -200,6 +200,7 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
     for (name, i, c, t) in rows {
         row(w, name, i, c, t)?;
     }
+    unreliable_note(w, classroom.iter())?;
     writeln!(w)?;
     window_note(w, f.window_correction.as_ref(), classroom.as_ref())?;
     Ok(())
@@ -226,9 +227,10 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
             interval(&mode.modal_constant_imaginary),
             mode.stable_orders,
             classroom.map_or("—".into(), |c| format!(
-                "{}, {}",
+                "{}, {}{}",
                 sig(c.natural_frequency_hz, 5),
-                sig(c.damping_ratio, 3)
+                sig(c.damping_ratio, 3),
+                if c.reliable { "" } else { " †" }
             )),
             t.map_or("—".into(), |t| format!(
                 "{}, {}",
@@ -237,16 +239,45 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
             )),
         )?;
     }
+    unreliable_note(w, o.classroom.iter().flatten())?;
     writeln!(
         w,
         "\nResidual terms: lower L = {} (the modes below the band, −L/ω²), upper U = {} (those above).\n",
         interval(&m.lower_residual),
         interval(&m.upper_residual)
     )?;
+    for r in &m.refused {
+        writeln!(w, "Refused: the mode selected at {r}.\n")?;
+    }
     for (r, mode) in m.modes.iter().enumerate() {
         if let Some(c) = &mode.window_correction {
             writeln!(w, "Mode {}: {c}.\n", r + 1)?;
         }
+    }
+    Ok(())
+}
+
+/// A footnote when a half-power estimate is under-resolved (its † in the table).
+fn unreliable_note<'a>(
+    w: &mut String,
+    estimates: impl Iterator<Item = &'a HalfPower>,
+) -> std::fmt::Result {
+    let few: Vec<usize> = estimates
+        .filter(|h| !h.reliable)
+        .map(|h| h.lines_inside)
+        .collect();
+    if !few.is_empty() {
+        writeln!(
+            w,
+            "\n† Half-power estimate unreliable: {} line{} inside the half-power band{} (at least {} needed). The peak is under-resolved and the half-power ζ comes out too high; the fitted ζ does not rest on the bandwidth.",
+            few.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(", "),
+            if few == [1] { "" } else { "s" },
+            if few.len() == 1 { "" } else { "s" },
+            HalfPower::MIN_LINES
+        )?;
     }
     Ok(())
 }

@@ -134,7 +134,7 @@ impl ModalOptions {
 pub struct Mode {
     /// Natural frequency, Hz (with an exponential window: corrected for it).
     pub natural_frequency_hz: Interval,
-    /// Damping ratio (idem).
+    /// Damping ratio (idem); its interval computed on ln ζ, so that it stays above zero.
     pub damping_ratio: Interval,
     /// The modal constant's real part A (see [`ModalParameters`]).
     pub modal_constant: Interval,
@@ -528,7 +528,11 @@ fn mode(
     });
     Mode {
         natural_frequency_hz: Interval::new(corrected.0 / TAU, wn_se / TAU, t),
-        damping_ratio: Interval::new(corrected.1, zeta_se, t),
+        damping_ratio: if corrected.1 > 0.0 {
+            Interval::positive(corrected.1, zeta_se, t)
+        } else {
+            Interval::new(corrected.1, zeta_se, t)
+        },
         modal_constant: Interval::new(theta[j + 2], se(2), t),
         modal_constant_imaginary: Interval::new(theta[j + 3], se(3), t),
         stable_orders,

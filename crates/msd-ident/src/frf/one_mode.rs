@@ -68,8 +68,14 @@ pub struct OneModeFit {
     /// Their 95 % intervals, and fn and ζ by the delta method.
     pub uncertainty: Uncertainty,
     /// The gain A = 1/m of H = A/(ωn² − ω² + 2jζωnω): with fn and ζ, all the data
-    /// determine when the force's scale is unknown (m, c, k scale with it).
+    /// determine when the force's scale is unknown (m, c, k scale with it). Negative for
+    /// a mode with a negative modal constant (see `negative_modal_constant`).
     pub gain: Interval,
+    /// Whether the mode's modal constant is negative (a transfer FRF whose two points
+    /// move in opposition in this mode, or a sensor's sign): `parameters` are then the
+    /// m, c, k of −H, which are physical only when the force's scale and sign are not
+    /// known; fn, ζ and the (negative) gain hold either way.
+    pub negative_modal_constant: bool,
     /// What an exponential window added and how it was taken off, if there was one.
     pub window_correction: Option<WindowCorrection>,
     /// Peak picking and half-power bandwidth in the same band, when they can be read.
@@ -186,7 +192,11 @@ pub fn fit_one_mode(
     lines.reweight(|w| receptance(&first.0, w));
     let (fitted, fit) = least_squares(&lines, first.0)?;
     let a = lines.exponential_decay.map_or(0.0, |tau| 1.0 / tau);
-    let theta = unwindowed(fitted, a);
+    // A negative modal constant: m, c, k all negative, the mode of −H. J is the same at
+    // ±θ (H² is), so the covariance of |θ| is that of θ.
+    let negative_modal_constant = fitted.iter().all(|&x| x < 0.0);
+    let sign = if negative_modal_constant { -1.0 } else { 1.0 };
+    let theta = unwindowed(fitted.map(|x| sign * x), a);
     let parameters = Parameters::from_array(theta);
     if parameters.validate().is_err() {
         return Err(IdentError::NotIdentifiable {
@@ -218,12 +228,12 @@ pub fn fit_one_mode(
     )?;
     let m = &uncertainty.mass;
     let gain = Interval::new(
-        1.0 / m.value,
+        sign / m.value,
         m.standard_error / (m.value * m.value),
         t_975(uncertainty.degrees_of_freedom),
     );
     let window_correction = lines.exponential_decay.map(|tau| {
-        let windowed = Parameters::from_array(fitted);
+        let windowed = Parameters::from_array(fitted.map(|x| sign * x));
         WindowCorrection {
             decay_time: tau,
             natural_frequency_hz_windowed: windowed.natural_frequency_hz(),
@@ -237,6 +247,7 @@ pub fn fit_one_mode(
         parameters,
         uncertainty,
         gain,
+        negative_modal_constant,
         window_correction,
         band_hz: lines.band_hz,
         lines: lines.omega.len(),
@@ -304,15 +315,22 @@ fn levy_start(lines: &Lines) -> Result<[f64; 3]> {
         .solve(&atb)
         .unwrap_or_else(|| Vector3::repeat(f64::NAN));
     let (m, c, k) = (theta[0], theta[1], theta[2]);
-    if !(m > 0.0 && k > 0.0 && m.is_finite() && k.is_finite()) {
+    // m and k of one sign: a resonance (both negative: a negative modal constant).
+    if !(m * k > 0.0 && m.is_finite() && k.is_finite()) {
         return Err(IdentError::NotIdentifiable {
             reason: format!(
                 "a linear fit of 1/H gives m = {m:.4e}, k = {k:.4e}: no resonance in the band to fit one mode to"
             ),
         });
     }
+    let sign = m.signum();
     let floor = 0.02 * (k * m).sqrt();
-    Ok([m, if c.is_finite() { c.max(floor) } else { floor }, k])
+    let c = if c.is_finite() {
+        (sign * c).max(floor)
+    } else {
+        floor
+    };
+    Ok([m, sign * c, k])
 }
 
 /// The Jacobian ∂r/∂θ (2K × 3: real parts, then imaginary parts) of the weighted

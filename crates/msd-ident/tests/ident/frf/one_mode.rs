@@ -191,3 +191,26 @@ fn bad_inputs_are_refused_by_name() {
         })
     ));
 }
+
+/// A transfer FRF whose mode has a negative modal constant (issue 30): the fit says so and
+/// gives fn, ζ and the negative gain, m, c, k being those of −H.
+#[test]
+fn a_negative_modal_constant_is_fitted_and_stated() {
+    let truth = Parameters::PAPER;
+    let f: Vec<f64> = (1..=60).map(|i| 0.05 * i as f64).collect();
+    let h: Vec<_> = f
+        .iter()
+        .map(|&f| -model_response(&truth, TAU * f))
+        .collect();
+    let fit = fit_one_mode(&table(&f, h), &OneModeOptions::default()).expect("a fit");
+    assert!(fit.negative_modal_constant);
+    // Exact data: the estimate is the truth to the solver's tolerance.
+    for (got, want) in [
+        (fit.parameters.mass, truth.mass),
+        (fit.parameters.damping, truth.damping),
+        (fit.parameters.stiffness, truth.stiffness),
+    ] {
+        assert!((got / want - 1.0).abs() < 1e-8, "{got} vs {want}");
+    }
+    assert!((fit.gain.value * truth.mass + 1.0).abs() < 1e-8);
+}
