@@ -244,6 +244,16 @@ impl Lines {
         }
     }
 
+    /// These lines with the response replaced by the summed magnitudes of `all` (lines on
+    /// the same axis): where a set's modes show as peaks.
+    pub(crate) fn summed_magnitudes(&self, all: &[Lines]) -> Lines {
+        let mut out = self.clone();
+        for (k, h) in out.h.iter_mut().enumerate() {
+            *h = Complex64::new(all.iter().map(|l| l.h[k].norm()).sum(), 0.0);
+        }
+        out
+    }
+
     /// Whether the data show a peak at the mode (fn, ζ): within fn ± max(1.5 line
     /// spacings, 3ζ·fn) the measured magnitude |(jω)^p·H| has a local maximum that
     /// stands at least √2 above the lowest line on each side of it in that window (and

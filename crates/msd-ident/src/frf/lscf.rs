@@ -68,6 +68,12 @@ impl Lscf {
     /// The continuous-time poles of the order-`n` denominator (n ≤ the largest order);
     /// `None` if its normal equations are singular.
     pub(crate) fn poles(&self, n: usize) -> Option<Vec<Complex64>> {
+        poles_of(self.reduced(n)?, n, self.dt)
+    }
+
+    /// The reduced normal matrix M = T − SᵀR⁻¹S of order `n` ((n + 1) × (n + 1));
+    /// `None` if R is singular.
+    pub(crate) fn reduced(&self, n: usize) -> Option<DMatrix<f64>> {
         debug_assert!((1..=self.max_order).contains(&n));
         let size = n + 1;
         let lag = |i: usize, j: usize| i.abs_diff(j);
@@ -75,26 +81,37 @@ impl Lscf {
         let t = DMatrix::from_fn(size, size, |i, j| self.t[lag(i, j)]);
         let s = DMatrix::from_fn(size, size, |i, j| self.s[self.max_order + j - i]);
         let r_inv_s = r.cholesky()?.solve(&s);
-        let m = t - s.transpose() * r_inv_s;
-        let rhs = -m.view((0, n), (n, 1)).clone_owned();
-        let alpha: DVector<f64> = m
-            .view((0, 0), (n, n))
-            .clone_owned()
-            .cholesky()?
-            .solve(&rhs)
-            .column(0)
-            .into_owned();
-        // Companion matrix of z^n + α_{n−1}z^{n−1} + … + α_0.
-        let mut companion = DMatrix::<f64>::zeros(n, n);
-        for j in 0..n {
-            companion[(0, j)] = -alpha[n - 1 - j];
-        }
-        for i in 1..n {
-            companion[(i, i - 1)] = 1.0;
-        }
-        let roots = companion.complex_eigenvalues();
-        Some(roots.iter().map(|z| z.ln() / self.dt).collect())
+        Some(t - s.transpose() * r_inv_s)
     }
+
+    /// The sampling step Δt = π/ω_max of the z-domain model.
+    pub(crate) fn dt(&self) -> f64 {
+        self.dt
+    }
+}
+
+/// The poles of the order-`n` common denominator whose reduced normal matrix (summed
+/// over the frequency responses that share it) is `m`: with α_n = 1, α solves the first
+/// n rows of M·α = 0; `None` if they are singular.
+pub(crate) fn poles_of(m: DMatrix<f64>, n: usize, dt: f64) -> Option<Vec<Complex64>> {
+    let rhs = -m.view((0, n), (n, 1)).clone_owned();
+    let alpha: DVector<f64> = m
+        .view((0, 0), (n, n))
+        .clone_owned()
+        .cholesky()?
+        .solve(&rhs)
+        .column(0)
+        .into_owned();
+    // Companion matrix of z^n + α_{n−1}z^{n−1} + … + α_0.
+    let mut companion = DMatrix::<f64>::zeros(n, n);
+    for j in 0..n {
+        companion[(0, j)] = -alpha[n - 1 - j];
+    }
+    for i in 1..n {
+        companion[(i, i - 1)] = 1.0;
+    }
+    let roots = companion.complex_eigenvalues();
+    Some(roots.iter().map(|z| z.ln() / dt).collect())
 }
 
 #[cfg(test)]

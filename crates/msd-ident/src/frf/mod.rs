@@ -48,6 +48,9 @@ mod modal;
 mod modes;
 mod one_mode;
 mod polish;
+mod set;
+mod set_poles;
+mod shapes;
 mod stabilization;
 mod synthetic;
 mod window;
@@ -57,6 +60,10 @@ pub use lines::FrfWeighting;
 pub use modal::ModalParameters;
 pub use modes::{ModalFit, ModalOptions, Mode, RefusedMode, fit_modes};
 pub use one_mode::{OneModeFit, OneModeOptions, fit_one_mode};
+pub use set::{Dof, MemberFit, ModeSetFit, Roving, SetMember, SetMode, ShapeEntry, fit_mode_set};
+pub use shapes::{
+    mac, mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised,
+};
 pub use stabilization::{
     DiagramOrder, DiagramPole, StabilizationDiagram, StableMode, stabilization_diagram,
 };

@@ -498,16 +498,42 @@ fn mode(
 ) -> Mode {
     let j = PER_MODE * r;
     let se = |i: usize| covariance[(j + i, j + i)].max(0.0).sqrt();
-    let (wn, zeta) = (theta[j], theta[j + 1]);
-    let (mut wn_se, mut zeta_se) = (se(0), se(1));
+    let block = [
+        [covariance[(j, j)], covariance[(j, j + 1)]],
+        [covariance[(j + 1, j)], covariance[(j + 1, j + 1)]],
+    ];
+    let pole = pole_intervals(theta[j], theta[j + 1], block, t, decay);
+    Mode {
+        natural_frequency_hz: pole.natural_frequency_hz,
+        damping_ratio: pole.damping_ratio,
+        modal_constant: Interval::new(theta[j + 2], se(2), t),
+        modal_constant_imaginary: Interval::new(theta[j + 3], se(3), t),
+        stable_orders,
+        window_correction: pole.window_correction,
+    }
+}
+
+/// fn and ζ of a fitted pole with their intervals, and the window's correction.
+pub(crate) struct PoleIntervals {
+    pub natural_frequency_hz: Interval,
+    pub damping_ratio: Interval,
+    pub window_correction: Option<WindowCorrection>,
+}
+
+/// The pole (ωn, ζ) with the covariance `c` of (ωn, ζ): fn and ζ with their intervals
+/// (quantile `t`; ζ's on ln ζ), corrected for an exponential window of decay time
+/// `decay` (delta method: Cov' = G·Cov·Gᵀ).
+pub(crate) fn pole_intervals(
+    wn: f64,
+    zeta: f64,
+    c: [[f64; 2]; 2],
+    t: f64,
+    decay: Option<f64>,
+) -> PoleIntervals {
+    let (mut wn_se, mut zeta_se) = (c[0][0].max(0.0).sqrt(), c[1][1].max(0.0).sqrt());
     let mut corrected = (wn, zeta);
     let window_correction = decay.map(|tau| {
         let ([w0, z0], g) = unshift_pole(wn, zeta, 1.0 / tau);
-        // Delta method: Cov' = G·Cov·Gᵀ on the (ωn, ζ) block.
-        let c = [
-            [covariance[(j, j)], covariance[(j, j + 1)]],
-            [covariance[(j + 1, j)], covariance[(j + 1, j + 1)]],
-        ];
         let var = |row: [f64; 2]| {
             let mut v = 0.0;
             for a in 0..2 {
@@ -526,16 +552,13 @@ fn mode(
             damping_ratio_added: zeta - z0,
         }
     });
-    Mode {
+    PoleIntervals {
         natural_frequency_hz: Interval::new(corrected.0 / TAU, wn_se / TAU, t),
         damping_ratio: if corrected.1 > 0.0 {
             Interval::positive(corrected.1, zeta_se, t)
         } else {
             Interval::new(corrected.1, zeta_se, t)
         },
-        modal_constant: Interval::new(theta[j + 2], se(2), t),
-        modal_constant_imaginary: Interval::new(theta[j + 3], se(3), t),
-        stable_orders,
         window_correction,
     }
 }

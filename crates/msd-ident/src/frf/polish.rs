@@ -30,6 +30,14 @@ pub(crate) fn model(theta: &[f64], w: f64) -> Complex64 {
 /// The modal constants and residual terms for the poles (ωn, ζ) by weighted linear
 /// least squares (columns scaled to unit norm, normal equations by Cholesky): the full θ.
 pub(crate) fn lsfd(lines: &Lines, poles: &[(f64, f64)]) -> Result<Vec<f64>> {
+    let (a, b) = lsfd_system(lines, poles);
+    lsfd_solve(a, &b, poles)
+}
+
+/// The weighted LSFD system for the poles (ωn, ζ): the design matrix (2K × (2M + 2):
+/// per mode the columns of A and of B, then L and U; real parts in the first K rows,
+/// imaginary parts in the last K) and the weighted data.
+pub(crate) fn lsfd_system(lines: &Lines, poles: &[(f64, f64)]) -> (DMatrix<f64>, DVector<f64>) {
     let n = lines.omega.len();
     let p = 2 * poles.len() + 2;
     let mut a = DMatrix::<f64>::zeros(2 * n, p);
@@ -57,13 +65,19 @@ pub(crate) fn lsfd(lines: &Lines, poles: &[(f64, f64)]) -> Result<Vec<f64>> {
         b[k] = h.re / s;
         b[n + k] = h.im / s;
     }
+    (a, b)
+}
+
+/// Continues [`lsfd`]: the solution of the scaled normal equations.
+fn lsfd_solve(mut a: DMatrix<f64>, b: &DVector<f64>, poles: &[(f64, f64)]) -> Result<Vec<f64>> {
+    let p = a.ncols();
     let norms: Vec<f64> = a.column_iter().map(|c| c.norm()).collect();
     for (j, &norm) in norms.iter().enumerate() {
         a.column_mut(j).scale_mut(1.0 / norm);
     }
     let solution = (a.transpose() * &a)
         .cholesky()
-        .map(|c| c.solve(&(a.transpose() * &b)))
+        .map(|c| c.solve(&(a.transpose() * b)))
         .ok_or_else(|| IdentError::NotIdentifiable {
             reason: "the modal constants cannot be told apart (two poles too close?)".into(),
         })?;

@@ -7,7 +7,7 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::Serialize;
 
 use super::lines::{Lines, prepare};
-use super::lscf::Lscf;
+use super::lscf::{Lscf, poles_of};
 use super::modes::ModalOptions;
 use crate::{IdentError, Result};
 
@@ -193,9 +193,41 @@ pub fn stabilization_diagram(
 /// The diagram of prepared lines (options validated, enough lines).
 pub(crate) fn diagram_of(lines: &Lines, options: &ModalOptions) -> Result<StabilizationDiagram> {
     let lscf = Lscf::new(lines, options.orders[1]);
+    diagram_from(|order| lscf.poles(order), lines, options)
+}
+
+/// The diagram of several frequency responses sharing one denominator (their lines on
+/// one axis): the poles of the summed reduced normal matrices; `peaks` the lines whose
+/// magnitude shows the modes (the sum of the responses' magnitudes).
+pub(crate) fn diagram_of_set(
+    lines: &[Lines],
+    peaks: &Lines,
+    options: &ModalOptions,
+) -> Result<StabilizationDiagram> {
+    let lscfs: Vec<Lscf> = lines
+        .iter()
+        .map(|l| Lscf::new(l, options.orders[1]))
+        .collect();
+    let dt = lscfs[0].dt();
+    let poles = |order: usize| {
+        let mut sum = lscfs[0].reduced(order)?;
+        for l in &lscfs[1..] {
+            sum += l.reduced(order)?;
+        }
+        poles_of(sum, order, dt)
+    };
+    diagram_from(poles, peaks, options)
+}
+
+/// The diagram from the poles of each order; `lines` give the band and the peaks.
+fn diagram_from(
+    poles_at: impl Fn(usize) -> Option<Vec<Complex64>>,
+    lines: &Lines,
+    options: &ModalOptions,
+) -> Result<StabilizationDiagram> {
     let mut orders: Vec<DiagramOrder> = Vec::new();
     for order in (options.orders[0]..=options.orders[1]).step_by(options.order_step) {
-        let Some(poles) = lscf.poles(order) else {
+        let Some(poles) = poles_at(order) else {
             continue;
         };
         let mut poles: Vec<DiagramPole> = poles

@@ -1,6 +1,7 @@
 //! Fitting frequency responses: one mode from a noisy stepped sine (intervals and their
 //! coverage), an impact test with an exponential window, several modes.
 
+mod beam;
 mod impact;
 mod modes;
 mod one_mode;

@@ -1,0 +1,465 @@
+//! A set of frequency responses of one test (a roving hammer or a roving accelerometer):
+//! poles common to all of them, each one's modal constants, and the mode shapes.
+
+use std::f64::consts::TAU;
+
+use msd_signal::{Complex64, FrequencyResponseEstimate};
+use serde::{Deserialize, Serialize};
+
+use super::lines::{FrfWeighting, Lines, prepare};
+use super::modes::{ModalOptions, pole_intervals};
+use super::polish::{PER_MODE, lsfd, model};
+use super::set_poles::refine_poles;
+use super::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
+use super::stabilization::{StabilizationDiagram, diagram_of_set};
+use super::window::WindowCorrection;
+use crate::uncertainty::t_975;
+use crate::{IdentError, Interval, Result};
+
+/// A measurement point and direction (as UFF numbers them: direction 1, 2, 3 = +X, +Y,
+/// +Z, negative for the opposite sense). Displays as `node:direction`, e.g. `3:+2`.
+///
+/// ```
+/// use msd_ident::frf::Dof;
+/// assert_eq!(Dof { node: 3, direction: -2 }.to_string(), "3:-2");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct Dof {
+    /// The node (point) number.
+    pub node: u32,
+    /// The direction: ±1, ±2, ±3 (translations), ±4, ±5, ±6 (rotations).
+    pub direction: i32,
+}
+
+impl std::fmt::Display for Dof {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{:+}", self.node, self.direction)
+    }
+}
+
+/// One frequency response of a set, with where it was measured and where the force was.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SetMember {
+    /// The frequency response (every member on the same lines, of the same quantity).
+    pub frf: FrequencyResponseEstimate,
+    /// The response DOF.
+    pub response: Dof,
+    /// The reference (force) DOF.
+    pub reference: Dof,
+}
+
+/// Which DOF changes from one member of a set to the next: the shapes are over it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Roving {
+    /// One reference, the response roves (a roving accelerometer or shaker test); also
+    /// a set of one.
+    Response,
+    /// One response, the force roves (a roving-hammer test; by reciprocity the shape over
+    /// the hammer's points).
+    Reference,
+}
+
+/// One entry of a mode shape: a DOF and the complex value there.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ShapeEntry {
+    /// The node.
+    pub node: u32,
+    /// The direction.
+    pub direction: i32,
+    /// Real part.
+    pub re: f64,
+    /// Imaginary part.
+    pub im: f64,
+}
+
+/// One mode of a [`ModeSetFit`]: the common pole with its intervals, the shape over the
+/// roving DOFs and its complexity.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SetMode {
+    /// Natural frequency, Hz (with an exponential window: corrected for it).
+    pub natural_frequency_hz: Interval,
+    /// Damping ratio (idem); its interval on ln ζ.
+    pub damping_ratio: Interval,
+    /// At how many orders of the diagram its column has a pole.
+    pub stable_orders: usize,
+    /// The modal constant A + jB of every member (receptance, as in
+    /// [`ModalParameters`](super::ModalParameters)), over the roving DOFs.
+    pub modal_constants: Vec<ShapeEntry>,
+    /// The shape: the modal constants scaled so that the largest entry is 1.
+    pub shape: Vec<ShapeEntry>,
+    /// Modal phase collinearity of the shape (1 for a real mode).
+    pub mpc: f64,
+    /// Mean phase deviation of the shape, degrees (0 for a real mode).
+    pub mpd_deg: f64,
+    /// The modal mass of `shape` (with a driving point whose modal constant is positive;
+    /// in the units of the force and response): 1/ψ² at the shape's largest entry, ψ the
+    /// mass-normalised shape A_i/√A_dd.
+    pub modal_mass: Option<f64>,
+    /// The mass-normalised shape ψ (idem).
+    pub mass_normalised_shape: Option<Vec<ShapeEntry>>,
+    /// What an exponential window added and how it was taken off, if there was one.
+    pub window_correction: Option<WindowCorrection>,
+}
+
+/// How well the model reproduces one member of a set.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MemberFit {
+    /// The response DOF.
+    pub response: Dof,
+    /// The reference DOF.
+    pub reference: Dof,
+    /// ‖H_model − H‖/‖H‖ on the quantity measured.
+    pub relative_error: f64,
+    /// Its lower residual term L (−L/ω² in receptance).
+    pub lower_residual: f64,
+    /// Its upper residual term U.
+    pub upper_residual: f64,
+}
+
+/// The result of [`fit_mode_set`]: the modes with their shapes, the auto-MAC, the fit of
+/// each member, the stabilization diagram of the set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModeSetFit {
+    /// The modes, by frequency.
+    pub modes: Vec<SetMode>,
+    /// MAC of every shape with every other (`mac[i][j]`).
+    pub mac: Vec<Vec<f64>>,
+    /// Each member's fit, in the order given.
+    pub members: Vec<MemberFit>,
+    /// Which DOF roves (the shapes are over it).
+    pub roving: Roving,
+    /// The member whose response is at its reference, if any.
+    pub driving_point: Option<Dof>,
+    /// Why the modal masses are missing, when they are.
+    pub modal_mass_note: Option<String>,
+    /// The stabilization diagram of the set (common denominator).
+    pub diagram: StabilizationDiagram,
+    /// The first and last line fitted, Hz.
+    pub band_hz: [f64; 2],
+    /// Lines per member.
+    pub lines: usize,
+    /// The weighting used.
+    pub weighting: FrfWeighting,
+    /// σ̂ of the weighted residuals of all members.
+    pub sigma: f64,
+    /// Residuals less parameters.
+    pub degrees_of_freedom: usize,
+    /// Gauss–Newton iterations of the poles.
+    pub iterations: usize,
+}
+
+impl ModeSetFit {
+    /// The receptance of the model of member `member` at `frequency_hz` (with an
+    /// exponential window: the windowed response, which the data show).
+    pub fn response(&self, member: usize, frequency_hz: f64) -> Complex64 {
+        let w = TAU * frequency_hz;
+        let fit = &self.members[member];
+        let mut h = Complex64::new(fit.upper_residual - fit.lower_residual / (w * w), 0.0);
+        for m in &self.modes {
+            let (mut wn, mut zeta) = (TAU * m.natural_frequency_hz.value, m.damping_ratio.value);
+            if let Some(c) = m.window_correction {
+                (wn, zeta) = (
+                    TAU * c.natural_frequency_hz_windowed,
+                    c.damping_ratio_windowed,
+                );
+            }
+            let a = m.modal_constants[member];
+            h += super::modal::term(&[wn, zeta, a.re, a.im], w);
+        }
+        h
+    }
+}
+
+impl std::fmt::Display for ModeSetFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let worst = self
+            .members
+            .iter()
+            .map(|m| m.relative_error)
+            .fold(0.0, f64::max);
+        write!(
+            f,
+            "{} modes common to {} frequency responses, {} lines each, {:.4}–{:.4} Hz ({} weighting); largest fit error {:.2} %",
+            self.modes.len(),
+            self.members.len(),
+            self.lines,
+            self.band_hz[0],
+            self.band_hz[1],
+            self.weighting,
+            100.0 * worst
+        )?;
+        for (i, m) in self.modes.iter().enumerate() {
+            write!(
+                f,
+                "\nmode {}: fn = {:.6} Hz, ζ = {:.6}, MPC = {:.3}, MPD = {:.1}°",
+                i + 1,
+                m.natural_frequency_hz,
+                m.damping_ratio,
+                m.mpc,
+                m.mpd_deg
+            )?;
+            if let Some(mass) = m.modal_mass {
+                write!(f, ", modal mass {mass:.4e}")?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Which DOF roves in `members`, and the driving point; errors name the member at fault.
+fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
+    let invalid = |reason: String| Err(IdentError::NotIdentifiable { reason });
+    let Some(first) = members.first() else {
+        return invalid("a set of frequency responses needs at least one member".into());
+    };
+    for (i, m) in members.iter().enumerate().skip(1) {
+        if m.frf.frequency != first.frf.frequency || m.frf.kind != first.frf.kind {
+            return invalid(format!(
+                "member {} ({} / {}) has other frequency lines or another quantity than member 1: a set shares its lines and its quantity",
+                i + 1,
+                m.response,
+                m.reference
+            ));
+        }
+        if let Some(j) = members[..i]
+            .iter()
+            .position(|o| (o.response, o.reference) == (m.response, m.reference))
+        {
+            return invalid(format!(
+                "members {} and {} are both response {} / reference {}: each pair once",
+                j + 1,
+                i + 1,
+                m.response,
+                m.reference
+            ));
+        }
+    }
+    let same = |get: fn(&SetMember) -> Dof| members.iter().all(|m| get(m) == get(first));
+    let roving = if same(|m| m.reference) {
+        Roving::Response
+    } else if same(|m| m.response) {
+        Roving::Reference
+    } else {
+        return invalid(
+            "the members share neither one reference nor one response: a set is one roving-hammer or one roving-response test".into(),
+        );
+    };
+    let driving = members
+        .iter()
+        .find(|m| m.response == m.reference)
+        .map(|m| m.response);
+    Ok((roving, driving))
+}
+
+/// Fits modes common to every member of a set: their poles, then every member's modal
+/// constants and residual terms, the shapes, their MAC and complexity, and — with a
+/// driving point — the modal masses.
+///
+/// ## The method
+/// Each member's lines are prepared as for [`fit_modes`](super::fit_modes) (the same band
+/// and weighting). The stabilization diagram is that of a common denominator: the LSCF
+/// reduced normal matrices of the members summed (Peeters et al., "The PolyMAX
+/// frequency-domain method", 2004, for one reference), its columns selected at the peaks
+/// of the members' summed magnitude. For the selected poles, LSFD gives each member's
+/// modal constants and residual terms; the poles are then refined by Gauss–Newton on the
+/// residuals of all members with the linear parameters eliminated (variable projection),
+/// and their covariance is σ̂²(Σ JᵀJ)⁻¹ of that reduced problem (the Schur complement,
+/// exactly the poles' block of the full covariance).
+///
+/// Errors: members on different lines or of different quantities, a pair of DOFs twice,
+/// members that share neither reference nor response, and those of
+/// [`fit_modes`](super::fit_modes).
+///
+/// ```
+/// use msd_ident::{ModalOptions, frf::{fit_mode_set, mac, Dof, ModalParameters, SetMember}};
+/// use msd_signal::{Complex64, FrequencyResponseEstimate};
+/// // Two modes of a three-point structure, the force at point 1.
+/// let shapes = [[1.0, 0.8, 0.4], [1.0, -0.5, -1.0]];
+/// let (fns, zetas) = ([10.0, 24.0], [0.01, 0.02]);
+/// let f: Vec<f64> = (1..=600).map(|i| 0.05 * i as f64).collect();
+/// let members = (0..3).map(|i| {
+///     let h = f.iter().map(|&f| (0..2).map(|r| ModalParameters {
+///         natural_frequency_hz: fns[r], damping_ratio: zetas[r],
+///         modal_constant: shapes[r][0] * shapes[r][i], modal_constant_imaginary: 0.0,
+///     }.receptance(f)).sum()).collect();
+///     SetMember { frf: FrequencyResponseEstimate::new(f.clone(), h).unwrap(),
+///         response: Dof { node: i as u32 + 1, direction: 3 }, reference: Dof { node: 1, direction: 3 } }
+/// }).collect::<Vec<_>>();
+/// let fit = fit_mode_set(&members, &ModalOptions::default())?;
+/// assert_eq!(fit.modes.len(), 2);
+/// for (mode, truth) in fit.modes.iter().zip(&shapes) {
+///     let estimated: Vec<Complex64> = mode.shape.iter().map(|e| Complex64::new(e.re, e.im)).collect();
+///     let truth: Vec<Complex64> = truth.iter().map(|&x| Complex64::new(x, 0.0)).collect();
+///     assert!(mac(&estimated, &truth) > 0.9999);
+///     assert!((mode.modal_mass.unwrap() - 1.0).abs() < 1e-6); // unit shapes, unit modal mass
+/// }
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<ModeSetFit> {
+    options.validate()?;
+    let (roving, driving_point) = check_members(members)?;
+    let min_lines = options.orders[1] + 1;
+    let mut lines: Vec<Lines> = members
+        .iter()
+        .map(|m| prepare(&m.frf, options.band_hz, options.weighting, min_lines))
+        .collect::<Result<_>>()?;
+    if let Some(i) = lines.iter().position(|l| l.omega != lines[0].omega) {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "member {} keeps other lines than member 1 after weighting (a line without a usable weight in one of them); use weighting = \"uniform\"",
+                i + 1
+            ),
+        });
+    }
+    let peaks = lines[0].summed_magnitudes(&lines);
+    let diagram = diagram_of_set(&lines, &peaks, options)?;
+    if diagram.modes.is_empty() {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "no mode is stable in the stabilization diagram of the set{}",
+                diagram.why_too_few(options)
+            ),
+        });
+    }
+    let start: Vec<(f64, f64)> = diagram
+        .modes
+        .iter()
+        .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
+        .collect();
+    for l in &mut lines {
+        let theta = lsfd(l, &start)?;
+        l.reweight(|w| model(&theta, w));
+    }
+    let poles = refine_poles(&lines, start)?;
+    assemble(members, &lines, poles, diagram, roving, driving_point)
+}
+
+/// The result from the refined poles: every member's modal constants, the shapes, MAC.
+fn assemble(
+    members: &[SetMember],
+    lines: &[Lines],
+    poles: super::set_poles::RefinedPoles,
+    diagram: StabilizationDiagram,
+    roving: Roving,
+    driving_point: Option<Dof>,
+) -> Result<ModeSetFit> {
+    let thetas = lines
+        .iter()
+        .map(|l| lsfd(l, &poles.poles))
+        .collect::<Result<Vec<_>>>()?;
+    let t = t_975(poles.degrees_of_freedom);
+    let decay = lines[0].exponential_decay;
+    let dof = |m: &SetMember| match roving {
+        Roving::Response => m.response,
+        Roving::Reference => m.reference,
+    };
+    let driving = members.iter().position(|m| m.response == m.reference);
+    let mut notes = Vec::new();
+    let modes: Vec<SetMode> = (0..poles.poles.len())
+        .map(|r| {
+            let (wn, zeta) = poles.poles[r];
+            let c = &poles.covariance;
+            let block = [
+                [c[(2 * r, 2 * r)], c[(2 * r, 2 * r + 1)]],
+                [c[(2 * r + 1, 2 * r)], c[(2 * r + 1, 2 * r + 1)]],
+            ];
+            let pole = pole_intervals(wn, zeta, block, t, decay);
+            let constants: Vec<Complex64> = thetas
+                .iter()
+                .map(|th| Complex64::new(th[PER_MODE * r + 2], th[PER_MODE * r + 3]))
+                .collect();
+            let entries = |values: &[Complex64]| -> Vec<ShapeEntry> {
+                members
+                    .iter()
+                    .zip(values)
+                    .map(|(m, v)| {
+                        let d = dof(m);
+                        ShapeEntry {
+                            node: d.node,
+                            direction: d.direction,
+                            re: v.re,
+                            im: v.im,
+                        }
+                    })
+                    .collect()
+            };
+            let shape = unit_normalised(&constants);
+            let mass = driving.and_then(|d| modal_mass(&constants, &shape, d, r, &mut notes));
+            SetMode {
+                natural_frequency_hz: pole.natural_frequency_hz,
+                damping_ratio: pole.damping_ratio,
+                stable_orders: diagram.modes[r].stable_orders,
+                modal_constants: entries(&constants),
+                mpc: modal_phase_collinearity(&constants),
+                mpd_deg: mean_phase_deviation(&constants),
+                shape: entries(&shape),
+                modal_mass: mass.as_ref().map(|m| m.0),
+                mass_normalised_shape: mass.map(|m| entries(&m.1)),
+                window_correction: pole.window_correction,
+            }
+        })
+        .collect();
+    let shapes: Vec<Vec<Complex64>> = modes
+        .iter()
+        .map(|m| m.shape.iter().map(|e| Complex64::new(e.re, e.im)).collect())
+        .collect();
+    let fits = members
+        .iter()
+        .zip(lines)
+        .zip(&thetas)
+        .map(|((m, l), th)| MemberFit {
+            response: m.response,
+            reference: m.reference,
+            relative_error: l.relative_error(|w| model(th, w)),
+            lower_residual: th[th.len() - 2],
+            upper_residual: th[th.len() - 1],
+        })
+        .collect();
+    if driving.is_none() {
+        notes.push("no member has its response at its reference (a driving point): the shapes are not mass-normalised".into());
+    }
+    Ok(ModeSetFit {
+        mac: mac_matrix(&shapes, &shapes),
+        modes,
+        members: fits,
+        roving,
+        driving_point,
+        modal_mass_note: (!notes.is_empty()).then(|| notes.join("; ")),
+        band_hz: lines[0].band_hz,
+        lines: lines[0].omega.len(),
+        weighting: lines[0].weighting,
+        sigma: poles.sigma,
+        degrees_of_freedom: poles.degrees_of_freedom,
+        iterations: poles.iterations,
+        diagram,
+    })
+}
+
+/// The modal mass of mode `r` for its unit-normalised `shape` and the mass-normalised
+/// shape ψ = A_i/√A_dd, from the driving point's modal constant (member `driving`);
+/// `None` with a note when that constant's real part is not positive.
+fn modal_mass(
+    constants: &[Complex64],
+    shape: &[Complex64],
+    driving: usize,
+    r: usize,
+    notes: &mut Vec<String>,
+) -> Option<(f64, Vec<Complex64>)> {
+    let a_dd = constants[driving];
+    if a_dd.re.is_nan() || a_dd.re <= 0.0 {
+        notes.push(format!(
+            "mode {}: the driving point's modal constant {:.4e} is not positive (a sign convention of the sensor, or not a driving point), so it has no modal mass",
+            r + 1,
+            a_dd.re
+        ));
+        return None;
+    }
+    let root = a_dd.sqrt();
+    let psi: Vec<Complex64> = constants.iter().map(|a| a / root).collect();
+    // shape = ψ/ψ_k with ψ_k the largest entry: the modal mass of `shape` is 1/ψ_k².
+    let k = (0..shape.len())
+        .max_by(|&a, &b| psi[a].norm_sqr().total_cmp(&psi[b].norm_sqr()))
+        .unwrap_or(driving);
+    Some((1.0 / psi[k].norm_sqr(), psi))
+}

@@ -1,0 +1,140 @@
+//! The poles common to a set of frequency responses, refined by Gauss–Newton with each
+//! member's linear parameters (modal constants, residual terms) eliminated: variable
+//! projection (Golub & Pereyra 1973) in Kaufman's form.
+//!
+//! For fixed poles p, member o's weighted residuals are r_o = A_o x̂_o − b_o with x̂_o
+//! from LSFD. With D_o = ∂(model_o)/∂p at x̂_o (weighted), the reduced Jacobian is
+//! J_o = (I − P_o) D_o, P_o the projection on A_o's columns, so
+//! J_oᵀJ_o = D_oᵀD_o − D_oᵀA_o(A_oᵀA_o)⁻¹A_oᵀD_o and J_oᵀr_o = D_oᵀr_o (r_o ⊥ A_o).
+//! Summed over the members these are the normal equations of the 2M pole parameters,
+//! and σ̂²(Σ J_oᵀJ_o)⁻¹ is the poles' block of the full covariance.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::lines::Lines;
+use super::modal::term_with_gradient;
+use super::polish::lsfd_system;
+use crate::least_squares::Linearization;
+use crate::{IdentError, Result};
+
+/// The refined poles (ωn, ζ), their covariance (rows ωn₁, ζ₁, ωn₂, …), σ̂ and the
+/// degrees of freedom, and the iterations taken.
+pub(crate) struct RefinedPoles {
+    pub poles: Vec<(f64, f64)>,
+    pub covariance: DMatrix<f64>,
+    pub sigma: f64,
+    pub degrees_of_freedom: usize,
+    pub iterations: usize,
+}
+
+/// The sum of squares and the reduced normal equations at some poles.
+struct Reduced {
+    sse: f64,
+    normal: DMatrix<f64>,
+    gradient: DVector<f64>,
+}
+
+/// Levenberg–Marquardt on the poles of every member of `lines` (one axis) from `start`.
+pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<RefinedPoles> {
+    let mut poles = start;
+    let mut at = reduce(lines, &poles)?;
+    let mut lambda = 1e-3;
+    let mut iterations = 0;
+    while iterations < 100 && lambda < 1e12 {
+        iterations += 1;
+        let mut lhs = at.normal.clone();
+        for i in 0..lhs.nrows() {
+            lhs[(i, i)] *= 1.0 + lambda;
+        }
+        let Some(step) = lhs.cholesky().map(|c| c.solve(&-&at.gradient)) else {
+            lambda *= 10.0;
+            continue;
+        };
+        let trial: Vec<(f64, f64)> = poles
+            .iter()
+            .enumerate()
+            .map(|(r, &(wn, zeta))| (wn + step[2 * r], zeta + step[2 * r + 1]))
+            .collect();
+        let valid = trial.iter().all(|&(wn, zeta)| wn > 0.0 && zeta > 0.0);
+        match valid.then(|| reduce(lines, &trial)) {
+            Some(Ok(next)) if next.sse < at.sse => {
+                let gain = (at.sse - next.sse) / at.sse;
+                (poles, at) = (trial, next);
+                lambda = (lambda / 10.0).max(1e-12);
+                if gain < 1e-12 {
+                    break;
+                }
+            }
+            _ => lambda *= 10.0,
+        }
+    }
+    let residuals: usize = lines.iter().map(|l| 2 * l.omega.len()).sum();
+    let parameters = 2 * poles.len() + lines.len() * (2 * poles.len() + 2);
+    if residuals <= parameters {
+        return Err(IdentError::TooFewSamples {
+            got: residuals / 2,
+            needed: parameters / 2 + 1,
+            why: "lines (summed over the set) for the modal parameters of every mode",
+        });
+    }
+    let degrees_of_freedom = residuals - parameters;
+    let s2 = at.sse / degrees_of_freedom as f64;
+    let covariance = Linearization::from_normal_matrix(&at.normal)
+        .map(|l| l.covariance(s2 * lines[0].correlated_lines))
+        .map_err(|e| e.error("the set's lines", &[]))?;
+    Ok(RefinedPoles {
+        poles,
+        covariance,
+        sigma: s2.sqrt(),
+        degrees_of_freedom,
+        iterations,
+    })
+}
+
+/// The reduced problem at `poles`: Σ SSE, Σ J_oᵀJ_o and Σ J_oᵀr_o.
+fn reduce(lines: &[Lines], poles: &[(f64, f64)]) -> Result<Reduced> {
+    let m2 = 2 * poles.len();
+    let mut out = Reduced {
+        sse: 0.0,
+        normal: DMatrix::zeros(m2, m2),
+        gradient: DVector::zeros(m2),
+    };
+    let singular = || IdentError::NotIdentifiable {
+        reason: "the modal constants cannot be told apart (two poles too close?)".into(),
+    };
+    for l in lines {
+        let (mut a, b) = lsfd_system(l, poles);
+        // Column scaling leaves the projection unchanged and keeps AᵀA well conditioned.
+        let norms: Vec<f64> = a.column_iter().map(|c| c.norm()).collect();
+        for (j, &norm) in norms.iter().enumerate() {
+            a.column_mut(j).scale_mut(1.0 / norm);
+        }
+        let gram = (a.transpose() * &a).cholesky().ok_or_else(singular)?;
+        let x = gram.solve(&(a.transpose() * &b));
+        let r = &a * &x - &b;
+        let d = derivatives(l, poles, &x, &norms);
+        let atd = a.transpose() * &d;
+        out.sse += r.norm_squared();
+        out.normal += d.transpose() * &d - atd.transpose() * gram.solve(&atd);
+        out.gradient += d.transpose() * &r;
+    }
+    Ok(out)
+}
+
+/// D = ∂(weighted model)/∂(ωn_r, ζ_r) at the scaled LSFD solution `x` (column norms
+/// `norms`): 2K × 2M, real parts then imaginary parts.
+fn derivatives(l: &Lines, poles: &[(f64, f64)], x: &DVector<f64>, norms: &[f64]) -> DMatrix<f64> {
+    let n = l.omega.len();
+    let mut d = DMatrix::zeros(2 * n, 2 * poles.len());
+    for (k, (&w, &s)) in l.omega.iter().zip(&l.sigma).enumerate() {
+        for (r, &(wn, zeta)) in poles.iter().enumerate() {
+            let (a, b) = (x[2 * r] / norms[2 * r], x[2 * r + 1] / norms[2 * r + 1]);
+            let (_, g) = term_with_gradient(&[wn, zeta, a, b], w);
+            for (i, gi) in [g[0], g[1]].iter().enumerate() {
+                d[(k, 2 * r + i)] = gi.re / s;
+                d[(n + k, 2 * r + i)] = gi.im / s;
+            }
+        }
+    }
+    d
+}
