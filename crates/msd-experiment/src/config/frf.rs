@@ -26,7 +26,7 @@
 //! let bad = text.replace("lines = 40", "lines = 40\n[frequency_response.uff]\npath = \"x.uff\"");
 //! let err = Config::from_toml_str(&bad, "sweep.toml").unwrap_err();
 //! assert_eq!(err.to_string(), "sweep.toml:10: frequency_response.uff: a second source beside \
-//!     `sweep`: expected exactly one of sweep, hammer, shaker, table, uff, records");
+//!     `sweep`: expected exactly one of sweep, hammer, shaker, table, set, uff, records");
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
@@ -61,6 +61,11 @@ pub struct FrequencyResponseSection {
     /// A measured table (CSV), one row per line.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<TableSource>,
+    /// A set of measured FRFs of one test (`[[frequency_response.set]]`: one table
+    /// each, with its `response` and `reference` DOFs): modes common to all of them,
+    /// with their shapes (msd-ident's `fit_mode_set`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub set: Option<Vec<TableSource>>,
     /// A UFF file's dataset 58.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uff: Option<UffSource>,
@@ -88,6 +93,7 @@ pub struct FrequencyResponseSection {
 }
 
 pub use msd_ident::ChainPlant;
+pub use msd_ident::frf::Dof;
 
 /// How the lines of a simulated sweep are spaced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -256,6 +262,13 @@ pub struct TableSource {
     /// What the response measures. By default receptance.
     #[serde(default)]
     pub kind: FrfKind,
+    /// In a `set`: the response DOF, `{ node = 1, direction = 3 }` (UFF's numbering:
+    /// direction ±1, ±2, ±3 for ±X, ±Y, ±Z).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<Dof>,
+    /// In a `set`: the reference (force) DOF.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference: Option<Dof>,
     /// Field delimiter. By default `","`.
     #[serde(default = "comma")]
     pub delimiter: char,

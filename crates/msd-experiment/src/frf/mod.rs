@@ -34,7 +34,9 @@
 
 mod csv;
 mod plots;
+mod plots_set;
 mod report;
+mod report_set;
 mod results;
 mod simulate;
 mod source;
@@ -45,7 +47,7 @@ use crate::config::{ChainPlant, Config};
 use crate::{ExperimentError, Result, RunOptions};
 use msd_ident::{
     ModalFit, OneModeFit, fit_modes, fit_one_mode,
-    frf::{HalfPower, ModalParameters, half_power},
+    frf::{HalfPower, ModalParameters, ModeSetFit, SetMember, fit_mode_set, half_power},
 };
 use msd_signal::FrequencyResponseEstimate;
 use std::path::{Path, PathBuf};
@@ -61,6 +63,39 @@ pub enum FrfFit {
     OneMode(Box<OneModeFit>),
     /// The modes of the stabilization diagram, polished, with intervals.
     Modes(Box<ModalFit>),
+    /// Modes common to a set of FRFs, with their shapes.
+    Set(Box<ModeSetFit>),
+}
+
+impl FrfFit {
+    /// The first and last line fitted, Hz.
+    pub fn band_hz(&self) -> [f64; 2] {
+        match self {
+            FrfFit::OneMode(f) => f.band_hz,
+            FrfFit::Modes(m) => m.band_hz,
+            FrfFit::Set(m) => m.band_hz,
+        }
+    }
+
+    /// Every fitted mode's fn and ζ with their intervals.
+    pub fn poles(&self) -> Vec<(msd_ident::Interval, msd_ident::Interval)> {
+        match self {
+            FrfFit::OneMode(f) => vec![(
+                f.uncertainty.natural_frequency_hz,
+                f.uncertainty.damping_ratio,
+            )],
+            FrfFit::Modes(m) => m
+                .modes
+                .iter()
+                .map(|m| (m.natural_frequency_hz, m.damping_ratio))
+                .collect(),
+            FrfFit::Set(m) => m
+                .modes
+                .iter()
+                .map(|m| (m.natural_frequency_hz, m.damping_ratio))
+                .collect(),
+        }
+    }
 }
 
 /// The known plant of a synthetic config (or the truth a file is compared with).
@@ -86,8 +121,10 @@ pub struct FrfOutcome {
     pub seed: u64,
     /// Where the frequency response came from, in words.
     pub source: String,
-    /// The frequency response.
+    /// The frequency response (a set's first member).
     pub data: FrequencyResponseEstimate,
+    /// A set's FRFs with their DOFs (empty unless the source is a set).
+    pub members: Vec<SetMember>,
     /// The fit.
     pub fit: FrfFit,
     /// Peak picking and half-power bandwidth, one per fitted mode (`None` where the peak
@@ -119,6 +156,12 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
     let t = Instant::now();
     let fail = |e: msd_ident::IdentError| ExperimentError::run("frequency-response fit", e);
     let fit = match &section.modes {
+        _ if !loaded.members.is_empty() => {
+            let options = section.modes.unwrap_or_default();
+            FrfFit::Set(Box::new(
+                fit_mode_set(&loaded.members, &options).map_err(fail)?,
+            ))
+        }
         Some(options) => FrfFit::Modes(Box::new(fit_modes(&loaded.frf, options).map_err(fail)?)),
         None => {
             let fit = fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?;
@@ -155,6 +198,7 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
         seed,
         source: loaded.description,
         data: loaded.frf,
+        members: loaded.members,
         fit,
         classroom,
         truth,
@@ -168,13 +212,9 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
 fn classroom(frf: &FrequencyResponseEstimate, fit: &FrfFit) -> Vec<Option<HalfPower>> {
     match fit {
         FrfFit::OneMode(f) => vec![f.half_power],
-        FrfFit::Modes(m) => {
-            let f: Vec<f64> = m
-                .modes
-                .iter()
-                .map(|m| m.natural_frequency_hz.value)
-                .collect();
-            let [low, high] = m.band_hz;
+        FrfFit::Modes(_) | FrfFit::Set(_) => {
+            let f: Vec<f64> = fit.poles().iter().map(|p| p.0.value).collect();
+            let [low, high] = fit.band_hz();
             (0..f.len())
                 .map(|r| {
                     let from = if r == 0 {
@@ -197,6 +237,7 @@ impl FrfOutcome {
         let receptance = match &self.fit {
             FrfFit::OneMode(f) => f.response(frequency_hz),
             FrfFit::Modes(m) => m.response(frequency_hz),
+            FrfFit::Set(m) => m.response(0, frequency_hz),
         };
         let jw = msd_signal::Complex64::new(0.0, std::f64::consts::TAU * frequency_hz);
         receptance * jw.powi(power(self.data.kind))
@@ -218,6 +259,7 @@ impl std::fmt::Display for FrfOutcome {
         match &self.fit {
             FrfFit::OneMode(fit) => write!(f, "{name}: {fit}")?,
             FrfFit::Modes(fit) => write!(f, "{name}: {fit}")?,
+            FrfFit::Set(fit) => write!(f, "{name}: {fit}")?,
         }
         if let Some(t) = &self.truth {
             let covered = report::covered(self, t);

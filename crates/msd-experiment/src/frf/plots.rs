@@ -30,6 +30,11 @@ pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>>
         save(&Stabilization(&m.diagram), dir)?;
         written.push("frf_stabilization");
     }
+    if let FrfFit::Set(m) = &o.fit {
+        save(&Stabilization(&m.diagram), dir)?;
+        written.push("frf_stabilization");
+        written.extend(super::plots_set::write_all(o, m, dir)?);
+    }
     Ok(written)
 }
 
@@ -45,10 +50,7 @@ struct View {
 
 impl View {
     fn of(o: &FrfOutcome) -> Self {
-        let [low, high] = match &o.fit {
-            FrfFit::OneMode(f) => f.band_hz,
-            FrfFit::Modes(m) => m.band_hz,
-        };
+        let [low, high] = o.fit.band_hz();
         let (f, h): (Vec<f64>, Vec<Complex64>) = o
             .data
             .frequency
@@ -61,14 +63,7 @@ impl View {
             .map(|i| low * (high / low).powf(i as f64 / 800.0))
             .collect();
         let model = dense.iter().map(|&x| o.model_response(x)).collect();
-        let modes_hz = match &o.fit {
-            FrfFit::OneMode(f) => vec![f.uncertainty.natural_frequency_hz.value],
-            FrfFit::Modes(m) => m
-                .modes
-                .iter()
-                .map(|m| m.natural_frequency_hz.value)
-                .collect(),
-        };
+        let modes_hz = o.fit.poles().iter().map(|p| p.0.value).collect();
         let unit = match o.data.kind {
             msd_signal::FrfKind::Receptance => "m/N",
             msd_signal::FrfKind::Mobility => "m/(N·s)",

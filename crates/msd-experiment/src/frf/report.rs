@@ -3,7 +3,10 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::fmt::sig;
-use msd_ident::{Interval, ModalFit, OneModeFit, frf::HalfPower};
+use msd_ident::{
+    Interval, ModalFit, OneModeFit,
+    frf::{HalfPower, ModalParameters},
+};
 use std::fmt::Write;
 
 /// "a of b quantities (names)": how many fitted fn and ζ (and m, c, k of a one-mass
@@ -44,17 +47,13 @@ fn checks(o: &FrfOutcome, truth: &Truth) -> Vec<(String, Interval, f64)> {
                 out.push(("ζ".into(), u.damping_ratio, mode.damping_ratio));
             }
         }
-        FrfFit::Modes(m) if m.modes.len() == truth.modes.len() => {
-            for (r, (fit, t)) in m.modes.iter().zip(&truth.modes).enumerate() {
-                out.push((
-                    format!("fn{}", r + 1),
-                    fit.natural_frequency_hz,
-                    t.natural_frequency_hz,
-                ));
-                out.push((format!("ζ{}", r + 1), fit.damping_ratio, t.damping_ratio));
+        FrfFit::Modes(_) | FrfFit::Set(_) if o.fit.poles().len() == truth.modes.len() => {
+            for (r, ((f, z), t)) in o.fit.poles().into_iter().zip(&truth.modes).enumerate() {
+                out.push((format!("fn{}", r + 1), f, t.natural_frequency_hz));
+                out.push((format!("ζ{}", r + 1), z, t.damping_ratio));
             }
         }
-        FrfFit::Modes(_) => {}
+        FrfFit::Modes(_) | FrfFit::Set(_) => {}
     }
     out
 }
@@ -98,6 +97,7 @@ fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
     match &o.fit {
         FrfFit::OneMode(f) => one_mode_section(w, o, f)?,
         FrfFit::Modes(m) => modes_section(w, o, m)?,
+        FrfFit::Set(m) => super::report_set::section(w, o, m)?,
     }
     if let Some(t) = &o.truth {
         writeln!(
@@ -117,6 +117,12 @@ fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
         ),
         ("frf_coherence", "Ordinary coherence of the estimate"),
         ("frf_stabilization", "Stabilization diagram"),
+        (
+            "frf_set_fit",
+            "Every FRF of the set: the data and the fitted model",
+        ),
+        ("frf_mac", "MAC of the mode shapes"),
+        ("frf_shapes", "The mode shapes over the measured DOFs"),
     ] {
         if figures.contains(&name) {
             writeln!(w, "![{caption}]({name}.png)\n")?;
@@ -226,17 +232,8 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
             interval(&mode.modal_constant),
             interval(&mode.modal_constant_imaginary),
             mode.stable_orders,
-            classroom.map_or("—".into(), |c| format!(
-                "{}, {}{}",
-                sig(c.natural_frequency_hz, 5),
-                sig(c.damping_ratio, 3),
-                if c.reliable { "" } else { " †" }
-            )),
-            t.map_or("—".into(), |t| format!(
-                "{}, {}",
-                sig(t.natural_frequency_hz, 6),
-                sig(t.damping_ratio, 4)
-            )),
+            classroom_cell(classroom.as_ref()),
+            truth_cell(t.as_ref()),
         )?;
     }
     unreliable_note(w, o.classroom.iter().flatten())?;
@@ -257,8 +254,31 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
     Ok(())
 }
 
+/// "fn, ζ" of a half-power estimate, marked † when unreliable; "—" without one.
+pub(super) fn classroom_cell(c: Option<&HalfPower>) -> String {
+    c.map_or("—".into(), |c| {
+        format!(
+            "{}, {}{}",
+            sig(c.natural_frequency_hz, 5),
+            sig(c.damping_ratio, 3),
+            if c.reliable { "" } else { " †" }
+        )
+    })
+}
+
+/// "fn, ζ" of a true mode; "—" without one.
+pub(super) fn truth_cell(t: Option<&ModalParameters>) -> String {
+    t.map_or("—".into(), |t| {
+        format!(
+            "{}, {}",
+            sig(t.natural_frequency_hz, 6),
+            sig(t.damping_ratio, 4)
+        )
+    })
+}
+
 /// A footnote when a half-power estimate is under-resolved (its † in the table).
-fn unreliable_note<'a>(
+pub(super) fn unreliable_note<'a>(
     w: &mut String,
     estimates: impl Iterator<Item = &'a HalfPower>,
 ) -> std::fmt::Result {
@@ -326,7 +346,7 @@ fn row(
     Ok(())
 }
 
-fn interval(i: &Interval) -> String {
+pub(super) fn interval(i: &Interval) -> String {
     format!(
         "{} ({} … {})",
         sig(i.value, 5),
@@ -342,10 +362,7 @@ fn first_line(text: &str) -> &str {
 /// The fitted band and the lowest coherence within it (the lines outside it may carry no
 /// force at all, and their coherence says nothing of the fit).
 pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
-    let [from, to] = match &o.fit {
-        FrfFit::OneMode(f) => f.band_hz,
-        FrfFit::Modes(m) => m.band_hz,
-    };
+    let [from, to] = o.fit.band_hz();
     let low = o
         .data
         .frequency

@@ -7,7 +7,10 @@ use crate::results::Experiment;
 use msd_ident::LmExit;
 use msd_ident::{
     Interval,
-    frf::{HalfPower, ModalParameters, Mode, StabilizationDiagram, WindowCorrection},
+    frf::{
+        Dof, HalfPower, MemberFit, ModalParameters, Mode, Roving, SetMode, StabilizationDiagram,
+        WindowCorrection,
+    },
 };
 use serde::Serialize;
 use serde_json::Value;
@@ -24,7 +27,15 @@ struct Results<'a> {
     estimate: Option<Estimate>,
     /// Several modes.
     #[serde(skip_serializing_if = "Option::is_none")]
-    modes: Option<&'a [Mode]>,
+    modes: Option<Modes<'a>>,
+    /// A set's MAC matrix of the shapes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mac: Option<&'a [Vec<f64>]>,
+    /// A set's fit of each FRF (on the measured quantity).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fit_error: Option<&'a [MemberFit]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    modal_set: Option<SetSummary<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     modal_fit: Option<ModalSummary<'a>>,
     /// Peak picking and half-power bandwidth per mode (null where unreadable).
@@ -35,6 +46,28 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     time_domain: Option<&'a super::TimeDomain>,
     timings_ms: BTreeMap<String, f64>,
+}
+
+/// The modes of one FRF, or of a set (with their shapes).
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Modes<'a> {
+    One(&'a [Mode]),
+    Set(&'a [SetMode]),
+}
+
+#[derive(Serialize)]
+struct SetSummary<'a> {
+    roving: Roving,
+    driving_point: Option<Dof>,
+    modal_mass_note: Option<&'a str>,
+    band_hz: [f64; 2],
+    lines: usize,
+    weighting: String,
+    noise_sigma: f64,
+    degrees_of_freedom: usize,
+    iterations: usize,
+    stabilization: &'a StabilizationDiagram,
 }
 
 #[derive(Serialize)]
@@ -110,6 +143,10 @@ fn ms(d: Duration) -> f64 {
 /// The whole document; `extra` are the writing stages' timings, `total` the wall time.
 pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Duration) -> Value {
     let one_mass = o.truth.as_ref().filter(|t| t.plant.len() == 1);
+    let set = match &o.fit {
+        FrfFit::Set(m) => Some(m.as_ref()),
+        _ => None,
+    };
     let results = Results {
         experiment: Experiment::new(
             &o.config,
@@ -134,9 +171,24 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
         },
         estimate: one_mode(o),
         modes: match &o.fit {
-            FrfFit::Modes(m) => Some(&m.modes),
+            FrfFit::Modes(m) => Some(Modes::One(&m.modes)),
+            FrfFit::Set(m) => Some(Modes::Set(&m.modes)),
             FrfFit::OneMode(_) => None,
         },
+        mac: set.map(|m| m.mac.as_slice()),
+        fit_error: set.map(|m| m.members.as_slice()),
+        modal_set: set.map(|m| SetSummary {
+            roving: m.roving,
+            driving_point: m.driving_point,
+            modal_mass_note: m.modal_mass_note.as_deref(),
+            band_hz: m.band_hz,
+            lines: m.lines,
+            weighting: m.weighting.to_string(),
+            noise_sigma: m.sigma,
+            degrees_of_freedom: m.degrees_of_freedom,
+            iterations: m.iterations,
+            stabilization: &m.diagram,
+        }),
         modal_fit: modal(o),
         classroom: &o.classroom,
         truth: o.truth.as_ref().map(|t: &Truth| TruthSection {

@@ -43,6 +43,7 @@ fn estimate(
             kind: options.kind,
             hold,
         }),
+        members: Vec::new(),
     })
 }
 

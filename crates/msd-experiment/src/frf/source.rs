@@ -11,6 +11,7 @@ use crate::config::{
 };
 use crate::{ExperimentError, Result};
 use msd_ident::Hold;
+use msd_ident::frf::SetMember;
 use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};
 use std::path::Path;
 
@@ -21,6 +22,8 @@ pub(crate) struct Loaded {
     pub description: String,
     /// The time records it was estimated from, if it was.
     pub time: Option<TimeRecords>,
+    /// A set's members (`frf` is the first), empty otherwise.
+    pub members: Vec<SetMember>,
 }
 
 /// The section's frequency response; `dir` resolves relative paths, `seed` the noise.
@@ -39,6 +42,9 @@ pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) ->
     }
     if let Some(t) = &section.table {
         return table(t, &dir.join(&t.path));
+    }
+    if let Some(set) = &section.set {
+        return members(set, dir);
     }
     if let Some(u) = &section.uff {
         return uff(u, &dir.join(&u.path));
@@ -78,6 +84,7 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
             },
             100.0 * s.relative_noise
         ),
+        members: Vec::new(),
     })
 }
 
@@ -149,6 +156,70 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
             f[f.len() - 1],
         ),
         frf,
+        members: Vec::new(),
+    })
+}
+
+/// The tables of a set, each with its DOFs; the files must share their lines.
+fn members(set: &[TableSource], dir: &Path) -> Result<Loaded> {
+    let mut members = Vec::new();
+    for (i, t) in set.iter().enumerate() {
+        let path = dir.join(&t.path);
+        let loaded = table(t, &path)?;
+        let (Some(response), Some(reference)) = (t.response, t.reference) else {
+            return Err(ExperimentError::config(
+                format!("frequency_response.set[{i}]"),
+                "response and reference: missing",
+            ));
+        };
+        if let Some(first) = members.first().map(|m: &SetMember| &m.frf)
+            && (first.frequency != loaded.frf.frequency || first.kind != loaded.frf.kind)
+        {
+            return Err(ExperimentError::data(
+                &path,
+                format!(
+                    "frequency_response.set[{i}]: {} lines {}–{} Hz of {}, but set[0] has {} lines {}–{} Hz of {}: the FRFs of a set share their lines and their quantity",
+                    loaded.frf.frequency.len(),
+                    loaded.frf.frequency[0],
+                    loaded.frf.frequency[loaded.frf.frequency.len() - 1],
+                    loaded.frf.kind,
+                    first.frequency.len(),
+                    first.frequency[0],
+                    first.frequency[first.frequency.len() - 1],
+                    first.kind
+                ),
+            ));
+        }
+        if let Some(j) = members
+            .iter()
+            .position(|m| (m.response, m.reference) == (response, reference))
+        {
+            return Err(ExperimentError::config(
+                format!("frequency_response.set[{i}]"),
+                format!(
+                    "response {response} and reference {reference} are those of set[{j}]: each pair of DOFs once"
+                ),
+            ));
+        }
+        members.push(SetMember {
+            frf: loaded.frf,
+            response,
+            reference,
+        });
+    }
+    let first = &members[0].frf;
+    Ok(Loaded {
+        frf: first.clone(),
+        description: format!(
+            "a set of {} FRFs ({} lines each, {}–{} Hz, {})",
+            members.len(),
+            first.frequency.len(),
+            first.frequency[0],
+            first.frequency[first.frequency.len() - 1],
+            first.kind
+        ),
+        time: None,
+        members,
     })
 }
 
@@ -202,6 +273,7 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
             frf.kind
         ),
         frf,
+        members: Vec::new(),
     })
 }
 
@@ -253,5 +325,6 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
             kind: options.kind,
             hold: Hold::Cubic,
         }),
+        members: Vec::new(),
     })
 }

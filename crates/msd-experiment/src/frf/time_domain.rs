@@ -125,10 +125,10 @@ pub(crate) fn compare(
     let skipped = |reason: String| TimeDomain::Skipped { reason };
     let one = match fit {
         FrfFit::OneMode(one) => one,
-        FrfFit::Modes(m) => {
+        FrfFit::Modes(_) | FrfFit::Set(_) => {
             return skipped(format!(
                 "{} modes were fitted; the time-domain model is one mass on a spring and a damper (a single mode), so it does not apply",
-                m.modes.len()
+                fit.poles().len()
             ));
         }
     };

@@ -15,12 +15,13 @@ impl FrequencyResponseSection {
             .unwrap_or("none")
     }
 
-    fn sources(&self) -> [(&'static str, bool); 6] {
+    fn sources(&self) -> [(&'static str, bool); 7] {
         [
             ("sweep", self.sweep.is_some()),
             ("hammer", self.hammer.is_some()),
             ("shaker", self.shaker.is_some()),
             ("table", self.table.is_some()),
+            ("set", self.set.is_some()),
             ("uff", self.uff.is_some()),
             ("records", self.records.is_some()),
         ]
@@ -33,7 +34,7 @@ impl FrequencyResponseSection {
             .into_iter()
             .filter_map(|(n, g)| g.then_some(n))
             .collect();
-        let expected = "expected exactly one of sweep, hammer, shaker, table, uff, records";
+        let expected = "expected exactly one of sweep, hammer, shaker, table, set, uff, records";
         match given.as_slice() {
             [] => return err("frequency_response", format!(": no source: {expected}")),
             [_] => {}
@@ -101,42 +102,33 @@ impl FrequencyResponseSection {
             }
         }
         if let Some(t) = &self.table {
-            let pairs = (
-                t.magnitude.is_some() && t.phase.is_some(),
-                t.real.is_some() && t.imaginary.is_some(),
-            );
-            let given = [
-                t.magnitude.is_some() || t.phase.is_some(),
-                t.real.is_some() || t.imaginary.is_some(),
-                t.complex.is_some(),
-            ];
-            let complete = [pairs.0, pairs.1, t.complex.is_some()];
-            if given.iter().filter(|&&g| g).count() != 1 || !complete.contains(&true) {
-                return err(
-                    "frequency_response.table",
-                    ": expected either `magnitude` and `phase`, `real` and `imaginary`, or one `complex` column"
-                        .into(),
-                );
-            }
-            match (&t.frequency, t.frequency_step_hz) {
-                (Some(_), Some(_)) | (None, None) => {
+            check_table(t)?;
+        }
+        for (i, t) in self.set.iter().flatten().enumerate() {
+            check_table(t).map_err(|(key, why)| {
+                (
+                    key.replacen(
+                        "frequency_response.table",
+                        &format!("frequency_response.set[{i}]"),
+                        1,
+                    ),
+                    why,
+                )
+            })?;
+            for (name, dof) in [("response", t.response), ("reference", t.reference)] {
+                if dof.is_none() {
                     return err(
-                        "frequency_response.table.frequency",
-                        ": expected either a `frequency` column or `frequency_step_hz` (and `frequency_start_hz`, by default 0) for a file without one".into(),
+                        &format!("frequency_response.set[{i}].{name}"),
+                        ": missing: each FRF of a set names its DOFs, e.g. { node = 1, direction = 3 }".into(),
                     );
                 }
-                (None, Some(step)) => {
-                    check_positive("frequency_response.table.frequency_step_hz", step)?;
-                    let start = t.frequency_start_hz;
-                    if !(start.is_finite() && start >= 0.0) {
-                        return err(
-                            "frequency_response.table.frequency_start_hz",
-                            format!(" = {start}: expected a finite frequency >= 0 Hz"),
-                        );
-                    }
-                }
-                (Some(_), None) => {}
             }
+        }
+        if self.set.as_ref().is_some_and(Vec::is_empty) {
+            return err(
+                "frequency_response.set",
+                " = []: expected at least one FRF".into(),
+            );
         }
         if let Some(r) = &self.records {
             check_positive("frequency_response.records.sample_rate", r.sample_rate)?;
@@ -159,6 +151,47 @@ impl FrequencyResponseSection {
         }
         Ok(())
     }
+}
+
+/// A table source's columns and frequency axis; errors name `frequency_response.table.…`.
+fn check_table(t: &super::TableSource) -> Check {
+    let pairs = (
+        t.magnitude.is_some() && t.phase.is_some(),
+        t.real.is_some() && t.imaginary.is_some(),
+    );
+    let given = [
+        t.magnitude.is_some() || t.phase.is_some(),
+        t.real.is_some() || t.imaginary.is_some(),
+        t.complex.is_some(),
+    ];
+    let complete = [pairs.0, pairs.1, t.complex.is_some()];
+    if given.iter().filter(|&&g| g).count() != 1 || !complete.contains(&true) {
+        return err(
+            "frequency_response.table",
+            ": expected either `magnitude` and `phase`, `real` and `imaginary`, or one `complex` column"
+                .into(),
+        );
+    }
+    match (&t.frequency, t.frequency_step_hz) {
+        (Some(_), Some(_)) | (None, None) => {
+            return err(
+                "frequency_response.table.frequency",
+                ": expected either a `frequency` column or `frequency_step_hz` (and `frequency_start_hz`, by default 0) for a file without one".into(),
+            );
+        }
+        (None, Some(step)) => {
+            check_positive("frequency_response.table.frequency_step_hz", step)?;
+            let start = t.frequency_start_hz;
+            if !(start.is_finite() && start >= 0.0) {
+                return err(
+                    "frequency_response.table.frequency_start_hz",
+                    format!(" = {start}: expected a finite frequency >= 0 Hz"),
+                );
+            }
+        }
+        (Some(_), None) => {}
+    }
+    Ok(())
 }
 
 /// A chain plant's sizes, values and force and response positions.

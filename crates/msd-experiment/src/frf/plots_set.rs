@@ -1,0 +1,248 @@
+//! The figures of a set of FRFs: every FRF with its fitted model (`frf_set_fit`), the MAC
+//! matrix (`frf_mac`) and the shapes over the DOFs (`frf_shapes`).
+
+use super::FrfOutcome;
+use crate::Result;
+use crate::plots::{
+    BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, save, suptitle, text,
+    tick, tick_style,
+};
+use msd_ident::frf::ModeSetFit;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// A colour per series, cycling.
+const PALETTE: [RGBColor; 6] = [
+    BLUE,
+    RED,
+    ORANGE,
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// Writes the set's figures; returns their base names.
+pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Vec<&'static str>> {
+    save(&SetFit(o, m), dir)?;
+    save(&Mac(m), dir)?;
+    save(&Shapes(m), dir)?;
+    Ok(vec!["frf_set_fit", "frf_mac", "frf_shapes"])
+}
+
+/// The measured quantity's magnitude of member `i`'s model at `f`.
+fn model_magnitude(o: &FrfOutcome, m: &ModeSetFit, i: usize, f: f64) -> f64 {
+    let p = o.data.kind.power();
+    m.response(i, f).norm() * (std::f64::consts::TAU * f).powi(p)
+}
+
+struct SetFit<'a>(&'a FrfOutcome, &'a ModeSetFit);
+
+impl Figure for SetFit<'_> {
+    fn name(&self) -> &'static str {
+        "frf_set_fit"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 800)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let (o, m) = (self.0, self.1);
+        let area = suptitle(
+            root,
+            "Every FRF of the set: data (points) and fitted model (lines)",
+        )?;
+        let [f0, f1] = m.band_hz;
+        let data: Vec<Vec<(f64, f64)>> = o
+            .members
+            .iter()
+            .map(|s| {
+                (s.frf.frequency.iter().zip(&s.frf.h))
+                    .filter(|(f, h)| (f0..=f1).contains(*f) && h.norm() > 0.0)
+                    .map(|(f, h)| (*f, h.norm()))
+                    .collect()
+            })
+            .collect();
+        let all = data.iter().flatten().map(|p| p.1);
+        let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+        if !(lo > 0.0 && hi > lo) {
+            return Err("no positive magnitude to draw".into());
+        }
+        let mut chart = ChartBuilder::on(&area)
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(96)
+            .build_cartesian_2d(f0..f1, (lo * 0.5..hi * 2.0).log_scale())
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc("frequency f [Hz]")
+            .y_desc(format!("|H| ({})", o.data.kind))
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        let dense: Vec<f64> = (0..=4000)
+            .map(|i| f0 + (f1 - f0) * i as f64 / 4000.0)
+            .collect();
+        for (i, (points, fit)) in data.iter().zip(&m.members).enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))
+                .map_err(text)?;
+            let line = dense
+                .iter()
+                .map(|&f| (f, model_magnitude(o, m, i, f).clamp(lo * 0.5, hi * 2.0)));
+            let series = chart
+                .draw_series(LineSeries::new(line, colour.stroke_width(2)))
+                .map_err(text)?;
+            if i < 8 {
+                series
+                    .label(format!("{} / {}", fit.response, fit.reference))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                    });
+            }
+        }
+        draw_legend(&mut chart, SeriesLabelPosition::LowerRight)
+    }
+}
+
+struct Mac<'a>(&'a ModeSetFit);
+
+impl Figure for Mac<'_> {
+    fn name(&self) -> &'static str {
+        "frf_mac"
+    }
+    fn size(&self) -> (u32, u32) {
+        (900, 860)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let mac = &self.0.mac;
+        let n = mac.len();
+        if n == 0 {
+            return Err("no mode".into());
+        }
+        let area = suptitle(root, "MAC of the mode shapes")?;
+        let mut chart = ChartBuilder::on(&area)
+            .margin(20)
+            .x_label_area_size(52)
+            .y_label_area_size(64)
+            .build_cartesian_2d(0.5..n as f64 + 0.5, 0.5..n as f64 + 0.5)
+            .map_err(text)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_labels(n.min(20))
+            .y_labels(n.min(20))
+            .x_desc("mode")
+            .y_desc("mode")
+            .label_style(tick_style())
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .draw()
+            .map_err(text)?;
+        for (i, row) in mac.iter().enumerate() {
+            for (j, &v) in row.iter().enumerate() {
+                let (x, y) = ((j + 1) as f64, (i + 1) as f64);
+                let shade = (255.0 * (1.0 - v.clamp(0.0, 1.0))) as u8;
+                let fill = RGBColor(shade, shade, 255);
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)],
+                        fill.filled(),
+                    )))
+                    .map_err(text)?;
+                if n <= 12 {
+                    let colour = if v > 0.5 { WHITE } else { DARK };
+                    chart
+                        .draw_series(std::iter::once(Text::new(
+                            format!("{v:.2}"),
+                            (x - 0.2, y + 0.1),
+                            tick_style().color(&colour),
+                        )))
+                        .map_err(text)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+struct Shapes<'a>(&'a ModeSetFit);
+
+impl Figure for Shapes<'_> {
+    fn name(&self) -> &'static str {
+        "frf_shapes"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 700)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let m = self.0;
+        let Some(first) = m.modes.first() else {
+            return Err("no mode".into());
+        };
+        let n = first.shape.len();
+        let area = suptitle(
+            root,
+            "Mode shapes over the measured DOFs (real part, largest entry 1)",
+        )?;
+        let labels: Vec<String> = first
+            .shape
+            .iter()
+            .map(|e| format!("{}:{:+}", e.node, e.direction))
+            .collect();
+        let mut chart = ChartBuilder::on(&area)
+            .margin(14)
+            .margin_right(28)
+            .x_label_area_size(52)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.5..n as f64 + 0.5, -1.15..1.15)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_labels(n.min(30))
+            .x_desc("DOF (node:direction)")
+            .y_desc("shape")
+            .x_label_formatter(&|v| {
+                let i = v.round() as usize;
+                labels.get(i.wrapping_sub(1)).cloned().unwrap_or_default()
+            })
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        chart
+            .draw_series(LineSeries::new(
+                vec![(0.5, 0.0), (n as f64 + 0.5, 0.0)],
+                GRAY.stroke_width(1),
+            ))
+            .map_err(text)?;
+        for (r, mode) in m.modes.iter().enumerate() {
+            let colour = PALETTE[r % PALETTE.len()];
+            let points: Vec<(f64, f64)> = mode
+                .shape
+                .iter()
+                .enumerate()
+                .map(|(i, e)| ((i + 1) as f64, e.re))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(3)))
+                .map_err(text)?
+                .label(format!(
+                    "mode {}: {:.4} Hz",
+                    r + 1,
+                    mode.natural_frequency_hz.value
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
+                });
+            chart
+                .draw_series(
+                    points
+                        .into_iter()
+                        .map(|p| Circle::new(p, 5, colour.filled())),
+                )
+                .map_err(text)?;
+        }
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+    }
+}

@@ -1,0 +1,119 @@
+//! The report section of a set of FRFs: the modes with their complexity and modal
+//! masses, the fit of each FRF, the shapes and their MAC.
+
+use super::FrfOutcome;
+use super::report::{classroom_cell, interval, truth_cell, unreliable_note};
+use crate::fmt::sig;
+use msd_ident::frf::{ModeSetFit, ShapeEntry};
+use std::fmt::Write;
+
+/// `## Modes` for a set.
+pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fmt::Result {
+    writeln!(
+        w,
+        "## Modes common to the set\n\n{}\n",
+        first_line(&m.to_string())
+    )?;
+    writeln!(w, "{}\n", first_line(&m.diagram.to_string()))?;
+    writeln!(
+        w,
+        "| mode | fn [Hz] | ζ [-] | MPC | MPD [°] | modal mass | stable orders | half-power fn, ζ (FRF 1) | true fn, ζ |\n|---|---|---|---|---|---|---|---|---|"
+    )?;
+    let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
+    for (r, mode) in m.modes.iter().enumerate() {
+        let classroom = o.classroom.get(r).copied().flatten();
+        writeln!(
+            w,
+            "| {} | {} | {} | {:.3} | {:.1} | {} | {} | {} | {} |",
+            r + 1,
+            interval(&mode.natural_frequency_hz),
+            interval(&mode.damping_ratio),
+            mode.mpc,
+            mode.mpd_deg,
+            mode.modal_mass.map_or("—".into(), |x| sig(x, 4)),
+            mode.stable_orders,
+            classroom_cell(classroom.as_ref()),
+            truth_cell(truth.map(|t| &t.modes[r])),
+        )?;
+    }
+    unreliable_note(w, o.classroom.iter().flatten())?;
+    if let Some(note) = &m.modal_mass_note {
+        writeln!(w, "\nModal masses: {note}.")?;
+    }
+    writeln!(
+        w,
+        "\n### Fit of each FRF\n\n| response | reference | fit error (measured quantity) | lower residual L | upper residual U |\n|---|---|---|---|---|"
+    )?;
+    for f in &m.members {
+        writeln!(
+            w,
+            "| {} | {} | {:.2} % | {} | {} |",
+            f.response,
+            f.reference,
+            100.0 * f.relative_error,
+            sig(f.lower_residual, 4),
+            sig(f.upper_residual, 4)
+        )?;
+    }
+    shapes_table(w, m)?;
+    mac_table(w, &m.mac)
+}
+
+/// The unit-normalised shapes, one row per DOF.
+fn shapes_table(w: &mut String, m: &ModeSetFit) -> std::fmt::Result {
+    let Some(first) = m.modes.first() else {
+        return Ok(());
+    };
+    writeln!(
+        w,
+        "\n### Mode shapes\n\nEach shape scaled so that its largest entry is 1 (over the {} DOFs).\n",
+        match m.roving {
+            msd_ident::frf::Roving::Reference => "hammer's",
+            msd_ident::frf::Roving::Response => "responses'",
+        }
+    )?;
+    write!(w, "| DOF |")?;
+    for r in 0..m.modes.len() {
+        write!(w, " mode {} |", r + 1)?;
+    }
+    writeln!(w, "\n|---|{}", "---|".repeat(m.modes.len()))?;
+    for (i, entry) in first.shape.iter().enumerate() {
+        write!(w, "| {}:{:+} |", entry.node, entry.direction)?;
+        for mode in &m.modes {
+            write!(w, " {} |", complex(&mode.shape[i]))?;
+        }
+        writeln!(w)?;
+    }
+    Ok(())
+}
+
+/// `re ± im j`, four significant digits each.
+fn complex(e: &ShapeEntry) -> String {
+    let sign = if e.im < 0.0 { "−" } else { "+" };
+    format!("{} {sign} {}j", sig(e.re, 4), sig(e.im.abs(), 2))
+}
+
+/// The auto-MAC as a table.
+fn mac_table(w: &mut String, mac: &[Vec<f64>]) -> std::fmt::Result {
+    if mac.is_empty() {
+        return Ok(());
+    }
+    writeln!(w, "\n### MAC of the shapes\n")?;
+    write!(w, "| |")?;
+    for r in 0..mac.len() {
+        write!(w, " {} |", r + 1)?;
+    }
+    writeln!(w, "\n|---|{}", "---|".repeat(mac.len()))?;
+    for (r, row) in mac.iter().enumerate() {
+        write!(w, "| {} |", r + 1)?;
+        for x in row {
+            write!(w, " {x:.3} |")?;
+        }
+        writeln!(w)?;
+    }
+    writeln!(w)
+}
+
+fn first_line(text: &str) -> &str {
+    text.lines().next().unwrap_or("")
+}

@@ -1,0 +1,97 @@
+//! A set of FRFs from CSV tables (`[[frequency_response.set]]`): fitted together with
+//! their shapes, and refused with the key and the file when the set is inconsistent.
+
+use msd_experiment::config::Config;
+use msd_experiment::frf::{self, FrfFit};
+use msd_ident::frf::ModalParameters;
+use std::fmt::Write;
+use std::path::Path;
+
+/// Two modes at points 1–3 (shapes [1, 0.8, 0.4] and [1, −0.5, −1]), the hammer at point 1:
+/// the receptance H_1i as a CSV of frequency, real and imaginary parts.
+fn write_table(dir: &Path, point: usize, lines: usize) {
+    let shapes = [[1.0, 0.8, 0.4], [1.0, -0.5, -1.0]];
+    let mut text = String::from("f,re,im\n");
+    for i in 1..=lines {
+        let f = 0.05 * i as f64;
+        let h: msd_signal::Complex64 = (0..2)
+            .map(|r| {
+                ModalParameters {
+                    natural_frequency_hz: [10.0, 24.0][r],
+                    damping_ratio: [0.01, 0.02][r],
+                    modal_constant: shapes[r][0] * shapes[r][point - 1],
+                    modal_constant_imaginary: 0.0,
+                }
+                .receptance(f)
+            })
+            .sum();
+        writeln!(text, "{f},{},{}", h.re, h.im).expect("a string");
+    }
+    std::fs::write(dir.join(format!("h{point}.csv")), text).expect("written");
+}
+
+fn member(point: usize, response: usize) -> String {
+    format!(
+        "[[frequency_response.set]]\npath = \"h{point}.csv\"\nfrequency = \"f\"\nreal = \"re\"\nimaginary = \"im\"\nresponse = {{ node = {response}, direction = 3 }}\nreference = {{ node = 1, direction = 3 }}\n"
+    )
+}
+
+fn run(dir: &Path, body: &str) -> Result<frf::FrfOutcome, msd_experiment::ExperimentError> {
+    let path = dir.join("set.toml");
+    std::fs::write(&path, format!("name = \"set\"\n{body}")).expect("written");
+    let config = Config::load(&path)?;
+    frf::run(config, &path, &Default::default())
+}
+
+#[test]
+fn a_set_of_tables_gives_the_modes_and_their_shapes() {
+    let dir = tempfile::tempdir().expect("a folder");
+    for point in 1..=3 {
+        write_table(dir.path(), point, 600);
+    }
+    let body: String = (1..=3).map(|p| member(p, p)).collect();
+    let outcome = run(dir.path(), &body).expect("a fit");
+    let FrfFit::Set(fit) = &outcome.fit else {
+        panic!("a set fit")
+    };
+    assert_eq!(fit.modes.len(), 2, "{fit}");
+    // Exact data: the second shape's last entry is −1 of the largest (point 1).
+    let last = fit.modes[1].shape[2];
+    assert!(
+        (last.re + 1.0).abs() < 1e-6 && last.im.abs() < 1e-6,
+        "{last:?}"
+    );
+    let json = frf::to_json(&outcome, &[], Default::default());
+    assert_eq!(json["modes"][1]["shape"][2]["node"], 3);
+    assert_eq!(json["mac"].as_array().map(Vec::len), Some(2));
+    assert_eq!(json["fit_error"].as_array().map(Vec::len), Some(3));
+}
+
+#[test]
+fn an_inconsistent_set_is_refused_naming_the_member() {
+    let dir = tempfile::tempdir().expect("a folder");
+    write_table(dir.path(), 1, 600);
+    write_table(dir.path(), 2, 500);
+    write_table(dir.path(), 3, 600);
+    // Other lines.
+    let err = run(dir.path(), &(member(1, 1) + &member(2, 2))).expect_err("refused");
+    let text = err.to_string();
+    assert!(
+        text.contains("h2.csv") && text.contains("set[1]") && text.contains("share their lines"),
+        "{text}"
+    );
+    assert_eq!(err.exit_code(), 2, "{text}");
+    // The same pair of DOFs twice.
+    let err = run(dir.path(), &(member(1, 1) + &member(3, 1))).expect_err("refused");
+    assert!(err.to_string().contains("each pair of DOFs once"), "{err}");
+    assert_eq!(err.exit_code(), 2);
+    // A member without its DOFs.
+    let body = member(1, 1).replace("response = { node = 1, direction = 3 }\n", "");
+    let err = run(dir.path(), &body).expect_err("refused");
+    assert!(
+        err.to_string()
+            .contains("frequency_response.set[0].response"),
+        "{err}"
+    );
+    assert_eq!(err.exit_code(), 2);
+}
