@@ -7,7 +7,8 @@
 //! Functions (58, 58b) give `type`, `binary`, `func_type`, `rsp_node`, `rsp_dir`, `ref_node`,
 //! `ref_dir`, `abscissa_min`, `abscissa_inc` (null if uneven), `num_pts`, `complex`, `first`
 //! and `last` (`[re, im]` of the first and last ordinate) and a few more; the header (151)
-//! and units (164) their fields; skipped datasets their number and byte offset.
+//! and units (164) their fields; each run of nodes (15, 2411) its nodes; data at nodes (55)
+//! all its fields and `analysis_type`; skipped datasets their number and byte offset.
 
 use msd_uff::{Abscissa, Encoding, Function58, Ordinate, Precision, UffFile};
 use serde_json::{Value, json};
@@ -76,6 +77,16 @@ fn main() {
         v["type"] = json!(164);
         out.push(v);
     }
+    for run in file.nodes.chunk_by(|a, b| a.precision == b.precision) {
+        let double = run.first().map(|n| n.precision) == Some(Precision::Double);
+        out.push(json!({"type": if double { 2411 } else { 15 }, "nodes": run}));
+    }
+    out.extend(file.data_at_nodes.iter().map(|d| {
+        let mut v = serde_json::to_value(d).unwrap_or(Value::Null);
+        v["type"] = json!(55);
+        v["analysis_type"] = json!(d.analysis.code());
+        v
+    }));
     out.extend(
         file.functions
             .iter()

@@ -1,8 +1,11 @@
-//! `Display` for [`UffFile`] and [`Function58`]: one line per function, then the notes.
+//! `Display` for [`UffFile`], [`Function58`] and [`Data55`]: one line per dataset 55 and
+//! per function, then the notes.
 
 use std::fmt;
 
-use crate::{Abscissa, ByteOrder, Encoding, Function58, Ordinate, Precision, UffFile};
+use crate::{
+    Abscissa, Analysis55, ByteOrder, Data55, Encoding, Function58, Ordinate, Precision, UffFile,
+};
 
 /// `+X`, `-RZ`, `scalar`, … for a direction code (record 6, fields 7 and 10).
 fn direction(code: i32) -> String {
@@ -52,6 +55,46 @@ impl fmt::Display for Function58 {
     }
 }
 
+impl fmt::Display for Data55 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.analysis {
+            Analysis55::NormalMode {
+                mode, frequency, ..
+            } => write!(f, "normal mode {mode} at {frequency} Hz")?,
+            Analysis55::ComplexEigenvalue {
+                second_order,
+                mode,
+                eigenvalue: (re, im),
+                ..
+            } => {
+                let order = if *second_order { "second" } else { "first" };
+                write!(
+                    f,
+                    "complex mode {mode} ({order} order), eigenvalue {re} {} {}i",
+                    if im.is_sign_negative() { '-' } else { '+' },
+                    im.abs()
+                )?;
+            }
+            Analysis55::FrequencyResponse {
+                frequency_step,
+                frequency,
+                ..
+            } => write!(
+                f,
+                "frequency response, step {frequency_step} at {frequency} Hz"
+            )?,
+            Analysis55::Other { analysis_type, .. } => write!(f, "analysis type {analysis_type}")?,
+        }
+        write!(
+            f,
+            ", {} nodes × {} {} values",
+            self.nodes.len(),
+            self.values_per_node,
+            if self.complex { "complex" } else { "real" }
+        )
+    }
+}
+
 impl fmt::Display for UffFile {
     /// ```
     /// let text = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/pyuff/mixed.uff"))?;
@@ -67,6 +110,12 @@ impl fmt::Display for UffFile {
         }
         if let Some(units) = &self.units {
             write!(f, ", units {:?} (code {})", units.description, units.code)?;
+        }
+        if !self.nodes.is_empty() {
+            write!(f, ", {} nodes", self.nodes.len())?;
+        }
+        for (i, data) in self.data_at_nodes.iter().enumerate() {
+            write!(f, "\n  data at nodes {i}: {data}")?;
         }
         for (i, function) in self.functions.iter().enumerate() {
             write!(f, "\n  {i}: {function}")?;

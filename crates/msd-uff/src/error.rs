@@ -111,9 +111,11 @@ pub enum UffError {
         "cannot write dataset {dataset} (#{index} of its kind): `{field}` = {value}: expected {expected}"
     )]
     Unwritable {
-        /// The dataset number (58, 151 or 164).
+        /// The dataset number (15, 55, 58, 151, 164 or 2411).
         dataset: u32,
-        /// Index among the datasets of that kind (`functions[index]` for 58; 0 otherwise).
+        /// Index among the datasets of that kind (`functions[index]` for 58,
+        /// `data_at_nodes[index]` for 55), or of the node (`nodes[index]`) for 15 and 2411;
+        /// 0 otherwise.
         index: usize,
         /// The field, as named in this crate's types.
         field: &'static str,

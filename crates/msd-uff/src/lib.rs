@@ -2,13 +2,23 @@
 //!
 //! Read and write Universal File Format (UFF) files: the text-and-binary format in which
 //! modal test systems export frequency response functions, spectra, coherences and time
-//! records. A leaf crate: it knows nothing of the mass–spring–damper model.
+//! records, and modal analysis programs their geometry and mode shapes. A leaf crate: it
+//! knows nothing of the mass–spring–damper model.
 //!
-//! * [`read`] and [`parse`] give a [`UffFile`]: its functions (datasets **58** and binary
-//!   **58b**, as [`Function58`]), its header (dataset **151**) and units (dataset **164**).
-//!   Every other dataset is passed over and listed in [`UffFile::skipped`] with its byte
-//!   offset, not refused.
-//! * [`write()`] and [`to_bytes`] write them back, ASCII or binary, single or double precision.
+//! | dataset | what | read | written | here |
+//! |---|---|---|---|---|
+//! | **58**, **58b** | function at nodal DOF (FRF, spectrum, time record, …), ASCII or binary | yes | yes | [`Function58`] in [`UffFile::functions`] |
+//! | **55** | data at nodes (mode shapes, operating deflections, static displacements) | yes | yes | [`Data55`] in [`UffFile::data_at_nodes`] |
+//! | **15** | nodes (single precision) | yes | yes | [`Node`] in [`UffFile::nodes`] |
+//! | **2411** | nodes (double precision) | yes | yes | [`Node`] in [`UffFile::nodes`] |
+//! | **151** | header | yes | yes | [`UffFile::header`] |
+//! | **164** | units | yes | yes | [`UffFile::units`] |
+//!
+//! * [`read`] and [`parse`] give a [`UffFile`]. Every other dataset (trace lines 82,
+//!   elements 2412, binary 55b, …) is passed over and listed in [`UffFile::skipped`] with its
+//!   byte offset, not refused.
+//! * [`write()`] and [`to_bytes`] write them back: functions ASCII or binary, single or double
+//!   precision; everything else as text, in the columns pyuff writes and reads.
 //! * Bad files are refused with a [`UffError`] that says where (byte offset, line, dataset
 //!   number), what was found and what the format expects. No input makes the reader panic.
 //!
@@ -30,6 +40,25 @@
 //! file.functions[0].encoding = Encoding::Binary(ByteOrder::Little);
 //! let bytes = msd_uff::to_bytes(&file, &Default::default())?;
 //! assert_eq!(msd_uff::parse(&bytes)?, file);
+//! # Ok::<(), msd_uff::UffError>(())
+//! ```
+//!
+//! ## Example: the mode shapes of a modal model
+//! ```
+//! use msd_uff::Analysis55;
+//!
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/pyuff/modes_real.uff");
+//! let file = msd_uff::read(path)?; // written by pyuff
+//! let mode = &file.data_at_nodes[0];
+//! let Analysis55::NormalMode { mode: 1, frequency, viscous_damping, .. } = mode.analysis else {
+//!     panic!("the first dataset is mode 1")
+//! };
+//! assert_eq!((frequency, viscous_damping), (28.4705, 0.00782624)); // Hz, ratio
+//! for (node, values) in mode.nodes.iter().zip(&mode.values) {
+//!     let (z, _im) = values[2]; // direction 3, +Z; real data: im = 0
+//!     println!("node {node}: {z:+.4}");
+//! }
+//! assert_eq!(mode.value(4, 3), Some((0.894427, 0.0))); // node 4, +Z
 //! # Ok::<(), msd_uff::UffError>(())
 //! ```
 //!
@@ -63,6 +92,20 @@
 //! 8-byte (4, 6) float, the abscissa of uneven data included (as pyuff reads and writes it);
 //! the closing `    -1` follows the data directly.
 //!
+//! **Dataset 55, data at nodes**: records 1–5 are ID lines (`40A2`); record 6
+//! (`6I10`) the model type, analysis type, data characteristic, specific data type, data type
+//! (2 real, 5 complex) and number of values per node; record 7 (`8I10`) the number of
+//! integer parameters, the number of real ones, then the integers; record 8 (`6E13.5`) the
+//! reals ([`Analysis55`]: for a normal mode the load case and mode number, then frequency,
+//! modal mass, viscous and hysteretic damping ratios; for a complex eigenvalue the load case
+//! and mode number, then eigenvalue, modal A and modal B, real then imaginary part). Then, per
+//! node, record 9 (`I10`) the node number and record 10 (`6E13.5`) its values, real and
+//! imaginary part in turn for complex data. Nodes whose values are all zero may be left out.
+//!
+//! **Datasets 15 and 2411, nodes**: per node the label, two coordinate system numbers, a
+//! colour and X, Y, Z: in 15 on one line, `4I10,1P3E13.5`; in 2411 on two, `4I10` then
+//! `1P3D25.16`.
+//!
 //! **Dataset 151** (header): model file name, description, program which created the
 //! database; the dates and times the database was created (with two version numbers and a
 //! file type) and last saved; the program which wrote the file and when ([`Header151`]).
@@ -84,14 +127,20 @@
 //! * Bytes between binary data and the closing `    -1` (a line end, or the `    -1` on a
 //!   line of its own, the case of pyuff's `fix_58b`) are passed over and noted in
 //!   [`UffFile::trailing`].
-//! * Blank lines between datasets are passed over; datasets other than 58, 151 and 164
-//!   (geometry 15, trace lines 82, modal data 55, …) are passed over, binary ones by their
-//!   byte count, and listed in [`UffFile::skipped`].
+//! * Dataset 55 is read by count: after each node number, as many numbers as its values
+//!   take, over as many lines as they fill (pyuff wants them on one line, and cannot read 6
+//!   complex values per node). Analysis types other than 2, 3, 5 and 7, or with counts other
+//!   than the description's, are read generically as [`Analysis55::Other`].
+//! * Blank lines between datasets, and between the nodes of 15, 2411 and 55, are passed
+//!   over; datasets other than those above (trace lines 82, elements 2412, binary 55b, …)
+//!   are passed over, binary ones by their byte count, and listed in [`UffFile::skipped`].
 //!
 //! ## Writing and precision
 //! Binary data is written as it is in memory: double precision round-trips to the bit,
-//! single precision rounds to `f32`. Numbers written as text (ASCII data, and the abscissa
-//! start and step in record 7) follow [`WriteOptions::ascii`]: by default
+//! single precision rounds to `f32`. Coordinates of 2411 are written in `D25.16`, which holds
+//! every `f64`. Other numbers written as text (ASCII data, the abscissa start and step in
+//! record 7, the coordinates of 15, the parameters and values of 55) follow
+//! [`WriteOptions::ascii`]: by default
 //! [`AsciiNumbers::Fixed`], the columns of the description, readable by every reader and
 //! exact for numbers with short decimal forms (0.5, 2.5e-3, 1024) but otherwise rounded to
 //! the 12 to 14 (in 13 columns, 5 to 7) significant digits the columns hold; [`AsciiNumbers::Exact`] writes every
@@ -101,28 +150,34 @@
 //!
 //! ## Sources
 //! * The SDRC (now Siemens) description of *Universal Dataset Number 58: Function at Nodal
-//!   DOF*, with UC-SDRL's *Binary 58 Universal File Format* and the 151 and 164
-//!   descriptions, as reproduced in pyuff's `get_structure_58()`, `get_structure_151()` and
-//!   `get_structure_164()` (`pyuff/datasets/dataset_58.py`, `dataset_151.py`,
-//!   `dataset_164.py` in ladisk/pyuff; originally from the University of Cincinnati
-//!   Structural Dynamics Research Lab's UFF pages).
-//! * pyuff 2.5.8's reader and writer (`_extract58`, `_write58`, `fix_58b`, the block search
-//!   of `UFF.refresh`), for how files are written in practice; the fixtures of the tests
-//!   are written by pyuff (`fixtures/make_fixtures.py`).
+//!   DOF*, with UC-SDRL's *Binary 58 Universal File Format* and the 15, 55, 151, 164 and 2411
+//!   descriptions, as reproduced in pyuff's `get_structure_58()` and the like
+//!   (`pyuff/datasets/dataset_58.py`, `dataset_55.py`, `dataset_15.py`, `dataset_2411.py`,
+//!   `dataset_151.py`, `dataset_164.py` in ladisk/pyuff; originally from the University of
+//!   Cincinnati Structural Dynamics Research Lab's UFF pages).
+//! * pyuff 2.5.8's reader and writer (`_extract58`, `_write58`, `fix_58b`, `_extract55`,
+//!   `_write55`, `_write15`, `_write2411`, the block search of `UFF.refresh`), for how files
+//!   are written in practice; the fixtures of the tests are written by pyuff
+//!   (`fixtures/make_fixtures.py`), which also checks that pyuff reads the files this crate
+//!   writes (`python3 fixtures/make_fixtures.py check`).
 
 mod display;
 mod error;
 mod function_type;
+mod nodes;
 mod read;
+mod read55;
 mod read58;
 mod text;
 mod types;
 mod write;
+mod write55;
 
 use std::path::Path;
 
 pub use error::{Position, UffError};
 pub use function_type::FunctionType;
+pub use nodes::{Analysis55, Data55, Node};
 pub use types::{
     Abscissa, Axis, ByteOrder, Encoding, Function58, Header151, Ordinate, Precision, Skipped,
     TrailingBytes, UffFile, Units164,
@@ -137,8 +192,9 @@ pub use write::{AsciiNumbers, WriteOptions};
 /// assert_eq!(file.header.as_ref().map(|h| h.model_name.as_str()), Some("msd-uff fixture model"));
 /// assert_eq!(file.units.as_ref().map(|u| u.code), Some(1)); // SI
 /// assert_eq!(file.functions.len(), 2);
+/// assert_eq!(file.nodes.len(), 3); // the geometry, dataset 15
 /// let skipped: Vec<(u32, usize)> = file.skipped.iter().map(|s| (s.number, s.offset)).collect();
-/// assert_eq!(skipped, [(15, 750), (82, 2177)]); // geometry and trace lines, with byte offsets
+/// assert_eq!(skipped, [(82, 2177)]); // trace lines, with their byte offset
 /// # Ok::<(), msd_uff::UffError>(())
 /// ```
 pub fn read(path: impl AsRef<Path>) -> Result<UffFile, UffError> {
@@ -164,7 +220,8 @@ pub fn parse(bytes: &[u8]) -> Result<UffFile, UffError> {
     read::parse_file(bytes)
 }
 
-/// Writes a UFF file: the header (151), the units (164), then the functions (58 or 58b).
+/// Writes a UFF file: the header (151), the units (164), the nodes (15 or 2411), the data at
+/// nodes (55), then the functions (58 or 58b).
 ///
 /// ```
 /// use msd_uff::{Abscissa, Function58, FunctionType, Ordinate, UffFile};

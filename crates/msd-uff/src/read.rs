@@ -1,5 +1,6 @@
 //! Reading: the dataset loop, the id line, datasets 151 and 164, and skipping the rest.
 
+use crate::read55::{read15, read55, read2411};
 use crate::read58::read58;
 use crate::text::{FieldReader, Line, Lines, columns, data_numbers, numeric_fields};
 use crate::{Header151, Position, Skipped, TrailingBytes, UffError, UffFile, Units164};
@@ -62,6 +63,9 @@ pub(crate) fn parse_file(bytes: &[u8]) -> Result<UffFile, UffError> {
                 }
                 file.functions.push(function);
             }
+            55 if id.binary.is_none() => file.data_at_nodes.push(read55(&mut lines)?),
+            15 if id.binary.is_none() => file.nodes.extend(read15(&mut lines)?),
+            2411 if id.binary.is_none() => file.nodes.extend(read2411(&mut lines)?),
             151 if file.header.is_none() && id.binary.is_none() => {
                 file.header = Some(read151(&mut lines)?);
             }

@@ -256,6 +256,32 @@ pub(crate) fn data_numbers(
     }
 }
 
+/// The fields of a data line holding integers: its words if all are integers, else the
+/// non-blank fixed columns of `width`. `Err((column, text))` names the first word that is
+/// not an integer.
+pub(crate) fn integer_fields<'l>(
+    line: &'l Line<'_>,
+    width: usize,
+) -> Result<Vec<Field<'l>>, (usize, String)> {
+    let is_integer = |t: &str| t.parse::<i64>().is_ok();
+    let w = words(line);
+    if w.iter().all(|(_, t)| is_integer(t)) {
+        return Ok(w);
+    }
+    let fixed: Vec<Field<'l>> = columns(line, &[width], true)
+        .into_iter()
+        .filter(|(_, t)| !t.is_empty())
+        .collect();
+    if fixed.iter().all(|(_, t)| is_integer(t)) {
+        return Ok(fixed);
+    }
+    let (column, text) = w
+        .into_iter()
+        .find(|(_, t)| !is_integer(t))
+        .unwrap_or((0, ""));
+    Err((column, text.to_string()))
+}
+
 /// Reads typed fields of one line, turning failures into [`UffError::Malformed`].
 pub(crate) struct FieldReader<'l, 'a> {
     pub line: &'l Line<'a>,

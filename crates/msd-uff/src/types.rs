@@ -2,14 +2,16 @@
 
 use serde::Serialize;
 
-use crate::FunctionType;
+use crate::{Data55, FunctionType, Node};
 
 /// Everything read from, or to be written to, one UFF file.
 ///
 /// Reading fills `functions` (datasets 58 and 58b in file order), `header` (the first
-/// dataset 151), `units` (the first dataset 164), and notes what it passed over in
-/// `skipped` and `trailing`. Writing writes the header, the units and the functions, in
-/// that order; `skipped` and `trailing` are not written.
+/// dataset 151), `units` (the first dataset 164), `nodes` (datasets 15 and 2411) and
+/// `data_at_nodes` (datasets 55), and notes what it passed over in `skipped` and
+/// `trailing`. Writing writes the header, the units, the nodes (consecutive nodes of the
+/// same [`Node::precision`] as one dataset 15 or 2411), the data at nodes and the
+/// functions, in that order; `skipped` and `trailing` are not written.
 ///
 /// ```
 /// use msd_uff::{Abscissa, Function58, FunctionType, Ordinate, UffFile};
@@ -30,6 +32,10 @@ pub struct UffFile {
     pub header: Option<Header151>,
     /// The units (dataset 164), if the file has them.
     pub units: Option<Units164>,
+    /// The nodes of the geometry (datasets 15 and 2411), in file order.
+    pub nodes: Vec<Node>,
+    /// Data at nodes, e.g. mode shapes (datasets 55), in file order.
+    pub data_at_nodes: Vec<Data55>,
     /// The functions (datasets 58 and 58b), in file order.
     pub functions: Vec<Function58>,
     /// The datasets passed over while reading.

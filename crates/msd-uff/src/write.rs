@@ -1,9 +1,11 @@
-//! Writing: [`WriteOptions`] and the writer of datasets 151, 164, 58 and 58b.
+//! Writing: [`WriteOptions`] and the writer of datasets 151, 164, 58 and 58b (15, 2411 and
+//! 55 in `write55.rs`).
 
 use serde::Serialize;
 
 use crate::read58::Layout;
 use crate::text::format_real;
+use crate::write55::{write_nodes, write55};
 use crate::{
     Abscissa, ByteOrder, Encoding, Function58, Header151, Ordinate, Precision, UffError, UffFile,
     Units164,
@@ -49,7 +51,7 @@ pub struct WriteOptions {
     pub ascii: AsciiNumbers,
 }
 
-/// The file as bytes: header, units, then the functions.
+/// The file as bytes: header, units, nodes, data at nodes, then the functions.
 pub(crate) fn file_bytes(file: &UffFile, options: &WriteOptions) -> Result<Vec<u8>, UffError> {
     let mut out = Out {
         bytes: Vec::new(),
@@ -63,6 +65,12 @@ pub(crate) fn file_bytes(file: &UffFile, options: &WriteOptions) -> Result<Vec<u
         out.dataset = 164;
         write164(&mut out, units)?;
     }
+    write_nodes(&mut out, &file.nodes, options)?;
+    out.dataset = 55;
+    for (index, data) in file.data_at_nodes.iter().enumerate() {
+        out.index = index;
+        write55(&mut out, data, options)?;
+    }
     out.dataset = 58;
     for (index, function) in file.functions.iter().enumerate() {
         out.index = index;
@@ -72,19 +80,24 @@ pub(crate) fn file_bytes(file: &UffFile, options: &WriteOptions) -> Result<Vec<u
 }
 
 /// The bytes written so far and the dataset being written, for errors.
-struct Out {
-    bytes: Vec<u8>,
-    dataset: u32,
-    index: usize,
+pub(crate) struct Out {
+    pub bytes: Vec<u8>,
+    pub dataset: u32,
+    pub index: usize,
 }
 
 impl Out {
-    fn line(&mut self, text: &str) {
+    pub(crate) fn line(&mut self, text: &str) {
         self.bytes.extend_from_slice(text.trim_end().as_bytes());
         self.bytes.push(b'\n');
     }
 
-    fn refuse(&self, field: &'static str, value: String, expected: impl Into<String>) -> UffError {
+    pub(crate) fn refuse(
+        &self,
+        field: &'static str,
+        value: String,
+        expected: impl Into<String>,
+    ) -> UffError {
         UffError::Unwritable {
             dataset: self.dataset,
             index: self.index,
@@ -95,7 +108,7 @@ impl Out {
     }
 
     /// Text of at most `width` characters and no line break.
-    fn text<'t>(
+    pub(crate) fn text<'t>(
         &self,
         field: &'static str,
         text: &'t str,
@@ -115,7 +128,7 @@ impl Out {
     }
 
     /// A whole-line text (80A1), which must not read as the `    -1` that closes a dataset.
-    fn text_line(&self, field: &'static str, text: &str) -> Result<String, UffError> {
+    pub(crate) fn text_line(&self, field: &'static str, text: &str) -> Result<String, UffError> {
         let text = self.text(field, text, 80)?;
         if text.trim() == "-1" {
             return Err(self.refuse(
@@ -128,7 +141,7 @@ impl Out {
     }
 
     /// An integer right-aligned in `width` columns.
-    fn int(
+    pub(crate) fn int(
         &self,
         field: &'static str,
         value: impl Into<i64>,

@@ -5,12 +5,12 @@ use msd_uff::{Position, UffError};
 
 use crate::fixture_bytes;
 
-fn refuse(bytes: &[u8]) -> UffError {
+pub(crate) fn refuse(bytes: &[u8]) -> UffError {
     msd_uff::parse(bytes).expect_err("a malformed file")
 }
 
 /// The file with its first `from` replaced by `to`.
-fn edited(name: &str, from: &str, to: &str) -> Vec<u8> {
+pub(crate) fn edited(name: &str, from: &str, to: &str) -> Vec<u8> {
     let mut bytes = fixture_bytes(name);
     let at = bytes.windows(from.len()).position(|w| w == from.as_bytes());
     let at = at.unwrap_or_else(|| panic!("{name} has no {from:?}"));
@@ -19,7 +19,7 @@ fn edited(name: &str, from: &str, to: &str) -> Vec<u8> {
 }
 
 /// Byte offset and line number of the first `needle` in a fixture.
-fn locate(bytes: &[u8], needle: &str) -> (usize, usize) {
+pub(crate) fn locate(bytes: &[u8], needle: &str) -> (usize, usize) {
     let at = bytes
         .windows(needle.len())
         .position(|w| w == needle.as_bytes())

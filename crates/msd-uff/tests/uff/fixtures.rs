@@ -1,34 +1,36 @@
 //! Every pyuff fixture read to the last digit: each value compared, bit for bit, with what
-//! pyuff 2.5.8 reads from the same file (the JSON beside it, see `make_fixtures.py`).
+//! pyuff 2.5.8 reads from the same file (the JSON beside it, see `make_fixtures.py`); the
+//! nodes and data at nodes are compared in `fixtures_nodes.rs`.
 
 use msd_uff::{
     Abscissa, ByteOrder, Encoding, Function58, FunctionType, Ordinate, Precision, UffFile,
 };
 use serde_json::Value;
 
+use crate::fixtures_nodes::{check_data55, check_nodes};
 use crate::{PYUFF_FIXTURES, fixture, fixture_bytes};
 
 /// A float the script wrote as Python's `repr`: parses to the same double.
-fn real(v: &Value) -> f64 {
+pub(crate) fn real(v: &Value) -> f64 {
     v.as_str()
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| panic!("not a repr float: {v}"))
 }
 
-fn int(v: &Value) -> i64 {
+pub(crate) fn int(v: &Value) -> i64 {
     v.as_i64().unwrap_or_else(|| panic!("not an integer: {v}"))
 }
 
-fn text(v: &Value) -> &str {
+pub(crate) fn text(v: &Value) -> &str {
     v.as_str().unwrap_or_else(|| panic!("not a string: {v}"))
 }
 
-fn reals(v: &Value) -> Vec<f64> {
+pub(crate) fn reals(v: &Value) -> Vec<f64> {
     v.as_array().expect("a list").iter().map(real).collect()
 }
 
 /// Bit equality, so that NaN and -0.0 count too.
-fn same_bits(ours: &[f64], pyuff: &[f64], what: &str) {
+pub(crate) fn same_bits(ours: &[f64], pyuff: &[f64], what: &str) {
     assert_eq!(ours.len(), pyuff.len(), "{what}: lengths");
     for (k, (a, b)) in ours.iter().zip(pyuff).enumerate() {
         assert_eq!(
@@ -160,12 +162,13 @@ fn check_function(f: &Function58, d: &Value, what: &str) {
     }
 }
 
-fn check_file(name: &str) -> UffFile {
+pub(crate) fn check_file(name: &str) -> UffFile {
     let file = msd_uff::read(fixture(&format!("pyuff/{name}.uff")))
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     let doc: Value =
         serde_json::from_slice(&fixture_bytes(&format!("pyuff/{name}.json"))).expect("JSON");
     let (mut functions, mut skipped) = (file.functions.iter(), file.skipped.iter());
+    let (mut nodes, mut data_at_nodes) = (file.nodes.iter(), file.data_at_nodes.iter());
     for (i, d) in doc["datasets"]
         .as_array()
         .expect("datasets")
@@ -175,6 +178,12 @@ fn check_file(name: &str) -> UffFile {
         let what = format!("{name} dataset {i}");
         match int(&d["type"]) {
             58 => check_function(functions.next().expect("a function"), d, &what),
+            55 => check_data55(data_at_nodes.next().expect("a dataset 55"), d, &what),
+            n @ (15 | 2411) => {
+                let count = d["node_nums"].as_array().expect("node_nums").len();
+                let these: Vec<_> = nodes.by_ref().take(count).cloned().collect();
+                check_nodes(&these, n, d, &what);
+            }
             151 => {
                 let h = file.header.as_ref().expect("a header");
                 let got = [
@@ -246,7 +255,10 @@ fn check_file(name: &str) -> UffFile {
         }
     }
     assert!(
-        functions.next().is_none() && skipped.next().is_none(),
+        functions.next().is_none()
+            && skipped.next().is_none()
+            && nodes.next().is_none()
+            && data_at_nodes.next().is_none(),
         "{name}: more datasets than pyuff read"
     );
     file
@@ -260,14 +272,17 @@ fn every_pyuff_fixture_reads_as_pyuff_reads_it() {
 }
 
 #[test]
-fn the_mixed_file_skips_geometry_and_trace_lines_with_their_offsets() {
+fn the_mixed_file_reads_the_geometry_and_skips_trace_lines_with_their_offset() {
     let file = check_file("mixed");
     let skipped: Vec<(u32, usize, usize, bool)> = file
         .skipped
         .iter()
         .map(|s| (s.number, s.offset, s.line, s.binary))
         .collect();
-    assert_eq!(skipped, [(15, 750, 17, false), (82, 2177, 40, false)]);
+    assert_eq!(skipped, [(82, 2177, 40, false)]);
+    let labels: Vec<i64> = file.nodes.iter().map(|n| n.label).collect();
+    assert_eq!(labels, [1, 2, 3]);
+    assert_eq!((file.nodes[2].x, file.nodes[2].z), (2.0, 0.5));
     assert_eq!(
         file.header.as_ref().map(|h| h.program.as_str()),
         Some("pyuff 2.5.8")

@@ -1,8 +1,11 @@
 //! msd-uff's integration tests, in one binary: the pyuff fixtures read to the last digit,
 //! round trips, the files this crate writes, refused files, and inputs that must not panic.
 
+mod data_at_nodes;
 mod errors;
+mod errors55;
 mod fixtures;
+mod fixtures_nodes;
 mod ours;
 mod robustness;
 mod roundtrip;
@@ -23,7 +26,7 @@ pub fn fixture_bytes(name: &str) -> Vec<u8> {
 }
 
 /// Every pyuff fixture, by name.
-pub const PYUFF_FIXTURES: [&str; 9] = [
+pub const PYUFF_FIXTURES: [&str; 13] = [
     "ascii_real_even",
     "ascii_frf_complex",
     "ascii_uneven",
@@ -33,6 +36,10 @@ pub const PYUFF_FIXTURES: [&str; 9] = [
     "binary_big_endian",
     "binary_trailing",
     "mixed",
+    "modes_real",
+    "modes_complex",
+    "geometry_15",
+    "geometry_2411",
 ];
 
 use msd_uff::{
@@ -163,7 +170,6 @@ pub fn sample_file(encoding: Encoding) -> UffFile {
             ..Units164::default()
         }),
         functions,
-        skipped: Vec::new(),
-        trailing: Vec::new(),
+        ..UffFile::default()
     }
 }

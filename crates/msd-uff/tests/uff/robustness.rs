@@ -5,14 +5,14 @@ use proptest::prelude::*;
 
 use crate::{PYUFF_FIXTURES, fixture_bytes};
 
+const OURS: [&str; 4] = ["ascii_fixed", "ascii_exact", "binary", "data_at_nodes"];
+
 fn all_fixtures() -> Vec<Vec<u8>> {
     let mut files: Vec<Vec<u8>> = PYUFF_FIXTURES
         .iter()
         .map(|n| fixture_bytes(&format!("pyuff/{n}.uff")))
         .collect();
-    files.extend(
-        ["ascii_fixed", "ascii_exact", "binary"].map(|n| fixture_bytes(&format!("ours/{n}.uff"))),
-    );
+    files.extend(OURS.map(|n| fixture_bytes(&format!("ours/{n}.uff"))));
     files
 }
 
@@ -32,6 +32,8 @@ fn every_single_byte_edit_of_the_mixed_files_is_read_or_refused() {
         "pyuff/mixed.uff",
         "pyuff/binary_trailing.uff",
         "pyuff/ascii_single.uff",
+        "pyuff/modes_complex.uff",
+        "pyuff/geometry_2411.uff",
     ] {
         let bytes = fixture_bytes(name);
         let mut edited = bytes.clone();
@@ -54,7 +56,8 @@ proptest! {
     #[test]
     fn arbitrary_lines_after_a_dataset_start_are_read_or_refused(
         number in prop_oneof![Just("    58"), Just("    58b     1     2          11        99999999"),
-            Just("   151"), Just("   164"), Just("    82b     2     2           3          40")],
+            Just("   151"), Just("   164"), Just("    82b     2     2           3          40"),
+            Just("    55"), Just("    15"), Just("  2411")],
         lines in proptest::collection::vec("[ -~]{0,90}", 0..20),
     ) {
         let text = format!("    -1\n{number}\n{}\n    -1\n", lines.join("\n"));
@@ -63,7 +66,7 @@ proptest! {
 
     #[test]
     fn fixtures_with_bytes_spliced_in_are_read_or_refused(
-        which in 0..12usize, at in any::<prop::sample::Index>(), cut in 0..64usize,
+        which in 0..PYUFF_FIXTURES.len() + OURS.len(), at in any::<prop::sample::Index>(), cut in 0..64usize,
         insert in proptest::collection::vec(any::<u8>(), 0..64),
     ) {
         let mut bytes = all_fixtures().swap_remove(which);
