@@ -1,4 +1,6 @@
-//! The frequency-domain row: a three-mode fit (issue 21's speed target, ≤ 20 ms).
+//! The frequency-domain rows: a three-mode fit (issue 21's speed target, ≤ 20 ms) and
+//! sets of FRFs (issue 30: 2 FRFs × 1000 lines at orders 2–120 ≤ 30 ms, 30 DOFs × 2000
+//! lines ≤ 300 ms).
 
 use super::harness::{Budget, measure};
 use super::report::{Row, Target};
@@ -6,7 +8,9 @@ use super::rows::fail;
 use crate::Result;
 use msd_ident::{
     ModalOptions, fit_modes,
-    frf::{FrfWeighting, ModalParameters, synthetic_frequency_response},
+    frf::{
+        Dof, FrfWeighting, ModalParameters, SetMember, fit_mode_set, synthetic_frequency_response,
+    },
 };
 
 /// Three modes (fn 10, 23, 41 Hz; ζ 1 %, 2 %, 0.5 %) in 2000 lines with 1 % noise:
@@ -43,5 +47,94 @@ pub fn frequency_domain(budget: &Budget) -> Result<Vec<Row>> {
             fit.modes.len(),
             fit.iterations
         )),
+        set_row(
+            budget,
+            2,
+            (1..=1000).map(f64::from).collect(),
+            &[
+                (52.0, 5e-4),
+                (142.0, 3.5e-4),
+                (279.0, 1.9e-4),
+                (460.0, 1.9e-4),
+                (687.0, 1.5e-4),
+                (959.0, 1.3e-4),
+            ],
+            [2, 120],
+            30e-3,
+        )?,
+        set_row(
+            budget,
+            30,
+            (1..=2000).map(|i| 0.5 * f64::from(i)).collect(),
+            &[(40.0, 0.01), (160.0, 0.005), (360.0, 0.003), (640.0, 0.002)],
+            [2, 40],
+            300e-3,
+        )?,
     ])
+}
+
+/// A roving-hammer set on a simply supported beam: `points` hammer points (shapes
+/// sin(rπx/L) at x = (i + 0.7)L/(points + 1), off the modes' nodes), the response at the
+/// first, `modes` (fn, ζ), 1 % noise; fitted at `orders`.
+fn set_row(
+    budget: &Budget,
+    points: usize,
+    f: Vec<f64>,
+    modes: &[(f64, f64)],
+    orders: [usize; 2],
+    target: f64,
+) -> Result<Row> {
+    let shape = |r: usize, i: usize| {
+        ((r + 1) as f64 * std::f64::consts::PI * (i as f64 + 0.7) / (points + 1) as f64).sin()
+    };
+    let members = (0..points)
+        .map(|j| {
+            let terms: Vec<ModalParameters> = modes
+                .iter()
+                .enumerate()
+                .map(|(r, &(fn_hz, zeta))| ModalParameters {
+                    natural_frequency_hz: fn_hz,
+                    damping_ratio: zeta,
+                    modal_constant: 2.0 * shape(r, 0) * shape(r, j),
+                    modal_constant_imaginary: 0.0,
+                })
+                .collect();
+            let frf = synthetic_frequency_response(&f, 0.01, j as u64 + 1, |f| {
+                terms.iter().map(|m| m.receptance(f)).sum()
+            })?;
+            let dof = |node: usize| Dof {
+                node: node as u32 + 1,
+                direction: 3,
+            };
+            Ok(SetMember {
+                frf,
+                response: dof(0),
+                reference: dof(j),
+            })
+        })
+        .collect::<std::result::Result<Vec<_>, msd_ident::IdentError>>()
+        .map_err(fail("bench: a set of FRFs"))?;
+    let options = ModalOptions {
+        orders,
+        ..ModalOptions::default()
+    };
+    let fit = fit_mode_set(&members, &options).map_err(fail("bench: set fit"))?;
+    let samples = measure(budget, || fit_mode_set(&members, &options).ok());
+    Ok(Row::new(
+        "frequency domain",
+        format!(
+            "set of {points} FRFs × {} lines: diagram orders {}–{}, selection, common poles, residues",
+            f.len(),
+            orders[0],
+            orders[1]
+        ),
+        samples,
+    )
+    .target(Target::Seconds(target))
+    .note(format!(
+        "{} of {} modes found, {} pole iterations",
+        fit.modes.len(),
+        modes.len(),
+        fit.iterations
+    )))
 }

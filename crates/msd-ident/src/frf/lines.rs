@@ -63,6 +63,11 @@ pub(crate) struct Lines {
     pub h: Vec<Complex64>,
     /// The standard deviation of Re H_k and of Im H_k (up to a common factor).
     pub sigma: Vec<f64>,
+    /// The standard deviations the stabilization diagram weights the lines by: those of
+    /// an informative coherence, else equal in the measured quantity. LSCF's linearised
+    /// equation error weighted by 1/|H| (relative or variance weights) lets the
+    /// anti-resonances dominate and leaves lightly damped modes unstable.
+    pub diagram_sigma: Vec<f64>,
     /// For weights relative to |H| (coherence, relative): σ_k/|H_k|, so that a fit can
     /// take |H_k| from its model instead (see [`Lines::reweight`]); empty otherwise.
     relative_sigma: Vec<f64>,
@@ -155,6 +160,7 @@ pub(crate) fn prepare(
         omega: Vec::new(),
         h: Vec::new(),
         sigma: Vec::new(),
+        diagram_sigma: Vec::new(),
         relative_sigma: Vec::new(),
         band_hz: [0.0; 2],
         weighting,
@@ -194,6 +200,10 @@ pub(crate) fn prepare(
         lines.omega.push(TAU * f);
         lines.h.push(h);
         lines.sigma.push(sigma);
+        lines.diagram_sigma.push(match weighting {
+            FrfWeighting::Coherence => sigma,
+            _ => 0.5f64.sqrt() * (TAU * f).powi(-measured_power),
+        });
         if relative.is_finite() {
             lines.relative_sigma.push(relative);
         }
@@ -284,7 +294,26 @@ impl Lines {
         // At least two lines on each side: a peak between two lines lifts both.
         let left = lowest(first.min(peak.saturating_sub(2))..=peak - 1);
         let right = lowest(peak + 1..=(last.max(peak + 3) - 1).min(n - 1));
-        magnitude(peak) >= std::f64::consts::SQRT_2 * left.max(right)
+        if magnitude(peak) < std::f64::consts::SQRT_2 * left.max(right) {
+            return false;
+        }
+        // A resolved mode (half-power band wider than 1.5 lines) is as wide as its ζ says:
+        // within fn ± ζ·fn/2 a single mode stays above 1/√1.25 of its peak, so no line
+        // there may fall below half of it (a heavily damped pole of the model near a sharp
+        // peak of the data fails this).
+        let half_band = damping_ratio * centre;
+        if half_band > 1.5 * spacing {
+            let inner = (self
+                .omega
+                .partition_point(|&w| w < centre - 0.5 * half_band)
+                ..self
+                    .omega
+                    .partition_point(|&w| w <= centre + 0.5 * half_band))
+                .map(magnitude)
+                .fold(f64::INFINITY, f64::min);
+            return inner >= 0.5 * magnitude(peak);
+        }
+        true
     }
 
     /// The normalised error ‖model − H‖/‖H‖ over the lines, in the measured quantity
@@ -311,6 +340,7 @@ impl Lines {
             omega,
             h,
             sigma: vec![1.0; n],
+            diagram_sigma: vec![1.0; n],
             relative_sigma: Vec::new(),
             exponential_decay: None,
             correlated_lines: 1.0,

@@ -39,7 +39,7 @@ impl Lscf {
         let mut r = vec![0.0; max_order + 1];
         let mut t = vec![0.0; max_order + 1];
         let mut s = vec![0.0; 2 * max_order + 1];
-        for ((&w, h), &sigma) in lines.omega.iter().zip(&lines.h).zip(&lines.sigma) {
+        for ((&w, h), &sigma) in lines.omega.iter().zip(&lines.h).zip(&lines.diagram_sigma) {
             let weight = 1.0 / (sigma * sigma);
             let step = Complex64::from_polar(1.0, w * dt);
             let mut power = Complex64::new(1.0, 0.0);

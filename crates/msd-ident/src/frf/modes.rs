@@ -427,7 +427,17 @@ fn polish_selected(
 /// another selected mode.
 fn moved(theta: &[f64], selected: &[StableMode], r: usize) -> Option<RefusedMode> {
     let j = PER_MODE * r;
-    let (fitted_hz, zeta) = (theta[j] / TAU, theta[j + 1]);
+    moved_from_column(theta[j] / TAU, theta[j + 1], selected, r)
+}
+
+/// Mode `r` of `selected`, fitted at `fitted_hz` with damping `zeta`, refused if that
+/// is out of its column's half-power band or nearer to another selected mode.
+pub(crate) fn moved_from_column(
+    fitted_hz: f64,
+    zeta: f64,
+    selected: &[StableMode],
+    r: usize,
+) -> Option<RefusedMode> {
     let column = selected[r];
     let bandwidth =
         (2.0 * zeta * fitted_hz).max(2.0 * column.damping_ratio * column.natural_frequency_hz);

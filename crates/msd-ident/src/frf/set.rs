@@ -7,11 +7,11 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::{Deserialize, Serialize};
 
 use super::lines::{FrfWeighting, Lines, prepare};
-use super::modes::{ModalOptions, pole_intervals};
+use super::modes::{ModalOptions, RefusedMode, moved_from_column, pole_intervals};
 use super::polish::{PER_MODE, lsfd, model};
 use super::set_poles::refine_poles;
 use super::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
-use super::stabilization::{StabilizationDiagram, diagram_of_set};
+use super::stabilization::{StabilizationDiagram, StableMode, diagram_of_set};
 use super::window::WindowCorrection;
 use crate::uncertainty::t_975;
 use crate::{IdentError, Interval, Result};
@@ -147,6 +147,8 @@ pub struct ModeSetFit {
     pub degrees_of_freedom: usize,
     /// Gauss–Newton iterations of the poles.
     pub iterations: usize,
+    /// Modes the diagram selected that the fit moved away (not in `modes`).
+    pub refused: Vec<RefusedMode>,
 }
 
 impl ModeSetFit {
@@ -300,7 +302,7 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
     options.validate()?;
     let (roving, driving_point) = check_members(members)?;
     let min_lines = options.orders[1] + 1;
-    let mut lines: Vec<Lines> = members
+    let lines: Vec<Lines> = members
         .iter()
         .map(|m| prepare(&m.frf, options.band_hz, options.weighting, min_lines))
         .collect::<Result<_>>()?;
@@ -322,28 +324,74 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
             ),
         });
     }
-    let start: Vec<(f64, f64)> = diagram
-        .modes
-        .iter()
-        .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
-        .collect();
-    for l in &mut lines {
-        let theta = lsfd(l, &start)?;
-        l.reweight(|w| model(&theta, w));
+    let mut selected = diagram.modes.clone();
+    let mut refused = Vec::new();
+    loop {
+        let start: Vec<(f64, f64)> = selected
+            .iter()
+            .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
+            .collect();
+        let mut weighted = lines.clone();
+        for l in &mut weighted {
+            let theta = lsfd(l, &start)?;
+            l.reweight(|w| model(&theta, w));
+        }
+        let poles = refine_poles(&weighted, start)?;
+        let moved: Vec<RefusedMode> = (0..selected.len())
+            .filter_map(|r| {
+                let (wn, zeta) = poles.poles[r];
+                moved_from_column(wn / TAU, zeta, &selected, r)
+            })
+            .collect();
+        if moved.is_empty() {
+            let parts = Parts {
+                poles,
+                selected,
+                refused,
+                diagram,
+                roving,
+                driving_point,
+            };
+            return assemble(members, &weighted, parts);
+        }
+        selected.retain(|m| {
+            !moved
+                .iter()
+                .any(|x| x.natural_frequency_hz == m.natural_frequency_hz)
+        });
+        refused.extend(moved);
+        if selected.is_empty() {
+            let list: Vec<String> = refused.iter().map(ToString::to_string).collect();
+            return Err(IdentError::NotIdentifiable {
+                reason: format!(
+                    "the fit moved every selected mode away from its column of the stabilization diagram: {}",
+                    list.join("; ")
+                ),
+            });
+        }
     }
-    let poles = refine_poles(&lines, start)?;
-    assemble(members, &lines, poles, diagram, roving, driving_point)
 }
 
-/// The result from the refined poles: every member's modal constants, the shapes, MAC.
-fn assemble(
-    members: &[SetMember],
-    lines: &[Lines],
+/// What [`assemble`] builds the result from.
+struct Parts {
     poles: super::set_poles::RefinedPoles,
+    selected: Vec<StableMode>,
+    refused: Vec<RefusedMode>,
     diagram: StabilizationDiagram,
     roving: Roving,
     driving_point: Option<Dof>,
-) -> Result<ModeSetFit> {
+}
+
+/// The result from the refined poles: every member's modal constants, the shapes, MAC.
+fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<ModeSetFit> {
+    let Parts {
+        poles,
+        selected,
+        refused,
+        diagram,
+        roving,
+        driving_point,
+    } = parts;
     let thetas = lines
         .iter()
         .map(|l| lsfd(l, &poles.poles))
@@ -389,7 +437,7 @@ fn assemble(
             SetMode {
                 natural_frequency_hz: pole.natural_frequency_hz,
                 damping_ratio: pole.damping_ratio,
-                stable_orders: diagram.modes[r].stable_orders,
+                stable_orders: selected[r].stable_orders,
                 modal_constants: entries(&constants),
                 mpc: modal_phase_collinearity(&constants),
                 mpd_deg: mean_phase_deviation(&constants),
@@ -432,6 +480,7 @@ fn assemble(
         sigma: poles.sigma,
         degrees_of_freedom: poles.degrees_of_freedom,
         iterations: poles.iterations,
+        refused,
         diagram,
     })
 }
