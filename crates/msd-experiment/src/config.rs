@@ -49,8 +49,8 @@ mod nonlinear;
 mod pilot;
 mod setup;
 pub use frf::{
-    ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ShakerSource, Spacing,
-    SweepSource, TableSource, UffSource,
+    ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ReferenceMode, ShakerSource,
+    Spacing, SweepSource, TableSource, UffSource,
 };
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
 pub use pilot::PilotSection;

@@ -86,6 +86,12 @@ pub struct FrequencyResponseSection {
     /// `mode_count`, …). By default not given (one mode).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modes: Option<ModalOptions>,
+    /// The modes a set is compared with (a model's, or a simulation's truth): each with
+    /// `natural_frequency_hz`, `damping_ratio` and its `shape` over the set's roving DOFs,
+    /// in the set's order. The report gives MAC(estimated, reference) per mode and whether
+    /// fn and ζ lie inside their 95 % intervals.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_modes: Option<Vec<ReferenceMode>>,
     /// Whether the force is measured in its units: the one-mode fit then reports m, c, k;
     /// otherwise fn, ζ and the gain 1/m (m, c and k scale with the force). By default true.
     #[serde(default = "default_true")]
@@ -94,6 +100,18 @@ pub struct FrequencyResponseSection {
 
 pub use msd_ident::ChainPlant;
 pub use msd_ident::frf::Dof;
+
+/// A mode a set is compared with: fn, ζ and the shape over the set's roving DOFs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceMode {
+    /// Natural frequency, Hz.
+    pub natural_frequency_hz: f64,
+    /// Damping ratio.
+    pub damping_ratio: f64,
+    /// The shape's value at each roving DOF, in the set's order (real).
+    pub shape: Vec<f64>,
+}
 
 /// How the lines of a simulated sweep are spaced.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -297,6 +315,11 @@ pub struct UffSource {
     /// neither, or whose type and units disagree, is refused until this key says.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kind: Option<FrfKind>,
+    /// Every frequency response function of the file (datasets 58 of function type 4) as
+    /// one set of a test, each with its response and reference node and direction
+    /// (instead of `function`). By default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub set: bool,
 }
 
 /// Measured time records in one CSV file: `force[i]` and `response[i]` are record i.

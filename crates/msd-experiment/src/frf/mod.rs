@@ -42,6 +42,7 @@ mod simulate;
 mod source;
 mod time_domain;
 mod uff;
+mod uff_out;
 
 use crate::config::{ChainPlant, Config};
 use crate::{ExperimentError, Result, RunOptions};
@@ -158,6 +159,22 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
     let fit = match &section.modes {
         _ if !loaded.members.is_empty() => {
             let options = section.modes.unwrap_or_default();
+            if let Some((i, r)) = section
+                .reference_modes
+                .iter()
+                .flatten()
+                .enumerate()
+                .find(|(_, r)| r.shape.len() != loaded.members.len())
+            {
+                return Err(ExperimentError::config(
+                    format!("frequency_response.reference_modes[{i}].shape"),
+                    format!(
+                        "{} values: expected one per FRF of the set ({})",
+                        r.shape.len(),
+                        loaded.members.len()
+                    ),
+                ));
+            }
             FrfFit::Set(Box::new(
                 fit_mode_set(&loaded.members, &options).map_err(fail)?,
             ))
@@ -228,6 +245,40 @@ fn classroom(frf: &FrequencyResponseEstimate, fit: &FrfFit) -> Vec<Option<HalfPo
                 .collect()
         }
     }
+}
+
+/// The config's `reference_modes`, when it gives them.
+pub(crate) fn reference_modes(o: &FrfOutcome) -> Option<&[crate::config::ReferenceMode]> {
+    o.config
+        .frequency_response
+        .as_ref()
+        .and_then(|s| s.reference_modes.as_deref())
+}
+
+/// MAC of each fitted shape with the reference mode of the same rank (as many as both
+/// have).
+pub fn reference_mac(m: &ModeSetFit, reference: &[crate::config::ReferenceMode]) -> Vec<f64> {
+    m.modes
+        .iter()
+        .zip(reference)
+        .map(|(mode, truth)| {
+            let a: Vec<msd_signal::Complex64> = mode
+                .shape
+                .iter()
+                .map(|e| msd_signal::Complex64::new(e.re, e.im))
+                .collect();
+            let b: Vec<msd_signal::Complex64> = truth
+                .shape
+                .iter()
+                .map(|&x| msd_signal::Complex64::new(x, 0.0))
+                .collect();
+            if a.len() == b.len() {
+                msd_ident::frf::mac(&a, &b)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect()
 }
 
 impl FrfOutcome {

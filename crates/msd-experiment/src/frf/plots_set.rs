@@ -27,6 +27,7 @@ pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Ve
     save(&SetFit(o, m), dir)?;
     save(&Mac(m), dir)?;
     save(&Shapes(m), dir)?;
+    super::uff_out::write_all(o, m, dir)?;
     Ok(vec!["frf_set_fit", "frf_mac", "frf_shapes"])
 }
 

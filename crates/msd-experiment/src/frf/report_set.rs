@@ -56,7 +56,43 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
         )?;
     }
     shapes_table(w, m)?;
-    mac_table(w, &m.mac)
+    mac_table(w, &m.mac)?;
+    reference_section(w, o, m)
+}
+
+/// The comparison with `reference_modes`, when the config gives them.
+fn reference_section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fmt::Result {
+    let Some(reference) = super::reference_modes(o) else {
+        return Ok(());
+    };
+    writeln!(
+        w,
+        "### Against the reference modes\n\n| mode | reference fn [Hz] | reference ζ | fn inside its 95 % interval | ζ inside | MAC with the reference shape |\n|---|---|---|---|---|---|"
+    )?;
+    let macs = super::reference_mac(m, reference);
+    let mut inside = 0;
+    for (r, (mode, (truth, mac))) in m.modes.iter().zip(reference.iter().zip(&macs)).enumerate() {
+        let f_in = mode
+            .natural_frequency_hz
+            .contains(truth.natural_frequency_hz);
+        let z_in = mode.damping_ratio.contains(truth.damping_ratio);
+        inside += usize::from(f_in) + usize::from(z_in);
+        let yes = |b: bool| if b { "yes" } else { "no" };
+        writeln!(
+            w,
+            "| {} | {} | {} | {} | {} | {mac:.4} |",
+            r + 1,
+            sig(truth.natural_frequency_hz, 6),
+            sig(truth.damping_ratio, 4),
+            yes(f_in),
+            yes(z_in)
+        )?;
+    }
+    writeln!(
+        w,
+        "\nThe reference values lie inside the 95 % intervals for {inside} of {}.\n",
+        2 * m.modes.len().min(reference.len())
+    )
 }
 
 /// The unit-normalised shapes, one row per DOF.
@@ -66,7 +102,7 @@ fn shapes_table(w: &mut String, m: &ModeSetFit) -> std::fmt::Result {
     };
     writeln!(
         w,
-        "\n### Mode shapes\n\nEach shape scaled so that its largest entry is 1 (over the {} DOFs).\n",
+        "\n### Mode shapes\n\nEach shape scaled so that its largest entry is 1 (over the {} DOFs); written as UFF datasets 55 to `modes.uff`, and every FRF as the model synthesises it as datasets 58 to `synthesized.uff`.\n",
         match m.roving {
             msd_ident::frf::Roving::Reference => "hammer's",
             msd_ident::frf::Roving::Response => "responses'",

@@ -36,6 +36,9 @@ struct Results<'a> {
     fit_error: Option<&'a [MemberFit]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     modal_set: Option<SetSummary<'a>>,
+    /// MAC of each fitted shape with the config's reference mode of the same rank.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reference_mac: Option<Vec<f64>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     modal_fit: Option<ModalSummary<'a>>,
     /// Peak picking and half-power bandwidth per mode (null where unreadable).
@@ -176,6 +179,9 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             FrfFit::OneMode(_) => None,
         },
         mac: set.map(|m| m.mac.as_slice()),
+        reference_mac: set
+            .zip(super::reference_modes(o))
+            .map(|(m, r)| super::reference_mac(m, r)),
         fit_error: set.map(|m| m.members.as_slice()),
         modal_set: set.map(|m| SetSummary {
             roving: m.roving,

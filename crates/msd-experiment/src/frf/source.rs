@@ -11,7 +11,7 @@ use crate::config::{
 };
 use crate::{ExperimentError, Result};
 use msd_ident::Hold;
-use msd_ident::frf::SetMember;
+use msd_ident::frf::{Dof, SetMember};
 use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};
 use std::path::Path;
 
@@ -45,6 +45,9 @@ pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) ->
     }
     if let Some(set) = &section.set {
         return members(set, dir);
+    }
+    if let Some(u) = section.uff.as_ref().filter(|u| u.set) {
+        return uff_set(u, &dir.join(&u.path));
     }
     if let Some(u) = &section.uff {
         return uff(u, &dir.join(&u.path));
@@ -274,6 +277,79 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
         ),
         frf,
         members: Vec::new(),
+    })
+}
+
+/// Every frequency response function of a UFF file as a set, each with its DOFs.
+fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
+    let fail = |message: String| ExperimentError::data(path, message);
+    let file = msd_uff::read(path).map_err(|e| fail(e.to_string()))?;
+    let mut members = Vec::new();
+    for (index, function) in file.functions.iter().enumerate() {
+        if function.function_type != msd_uff::FunctionType::FrequencyResponse {
+            continue;
+        }
+        let frf = super::uff::to_estimate(function, u.kind)
+            .map_err(|e| fail(format!("dataset 58 #{}: {e}", index + 1)))?;
+        let dof = |node: i64, direction: i32| {
+            u32::try_from(node)
+                .map(|node| Dof { node, direction })
+                .map_err(|_| {
+                    fail(format!(
+                        "dataset 58 #{}: node {node}: expected a node number from 0",
+                        index + 1
+                    ))
+                })
+        };
+        members.push((
+            index,
+            SetMember {
+                frf,
+                response: dof(function.response_node, function.response_direction)?,
+                reference: dof(function.reference_node, function.reference_direction)?,
+            },
+        ));
+    }
+    let Some((_, first)) = members.first() else {
+        return Err(fail(
+            "frequency_response.uff.set = true: the file holds no frequency response function (dataset 58 of function type 4)".into(),
+        ));
+    };
+    for (index, m) in &members[1..] {
+        if m.frf.frequency != first.frf.frequency || m.frf.kind != first.frf.kind {
+            return Err(fail(format!(
+                "dataset 58 #{} ({} / {}) has other lines or another quantity than the first FRF: the FRFs of a set share their lines and their quantity",
+                index + 1,
+                m.response,
+                m.reference
+            )));
+        }
+        if let Some((j, _)) = members
+            .iter()
+            .find(|(j, o)| j < index && (o.response, o.reference) == (m.response, m.reference))
+        {
+            return Err(fail(format!(
+                "datasets 58 #{} and #{} are both response {} / reference {}: each pair of DOFs once",
+                j + 1,
+                index + 1,
+                m.response,
+                m.reference
+            )));
+        }
+    }
+    let members: Vec<SetMember> = members.into_iter().map(|(_, m)| m).collect();
+    let first = &members[0].frf;
+    Ok(Loaded {
+        frf: first.clone(),
+        description: format!(
+            "the {} frequency response functions of {} as a set ({} lines each, {})",
+            members.len(),
+            path.display(),
+            first.frequency.len(),
+            first.kind
+        ),
+        time: None,
+        members,
     })
 }
 

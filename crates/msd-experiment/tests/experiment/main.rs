@@ -5,6 +5,7 @@ mod design;
 #[cfg(feature = "download")]
 mod download;
 mod fetch;
+mod frf_beam;
 mod frf_set;
 mod frf_table;
 mod frf_uff;

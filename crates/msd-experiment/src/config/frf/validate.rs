@@ -143,6 +143,16 @@ impl FrequencyResponseSection {
                 );
             }
         }
+        if self
+            .uff
+            .as_ref()
+            .is_some_and(|u| u.set && u.function.is_some())
+        {
+            return err(
+                "frequency_response.uff.function",
+                ": given with set = true: expected one or the other (a set takes every frequency response function of the file)".into(),
+            );
+        }
         if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
             return err(
                 "frequency_response.uff.function",
