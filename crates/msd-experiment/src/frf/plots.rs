@@ -27,11 +27,11 @@ pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>>
         written.push("frf_coherence");
     }
     if let FrfFit::Modes(m) = &o.fit {
-        save(&Stabilization(&m.diagram), dir)?;
+        save(&Stabilization(&m.diagram, summed_magnitude(o)), dir)?;
         written.push("frf_stabilization");
     }
     if let FrfFit::Set(m) = &o.fit {
-        save(&Stabilization(&m.diagram), dir)?;
+        save(&Stabilization(&m.diagram, summed_magnitude(o)), dir)?;
         written.push("frf_stabilization");
         written.extend(super::plots_set::write_all(o, m, dir)?);
     }
@@ -271,7 +271,27 @@ impl Figure for Coherence<'_> {
     }
 }
 
-struct Stabilization<'a>(&'a msd_ident::frf::StabilizationDiagram);
+/// The magnitudes of the data (summed over a set's FRFs) at every line above 0 Hz.
+fn summed_magnitude(o: &FrfOutcome) -> Vec<(f64, f64)> {
+    let sets: Vec<&msd_signal::FrequencyResponseEstimate> = if o.members.is_empty() {
+        vec![&o.data]
+    } else {
+        o.members.iter().map(|m| &m.frf).collect()
+    };
+    (0..o.data.frequency.len())
+        .filter(|&k| o.data.frequency[k] > 0.0)
+        .map(|k| {
+            (
+                o.data.frequency[k],
+                sets.iter().map(|s| s.h[k].norm()).sum(),
+            )
+        })
+        .collect()
+}
+
+/// The diagram, with the data's (summed) magnitude drawn behind it on a logarithmic
+/// scale spanning the orders' axis.
+struct Stabilization<'a>(&'a msd_ident::frf::StabilizationDiagram, Vec<(f64, f64)>);
 
 impl Figure for Stabilization<'_> {
     fn name(&self) -> &'static str {
@@ -336,6 +356,28 @@ impl Figure for Stabilization<'_> {
             .map_err(text)?
             .label("stable in frequency and damping")
             .legend(|(x, y)| Circle::new((x + 12, y), 5, RED.filled()));
+        let behind: Vec<(f64, f64)> = self
+            .1
+            .iter()
+            .copied()
+            .filter(|&(f, h)| (f0..=f1).contains(&f) && h > 0.0)
+            .collect();
+        let (lo, hi) = behind.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+            (a.min(p.1), b.max(p.1))
+        });
+        if behind.len() > 1 && hi > lo {
+            let y = |h: f64| top * (h / lo).ln() / (hi / lo).ln();
+            chart
+                .draw_series(LineSeries::new(
+                    behind.iter().map(|&(f, h)| (f, y(h))),
+                    GRAY.mix(0.6).stroke_width(1),
+                ))
+                .map_err(text)?
+                .label("the data's magnitude (log scale, summed over the FRFs)")
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], GRAY.mix(0.6).stroke_width(2))
+                });
+        }
         for m in &d.modes {
             let fm = m.natural_frequency_hz;
             chart
