@@ -155,7 +155,7 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
     let loaded = source::load(&section, dir, seed)?;
     let mut timings = vec![("data", t.elapsed())];
     let t = Instant::now();
-    let fail = |e: msd_ident::IdentError| ExperimentError::run("frequency-response fit", e);
+    let fail = |e: msd_ident::IdentError| fit_failure(e, &section, &loaded.frf);
     let fit = match &section.modes {
         _ if !loaded.members.is_empty() => {
             let options = section.modes.unwrap_or_default();
@@ -244,6 +244,45 @@ fn classroom(frf: &FrequencyResponseEstimate, fit: &FrfFit) -> Vec<Option<HalfPo
                 })
                 .collect()
         }
+    }
+}
+
+/// A fit's refusal that the config or the data cause, as a config error naming the key
+/// with the data's range (exit 2): too few lines in the band, an option out of range,
+/// more modes asked for than the diagram holds. Other failures stay run failures.
+fn fit_failure(
+    e: msd_ident::IdentError,
+    section: &crate::config::FrequencyResponseSection,
+    data: &FrequencyResponseEstimate,
+) -> ExperimentError {
+    use msd_ident::IdentError;
+    let several = section.modes.is_some()
+        || section.set.is_some()
+        || section.uff.as_ref().is_some_and(|u| u.set);
+    let part = if several { "modes" } else { "one_mode" };
+    let key = |name: &str| format!("frequency_response.{part}.{name}");
+    let n = data.frequency.len();
+    let range = format!(
+        "the data hold {n} lines, {}–{} Hz",
+        data.frequency[0],
+        data.frequency[n - 1]
+    );
+    match e {
+        IdentError::TooFewSamples { got, needed, why } => ExperimentError::config(
+            key("band_hz"),
+            format!(
+                "{got} {why}: expected at least {needed} ({range}); widen the band, or measure more lines"
+            ),
+        ),
+        IdentError::InvalidParameter {
+            name,
+            value,
+            expected,
+        } => ExperimentError::config(key(name), format!("{value}: expected {expected}")),
+        IdentError::NotIdentifiable { reason } if reason.contains("were asked for") => {
+            ExperimentError::config(key("mode_count"), reason)
+        }
+        e => ExperimentError::run("frequency-response fit", e),
     }
 }
 

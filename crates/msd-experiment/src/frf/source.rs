@@ -149,6 +149,7 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
         (frf, "real and imaginary parts")
     };
     frf.kind = t.kind;
+    check_values(&frf, path, |k| format!("line {}", read.lines[k]))?;
     Ok(Loaded {
         time: None,
         description: format!(
@@ -226,6 +227,44 @@ fn members(set: &[TableSource], dir: &Path) -> Result<Loaded> {
     })
 }
 
+/// The smallest non-zero magnitude a response value may have (the mirror of
+/// [`LARGEST_VALUE`](crate::data::LARGEST_VALUE)): the squares a fit sums stay normal
+/// numbers (1e-100² = 1e-200 > 2.2e-308). A value beyond either is a unit or scale
+/// error, refused where it is read.
+const SMALLEST_VALUE: f64 = 1e-100;
+
+/// Refuses response values whose squares overflow or underflow, and a response that is
+/// zero everywhere; `place(k)` names value k's place in the file.
+fn check_values(
+    frf: &FrequencyResponseEstimate,
+    path: &Path,
+    place: impl Fn(usize) -> String,
+) -> Result<()> {
+    let largest = crate::data::LARGEST_VALUE;
+    for (k, h) in frf.h.iter().enumerate() {
+        let m = h.norm();
+        if m > largest || (m > 0.0 && m < SMALLEST_VALUE) {
+            return Err(ExperimentError::data(
+                path,
+                format!(
+                    "{}: |H| = {m:e}: expected a magnitude from {SMALLEST_VALUE:e} to {largest:e} (or 0); a value beyond them is a unit or scale error, whose squares the fit cannot sum",
+                    place(k)
+                ),
+            ));
+        }
+    }
+    if frf.h.iter().all(|h| h.norm() == 0.0) {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "every one of the {} values is zero: expected a measured response",
+                frf.h.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Refuses frequencies that are negative or do not increase, naming the line.
 fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column) -> Result<()> {
     if f[0] < 0.0 {
@@ -261,6 +300,14 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
             index + 1
         ))
     })?;
+    check_values(&frf, path, |k| {
+        format!(
+            "dataset 58 #{}, value {} ({} Hz)",
+            index + 1,
+            k + 1,
+            frf.frequency[k]
+        )
+    })?;
     Ok(Loaded {
         time: None,
         description: format!(
@@ -291,6 +338,14 @@ fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
         }
         let frf = super::uff::to_estimate(function, u.kind)
             .map_err(|e| fail(format!("dataset 58 #{}: {e}", index + 1)))?;
+        check_values(&frf, path, |k| {
+            format!(
+                "dataset 58 #{}, value {} ({} Hz)",
+                index + 1,
+                k + 1,
+                frf.frequency[k]
+            )
+        })?;
         let dof = |node: i64, direction: i32| {
             u32::try_from(node)
                 .map(|node| Dof { node, direction })

@@ -41,3 +41,77 @@ fn the_table_config_fits_the_plant_it_was_simulated_on() {
         assert!(interval.contains(truth), "{name}: {interval:?}");
     }
 }
+
+/// Issue 31, class 3: what the config or the data get wrong is exit 2, naming the key
+/// (or the file and line) with the data's range, not a fit failure (exit 1).
+#[test]
+fn bad_bands_sizes_and_scales_are_config_errors() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let shipped = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/data/stepped-sine-table.csv"
+    );
+    let text = std::fs::read_to_string(shipped).expect("the shipped table");
+    let run = |table: &str, extra: &str| {
+        std::fs::write(dir.path().join("t.csv"), table).expect("written");
+        let config = format!(
+            "name = \"t\"\n[frequency_response.table]\npath = \"t.csv\"\nfrequency = \"frequency_hz\"\nmagnitude = \"magnitude_m_per_n\"\nphase = \"phase_deg\"\n{extra}"
+        );
+        let path = dir.path().join("t.toml");
+        std::fs::write(&path, config).expect("written");
+        let config = Config::load(&path)?;
+        frf::run(config, &path, &Default::default())
+    };
+    let expect = |result: Result<frf::FrfOutcome, msd_experiment::ExperimentError>,
+                  parts: &[&str]| {
+        let err = result.expect_err("refused");
+        assert_eq!(err.exit_code(), 2, "{err}");
+        for part in parts {
+            assert!(err.to_string().contains(part), "`{part}` not in: {err}");
+        }
+    };
+    // A band outside the data (0.3–3 Hz).
+    expect(
+        run(
+            &text,
+            "[frequency_response.one_mode]\nband_hz = [10.0, 20.0]",
+        ),
+        &[
+            "frequency_response.one_mode.band_hz",
+            "0.3–3 Hz",
+            "at least 4",
+        ],
+    );
+    // A table of three lines.
+    // (two comment lines and the header, then the rows)
+    let three: String = text.lines().take(6).map(|l| format!("{l}\n")).collect();
+    expect(
+        run(&three, ""),
+        &["frequency_response.one_mode.band_hz", "3 lines"],
+    );
+    // More modes asked for than the data hold.
+    expect(
+        run(
+            &text,
+            "[frequency_response.modes]\norders = [2, 10]\nmode_count = 3",
+        ),
+        &["frequency_response.modes.mode_count"],
+    );
+    // Magnitudes × 1e300 and × 1e-300, and all zero: refused where they are read (the
+    // first row is the file's line 4).
+    for (factor, part) in [(1e300, "line 4"), (1e-300, "line 4"), (0.0, "every one")] {
+        let scaled: String = text
+            .lines()
+            .map(|l| {
+                if l.starts_with('#') || l.starts_with("frequency") {
+                    return format!("{l}\n");
+                }
+                let mut cells: Vec<String> = l.split(',').map(str::to_string).collect();
+                let m: f64 = cells[1].parse().expect("a magnitude");
+                cells[1] = format!("{:e}", m * factor);
+                format!("{}\n", cells.join(","))
+            })
+            .collect();
+        expect(run(&scaled, ""), &["t.csv", part]);
+    }
+}
