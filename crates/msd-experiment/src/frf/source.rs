@@ -294,20 +294,7 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
     let fail = |message: String| ExperimentError::data(path, message);
     let file = msd_uff::read(path).map_err(|e| fail(e.to_string()))?;
     let (index, function) = super::uff::pick(&file, u.function).map_err(fail)?;
-    let frf = super::uff::to_estimate(function, u.kind).map_err(|e| {
-        fail(format!(
-            "dataset 58 #{} (frequency_response.uff.function): {e}",
-            index + 1
-        ))
-    })?;
-    check_values(&frf, path, |k| {
-        format!(
-            "dataset 58 #{}, value {} ({} Hz)",
-            index + 1,
-            k + 1,
-            frf.frequency[k]
-        )
-    })?;
+    let frf = uff_function(function, index, u, path)?;
     Ok(Loaded {
         time: None,
         description: format!(
@@ -327,6 +314,30 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
     })
 }
 
+/// Dataset 58 number `index` (from 0) as a frequency response, its values checked.
+fn uff_function(
+    function: &msd_uff::Function58,
+    index: usize,
+    u: &UffSource,
+    path: &Path,
+) -> Result<FrequencyResponseEstimate> {
+    let frf = super::uff::to_estimate(function, u.kind).map_err(|e| {
+        ExperimentError::data(
+            path,
+            format!("dataset 58 #{} (frequency_response.uff): {e}", index + 1),
+        )
+    })?;
+    check_values(&frf, path, |k| {
+        format!(
+            "dataset 58 #{}, value {} ({} Hz)",
+            index + 1,
+            k + 1,
+            frf.frequency[k]
+        )
+    })?;
+    Ok(frf)
+}
+
 /// Every frequency response function of a UFF file as a set, each with its DOFs.
 fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
     let fail = |message: String| ExperimentError::data(path, message);
@@ -336,16 +347,7 @@ fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
         if function.function_type != msd_uff::FunctionType::FrequencyResponse {
             continue;
         }
-        let frf = super::uff::to_estimate(function, u.kind)
-            .map_err(|e| fail(format!("dataset 58 #{}: {e}", index + 1)))?;
-        check_values(&frf, path, |k| {
-            format!(
-                "dataset 58 #{}, value {} ({} Hz)",
-                index + 1,
-                k + 1,
-                frf.frequency[k]
-            )
-        })?;
+        let frf = uff_function(function, index, u, path)?;
         let dof = |node: i64, direction: i32| {
             u32::try_from(node)
                 .map(|node| Dof { node, direction })
