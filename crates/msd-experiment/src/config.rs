@@ -412,6 +412,64 @@ pub struct OutputSection {
     pub dir: Option<PathBuf>,
 }
 
+/// The first top-level section of `text` that `config`'s kind does not read, refused by
+/// name with the kind and the sections it reads (a section silently ignored would let a
+/// user believe it was applied).
+fn unused_sections(text: &str, config: &Config) -> std::result::Result<(), (String, String)> {
+    const COMMON: [&str; 4] = ["name", "description", "seed", "output"];
+    let (kind, reads): (&str, &[&str]) = if config.frequency_only() {
+        ("a frequency-response config", &["frequency_response"])
+    } else if config.setup.is_some() {
+        (
+            "a [setup] config (a lab setup)",
+            &[
+                "setup",
+                "plant",
+                "time",
+                "noise",
+                "identification",
+                "data",
+                "estimation",
+            ],
+        )
+    } else {
+        (
+            "a force-and-displacement config (the paper's workflow)",
+            &[
+                "plant",
+                "time",
+                "noise",
+                "identification",
+                "validation",
+                "data",
+                "estimation",
+                "residuals",
+                "frequency_check",
+                "monte_carlo",
+                "nonlinear",
+                "design",
+                "pilot",
+            ],
+        )
+    };
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return Ok(());
+    };
+    let unused = table
+        .keys()
+        .find(|k| !COMMON.contains(&k.as_str()) && !reads.contains(&k.as_str()));
+    match unused {
+        Some(key) => Err((
+            key.clone(),
+            format!(
+                ": {kind} does not read this section (it reads [{}]); remove it, or put it in a config of its own kind",
+                reads.join("], [")
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// A CSV column: its header name (a string) or its 0-based index (an integer).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Column {
@@ -736,15 +794,17 @@ impl Config {
                 ),
             });
         }
-        config.validate().map_err(|(field, message)| {
-            let line = locate_key(text, &field)
-                .map(|l| format!(":{l}"))
-                .unwrap_or_default();
-            ExperimentError::Config {
-                file: format!("{}{line}", file.display()),
-                message: format!("{field}{message}"),
-            }
-        })?;
+        unused_sections(text, &config)
+            .and_then(|()| config.validate())
+            .map_err(|(field, message)| {
+                let line = locate_key(text, &field)
+                    .map(|l| format!(":{l}"))
+                    .unwrap_or_default();
+                ExperimentError::Config {
+                    file: format!("{}{line}", file.display()),
+                    message: format!("{field}{message}"),
+                }
+            })?;
         Ok(config)
     }
 

@@ -13,3 +13,4 @@ mod in_memory;
 mod plan;
 mod plan_setups;
 mod setups;
+mod unused_sections;
