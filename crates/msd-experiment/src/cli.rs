@@ -209,6 +209,11 @@ impl FetchPlan {
 /// };
 /// let err = fetch_plan(&args, dir.path(), dir.path()).unwrap_err();
 /// assert!(err.to_string().contains("no local copy of the silverbox files here"), "{err}");
+/// // An empty --url is refused by name (exit 2), not tried as a file.
+/// let empty = FetchArgs { set: "silverbox".into(), from: None, url: Some("".into()), into: None };
+/// let err = fetch_plan(&empty, dir.path(), dir.path()).unwrap_err();
+/// assert!(err.to_string().starts_with("--url: empty"), "{err}");
+/// assert_eq!(err.exit_code(), 2);
 /// ```
 pub fn fetch_plan(
     args: &FetchArgs,
@@ -227,6 +232,15 @@ pub fn fetch_plan(
                 "no local copy of the {} files here: give --from DIR with {}, or leave --from out to download the official archive",
                 set.name,
                 set.files.map(|f| f.name).join(" and ")
+            ),
+        ));
+    }
+    if args.url.as_deref().is_some_and(|u| u.trim().is_empty()) {
+        return Err(ExperimentError::config(
+            "--url",
+            format!(
+                "empty: expected the {} set's archive as an http(s):// or file:// URL or a local path, or leave --url out for the official one",
+                set.name
             ),
         ));
     }
