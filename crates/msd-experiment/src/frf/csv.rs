@@ -96,8 +96,9 @@ pub(crate) fn read(request: &Request<'_>) -> Result<Columns> {
              parse: &dyn Fn(&str) -> std::result::Result<Complex64, String>| {
                 let text = r.get(index).ok_or_else(|| {
                     fail(format!(
-                        "line {line}: the row has {} fields, no column {column} ({key})",
-                        r.len()
+                        "line {line}: the row has {} fields, no column {column} ({key}){}",
+                        r.len(),
+                        numbering(column, r.len())
                     ))
                 })?;
                 parse(text).map_err(|why: String| {
@@ -143,6 +144,17 @@ fn index_of(
         (Column::Name(name), None) => Err(format!(
             "{key} = \"{name}\": the file has no header (header = false): use a 0-based column index"
         )),
+    }
+}
+
+/// For a column given by number: how the row's columns are numbered.
+fn numbering(column: &Column, fields: usize) -> String {
+    match column {
+        Column::Index(_) => format!(
+            "; columns are numbered from 0, so this row's are #0 … #{}",
+            fields.saturating_sub(1)
+        ),
+        Column::Name(_) => String::new(),
     }
 }
 

@@ -115,3 +115,35 @@ fn bad_bands_sizes_and_scales_are_config_errors() {
         expect(run(&scaled, ""), &["t.csv", part]);
     }
 }
+
+/// Issue 31, class 5: columns by number count from 0, as the configs say; a number past
+/// the row says how the row's columns are numbered.
+#[test]
+fn columns_by_number_count_from_zero() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let shipped = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/data/stepped-sine-table.csv"
+    );
+    std::fs::copy(shipped, dir.path().join("t.csv")).expect("copied");
+    let run = |columns: &str| {
+        let path = dir.path().join("t.toml");
+        let text = format!(
+            "name = \"t\"\n[frequency_response.table]\npath = \"t.csv\"\n{columns}\n[frequency_response.one_mode]\nweighting = \"relative\"\n"
+        );
+        std::fs::write(&path, text).expect("written");
+        let config = Config::load(&path)?;
+        frf::run(config, &path, &Default::default())
+    };
+    let by_name = run(
+        "frequency = \"frequency_hz\"\nmagnitude = \"magnitude_m_per_n\"\nphase = \"phase_deg\"",
+    )
+    .expect("by name");
+    let by_number = run("frequency = 0\nmagnitude = 1\nphase = 2").expect("by number");
+    assert_eq!(by_name.data.h, by_number.data.h);
+    let err = run("frequency = 1\nmagnitude = 2\nphase = 3").expect_err("no column #3");
+    assert!(
+        err.to_string().contains("no column #3") && err.to_string().contains("#0 … #2"),
+        "{err}"
+    );
+}
