@@ -318,3 +318,33 @@ fn a_frequency_response_run_is_not_a_pilot() {
     assert!(message.contains("frequency_response"), "{message}");
     assert_eq!(err.exit_code(), 2, "{message}");
 }
+
+/// Issue 31, class 6: limits that leave the input below the noise (a 1 µm stroke, 2500×
+/// below the noise) are said in words beside the predicted precision.
+#[test]
+fn limits_below_the_noise_are_said_in_words() {
+    let text = std::fs::read_to_string(config("design-paper.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("tiny.toml");
+    std::fs::write(
+        &file,
+        text.replace("max_stroke = 0.1115", "max_stroke = 1e-6"),
+    )
+    .unwrap();
+    let report = design(&file, &DesignRunOptions::default()).unwrap();
+    let warning = report
+        .design
+        .comparison
+        .below_noise()
+        .expect("a 1 µm stroke identifies nothing");
+    assert!(warning.contains("below the noise"), "{warning}");
+    assert!(
+        report
+            .design
+            .to_string()
+            .contains("WARNING: the limits leave this input below the noise")
+    );
+    // The shipped limits identify the plant: no warning.
+    let shipped = design(&config("design-paper.toml"), &DesignRunOptions::default()).unwrap();
+    assert_eq!(shipped.design.comparison.below_noise(), None);
+}

@@ -79,6 +79,45 @@ impl InputComparison {
             minimax_ratio: worst_relative(&sd) / worst_relative(&sr),
         })
     }
+
+    /// When the design leaves a parameter's predicted relative standard error above
+    /// [`InputComparison::USEFUL_RELATIVE_SE`] (the input is at or below the noise), what
+    /// that means in words; `None` otherwise.
+    ///
+    /// ```
+    /// use msd_ident::{Parameters, design::InputComparison};
+    /// let plant = Parameters::PAPER;
+    /// let comparison = InputComparison {
+    ///     plant, noise_sigma: 1e-3, design: [0.01, 0.9, 40.0], reference: [0.01, 0.05, 1.0],
+    ///     ratios: [1.0, 18.0, 40.0], determinant_ratio: 1.0, trace_ratio: 1.0,
+    ///     geometric_mean_ratio: 1.0, worst_ratio: 40.0, minimax_ratio: 1.0,
+    /// };
+    /// let warning = comparison.below_noise().expect("c and k are not identified");
+    /// assert!(warning.contains("damping 50 %") && warning.contains("stiffness 33 %"), "{warning}");
+    /// ```
+    pub fn below_noise(&self) -> Option<String> {
+        let theta = [self.plant.mass, self.plant.damping, self.plant.stiffness];
+        let relative: Vec<(&str, f64)> = ["mass", "damping", "stiffness"]
+            .into_iter()
+            .zip((0..3).map(|i| self.design[i] / theta[i].abs()))
+            .collect();
+        if relative.iter().all(|(_, r)| *r <= Self::USEFUL_RELATIVE_SE) {
+            return None;
+        }
+        let list: Vec<String> = relative
+            .iter()
+            .map(|(name, r)| format!("{name} {:.0} %", 100.0 * r))
+            .collect();
+        Some(format!(
+            "the limits leave this input below the noise: predicted relative standard errors {}; a parameter whose standard error exceeds {:.0} % of its value is not usefully identified (its 95 % interval spans more than ±60 % of it, and from ±100 % on reaches zero). Allow a larger force or stroke, or plan for less noise",
+            list.join(", "),
+            100.0 * Self::USEFUL_RELATIVE_SE
+        ))
+    }
+
+    /// The largest predicted relative standard error of a parameter the test identifies
+    /// usefully (0.3: its 95 % interval, ±1.96 SE, spans at most ±60 % of the value).
+    pub const USEFUL_RELATIVE_SE: f64 = 0.3;
 }
 
 fn standard_errors(u: &Uncertainty) -> [f64; 3] {
@@ -117,6 +156,10 @@ impl std::fmt::Display for InputComparison {
             f,
             "  √trace ratio (A) {:.3}, worst relative SE ratio (minimax) {:.3}",
             self.trace_ratio, self.minimax_ratio
-        )
+        )?;
+        if let Some(warning) = self.below_noise() {
+            write!(f, "\n  WARNING: {warning}")?;
+        }
+        Ok(())
     }
 }
