@@ -289,14 +289,19 @@ pub(super) fn unreliable_note<'a>(
     if !few.is_empty() {
         writeln!(
             w,
-            "\n† Half-power estimate unreliable: {} line{} inside the half-power band{} (at least {} needed). The peak is under-resolved and the half-power ζ comes out too high; the fitted ζ does not rest on the bandwidth.",
+            "\n† Half-power estimate unreliable: {} line{} inside the half-power band{} (at least {} needed). {} under-resolved and the half-power ζ comes out too high; the fitted ζ does not rest on the bandwidth.",
             few.iter()
                 .map(ToString::to_string)
                 .collect::<Vec<_>>()
                 .join(", "),
             if few == [1] { "" } else { "s" },
             if few.len() == 1 { "" } else { "s" },
-            HalfPower::MIN_LINES
+            HalfPower::MIN_LINES,
+            if few.len() == 1 {
+                "The peak is"
+            } else {
+                "The peaks are"
+            }
         )?;
     }
     Ok(())
