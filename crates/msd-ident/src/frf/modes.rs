@@ -405,22 +405,32 @@ fn polish_selected(
         if moved.is_empty() {
             return Ok((polished, weighted, selected, refused));
         }
-        selected.retain(|m| {
-            !moved
-                .iter()
-                .any(|x| x.natural_frequency_hz == m.natural_frequency_hz)
-        });
-        refused.extend(moved);
-        if selected.is_empty() {
-            let list: Vec<String> = refused.iter().map(ToString::to_string).collect();
-            return Err(IdentError::NotIdentifiable {
-                reason: format!(
-                    "the final fit moved every selected mode away from its column of the stabilization diagram: {}",
-                    list.join("; ")
-                ),
-            });
-        }
+        drop_moved(&mut selected, &mut refused, moved)?;
     }
+}
+
+/// Takes the `moved` modes out of `selected` into `refused`; an error when none is left.
+pub(crate) fn drop_moved(
+    selected: &mut Vec<StableMode>,
+    refused: &mut Vec<RefusedMode>,
+    moved: Vec<RefusedMode>,
+) -> Result<()> {
+    selected.retain(|m| {
+        !moved
+            .iter()
+            .any(|x| x.natural_frequency_hz == m.natural_frequency_hz)
+    });
+    refused.extend(moved);
+    if selected.is_empty() {
+        let list: Vec<String> = refused.iter().map(ToString::to_string).collect();
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the final fit moved every selected mode away from its column of the stabilization diagram: {}",
+                list.join("; ")
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Mode `r` refused if the polish moved it out of its half-power band or nearer to

@@ -7,7 +7,7 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::{Deserialize, Serialize};
 
 use super::lines::{FrfWeighting, Lines, prepare};
-use super::modes::{ModalOptions, RefusedMode, moved_from_column, pole_intervals};
+use super::modes::{ModalOptions, RefusedMode, drop_moved, moved_from_column, pole_intervals};
 use super::polish::{PER_MODE, lsfd, model};
 use super::set_poles::refine_poles;
 use super::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
@@ -354,21 +354,7 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
             };
             return assemble(members, &weighted, parts);
         }
-        selected.retain(|m| {
-            !moved
-                .iter()
-                .any(|x| x.natural_frequency_hz == m.natural_frequency_hz)
-        });
-        refused.extend(moved);
-        if selected.is_empty() {
-            let list: Vec<String> = refused.iter().map(ToString::to_string).collect();
-            return Err(IdentError::NotIdentifiable {
-                reason: format!(
-                    "the fit moved every selected mode away from its column of the stabilization diagram: {}",
-                    list.join("; ")
-                ),
-            });
-        }
+        drop_moved(&mut selected, &mut refused, moved)?;
     }
 }
 
