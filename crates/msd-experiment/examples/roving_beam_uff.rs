@@ -1,13 +1,18 @@
 //! Writes `configs/data/roving-hammer-beam.uff`: a simulated roving-hammer test on a
 //! simply supported beam, ten points (x_i = i·L/11), the accelerometer at point 3 and the
 //! hammer at every point, five modes with damping ratios from 1e-2 to 1e-4, 1–350 Hz at
-//! 1 Hz lines, 1 % complex noise: ten accelerance FRFs as datasets 58 with their nodes.
-//! `configs/roving-hammer-beam.toml` fits them and compares the modes with the truth.
+//! 1 Hz lines, 1 % complex noise: ten accelerance FRFs as datasets 58 with their nodes,
+//! and the points' coordinates (dataset 15, x_i = 0.1·i m on a 1.1 m beam). Also writes
+//! `configs/data/roving-hammer-beam-model.uff`: the model's five shapes as datasets 55 (a
+//! test's shapes are compared with such a file). `configs/roving-hammer-beam.toml` fits
+//! the FRFs and compares the modes with the truth.
 //!
 //!     cargo run -p msd-experiment --example roving_beam_uff
 
 use msd_ident::frf::{ModalParameters, synthetic_frequency_response};
-use msd_uff::{Abscissa, Function58, FunctionType, Ordinate, UffFile};
+use msd_uff::{
+    Abscissa, Analysis55, Data55, Function58, FunctionType, Node, Ordinate, Precision, UffFile,
+};
 
 /// fn = 12 r² Hz (a simply supported beam) and ζ of each mode.
 pub const MODES: [(f64, f64); 5] = [
@@ -74,7 +79,50 @@ pub fn roving_beam() -> UffFile {
         function.denominator_axis.units = "N".into();
         file.functions.push(function);
     }
+    file.nodes = (1..=POINTS)
+        .map(|i| Node {
+            label: i as i64,
+            x: 0.1 * i as f64,
+            precision: Precision::Single,
+            ..Default::default()
+        })
+        .collect();
     file
+}
+
+/// The model's shapes (unit modal mass 0.5 kg as simulated) as datasets 55: real normal
+/// modes, Z displacements at the ten points.
+pub fn beam_model() -> UffFile {
+    let data_at_nodes = MODES
+        .iter()
+        .enumerate()
+        .map(|(r, &(fn_hz, zeta))| Data55 {
+            ids: [
+                "simply supported beam, 10 points".into(),
+                "the model of msd-experiment's example roving_beam_uff".into(),
+                "NONE".into(),
+                "NONE".into(),
+                "NONE".into(),
+            ],
+            analysis: Analysis55::NormalMode {
+                load_case: 1,
+                mode: r as i64 + 1,
+                frequency: fn_hz,
+                modal_mass: 0.5,
+                viscous_damping: zeta,
+                hysteretic_damping: 0.0,
+            },
+            nodes: (1..=POINTS as i64).collect(),
+            values: (1..=POINTS)
+                .map(|i| vec![(0.0, 0.0), (0.0, 0.0), (shape(r, i), 0.0)])
+                .collect(),
+            ..Default::default()
+        })
+        .collect();
+    UffFile {
+        data_at_nodes,
+        ..Default::default()
+    }
 }
 
 #[allow(dead_code)]
@@ -85,6 +133,12 @@ fn main() -> Result<(), msd_uff::UffError> {
     );
     msd_uff::write(path, &roving_beam(), &Default::default())?;
     println!("wrote {path}");
+    let model = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/data/roving-hammer-beam-model.uff"
+    );
+    msd_uff::write(model, &beam_model(), &Default::default())?;
+    println!("wrote {model}");
     for r in 0..MODES.len() {
         let values: Vec<String> = (1..=POINTS)
             .map(|i| format!("{:.6}", shape(r, i)))

@@ -56,6 +56,17 @@ pub enum ExperimentError {
         /// `msd_ident::IdentError`), else a message.
         source: Box<dyn std::error::Error + Send + Sync>,
     },
+    /// A failure after which the run kept something to look at in a folder of its own
+    /// beside the results (the stabilization diagram of a failed mode selection); any
+    /// previous result stays untouched.
+    #[error("{error}; kept for inspection: {}", kept.display())]
+    Kept {
+        /// The failure itself.
+        #[source]
+        error: Box<ExperimentError>,
+        /// The folder written, with a `failure.md` saying what it holds.
+        kept: std::path::PathBuf,
+    },
 }
 
 impl ExperimentError {
@@ -144,6 +155,7 @@ impl ExperimentError {
         match self {
             Self::Config { .. } | Self::Data { .. } | Self::Download { .. } => 2,
             Self::Run { .. } => 1,
+            Self::Kept { error, .. } => error.exit_code(),
         }
     }
 

@@ -95,7 +95,10 @@ pub fn output_dir(config: &Config, config_path: &Path, options: &RunOptions) -> 
 /// Runs the experiment of `config_path` and writes its results.
 ///
 /// Nothing is written unless every stage succeeds: a bad config or bad data fails before
-/// any folder is created, and a failure while writing removes the staging folder.
+/// any folder is created, and a failure while writing removes the staging folder. The
+/// one exception leaves the result folder alone too: a frequency-response run whose mode
+/// selection fails writes the stabilization diagram it computed, with `failure.md`, into
+/// `<results>-failed` beside it ([`ExperimentError::Kept`]), for the user to look at.
 pub fn run_experiment(config_path: &Path, options: &RunOptions) -> Result<RunSummary> {
     let started = Instant::now();
     let config = Config::load(config_path)?;

@@ -77,7 +77,8 @@ pub(crate) fn run_and_write(
             write(Finished::Setup(&outcome), &target, progress, started)
         }
         ExperimentKind::FrequencyResponse => {
-            let outcome = frf::run(config, config_path, options)?;
+            let outcome = frf::run_keeping(config, config_path, options)
+                .map_err(|f| frf::write_failure(f, &target))?;
             let finished = Finished::FrequencyResponse(&outcome);
             write(finished, &target, progress, started)
         }

@@ -410,6 +410,7 @@ proptest! {
                     ExperimentError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
                     ExperimentError::Data { .. } => prop_assert!(false, "no data file here: {text}"),
                     ExperimentError::Download { .. } => prop_assert!(false, "a run downloads nothing: {text}"),
+                    ExperimentError::Kept { .. } => prop_assert!(false, "only a mode selection keeps a diagram: {text}"),
                 }
                 prop_assert_eq!(listing(dir.path()), vec!["tiny.toml".to_string()], "{}", text);
             }

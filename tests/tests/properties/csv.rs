@@ -374,6 +374,9 @@ proptest! {
                     (ExperimentError::Download { .. }, None) => {
                         prop_assert!(false, "a run downloads nothing: {message}");
                     }
+                    (ExperimentError::Kept { .. }, None) => {
+                        prop_assert!(false, "only a mode selection keeps a diagram: {message}");
+                    }
                     (ExperimentError::Run { .. }, None) => {
                         prop_assert_eq!(e.exit_code(), 1);
                         prop_assert!(damages.iter().any(|d| matches!(d, Damage::Cell { .. })) || output_scale > 1.0,

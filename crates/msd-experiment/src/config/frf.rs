@@ -92,6 +92,17 @@ pub struct FrequencyResponseSection {
     /// fn and ζ lie inside their 95 % intervals.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_modes: Option<Vec<ReferenceMode>>,
+    /// A UFF file of mode shapes (datasets 55: another test's, or a model's) that a set's
+    /// shapes are compared with, relative to the config file: the MAC of every estimated
+    /// mode with every mode of the file, on the DOFs both give (a DOF measured in the
+    /// opposite sense is negated). The report gives the matrix and each mode's best match.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_shapes: Option<PathBuf>,
+    /// A UFF file with the nodes' coordinates (datasets 15 or 2411), relative to the config
+    /// file, over which a set's shapes are drawn (`frf_shapes_geometry`). By default the
+    /// set's own UFF file's nodes, when it has them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<PathBuf>,
     /// Whether the force is measured in its units: the one-mode fit then reports m, c, k;
     /// otherwise fn, ζ and the gain 1/m (m, c and k scale with the force). By default true.
     #[serde(default = "default_true")]

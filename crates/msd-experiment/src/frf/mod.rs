@@ -34,10 +34,12 @@
 
 mod csv;
 mod plots;
+mod plots_modes;
 mod plots_set;
 mod report;
 mod report_set;
 mod results;
+mod shape_files;
 mod simulate;
 mod source;
 mod time_domain;
@@ -48,13 +50,17 @@ use crate::config::{ChainPlant, Config};
 use crate::{ExperimentError, Result, RunOptions};
 use msd_ident::{
     ModalFit, OneModeFit, fit_modes, fit_one_mode,
-    frf::{HalfPower, ModalParameters, ModeSetFit, SetMember, fit_mode_set, half_power},
+    frf::{
+        Dof, HalfPower, ModalParameters, ModeIndicator, ModeSetFit, SetMember,
+        StabilizationDiagram, fit_mode_set, half_power, mode_indicator,
+    },
 };
 use msd_signal::FrequencyResponseEstimate;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 pub use results::to_json;
+pub use shape_files::ReferenceShapes;
 pub use time_domain::{Difference, TimeDomain, TimeFit};
 
 /// What was fitted: one mode or several.
@@ -128,6 +134,14 @@ pub struct FrfOutcome {
     pub members: Vec<SetMember>,
     /// The fit.
     pub fit: FrfFit,
+    /// The mode indicator functions of the data (a set's, or the one FRF's) when several
+    /// modes were fitted.
+    pub indicator: Option<ModeIndicator>,
+    /// A set's shapes against those of `reference_shapes`, when the config gives it.
+    pub reference_shapes: Option<ReferenceShapes>,
+    /// The nodes a set's shapes are drawn on (`geometry`, or the set's UFF file's own),
+    /// empty when there are none.
+    pub geometry: Vec<msd_uff::Node>,
     /// Peak picking and half-power bandwidth, one per fitted mode (`None` where the peak
     /// cannot be read).
     pub classroom: Vec<Option<HalfPower>>,
@@ -143,11 +157,35 @@ pub struct FrfOutcome {
 /// Reads or simulates the frequency response of `config`'s `[frequency_response]`
 /// section and fits it (nothing is written). `options.seed` overrides the config's.
 pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<FrfOutcome> {
+    run_keeping(config, config_path, options).map_err(|f| f.error)
+}
+
+/// A run's failure, with the stabilization diagram when the mode selection failed (to
+/// be drawn for the user: [`write_failure`]).
+pub(crate) struct Failure {
+    pub(crate) error: ExperimentError,
+    kept: Option<Kept>,
+}
+
+/// A failed selection's diagram and the data's (summed) magnitude to draw behind it.
+type Kept = (Box<StabilizationDiagram>, Vec<(f64, f64)>);
+
+impl From<ExperimentError> for Failure {
+    fn from(error: ExperimentError) -> Self {
+        Self { error, kept: None }
+    }
+}
+
+/// As [`run`], keeping the diagram of a failed selection.
+pub(crate) fn run_keeping(
+    config: Config,
+    config_path: &Path,
+    options: &RunOptions,
+) -> std::result::Result<FrfOutcome, Failure> {
     let Some(section) = config.frequency_response.clone() else {
-        return Err(ExperimentError::config(
-            config_path,
-            "frequency_response: missing section",
-        ));
+        return Err(
+            ExperimentError::config(config_path, "frequency_response: missing section").into(),
+        );
     };
     let seed = options.seed.unwrap_or(config.seed);
     let t = Instant::now();
@@ -155,7 +193,22 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
     let loaded = source::load(&section, dir, seed)?;
     let mut timings = vec![("data", t.elapsed())];
     let t = Instant::now();
-    let fail = |e: msd_ident::IdentError| fit_failure(e, &section, &loaded.frf);
+    let fail = |e: msd_ident::IdentError| {
+        let kept = match &e {
+            msd_ident::IdentError::TooFewModes { diagram, .. } => {
+                let members: Vec<_> = loaded.members.iter().map(|m| &m.frf).collect();
+                Some((
+                    diagram.clone(),
+                    plots::summed_magnitude(&loaded.frf, &members),
+                ))
+            }
+            _ => None,
+        };
+        Failure {
+            error: fit_failure(e, &section, &loaded.frf),
+            kept,
+        }
+    };
     let fit = match &section.modes {
         _ if !loaded.members.is_empty() => {
             let options = section.modes.unwrap_or_default();
@@ -166,14 +219,14 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
                 .enumerate()
                 .find(|(_, r)| r.shape.len() != loaded.members.len())
             {
-                return Err(ExperimentError::config(
+                return Err(Failure::from(ExperimentError::config(
                     format!("frequency_response.reference_modes[{i}].shape"),
                     format!(
                         "{} values: expected one per FRF of the set ({})",
                         r.shape.len(),
                         loaded.members.len()
                     ),
-                ));
+                )));
             }
             FrfFit::Set(Box::new(
                 fit_mode_set(&loaded.members, &options).map_err(fail)?,
@@ -183,20 +236,32 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
         None => {
             let fit = fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?;
             if fit.negative_modal_constant && section.force_scale_known {
-                return Err(ExperimentError::config(
+                return Err(Failure::from(ExperimentError::config(
                     "frequency_response.force_scale_known",
                     format!(
                         "true, but the mode at {:.4} Hz has a negative modal constant (gain {:.4e}): a point FRF's m, c and k are positive, so this is a transfer FRF or a response of reversed sign; set force_scale_known = false for fn, ζ and the (negative) gain",
                         fit.parameters.natural_frequency_hz(),
                         fit.gain.value
                     ),
-                ));
+                )));
             }
             FrfFit::OneMode(Box::new(fit))
         }
     };
     let classroom = classroom(&loaded.frf, &fit);
     timings.push(("fit", t.elapsed()));
+    let indicator = indicator(&loaded.frf, &loaded.members, &fit);
+    let (reference_shapes, geometry) = match &fit {
+        FrfFit::Set(m) => (
+            section
+                .reference_shapes
+                .as_deref()
+                .map(|file| shape_files::reference_shapes(m, file, dir))
+                .transpose()?,
+            shape_files::geometry(section.geometry.as_deref(), loaded.nodes, dir)?,
+        ),
+        _ => (None, Vec::new()),
+    };
     let truth = section.plant.map(|plant| Truth {
         modes: plant.modes(),
         plant,
@@ -217,11 +282,71 @@ pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<F
         data: loaded.frf,
         members: loaded.members,
         fit,
+        indicator,
+        reference_shapes,
+        geometry,
         classroom,
         truth,
         time_domain,
         timings,
     })
+}
+
+/// Writes what a failed mode selection keeps (its stabilization diagram, PNG and SVG,
+/// and `failure.md` with the error) into `<target>-failed`, atomically, and returns the
+/// error saying so; any other failure is returned as it is. A previous result in
+/// `target` stays untouched.
+pub(crate) fn write_failure(failure: Failure, target: &Path) -> ExperimentError {
+    let Some((diagram, magnitude)) = failure.kept else {
+        return failure.error;
+    };
+    let mut name = target.file_name().unwrap_or_default().to_os_string();
+    name.push("-failed");
+    let kept = target.with_file_name(name);
+    let written = (|| {
+        crate::output::check_target(&kept)?;
+        let staging = crate::output::Staging::new(&kept)?;
+        plots::save_diagram(&diagram, magnitude, staging.path())?;
+        let text = format!(
+            "# The mode selection failed\n\n{}\n\n`frf_stabilization.png` (and `.svg`) is the stabilization diagram as computed: every order's poles, the data's magnitude behind them, and dashed lines at the modes that were selected ({} of them). Change the keys the message names and run again.\n",
+            failure.error,
+            diagram.modes.len()
+        );
+        staging.write("failure.md", text.as_bytes())?;
+        staging.commit()
+    })();
+    match written {
+        Ok(()) => ExperimentError::Kept {
+            error: Box::new(failure.error),
+            kept: kept.join("frf_stabilization.png"),
+        },
+        Err(_) => failure.error,
+    }
+}
+
+/// The mode indicator functions of a set, or of the one FRF, when modes were fitted
+/// (`None` for one mode).
+fn indicator(
+    frf: &FrequencyResponseEstimate,
+    members: &[SetMember],
+    fit: &FrfFit,
+) -> Option<ModeIndicator> {
+    match fit {
+        FrfFit::OneMode(_) => None,
+        FrfFit::Set(_) => mode_indicator(members).ok(),
+        FrfFit::Modes(_) => {
+            let point = Dof {
+                node: 1,
+                direction: 1,
+            };
+            let one = SetMember {
+                frf: frf.clone(),
+                response: point,
+                reference: point,
+            };
+            mode_indicator(&[one]).ok()
+        }
+    }
 }
 
 /// The classroom estimates of every fitted mode: the one-mode fit's own, or for several
@@ -249,7 +374,8 @@ fn classroom(frf: &FrequencyResponseEstimate, fit: &FrfFit) -> Vec<Option<HalfPo
 
 /// A fit's refusal that the config or the data cause, as a config error naming the key
 /// with the data's range (exit 2): too few lines in the band, an option out of range,
-/// more modes asked for than the diagram holds. Other failures stay run failures.
+/// more modes asked for than the diagram holds, no mode selected (a band with no peak,
+/// too low orders). Other failures stay run failures.
 fn fit_failure(
     e: msd_ident::IdentError,
     section: &crate::config::FrequencyResponseSection,
@@ -279,9 +405,15 @@ fn fit_failure(
             value,
             expected,
         } => ExperimentError::config(key(name), format!("{value}: expected {expected}")),
-        IdentError::NotIdentifiable { reason } if reason.contains("were asked for") => {
+        IdentError::TooFewModes { reason, .. } if reason.contains("were asked for") => {
             ExperimentError::config(key("mode_count"), reason)
         }
+        // The selection found nothing with these settings (the band, the orders, the
+        // weighting): the keys to change are in the reason.
+        IdentError::TooFewModes { reason, .. } => ExperimentError::config(
+            format!("frequency_response.{part}"),
+            format!("{reason} ({range})"),
+        ),
         e => ExperimentError::run("frequency-response fit", e),
     }
 }

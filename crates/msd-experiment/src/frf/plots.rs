@@ -26,16 +26,29 @@ pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>>
         save(&Coherence(o), dir)?;
         written.push("frf_coherence");
     }
+    let members: Vec<_> = o.members.iter().map(|m| &m.frf).collect();
     if let FrfFit::Modes(m) = &o.fit {
-        save(&Stabilization(&m.diagram, summed_magnitude(o)), dir)?;
+        save_diagram(&m.diagram, summed_magnitude(&o.data, &members), dir)?;
         written.push("frf_stabilization");
     }
     if let FrfFit::Set(m) = &o.fit {
-        save(&Stabilization(&m.diagram, summed_magnitude(o)), dir)?;
+        save_diagram(&m.diagram, summed_magnitude(&o.data, &members), dir)?;
         written.push("frf_stabilization");
         written.extend(super::plots_set::write_all(o, m, dir)?);
     }
+    written.extend(super::plots_modes::indicator(o, dir)?);
     Ok(written)
+}
+
+/// Writes `frf_stabilization` (PNG and SVG) into `dir`: the diagram with `magnitude`
+/// (frequency, |H|) behind it.
+pub(crate) fn save_diagram(
+    diagram: &msd_ident::frf::StabilizationDiagram,
+    magnitude: Vec<(f64, f64)>,
+    dir: &Path,
+) -> Result<()> {
+    crate::plots::register_fonts();
+    save(&Stabilization(diagram, magnitude), dir)
 }
 
 /// The data in the fitted band beside the model on a dense logarithmic grid.
@@ -271,21 +284,17 @@ impl Figure for Coherence<'_> {
     }
 }
 
-/// The magnitudes of the data (summed over a set's FRFs) at every line above 0 Hz.
-fn summed_magnitude(o: &FrfOutcome) -> Vec<(f64, f64)> {
-    let sets: Vec<&msd_signal::FrequencyResponseEstimate> = if o.members.is_empty() {
-        vec![&o.data]
-    } else {
-        o.members.iter().map(|m| &m.frf).collect()
-    };
-    (0..o.data.frequency.len())
-        .filter(|&k| o.data.frequency[k] > 0.0)
-        .map(|k| {
-            (
-                o.data.frequency[k],
-                sets.iter().map(|s| s.h[k].norm()).sum(),
-            )
-        })
+/// The magnitudes of `data` (or summed over a set's `members`, when there are any) at
+/// every line above 0 Hz.
+pub(crate) fn summed_magnitude(
+    data: &msd_signal::FrequencyResponseEstimate,
+    members: &[&msd_signal::FrequencyResponseEstimate],
+) -> Vec<(f64, f64)> {
+    let sets: &[&msd_signal::FrequencyResponseEstimate] =
+        if members.is_empty() { &[data] } else { members };
+    (0..data.frequency.len())
+        .filter(|&k| data.frequency[k] > 0.0)
+        .map(|k| (data.frequency[k], sets.iter().map(|s| s.h[k].norm()).sum()))
         .collect()
 }
 

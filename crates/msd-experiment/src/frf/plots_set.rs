@@ -25,10 +25,30 @@ const PALETTE: [RGBColor; 6] = [
 /// Writes the set's figures; returns their base names.
 pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Vec<&'static str>> {
     save(&SetFit(o, m), dir)?;
-    save(&Mac(m), dir)?;
+    let auto = Mac {
+        name: "frf_mac",
+        title: "MAC of the mode shapes".into(),
+        matrix: &m.mac,
+        x_desc: "mode".into(),
+        y_desc: "mode".into(),
+    };
+    save(&auto, dir)?;
     save(&Shapes(m), dir)?;
     super::uff_out::write_all(o, m, dir)?;
-    Ok(vec!["frf_set_fit", "frf_mac", "frf_shapes"])
+    let mut written = vec!["frf_set_fit", "frf_mac", "frf_shapes"];
+    if let Some(r) = &o.reference_shapes {
+        let against = Mac {
+            name: "frf_mac_reference",
+            title: format!("MAC against {}", r.file),
+            matrix: &r.comparison.mac,
+            x_desc: format!("mode of {}", r.file),
+            y_desc: "estimated mode".into(),
+        };
+        save(&against, dir)?;
+        written.push("frf_mac_reference");
+    }
+    written.extend(super::plots_modes::geometry(o, m, dir)?);
+    Ok(written)
 }
 
 /// The measured quantity's magnitude of member `i`'s model at `f`.
@@ -108,35 +128,43 @@ impl Figure for SetFit<'_> {
     }
 }
 
-struct Mac<'a>(&'a ModeSetFit);
+/// A MAC matrix as shaded cells, `matrix[i][j]` at row i + 1 (y) and column j + 1 (x).
+struct Mac<'a> {
+    name: &'static str,
+    title: String,
+    matrix: &'a [Vec<f64>],
+    x_desc: String,
+    y_desc: String,
+}
 
 impl Figure for Mac<'_> {
     fn name(&self) -> &'static str {
-        "frf_mac"
+        self.name
     }
     fn size(&self) -> (u32, u32) {
         (900, 860)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
-        let mac = &self.0.mac;
+        let mac = self.matrix;
         let n = mac.len();
-        if n == 0 {
+        let columns = mac.first().map_or(0, Vec::len);
+        if n == 0 || columns == 0 {
             return Err("no mode".into());
         }
-        let area = suptitle(root, "MAC of the mode shapes")?;
+        let area = suptitle(root, &self.title)?;
         let mut chart = ChartBuilder::on(&area)
             .margin(20)
             .x_label_area_size(52)
             .y_label_area_size(64)
-            .build_cartesian_2d(0.5..n as f64 + 0.5, 0.5..n as f64 + 0.5)
+            .build_cartesian_2d(0.5..columns as f64 + 0.5, 0.5..n as f64 + 0.5)
             .map_err(text)?;
         chart
             .configure_mesh()
             .disable_mesh()
-            .x_labels(n.min(20))
+            .x_labels(columns.min(20))
             .y_labels(n.min(20))
-            .x_desc("mode")
-            .y_desc("mode")
+            .x_desc(&self.x_desc)
+            .y_desc(&self.y_desc)
             .label_style(tick_style())
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0}"))
@@ -153,7 +181,7 @@ impl Figure for Mac<'_> {
                         fill.filled(),
                     )))
                     .map_err(text)?;
-                if n <= 12 {
+                if n.max(columns) <= 12 {
                     let colour = if v > 0.5 { WHITE } else { DARK };
                     chart
                         .draw_series(std::iter::once(Text::new(

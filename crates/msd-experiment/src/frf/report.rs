@@ -122,7 +122,19 @@ fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
             "Every FRF of the set: the data and the fitted model",
         ),
         ("frf_mac", "MAC of the mode shapes"),
+        (
+            "frf_mac_reference",
+            "MAC of the mode shapes against the reference shapes",
+        ),
         ("frf_shapes", "The mode shapes over the measured DOFs"),
+        (
+            "frf_shapes_geometry",
+            "The mode shapes over the nodes' coordinates",
+        ),
+        (
+            "frf_mode_indicator",
+            "Mode indicator functions of the data (CMIF and MIF)",
+        ),
     ] {
         if figures.contains(&name) {
             writeln!(w, "![{caption}]({name}.png)\n")?;

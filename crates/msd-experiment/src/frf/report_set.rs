@@ -57,7 +57,54 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
     }
     shapes_table(w, m)?;
     mac_table(w, &m.mac)?;
-    reference_section(w, o, m)
+    reference_section(w, o, m)?;
+    reference_shapes_section(w, o)
+}
+
+/// The MAC against the shapes of `reference_shapes`, when the config gives it.
+fn reference_shapes_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
+    let Some(r) = &o.reference_shapes else {
+        return Ok(());
+    };
+    let c = &r.comparison;
+    let list = |dofs: &[msd_ident::frf::Dof]| {
+        let shown: Vec<String> = dofs.iter().take(6).map(ToString::to_string).collect();
+        match dofs.len() {
+            0 => "none".to_string(),
+            n if n > shown.len() => format!("{n} DOFs: {}, …", shown.join(", ")),
+            _ => shown.join(", "),
+        }
+    };
+    writeln!(
+        w,
+        "### Against the shapes of `{}`
+
+The MAC on the {} DOFs both give (left out: estimated only {}; the file's only {}). Rows: the estimated modes; columns: the file's.
+",
+        r.file,
+        c.shared.len(),
+        list(&c.only_first),
+        list(&c.only_second)
+    )?;
+    write!(w, "| |")?;
+    for (j, name) in r.modes.iter().enumerate() {
+        write!(w, " {} ({name}) |", j + 1)?;
+    }
+    writeln!(
+        w,
+        " best match |
+|---|{}---|",
+        "---|".repeat(r.modes.len())
+    )?;
+    for (i, (row, best)) in c.mac.iter().zip(c.best_matches()).enumerate() {
+        write!(w, "| {} |", i + 1)?;
+        for x in row {
+            write!(w, " {x:.3} |")?;
+        }
+        let best = best.map_or("—".into(), |(j, x)| format!("{} (MAC {x:.3})", j + 1));
+        writeln!(w, " {best} |")?;
+    }
+    writeln!(w)
 }
 
 /// The comparison with `reference_modes`, when the config gives them.

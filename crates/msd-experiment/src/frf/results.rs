@@ -39,6 +39,9 @@ struct Results<'a> {
     /// MAC of each fitted shape with the config's reference mode of the same rank.
     #[serde(skip_serializing_if = "Option::is_none")]
     reference_mac: Option<Vec<f64>>,
+    /// MAC of the fitted shapes with those of the config's `reference_shapes` file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reference_shapes: Option<&'a super::ReferenceShapes>,
     #[serde(skip_serializing_if = "Option::is_none")]
     modal_fit: Option<ModalSummary<'a>>,
     /// Peak picking and half-power bandwidth per mode (null where unreadable).
@@ -182,6 +185,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
         reference_mac: set
             .zip(super::reference_modes(o))
             .map(|(m, r)| super::reference_mac(m, r)),
+        reference_shapes: o.reference_shapes.as_ref(),
         fit_error: set.map(|m| m.members.as_slice()),
         modal_set: set.map(|m| SetSummary {
             roving: m.roving,

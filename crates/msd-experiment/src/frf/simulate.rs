@@ -44,6 +44,7 @@ fn estimate(
             hold,
         }),
         members: Vec::new(),
+        nodes: Vec::new(),
     })
 }
 

@@ -24,6 +24,8 @@ pub(crate) struct Loaded {
     pub time: Option<TimeRecords>,
     /// A set's members (`frf` is the first), empty otherwise.
     pub members: Vec<SetMember>,
+    /// The nodes (datasets 15 or 2411) of a set's UFF file, empty otherwise.
+    pub nodes: Vec<msd_uff::Node>,
 }
 
 /// The section's frequency response; `dir` resolves relative paths, `seed` the noise.
@@ -88,6 +90,7 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
             100.0 * s.relative_noise
         ),
         members: Vec::new(),
+        nodes: Vec::new(),
     })
 }
 
@@ -161,6 +164,7 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
         ),
         frf,
         members: Vec::new(),
+        nodes: Vec::new(),
     })
 }
 
@@ -224,6 +228,7 @@ fn members(set: &[TableSource], dir: &Path) -> Result<Loaded> {
         ),
         time: None,
         members,
+        nodes: Vec::new(),
     })
 }
 
@@ -311,6 +316,7 @@ fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
         ),
         frf,
         members: Vec::new(),
+        nodes: Vec::new(),
     })
 }
 
@@ -407,6 +413,7 @@ fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
         ),
         time: None,
         members,
+        nodes: file.nodes,
     })
 }
 
@@ -459,5 +466,6 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
             hold: Hold::Cubic,
         }),
         members: Vec::new(),
+        nodes: Vec::new(),
     })
 }

@@ -97,6 +97,15 @@ fn bad_bands_sizes_and_scales_are_config_errors() {
         ),
         &["frequency_response.modes.mode_count"],
     );
+    // A band with no peak (the mode is at 1.1 Hz): the section named, the keys to change
+    // and the data's range in the message.
+    expect(
+        run(
+            &text,
+            "[frequency_response.modes]\nband_hz = [2.0, 3.0]\norders = [2, 4]",
+        ),
+        &["frequency_response.modes:", "band_hz", "0.3–3 Hz"],
+    );
     // Magnitudes × 1e300 and × 1e-300, and all zero: refused where they are read (the
     // first row is the file's line 4).
     for (factor, part) in [(1e300, "line 4"), (1e-300, "line 4"), (0.0, "every one")] {
@@ -146,4 +155,59 @@ fn columns_by_number_count_from_zero() {
         err.to_string().contains("no column #3") && err.to_string().contains("#0 … #2"),
         "{err}"
     );
+}
+
+/// Issue 30: a failed mode selection leaves its stabilization diagram to look at, in a
+/// folder of its own beside the results, and any previous result untouched.
+#[test]
+fn a_failed_selection_keeps_its_diagram() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let shipped = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/data/stepped-sine-table.csv"
+    );
+    std::fs::copy(shipped, dir.path().join("t.csv")).expect("copied");
+    let path = dir.path().join("t.toml");
+    let write = |modes: &str| {
+        let text = format!(
+            "name = \"t\"\n[frequency_response.table]\npath = \"t.csv\"\nfrequency = \"frequency_hz\"\nmagnitude = \"magnitude_m_per_n\"\nphase = \"phase_deg\"\n[frequency_response.modes]\norders = [2, 10]\n{modes}"
+        );
+        std::fs::write(&path, text).expect("written");
+    };
+    let results = dir.path().join("out");
+    let options = msd_experiment::RunOptions {
+        out: Some(results.clone()),
+        ..Default::default()
+    };
+    write("");
+    msd_experiment::run_experiment(&path, &options).expect("one mode found");
+    let before = std::fs::read(results.join("results.json")).expect("a result");
+
+    write("mode_count = 3");
+    let err = msd_experiment::run_experiment(&path, &options).expect_err("only one mode");
+    assert_eq!(err.exit_code(), 2, "{err}");
+    let msd_experiment::ExperimentError::Kept { error, kept } = &err else {
+        panic!("{err}")
+    };
+    assert!(
+        error
+            .to_string()
+            .contains("frequency_response.modes.mode_count"),
+        "{error}"
+    );
+    let failed = dir.path().join("out-failed");
+    assert_eq!(kept, &failed.join("frf_stabilization.png"));
+    for file in [
+        "frf_stabilization.png",
+        "frf_stabilization.svg",
+        "failure.md",
+    ] {
+        let bytes = std::fs::read(failed.join(file)).expect(file);
+        assert!(bytes.len() > 100, "{file}: {} bytes", bytes.len());
+    }
+    let note = std::fs::read_to_string(failed.join("failure.md")).expect("the note");
+    assert!(note.contains("3 were asked for"), "{note}");
+    assert!(err.to_string().contains("kept for inspection"), "{err}");
+    let after = std::fs::read(results.join("results.json")).expect("still there");
+    assert_eq!(before, after, "the previous result is untouched");
 }

@@ -42,6 +42,7 @@
 //! ```
 
 mod half_power;
+mod indicator;
 mod lines;
 mod lscf;
 mod modal;
@@ -56,13 +57,15 @@ mod synthetic;
 mod window;
 
 pub use half_power::{HalfPower, half_power};
+pub use indicator::{ModeIndicator, mode_indicator};
 pub use lines::FrfWeighting;
 pub use modal::ModalParameters;
 pub use modes::{ModalFit, ModalOptions, Mode, RefusedMode, fit_modes};
 pub use one_mode::{OneModeFit, OneModeOptions, fit_one_mode};
 pub use set::{Dof, MemberFit, ModeSetFit, Roving, SetMember, SetMode, ShapeEntry, fit_mode_set};
 pub use shapes::{
-    mac, mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised,
+    ShapeComparison, compare_shapes, mac, mac_matrix, mean_phase_deviation,
+    modal_phase_collinearity, unit_normalised,
 };
 pub use stabilization::{
     DiagramOrder, DiagramPole, StabilizationDiagram, StableMode, stabilization_diagram,

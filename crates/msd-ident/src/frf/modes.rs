@@ -327,11 +327,12 @@ pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Res
     )?;
     let diagram = diagram_of(&lines, options)?;
     if diagram.modes.is_empty() {
-        return Err(IdentError::NotIdentifiable {
+        return Err(IdentError::TooFewModes {
             reason: format!(
                 "no mode is stable in the stabilization diagram{}",
                 diagram.why_too_few(options)
             ),
+            diagram: Box::new(diagram),
         });
     }
     let (polished, lines, selected, refused) = polish_selected(lines, &diagram)?;

@@ -317,11 +317,12 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
     let peaks = lines[0].summed_magnitudes(&lines);
     let diagram = diagram_of_set(&lines, &peaks, options)?;
     if diagram.modes.is_empty() {
-        return Err(IdentError::NotIdentifiable {
+        return Err(IdentError::TooFewModes {
             reason: format!(
                 "no mode is stable in the stabilization diagram of the set{}",
                 diagram.why_too_few(options)
             ),
+            diagram: Box::new(diagram),
         });
     }
     let mut selected = diagram.modes.clone();

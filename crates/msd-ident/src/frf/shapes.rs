@@ -1,6 +1,7 @@
 //! Mode shapes compared and judged: the modal assurance criterion (MAC) and the
 //! complexity of a shape (MPC, MPD).
 
+use super::set::{Dof, ShapeEntry};
 use msd_signal::Complex64;
 
 /// The modal assurance criterion of two shapes over the same DOFs:
@@ -126,4 +127,142 @@ pub fn unit_normalised(shape: &[Complex64]) -> Vec<Complex64> {
 
 fn norm_sqr(shape: &[Complex64]) -> f64 {
     shape.iter().map(Complex64::norm_sqr).sum()
+}
+
+/// Two sets of mode shapes compared on the DOFs they share (see [`compare_shapes`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ShapeComparison {
+    /// The DOFs both sets give (direction made positive), in the first set's order.
+    pub shared: Vec<Dof>,
+    /// DOFs of the first set that the second does not give.
+    pub only_first: Vec<Dof>,
+    /// DOFs of the second set that the first does not give.
+    pub only_second: Vec<Dof>,
+    /// `mac[i][j]` = MAC(first's mode i, second's mode j) on the shared DOFs.
+    pub mac: Vec<Vec<f64>>,
+}
+
+impl ShapeComparison {
+    /// For each mode of the first set, the mode of the second with the largest MAC and
+    /// that MAC (`None` when the second set is empty).
+    pub fn best_matches(&self) -> Vec<Option<(usize, f64)>> {
+        self.mac
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .copied()
+                    .enumerate()
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
+            })
+            .collect()
+    }
+}
+
+/// The MAC between two sets of shapes given over DOFs — two tests, or a test and a
+/// model — on the DOFs both give. A DOF measured in the opposite sense (direction −3
+/// against +3) is the same DOF with its value negated; DOFs only one set gives are
+/// listed and left out.
+///
+/// Errors: a shape that gives a DOF twice, or fewer than two shared DOFs (the MAC of
+/// one DOF is 1 for any pair of shapes).
+///
+/// ```
+/// use msd_ident::frf::{ShapeEntry, compare_shapes};
+/// let shape = |values: &[(u32, i32, f64)]| -> Vec<ShapeEntry> {
+///     values.iter().map(|&(node, direction, re)| ShapeEntry { node, direction, re, im: 0.0 }).collect()
+/// };
+/// let test = vec![shape(&[(1, 3, 1.0), (2, 3, 0.5), (3, 3, -0.4)])];
+/// // The model: node 2 in the opposite sense, node 3 not given, node 9 not measured.
+/// let model = vec![shape(&[(2, -3, -1.0), (1, 3, 2.0), (9, 3, 7.0)])];
+/// let c = compare_shapes(&test, &model)?;
+/// assert_eq!(c.shared.len(), 2);
+/// assert!((c.mac[0][0] - 1.0).abs() < 1e-15);
+/// assert_eq!(c.only_first[0].node, 3);
+/// assert_eq!(c.only_second[0].node, 9);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn compare_shapes(
+    first: &[Vec<ShapeEntry>],
+    second: &[Vec<ShapeEntry>],
+) -> crate::Result<ShapeComparison> {
+    let keyed =
+        |set: &[Vec<ShapeEntry>], name: &str| -> crate::Result<Vec<Vec<(Dof, Complex64)>>> {
+            set.iter()
+                .enumerate()
+                .map(|(i, shape)| {
+                    let mut out: Vec<(Dof, Complex64)> = Vec::with_capacity(shape.len());
+                    for e in shape {
+                        let sign = if e.direction < 0 { -1.0 } else { 1.0 };
+                        let dof = Dof {
+                            node: e.node,
+                            direction: e.direction.abs(),
+                        };
+                        if out.iter().any(|(d, _)| *d == dof) {
+                            return Err(crate::IdentError::NotIdentifiable {
+                                reason: format!(
+                                    "the {name} set's mode {} gives DOF {dof} twice",
+                                    i + 1
+                                ),
+                            });
+                        }
+                        out.push((dof, Complex64::new(sign * e.re, sign * e.im)));
+                    }
+                    Ok(out)
+                })
+                .collect()
+        };
+    let (a, b) = (keyed(first, "first")?, keyed(second, "second")?);
+    let dofs = |set: &[Vec<(Dof, Complex64)>]| -> Vec<Dof> {
+        let mut all: Vec<Dof> = Vec::new();
+        for (d, _) in set.iter().flatten() {
+            if !all.contains(d) {
+                all.push(*d);
+            }
+        }
+        all
+    };
+    let (in_a, in_b) = (dofs(&a), dofs(&b));
+    let given_by_all = |set: &[Vec<(Dof, Complex64)>], d: &Dof| {
+        set.iter().all(|shape| shape.iter().any(|(x, _)| x == d))
+    };
+    let shared: Vec<Dof> = in_a
+        .iter()
+        .copied()
+        .filter(|d| given_by_all(&a, d) && given_by_all(&b, d))
+        .collect();
+    if shared.len() < 2 {
+        return Err(crate::IdentError::NotIdentifiable {
+            reason: format!(
+                "the two sets of shapes share {} DOF(s) that every shape gives: the MAC needs at least two",
+                shared.len()
+            ),
+        });
+    }
+    let on_shared = |set: &[Vec<(Dof, Complex64)>]| -> Vec<Vec<Complex64>> {
+        set.iter()
+            .map(|shape| {
+                shared
+                    .iter()
+                    .map(|d| {
+                        shape
+                            .iter()
+                            .find(|(x, _)| x == d)
+                            .map_or(Complex64::new(0.0, 0.0), |e| e.1)
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let only = |from: &[Dof]| {
+        from.iter()
+            .copied()
+            .filter(|d| !shared.contains(d))
+            .collect()
+    };
+    Ok(ShapeComparison {
+        mac: mac_matrix(&on_shared(&a), &on_shared(&b)),
+        only_first: only(&in_a),
+        only_second: only(&in_b),
+        shared,
+    })
 }

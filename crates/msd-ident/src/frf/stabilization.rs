@@ -162,7 +162,8 @@ impl std::fmt::Display for StabilizationDiagram {
 /// stable at the most orders). A mode's fn and ζ are the medians of its poles.
 ///
 /// Errors: too few lines for the largest order, bad options, `Variance` weighting
-/// without variances, fewer stable modes than `mode_count`.
+/// without variances, fewer stable modes than `mode_count`
+/// ([`IdentError::TooFewModes`](crate::IdentError::TooFewModes), which keeps the diagram).
 ///
 /// ```
 /// use msd_ident::{ModalOptions, frf::{stabilization_diagram, ModalParameters}};
@@ -245,13 +246,20 @@ fn diagram_from(
             reason: "the LSCF normal equations are singular at every order".into(),
         });
     }
-    let (candidates, modes) = select(&orders, lines, options)?;
-    Ok(StabilizationDiagram {
+    let (candidates, modes, shortfall) = select(&orders, lines, options);
+    let diagram = StabilizationDiagram {
         orders,
         candidates,
         modes,
         band_hz: lines.band_hz,
-    })
+    };
+    match shortfall {
+        Some(reason) => Err(IdentError::TooFewModes {
+            reason,
+            diagram: Box::new(diagram),
+        }),
+        None => Ok(diagram),
+    }
 }
 
 /// The pole λ as a diagram pole (unflagged) if it is physical.
@@ -286,12 +294,13 @@ fn flag(poles: &mut [DiagramPole], previous: &[DiagramPole], options: &ModalOpti
     }
 }
 
-/// Groups the poles stable in frequency into modes and selects those the data show.
+/// Groups the poles stable in frequency into modes and selects those the data show:
+/// the candidates, the selected modes, and why they are too few for `mode_count`.
 fn select(
     orders: &[DiagramOrder],
     lines: &Lines,
     options: &ModalOptions,
-) -> Result<(Vec<StableMode>, Vec<StableMode>)> {
+) -> (Vec<StableMode>, Vec<StableMode>, Option<String>) {
     let mut stable: Vec<(usize, DiagramPole)> = orders
         .iter()
         .flat_map(|o| {
@@ -311,17 +320,16 @@ fn select(
         m.at_peak = lines.has_peak(m.natural_frequency_hz, m.damping_ratio);
     }
     let mut modes: Vec<StableMode> = candidates.iter().copied().filter(|m| m.at_peak).collect();
+    let mut shortfall = None;
     match options.mode_count {
+        Some(count) if modes.len() < count => {
+            shortfall = Some(format!(
+                "the stabilization diagram has {} stable modes at a peak of the data, {count} were asked for{}",
+                modes.len(),
+                explain(&candidates, orders.len(), options)
+            ));
+        }
         Some(count) => {
-            if modes.len() < count {
-                return Err(IdentError::NotIdentifiable {
-                    reason: format!(
-                        "the stabilization diagram has {} stable modes at a peak of the data, {count} were asked for{}",
-                        modes.len(),
-                        explain(&candidates, orders.len(), options)
-                    ),
-                });
-            }
             modes.sort_by_key(|m| std::cmp::Reverse(m.stable_orders));
             modes.truncate(count);
         }
@@ -331,7 +339,7 @@ fn select(
         }
     }
     modes.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
-    Ok((candidates, modes))
+    (candidates, modes, shortfall)
 }
 
 /// The columns of the diagram: poles (sorted by frequency) gathered around seeds, the

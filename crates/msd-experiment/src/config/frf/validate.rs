@@ -153,6 +153,22 @@ impl FrequencyResponseSection {
                 ": given with set = true: expected one or the other (a set takes every frequency response function of the file)".into(),
             );
         }
+        let a_set = self.set.is_some() || self.uff.as_ref().is_some_and(|u| u.set);
+        for (key, given) in [
+            ("reference_modes", self.reference_modes.is_some()),
+            ("reference_shapes", self.reference_shapes.is_some()),
+            ("geometry", self.geometry.is_some()),
+        ] {
+            if given && !a_set {
+                return err(
+                    &format!("frequency_response.{key}"),
+                    format!(
+                        ": given with the `{}` source: expected a set of FRFs ([[frequency_response.set]], or [frequency_response.uff] with set = true), whose shapes it is about",
+                        self.source_name()
+                    ),
+                );
+            }
+        }
         if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
             return err(
                 "frequency_response.uff.function",

@@ -134,7 +134,16 @@ fn the_diagram_flags_stable_poles_and_counts_orders() {
         ..OPTIONS
     };
     let err = stabilization_diagram(&noisy(2), &four).expect_err("not so many");
-    assert!(matches!(err, IdentError::NotIdentifiable { .. }), "{err}");
+    let IdentError::TooFewModes { diagram, reason } = &err else {
+        panic!("{err}")
+    };
+    assert!(reason.contains("40 were asked for"), "{reason}");
+    // The diagram is kept for a plot: every order, its columns, the modes it did select.
+    assert_eq!(
+        diagram.orders.len(),
+        (OPTIONS.orders[1] - OPTIONS.orders[0]) / OPTIONS.order_step + 1
+    );
+    assert!(diagram.modes.len() >= 2 && diagram.modes.len() < 40);
 }
 
 /// Over 40 noise seeds the 95 % intervals of fn, ζ and A of the three modes cover the
