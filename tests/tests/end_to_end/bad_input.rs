@@ -394,6 +394,29 @@ fn missing_csv_column() {
     case.refuses(&c, &["data.csv", "line 2", "no input column #7"]);
 }
 
+/// Issue 31, class 5: line numbers are the file's own when comment and blank lines come
+/// before the header or the rows.
+#[test]
+fn line_numbers_count_the_comment_lines_before_the_header() {
+    let case = Case::new();
+    let body = csv_with(0, "0.00,1.0,0.0");
+    case.file(
+        "data.csv",
+        &format!("# rig 3, run 7\n\n# operator: A. B.\n{body}"),
+    );
+    let c = case.file("c.toml", &measured_config("data.csv", "disp", ""));
+    case.refuses(&c, &["data.csv", "line 4", "no output column named `disp`"]);
+    // The header read as data (header = false): its line is named.
+    let c = case.file(
+        "d.toml",
+        &measured_config("data.csv", "2", "")
+            .replace("output = \"2\"", "output = 2")
+            .replace("input = \"force\"", "input = 1\nheader = false")
+            .replace("time = \"t\"", "time = 0"),
+    );
+    case.refuses(&c, &["data.csv", "line 4", "is not a number"]);
+}
+
 #[test]
 fn non_numeric_cell() {
     let case = Case::new();

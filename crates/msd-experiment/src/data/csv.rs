@@ -116,7 +116,10 @@ pub fn read_columns(
             let byte = start + p.byte() as usize;
             // With CRLF the csv crate puts a record's start on the previous line's
             // '\n' (after its '\r'), hence ≤: that newline ends the previous line.
-            1 + newlines.partition_point(|&i| i <= byte)
+            let line = 1 + newlines.partition_point(|&i| i <= byte);
+            // The crate also puts it before the comment and blank lines it skipped:
+            // the record is on the first line after them.
+            first_data_line(&bytes, &newlines, line)
         })
     };
     let mut records = csv.records();
@@ -230,6 +233,21 @@ fn read_bytes(path: &Path, path_key: &str) -> Result<Vec<u8>> {
     std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
         .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
     Ok(bytes)
+}
+
+/// The first line from `line` (1-based) on that is neither a `#` comment nor blank;
+/// `newlines` are the offsets of the '\n's of `bytes`.
+fn first_data_line(bytes: &[u8], newlines: &[usize], mut line: usize) -> usize {
+    loop {
+        let from = if line == 1 { 0 } else { newlines[line - 2] + 1 };
+        let to = newlines.get(line - 1).copied().unwrap_or(bytes.len());
+        let text = &bytes[from.min(to)..to];
+        let skipped = text.starts_with(b"#") || text.trim_ascii().is_empty();
+        if !skipped || to == bytes.len() {
+            return line;
+        }
+        line += 1;
+    }
 }
 
 /// The 0-based index of column `c` (an index, or a name looked up in the header).
