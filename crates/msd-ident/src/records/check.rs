@@ -34,6 +34,16 @@ pub(crate) fn check_records(
             if n < MIN_SAMPLES {
                 return Err(fail(None, format!("{n} samples: at least {MIN_SAMPLES} are needed")));
             }
+            let drive = record.excitation.samples();
+            if options.drive != super::setup::Drive::None
+                && drive.iter().all(|v| *v == drive[0])
+            {
+                return Err(fail(None, format!(
+                    "the {} is {} at every sample: nothing drives the mass, so the response carries no information on the plant's gain (a record that only rings down is a free decay: no drive, which identifies ωn and ζ)",
+                    options.drive.quantity(),
+                    drive[0]
+                )));
+            }
             if record.channels.is_empty() {
                 return Err(fail(None, "no channels: give at least one measured response".into()));
             }

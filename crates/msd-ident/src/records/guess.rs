@@ -43,15 +43,35 @@ pub(crate) fn initial_theta(problem: &Joint<'_>, options: &RecordsOptions) -> Re
             .find(|(n, _)| *n == name)
             .map_or(1.0, |(_, w)| 1.0 / w)
     });
-    let best = distinct(candidates)
-        .into_iter()
-        .filter_map(|(wn, zeta)| score(&mut scorer, wn, zeta).map(|(cost, m)| (cost, wn, zeta, m)))
+    let candidates = distinct(candidates);
+    let best = candidates
+        .iter()
+        .filter_map(|&(wn, zeta)| score(&mut scorer, wn, zeta).map(|(cost, m)| (cost, wn, zeta, m)))
         .min_by(|a, b| a.0.total_cmp(&b.0));
-    let Some((_, wn, zeta, gain_mass)) = best else {
-        return Err(IdentError::Setup {
-            setup: problem.drive.setup(),
-            reason: "no initial guess could be formed from the records (no candidate ωn, ζ could be simulated); give `initial_guess`".into(),
-        });
+    if problem.drive != Drive::None {
+        // A reversed sensor: its data against the response of the best candidate (or of
+        // each, when none scores).
+        let tried: Vec<(f64, f64)> = match best {
+            Some((_, wn, zeta, _)) => vec![(wn, zeta)],
+            None => candidates.clone(),
+        };
+        if let Some(reason) = inverted(&mut scorer, &tried) {
+            return Err(IdentError::Setup {
+                setup: problem.drive.setup(),
+                reason,
+            });
+        }
+    }
+    let (wn, zeta, gain_mass) = match (best, options.initial_guess) {
+        (Some((_, wn, zeta, m)), _) => (wn, zeta, m),
+        // A given guess is used as it is, even where its response does not score.
+        (None, Some(g)) => (g.natural_frequency(), g.damping_ratio().max(1e-4), g.mass),
+        (None, None) => {
+            return Err(IdentError::Setup {
+                setup: problem.drive.setup(),
+                reason: "no initial guess could be formed from the records (no candidate ωn, ζ could be simulated); give `initial_guess`".into(),
+            });
+        }
     };
     let m = match (problem.drive, options.known, options.initial_guess) {
         (Drive::Force, KnownParameter::Mass(m), _) => m,
@@ -136,6 +156,25 @@ fn distinct(candidates: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
         }
     }
     kept
+}
+
+/// Why a channel looks reversed: its data correlate with the response of one of the
+/// `candidates` at −0.5 or below (a sound channel correlates near +1, noise near 0).
+fn inverted(problem: &mut Joint<'_>, candidates: &[(f64, f64)]) -> Option<String> {
+    for &(wn, zeta) in candidates {
+        if !problem.prepare([1.0, 2.0 * zeta * wn, wn * wn]) {
+            continue;
+        }
+        let correlations = problem.channel_correlations();
+        if let Some((name, r)) = correlations.iter().find(|(_, r)| *r <= -0.5) {
+            return Some(format!(
+                "channel `{name}` appears inverted: its correlation with the response the drive predicts (fn = {:.4} Hz, ζ = {:.4}) is {r:.2}; check how the sensor is mounted and wired, and give it scale = -1 (or negate its calibration)",
+                wn / (2.0 * PI),
+                zeta
+            ));
+        }
+    }
+    None
 }
 
 /// The projected cost of (ωn, ζ) and, with a force drive, the best mass (the inverse

@@ -294,6 +294,26 @@ impl<'a> Joint<'a> {
             .collect()
     }
 
+    /// Each channel of the first record with the correlation of its (projected) data
+    /// with the response from rest of the prepared plant: near −1 for a sensor whose
+    /// sign is reversed (after [`prepare`](Self::prepare)).
+    pub(crate) fn channel_correlations(&self) -> Vec<(&str, f64)> {
+        let (y, f) = self.projected_data_and_response();
+        let rec = &self.records[0];
+        rec.record
+            .channels
+            .iter()
+            .enumerate()
+            .map(|(ch, channel)| {
+                let rows = rec.start + ch * rec.len..rec.start + (ch + 1) * rec.len;
+                let (y, f) = (&y[rows.clone()], &f[rows]);
+                let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+                let r = dot(y, f) / (dot(y, y) * dot(f, f)).sqrt();
+                (channel.name.as_str(), r)
+            })
+            .collect()
+    }
+
     /// The projected weighted data and response from rest, P⊥·W·y and P⊥·W·f, for the
     /// gain of the initial guess (after [`prepare`](Self::prepare)).
     pub(crate) fn projected_data_and_response(&self) -> (Vec<f64>, Vec<f64>) {

@@ -51,6 +51,16 @@ impl Drive {
         }
     }
 
+    /// The measured quantity that drives the plant, in words ("force", …).
+    pub(crate) fn quantity(self) -> &'static str {
+        match self {
+            Drive::Force => "force",
+            Drive::BaseAcceleration => "base acceleration",
+            Drive::BaseDisplacement => "base displacement",
+            Drive::None => "excitation",
+        }
+    }
+
     /// Whether the mass is estimated (only a force on the mass fixes it).
     pub(crate) fn estimates_mass(self) -> bool {
         self == Drive::Force

@@ -829,3 +829,79 @@ fn bad_records_and_setups_are_refused_with_located_messages() {
         "invalid known mass = -1: expected a finite number > 0"
     );
 }
+
+/// Issue 31, class 5, what a lab hands in: a sensor mounted upside down is named with its
+/// correlation, a record whose force is zero is refused as such, and an `initial_guess`
+/// far from the truth (100×) is used as given and the fit still finds the plant.
+#[test]
+fn an_inverted_sensor_a_zero_force_and_a_far_guess() {
+    let force = paper_force();
+    let response = |q| {
+        simulate_response(
+            &P,
+            Drive::Force,
+            &force,
+            InitialState::REST,
+            q,
+            Frame::Absolute,
+        )
+        .unwrap()
+    };
+    let x = response(ResponseQuantity::Displacement);
+    let a = response(ResponseQuantity::Acceleration);
+    let laser = noisy(
+        "laser",
+        ResponseQuantity::Displacement,
+        Frame::Absolute,
+        &x,
+        LASER_SIGMA,
+        3,
+    );
+    let upside_down: Vec<f64> = a.iter().map(|v| -v).collect();
+    let acc = noisy(
+        "acc",
+        ResponseQuantity::Acceleration,
+        Frame::Absolute,
+        &upside_down,
+        ACC_SIGMA,
+        3,
+    );
+    let options = RecordsOptions::default();
+    let err = fit_records(
+        &[one_record("run", &force, vec![laser.clone(), acc])],
+        &options,
+    )
+    .expect_err("inverted");
+    let text = err.to_string();
+    assert!(text.contains("channel `acc` appears inverted"), "{text}");
+    // The correlation named: near −1 (the noise of the accelerometer lowers it a little).
+    let r: f64 = text
+        .split(") is ")
+        .nth(1)
+        .and_then(|rest| rest.split(';').next())
+        .and_then(|v| v.parse().ok())
+        .expect("a correlation in the message");
+    assert!(r <= -0.9, "{text}");
+
+    let silent = Excitation::from_samples(0.0, DT, vec![0.0; 7501]).unwrap();
+    let err = fit_records(&[one_record("run", &silent, vec![laser.clone()])], &options)
+        .expect_err("no force");
+    assert!(
+        matches!(&err, IdentError::InvalidRecord { record, channel: None, reason }
+            if record == "run" && reason.contains("the force is 0 at every sample")),
+        "{err}"
+    );
+
+    let far = RecordsOptions {
+        initial_guess: Some(Parameters::new(250.0, 180.0, 12000.0).unwrap()),
+        ..RecordsOptions::default()
+    };
+    let fit = fit_records(&[one_record("run", &force, vec![laser])], &far).expect("fits");
+    for (name, truth) in [("mass", 2.5), ("damping", 1.8), ("stiffness", 120.0)] {
+        let i = get(&fit.plant, name);
+        assert!(
+            (i.value / truth - 1.0).abs() < 4.0 * i.standard_error / truth,
+            "{name}: {i:?}"
+        );
+    }
+}
