@@ -5,6 +5,7 @@
 
 use super::source::{Loaded, run_error};
 use super::time_domain::TimeRecords;
+use crate::ExperimentError;
 use crate::Result;
 use crate::config::{ChainPlant, HammerSource, ShakerSource};
 use msd_ident::Hold;
@@ -28,12 +29,20 @@ fn estimate(
     options: &FrfOptions,
     hold: Hold,
     description: String,
+    source: &str,
 ) -> Result<Loaded> {
     let records: Vec<Record<'_>> = channels
         .iter()
         .map(|[input, output]| Record { input, output })
         .collect();
-    let frf = frf_estimate(&records, sample_rate, options).map_err(run_error)?;
+    let frf = frf_estimate(&records, sample_rate, options).map_err(|e| match e {
+        // The config's force is the cause (e.g. `rms = 0`): exit 2 naming it.
+        msd_signal::SignalError::ZeroInputPower { .. } => ExperimentError::config(
+            format!("frequency_response.{source}.force"),
+            format!("{e}: the simulated force is constant; expected a force that drives the plant"),
+        ),
+        e => run_error(e),
+    })?;
     Ok(Loaded {
         frf,
         description,
@@ -101,7 +110,14 @@ pub(super) fn hammer(
     );
     // Simulated with the force linear between samples: a fit that holds it the same way
     // has no model error.
-    estimate(channels, h.sample_rate, options, Hold::First, description)
+    estimate(
+        channels,
+        h.sample_rate,
+        options,
+        Hold::First,
+        description,
+        "hammer",
+    )
 }
 
 /// Sub-steps per sample of the shaker's run: the force is a continuous signal, applied
@@ -159,5 +175,12 @@ pub(super) fn shaker(
         100.0 * s.response_noise
     );
     // The force between samples is the signal, not a line: a measured force's hold.
-    estimate(channels, s.sample_rate, options, Hold::Cubic, description)
+    estimate(
+        channels,
+        s.sample_rate,
+        options,
+        Hold::Cubic,
+        description,
+        "shaker",
+    )
 }

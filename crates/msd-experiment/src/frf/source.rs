@@ -432,6 +432,17 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
         columns,
         complex: None,
     })?;
+    for (i, pair) in read.values.chunks_exact(2).enumerate() {
+        if pair[0].iter().all(|&v| v == pair[0][0]) {
+            return Err(ExperimentError::data(
+                path,
+                format!(
+                    "frequency_response.records.force[{i}] (column {}) is {} on every line: expected the measured force (a constant force drives nothing)",
+                    r.force[i], pair[0][0]
+                ),
+            ));
+        }
+    }
     let records: Vec<Record<'_>> = read
         .values
         .chunks_exact(2)
@@ -440,8 +451,16 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
             output: &pair[1],
         })
         .collect();
-    let frf = frf_estimate(&records, r.sample_rate, options)
-        .map_err(|e| ExperimentError::data(path, e.to_string()))?;
+    let frf = frf_estimate(&records, r.sample_rate, options).map_err(|e| {
+        let hint = match e {
+            msd_signal::SignalError::ZeroInputPower { .. } => format!(
+                " (frequency_response.records.force = {:?}: every force column is constant; expected the measured force)",
+                r.force
+            ),
+            _ => String::new(),
+        };
+        ExperimentError::data(path, format!("{e}{hint}"))
+    })?;
     let description = format!(
         "{} records of {} samples at {} Hz from {} ({})",
         records.len(),

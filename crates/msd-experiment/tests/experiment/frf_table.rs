@@ -211,3 +211,45 @@ fn a_failed_selection_keeps_its_diagram() {
     let after = std::fs::read(results.join("results.json")).expect("still there");
     assert_eq!(before, after, "the previous result is untouched");
 }
+
+/// Issue 31, class 3: a shaker whose force is zero, or records whose force columns are
+/// constant, are exit 2 naming the key or the file (they were exit 1).
+#[test]
+fn a_source_without_force_is_refused_by_name() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let shipped = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../configs/frf-records.toml"
+    );
+    let text = std::fs::read_to_string(shipped).expect("the shipped config");
+    let silent = text.replace("rms = 2.0", "rms = 0.0");
+    assert_ne!(silent, text, "the config sets the force's rms");
+    let path = dir.path().join("silent.toml");
+    std::fs::write(&path, silent).expect("written");
+    let config = Config::load(&path).expect("valid");
+    let err = frf::run(config, &path, &Default::default()).expect_err("no force");
+    assert_eq!(err.exit_code(), 2, "{err}");
+    assert!(
+        err.to_string().contains("frequency_response.shaker.force"),
+        "{err}"
+    );
+
+    let rows: String = (0..256)
+        .map(|i| format!("0,{}\n", (0.37 * f64::from(i)).sin()))
+        .collect();
+    std::fs::write(dir.path().join("r.csv"), format!("f,x\n{rows}")).expect("written");
+    let path = dir.path().join("records.toml");
+    std::fs::write(
+        &path,
+        "name = \"r\"\n[frequency_response.records]\npath = \"r.csv\"\nsample_rate = 100.0\nforce = [\"f\"]\nresponse = [\"x\"]\n",
+    )
+    .expect("written");
+    let config = Config::load(&path).expect("valid");
+    let err = frf::run(config, &path, &Default::default()).expect_err("no force");
+    assert_eq!(err.exit_code(), 2, "{err}");
+    let text = err.to_string();
+    assert!(
+        text.contains("r.csv") && text.contains("frequency_response.records.force"),
+        "{text}"
+    );
+}
