@@ -416,3 +416,37 @@ fn bad_conditions_are_refused_with_the_condition_the_field_and_what_was_expected
         "invalid laws = 0: expected at least one damping law"
     );
 }
+
+/// Issue 31, class 7: F_c of the Coulomb law, fitted with tanh(x̂′/v_s), v_s = 1e-3 × the
+/// RMS velocity, is unbiased under the default noise: over 200 seeds the mean of
+/// (F̂_c − F_c)/SE is within 0.25 of 0 (its own SD is about 1/√200 = 0.07), and the 95 %
+/// intervals cover the truth 95 ± 3.5 % (binomial σ 1.5 %). (The exact sign(x̂′) was
+/// tried: −3.2 SE and 7 % coverage here, because the synthetic strokes put samples exactly
+/// on the velocity's zero crossings, where sign is decided by rounding; tanh gives them
+/// about half weight.)
+#[test]
+fn the_coulomb_force_is_unbiased_over_200_seeds() {
+    let options = DynamometerOptions {
+        laws: vec![DampingLaw::CoulombViscous],
+        ..DynamometerOptions::default()
+    };
+    let truth = plant(DampingLaw::CoulombViscous, [2.0, 400.0, 5000.0, 50.0]);
+    let seeds = 200;
+    let (mut z_sum, mut covered) = (0.0, 0);
+    for seed in 0..seeds {
+        let spec = SyntheticDynamometer {
+            seed,
+            plant: truth.clone(),
+            ..SyntheticDynamometer::default()
+        };
+        let result = dynamometer(&synthetic_dynamometer(&spec).unwrap(), &options).unwrap();
+        let f = *result.best_law().coefficient("coulomb_force").expect("F_c");
+        z_sum += (f.value - 50.0) / f.standard_error;
+        covered += usize::from(f.contains(50.0));
+    }
+    let bias = z_sum / seeds as f64;
+    let coverage = covered as f64 / seeds as f64;
+    eprintln!("F_c: mean error {bias:.3} SE, coverage {coverage}");
+    assert!(bias.abs() < 0.25, "mean error {bias} SE");
+    assert!((coverage - 0.95).abs() <= 0.035, "coverage {coverage}");
+}
