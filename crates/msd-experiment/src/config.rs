@@ -942,6 +942,15 @@ impl Config {
         if let Some(n) = &self.nonlinear {
             n.validate(&self.estimation)?;
         }
+        if let Some(d) = &self.design {
+            let per_plant = crate::budget::samples_per_experiment(self);
+            crate::budget::check(
+                "design.robust.plants",
+                d.robust.plants as f64,
+                per_plant,
+                crate::budget::Budget::Fitted,
+            )?;
+        }
         Ok(())
     }
 
@@ -1016,6 +1025,13 @@ impl Config {
             validate_plant(plant)?;
         }
         validate_time(time)?;
+        // The identification and validation records, input and displacement each.
+        crate::budget::check(
+            "time.duration",
+            time.duration,
+            4.0 / time.dt,
+            crate::budget::Budget::Held,
+        )?;
         if let Some(noise) = &self.noise {
             check_non_negative("noise.sigma", noise.sigma)?;
         }
@@ -1192,15 +1208,6 @@ fn validate_time(time: &TimeGrid) -> std::result::Result<(), (String, String)> {
             format!(
                 " = {}: gives {n} samples at dt = {}: expected at least {MIN_SAMPLES}",
                 time.duration, time.dt
-            ),
-        ));
-    }
-    if n > 50_000_000 {
-        return Err((
-            "time.dt".into(),
-            format!(
-                " = {}: gives {n} samples: expected at most 50 000 000",
-                time.dt
             ),
         ));
     }

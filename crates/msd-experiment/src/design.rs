@@ -45,6 +45,8 @@ pub struct DesignRunOptions {
     pub out: Option<PathBuf>,
     /// Where result folders go. By default `msd-results` in the current folder.
     pub results_root: Option<PathBuf>,
+    /// Whether the design and its check draw progress on stderr. By default false.
+    pub progress: bool,
 }
 
 /// The spread of simulated tests of the design beside its prediction.
@@ -129,10 +131,18 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
             ));
         }
     };
+    if options.verify > 1 {
+        crate::plan::verify_budget(&config, config_path, options.verify)?;
+    }
     let reference = crate::data::load(&config, config_path, config.seed)?
         .identification
         .excitation;
     let started = Instant::now();
+    let progress = crate::progress::Progress::new(options.progress);
+    progress.stage(&format!(
+        "design: optimising the input over {} samples",
+        reference.len()
+    ));
     let design = msd_ident::design_input(&plant, &reference, sigma, &design_options).map_err(
         |e| match e {
             IdentError::InvalidDesign { .. } => ExperimentError::config(config_path, e.to_string()),
@@ -140,11 +150,12 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
         },
     )?;
     let design_seconds = started.elapsed().as_secs_f64();
+    progress.finish();
     let verification = verify(
         &designed_config(&config, &design),
         config_path,
         &design,
-        options.verify,
+        options,
     )?;
     Ok(DesignReport {
         name: config.name.clone(),
@@ -209,8 +220,9 @@ fn verify(
     config: &Config,
     config_path: &Path,
     design: &Design,
-    seeds: usize,
+    options: &DesignRunOptions,
 ) -> Result<Option<Verification>> {
+    let seeds = options.verify;
     if seeds == 0 {
         return Ok(None);
     }
@@ -239,14 +251,13 @@ fn verify(
             ),
         ));
     }
-    let mut draws = Vec::with_capacity(seeds);
-    for seed in 0..seeds as u64 {
+    let draws = crate::plan::draws(seeds, "design --verify", options.progress, |seed| {
         let data = crate::data::load(config, config_path, seed)?;
         let p = estimate(&data.identification, &config.estimation)
             .map_err(|e| ExperimentError::run("design --verify", e))?
             .parameters;
-        draws.push(vec![p.mass, p.damping, p.stiffness]);
-    }
+        Ok(vec![p.mass, p.damping, p.stiffness])
+    })?;
     let sd = crate::plan::standard_deviations(&draws);
     let standard_deviations = [sd[0], sd[1], sd[2]];
     let predicted = design.comparison.design;
@@ -295,7 +306,9 @@ pub struct DesignArgs {
     #[allow(rustdoc::invalid_html_tags)]
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Check the prediction against N simulated tests of the design (seeds 0 … N−1).
+    /// Check the prediction against N simulated tests of the design (seeds 0 … N−1),
+    /// each fitted: N × the test's samples count against a budget of 2e8 samples fitted
+    /// (the largest N is named when it is past it). Progress is drawn on a terminal.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub verify: usize,
 }
@@ -303,10 +316,12 @@ pub struct DesignArgs {
 /// `design`: designs, prints the comparison and writes the files (into `--out`, else
 /// `<results_root>/<name>-design`, `results_root` by default `msd-results`).
 pub fn run_design(args: &DesignArgs, results_root: Option<PathBuf>) -> Result<()> {
+    use std::io::IsTerminal;
     let options = DesignRunOptions {
         verify: args.verify,
         out: args.out.clone(),
         results_root,
+        progress: std::io::stderr().is_terminal(),
     };
     let report = design(&args.config, &options)?;
     let config = &report.config;

@@ -21,6 +21,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
+pub mod budget;
 pub mod cli;
 pub mod config;
 pub mod data;

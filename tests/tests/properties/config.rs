@@ -484,3 +484,111 @@ proptest! {
         prop_assert!(e.to_string().contains(&key), "{key} not named: {e}");
     }
 }
+
+/// Every size a config sets, as (shipped config, path to the key, its dotted name): the
+/// sizes of issue 31, class 1.
+const SIZES: [(&str, &[&str], &str); 9] = [
+    ("repeats.toml", &["setup", "records"], "setup.records"),
+    ("repeats.toml", &["time", "duration"], "time.duration"),
+    (
+        "damper-test-machine.toml",
+        &["setup", "cycles"],
+        "setup.cycles",
+    ),
+    (
+        "hammer-2dof.toml",
+        &["frequency_response", "hammer", "hits"],
+        "frequency_response.hammer.hits",
+    ),
+    (
+        "hammer-2dof.toml",
+        &["frequency_response", "hammer", "duration"],
+        "frequency_response.hammer.duration",
+    ),
+    (
+        "stepped-sine.toml",
+        &["frequency_response", "sweep", "lines"],
+        "frequency_response.sweep.lines",
+    ),
+    (
+        "frf-records.toml",
+        &["frequency_response", "shaker", "records"],
+        "frequency_response.shaker.records",
+    ),
+    (
+        "frf-records.toml",
+        &["frequency_response", "shaker", "settle"],
+        "frequency_response.shaker.settle",
+    ),
+    (
+        "design-paper-a.toml",
+        &["design", "robust", "plants"],
+        "design.robust.plants",
+    ),
+];
+
+proptest! {
+    #![proptest_config(cases(300))]
+
+    /// Issue 31, class 1: every size key at any value from 1 to 1e12 is accepted within
+    /// the one memory and work budget, or refused when the config is read (before
+    /// anything is allocated) with exit 2, naming the key and the largest value accepted
+    /// — never an abort. The largest value named is itself accepted for that key.
+    #[test]
+    fn every_size_is_within_the_budget_or_refused_by_key(
+        which in 0usize..SIZES.len(),
+        exponent in 0.0f64..12.0,
+    ) {
+        let (name, path, key) = SIZES[which];
+        let set = |doc: &mut Value, value: f64| {
+            let (last, init) = path.split_last().unwrap();
+            let mut v = doc;
+            for k in init {
+                v = v.get_mut(*k).unwrap();
+            }
+            let Value::Table(t) = v else { unreachable!() };
+            let integer = matches!(t.get(*last), Some(Value::Integer(_)) | None);
+            t.insert(
+                last.to_string(),
+                if integer { Value::Integer(value as i64) } else { Value::Float(value) },
+            );
+        };
+        let value = 10f64.powf(exponent).round().max(1.0);
+        let mut doc = shipped(name);
+        set(&mut doc, value);
+        match Config::from_toml_str(&toml::to_string(&doc).unwrap(), name) {
+            Ok(_) => {}
+            Err(e) => {
+                let text = e.to_string();
+                prop_assert_eq!(e.exit_code(), 2, "{}", text);
+                if text.contains(key) && text.contains("largest accepted is ") {
+                    let largest: f64 = text
+                        .rsplit("largest accepted is ")
+                        .next()
+                        .and_then(|v| v.parse().ok())
+                        .expect("a number");
+                    prop_assert!(largest < value, "{text}");
+                    if largest >= 1.0 {
+                        let mut doc = shipped(name);
+                        set(&mut doc, largest);
+                        let again = Config::from_toml_str(&toml::to_string(&doc).unwrap(), name);
+                        // Accepted for this key (another size may still be past the
+                        // budget with it, and is then named).
+                        prop_assert!(
+                            again.as_ref().map_or_else(|e| !e.to_string().contains(&format!("{key} = ")), |_| true),
+                            "the largest accepted is refused: {:?}", again.err()
+                        );
+                    }
+                } else {
+                    // Refused for another reason (e.g. a duration too short for a pulse,
+                    // fewer than 4 lines), or past the budget together with another size
+                    // of the config, which is then the one named.
+                    let other_size = SIZES
+                        .iter()
+                        .any(|(n, _, k)| *n == name && text.contains(&format!("{k} = ")));
+                    prop_assert!(!text.contains("budget") || other_size, "{text}");
+                }
+            }
+        }
+    }
+}

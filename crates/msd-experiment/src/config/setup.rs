@@ -418,6 +418,7 @@ impl SetupSection {
         };
         validate_plant(plant)?;
         validate_time(time)?;
+        self.check_budget(time)?;
         if plant.nonlinear().is_some() && self.excitation != ExcitationKind::ImposedDisplacement {
             return Err((
                 "plant".into(),
@@ -443,6 +444,52 @@ impl SetupSection {
                 .map_err(|e| ("identification.input".to_string(), format!(": {e}"))),
             (None, false) => self.validate_conditions(),
         }
+    }
+
+    /// The samples the synthetic records or the test machine's conditions take, against
+    /// the budget ([`crate::budget`]): the records, or a condition's frequency (its
+    /// cycles at dt), or the cycles, named.
+    fn check_budget(&self, time: &super::TimeGrid) -> std::result::Result<(), (String, String)> {
+        use crate::budget::{Budget, check};
+        let channels = self.channels().len() as f64 + 1.0;
+        if self.excitation != ExcitationKind::ImposedDisplacement {
+            // One record past the budget: its duration is the cause; else the records.
+            let records = self.records as f64;
+            check(
+                "time.duration",
+                time.duration,
+                channels / time.dt,
+                Budget::Held,
+            )?;
+            let per_record = channels * time.samples() as f64;
+            return check("setup.records", records, per_record, Budget::Held);
+        }
+        let cycles = self.cycles as f64;
+        let per_condition = |f: f64| channels * cycles / (f * time.dt);
+        for (i, c) in self.conditions.iter().enumerate() {
+            // One condition past the budget even at the fewest cycles (2): its frequency
+            // is the cause.
+            if 2.0 / cycles * per_condition(c.frequency) > crate::budget::SAMPLES_HELD {
+                let lowest = per_condition(1.0) / crate::budget::SAMPLES_HELD;
+                return Err((
+                    format!("setup.conditions[{i}].frequency"),
+                    format!(
+                        " = {}: {} cycles at dt = {} take {:.3e} samples with the channels; the budget is {:.0e} samples held at once, so the lowest frequency accepted is {lowest:.3e} Hz",
+                        c.frequency,
+                        self.cycles,
+                        time.dt,
+                        per_condition(c.frequency),
+                        crate::budget::SAMPLES_HELD
+                    ),
+                ));
+            }
+        }
+        let per_cycle: f64 = self
+            .conditions
+            .iter()
+            .map(|c| channels / (c.frequency * time.dt))
+            .sum();
+        check("setup.cycles", cycles, per_cycle, Budget::Held)
     }
 
     fn validate_conditions(&self) -> std::result::Result<(), (String, String)> {

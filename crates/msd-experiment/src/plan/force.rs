@@ -1,7 +1,7 @@
 //! The paper's setup (no `[setup]`: a force on the mass, one displacement channel):
 //! [`msd_ident::predicted_uncertainty`] and msd-ident's `estimate` for the check.
 
-use super::search::{duration_needed, standard_deviations};
+use super::search::{Widths, draws, duration_needed, longest_record, standard_deviations};
 use super::{Correlation, NAMES, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{Config, TimeGrid};
 use crate::{ExperimentError, Result};
@@ -20,19 +20,32 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
         }
     };
     let (uncertainty, record) = predict(config, config_path)?;
-    let width_at = |c: &Config| Ok(widths(&predict(c, config_path)?.0));
     let now = widths(&uncertainty);
-    let verified = verify(config, config_path, options.verify)?;
+    let verified = verify(config, config_path, options)?;
+    let mut search = Widths::new(
+        |duration| {
+            let longer = with_duration(config, time, duration);
+            Ok(widths(&predict(&longer, config_path)?.0).to_vec())
+        },
+        options.progress,
+    );
+    let longest = longest_record(time.duration, 2.0 * time.samples() as f64);
     let mut quantities = Vec::new();
     for (q, iv) in intervals(&uncertainty).into_iter().enumerate() {
-        let longer = |duration| width_at(&with_duration(config, time, duration)).map(|w| w[q]);
+        let longer = |duration| search.width(duration, q);
         quantities.push(PlannedQuantity {
             name: NAMES[q],
             value: iv.value,
             standard_error: iv.standard_error,
             relative_half_width: now[q],
             amplitude_factor: Some(now[q] / options.target),
-            duration_needed_s: duration_needed(time.duration, now[q], options.target, longer)?,
+            duration_needed_s: duration_needed(
+                time.duration,
+                now[q],
+                options.target,
+                longest,
+                longer,
+            )?,
             repeats_needed: None,
             simulated_standard_deviation: verified.as_ref().map(|v| v[q]),
         });
@@ -107,16 +120,15 @@ fn widths(u: &Uncertainty) -> [f64; 5] {
 
 /// The standard deviations of m, c, k, fn and ζ over `seeds` simulated experiments
 /// (seeds 0, 1, …), estimated as the config says.
-fn verify(config: &Config, config_path: &Path, seeds: usize) -> Result<Option<Vec<f64>>> {
-    if seeds == 0 {
+fn verify(config: &Config, config_path: &Path, options: &PlanOptions) -> Result<Option<Vec<f64>>> {
+    if options.verify == 0 {
         return Ok(None);
     }
-    let mut draws = Vec::with_capacity(seeds);
-    for seed in 0..seeds as u64 {
+    let draws = draws(options.verify, "plan --verify", options.progress, |seed| {
         let data = crate::data::load(config, config_path, seed)?;
         let fit = estimate(&data.identification, &config.estimation)
             .map_err(|e| ExperimentError::run("plan --verify", e))?;
-        draws.push(intervals(&fit.uncertainty).map(|iv| iv.value).to_vec());
-    }
+        Ok(intervals(&fit.uncertainty).map(|iv| iv.value).to_vec())
+    })?;
     Ok(Some(standard_deviations(&draws)))
 }

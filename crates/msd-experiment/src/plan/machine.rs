@@ -26,7 +26,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
     let noise = noise(config, path, setup)?;
     let conditions = planned_conditions(config, path, setup, &plant, setup.cycles)?;
     let fit = predict(&conditions, &noise, &machine_options, path)?;
-    let verified = verify(config, path, setup, law, &fit.names, options.verify)?;
+    let verified = verify(config, path, setup, law, &fit.names, options)?;
     let quantities = fit
         .names
         .iter()
@@ -178,14 +178,13 @@ fn verify(
     setup: &SetupSection,
     law: DampingLaw,
     names: &[&str],
-    seeds: usize,
+    plan: &PlanOptions,
 ) -> Result<Option<Vec<f64>>> {
-    if seeds == 0 {
+    if plan.verify == 0 {
         return Ok(None);
     }
     let options = fit::machine_options(setup);
-    let mut draws = Vec::with_capacity(seeds);
-    for seed in 0..seeds as u64 {
+    let draws = super::search::draws(plan.verify, "plan --verify", plan.progress, |seed| {
         let conditions = fit::machine_conditions(&data::load(config, path, seed)?);
         let result = dynamometer(&conditions, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
@@ -204,8 +203,8 @@ fn verify(
                     })
             })
             .collect::<Result<Vec<f64>>>()?;
-        draws.push(values);
-    }
+        Ok(values)
+    })?;
     Ok(Some(standard_deviations(&draws)))
 }
 

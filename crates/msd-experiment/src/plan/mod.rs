@@ -27,7 +27,7 @@ mod force;
 mod machine;
 mod search;
 
-pub(crate) use search::standard_deviations;
+pub(crate) use search::{draws, standard_deviations};
 mod setup;
 
 use crate::config::Config;
@@ -52,6 +52,10 @@ pub struct PlanOptions {
     /// Simulated experiments to check the prediction with (0: none, else at least 2).
     /// By default 0.
     pub verify: usize,
+    /// Whether the record-length search and the check draw progress on stderr. By
+    /// default false.
+    #[serde(skip)]
+    pub progress: bool,
 }
 
 impl Default for PlanOptions {
@@ -59,6 +63,7 @@ impl Default for PlanOptions {
         Self {
             target: 0.01,
             verify: 0,
+            progress: false,
         }
     }
 }
@@ -194,6 +199,7 @@ pub fn plan_config(config: &Config, config_path: &Path, options: &PlanOptions) -
             "--verify = 1: expected 0 or at least 2 simulated experiments (a spread needs two)",
         ));
     }
+    verify_budget(config, config_path, options.verify)?;
     match &config.setup {
         None => force::plan(config, config_path, options),
         Some(s) if s.excitation == crate::config::ExcitationKind::ImposedDisplacement => {
@@ -203,25 +209,44 @@ pub fn plan_config(config: &Config, config_path: &Path, options: &PlanOptions) -
     }
 }
 
+/// `--verify N` against the budget of samples fitted ([`crate::budget`]): N simulated
+/// experiments of `config`, each fitted.
+pub(crate) fn verify_budget(config: &Config, config_path: &Path, draws: usize) -> Result<()> {
+    let per_draw = crate::budget::samples_per_experiment(config);
+    crate::budget::check(
+        "--verify",
+        draws as f64,
+        per_draw,
+        crate::budget::Budget::Fitted,
+    )
+    .map_err(|(key, message)| ExperimentError::config(config_path, format!("{key}{message}")))
+}
+
 /// The arguments of `plan` (`msd plan`, `cargo xtask plan`).
 #[derive(Debug, Clone, clap::Args)]
 pub struct PlanArgs {
     /// A synthetic experiment config: its `[plant]` is the prior guess, its input, time
     /// grid, noise, `[setup]` and `[estimation]` the planned test.
     pub config: std::path::PathBuf,
-    /// Target 95 % half-width, relative (0.01 = ±1 %).
+    /// Target 95 % half-width, relative (0.01 = ±1 %). The record length that reaches it
+    /// is searched up to 64× the record (and 5e7 samples held): at most 13 predictions.
     #[arg(long, default_value_t = 0.01)]
     pub target: f64,
-    /// Check the prediction against N simulated experiments (noise seeds 0 … N−1).
+    /// Check the prediction against N simulated experiments (noise seeds 0 … N−1), each
+    /// fitted: N × the experiment's samples count against a budget of 2e8 samples
+    /// fitted (the largest N is named when it is past it). Progress is drawn on a
+    /// terminal.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub verify: usize,
 }
 
 /// `plan`: prints the prediction (and the check) of `args.config`.
 pub fn run_plan(args: &PlanArgs) -> Result<()> {
+    use std::io::IsTerminal;
     let options = PlanOptions {
         target: args.target,
         verify: args.verify,
+        progress: std::io::stderr().is_terminal(),
     };
     crate::output::print_stdout(&plan(&args.config, &options)?.to_string());
     Ok(())

@@ -5,11 +5,12 @@ use crate::Result;
 
 /// The shortest record (to 1 %) whose relative half-width `width_at(duration)` is within
 /// `target`, given the planned `duration` and its width `now`: doubling the duration up
-/// to 64×, then bisection. `None` when 64× is not enough.
+/// to `longest`, then bisection. `None` when `longest` is not enough.
 pub(super) fn duration_needed(
     duration: f64,
     now: f64,
     target: f64,
+    longest: f64,
     mut width_at: impl FnMut(f64) -> Result<f64>,
 ) -> Result<Option<f64>> {
     if now <= target {
@@ -18,7 +19,7 @@ pub(super) fn duration_needed(
     let (mut low, mut high) = (duration, duration);
     loop {
         high *= 2.0;
-        if high > 64.0 * duration {
+        if high > longest {
             return Ok(None);
         }
         if width_at(high)? <= target {
@@ -35,6 +36,73 @@ pub(super) fn duration_needed(
         }
     }
     Ok(Some(high))
+}
+
+/// The longest record the search tries: 64× the planned `duration`, and no more than
+/// the budget of samples held ([`crate::budget::SAMPLES_HELD`]) for an experiment of
+/// `samples` samples now. The search's cost is bounded by it: at most six doublings and
+/// seven bisections, each one prediction of every quantity at once ([`Widths`]).
+pub(super) fn longest_record(duration: f64, samples: f64) -> f64 {
+    let per_second = samples / duration;
+    (64.0 * duration).min(crate::budget::SAMPLES_HELD / per_second)
+}
+
+/// The widths of every quantity at a record length, each length predicted once and
+/// shared by the searches of all quantities, the search shown as a progress line.
+pub(super) struct Widths<F> {
+    compute: F,
+    seen: Vec<(f64, Vec<f64>)>,
+    progress: crate::progress::Progress,
+}
+
+impl<F: FnMut(f64) -> Result<Vec<f64>>> Widths<F> {
+    /// Widths from `compute(duration)`; progress drawn when `progress`.
+    pub(super) fn new(compute: F, progress: bool) -> Self {
+        Self {
+            compute,
+            seen: Vec::new(),
+            progress: crate::progress::Progress::new(progress),
+        }
+    }
+
+    /// Quantity `q`'s width for a record of `duration` s.
+    pub(super) fn width(&mut self, duration: f64, q: usize) -> Result<f64> {
+        if let Some((_, w)) = self.seen.iter().find(|(d, _)| *d == duration) {
+            return Ok(w[q]);
+        }
+        self.progress.stage(&format!(
+            "plan: the record-length search, predicting a record of {duration:.4} s"
+        ));
+        let w = (self.compute)(duration)?;
+        let width = w[q];
+        self.seen.push((duration, w));
+        Ok(width)
+    }
+}
+
+impl<F> Drop for Widths<F> {
+    fn drop(&mut self) {
+        self.progress.finish();
+    }
+}
+
+/// Runs `draw(seed)` for the seeds 0 … n − 1 of a `--verify`, with a progress bar named
+/// `name` when `progress`.
+pub(crate) fn draws<T>(
+    n: usize,
+    name: &str,
+    progress: bool,
+    mut draw: impl FnMut(u64) -> Result<T>,
+) -> Result<Vec<T>> {
+    let bar = crate::progress::Progress::new(progress);
+    bar.bar(name, n as u64);
+    let mut out = Vec::with_capacity(n);
+    for seed in 0..n as u64 {
+        out.push(draw(seed)?);
+        bar.set_position(seed + 1);
+    }
+    bar.finish();
+    Ok(out)
 }
 
 /// The repeats that reach `target` from `planned` repeats of relative half-width `now`:
@@ -74,10 +142,13 @@ mod tests {
     #[test]
     fn the_search_brackets_then_bisects() {
         // width = 1/√T: the target 0.2 needs T = 25 from T = 1, found to 1 %.
-        let found = duration_needed(1.0, 1.0, 0.2, |t| Ok(1.0 / t.sqrt())).unwrap();
+        let found = duration_needed(1.0, 1.0, 0.2, 64.0, |t| Ok(1.0 / t.sqrt())).unwrap();
         let t = found.unwrap();
         assert!((25.0..=25.0 / 0.99).contains(&t), "{t}");
-        assert_eq!(duration_needed(1.0, 1.0, 1e-3, |_| Ok(1.0)).unwrap(), None);
+        assert_eq!(
+            duration_needed(1.0, 1.0, 1e-3, 64.0, |_| Ok(1.0)).unwrap(),
+            None
+        );
     }
 
     #[test]

@@ -2,7 +2,9 @@
 //! [`msd_ident::records::predicted_records_uncertainty`] on the records the run would simulate,
 //! and for the check the run's own joint fit of simulated records.
 
-use super::search::{duration_needed, repeats_needed, standard_deviations};
+use super::search::{
+    Widths, draws, duration_needed, longest_record, repeats_needed, standard_deviations,
+};
 use super::{Correlation, NAMES, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{Config, ExcitationKind, SetupSection, TimeGrid};
 use crate::setup::{data, fit};
@@ -31,19 +33,31 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
     let now = p.predict(p.time.duration, 1.0)?;
     let names = estimated(&now);
     let widths = |u: &PlantIntervals| names.iter().map(|n| width(u, n)).collect::<Vec<_>>();
-    let verified = verify(&p, &names, options.verify)?;
+    let verified = verify(&p, &names, options)?;
+    let mut search = Widths::new(
+        |duration| Ok(widths(&p.predict(duration, 1.0)?)),
+        options.progress,
+    );
+    let samples = crate::budget::samples_per_experiment(p.config);
+    let longest = longest_record(p.time.duration, samples);
     let mut quantities = Vec::with_capacity(names.len());
     for (q, name) in names.iter().enumerate() {
         let iv = interval(&now, name).unwrap_or(ZERO);
         let w = width(&now, name);
-        let longer = |duration| Ok(widths(&p.predict(duration, 1.0)?)[q]);
+        let longer = |duration| search.width(duration, q);
         quantities.push(PlannedQuantity {
             name,
             value: iv.value,
             standard_error: iv.standard_error,
             relative_half_width: w,
             amplitude_factor: Some(w / options.target),
-            duration_needed_s: duration_needed(p.time.duration, w, options.target, longer)?,
+            duration_needed_s: duration_needed(
+                p.time.duration,
+                w,
+                options.target,
+                longest,
+                longer,
+            )?,
             repeats_needed: repeats_needed(p.setup.records, w, options.target),
             simulated_standard_deviation: verified.as_ref().map(|v| v[q]),
         });
@@ -197,16 +211,15 @@ fn correlation(u: &PlantIntervals, names: &[&'static str]) -> Correlation {
 /// The standard deviations of `names` over `seeds` simulated runs (seeds 0, 1, …), each
 /// fitted as the run fits it (without its leave-one-record-out validation, which does
 /// not change the estimate).
-fn verify(p: &Planned<'_>, names: &[&str], seeds: usize) -> Result<Option<Vec<f64>>> {
-    if seeds == 0 {
+fn verify(p: &Planned<'_>, names: &[&str], plan: &PlanOptions) -> Result<Option<Vec<f64>>> {
+    if plan.verify == 0 {
         return Ok(None);
     }
     let options = RecordsOptions {
         leave_one_out: false,
         ..p.options.clone()
     };
-    let mut draws = Vec::with_capacity(seeds);
-    for seed in 0..seeds as u64 {
+    let draws = draws(plan.verify, "plan --verify", plan.progress, |seed| {
         let records = fit::ident_records(&data::load(p.config, p.path, seed)?)?;
         let fit = fit_records(&records, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
@@ -221,8 +234,8 @@ fn verify(p: &Planned<'_>, names: &[&str], seeds: usize) -> Result<Option<Vec<f6
                 })
             })
             .collect::<Result<Vec<f64>>>()?;
-        draws.push(values);
-    }
+        Ok(values)
+    })?;
     Ok(Some(standard_deviations(&draws)))
 }
 

@@ -43,6 +43,7 @@ fn the_record_length_asked_for_reaches_the_target() {
     let options = PlanOptions {
         target: 0.001,
         verify: 0,
+        ..PlanOptions::default()
     };
     let path = config("paper-fast.toml");
     let plan = plan(&path, &options).unwrap();
@@ -81,6 +82,7 @@ fn a_measured_config_or_a_bad_target_is_refused() {
     let bad = PlanOptions {
         target: 0.0,
         verify: 0,
+        ..PlanOptions::default()
     };
     let err = plan(&config("paper-fast.toml"), &bad).unwrap_err();
     assert!(err.to_string().contains("--target = 0"), "{err}");

@@ -144,6 +144,7 @@ fn what_reaches_the_target_follows_the_setup() {
     let options = PlanOptions {
         target: 1e-4,
         verify: 0,
+        ..PlanOptions::default()
     };
     for (name, drive) in [
         ("free-decay.toml", "release from"),

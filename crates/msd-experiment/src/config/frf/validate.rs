@@ -84,6 +84,13 @@ impl FrequencyResponseSection {
                     format!(" = {}: expected at least 4", s.lines),
                 );
             }
+            // A line holds its frequency, the complex response and its noise.
+            crate::budget::check(
+                "frequency_response.sweep.lines",
+                s.lines as f64,
+                4.0,
+                crate::budget::Budget::Held,
+            )?;
             check_non_negative("frequency_response.sweep.relative_noise", s.relative_noise)?;
         }
         if let Some(h) = &self.hammer {
@@ -284,17 +291,23 @@ impl HammerSource {
                 ),
             );
         }
-        let samples = self.duration * self.sample_rate;
-        if self.trigger + self.pulse_width >= self.duration || samples > 1e7 {
+        if self.trigger + self.pulse_width >= self.duration {
             return err(
                 &key("duration"),
-                format!(
-                    " = {}: expected the pulse inside the record and at most 1e7 samples",
-                    self.duration
-                ),
+                format!(" = {}: expected the pulse inside the record", self.duration),
             );
         }
-        Ok(())
+        // Each hit: the force and the response. One hit past the budget: its duration is
+        // the cause; else the hits.
+        use crate::budget::{Budget, check};
+        let per_hit = 2.0 * self.duration * self.sample_rate;
+        check(
+            &key("duration"),
+            self.duration,
+            2.0 * self.sample_rate,
+            Budget::Held,
+        )?;
+        check(&key("hits"), self.hits as f64, per_hit, Budget::Held)
     }
 }
 
@@ -360,18 +373,41 @@ impl ShakerSource {
             return err(&key("records"), " = 0: expected at least 1".into());
         }
         let per_record = self.duration * self.sample_rate;
-        let total = self.settle * self.sample_rate + self.records as f64 * per_record;
-        // The force is simulated 16 times finer than it is sampled (simulate.rs): 1e6
-        // samples are 1.6e7 simulated steps, 128 MB of force.
-        if per_record < 8.0 || total > 1e6 {
+        if per_record < 8.0 {
             return err(
                 &key("duration"),
                 format!(
-                    " = {}: expected at least 8 samples per record and at most 1e6 in all (settle included)",
+                    " = {}: expected at least 8 samples per record",
                     self.duration
                 ),
             );
         }
+        // The force is simulated 16 times finer than it is sampled (simulate.rs), beside
+        // the two channels: 18 values a sample.
+        use crate::budget::{Budget, check, check_beside};
+        let settle = 18.0 * self.settle * self.sample_rate;
+        let records = self.records as f64;
+        // One record past the budget: its duration is the cause; else the records.
+        check_beside(
+            &key("duration"),
+            self.duration,
+            18.0 * self.sample_rate,
+            settle,
+            Budget::Held,
+        )?;
+        check(
+            &key("settle"),
+            self.settle,
+            18.0 * self.sample_rate,
+            Budget::Held,
+        )?;
+        check_beside(
+            &key("records"),
+            records,
+            18.0 * per_record,
+            settle,
+            Budget::Held,
+        )?;
         self.force
             .validate()
             .map_err(|e| (key("force"), format!(": {e}")))
