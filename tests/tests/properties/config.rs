@@ -592,3 +592,39 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(cases(120))]
+
+    /// Issue 31, class 3: any band against the data's range (inside, across an edge,
+    /// outside, above the last line, a sliver, reversed), for one mode or several, fits
+    /// or is refused with exit 2 naming the band's key — never exit 1 ("too few
+    /// samples") and never a panic.
+    #[test]
+    fn any_band_fits_or_is_refused_by_its_key(
+        low in -1.0f64..6.0,
+        width in -0.5f64..6.0,
+        several in any::<bool>(),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy(config("data/stepped-sine-table.csv"), dir.path().join("t.csv")).unwrap();
+        let part = if several { "modes" } else { "one_mode" };
+        let text = format!(
+            "name = \"t\"\n[frequency_response.table]\npath = \"t.csv\"\nfrequency = \"frequency_hz\"\nmagnitude = \"magnitude_m_per_n\"\nphase = \"phase_deg\"\n[frequency_response.{part}]\nband_hz = [{low}, {}]\n{}",
+            low + width,
+            if several { "orders = [2, 6]\n" } else { "" }
+        );
+        let path = dir.path().join("t.toml");
+        std::fs::write(&path, text).unwrap();
+        let result = Config::load(&path)
+            .and_then(|c| msd_experiment::frf::run(c, &path, &RunOptions::default()));
+        if let Err(e) = result {
+            let message = e.to_string();
+            prop_assert_eq!(e.exit_code(), 2, "{}", message);
+            prop_assert!(
+                message.contains(&format!("frequency_response.{part}")),
+                "{message}"
+            );
+        }
+    }
+}
