@@ -232,6 +232,17 @@ pub fn fit_one_mode(
         m.standard_error / (m.value * m.value),
         t_975(uncertainty.degrees_of_freedom),
     );
+    if gain.ci95[0] <= 0.0 && gain.ci95[1] >= 0.0 {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the fitted mode is not significant: its modal constant 1/m = {:.4e} has the 95 % interval [{:.4e}, {:.4e}], which holds 0 (no mode) — the data's noise could make this peak; measure more lines or averages near fn = {:.4} Hz",
+                gain.value,
+                gain.ci95[0],
+                gain.ci95[1],
+                parameters.natural_frequency_hz()
+            ),
+        });
+    }
     let window_correction = lines.exponential_decay.map(|tau| {
         let windowed = Parameters::from_array(fitted.map(|x| sign * x));
         WindowCorrection {
@@ -241,8 +252,19 @@ pub fn fit_one_mode(
             damping_ratio_added: windowed.damping_ratio() - parameters.damping_ratio(),
         }
     });
+    let relative_error = lines.relative_error(|w| receptance(&fitted, w));
+    if relative_error.is_nan() || relative_error >= EXPLAINS_NOTHING {
+        return Err(IdentError::NotIdentifiable {
+            reason: format!(
+                "the fitted mode explains nothing of the data: relative error {:.1} % on the measured quantity (fn = {:.4} Hz, ζ = {:.4}); the band holds no resonance the lines resolve: check the band, that the lines carry force (coherence), and the weighting",
+                100.0 * relative_error,
+                parameters.natural_frequency_hz(),
+                parameters.damping_ratio()
+            ),
+        });
+    }
     Ok(OneModeFit {
-        relative_error: lines.relative_error(|w| receptance(&fitted, w)),
+        relative_error,
         half_power: half_power(frf, Some(lines.band_hz)).ok(),
         parameters,
         uncertainty,
@@ -257,6 +279,11 @@ pub fn fit_one_mode(
         exit: fit.exit,
     })
 }
+
+/// A fit whose relative error on the measured quantity reaches this (the model's
+/// residual is 90 % of the data's norm: it explains under a fifth of its energy) is a
+/// failure with its reason, never a result.
+pub(crate) const EXPLAINS_NOTHING: f64 = 0.9;
 
 /// Levenberg–Marquardt from `start`: the fitted θ and the solver's result.
 fn least_squares(lines: &Lines, start: [f64; 3]) -> Result<([f64; 3], LevenbergMarquardtResult)> {

@@ -214,3 +214,35 @@ fn a_negative_modal_constant_is_fitted_and_stated() {
     }
     assert!((fit.gain.value * truth.mass + 1.0).abs() < 1e-8);
 }
+
+/// Issue 31, class 5: a "frequency response" of noise alone (no mode: independent random
+/// complex values on every line, as lines without force give) is never a result: over 50
+/// noise seeds the fit is refused, with its reason — a fit that explains under a fifth
+/// of the data's energy, or a modal constant whose 95 % interval holds 0 (the Wald test
+/// of "no mode"), among the others.
+#[test]
+fn noise_alone_is_never_a_fitted_mode() {
+    let f = sweep_frequencies();
+    let mut reasons = [0usize; 2];
+    for seed in 0..50u64 {
+        let re = msd_signal::gaussian_noise(seed, "re", 1.0, f.len()).unwrap();
+        let im = msd_signal::gaussian_noise(seed, "im", 1.0, f.len()).unwrap();
+        let h = re
+            .iter()
+            .zip(&im)
+            .map(|(&a, &b)| Complex64::new(a, b))
+            .collect();
+        let frf = FrequencyResponseEstimate::new(f.clone(), h).unwrap();
+        let err = fit_one_mode(&frf, &OneModeOptions::default()).expect_err("noise");
+        let text = err.to_string();
+        assert!(matches!(err, IdentError::NotIdentifiable { .. }), "{text}");
+        let explains_nothing = text.contains("explains nothing");
+        reasons[usize::from(explains_nothing)] += 1;
+    }
+    eprintln!(
+        "other refusals: {}, explains nothing: {}",
+        reasons[0], reasons[1]
+    );
+    // Both refusals are reached (the second is the new one).
+    assert!(reasons[1] > 0, "{reasons:?}");
+}
