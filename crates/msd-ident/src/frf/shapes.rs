@@ -105,21 +105,24 @@ fn principal_angle(shape: &[Complex64]) -> f64 {
     0.5 * sum.arg()
 }
 
-/// `shape` scaled so that its largest entry is 1 (real and positive).
+/// `shape` scaled so that its largest entry is 1 (real and positive). Entries whose
+/// magnitudes tie with the largest to 1e-9 (a symmetric shape: [1, −0.5, −1]) count as
+/// equal, and the first of them is the reference: the sign does not hang on rounding.
 ///
 /// ```
 /// use msd_ident::frf::unit_normalised;
 /// use msd_signal::Complex64;
 /// let shape = [Complex64::new(0.0, 2.0), Complex64::new(0.0, -1.0)];
 /// assert_eq!(unit_normalised(&shape), vec![Complex64::new(1.0, 0.0), Complex64::new(-0.5, 0.0)]);
+/// let tie = [1.0, -0.5, -1.0 - 1e-15].map(|x| Complex64::new(x, 0.0));
+/// assert_eq!(unit_normalised(&tie)[0], Complex64::new(1.0, 0.0));
 /// ```
 pub fn unit_normalised(shape: &[Complex64]) -> Vec<Complex64> {
-    let largest = shape
-        .iter()
-        .copied()
-        .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
-        .unwrap_or(Complex64::new(1.0, 0.0));
-    if largest.norm_sqr() == 0.0 {
+    let top = shape.iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let Some(&largest) = shape.iter().find(|x| x.norm() >= top * (1.0 - 1e-9)) else {
+        return shape.to_vec();
+    };
+    if top == 0.0 {
         return shape.to_vec();
     }
     shape.iter().map(|x| x / largest).collect()

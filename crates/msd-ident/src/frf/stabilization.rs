@@ -7,7 +7,7 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::Serialize;
 
 use super::lines::{Lines, prepare};
-use super::lscf::{Lscf, poles_of};
+use super::lscf::{Lscf, roots_of};
 use super::modes::ModalOptions;
 use crate::{IdentError, Result};
 
@@ -194,7 +194,12 @@ pub fn stabilization_diagram(
 /// The diagram of prepared lines (options validated, enough lines).
 pub(crate) fn diagram_of(lines: &Lines, options: &ModalOptions) -> Result<StabilizationDiagram> {
     let lscf = Lscf::new(lines, options.orders[1]);
-    diagram_from(|order| lscf.poles(order), lines, options)
+    diagram_from(
+        |order, warm| lscf.roots(order, warm),
+        lscf.dt(),
+        lines,
+        options,
+    )
 }
 
 /// The diagram of several frequency responses sharing one denominator (their lines on
@@ -210,31 +215,36 @@ pub(crate) fn diagram_of_set(
         .map(|l| Lscf::new(l, options.orders[1]))
         .collect();
     let dt = lscfs[0].dt();
-    let poles = |order: usize| {
+    let roots = |order: usize, warm: Option<&[Complex64]>| {
         let mut sum = lscfs[0].reduced(order)?;
         for l in &lscfs[1..] {
             sum += l.reduced(order)?;
         }
-        poles_of(sum, order, dt)
+        roots_of(sum, order, warm)
     };
-    diagram_from(poles, peaks, options)
+    diagram_from(roots, dt, peaks, options)
 }
 
-/// The diagram from the poles of each order; `lines` give the band and the peaks.
+/// The diagram from the denominator's roots z of each order (each order's from the
+/// roots of the order before, when there is one), the poles ln(z)/Δt; `lines` give the
+/// band and the peaks.
 fn diagram_from(
-    poles_at: impl Fn(usize) -> Option<Vec<Complex64>>,
+    roots_at: impl Fn(usize, Option<&[Complex64]>) -> Option<Vec<Complex64>>,
+    dt: f64,
     lines: &Lines,
     options: &ModalOptions,
 ) -> Result<StabilizationDiagram> {
     let mut orders: Vec<DiagramOrder> = Vec::new();
+    let mut previous_roots: Option<Vec<Complex64>> = None;
     for order in (options.orders[0]..=options.orders[1]).step_by(options.order_step) {
-        let Some(poles) = poles_at(order) else {
+        let Some(roots) = roots_at(order, previous_roots.as_deref()) else {
             continue;
         };
-        let mut poles: Vec<DiagramPole> = poles
+        let mut poles: Vec<DiagramPole> = roots
             .iter()
-            .filter_map(|&p| physical(p, lines.band_hz, options.max_damping_ratio))
+            .filter_map(|&z| physical(z.ln() / dt, lines.band_hz, options.max_damping_ratio))
             .collect();
+        previous_roots = Some(roots);
         poles.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
         if let Some(previous) = orders.last() {
             flag(&mut poles, &previous.poles, options);
