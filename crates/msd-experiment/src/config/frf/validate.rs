@@ -387,18 +387,19 @@ impl ShakerSource {
         use crate::budget::{Budget, check, check_beside};
         let settle = 18.0 * self.settle * self.sample_rate;
         let records = self.records as f64;
-        // One record past the budget: its duration is the cause; else the records.
+        // The settling alone past the budget: it is the cause; else one record past it:
+        // its duration; else the records.
+        check(
+            &key("settle"),
+            self.settle,
+            18.0 * self.sample_rate,
+            Budget::Held,
+        )?;
         check_beside(
             &key("duration"),
             self.duration,
             18.0 * self.sample_rate,
             settle,
-            Budget::Held,
-        )?;
-        check(
-            &key("settle"),
-            self.settle,
-            18.0 * self.sample_rate,
             Budget::Held,
         )?;
         check_beside(
