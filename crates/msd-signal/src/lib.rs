@@ -72,7 +72,7 @@ pub mod signal;
 pub mod spectral;
 
 pub use error::{Result, SignalError};
-pub use frf::{Estimator, FrfKind, FrfOptions, ImpactWindows, Record, frf_estimate};
+pub use frf::{Estimator, FrfKind, FrfOptions, ImpactWindows, Record, UNEXCITED, frf_estimate};
 pub use noise::{NoiseStream, gaussian_noise, stream_id, stream_rng};
 pub use paper::{paper_identification_input, paper_validation_input};
 pub use preprocess::{

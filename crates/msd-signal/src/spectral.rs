@@ -448,7 +448,7 @@ pub fn h1_estimate(
 
 /// H1 = S_xy/S_xx and the coherence at the lines of `w.sxy` (see [`coherence_of`]).
 fn h1_of(w: Welch) -> Result<FrequencyResponseEstimate> {
-    crate::frf::estimate_from(w, crate::frf::Estimator::H1)
+    crate::frf::estimate_from(w, crate::frf::Estimator::H1, NO_POWER)
 }
 
 /// The DFTs of an input and an output record of equal length, their means removed,

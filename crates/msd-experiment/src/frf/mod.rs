@@ -453,6 +453,20 @@ pub fn reference_mac(m: &ModeSetFit, reference: &[crate::config::ReferenceMode])
 }
 
 impl FrfOutcome {
+    /// Lines of a response estimated from time records whose input has no power there
+    /// (below [`msd_signal::UNEXCITED`] of its largest line: the lines between a periodic
+    /// input's own): response and coherence 0, left out of the fit. 0 for a table or a
+    /// file.
+    pub fn unexcited_lines(&self) -> usize {
+        if self.time_domain.is_none() {
+            return 0;
+        }
+        let d = &self.data;
+        (d.h.iter().zip(&d.coherence))
+            .filter(|(h, g)| h.norm_sqr() == 0.0 && **g == 0.0)
+            .count()
+    }
+
     /// The fitted model's response at `frequency_hz`, in the data's quantity
     /// (receptance × (jω)^p), as the data show it (windowed when they are).
     pub fn model_response(&self, frequency_hz: f64) -> msd_signal::Complex64 {

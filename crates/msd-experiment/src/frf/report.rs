@@ -159,6 +159,13 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
         d.kind,
         d.averages
     )?;
+    let unexcited = o.unexcited_lines();
+    if unexcited > 0 {
+        write!(
+            w,
+            " {unexcited} of them carry no force (its power there is below 1e-12 of its largest line: lines outside a periodic force's band or between its lines) and are left out of the fit."
+        )?;
+    }
     if d.averages > 1 {
         let ([from, to], low) = fitted_band_coherence(o);
         write!(
@@ -376,16 +383,16 @@ fn first_line(text: &str) -> &str {
     text.lines().next().unwrap_or("")
 }
 
-/// The fitted band and the lowest coherence within it (the lines outside it may carry no
-/// force at all, and their coherence says nothing of the fit).
+/// The fitted band and the lowest coherence within it, over the lines with force (the
+/// lines outside it, or unexcited inside it, carry no force, and their coherence says
+/// nothing of the fit).
 pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
     let [from, to] = o.fit.band_hz();
-    let low = o
-        .data
-        .frequency
-        .iter()
-        .zip(&o.data.coherence)
-        .filter(|(f, _)| (from..=to).contains(*f))
-        .fold(1.0, |low, (_, g)| g.min(low));
+    let d = &o.data;
+    let any = o.unexcited_lines() > 0;
+    let unexcited = |k: usize| any && d.h[k].norm_sqr() == 0.0;
+    let low = (0..d.frequency.len())
+        .filter(|&k| (from..=to).contains(&d.frequency[k]) && !unexcited(k))
+        .fold(1.0, |low, k| d.coherence[k].min(low));
     ([from, to], low)
 }

@@ -87,6 +87,13 @@ struct Data<'a> {
     noise_bandwidth: f64,
     /// The lowest coherence in the fitted band.
     min_coherence: f64,
+    /// Lines without force, left out of the fit (from time records).
+    #[serde(skip_serializing_if = "is_zero")]
+    unexcited_lines: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 #[derive(Serialize)]
@@ -174,6 +181,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             exponential_decay: o.data.exponential_decay,
             noise_bandwidth: o.data.noise_bandwidth,
             min_coherence: super::report::fitted_band_coherence(o).1,
+            unexcited_lines: o.unexcited_lines(),
         },
         estimate: one_mode(o),
         modes: match &o.fit {

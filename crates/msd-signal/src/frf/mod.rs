@@ -71,7 +71,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SignalError, check_data, positive, same_length};
 use crate::spectral::{
-    Detrend, NO_POWER, Segmenting, Welch, WelchOptions, coherence_of, segment_step, welch_records,
+    Detrend, Segmenting, Welch, WelchOptions, coherence_of, segment_step, welch_records,
 };
 
 /// Which frequency-response estimator to use (see the [module docs](self)).
@@ -281,7 +281,8 @@ pub struct FrequencyResponseEstimate {
     /// Frequencies in Hz, increasing.
     pub frequency: Vec<f64>,
     /// The response (output units per input unit). From records: 0 where the input has
-    /// no power (S_xx below 1e-24 of its maximum), where it is undefined.
+    /// no power, where it is undefined (S_xx below 1e-12 of its maximum for
+    /// [`frf_estimate`], [`UNEXCITED`]; 1e-24 for [`h1_estimate`](crate::h1_estimate)).
     pub h: Vec<Complex64>,
     /// γ² = |S_xy|²/(S_xx·S_yy) in [0, 1]; identically 1 with one segment or for a
     /// measured table; 0 where the input or output has no power.
@@ -301,6 +302,14 @@ pub struct FrequencyResponseEstimate {
     /// independent values. 1 for a measured table.
     pub noise_bandwidth: f64,
 }
+
+/// The input power, relative to its largest line, below which [`frf_estimate`] counts a
+/// line as unexcited: its response 0 and its coherence 0, so that a fit leaves it out.
+/// A periodic input (a multisine over whole periods) leaves the lines between its own
+/// with rounding-level power (1e-26 of the largest and below), whose ratio of two
+/// roundings is no response; 1e-12 (−120 dB) is below any measured broadband input's
+/// dynamic range.
+pub const UNEXCITED: f64 = 1e-12;
 
 /// The frequency response from `records` sampled at `fs` Hz, averaged over every
 /// segment of every record, with the coherence.
@@ -359,7 +368,7 @@ pub fn frf_estimate(
             (welch_records(&pairs, fs, &segmenting), None)
         }
     };
-    let mut frf = estimate_from(welch, options.estimator)?;
+    let mut frf = estimate_from(welch, options.estimator, UNEXCITED)?;
     frf.kind = options.kind;
     frf.exponential_decay = decay;
     Ok(frf)
@@ -396,16 +405,21 @@ fn check_records(records: &[Record<'_>]) -> Result<usize> {
 /// The estimate by `estimator` and the coherence at the lines of `w.sxy` (the first
 /// lines of `w.sxx` and `w.syy`, whose largest values over all lines set the "no power"
 /// levels).
-pub(crate) fn estimate_from(w: Welch, estimator: Estimator) -> Result<FrequencyResponseEstimate> {
+pub(crate) fn estimate_from(
+    w: Welch,
+    estimator: Estimator,
+    floor: f64,
+) -> Result<FrequencyResponseEstimate> {
     let max_x = w.sxx.iter().fold(0.0f64, |m, &v| m.max(v));
     if max_x <= 0.0 {
         return Err(SignalError::ZeroInputPower { name: "input" });
     }
     let zero = Complex64::new(0.0, 0.0);
+    let unexcited = |k: usize| w.sxx[k] <= floor * max_x;
     let h = (0..w.sxy.len())
         .map(|k| {
             let (sxx, syy, sxy) = (w.sxx[k], w.syy[k], w.sxy[k]);
-            if sxx <= NO_POWER * max_x {
+            if unexcited(k) {
                 return zero;
             }
             match estimator {
@@ -417,7 +431,12 @@ pub(crate) fn estimate_from(w: Welch, estimator: Estimator) -> Result<FrequencyR
             }
         })
         .collect();
-    let coherence = coherence_of(&w);
+    let mut coherence = coherence_of(&w);
+    for (k, g) in coherence.iter_mut().enumerate() {
+        if unexcited(k) {
+            *g = 0.0;
+        }
+    }
     let mut frequency = w.frequency;
     frequency.truncate(w.sxy.len());
     Ok(FrequencyResponseEstimate {
@@ -457,5 +476,58 @@ mod tests {
         let (sxx, syy, sxy_sq) = (1.0, 1e-12, 1e-12 * 0.5);
         let exact = 2.0 * sxy_sq / (sxx - syy); // to first order in sxy_sq/(sxx − syy)²
         assert!((hv_numerator(sxx, syy, sxy_sq) / exact - 1.0).abs() < 1e-11);
+    }
+
+    /// A periodic force (ten sines over 64 whole periods, one rectangular segment) with
+    /// a trace of noise (1e-9 of its amplitude) on a gain of 2 with 1e-3 output noise:
+    /// the lines between the sines' are unexcited (input power ~1e-18 of the largest),
+    /// their response and coherence 0 — not the ratio of two noises (about 1e6 there
+    /// before, with the 1e-24 floor) — and the excited lines give the gain.
+    #[test]
+    fn the_lines_between_a_periodic_forces_own_are_left_out() {
+        let (periods, per_period) = (64usize, 128usize);
+        let n = periods * per_period;
+        let force_noise = crate::gaussian_noise(1, "force", 1e-9, n).unwrap();
+        let output_noise = crate::gaussian_noise(1, "output", 1e-3, n).unwrap();
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / per_period as f64; // in periods
+                let sines: f64 = (1..=10)
+                    .map(|k| (std::f64::consts::TAU * k as f64 * t + k as f64).sin())
+                    .sum();
+                sines + force_noise[i]
+            })
+            .collect();
+        let y: Vec<f64> = x
+            .iter()
+            .zip(&output_noise)
+            .map(|(x, e)| 2.0 * x + e)
+            .collect();
+        let options = FrfOptions {
+            welch: WelchOptions {
+                window: crate::Window::Rectangular,
+                ..WelchOptions::default()
+            },
+            ..FrfOptions::default()
+        };
+        let frf = frf_estimate(
+            &[Record {
+                input: &x,
+                output: &y,
+            }],
+            1.0,
+            &options,
+        )
+        .unwrap();
+        for (k, (h, g)) in frf.h.iter().zip(&frf.coherence).enumerate().skip(1) {
+            if k % periods == 0 && k / periods <= 10 {
+                assert!(
+                    (h - Complex64::new(2.0, 0.0)).norm() < 1e-3,
+                    "line {k}: {h}"
+                );
+            } else {
+                assert_eq!((*h, *g), (Complex64::new(0.0, 0.0), 0.0), "line {k}");
+            }
+        }
     }
 }
