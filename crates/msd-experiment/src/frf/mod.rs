@@ -387,6 +387,10 @@ fn fit_failure(
         || section.uff.as_ref().is_some_and(|u| u.set);
     let part = if several { "modes" } else { "one_mode" };
     let key = |name: &str| format!("frequency_response.{part}.{name}");
+    let count_given = section
+        .modes
+        .as_ref()
+        .is_some_and(|m| m.mode_count.is_some());
     let n = data.frequency.len();
     let range = format!(
         "the data hold {n} lines, {}–{} Hz",
@@ -405,7 +409,8 @@ fn fit_failure(
             value,
             expected,
         } => ExperimentError::config(key(name), format!("{value}: expected {expected}")),
-        IdentError::TooFewModes { reason, .. } if reason.contains("were asked for") => {
+        // With `mode_count`, the diagram held fewer modes at peaks than it asks for.
+        IdentError::TooFewModes { reason, .. } if count_given => {
             ExperimentError::config(key("mode_count"), reason)
         }
         // The selection found nothing with these settings (the band, the orders, the
