@@ -1,0 +1,424 @@
+"""msd-toolkit in Python: identify the mass, damping and stiffness of a
+mass–spring–damper from vibration test data, on NumPy arrays.
+
+Every computation runs in the Rust crates of msd-toolkit (msd-ident, msd-signal,
+msd-uff, msd-experiment) with the GIL released; this package only converts.
+
+Functions: `estimate`, `simulate`, `frf`, `modal_fit`, `fit_records`, `free_decay`,
+`dynamometer`, `run`, `plan`, `design`, `paper_data`; the module `msd.uff` reads and
+writes Universal File Format files.
+
+Errors: `ValueError` for bad input (with the toolkit's message), `IdentificationError`
+(a subclass of `ValueError`) when the data cannot identify what is asked.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _msd
+from ._convert import options_json, rows, value_json, vector
+from ._msd import IdentificationError
+from ._results import (
+    Estimate,
+    FrequencyResponse,
+    Interval,
+    ModalFit,
+    Mode,
+    Plant,
+    RecordsFit,
+    Result,
+    RunResults,
+    SetupFit,
+)
+from . import uff
+
+__version__: str = _msd.__version__
+
+__all__ = [
+    "IdentificationError",
+    "Estimate",
+    "FrequencyResponse",
+    "Interval",
+    "ModalFit",
+    "Mode",
+    "Plant",
+    "RecordsFit",
+    "Result",
+    "RunResults",
+    "SetupFit",
+    "estimate",
+    "simulate",
+    "frf",
+    "modal_fit",
+    "fit_records",
+    "free_decay",
+    "dynamometer",
+    "run",
+    "plan",
+    "design",
+    "paper_data",
+    "uff",
+]
+
+PlantLike = Union[Plant, Mapping[str, float], Sequence[float]]
+
+
+def _plant(plant: PlantLike, name: str = "plant") -> Plant:
+    if isinstance(plant, Plant):
+        return plant
+    if isinstance(plant, Mapping):
+        try:
+            return Plant(float(plant["mass"]), float(plant["damping"]), float(plant["stiffness"]))
+        except KeyError as e:
+            raise ValueError(f"{name}: missing {e.args[0]!r} (expected mass, damping, stiffness)") from None
+    try:
+        m, c, k = plant  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{name}: expected msd.Plant(mass, damping, stiffness), a dict or a 3-sequence, got {plant!r}"
+        ) from None
+    return Plant(float(m), float(c), float(k))
+
+
+def _options(options: Dict[str, Any]) -> Dict[str, Any]:
+    """Plants given as Plant objects or 3-sequences become {mass, damping, stiffness}."""
+    out = dict(options)
+    guess = out.get("initial_guess")
+    if guess is not None and guess != "auto":
+        out["initial_guess"] = _plant(guess, "initial_guess").to_dict()
+    return out
+
+
+def estimate(
+    t: Any,
+    force: Any,
+    displacement: Any,
+    *,
+    preset: str = "default",
+    **options: Any,
+) -> Estimate:
+    """Estimate m, c, k (with 95 % intervals, fn, ζ, fit and residuals) from one record.
+
+    Parameters
+    ----------
+    t, force, displacement
+        1-D arrays of equal length: uniform time stamps (s), the force (N) and the
+        measured displacement (m).
+    preset
+        The starting options: ``"default"`` (Levenberg–Marquardt on the exact simulator,
+        automatic ARX initial guess), ``"fast"`` (the same from the paper's θ0 = (2, 1,
+        100)) or ``"paper"`` (the paper's method: Nelder–Mead with fminsearch's defaults on
+        ode45, RelTol 1e-6, AbsTol 1e-9, from θ0).
+    **options
+        Any field of msd-ident's ``EstimationOptions``, replacing the preset's:
+        ``method`` ("nelder_mead" or "levenberg_marquardt"), ``backend`` ("ode45",
+        "exact", or a dict such as ``{"kind": "exact", "hold": "first"}``),
+        ``initial_guess`` (a Plant, (m, c, k), a dict or "auto"), ``fixed`` (e.g.
+        ``{"mass": 2.5}``), ``bounds`` (e.g. ``{"stiffness": [50, 200]}``),
+        ``initial_state`` ({"displacement", "velocity"}), ``estimate_initial_state``,
+        ``offset``, ``estimate_offset``, ``nelder_mead``, ``levenberg_marquardt``,
+        ``multistart``. Unknown names are refused.
+
+    Raises
+    ------
+    ValueError
+        Bad arrays (NaN, non-uniform time, lengths, too few samples) or options.
+    IdentificationError
+        The data cannot identify the parameters.
+    """
+    return Estimate(
+        _msd.estimate(
+            vector("t", t),
+            vector("force", force),
+            vector("displacement", displacement),
+            preset,
+            options_json(_options(options)),
+        )
+    )
+
+
+def simulate(
+    plant: PlantLike,
+    t: Any,
+    force: Any,
+    *,
+    initial_state: Sequence[float] = (0.0, 0.0),
+    backend: Union[str, Dict[str, Any]] = "exact",
+) -> np.ndarray:
+    """Simulate the displacement of `plant` under the sampled `force` on the uniform grid `t`.
+
+    `plant` is a ``msd.Plant(mass, damping, stiffness)``, a dict with those keys or a
+    3-sequence. `initial_state` is (x(t0), x'(t0)). `backend` is "exact" (the exact
+    solution with a cubic hold of the force; ``{"kind": "exact", "hold": "zero" |
+    "first" | "cubic"}`` for another hold) or "ode45" (Dormand–Prince with MATLAB's
+    semantics, RelTol 1e-6, AbsTol 1e-9; or ``{"kind": "ode45", "rel_tol": …,
+    "abs_tol": …}``). The force is linear between samples for ode45.
+    """
+    p = _plant(plant)
+    try:
+        x0, v0 = (float(v) for v in initial_state)
+    except (TypeError, ValueError):
+        raise ValueError(f"initial_state: expected (displacement, velocity), got {initial_state!r}") from None
+    return _msd.simulate(
+        p.mass, p.damping, p.stiffness, vector("t", t), vector("force", force), x0, v0,
+        value_json("backend", backend),
+    )
+
+
+def frf(
+    t: Any,
+    force: Any,
+    response: Any,
+    estimator: str = "H1",
+    *,
+    kind: str = "receptance",
+    segment_length: Optional[int] = None,
+    overlap: float = 0.5,
+    window: str = "hann",
+    detrend: str = "mean",
+    impact: Optional[Dict[str, Optional[float]]] = None,
+) -> FrequencyResponse:
+    """The frequency response (H1, H2 or Hv) with its coherence from time records.
+
+    `force` and `response` are 1-D (one record) or 2-D (one record per row, averaged),
+    sampled on the uniform grid `t` (one row's length). `kind` says what the response
+    measures: "receptance" (displacement), "mobility" (velocity) or "accelerance"
+    (acceleration). Welch segmenting: `segment_length` samples (None: each record whole),
+    `overlap`, `window` ("hann" or "rectangular"), `detrend` ("none", "mean", "linear").
+    `impact` (e.g. ``{"force_width": 0.01, "decay_time": 0.5}``, or ``{}`` for the
+    defaults) applies a force window and an exponential window for hammer tests.
+
+    Returns a `FrequencyResponse`, which unpacks as ``frequency, h, coherence``.
+    """
+    opts: Dict[str, Any] = {
+        "estimator": estimator,
+        "kind": kind,
+        "welch": {
+            "segment_length": segment_length,
+            "overlap": overlap,
+            "window": window,
+            "detrend": detrend,
+        },
+    }
+    if impact is not None:
+        opts["impact"] = dict(impact)
+    return FrequencyResponse(
+        _msd.frf(vector("t", t), rows("force", force), rows("response", response), options_json(opts))
+    )
+
+
+def modal_fit(
+    frequencies: Any,
+    frfs: Any = None,
+    *,
+    coherence: Any = None,
+    kind: Optional[str] = None,
+    exponential_decay: Optional[float] = None,
+    dofs: Optional[Sequence[Any]] = None,
+    **options: Any,
+) -> ModalFit:
+    """Modes (fn, ζ with intervals) of one FRF, or modes with shapes of a set of FRFs.
+
+    `frequencies` (Hz, increasing) and `frfs`: one complex 1-D array, or a 2-D array /
+    list of arrays (one FRF per row) for a set, then with `dofs`, one
+    ``((response node, direction), (reference node, direction))`` per FRF. A
+    `FrequencyResponse` from `msd.frf` may be passed as `frequencies` alone (its
+    coherence, kind and window are used). `coherence` weights the lines (one array per
+    FRF); `kind` is "receptance" (default), "mobility" or "accelerance";
+    `exponential_decay` the τ (s) of an exponential window to take off the damping.
+    `**options`: msd-ident's ``ModalOptions`` (``band_hz``, ``weighting``, ``orders``,
+    ``order_step``, ``frequency_tolerance``, ``damping_tolerance``,
+    ``max_damping_ratio``, ``min_stable_share``, ``mode_count``).
+
+    Raises `IdentificationError` when no mode can be selected.
+    """
+    if isinstance(frequencies, FrequencyResponse):
+        if frfs is not None:
+            raise ValueError("frfs: not expected with a FrequencyResponse (it holds the FRF)")
+        fr = frequencies
+        frequencies, frfs = fr.frequency, fr.h
+        if coherence is None:
+            coherence = fr.coherence
+        kind = kind or fr.kind
+        if exponential_decay is None:
+            exponential_decay = fr.exponential_decay
+    if frfs is None:
+        raise ValueError("frfs: expected the complex frequency response(s)")
+    members = rows("frfs", frfs, complex_=True)
+    coherences = None if coherence is None else rows("coherence", coherence)
+    pairs = None
+    if dofs is not None:
+        try:
+            pairs = [((int(r[0]), int(r[1])), (int(f[0]), int(f[1]))) for r, f in dofs]
+        except (TypeError, ValueError):
+            raise ValueError(
+                "dofs: expected one ((response node, direction), (reference node, direction)) per FRF"
+            ) from None
+    return ModalFit(
+        _msd.modal_fit(
+            vector("frequencies", frequencies),
+            members,
+            coherences,
+            kind or "receptance",
+            None if exponential_decay is None else float(exponential_decay),
+            pairs,
+            options_json(options),
+        )
+    )
+
+
+_QUANTITIES = ("displacement", "velocity", "acceleration")
+
+
+def fit_records(
+    records: Union[Mapping[str, Any], Iterable[Mapping[str, Any]]],
+    *,
+    drive: str = "force",
+    responses: Optional[Mapping[str, Any]] = None,
+    **options: Any,
+) -> RecordsFit:
+    """Fit one plant to one or several records jointly (msd-ident's `fit_records`).
+
+    Each record is a dict with ``"t"`` (uniform time stamps), the drive's samples under
+    ``"drive"`` (or ``"force"``; none for ``drive="none"``), an optional ``"name"``, and
+    one array per sensor channel. `drive`: "force", "base_acceleration",
+    "base_displacement" or "none" (free decay). `responses` maps each channel's key to
+    its quantity ("displacement", "velocity", "acceleration") or to (quantity, frame)
+    with frame "absolute" or "relative"; by default the keys named "displacement",
+    "velocity" or "acceleration", absolute. `**options`: msd-ident's ``RecordsOptions``
+    (``known`` e.g. ``{"mass": 2.5}``, ``require_physical``, ``initial_guess``,
+    ``estimate_initial_state``, ``estimate_offset``, ``leave_one_out``, ``hold``,
+    ``max_passes``).
+    """
+    if isinstance(records, Mapping):
+        records = [records]
+    built = []
+    for i, r in enumerate(records):
+        if not isinstance(r, Mapping):
+            raise ValueError(f"records[{i}]: expected a dict with 't', the drive and the channels")
+        name = str(r.get("name", f"record {i + 1}"))
+        t = vector(f"records[{i}]['t']", r.get("t"))
+        key = "drive" if "drive" in r else "force"
+        samples = r.get(key)
+        drive_samples = None if samples is None else vector(f"records[{i}][{key!r}]", samples)
+        if drive != "none" and drive_samples is None:
+            raise ValueError(f"records[{i}]: the drive {drive!r} needs its samples under 'drive' (or 'force')")
+        channels_of = responses or {q: q for q in _QUANTITIES if q in r}
+        if not channels_of:
+            raise ValueError(f"records[{i}]: no channels (give responses={{key: quantity}})")
+        channels = []
+        for cname, spec in channels_of.items():
+            quantity, frame = (spec, "absolute") if isinstance(spec, str) else tuple(spec)
+            if cname not in r:
+                raise ValueError(f"records[{i}]: no channel {cname!r}")
+            channels.append((str(cname), quantity, frame, vector(f"records[{i}][{cname!r}]", r[cname])))
+        built.append((name, t, drive_samples, channels))
+    opts = _options(options)
+    opts["drive"] = drive
+    return RecordsFit(_msd.fit_records(built, options_json(opts)))
+
+
+def free_decay(
+    t: Any,
+    response: Any,
+    *,
+    quantity: str = "displacement",
+    known_mass: Optional[float] = None,
+    known_stiffness: Optional[float] = None,
+) -> SetupFit:
+    """fn, ζ (and c, k or m, c with a known mass or stiffness) of a ring-down: the fit
+    and the classroom estimates (logarithmic decrement, zero crossings) of msd-ident's
+    `free_decay`. `quantity`: what the sensor measures."""
+    opts: Dict[str, Any] = {"response": quantity}
+    if known_mass is not None and known_stiffness is not None:
+        raise ValueError("give known_mass or known_stiffness, not both")
+    if known_mass is not None:
+        opts["known"] = {"mass": known_mass}
+    if known_stiffness is not None:
+        opts["known"] = {"stiffness": known_stiffness}
+    return SetupFit(_msd.free_decay(vector("t", t), vector("response", response), options_json(opts)))
+
+
+def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> SetupFit:
+    """A damper test machine (imposed stroke, measured force), msd-ident's `dynamometer`:
+    each condition's loop energy, c_eq, k′, η, and the damping laws fitted and ranked.
+
+    Each condition is a dict with ``"displacement"`` (m) and ``"force"`` (N) arrays, the
+    sampling interval ``"dt"`` (s) or time stamps ``"t"``, an optional ``"name"`` and
+    ``"frequency_hz"`` (else estimated). `**options`: ``DynamometerOptions``
+    (``harmonics``, ``laws``, ``known_mass``, ``force_offset``, ``smoothing_velocity``).
+    """
+    built = []
+    for i, c in enumerate(conditions):
+        if "dt" in c:
+            dt = float(c["dt"])
+        elif "t" in c:
+            t = vector(f"conditions[{i}]['t']", c["t"])
+            if len(t) < 2:
+                raise ValueError(f"conditions[{i}]['t']: expected at least 2 time stamps")
+            dt = float((t[-1] - t[0]) / (len(t) - 1))
+        else:
+            raise ValueError(f"conditions[{i}]: give 'dt' or 't'")
+        hz = c.get("frequency_hz")
+        built.append(
+            (
+                str(c.get("name", f"condition {i + 1}")),
+                dt,
+                vector(f"conditions[{i}]['displacement']", c.get("displacement")),
+                vector(f"conditions[{i}]['force']", c.get("force")),
+                None if hz is None else float(hz),
+            )
+        )
+    return SetupFit(_msd.dynamometer(built, options_json(options)))
+
+
+def run(
+    config: Union[str, "os.PathLike[str]"],
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+) -> RunResults:
+    """Run the experiment of a TOML config as ``msd run`` does: every stage, the result
+    folder written atomically (into `out`, else the config's ``output.dir``, else
+    ``msd-results/<name>``), and the ``results.json`` content returned as a dict (with
+    ``.summary`` and ``.out_dir``). `seed` and `threads` override the config's.
+
+    Raises ValueError for a bad config or data (the message names the file and key),
+    IdentificationError when the data cannot identify, RuntimeError or OSError for a
+    failure during the run.
+    """
+    r = _msd.run(os.fspath(config), None if out is None else os.fspath(out), seed, threads)
+    return RunResults(r["results"], r["summary"], str(r["out_dir"]))
+
+
+def plan(
+    config: Union[str, "os.PathLike[str]"], target: float = 0.01, verify: int = 0
+) -> SetupFit:
+    """Predict the precision of a synthetic config's test (``msd plan``): each
+    quantity's predicted 95 % half-width and the record length that reaches `target`
+    (relative); `verify` simulated experiments check the prediction."""
+    return SetupFit(_msd.plan(os.fspath(config), float(target), int(verify)))
+
+
+def design(
+    config: Union[str, "os.PathLike[str]"],
+    out: Optional[Union[str, "os.PathLike[str]"]] = None,
+    verify: int = 0,
+    write: bool = True,
+) -> SetupFit:
+    """Design the input of a config with a ``[design]`` section (``msd design``): the
+    multisine that minimises the Cramér–Rao bound within the rig's limits; written into
+    `out` (else ``msd-results/<name>-design``) unless ``write=False``."""
+    r = _msd.design(os.fspath(config), None if out is None else os.fspath(out), int(verify), bool(write))
+    return SetupFit(r)
+
+
+def paper_data(seed: int = 1) -> Dict[str, Dict[str, np.ndarray]]:
+    """The paper's synthetic records (m = 2.5 kg, c = 1.8 N·s/m, k = 120 N/m; 0–15 s at
+    2 ms; σ = 2.5 mm noise from `seed`): ``{"identification": {...}, "validation":
+    {...}}``, each with ``t``, ``force``, ``displacement`` and ``true_displacement``."""
+    return _msd.paper_data(int(seed))

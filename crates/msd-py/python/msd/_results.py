@@ -1,0 +1,374 @@
+"""Result objects: the Rust results' fields as attributes, `to_dict`, `repr` (the Rust
+display text) and an HTML table for notebooks."""
+
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass
+from typing import Any, Dict, Iterator, List, Optional, Tuple
+
+import numpy as np
+
+from ._convert import jsonable
+
+
+@dataclass(frozen=True)
+class Interval:
+    """An estimated quantity with its standard error and 95 % confidence interval."""
+
+    value: float
+    standard_error: float
+    ci95: Tuple[float, float]
+
+    @classmethod
+    def from_dict(cls, d: Dict[str, Any]) -> "Interval":
+        """The interval of a result dict's entry {value, standard_error, ci95}."""
+        nan = float("nan")
+        low, high = (nan if v is None else v for v in d["ci95"])
+        se = d["standard_error"]
+        return cls(float(d["value"]), nan if se is None else float(se), (low, high))
+
+    def contains(self, x: float) -> bool:
+        """Whether x lies within the 95 % interval."""
+        return self.ci95[0] <= x <= self.ci95[1]
+
+    def to_dict(self) -> Dict[str, Any]:
+        """{value, standard_error, ci95} as plain floats."""
+        return jsonable(
+            {"value": self.value, "standard_error": self.standard_error, "ci95": list(self.ci95)}
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"{self.value:.6g} ± {self.standard_error:.2e} "
+            f"(95 % CI {self.ci95[0]:.6g} … {self.ci95[1]:.6g})"
+        )
+
+
+@dataclass(frozen=True)
+class Plant:
+    """A mass–spring–damper: mass m (kg), damping c (N·s/m), stiffness k (N/m)."""
+
+    mass: float
+    damping: float
+    stiffness: float
+
+    def to_dict(self) -> Dict[str, float]:
+        """{mass, damping, stiffness}."""
+        return {"mass": self.mass, "damping": self.damping, "stiffness": self.stiffness}
+
+
+def _table(title: str, rows: List[Tuple[str, Any]]) -> str:
+    """An HTML table of (name, Interval or value) rows."""
+    out = [f"<table><caption>{html.escape(title)}</caption>"]
+    out.append("<tr><th>quantity</th><th>estimate</th><th>standard error</th><th>95 % interval</th></tr>")
+    for name, v in rows:
+        if isinstance(v, Interval):
+            out.append(
+                f"<tr><td>{html.escape(name)}</td><td>{v.value:.6g}</td>"
+                f"<td>{v.standard_error:.3g}</td><td>[{v.ci95[0]:.6g}, {v.ci95[1]:.6g}]</td></tr>"
+            )
+        else:
+            out.append(f"<tr><td>{html.escape(name)}</td><td colspan=3>{html.escape(str(v))}</td></tr>")
+    out.append("</table>")
+    return "".join(out)
+
+
+class Result:
+    """Base of the result objects: `data` holds every field of the Rust result."""
+
+    _arrays: Tuple[str, ...] = ()
+
+    def __init__(self, data: Dict[str, Any]):
+        self.data = data
+
+    @property
+    def summary(self) -> str:
+        """The Rust display of the result (what the command line prints)."""
+        return str(self.data.get("summary", ""))
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Every field as plain JSON types (arrays as lists, NaN as None)."""
+        return jsonable(self.data)
+
+    @classmethod
+    def from_dict(cls, d: Dict[str, Any]):
+        """The result back from `to_dict()` (e.g. after a JSON round trip)."""
+        data = dict(d)
+        for key in cls._arrays:
+            if data.get(key) is not None:
+                data[key] = np.array([np.nan if v is None else v for v in data[key]], dtype=float)
+        cls._restore(data)
+        return cls(data)
+
+    @classmethod
+    def _restore(cls, data: Dict[str, Any]) -> None:
+        """Restores what `_arrays` does not cover (complex arrays)."""
+
+    def __repr__(self) -> str:
+        return self.summary.rstrip("\n")
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and self.to_dict() == other.to_dict()  # type: ignore[attr-defined]
+
+
+class Estimate(Result):
+    """`msd.estimate`'s result: m, c, k with intervals, fn, ζ, the fit and the
+    optimiser's counts; every field of msd-ident's `Estimate` in `data`."""
+
+    _arrays = ("model_output", "residuals")
+
+    def _interval(self, name: str) -> Interval:
+        return Interval.from_dict(self.data["uncertainty"][name])
+
+    @property
+    def mass(self) -> Interval:
+        """Mass m, kg."""
+        return self._interval("mass")
+
+    @property
+    def damping(self) -> Interval:
+        """Damping c, N·s/m."""
+        return self._interval("damping")
+
+    @property
+    def stiffness(self) -> Interval:
+        """Stiffness k, N/m."""
+        return self._interval("stiffness")
+
+    @property
+    def natural_frequency_hz(self) -> Interval:
+        """Natural frequency fn, Hz (delta method)."""
+        return self._interval("natural_frequency_hz")
+
+    @property
+    def damping_ratio(self) -> Interval:
+        """Damping ratio ζ (delta method)."""
+        return self._interval("damping_ratio")
+
+    @property
+    def parameters(self) -> Plant:
+        """The estimated plant."""
+        p = self.data["parameters"]
+        return Plant(p["mass"], p["damping"], p["stiffness"])
+
+    @property
+    def model_output(self) -> np.ndarray:
+        """The model's displacement on the data (offset included)."""
+        return self.data["model_output"]
+
+    @property
+    def residuals(self) -> np.ndarray:
+        """Measured minus model."""
+        return self.data["residuals"]
+
+    @property
+    def fit(self) -> Dict[str, Any]:
+        """Fit metrics on the estimation data (r2, fit_percent, residual_rms, sse, samples)."""
+        return self.data["fit"]
+
+    @property
+    def r_squared(self) -> float:
+        """R² of the fit."""
+        return self.data["fit"]["r2"]
+
+    @property
+    def converged(self) -> bool:
+        """Whether the optimiser converged to a minimum."""
+        return bool(self.data["converged"])
+
+    @property
+    def covariance(self) -> np.ndarray:
+        """Covariance of the estimated quantities (order: `data['uncertainty']['names']`)."""
+        return np.array(self.data["uncertainty"]["covariance"], dtype=float)
+
+    @property
+    def warnings(self) -> List[str]:
+        """Identifiability warnings (empty when all is well)."""
+        return list(self.data["uncertainty"]["warnings"])
+
+    @property
+    def method(self) -> str:
+        """The optimiser: "nelder_mead" or "levenberg_marquardt"."""
+        return self.data["method"]
+
+    @property
+    def iterations(self) -> int:
+        """Optimiser iterations."""
+        return self.data["iterations"]
+
+    @property
+    def evaluations(self) -> int:
+        """Cost evaluations (simulations)."""
+        return self.data["evaluations"]
+
+    def _repr_html_(self) -> str:
+        rows = [
+            ("m [kg]", self.mass),
+            ("c [N·s/m]", self.damping),
+            ("k [N/m]", self.stiffness),
+            ("fn [Hz]", self.natural_frequency_hz),
+            ("ζ [-]", self.damping_ratio),
+            ("R²", f"{self.r_squared:.6g}"),
+            ("converged", self.converged),
+        ]
+        rows += [("warning", w) for w in self.warnings]
+        return _table(f"msd.estimate ({self.method})", rows)
+
+
+class FrequencyResponse(Result):
+    """`msd.frf`'s result; unpacks as (frequency, h, coherence)."""
+
+    _arrays = ("frequency", "coherence")
+
+    @classmethod
+    def _restore(cls, data: Dict[str, Any]) -> None:
+        h = data["h"]
+        data["h"] = np.array(h["re"], dtype=float) + 1j * np.array(h["im"], dtype=float)
+        if data.get("variance") is not None:
+            data["variance"] = np.array(data["variance"], dtype=float)
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """Frequencies, Hz."""
+        return self.data["frequency"]
+
+    @property
+    def h(self) -> np.ndarray:
+        """The complex frequency response (output units per input unit)."""
+        return self.data["h"]
+
+    @property
+    def coherence(self) -> np.ndarray:
+        """γ² in [0, 1]."""
+        return self.data["coherence"]
+
+    @property
+    def kind(self) -> str:
+        """receptance, mobility or accelerance."""
+        return self.data["kind"]
+
+    @property
+    def exponential_decay(self) -> Optional[float]:
+        """τ of an exponential window applied to both channels, if any."""
+        return self.data["exponential_decay"]
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        return iter((self.frequency, self.h, self.coherence))
+
+    def __repr__(self) -> str:
+        d = self.data
+        return (
+            f"FrequencyResponse({d['kind']}, {len(d['frequency'])} lines "
+            f"{d['frequency'][0] if len(d['frequency']) else 0:g}–"
+            f"{d['frequency'][-1] if len(d['frequency']) else 0:g} Hz, {d['averages']} averages)"
+        )
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One mode: natural frequency and damping ratio with intervals; the modal constant
+    (one FRF) or the shape over the roving DOFs (a set)."""
+
+    natural_frequency_hz: Interval
+    damping_ratio: Interval
+    stable_orders: int
+    modal_constant: Optional[complex] = None
+    shape: Optional[np.ndarray] = None
+    shape_dofs: Optional[List[Tuple[int, int]]] = None
+    modal_mass: Optional[float] = None
+
+    def __repr__(self) -> str:
+        return f"Mode(fn = {self.natural_frequency_hz!r} Hz, ζ = {self.damping_ratio!r})"
+
+
+class ModalFit(Result):
+    """`msd.modal_fit`'s result: the modes with intervals (and shapes for a set), every
+    field of msd-ident's `ModalFit` or `ModeSetFit` in `data`."""
+
+    @property
+    def is_set(self) -> bool:
+        """Whether several FRFs were fitted together (modes with shapes)."""
+        return bool(self.data.get("set"))
+
+    @property
+    def modes(self) -> List[Mode]:
+        """The modes, by frequency."""
+        out = []
+        for m in self.data["modes"]:
+            fn = Interval.from_dict(m["natural_frequency_hz"])
+            zeta = Interval.from_dict(m["damping_ratio"])
+            if self.is_set:
+                shape = np.array([e["re"] + 1j * e["im"] for e in m["shape"]])
+                dofs = [(e["node"], e["direction"]) for e in m["shape"]]
+                out.append(Mode(fn, zeta, m["stable_orders"], None, shape, dofs, m.get("modal_mass")))
+            else:
+                a = complex(m["modal_constant"]["value"], m["modal_constant_imaginary"]["value"])
+                out.append(Mode(fn, zeta, m["stable_orders"], a))
+        return out
+
+    @property
+    def mac(self) -> Optional[np.ndarray]:
+        """The auto-MAC of the shapes (a set only)."""
+        return np.array(self.data["mac"]) if self.is_set else None
+
+    def _repr_html_(self) -> str:
+        rows: List[Tuple[str, Any]] = []
+        for i, m in enumerate(self.modes):
+            rows.append((f"mode {i + 1} fn [Hz]", m.natural_frequency_hz))
+            rows.append((f"mode {i + 1} ζ [-]", m.damping_ratio))
+        return _table("msd.modal_fit", rows)
+
+
+class SetupFit(Result):
+    """A setup fit (`fit_records`, `free_decay`, `dynamometer`): every field of the Rust
+    result in `data`; `repr` is its display."""
+
+    def _repr_html_(self) -> str:
+        return f"<pre>{html.escape(self.summary)}</pre>"
+
+
+class RecordsFit(SetupFit):
+    """`msd.fit_records`'s result: the plant's identifiable quantities with intervals."""
+
+    def _interval(self, name: str) -> Optional[Interval]:
+        v = self.data["plant"].get(name)
+        return None if v is None else Interval.from_dict(v)
+
+    @property
+    def mass(self) -> Optional[Interval]:
+        """Mass, kg (None when the setup cannot give it)."""
+        return self._interval("mass")
+
+    @property
+    def damping(self) -> Optional[Interval]:
+        """Damping, N·s/m (None when the setup cannot give it)."""
+        return self._interval("damping")
+
+    @property
+    def stiffness(self) -> Optional[Interval]:
+        """Stiffness, N/m (None when the setup cannot give it)."""
+        return self._interval("stiffness")
+
+    @property
+    def natural_frequency_hz(self) -> Optional[Interval]:
+        """Natural frequency, Hz."""
+        return self._interval("natural_frequency_hz")
+
+    @property
+    def damping_ratio(self) -> Optional[Interval]:
+        """Damping ratio."""
+        return self._interval("damping_ratio")
+
+
+class RunResults(dict):
+    """The `results.json` content of a run (a dict), with `summary` (what the command
+    prints) and `out_dir` (where the folder was written)."""
+
+    summary: str
+    out_dir: str
+
+    def __init__(self, results: Dict[str, Any], summary: str, out_dir: str):
+        super().__init__(results)
+        self.summary = summary
+        self.out_dir = out_dir

@@ -1,0 +1,105 @@
+//! msd-experiment's commands: `run` (a config to its result folder), `plan`, `design`.
+
+use crate::convert::{result_dict, value_to_py};
+use crate::errors;
+use msd_experiment::design::DesignRunOptions;
+use msd_experiment::plan::PlanOptions;
+use msd_experiment::{DEFAULT_RESULTS_ROOT, RunOptions};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+
+/// run(config, out, seed, threads)
+/// --
+///
+/// msd-experiment's `run_experiment`: the results.json content, the summary and the
+/// output folder.
+#[pyfunction]
+#[pyo3(signature = (config, out=None, seed=None, threads=None))]
+pub fn run<'py>(
+    py: Python<'py>,
+    config: PathBuf,
+    out: Option<PathBuf>,
+    seed: Option<u64>,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = RunOptions {
+        out,
+        seed,
+        threads,
+        ..RunOptions::default()
+    };
+    let summary = py
+        .detach(|| msd_experiment::run_experiment(&config, &options))
+        .map_err(errors::experiment)?;
+    let d = PyDict::new(py);
+    d.set_item("results", value_to_py(py, &summary.results)?)?;
+    d.set_item("summary", summary.summary)?;
+    d.set_item("out_dir", summary.out_dir)?;
+    Ok(d)
+}
+
+/// plan(config, target, verify)
+/// --
+///
+/// msd-experiment's `plan`: the predicted precision of a synthetic config's test.
+#[pyfunction]
+#[pyo3(signature = (config, target=0.01, verify=0))]
+pub fn plan<'py>(
+    py: Python<'py>,
+    config: PathBuf,
+    target: f64,
+    verify: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = PlanOptions {
+        target,
+        verify,
+        ..PlanOptions::default()
+    };
+    let plan = py
+        .detach(|| msd_experiment::plan::plan(&config, &options))
+        .map_err(errors::experiment)?;
+    let dict = result_dict(py, &plan, &[])?;
+    dict.set_item("summary", plan.to_string())?;
+    Ok(dict)
+}
+
+/// design(config, out, verify, write)
+/// --
+///
+/// msd-experiment's `design` (and, when `write`, its files in `out`, else
+/// `msd-results/<name>-design`).
+#[pyfunction]
+#[pyo3(signature = (config, out=None, verify=0, write=true))]
+pub fn design<'py>(
+    py: Python<'py>,
+    config: PathBuf,
+    out: Option<PathBuf>,
+    verify: usize,
+    write: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = DesignRunOptions {
+        verify,
+        out: out.clone(),
+        ..DesignRunOptions::default()
+    };
+    let (report, target) = py
+        .detach(|| {
+            let report = msd_experiment::design::design(&config, &options)?;
+            let target = if write {
+                let target = out.unwrap_or_else(|| {
+                    PathBuf::from(DEFAULT_RESULTS_ROOT).join(format!("{}-design", report.config.name))
+                });
+                msd_experiment::design::write(&report, &report.config, &target)?;
+                Some(target)
+            } else {
+                None
+            };
+            Ok((report, target))
+        })
+        .map_err(errors::experiment)?;
+    let dict = result_dict(py, &report, &[])?;
+    dict.set_item("summary", report.to_string())?;
+    dict.set_item("out_dir", target)?;
+    Ok(dict)
+}

@@ -1,0 +1,200 @@
+//! Frequency responses: msd-signal's `frf_estimate` from time records, msd-ident's
+//! `fit_modes` (one FRF) and `fit_mode_set` (a set, with shapes).
+
+use crate::convert::{array, options, result_dict, vec_f64};
+use crate::errors;
+use msd_ident::ModalOptions;
+use msd_ident::frf::{Dof, SetMember};
+use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, FrfOptions};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// frf(t, forces, responses, options_json)
+/// --
+///
+/// msd-signal's `frf_estimate` over the records (forces[i], responses[i]) sampled on `t`.
+#[pyfunction]
+pub fn frf<'py>(
+    py: Python<'py>,
+    t: PyReadonlyArray1<'py, f64>,
+    forces: Vec<PyReadonlyArray1<'py, f64>>,
+    responses: Vec<PyReadonlyArray1<'py, f64>>,
+    options_json: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts: FrfOptions = options("frf options", options_json)?;
+    let t = vec_f64(&t);
+    if forces.len() != responses.len() {
+        return Err(PyValueError::new_err(format!(
+            "{} force records but {} response records",
+            forces.len(),
+            responses.len()
+        )));
+    }
+    let forces: Vec<Vec<f64>> = forces.iter().map(vec_f64).collect();
+    let responses: Vec<Vec<f64>> = responses.iter().map(vec_f64).collect();
+    let first = forces.first().cloned().unwrap_or_default();
+    let zeros = vec![0.0; t.len()];
+    let grid = msd_ident::DataSet::from_columns("frf", &t, first, zeros).map_err(errors::ident)?;
+    let fs = 1.0 / grid.excitation.dt();
+    let estimate = py.detach(|| {
+        let records: Vec<msd_signal::Record<'_>> = forces
+            .iter()
+            .zip(&responses)
+            .map(|(f, r)| msd_signal::Record {
+                input: f,
+                output: r,
+            })
+            .collect();
+        msd_signal::frf_estimate(&records, fs, &opts)
+    });
+    let estimate = estimate.map_err(errors::value)?;
+    estimate_dict(py, estimate)
+}
+
+fn estimate_dict(py: Python<'_>, e: FrequencyResponseEstimate) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("frequency", array(py, e.frequency))?;
+    d.set_item("h", PyArray1::from_vec(py, e.h))?;
+    d.set_item("coherence", array(py, e.coherence))?;
+    d.set_item("averages", e.averages)?;
+    d.set_item(
+        "kind",
+        serde_json::to_value(e.kind).map_err(errors::value)?.as_str().unwrap_or(""),
+    )?;
+    d.set_item("variance", e.variance.map(|v| array(py, v)))?;
+    d.set_item("exponential_decay", e.exponential_decay)?;
+    d.set_item("noise_bandwidth", e.noise_bandwidth)?;
+    Ok(d)
+}
+
+/// A measured FRF on `frequency` with its coherence, kind and window.
+fn measured(
+    frequency: &[f64],
+    h: Vec<Complex64>,
+    coherence: Option<Vec<f64>>,
+    kind: FrfKind,
+    exponential_decay: Option<f64>,
+) -> PyResult<FrequencyResponseEstimate> {
+    let mut e = FrequencyResponseEstimate::new(frequency.to_vec(), h).map_err(errors::value)?;
+    if let Some(c) = coherence {
+        if c.len() != frequency.len() {
+            return Err(PyValueError::new_err(format!(
+                "length mismatch: coherence has {} lines, expected {}",
+                c.len(),
+                frequency.len()
+            )));
+        }
+        if let Some((i, v)) = c.iter().enumerate().find(|(_, v)| !(**v >= 0.0 && **v <= 1.0)) {
+            return Err(PyValueError::new_err(format!(
+                "coherence line {i} is {v}: expected a number in [0, 1]"
+            )));
+        }
+        e.coherence = c;
+    }
+    if let Some(tau) = exponential_decay {
+        if !(tau.is_finite() && tau > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "exponential_decay = {tau}: expected a decay time > 0 in seconds"
+            )));
+        }
+    }
+    e.kind = kind;
+    e.exponential_decay = exponential_decay;
+    Ok(e)
+}
+
+/// A DOF as (node, direction).
+type PyDof = (u32, i32);
+
+/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, dofs, options_json)
+/// --
+///
+/// msd-ident's `fit_modes` on one FRF (dofs None) or `fit_mode_set` on a set, each
+/// member with (response DOF, reference DOF).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn modal_fit<'py>(
+    py: Python<'py>,
+    frequency: PyReadonlyArray1<'py, f64>,
+    frfs: Vec<PyReadonlyArray1<'py, Complex64>>,
+    coherences: Option<Vec<PyReadonlyArray1<'py, f64>>>,
+    kind: &str,
+    exponential_decay: Option<f64>,
+    dofs: Option<Vec<(PyDof, PyDof)>>,
+    options_json: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts: ModalOptions = options("modal_fit options", options_json)?;
+    let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
+    let frequency = vec_f64(&frequency);
+    if frfs.is_empty() {
+        return Err(PyValueError::new_err("no frequency responses given"));
+    }
+    if let Some(c) = &coherences {
+        if c.len() != frfs.len() {
+            return Err(PyValueError::new_err(format!(
+                "{} coherences for {} frequency responses",
+                c.len(),
+                frfs.len()
+            )));
+        }
+    }
+    let mut estimates = Vec::with_capacity(frfs.len());
+    for (i, h) in frfs.iter().enumerate() {
+        let h: Vec<Complex64> = match h.as_slice() {
+            Ok(s) => s.to_vec(),
+            Err(_) => h.as_array().iter().copied().collect(),
+        };
+        let c = coherences.as_ref().map(|c| vec_f64(&c[i]));
+        estimates.push(measured(&frequency, h, c, kind, exponential_decay)?);
+    }
+    match dofs {
+        None => {
+            if estimates.len() != 1 {
+                return Err(PyValueError::new_err(
+                    "a set of frequency responses needs their DOFs (dofs=[((response node, direction), (reference node, direction)), ...])",
+                ));
+            }
+            let e = estimates.pop().expect("one estimate");
+            let fit = py
+                .detach(|| msd_ident::fit_modes(&e, &opts))
+                .map_err(errors::ident)?;
+            let dict = result_dict(py, &fit, &[])?;
+            dict.set_item("summary", fit.to_string())?;
+            dict.set_item("set", false)?;
+            Ok(dict)
+        }
+        Some(dofs) => {
+            if dofs.len() != estimates.len() {
+                return Err(PyValueError::new_err(format!(
+                    "{} DOF pairs for {} frequency responses",
+                    dofs.len(),
+                    estimates.len()
+                )));
+            }
+            let members: Vec<SetMember> = estimates
+                .into_iter()
+                .zip(dofs)
+                .map(|(frf, ((rn, rd), (fn_, fd)))| SetMember {
+                    frf,
+                    response: Dof {
+                        node: rn,
+                        direction: rd,
+                    },
+                    reference: Dof {
+                        node: fn_,
+                        direction: fd,
+                    },
+                })
+                .collect();
+            let fit = py
+                .detach(|| msd_ident::frf::fit_mode_set(&members, &opts))
+                .map_err(errors::ident)?;
+            let dict = result_dict(py, &fit, &[])?;
+            dict.set_item("summary", fit.to_string())?;
+            dict.set_item("set", true)?;
+            Ok(dict)
+        }
+    }
+}
