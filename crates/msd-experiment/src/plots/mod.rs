@@ -66,24 +66,33 @@ pub(crate) trait Figure {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw;
 }
 
-/// Writes `figure` as `<name>.png` and `<name>.svg` into `dir`.
-pub(crate) fn save(figure: &impl Figure, dir: &Path) -> Result<()> {
+/// Writes `figure` as `<name>.png` and `<name>.svg` into `dir`, the two drawn at once
+/// (on two threads: the raster is the slow one, and a run waits for its figures).
+pub(crate) fn save(figure: &(impl Figure + Sync), dir: &Path) -> Result<()> {
     let fail = |e: String| ExperimentError::run("figures", format!("{}: {e}", figure.name()));
     let png = dir.join(format!("{}.png", figure.name()));
-    {
-        let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();
-        root.fill(&WHITE).map_err(text).map_err(fail)?;
-        figure.draw(&root).map_err(fail)?;
-        root.present().map_err(text).map_err(fail)?;
-    }
     let svg = dir.join(format!("{}.svg", figure.name()));
-    {
+    let (png, svg) = std::thread::scope(|s| {
+        let png = s.spawn(|| {
+            let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();
+            draw_on(figure, &root)
+        });
         let root = SVGBackend::new(&svg, figure.size()).into_drawing_area();
-        root.fill(&WHITE).map_err(text).map_err(fail)?;
-        figure.draw(&root).map_err(fail)?;
-        root.present().map_err(text).map_err(fail)?;
-    }
-    Ok(())
+        let svg = draw_on(figure, &root);
+        let png = png
+            .join()
+            .unwrap_or_else(|_| Err("the PNG's drawing thread panicked".into()));
+        (png, svg)
+    });
+    png.map_err(fail)?;
+    svg.map_err(fail)
+}
+
+/// Fills `root` white, draws `figure` on it and writes it out.
+fn draw_on<DB: DrawingBackend>(figure: &impl Figure, root: &DrawingArea<DB, Shift>) -> Draw {
+    root.fill(&WHITE).map_err(text)?;
+    figure.draw(root)?;
+    root.present().map_err(text)
 }
 
 /// Title style.
