@@ -414,6 +414,7 @@ def design(
     multisine that minimises the Cramér–Rao bound within the rig's limits; written into
     `out` (else ``msd-results/<name>-design``) unless ``write=False``."""
     r = _msd.design(os.fspath(config), None if out is None else os.fspath(out), int(verify), bool(write))
+    r["out_dir"] = None if r["out_dir"] is None else str(r["out_dir"])
     return SetupFit(r)
 
 

@@ -332,7 +332,7 @@ class RecordsFit(SetupFit):
     """`msd.fit_records`'s result: the plant's identifiable quantities with intervals."""
 
     def _interval(self, name: str) -> Optional[Interval]:
-        v = self.data["plant"].get(name)
+        v = self.data.get(name)
         return None if v is None else Interval.from_dict(v)
 
     @property
