@@ -1,0 +1,34 @@
+"""The public API: every function documented, stubs and py.typed shipped."""
+
+import inspect
+import pathlib
+
+import msd
+from msd import _msd
+
+
+def test_every_public_function_has_a_docstring():
+    for name in msd.__all__:
+        obj = getattr(msd, name)
+        if callable(obj):
+            assert inspect.getdoc(obj), name
+    for name in ("read", "write", "read_skipped"):
+        assert inspect.getdoc(getattr(msd.uff, name)), name
+    for name in dir(_msd):
+        obj = getattr(_msd, name)
+        if callable(obj) and not name.startswith("_"):
+            assert inspect.getdoc(obj), name
+
+
+def test_stubs_and_py_typed_are_installed():
+    package = pathlib.Path(msd.__file__).parent
+    for name in ("py.typed", "__init__.pyi", "_msd.pyi", "uff.pyi"):
+        assert (package / name).exists(), name
+
+
+def test_stubs_name_every_public_function():
+    package = pathlib.Path(msd.__file__).parent
+    stub = (package / "__init__.pyi").read_text()
+    for name in msd.__all__:
+        if name != "uff":
+            assert f"def {name}(" in stub or f"class {name}" in stub or f"{name} as {name}" in stub, name
