@@ -72,7 +72,10 @@ pub mod signal;
 pub mod spectral;
 
 pub use error::{Result, SignalError};
-pub use frf::{Estimator, FrfKind, FrfOptions, ImpactWindows, Record, UNEXCITED, frf_estimate};
+pub use frf::{
+    Estimator, FrfKind, FrfOptions, ImpactWindows, REPEATING, Record, UNEXCITED, frf_estimate,
+    resolve_window,
+};
 pub use noise::{NoiseStream, gaussian_noise, stream_id, stream_rng};
 pub use paper::{paper_identification_input, paper_validation_input};
 pub use preprocess::{

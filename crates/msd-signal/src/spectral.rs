@@ -48,8 +48,15 @@ use crate::error::{Result, SignalError, check_data, positive, same_length};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Window {
-    /// Periodic Hann, `w[n] = ½·(1 − cos(2πn/L))` (as scipy's `welch`). The default.
+    /// Chosen from the data, the default: [`Window::Rectangular`] where
+    /// [`frf_estimate`](crate::frf_estimate) averages whole records whose input repeats
+    /// from record to record (a periodic force over whole periods, which a taper would
+    /// only smear into the lines between its own: see [`REPEATING`](crate::REPEATING)),
+    /// [`Window::Hann`] everywhere else (a PSD, one record, Welch segments, an input
+    /// that does not repeat).
     #[default]
+    Auto,
+    /// Periodic Hann, `w[n] = ½·(1 − cos(2πn/L))` (as scipy's `welch`).
     Hann,
     /// No taper (w = 1).
     Rectangular,
@@ -58,7 +65,7 @@ pub enum Window {
 impl Window {
     pub(crate) fn coefficients(self, l: usize) -> Vec<f64> {
         match self {
-            Window::Hann => {
+            Window::Hann | Window::Auto => {
                 // w[n] = w[L − n]: compute half, mirror the rest.
                 let mut w = vec![0.0; l];
                 for n in 0..=l / 2 {
@@ -71,6 +78,15 @@ impl Window {
                 w
             }
             Window::Rectangular => vec![1.0; l],
+        }
+    }
+
+    /// The name as in a config (`"auto"`, `"hann"`, `"rectangular"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Window::Auto => "auto",
+            Window::Hann => "hann",
+            Window::Rectangular => "rectangular",
         }
     }
 }
@@ -99,20 +115,21 @@ pub struct WelchOptions {
     /// Fraction of a segment shared with the next, in [0, 1). By default 0.5 (50 %, the
     /// usual choice for a Hann window, Welch 1967).
     pub overlap: f64,
-    /// Segment taper. By default [`Window::Hann`].
+    /// Segment taper. By default [`Window::Auto`]: Hann, except for an FRF over whole
+    /// records whose input repeats (rectangular).
     pub window: Window,
     /// Per-segment detrending. By default [`Detrend::Mean`].
     pub detrend: Detrend,
 }
 
 impl Default for WelchOptions {
-    /// Whole record as one segment, 50 % overlap (used once segments are set), Hann
-    /// window, mean removed.
+    /// Whole record as one segment, 50 % overlap (used once segments are set), the
+    /// window chosen from the data (Hann but for repeating inputs), mean removed.
     fn default() -> Self {
         WelchOptions {
             segment_length: None,
             overlap: 0.5,
-            window: Window::Hann,
+            window: Window::Auto,
             detrend: Detrend::Mean,
         }
     }

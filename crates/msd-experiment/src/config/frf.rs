@@ -75,7 +75,8 @@ pub struct FrequencyResponseSection {
     /// How time records (`hammer`, `shaker`, `records`) become a frequency response: msd-signal's
     /// [`FrfOptions`] (estimator, Welch segments, impact windows, response quantity: the
     /// simulated sources measure the quantity of `kind`). By default H1 over whole
-    /// records with a Hann window, receptance.
+    /// records, the window chosen from the data (rectangular when the force repeats from
+    /// record to record, a periodic input over whole periods; otherwise Hann), receptance.
     #[serde(default)]
     pub estimator: FrfOptions,
     /// One mode: msd-ident's [`OneModeOptions`] (`band_hz`, `weighting`). By default

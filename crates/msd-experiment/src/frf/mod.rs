@@ -55,7 +55,7 @@ use msd_ident::{
         StabilizationDiagram, fit_mode_set, half_power, mode_indicator,
     },
 };
-use msd_signal::FrequencyResponseEstimate;
+use msd_signal::{FrequencyResponseEstimate, Window};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -470,6 +470,20 @@ impl FrfOutcome {
         (d.h.iter().zip(&d.coherence))
             .filter(|(h, g)| h.norm_sqr() == 0.0 && **g == 0.0)
             .count()
+    }
+
+    /// Whether `welch.window = "auto"` (the default) took the time records with a
+    /// rectangular window, their force repeating from record to record
+    /// ([`msd_signal::resolve_window`]).
+    pub fn chose_rectangular_window(&self) -> bool {
+        let options = self
+            .config
+            .frequency_response
+            .as_ref()
+            .map(|f| &f.estimator);
+        self.time_domain.is_some()
+            && options.is_some_and(|e| e.impact.is_none() && e.welch.window == Window::Auto)
+            && self.data.noise_bandwidth == 1.0
     }
 
     /// The fitted model's response at `frequency_hz`, in the data's quantity

@@ -159,6 +159,12 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
         d.kind,
         d.averages
     )?;
+    if o.chose_rectangular_window() {
+        write!(
+            w,
+            " The force repeats from record to record (a periodic input over whole periods): each record was taken whole with a rectangular window, which keeps its lines apart (`welch.window = \"auto\"`; a Hann window would smear each line into the lines between)."
+        )?;
+    }
     let unexcited = o.unexcited_lines();
     if unexcited > 0 {
         write!(

@@ -90,12 +90,15 @@ pub fn half_power(frf: &FrequencyResponseEstimate, band_hz: Option<[f64; 2]>) ->
     check_band(band_hz)?;
     let [low, high] = band_hz.unwrap_or([0.0, f64::INFINITY]);
     let mobility = frf.to_kind(FrfKind::Mobility);
-    let (f, mag): (Vec<f64>, Vec<f64>) = mobility
-        .frequency
-        .iter()
+    // Lines without force (response and coherence 0: between a periodic input's own
+    // lines) are no data: they would pass for half-power crossings.
+    let (f, mag): (Vec<f64>, Vec<f64>) = (mobility.frequency.iter())
         .zip(&mobility.h)
-        .filter(|(f, _)| **f > 0.0 && **f >= low && **f <= high)
-        .map(|(f, h)| (*f, h.norm()))
+        .zip(&frf.coherence)
+        .filter(|((f, h), g)| {
+            **f > 0.0 && **f >= low && **f <= high && !(h.norm_sqr() == 0.0 && **g == 0.0)
+        })
+        .map(|((f, h), _)| (*f, h.norm()))
         .unzip();
     let refuse = |reason: String| Err(IdentError::NotIdentifiable { reason });
     let Some(p) = (0..mag.len()).max_by(|&a, &b| mag[a].total_cmp(&mag[b])) else {

@@ -71,7 +71,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SignalError, check_data, positive, same_length};
 use crate::spectral::{
-    Detrend, Segmenting, Welch, WelchOptions, coherence_of, segment_step, welch_records,
+    Detrend, Segmenting, Welch, WelchOptions, Window, coherence_of, segment_step, welch_records,
 };
 
 /// Which frequency-response estimator to use (see the [module docs](self)).
@@ -203,7 +203,7 @@ impl ImpactWindows {
 /// ```
 /// use msd_signal::{FrfOptions, FrfKind, ImpactWindows, Window};
 /// let random: FrfOptions = toml::from_str("welch = { segment_length = 1024 }")?;
-/// assert_eq!((random.welch.segment_length, random.welch.window), (Some(1024), Window::Hann));
+/// assert_eq!((random.welch.segment_length, random.welch.window), (Some(1024), Window::Auto));
 /// let hammer: FrfOptions = toml::from_str("kind = \"acceleration\"\nimpact = { decay_time = 0.5 }")?;
 /// assert_eq!(hammer.kind, FrfKind::Accelerance);
 /// assert_eq!(hammer.impact, Some(ImpactWindows { force_width: None, decay_time: Some(0.5) }));
@@ -311,6 +311,15 @@ pub struct FrequencyResponseEstimate {
 /// dynamic range.
 pub const UNEXCITED: f64 = 1e-12;
 
+/// The share of the inputs' power, ‖Σᵣ xᵣ‖²/(R·Σᵣ‖xᵣ‖²) over R ≥ 2 whole records (means
+/// removed), at and above which [`Window::Auto`] takes the input to repeat from record to
+/// record: 1 for a periodic force whose period divides the record (the records are the
+/// same), 1/(1 + s²) with force noise s (0.99 at s = 0.1), about 1/R for an input that
+/// does not repeat (random, or a period the record does not hold whole). The records then
+/// hold whole periods, whose lines a rectangular window keeps apart and a Hann window
+/// would smear into the lines between them.
+pub const REPEATING: f64 = 0.9;
+
 /// The frequency response from `records` sampled at `fs` Hz, averaged over every
 /// segment of every record, with the coherence.
 ///
@@ -357,7 +366,7 @@ pub fn frf_estimate(
             (welch_records(&pairs, fs, &segmenting), Some(tau))
         }
         None => {
-            let window = options.welch.window.coefficients(l);
+            let window = resolve_window(options.welch.window, records, l).coefficients(l);
             let segmenting = Segmenting {
                 length: l,
                 step: segment_step(l, &options.welch),
@@ -372,6 +381,55 @@ pub fn frf_estimate(
     frf.kind = options.kind;
     frf.exponential_decay = decay;
     Ok(frf)
+}
+
+/// The window that [`Window::Auto`] stands for on these records cut into segments of
+/// `l` samples (what [`frf_estimate`] uses); any other window as given.
+///
+/// ```
+/// use msd_signal::{Record, Window, resolve_window};
+/// // Two records of the same two periods of a sine: the input repeats.
+/// let x: Vec<f64> = (0..64).map(|i| (std::f64::consts::TAU * i as f64 / 32.0).sin()).collect();
+/// let y = x.clone();
+/// let same = [Record { input: &x, output: &y }, Record { input: &x, output: &y }];
+/// assert_eq!(resolve_window(Window::Auto, &same, 64), Window::Rectangular);
+/// // One record, or segments shorter than the records: Hann.
+/// assert_eq!(resolve_window(Window::Auto, &same[..1], 64), Window::Hann);
+/// assert_eq!(resolve_window(Window::Auto, &same, 32), Window::Hann);
+/// assert_eq!(resolve_window(Window::Hann, &same, 64), Window::Hann);
+/// ```
+pub fn resolve_window(window: Window, records: &[Record<'_>], l: usize) -> Window {
+    let whole = records.len() >= 2 && records.iter().all(|r| r.input.len() == l);
+    match window {
+        Window::Auto if whole && repeating_share(records) >= REPEATING => Window::Rectangular,
+        Window::Auto => Window::Hann,
+        given => given,
+    }
+}
+
+/// ‖Σᵣ xᵣ‖²/(R·Σᵣ‖xᵣ‖²) of the records' inputs, each with its mean removed (see
+/// [`REPEATING`]); 0 for inputs without power.
+fn repeating_share(records: &[Record<'_>]) -> f64 {
+    let n = records[0].input.len();
+    let means: Vec<f64> = records
+        .iter()
+        .map(|r| r.input.iter().sum::<f64>() / n as f64)
+        .collect();
+    let (mut sum_power, mut power) = (0.0, 0.0);
+    for i in 0..n {
+        let mut sum = 0.0;
+        for (r, mean) in records.iter().zip(&means) {
+            let x = r.input[i] - mean;
+            sum += x;
+            power += x * x;
+        }
+        sum_power += sum * sum;
+    }
+    if power > 0.0 {
+        sum_power / (records.len() as f64 * power)
+    } else {
+        0.0
+    }
 }
 
 /// Checks every record and returns their common length (at least 2).

@@ -332,3 +332,122 @@ fn options_read_from_toml_with_defaults() {
     assert_eq!(options.welch, WelchOptions::default());
     assert!(toml::from_str::<FrfOptions>("estimator = \"H3\"").is_err());
 }
+
+/// Four consecutive records of `len` samples of a multisine with a 128-sample period
+/// (every line of the period excited with Schroeder phases) through the FIR system, in
+/// steady state: at `len` = 256, two periods a record.
+fn periodic_records(len: usize) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let period = 128;
+    let lines = 1..64usize;
+    let u: Vec<f64> = (0..5 * 256)
+        .map(|t| {
+            lines
+                .clone()
+                .map(|k| {
+                    let phase = -std::f64::consts::PI * (k * (k - 1)) as f64 / 63.0;
+                    (TAU * (k * t) as f64 / period as f64 + phase).cos()
+                })
+                .sum()
+        })
+        .collect();
+    let y = fir(&u);
+    // The first 256 samples (they hold y's start from rest) are left out.
+    let cut = |x: &[f64]| {
+        (0..4)
+            .map(|r| x[256 + r * len..256 + (r + 1) * len].to_vec())
+            .collect()
+    };
+    (cut(&u), cut(&y))
+}
+
+/// Record pairs of inputs `u` and outputs `y`.
+fn pairs<'a>(u: &'a [Vec<f64>], y: &'a [Vec<f64>]) -> Vec<Record<'a>> {
+    u.iter()
+        .zip(y)
+        .map(|(u, y)| Record {
+            input: u,
+            output: y,
+        })
+        .collect()
+}
+
+/// H1 of `records`, whole, with `window`.
+fn whole_records(records: &[Record<'_>], window: msd_signal::Window) -> FrequencyResponseEstimate {
+    let welch = WelchOptions {
+        window,
+        ..WelchOptions::default()
+    };
+    let options = FrfOptions {
+        welch,
+        ..FrfOptions::default()
+    };
+    frf_estimate(records, FS, &options).expect("valid")
+}
+
+#[test]
+fn a_repeating_input_gets_a_rectangular_window_and_its_lines_stay_apart() {
+    let (u, y) = periodic_records(256);
+    let records = pairs(&u, &y);
+    let estimate = |window| whole_records(&records, window);
+    let auto = estimate(msd_signal::Window::Auto);
+    assert_eq!(
+        msd_signal::resolve_window(msd_signal::Window::Auto, &records, 256),
+        msd_signal::Window::Rectangular
+    );
+    assert_eq!(auto.noise_bandwidth, 1.0);
+    // The period's own lines (even bins) exact; the lines between them carry no force
+    // and are left out (0, with coherence 0).
+    for k in 1..128 {
+        let (h, truth) = (auto.h[k], fir_response(auto.frequency[k]));
+        if k % 2 == 0 {
+            assert!(
+                (h - truth).norm() < 1e-12 * truth.norm(),
+                "line {k}: {h} vs {truth}"
+            );
+            assert!(auto.coherence[k] > 1.0 - 1e-12);
+        } else {
+            assert_eq!(
+                (h, auto.coherence[k]),
+                (Complex64::new(0.0, 0.0), 0.0),
+                "line {k}"
+            );
+        }
+    }
+    // A Hann window smears each line into the lines between: those then hold a mixture
+    // of their neighbours' responses with full coherence, nothing a fit could tell from H.
+    let hann = estimate(msd_signal::Window::Hann);
+    let worst = (1..128)
+        .filter(|k| k % 2 == 1)
+        .map(|k| {
+            (hann.h[k] - fir_response(hann.frequency[k])).norm()
+                / fir_response(hann.frequency[k]).norm()
+        })
+        .fold(0.0, f64::max);
+    assert!(
+        worst > 0.1,
+        "the Hann window's in-between lines are {worst} off"
+    );
+}
+
+#[test]
+fn an_input_that_does_not_repeat_keeps_the_hann_window() {
+    let n = 1024;
+    let u: Vec<Vec<f64>> = (0..4)
+        .map(|r| gaussian_noise(3, &format!("frf.random.{r}"), 1.0, n).expect("valid"))
+        .collect();
+    let y: Vec<Vec<f64>> = u.iter().map(|u| fir(u)).collect();
+    let records = pairs(&u, &y);
+    let with = |window| whole_records(&records, window);
+    assert_eq!(
+        with(msd_signal::Window::Auto),
+        with(msd_signal::Window::Hann)
+    );
+    // A periodic input whose period the record does not hold whole does not repeat
+    // from record to record either.
+    let (u, y) = periodic_records(200);
+    let shifted = pairs(&u, &y);
+    assert_eq!(
+        msd_signal::resolve_window(msd_signal::Window::Auto, &shifted, 200),
+        msd_signal::Window::Hann
+    );
+}

@@ -163,7 +163,7 @@ fn welch_options_from_toml() {
         WelchOptions {
             segment_length: Some(512),
             overlap: 0.5,
-            window: Window::Hann,
+            window: Window::Auto,
             detrend: Detrend::Linear
         }
     );

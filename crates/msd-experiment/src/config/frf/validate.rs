@@ -322,7 +322,10 @@ impl HammerSource {
             if estimator.welch.window != Window::Rectangular {
                 return err(
                     &key("welch.window"),
-                    " = \"hann\": expected `impact` windows or `welch.window = \"rectangular\"` with the hammer source (a Hann window zeroes the hit at the record's start)".into(),
+                    format!(
+                        " = \"{}\": expected `impact` windows or `welch.window = \"rectangular\"` with the hammer source (a Hann window zeroes the hit at the record's start)",
+                        estimator.welch.window.name()
+                    ),
                 );
             }
             return match estimator.welch.segment_length {
