@@ -19,9 +19,11 @@ pub fn vec_f64(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
 /// Options from their JSON text (written by the Python layer from keyword arguments):
 /// unknown keys and values of the wrong type are refused with serde's message.
 pub fn options<T: DeserializeOwned>(what: &str, json: &str) -> PyResult<T> {
-    let mut v: Value = serde_json::from_str(json).map_err(|e| PyValueError::new_err(format!("{what}: {e}")))?;
+    let mut v: Value =
+        serde_json::from_str(json).map_err(|e| PyValueError::new_err(format!("{what}: {e}")))?;
     drop_nulls(&mut v);
-    serde_json::from_value(v).map_err(|e| PyValueError::new_err(format!("{what}: {}", strip_position(&e))))
+    serde_json::from_value(v)
+        .map_err(|e| PyValueError::new_err(format!("{what}: {}", strip_position(&e))))
 }
 
 /// serde_json's message without " at line 1 column 42" (the JSON is ours, not the user's).
@@ -49,7 +51,8 @@ fn drop_nulls(v: &mut Value) {
 /// A JSON object's text merged onto `base` (its keys replace base's, one level deep),
 /// null members dropped (an absent key takes the default).
 pub fn merged(base: Value, json: &str) -> PyResult<Value> {
-    let given: Value = serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let given: Value =
+        serde_json::from_str(json).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let (Value::Object(mut base), Value::Object(given)) = (base, given) else {
         return Err(PyValueError::new_err("options must be a mapping"));
     };
@@ -100,12 +103,16 @@ pub fn result_dict<'py, T: Serialize>(
     value: &T,
     arrays: &[&str],
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut v = serde_json::to_value(value).map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    let mut v = serde_json::to_value(value)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
     let mut taken = Vec::new();
     if let Value::Object(map) = &mut v {
         for key in arrays {
             if let Some(Value::Array(items)) = map.remove(*key) {
-                let numbers: Vec<f64> = items.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect();
+                let numbers: Vec<f64> = items
+                    .iter()
+                    .map(|x| x.as_f64().unwrap_or(f64::NAN))
+                    .collect();
                 taken.push((*key, numbers));
             }
         }

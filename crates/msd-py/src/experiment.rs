@@ -88,7 +88,8 @@ pub fn design<'py>(
             let report = msd_experiment::design::design(&config, &options)?;
             let target = if write {
                 let target = out.unwrap_or_else(|| {
-                    PathBuf::from(DEFAULT_RESULTS_ROOT).join(format!("{}-design", report.config.name))
+                    PathBuf::from(DEFAULT_RESULTS_ROOT)
+                        .join(format!("{}-design", report.config.name))
                 });
                 msd_experiment::design::write(&report, &report.config, &target)?;
                 Some(target)

@@ -5,8 +5,8 @@ use crate::convert::{array, merged, options, result_dict, vec_f64};
 use crate::errors;
 use msd_ident::dynamometer::Condition;
 use msd_ident::{
-    Backend, Channel, DataSet, DynamometerOptions, EstimationOptions, Excitation,
-    FreeDecayOptions, InitialState, PaperExperiment, Parameters, Record, RecordsOptions,
+    Backend, Channel, DataSet, DynamometerOptions, EstimationOptions, Excitation, FreeDecayOptions,
+    InitialState, PaperExperiment, Parameters, Record, RecordsOptions,
 };
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -134,7 +134,11 @@ pub fn paper_data<'py>(py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyDict
         .map_err(errors::ident)?;
     let out = PyDict::new(py);
     for (name, data, truth) in [
-        ("identification", &paper.identification, &paper.identification_truth),
+        (
+            "identification",
+            &paper.identification,
+            &paper.identification_truth,
+        ),
         ("validation", &paper.validation, &paper.validation_truth),
     ] {
         let d = PyDict::new(py);
@@ -181,7 +185,8 @@ pub fn fit_records<'py>(
         let mut chans = Vec::with_capacity(channels.len());
         for (cname, quantity, frame, samples) in channels {
             let described = serde_json::json!({ "name": cname, "quantity": quantity, "frame": frame, "samples": [] });
-            let mut channel: Channel = options(&format!("channel `{cname}`"), &described.to_string())?;
+            let mut channel: Channel =
+                options(&format!("channel `{cname}`"), &described.to_string())?;
             channel.samples = vec_f64(samples);
             chans.push(channel);
         }

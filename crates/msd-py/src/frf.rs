@@ -61,7 +61,10 @@ fn estimate_dict(py: Python<'_>, e: FrequencyResponseEstimate) -> PyResult<Bound
     d.set_item("averages", e.averages)?;
     d.set_item(
         "kind",
-        serde_json::to_value(e.kind).map_err(errors::value)?.as_str().unwrap_or(""),
+        serde_json::to_value(e.kind)
+            .map_err(errors::value)?
+            .as_str()
+            .unwrap_or(""),
     )?;
     d.set_item("variance", e.variance.map(|v| array(py, v)))?;
     d.set_item("exponential_decay", e.exponential_decay)?;
@@ -86,19 +89,23 @@ fn measured(
                 frequency.len()
             )));
         }
-        if let Some((i, v)) = c.iter().enumerate().find(|(_, v)| !(**v >= 0.0 && **v <= 1.0)) {
+        if let Some((i, v)) = c
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(**v >= 0.0 && **v <= 1.0))
+        {
             return Err(PyValueError::new_err(format!(
                 "coherence line {i} is {v}: expected a number in [0, 1]"
             )));
         }
         e.coherence = c;
     }
-    if let Some(tau) = exponential_decay {
-        if !(tau.is_finite() && tau > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "exponential_decay = {tau}: expected a decay time > 0 in seconds"
-            )));
-        }
+    if let Some(tau) = exponential_decay
+        && !(tau.is_finite() && tau > 0.0)
+    {
+        return Err(PyValueError::new_err(format!(
+            "exponential_decay = {tau}: expected a decay time > 0 in seconds"
+        )));
     }
     e.kind = kind;
     e.exponential_decay = exponential_decay;
@@ -131,14 +138,14 @@ pub fn modal_fit<'py>(
     if frfs.is_empty() {
         return Err(PyValueError::new_err("no frequency responses given"));
     }
-    if let Some(c) = &coherences {
-        if c.len() != frfs.len() {
-            return Err(PyValueError::new_err(format!(
-                "{} coherences for {} frequency responses",
-                c.len(),
-                frfs.len()
-            )));
-        }
+    if let Some(c) = &coherences
+        && c.len() != frfs.len()
+    {
+        return Err(PyValueError::new_err(format!(
+            "{} coherences for {} frequency responses",
+            c.len(),
+            frfs.len()
+        )));
     }
     let mut estimates = Vec::with_capacity(frfs.len());
     for (i, h) in frfs.iter().enumerate() {

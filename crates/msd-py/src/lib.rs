@@ -19,7 +19,10 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
-    m.add("IdentificationError", py.get_type::<errors::IdentificationError>())?;
+    m.add(
+        "IdentificationError",
+        py.get_type::<errors::IdentificationError>(),
+    )?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fit::estimate, m)?)?;
     m.add_function(wrap_pyfunction!(fit::simulate, m)?)?;

@@ -16,7 +16,12 @@ use pyo3::types::{PyDict, PyList};
 const AXES: [&str; 4] = ["abscissa", "ordinate", "orddenom", "z_axis"];
 
 fn axis_of(f: &Function58, i: usize) -> &Axis {
-    [&f.abscissa_axis, &f.ordinate_axis, &f.denominator_axis, &f.z_axis][i]
+    [
+        &f.abscissa_axis,
+        &f.ordinate_axis,
+        &f.denominator_axis,
+        &f.z_axis,
+    ][i]
 }
 
 fn function_dict<'py>(py: Python<'py>, f: &Function58) -> PyResult<Bound<'py, PyDict>> {
@@ -26,7 +31,10 @@ fn function_dict<'py>(py: Python<'py>, f: &Function58) -> PyResult<Bound<'py, Py
         Encoding::Ascii => d.set_item("binary", 0)?,
         Encoding::Binary(order) => {
             d.set_item("binary", 1)?;
-            d.set_item("byte_ordering", if order == ByteOrder::Little { 1 } else { 2 })?;
+            d.set_item(
+                "byte_ordering",
+                if order == ByteOrder::Little { 1 } else { 2 },
+            )?;
             d.set_item("fp_format", 2)?;
         }
     }
@@ -151,7 +159,11 @@ pub fn uff_read<'py>(
         out.append(units_dict(py, u)?)?;
     }
     for (precision, kind) in [(Precision::Single, 15), (Precision::Double, 2411)] {
-        let nodes: Vec<&Node> = file.nodes.iter().filter(|n| n.precision == precision).collect();
+        let nodes: Vec<&Node> = file
+            .nodes
+            .iter()
+            .filter(|n| n.precision == precision)
+            .collect();
         if !nodes.is_empty() {
             out.append(nodes_dict(py, &nodes, kind)?)?;
         }
@@ -199,8 +211,13 @@ fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str) -> PyR
     }
 }
 
-fn required<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, kind: i64) -> PyResult<T> {
-    get(d, key)?.ok_or_else(|| PyKeyError::new_err(format!("dataset {kind} needs the field '{key}'")))
+fn required<'py, T: FromPyObjectOwned<'py>>(
+    d: &Bound<'py, PyDict>,
+    key: &str,
+    kind: i64,
+) -> PyResult<T> {
+    get(d, key)?
+        .ok_or_else(|| PyKeyError::new_err(format!("dataset {kind} needs the field '{key}'")))
 }
 
 fn function_from<'py>(d: &Bound<'py, PyDict>) -> PyResult<Function58> {
@@ -265,7 +282,11 @@ fn function_from<'py>(d: &Bound<'py, PyDict>) -> PyResult<Function58> {
     let binary: i64 = get(d, "binary")?.unwrap_or(0);
     f.encoding = if binary != 0 {
         let order: i64 = get(d, "byte_ordering")?.unwrap_or(1);
-        Encoding::Binary(if order == 2 { ByteOrder::Big } else { ByteOrder::Little })
+        Encoding::Binary(if order == 2 {
+            ByteOrder::Big
+        } else {
+            ByteOrder::Little
+        })
     } else {
         Encoding::Ascii
     };
@@ -296,7 +317,12 @@ fn function_from<'py>(d: &Bound<'py, PyDict>) -> PyResult<Function58> {
         }
     }
     let [a, o, den, z] = axes;
-    (f.abscissa_axis, f.ordinate_axis, f.denominator_axis, f.z_axis) = (a, o, den, z);
+    (
+        f.abscissa_axis,
+        f.ordinate_axis,
+        f.denominator_axis,
+        f.z_axis,
+    ) = (a, o, den, z);
     Ok(f)
 }
 
@@ -348,7 +374,9 @@ fn nodes_from<'py>(d: &Bound<'py, PyDict>, kind: i64, out: &mut Vec<Node>) -> Py
     let column = |key: &str| -> PyResult<Option<Vec<f64>>> {
         Ok(get::<PyReadonlyArray1<'py, f64>>(d, key)?.map(|a| a.as_array().to_vec()))
     };
-    let labels = column("node_nums")?.ok_or_else(|| PyKeyError::new_err(format!("dataset {kind} needs the field 'node_nums'")))?;
+    let labels = column("node_nums")?.ok_or_else(|| {
+        PyKeyError::new_err(format!("dataset {kind} needs the field 'node_nums'"))
+    })?;
     let n = labels.len();
     let or_zeros = |c: Option<Vec<f64>>, key: &str| -> PyResult<Vec<f64>> {
         let c = c.unwrap_or_else(|| vec![0.0; n]);
@@ -366,7 +394,11 @@ fn nodes_from<'py>(d: &Bound<'py, PyDict>, kind: i64, out: &mut Vec<Node>) -> Py
     let x = or_zeros(column("x")?, "x")?;
     let y = or_zeros(column("y")?, "y")?;
     let z = or_zeros(column("z")?, "z")?;
-    let precision = if kind == 15 { Precision::Single } else { Precision::Double };
+    let precision = if kind == 15 {
+        Precision::Single
+    } else {
+        Precision::Double
+    };
     for i in 0..n {
         let int = |v: f64, key: &str| -> PyResult<i64> {
             if v.fract() == 0.0 && v.abs() < 1e15 {

@@ -41,7 +41,13 @@ def test_pyuffs_files_read_by_msd_uff(root):
     compared = 0
     for path in files:
         ours = [d for d in msd.uff.read(path) if d["type"] == 58]
-        theirs = [d for d in pyuff_sets(path) if d["type"] == 58]
+        try:
+            theirs = [d for d in pyuff_sets(path) if d["type"] == 58]
+        except Exception:
+            # pyuff before 2.5 (the newest on Python 3.9 is 2.4) fails on some of the
+            # files pyuff 2.5.8 wrote; msd.uff reads them all.
+            assert pyuff.__version__ < "2.5", path
+            continue
         assert len(ours) == len(theirs), path
         for a, b in zip(ours, theirs):
             same_function(a, b)
