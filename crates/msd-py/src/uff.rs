@@ -4,13 +4,13 @@
 use crate::errors;
 use msd_signal::Complex64;
 use msd_uff::{
-    Abscissa, Axis, ByteOrder, Encoding, Function58, FunctionType, Header151, Node, Ordinate,
-    Precision, UffFile, Units164, WriteOptions,
+    Abscissa, Analysis55, Axis, ByteOrder, Data55, Encoding, Function58, FunctionType, Header151,
+    Node, Ordinate, Precision, UffFile, Units164, WriteOptions,
 };
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyComplex, PyDict, PyList};
 
 /// The prefixes pyuff gives the four axes of a dataset 58 (records 8–11).
 const AXES: [&str; 4] = ["abscissa", "ordinate", "orddenom", "z_axis"];
@@ -141,6 +141,86 @@ fn nodes_dict<'py>(py: Python<'py>, nodes: &[&Node], kind: i32) -> PyResult<Boun
     Ok(d)
 }
 
+/// Data at nodes (55) as pyuff's dict: the analysis's fields by its type, `r1`…`rN`.
+fn data55_dict<'py>(py: Python<'py>, d: &Data55) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("type", 55)?;
+    for (i, id) in d.ids.iter().enumerate() {
+        out.set_item(format!("id{}", i + 1), id)?;
+    }
+    out.set_item("model_type", d.model_type)?;
+    out.set_item("analysis_type", d.analysis.code())?;
+    out.set_item("data_ch", d.data_characteristic)?;
+    out.set_item("spec_data_type", d.specific_data_type)?;
+    out.set_item("data_type", if d.complex { 5 } else { 2 })?;
+    out.set_item("n_data_per_node", d.values_per_node)?;
+    let c = |(re, im): (f64, f64)| Complex64::new(re, im);
+    match &d.analysis {
+        Analysis55::NormalMode {
+            load_case,
+            mode,
+            frequency,
+            modal_mass,
+            viscous_damping,
+            hysteretic_damping,
+        } => {
+            out.set_item("load_case", load_case)?;
+            out.set_item("mode_n", mode)?;
+            out.set_item("freq", frequency)?;
+            out.set_item("modal_m", modal_mass)?;
+            out.set_item("modal_damp_vis", viscous_damping)?;
+            out.set_item("modal_damp_his", hysteretic_damping)?;
+        }
+        Analysis55::ComplexEigenvalue {
+            load_case,
+            mode,
+            eigenvalue,
+            modal_a,
+            modal_b,
+            ..
+        } => {
+            out.set_item("load_case", load_case)?;
+            out.set_item("mode_n", mode)?;
+            let z = |(re, im): (f64, f64)| PyComplex::from_doubles(py, re, im);
+            out.set_item("eig", z(*eigenvalue))?;
+            out.set_item("modal_a", z(*modal_a))?;
+            out.set_item("modal_b", z(*modal_b))?;
+        }
+        Analysis55::FrequencyResponse {
+            load_case,
+            frequency_step,
+            frequency,
+        } => {
+            out.set_item("load_case", load_case)?;
+            out.set_item("freq_step_n", frequency_step)?;
+            out.set_item("freq", frequency)?;
+        }
+        other => {
+            out.set_item("integers", other.integers())?;
+            out.set_item("reals", other.reals())?;
+        }
+    }
+    out.set_item("node_nums", PyArray1::from_slice(py, &d.nodes))?;
+    for k in 0..d.values_per_node {
+        let column = d
+            .values
+            .iter()
+            .map(|row| row.get(k).copied().unwrap_or((f64::NAN, 0.0)));
+        if d.complex {
+            out.set_item(
+                format!("r{}", k + 1),
+                PyArray1::from_vec(py, column.map(c).collect()),
+            )?;
+        } else {
+            out.set_item(
+                format!("r{}", k + 1),
+                PyArray1::from_vec(py, column.map(|v| v.0).collect()),
+            )?;
+        }
+    }
+    Ok(out)
+}
+
 /// uff_read(path)
 /// --
 ///
@@ -167,6 +247,9 @@ pub fn uff_read<'py>(
         if !nodes.is_empty() {
             out.append(nodes_dict(py, &nodes, kind)?)?;
         }
+    }
+    for d in &file.data_at_nodes {
+        out.append(data55_dict(py, d)?)?;
     }
     for f in &file.functions {
         out.append(function_dict(py, f)?)?;
@@ -423,6 +506,94 @@ fn nodes_from<'py>(d: &Bound<'py, PyDict>, kind: i64, out: &mut Vec<Node>) -> Py
     Ok(())
 }
 
+/// Data at nodes (55) from pyuff's dict (`_complex` set by the Python layer).
+fn data55_from<'py>(d: &Bound<'py, PyDict>) -> PyResult<Data55> {
+    let mut out = Data55::default();
+    for i in 0..5 {
+        if let Some(id) = get::<String>(d, &format!("id{}", i + 1))? {
+            out.ids[i] = id;
+        }
+    }
+    if let Some(v) = get(d, "model_type")? {
+        out.model_type = v;
+    }
+    if let Some(v) = get(d, "data_ch")? {
+        out.data_characteristic = v;
+    }
+    if let Some(v) = get(d, "spec_data_type")? {
+        out.specific_data_type = v;
+    }
+    let analysis_type: i32 = get(d, "analysis_type")?.unwrap_or(2);
+    let int = |key: &str| -> PyResult<i64> { Ok(get(d, key)?.unwrap_or(0)) };
+    let real = |key: &str| -> PyResult<f64> { Ok(get(d, key)?.unwrap_or(0.0)) };
+    let complex = |key: &str| -> PyResult<(f64, f64)> {
+        match d.get_item(key)? {
+            None => Ok((0.0, 0.0)),
+            Some(v) if v.is_none() => Ok((0.0, 0.0)),
+            Some(v) => match v.cast::<PyComplex>() {
+                Ok(c) => Ok((c.real(), c.imag())),
+                Err(_) => Ok((real(key)?, 0.0)),
+            },
+        }
+    };
+    let (integers, reals) = match analysis_type {
+        2 => (
+            vec![int("load_case")?, int("mode_n")?],
+            vec![
+                real("freq")?,
+                real("modal_m")?,
+                real("modal_damp_vis")?,
+                real("modal_damp_his")?,
+            ],
+        ),
+        3 | 7 => {
+            let (e, a, b) = (complex("eig")?, complex("modal_a")?, complex("modal_b")?);
+            (
+                vec![int("load_case")?, int("mode_n")?],
+                vec![e.0, e.1, a.0, a.1, b.0, b.1],
+            )
+        }
+        5 => (
+            vec![int("load_case")?, int("freq_step_n")?],
+            vec![real("freq")?],
+        ),
+        _ => (
+            get(d, "integers")?.unwrap_or_default(),
+            get(d, "reals")?.unwrap_or_default(),
+        ),
+    };
+    out.analysis = Analysis55::from_parameters(analysis_type, integers, reals);
+    let nodes: Vec<i64> = required(d, "node_nums", 55)?;
+    let is_complex: bool = required(d, "_complex", 55)?;
+    let per_node: usize = get(d, "n_data_per_node")?.unwrap_or(3);
+    let mut columns: Vec<Vec<(f64, f64)>> = Vec::with_capacity(per_node);
+    for k in 1..=per_node {
+        let key = format!("r{k}");
+        let column: Vec<(f64, f64)> = if is_complex {
+            let a: PyReadonlyArray1<'py, Complex64> = required(d, &key, 55)?;
+            a.as_array().iter().map(|c| (c.re, c.im)).collect()
+        } else {
+            let a: PyReadonlyArray1<'py, f64> = required(d, &key, 55)?;
+            a.as_array().iter().map(|v| (*v, 0.0)).collect()
+        };
+        if column.len() != nodes.len() {
+            return Err(PyValueError::new_err(format!(
+                "dataset 55 field '{key}' has {} values for {} nodes",
+                column.len(),
+                nodes.len()
+            )));
+        }
+        columns.push(column);
+    }
+    out.complex = is_complex;
+    out.values_per_node = per_node;
+    out.values = (0..nodes.len())
+        .map(|i| columns.iter().map(|c| c[i]).collect())
+        .collect();
+    out.nodes = nodes;
+    Ok(out)
+}
+
 /// uff_write(path, datasets, exact)
 /// --
 ///
@@ -444,9 +615,10 @@ pub fn uff_write<'py>(
             151 => file.header = Some(header_from(d)?),
             164 => file.units = Some(units_from(d)?),
             15 | 2411 => nodes_from(d, kind, &mut file.nodes)?,
+            55 => file.data_at_nodes.push(data55_from(d)?),
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "dataset #{i} has type {other}: msd.uff writes 58 (and 58b), 151, 164, 15 and 2411"
+                    "dataset #{i} has type {other}: msd.uff writes 58 (and 58b), 55, 151, 164, 15 and 2411"
                 )));
             }
         }

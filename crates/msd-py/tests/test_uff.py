@@ -150,3 +150,48 @@ def test_round_trip_exact_and_errors(tmp_path):
         msd.uff.write(tmp_path / "x.uff", [{"type": 99}])
     with pytest.raises(ValueError, match="ord_data_type"):
         msd.uff.write(tmp_path / "x.uff", [{"type": 58, "x": x, "data": data, "ord_data_type": 6}])
+
+
+def same_keys(ours, theirs):
+    """Every key pyuff gives has the same value in msd.uff's dict."""
+    for key, value in theirs.items():
+        assert key in ours, key
+        if isinstance(value, str):
+            assert ours[key].strip() == value.strip(), key
+        else:
+            np.testing.assert_array_equal(np.asarray(ours[key]), np.asarray(value), err_msg=key)
+
+
+@pytest.mark.parametrize("name", ["modes_real", "modes_complex"])
+def test_mode_shapes_55_read_as_pyuff_reads_them(root, name):
+    path = root / f"crates/msd-uff/fixtures/pyuff/{name}.uff"
+    ours = [d for d in msd.uff.read(path) if d["type"] == 55]
+    theirs = [d for d in pyuff_sets(path) if d["type"] == 55]
+    assert len(ours) == len(theirs) >= 2
+    for a, b in zip(ours, theirs):
+        same_keys(a, b)
+
+
+def test_mode_shapes_55_written_for_pyuff(tmp_path):
+    nodes = np.array([1, 2, 3, 10])
+    normal = {"type": 55, "id1": "mode 1", "analysis_type": 2, "mode_n": 1, "freq": 51.5, "modal_m": 6.3,
+              "modal_damp_vis": 0.0005, "node_nums": nodes, "r1": np.zeros(4), "r2": np.zeros(4),
+              "r3": np.array([1.0, 0.7, -0.2, 0.05])}
+    complex_ = {"type": 55, "analysis_type": 3, "mode_n": 2, "eig": complex(-0.3, 893.0),
+                "modal_a": complex(1.0, 0.1), "modal_b": complex(0.0, 0.0), "node_nums": nodes,
+                "r1": np.zeros(4, dtype=complex), "r2": np.zeros(4, dtype=complex),
+                "r3": np.array([1.0, 0.5 + 0.1j, -0.3j, 0.02])}
+    path = tmp_path / "shapes.uff"
+    msd.uff.write(path, [normal, complex_])
+    theirs = pyuff_sets(path)
+    ours = msd.uff.read(path)
+    assert [d["type"] for d in theirs] == [55, 55]
+    for a, b in zip(ours, theirs):
+        same_keys(a, b)
+    assert theirs[0]["freq"] == 51.5 and list(theirs[0]["node_nums"]) == [1, 2, 3, 10]
+    np.testing.assert_allclose(theirs[1]["r3"], complex_["r3"], rtol=1e-5)
+    assert theirs[1]["eig"] == complex(-0.3, 893.0)
+    with pytest.raises(ValueError, match="integers"):
+        msd.uff.write(path, [dict(normal, node_nums=[1.5, 2, 3, 4])])
+    with pytest.raises(ValueError, match="'r3' has 3 values for 4 nodes"):
+        msd.uff.write(path, [dict(normal, r3=np.ones(3))])

@@ -1,6 +1,6 @@
 """Universal File Format files (msd-uff): dataset 58 and 58b functions (FRFs, spectra,
-coherences, time records), the 151 header, the 164 units and the 15/2411 nodes, as dicts
-keyed as pyuff keys them, with NumPy arrays.
+coherences, time records), 55 data at nodes (mode shapes), the 151 header, the 164 units
+and the 15/2411 nodes, as dicts keyed as pyuff keys them, with NumPy arrays.
 
 `read(path)` returns a list of dicts like ``pyuff.UFF(path).read_sets()``; `write(path,
 datasets)` writes such dicts. Other datasets are skipped on reading (`read_skipped`
@@ -22,8 +22,8 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 
 def read(path: PathLike) -> List[Dict[str, Any]]:
-    """Read a UFF file: one dict per dataset (151, 164, the nodes of 15 or 2411, then
-    every 58/58b function), with pyuff's keys ('type', 'x', 'data', 'id1'…'id5',
+    """Read a UFF file: one dict per dataset (151, 164, the nodes of 15 or 2411, every
+    55, then every 58/58b function), with pyuff's keys ('type', 'x', 'data', 'id1'…'id5',
     'func_type', 'rsp_node', 'rsp_dir', 'ref_node', 'ref_dir', 'ord_data_type',
     'abscissa_spacing', 'binary', the four axes' '*_spec_data_type', '*_axis_lab', …).
     'data' is float64 for real and complex128 for complex functions.
@@ -93,9 +93,36 @@ def _nodes(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
     return out
 
 
+def _data55(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
+    """A dataset 55 dict normalised for the core: 'node_nums' as ints, 'r1'…'rN' as
+    float64 or complex128 (complex when any is)."""
+    out = dict(d)
+    if "node_nums" not in d:
+        raise KeyError(f"datasets[{i}] (type 55) needs the field 'node_nums'")
+    nodes = np.asarray(d["node_nums"])
+    if nodes.ndim != 1 or nodes.dtype.kind not in "iuf" or (nodes.size and np.any(nodes != np.round(nodes))):
+        raise ValueError(f"datasets[{i}]['node_nums']: expected a 1-D array of integers")
+    out["node_nums"] = [int(n) for n in nodes]
+    per_node = int(d.get("n_data_per_node") or (6 if "r4" in d else 3))
+    columns = []
+    for k in range(1, per_node + 1):
+        if f"r{k}" not in d:
+            raise KeyError(f"datasets[{i}] (type 55) needs the field 'r{k}'")
+        a = np.asarray(d[f"r{k}"])
+        if a.ndim != 1 or a.dtype.kind not in "iufc":
+            raise ValueError(f"datasets[{i}]['r{k}']: expected a 1-D array of numbers")
+        columns.append(a)
+    complex_ = any(a.dtype.kind == "c" for a in columns) or d.get("data_type") == 5
+    for k, a in enumerate(columns, 1):
+        out[f"r{k}"] = np.ascontiguousarray(a, dtype=np.complex128 if complex_ else np.float64)
+    out["n_data_per_node"] = per_node
+    out["_complex"] = complex_
+    return out
+
+
 def write(path: PathLike, datasets: Sequence[Mapping[str, Any]], *, exact: bool = False) -> None:
     """Write dataset dicts (as `read` returns them, or as written for pyuff) to a UFF
-    file: 151, 164, 15/2411, then 58 (58b when 'binary' is 1). Missing fields take the
+    file: 151, 164, 15/2411, 55, then 58 (58b when 'binary' is 1). Missing fields take the
     format's "unused" values; for a 58 only 'data' and the abscissa ('x', or
     'abscissa_min' and 'abscissa_inc') are needed; 'abscissa_spacing' (1 even, 0 uneven)
     is decided from 'x' when not given. `exact`: every ASCII number in 25 columns that
@@ -113,6 +140,8 @@ def write(path: PathLike, datasets: Sequence[Mapping[str, Any]], *, exact: bool 
             ready.append(_function(i, d))
         elif kind in (15, 2411):
             ready.append(_nodes(i, d))
+        elif kind == 55:
+            ready.append(_data55(i, d))
         else:
             ready.append(dict(d))
     _msd.uff_write(os.fspath(path), ready, bool(exact))
