@@ -3,8 +3,8 @@
 
 use crate::convert::{array, options, result_dict, vec_f64};
 use crate::errors;
-use msd_ident::ModalOptions;
 use msd_ident::frf::{Dof, SetMember};
+use msd_ident::{ModalOptions, OneModeOptions};
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, FrfOptions};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -204,4 +204,36 @@ pub fn modal_fit<'py>(
             Ok(dict)
         }
     }
+}
+
+/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, options_json)
+/// --
+///
+/// msd-ident's `fit_one_mode`: m, c, k (with fn and ζ) of one FRF with 95 % intervals.
+#[pyfunction]
+pub fn one_mode_fit<'py>(
+    py: Python<'py>,
+    frequency: PyReadonlyArray1<'py, f64>,
+    h: PyReadonlyArray1<'py, Complex64>,
+    coherence: Option<PyReadonlyArray1<'py, f64>>,
+    kind: &str,
+    exponential_decay: Option<f64>,
+    options_json: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts: OneModeOptions = options("one_mode_fit options", options_json)?;
+    let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
+    let h: Vec<Complex64> = h.as_array().iter().copied().collect();
+    let e = measured(
+        &vec_f64(&frequency),
+        h,
+        coherence.as_ref().map(vec_f64),
+        kind,
+        exponential_decay,
+    )?;
+    let fit = py
+        .detach(|| msd_ident::fit_one_mode(&e, &opts))
+        .map_err(errors::ident)?;
+    let dict = result_dict(py, &fit, &[])?;
+    dict.set_item("summary", fit.to_string())?;
+    Ok(dict)
 }

@@ -104,3 +104,42 @@ def test_a_force_without_power_is_refused(random_test):
     t, force, x = random_test
     with pytest.raises(ValueError):
         msd.frf(t, np.zeros_like(force), x)
+
+
+def test_one_mode_fit_equals_the_rust_run_of_the_stepped_sine_table(root, tmp_path):
+    results = msd.run(root / "configs/frf-table.toml", out=tmp_path / "table")
+    f, magnitude, phase = np.loadtxt(root / "configs/data/stepped-sine-table.csv", delimiter=",", skiprows=3).T
+    h = magnitude * np.exp(1j * np.deg2rad(phase))  # as msd-signal's from_magnitude_phase
+    fit = msd.one_mode_fit(f, h, weighting="relative")
+    rust = results["estimate"]
+    for name in ("mass", "damping", "stiffness", "natural_frequency_hz", "damping_ratio"):
+        ours = getattr(fit, name)
+        # equal to the bit on this machine; NumPy's exp and Rust's from_polar may round
+        # the table's H differently elsewhere
+        assert abs(ours.value / rust[name]["value"] - 1) < 1e-12, name
+        assert abs(ours.ci95[1] / rust[name]["ci95"][1] - 1) < 1e-9, name
+    assert "classroom estimate" in repr(fit) and "<table" in fit._repr_html_()
+
+
+def test_one_mode_fit_of_an_exact_receptance():
+    f = 0.25 + 0.0577 * np.arange(40)
+    w = 2 * np.pi * f
+    h = 1 / (120.0 - 2.5 * w**2 + 1j * 1.8 * w)
+    fit = msd.one_mode_fit(f, h)
+    assert abs(fit.mass.value - 2.5) < 1e-9 and abs(fit.stiffness.value - 120.0) < 1e-7
+    assert fit.parameters.damping == fit.damping.value
+    with pytest.raises(ValueError, match="unknown variant `weird`"):
+        msd.one_mode_fit(f, h, weighting="weird")
+    with pytest.raises(ValueError, match="frequenc"):
+        msd.one_mode_fit(f[::-1], h)
+
+
+def test_modal_fit_to_dict_round_trip(root):
+    f, h1, h2 = impact_frfs(root)
+    fit = msd.modal_fit(f, [h1, h2], kind="accelerance", dofs=[((1, 1), (1, 1)), ((1, 1), (2, 1))],
+                        band_hz=[10.0, 1000.0])
+    import json
+
+    back = msd.ModalFit.from_dict(json.loads(json.dumps(fit.to_dict())))
+    assert back == fit and back.modes[2].natural_frequency_hz == fit.modes[2].natural_frequency_hz
+    np.testing.assert_array_equal(back.modes[0].shape, fit.modes[0].shape)

@@ -4,7 +4,7 @@ mass–spring–damper from vibration test data, on NumPy arrays.
 Every computation runs in the Rust crates of msd-toolkit (msd-ident, msd-signal,
 msd-uff, msd-experiment) with the GIL released; this package only converts.
 
-Functions: `estimate`, `simulate`, `frf`, `modal_fit`, `fit_records`, `free_decay`,
+Functions: `estimate`, `simulate`, `frf`, `modal_fit`, `one_mode_fit`, `fit_records`, `free_decay`,
 `dynamometer`, `run`, `plan`, `design`, `paper_data`; the module `msd.uff` reads and
 writes Universal File Format files.
 
@@ -20,7 +20,7 @@ from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _msd
-from ._convert import options_json, rows, value_json, vector
+from ._convert import complex_vector, options_json, rows, value_json, vector
 from ._msd import IdentificationError
 from ._results import (
     Estimate,
@@ -28,6 +28,7 @@ from ._results import (
     Interval,
     ModalFit,
     Mode,
+    OneModeFit,
     Plant,
     RecordsFit,
     Result,
@@ -45,6 +46,7 @@ __all__ = [
     "Interval",
     "ModalFit",
     "Mode",
+    "OneModeFit",
     "Plant",
     "RecordsFit",
     "Result",
@@ -54,6 +56,7 @@ __all__ = [
     "simulate",
     "frf",
     "modal_fit",
+    "one_mode_fit",
     "fit_records",
     "free_decay",
     "dynamometer",
@@ -267,6 +270,53 @@ def modal_fit(
             None if exponential_decay is None else float(exponential_decay),
             pairs,
             options_json(options),
+        )
+    )
+
+
+def one_mode_fit(
+    frequencies: Any,
+    frf: Any = None,
+    *,
+    coherence: Any = None,
+    kind: Optional[str] = None,
+    exponential_decay: Optional[float] = None,
+    band_hz: Optional[Sequence[float]] = None,
+    weighting: Optional[str] = None,
+) -> OneModeFit:
+    """m, c, k (with fn, ζ and 95 % intervals) of a single mode's frequency response:
+    msd-ident's `fit_one_mode` (weighted Levenberg–Marquardt from Levy's linear start,
+    the classroom half-power estimates beside it).
+
+    `frequencies` (Hz) and `frf` (complex), or a `FrequencyResponse` from `msd.frf` alone;
+    `kind` "receptance" (default), "mobility" or "accelerance"; `band_hz` the band to fit;
+    `weighting` "coherence" (default), "uniform", "relative" or "variance".
+    """
+    if isinstance(frequencies, FrequencyResponse):
+        if frf is not None:
+            raise ValueError("frf: not expected with a FrequencyResponse (it holds the FRF)")
+        fr = frequencies
+        frequencies, frf = fr.frequency, fr.h
+        if coherence is None:
+            coherence = fr.coherence
+        kind = kind or fr.kind
+        if exponential_decay is None:
+            exponential_decay = fr.exponential_decay
+    if frf is None:
+        raise ValueError("frf: expected the complex frequency response")
+    opts: Dict[str, Any] = {}
+    if band_hz is not None:
+        opts["band_hz"] = list(band_hz)
+    if weighting is not None:
+        opts["weighting"] = weighting
+    return OneModeFit(
+        _msd.one_mode_fit(
+            vector("frequencies", frequencies),
+            complex_vector("frf", frf),
+            None if coherence is None else vector("coherence", coherence),
+            kind or "receptance",
+            None if exponential_decay is None else float(exponential_decay),
+            options_json(opts),
         )
     )
 

@@ -112,11 +112,8 @@ class Result:
         return type(other) is type(self) and self.to_dict() == other.to_dict()  # type: ignore[attr-defined]
 
 
-class Estimate(Result):
-    """`msd.estimate`'s result: m, c, k with intervals, fn, ζ, the fit and the
-    optimiser's counts; every field of msd-ident's `Estimate` in `data`."""
-
-    _arrays = ("model_output", "residuals")
+class _PlantIntervals(Result):
+    """m, c, k, fn and ζ with intervals from the result's `uncertainty`."""
 
     def _interval(self, name: str) -> Interval:
         return Interval.from_dict(self.data["uncertainty"][name])
@@ -145,6 +142,14 @@ class Estimate(Result):
     def damping_ratio(self) -> Interval:
         """Damping ratio ζ (delta method)."""
         return self._interval("damping_ratio")
+
+
+
+class Estimate(_PlantIntervals):
+    """`msd.estimate`'s result: m, c, k with intervals, fn, ζ, the fit and the
+    optimiser's counts; every field of msd-ident's `Estimate` in `data`."""
+
+    _arrays = ("model_output", "residuals")
 
     @property
     def parameters(self) -> Plant:
@@ -214,6 +219,27 @@ class Estimate(Result):
         ]
         rows += [("warning", w) for w in self.warnings]
         return _table(f"msd.estimate ({self.method})", rows)
+
+
+class OneModeFit(_PlantIntervals):
+    """`msd.one_mode_fit`'s result: m, c, k of one mode's FRF with intervals, fn, ζ, the
+    gain and the half-power estimates; every field of msd-ident's `OneModeFit` in `data`."""
+
+    @property
+    def parameters(self) -> Plant:
+        """The fitted plant."""
+        p = self.data["parameters"]
+        return Plant(p["mass"], p["damping"], p["stiffness"])
+
+    def _repr_html_(self) -> str:
+        rows = [
+            ("m", self.mass),
+            ("c", self.damping),
+            ("k", self.stiffness),
+            ("fn [Hz]", self.natural_frequency_hz),
+            ("ζ [-]", self.damping_ratio),
+        ]
+        return _table("msd.one_mode_fit", rows)
 
 
 class FrequencyResponse(Result):
