@@ -3,6 +3,8 @@
 import inspect
 import pathlib
 
+import pytest
+
 import msd
 from msd import _msd
 
@@ -32,3 +34,13 @@ def test_stubs_name_every_public_function():
     for name in msd.__all__:
         if name != "uff":
             assert f"def {name}(" in stub or f"class {name}" in stub or f"{name} as {name}" in stub, name
+
+
+def test_stubs_agree_with_the_runtime():
+    """mypy's stubtest: every stub's signature matches the installed package's."""
+    pytest.importorskip("mypy")
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-m", "mypy.stubtest", "msd"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr

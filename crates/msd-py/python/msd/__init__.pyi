@@ -1,4 +1,5 @@
 import os
+from dataclasses import dataclass
 from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -9,25 +10,32 @@ from ._msd import IdentificationError as IdentificationError
 
 __version__: str
 
-ArrayLike = npt.ArrayLike
-F64 = npt.NDArray[np.float64]
-PathLike = Union[str, "os.PathLike[str]"]
+__all__ = [
+    "IdentificationError", "Estimate", "FrequencyResponse", "Interval", "ModalFit", "Mode",
+    "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "estimate",
+    "simulate", "frf", "modal_fit", "one_mode_fit", "fit_records", "free_decay", "dynamometer",
+    "run", "plan", "design", "paper_data", "uff",
+]
 
+_ArrayLike = npt.ArrayLike
+_F64 = npt.NDArray[np.float64]
+_PathLike = Union[str, "os.PathLike[str]"]
+
+@dataclass(frozen=True)
 class Interval:
     value: float
     standard_error: float
     ci95: Tuple[float, float]
-    def __init__(self, value: float, standard_error: float, ci95: Tuple[float, float]) -> None: ...
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Interval: ...
     def contains(self, x: float) -> bool: ...
     def to_dict(self) -> Dict[str, Any]: ...
 
+@dataclass(frozen=True)
 class Plant:
     mass: float
     damping: float
     stiffness: float
-    def __init__(self, mass: float, damping: float, stiffness: float) -> None: ...
     def to_dict(self) -> Dict[str, float]: ...
 
 PlantLike = Union[Plant, Mapping[str, float], Sequence[float]]
@@ -55,9 +63,9 @@ class Estimate(Result):
     @property
     def parameters(self) -> Plant: ...
     @property
-    def model_output(self) -> F64: ...
+    def model_output(self) -> _F64: ...
     @property
-    def residuals(self) -> F64: ...
+    def residuals(self) -> _F64: ...
     @property
     def fit(self) -> Dict[str, Any]: ...
     @property
@@ -65,7 +73,7 @@ class Estimate(Result):
     @property
     def converged(self) -> bool: ...
     @property
-    def covariance(self) -> F64: ...
+    def covariance(self) -> _F64: ...
     @property
     def warnings(self) -> List[str]: ...
     @property
@@ -93,25 +101,26 @@ class OneModeFit(Result):
 
 class FrequencyResponse(Result):
     @property
-    def frequency(self) -> F64: ...
+    def frequency(self) -> _F64: ...
     @property
     def h(self) -> npt.NDArray[np.complex128]: ...
     @property
-    def coherence(self) -> F64: ...
+    def coherence(self) -> _F64: ...
     @property
     def kind(self) -> str: ...
     @property
     def exponential_decay(self) -> Optional[float]: ...
     def __iter__(self) -> Iterator[np.ndarray]: ...
 
+@dataclass(frozen=True)
 class Mode:
     natural_frequency_hz: Interval
     damping_ratio: Interval
     stable_orders: int
-    modal_constant: Optional[complex]
-    shape: Optional[npt.NDArray[np.complex128]]
-    shape_dofs: Optional[List[Tuple[int, int]]]
-    modal_mass: Optional[float]
+    modal_constant: Optional[complex] = ...
+    shape: Optional[npt.NDArray[np.complex128]] = ...
+    shape_dofs: Optional[List[Tuple[int, int]]] = ...
+    modal_mass: Optional[float] = ...
 
 class ModalFit(Result):
     @property
@@ -119,7 +128,7 @@ class ModalFit(Result):
     @property
     def modes(self) -> List[Mode]: ...
     @property
-    def mac(self) -> Optional[F64]: ...
+    def mac(self) -> Optional[_F64]: ...
     def _repr_html_(self) -> str: ...
 
 class SetupFit(Result):
@@ -140,20 +149,21 @@ class RecordsFit(SetupFit):
 class RunResults(Dict[str, Any]):
     summary: str
     out_dir: str
+    def __init__(self, results: Dict[str, Any], summary: str, out_dir: str) -> None: ...
 
-def estimate(t: ArrayLike, force: ArrayLike, displacement: ArrayLike, *, preset: str = ..., **options: Any) -> Estimate: ...
+def estimate(t: _ArrayLike, force: _ArrayLike, displacement: _ArrayLike, *, preset: str = ..., **options: Any) -> Estimate: ...
 def simulate(
     plant: PlantLike,
-    t: ArrayLike,
-    force: ArrayLike,
+    t: _ArrayLike,
+    force: _ArrayLike,
     *,
     initial_state: Sequence[float] = ...,
     backend: Union[str, Dict[str, Any]] = ...,
-) -> F64: ...
+) -> _F64: ...
 def frf(
-    t: ArrayLike,
-    force: ArrayLike,
-    response: ArrayLike,
+    t: _ArrayLike,
+    force: _ArrayLike,
+    response: _ArrayLike,
     estimator: str = ...,
     *,
     kind: str = ...,
@@ -164,7 +174,7 @@ def frf(
     impact: Optional[Dict[str, Optional[float]]] = ...,
 ) -> FrequencyResponse: ...
 def modal_fit(
-    frequencies: Union[ArrayLike, FrequencyResponse],
+    frequencies: Union[_ArrayLike, FrequencyResponse],
     frfs: Any = ...,
     *,
     coherence: Any = ...,
@@ -174,7 +184,7 @@ def modal_fit(
     **options: Any,
 ) -> ModalFit: ...
 def one_mode_fit(
-    frequencies: Union[ArrayLike, FrequencyResponse],
+    frequencies: Union[_ArrayLike, FrequencyResponse],
     frf: Any = ...,
     *,
     coherence: Any = ...,
@@ -191,15 +201,15 @@ def fit_records(
     **options: Any,
 ) -> RecordsFit: ...
 def free_decay(
-    t: ArrayLike,
-    response: ArrayLike,
+    t: _ArrayLike,
+    response: _ArrayLike,
     *,
     quantity: str = ...,
     known_mass: Optional[float] = ...,
     known_stiffness: Optional[float] = ...,
 ) -> SetupFit: ...
 def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> SetupFit: ...
-def run(config: PathLike, out: Optional[PathLike] = ..., seed: Optional[int] = ..., threads: Optional[int] = ...) -> RunResults: ...
-def plan(config: PathLike, target: float = ..., verify: int = ...) -> SetupFit: ...
-def design(config: PathLike, out: Optional[PathLike] = ..., verify: int = ..., write: bool = ...) -> SetupFit: ...
-def paper_data(seed: int = ...) -> Dict[str, Dict[str, F64]]: ...
+def run(config: _PathLike, out: Optional[_PathLike] = ..., seed: Optional[int] = ..., threads: Optional[int] = ...) -> RunResults: ...
+def plan(config: _PathLike, target: float = ..., verify: int = ...) -> SetupFit: ...
+def design(config: _PathLike, out: Optional[_PathLike] = ..., verify: int = ..., write: bool = ...) -> SetupFit: ...
+def paper_data(seed: int = ...) -> Dict[str, Dict[str, _F64]]: ...

@@ -6,39 +6,44 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+__all__ = [
+    "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_records",
+    "free_decay", "frf", "modal_fit", "one_mode_fit", "paper_data", "plan", "run", "simulate",
+    "uff_read", "uff_write",
+]
 
 class IdentificationError(ValueError):
     """The data cannot identify what was asked."""
 
-F64 = npt.NDArray[np.float64]
-C128 = npt.NDArray[np.complex128]
+_F64 = npt.NDArray[np.float64]
+_C128 = npt.NDArray[np.complex128]
 
-def estimate(t: F64, force: F64, displacement: F64, preset: str, options_json: str) -> Dict[str, Any]: ...
+def estimate(t: _F64, force: _F64, displacement: _F64, preset: str, options_json: str) -> Dict[str, Any]: ...
 def simulate(
-    mass: float, damping: float, stiffness: float, t: F64, force: F64, x0: float, v0: float, backend_json: str
-) -> F64: ...
-def paper_data(seed: int) -> Dict[str, Dict[str, F64]]: ...
+    mass: float, damping: float, stiffness: float, t: _F64, force: _F64, x0: float, v0: float, backend_json: str
+) -> _F64: ...
+def paper_data(seed: int) -> Dict[str, Dict[str, _F64]]: ...
 def fit_records(
-    records: Sequence[Tuple[str, F64, Optional[F64], Sequence[Tuple[str, str, str, F64]]]], options_json: str
+    records: Sequence[Tuple[str, _F64, Optional[_F64], Sequence[Tuple[str, str, str, _F64]]]], options_json: str
 ) -> Dict[str, Any]: ...
-def free_decay(t: F64, response: F64, options_json: str) -> Dict[str, Any]: ...
+def free_decay(t: _F64, response: _F64, options_json: str) -> Dict[str, Any]: ...
 def dynamometer(
-    conditions: Sequence[Tuple[str, float, F64, F64, Optional[float]]], options_json: str
+    conditions: Sequence[Tuple[str, float, _F64, _F64, Optional[float]]], options_json: str
 ) -> Dict[str, Any]: ...
-def frf(t: F64, forces: Sequence[F64], responses: Sequence[F64], options_json: str) -> Dict[str, Any]: ...
+def frf(t: _F64, forces: Sequence[_F64], responses: Sequence[_F64], options_json: str) -> Dict[str, Any]: ...
 def modal_fit(
-    frequency: F64,
-    frfs: Sequence[C128],
-    coherences: Optional[Sequence[F64]],
+    frequency: _F64,
+    frfs: Sequence[_C128],
+    coherences: Optional[Sequence[_F64]],
     kind: str,
     exponential_decay: Optional[float],
     dofs: Optional[Sequence[Tuple[Tuple[int, int], Tuple[int, int]]]],
     options_json: str,
 ) -> Dict[str, Any]: ...
 def one_mode_fit(
-    frequency: F64,
-    h: C128,
-    coherence: Optional[F64],
+    frequency: _F64,
+    h: _C128,
+    coherence: Optional[_F64],
     kind: str,
     exponential_decay: Optional[float],
     options_json: str,
