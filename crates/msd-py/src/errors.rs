@@ -6,7 +6,7 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::{PyErr, create_exception};
 
 create_exception!(
-    _msd,
+    msd,
     IdentificationError,
     PyValueError,
     "The data cannot identify what was asked (parameters not identifiable, too few \

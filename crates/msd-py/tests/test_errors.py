@@ -125,3 +125,12 @@ def test_unfittable_time_record_raises_identification_error():
     rng = np.random.default_rng(0)
     with pytest.raises(msd.IdentificationError):
         msd.estimate(t, np.zeros_like(t), rng.normal(size=t.size), preset="fast")
+
+
+def test_identification_error_is_msds():
+    assert msd.IdentificationError.__module__ == "msd"
+    assert msd.IdentificationError.__doc__ and "ValueError" in msd.IdentificationError.__doc__
+    import pickle
+
+    e = pickle.loads(pickle.dumps(msd.IdentificationError("not identifiable")))
+    assert isinstance(e, msd.IdentificationError) and str(e) == "not identifiable"
