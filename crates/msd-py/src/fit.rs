@@ -234,11 +234,12 @@ pub fn free_decay<'py>(
     Ok(dict)
 }
 
-/// One test-machine condition as the Python layer passes it: name, dt, displacement,
-/// force, frequency in Hz or None.
+/// One test-machine condition as the Python layer passes it: name, dt or time stamps
+/// (checked uniform), displacement, force, frequency in Hz or None.
 type PyCondition<'py> = (
     String,
-    f64,
+    Option<f64>,
+    Option<PyReadonlyArray1<'py, f64>>,
     PyReadonlyArray1<'py, f64>,
     PyReadonlyArray1<'py, f64>,
     Option<f64>,
@@ -247,8 +248,8 @@ type PyCondition<'py> = (
 /// dynamometer(conditions, options_json)
 /// --
 ///
-/// msd-ident's `dynamometer`: conditions as (name, dt, displacement, force, frequency_hz
-/// or None).
+/// msd-ident's `dynamometer`: conditions as (name, dt or None, t or None, displacement,
+/// force, frequency_hz or None).
 #[pyfunction]
 pub fn dynamometer<'py>(
     py: Python<'py>,
@@ -256,16 +257,28 @@ pub fn dynamometer<'py>(
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: DynamometerOptions = options("dynamometer options", options_json)?;
-    let built: Vec<Condition> = conditions
-        .iter()
-        .map(|(name, dt, x, f, hz)| Condition {
+    let mut built = Vec::with_capacity(conditions.len());
+    for (name, dt, t, x, f, hz) in &conditions {
+        let dt = match (dt, t) {
+            (Some(dt), None) => *dt,
+            (None, Some(t)) => {
+                let t = vec_f64(t);
+                excitation(name, &t, vec![0.0; t.len()])?.dt()
+            }
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "condition `{name}`: give the sampling interval dt or the time stamps t, one of them"
+                )));
+            }
+        };
+        built.push(Condition {
             name: name.clone(),
-            dt: *dt,
+            dt,
             displacement: vec_f64(x),
             force: vec_f64(f),
             frequency_hz: *hz,
-        })
-        .collect();
+        });
+    }
     let fit = py
         .detach(|| msd_ident::dynamometer(&built, &opts))
         .map_err(errors::ident)?;

@@ -86,3 +86,9 @@ def test_dynamometer_equals_the_rust_machine_run(root, tmp_path):
     assert fit.data["best"] == results["dynamometer"]["best"]
     with pytest.raises(ValueError, match="give 'dt' or 't'"):
         msd.dynamometer([{"displacement": [0.0], "force": [0.0]}])
+    bad = dict(conditions[0], t=conditions[0]["t"] ** 1.01)
+    with pytest.raises(ValueError, match="time stamps are not uniform"):
+        msd.dynamometer([bad])
+    by_dt = [dict({k: v for k, v in c.items() if k != "t"}, dt=0.001) for c in conditions]
+    c_eq = msd.dynamometer(by_dt).data["conditions"][0]["equivalent_damping"]
+    assert c_eq == pytest.approx(fit.data["conditions"][0]["equivalent_damping"], rel=1e-12)

@@ -404,20 +404,16 @@ def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> Setu
     """
     built = []
     for i, c in enumerate(conditions):
-        if "dt" in c:
-            dt = float(c["dt"])
-        elif "t" in c:
-            t = vector(f"conditions[{i}]['t']", c["t"])
-            if len(t) < 2:
-                raise ValueError(f"conditions[{i}]['t']: expected at least 2 time stamps")
-            dt = float((t[-1] - t[0]) / (len(t) - 1))
-        else:
-            raise ValueError(f"conditions[{i}]: give 'dt' or 't'")
+        if not isinstance(c, Mapping):
+            raise ValueError(f"conditions[{i}]: expected a dict with the displacement, the force and dt or t")
+        if ("dt" in c) == ("t" in c):
+            raise ValueError(f"conditions[{i}]: give 'dt' or 't' (one of them)")
         hz = c.get("frequency_hz")
         built.append(
             (
                 str(c.get("name", f"condition {i + 1}")),
-                dt,
+                float(c["dt"]) if "dt" in c else None,
+                vector(f"conditions[{i}]['t']", c["t"]) if "t" in c else None,
                 vector(f"conditions[{i}]['displacement']", c.get("displacement")),
                 vector(f"conditions[{i}]['force']", c.get("force")),
                 None if hz is None else float(hz),
