@@ -1,4 +1,4 @@
-//! Time-domain fits and simulation: msd-ident's `estimate`, `simulate`, `fit_records`,
+//! Time-domain fits and simulation: msd-ident's `estimate`, `simulate`, `validate_model`, `fit_records`,
 //! `free_decay`, `dynamometer`, and the paper's synthetic data.
 
 use crate::convert::{array, merged, options, result_dict, vec_f64};
@@ -6,7 +6,7 @@ use crate::errors;
 use msd_ident::dynamometer::Condition;
 use msd_ident::{
     Backend, Channel, DataSet, DynamometerOptions, EstimationOptions, Excitation, FreeDecayOptions,
-    InitialState, PaperExperiment, Parameters, Record, RecordsOptions,
+    InitialState, PaperExperiment, Parameters, Record, RecordsOptions, ValidationOptions,
 };
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -120,6 +120,41 @@ pub fn simulate<'py>(
         .detach(|| msd_ident::simulate(&parameters, &input, initial, &backend))
         .map_err(errors::ident)?;
     Ok(array(py, out))
+}
+
+/// validate(mass, damping, stiffness, t, force, displacement, options_json)
+/// --
+///
+/// msd-ident's `validate_model`: the plant's prediction of fresh data, its fit and the
+/// residual analysis (`model_output` and `residuals` as arrays, `summary` the display).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn validate<'py>(
+    py: Python<'py>,
+    mass: f64,
+    damping: f64,
+    stiffness: f64,
+    t: PyReadonlyArray1<'py, f64>,
+    force: PyReadonlyArray1<'py, f64>,
+    displacement: PyReadonlyArray1<'py, f64>,
+    options_json: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let parameters = Parameters::new(mass, damping, stiffness).map_err(errors::ident)?;
+    let mut value: Value = serde_json::from_str(options_json).map_err(errors::value)?;
+    if let Some(b) = value.get_mut("backend") {
+        *b = backend_value(b.take())?;
+    }
+    let opts: ValidationOptions = options("validation options", &value.to_string())?;
+    let (t, force, x) = (vec_f64(&t), vec_f64(&force), vec_f64(&displacement));
+    let validation = py
+        .detach(|| {
+            let data = DataSet::from_columns("validation", &t, force, x)?;
+            msd_ident::validate_model(&parameters, &data, &opts)
+        })
+        .map_err(errors::ident)?;
+    let dict = result_dict(py, &validation, &["model_output", "residuals"])?;
+    dict.set_item("summary", validation.to_string())?;
+    Ok(dict)
 }
 
 /// paper_data(seed)

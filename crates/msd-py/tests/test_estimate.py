@@ -68,6 +68,15 @@ def test_estimate_equals_the_rust_run_bit_for_bit(tmp_path, paper, estimation, p
     assert fit.evaluations == rust["evaluations"]
     assert fit.method == rust["method"]
     assert fit.converged and rust["converged"]
+    # the validation stage: the estimate's prediction of the second record
+    start, end = results["data"]["source"]["validation_range"]
+    validation = msd.validate(
+        fit.parameters, t[start:end], force[start:end], x[start:end], backend=results["validation"]["backend"]
+    )
+    for key in ("r2", "fit_percent", "residual_rms"):
+        assert validation.fit[key] == results["validation"][key], key
+    assert validation.residual_analysis["ljung_box"]["q"] == results["validation"]["residuals"]["ljung_box"]["q"]
+    assert "validation on" in repr(validation)
 
 
 def test_paper_preset_is_the_papers_method(ident):

@@ -48,6 +48,7 @@ def test_time_domain_functions(t_name, a_name):
     survives(msd.estimate, t, a, a)
     survives(msd.estimate, t, a, np.sin(t), preset="paper", nelder_mead={"max_iter": 5})
     survives(msd.simulate, (1.0, 0.1, 10.0), t, a)
+    survives(msd.validate, (1.0, 0.1, 10.0), t, a, a)
     survives(msd.simulate, (1e300, 1e-300, 1e300), t, a, backend="ode45")
     survives(msd.frf, t, a, a)
     survives(msd.frf, t, a, a, segment_length=2, impact={})

@@ -4,7 +4,7 @@ mass–spring–damper from vibration test data, on NumPy arrays.
 Every computation runs in the Rust crates of msd-toolkit (msd-ident, msd-signal,
 msd-uff, msd-experiment) with the GIL released; this package only converts.
 
-Functions: `estimate`, `simulate`, `frf`, `modal_fit`, `one_mode_fit`, `fit_records`, `free_decay`,
+Functions: `estimate`, `simulate`, `validate`, `frf`, `modal_fit`, `one_mode_fit`, `fit_records`, `free_decay`,
 `dynamometer`, `run`, `plan`, `design`, `paper_data`; the module `msd.uff` reads and
 writes Universal File Format files.
 
@@ -34,6 +34,7 @@ from ._results import (
     Result,
     RunResults,
     SetupFit,
+    Validation,
 )
 from . import uff
 
@@ -52,8 +53,10 @@ __all__ = [
     "Result",
     "RunResults",
     "SetupFit",
+    "Validation",
     "estimate",
     "simulate",
+    "validate",
     "frf",
     "modal_fit",
     "one_mode_fit",
@@ -169,6 +172,32 @@ def simulate(
     return _msd.simulate(
         p.mass, p.damping, p.stiffness, vector("t", t), vector("force", force), x0, v0,
         value_json("backend", backend),
+    )
+
+
+def validate(
+    plant: PlantLike,
+    t: Any,
+    force: Any,
+    displacement: Any,
+    **options: Any,
+) -> Validation:
+    """How well `plant` (e.g. ``fit.parameters``) predicts fresh data: the simulated
+    displacement, R² and fit %, and the residual analysis (Ljung–Box whiteness and the
+    residuals' correlation with the input, with verdicts in words), as msd-ident's
+    `validate_model`.
+
+    `**options`: msd-ident's ``ValidationOptions``: ``initial_state`` ({"displacement",
+    "velocity"}), ``offset``, ``backend`` ("exact", "ode45" or a dict), ``residuals``
+    ({"max_lag", "confidence"}).
+    """
+    p = _plant(plant)
+    return Validation(
+        _msd.validate(
+            p.mass, p.damping, p.stiffness,
+            vector("t", t), vector("force", force), vector("displacement", displacement),
+            options_json(options),
+        )
     )
 
 

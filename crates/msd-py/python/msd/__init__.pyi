@@ -12,8 +12,8 @@ __version__: str
 
 __all__ = [
     "IdentificationError", "Estimate", "FrequencyResponse", "Interval", "ModalFit", "Mode",
-    "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "estimate",
-    "simulate", "frf", "modal_fit", "one_mode_fit", "fit_records", "free_decay", "dynamometer",
+    "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
+    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "fit_records", "free_decay", "dynamometer",
     "run", "plan", "design", "paper_data", "uff",
 ]
 
@@ -82,6 +82,19 @@ class Estimate(Result):
     def iterations(self) -> int: ...
     @property
     def evaluations(self) -> int: ...
+    def _repr_html_(self) -> str: ...
+
+class Validation(Result):
+    @property
+    def model_output(self) -> _F64: ...
+    @property
+    def residuals(self) -> _F64: ...
+    @property
+    def r_squared(self) -> float: ...
+    @property
+    def fit(self) -> Dict[str, Any]: ...
+    @property
+    def residual_analysis(self) -> Dict[str, Any]: ...
     def _repr_html_(self) -> str: ...
 
 class OneModeFit(Result):
@@ -160,6 +173,7 @@ def simulate(
     initial_state: Sequence[float] = ...,
     backend: Union[str, Dict[str, Any]] = ...,
 ) -> _F64: ...
+def validate(plant: PlantLike, t: _ArrayLike, force: _ArrayLike, displacement: _ArrayLike, **options: Any) -> Validation: ...
 def frf(
     t: _ArrayLike,
     force: _ArrayLike,

@@ -9,7 +9,7 @@ __version__: str
 __all__ = [
     "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_records",
     "free_decay", "frf", "modal_fit", "one_mode_fit", "paper_data", "plan", "run", "simulate",
-    "uff_read", "uff_write",
+    "uff_read", "uff_write", "validate",
 ]
 
 class IdentificationError(ValueError):
@@ -22,6 +22,9 @@ def estimate(t: _F64, force: _F64, displacement: _F64, preset: str, options_json
 def simulate(
     mass: float, damping: float, stiffness: float, t: _F64, force: _F64, x0: float, v0: float, backend_json: str
 ) -> _F64: ...
+def validate(
+    mass: float, damping: float, stiffness: float, t: _F64, force: _F64, displacement: _F64, options_json: str
+) -> Dict[str, Any]: ...
 def paper_data(seed: int) -> Dict[str, Dict[str, _F64]]: ...
 def fit_records(
     records: Sequence[Tuple[str, _F64, Optional[_F64], Sequence[Tuple[str, str, str, _F64]]]], options_json: str

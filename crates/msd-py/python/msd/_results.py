@@ -221,6 +221,42 @@ class Estimate(_PlantIntervals):
         return _table(f"msd.estimate ({self.method})", rows)
 
 
+class Validation(Result):
+    """`msd.validate`'s result: the model's prediction of fresh data, its fit (R², fit %)
+    and the residual analysis (Ljung–Box whiteness, correlation with the input); every
+    field of msd-ident's `Validation` in `data`."""
+
+    _arrays = ("model_output", "residuals")
+
+    @property
+    def model_output(self) -> np.ndarray:
+        """The model's prediction of the data."""
+        return self.data["model_output"]
+
+    @property
+    def residuals(self) -> np.ndarray:
+        """Measured minus predicted."""
+        return self.data["residuals"]
+
+    @property
+    def r_squared(self) -> float:
+        """R² of the prediction."""
+        return self.data["fit"]["r2"]
+
+    @property
+    def fit(self) -> Dict[str, Any]:
+        """Fit metrics (r2, fit_percent, residual_rms, sse, samples)."""
+        return self.data["fit"]
+
+    @property
+    def residual_analysis(self) -> Dict[str, Any]:
+        """Ljung–Box test, residual–input correlation and the verdicts in words."""
+        return self.data["residual_analysis"]
+
+    def _repr_html_(self) -> str:
+        return f"<pre>{html.escape(self.summary)}</pre>"
+
+
 class OneModeFit(_PlantIntervals):
     """`msd.one_mode_fit`'s result: m, c, k of one mode's FRF with intervals, fn, ζ, the
     gain and the half-power estimates; every field of msd-ident's `OneModeFit` in `data`."""
