@@ -40,6 +40,7 @@ def test_frf_result_object(random_test):
     assert r.h.dtype == np.complex128 and r.frequency.shape == r.h.shape == r.coherence.shape
     k = np.argmin(np.abs(r.frequency - 1.1027))
     assert abs(abs(r.h[k]) * 1.8 * 2 * np.pi * 1.1027 - 1) < 0.2  # |H| ≈ 1/(c ω) at resonance
+    assert "<table" in r._repr_html_() and "receptance" in r._repr_html_()
     back = msd.FrequencyResponse.from_dict(r.to_dict())
     np.testing.assert_array_equal(back.h, r.h)
     # two records averaged, as a 2-D array

@@ -48,6 +48,7 @@ def test_run_writes_the_folder_and_takes_seed_and_threads(root, tmp_path):
     for name in ("report.html", "report.md", "results.json", ".msd-results", "identification.csv"):
         assert (tmp_path / "fast" / name).exists(), name
     assert "experiment `paper-fast`" in results.summary
+    assert "<pre>" in results._repr_html_() and str(tmp_path / "fast") in results._repr_html_()
     other = msd.run(root / "configs/paper-fast.toml", out=tmp_path / "fast", seed=6)
     assert other["estimate"]["mass"]["value"] != results["estimate"]["mass"]["value"]
 

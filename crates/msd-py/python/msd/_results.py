@@ -318,6 +318,17 @@ class FrequencyResponse(Result):
     def __iter__(self) -> Iterator[np.ndarray]:
         return iter((self.frequency, self.h, self.coherence))
 
+    def _repr_html_(self) -> str:
+        d = self.data
+        rows = [
+            ("kind", d["kind"]),
+            ("lines", f"{len(d['frequency'])}"),
+            ("averages", d["averages"]),
+            ("exponential window τ [s]", d["exponential_decay"]),
+            ("lowest coherence", f"{float(np.min(d['coherence'])):.4g}" if len(d["coherence"]) else "–"),
+        ]
+        return _table(html.escape(repr(self)), rows)
+
     def __repr__(self) -> str:
         d = self.data
         return (
@@ -434,3 +445,6 @@ class RunResults(dict):
         super().__init__(results)
         self.summary = summary
         self.out_dir = out_dir
+
+    def _repr_html_(self) -> str:
+        return f"<pre>{html.escape(self.summary)}</pre><p>written to <code>{html.escape(self.out_dir)}</code></p>"
