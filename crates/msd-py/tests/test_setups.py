@@ -31,7 +31,8 @@ def test_fit_records_equals_the_rust_setup_run(free_decay_run):
         assert ours.value == rust[name]["value"], name
         assert list(ours.ci95) == rust[name]["ci95"], name
     assert fit.mass.value == 2.5 and fit.mass.standard_error == 0.0
-    assert "free decay" in repr(fit).lower() or "c" in repr(fit)
+    page = fit._repr_html_()
+    assert page.startswith("<table") and "c [N·s/m]" in page and f"{fit.damping.value:.6g}" in page
     assert json.loads(json.dumps(fit.to_dict()))["damping"]["value"] == fit.damping.value
 
 

@@ -433,6 +433,19 @@ class RecordsFit(SetupFit):
         """Damping ratio."""
         return self._interval("damping_ratio")
 
+    def _repr_html_(self) -> str:
+        rows: List[Tuple[str, Any]] = []
+        for label, name in (
+            ("m [kg]", "mass"),
+            ("c [N·s/m]", "damping"),
+            ("k [N/m]", "stiffness"),
+            ("fn [Hz]", "natural_frequency_hz"),
+            ("ζ [-]", "damping_ratio"),
+        ):
+            value = self._interval(name)
+            rows.append((label, value if value is not None else "not identifiable by this setup"))
+        return _table(f"msd.fit_records ({self.data.get('drive', '')})", rows)
+
 
 class RunResults(dict):
     """The `results.json` content of a run (a dict), with `summary` (what the command
