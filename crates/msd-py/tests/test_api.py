@@ -36,11 +36,18 @@ def test_stubs_name_every_public_function():
             assert f"def {name}(" in stub or f"class {name}" in stub or f"{name} as {name}" in stub, name
 
 
-def test_stubs_agree_with_the_runtime():
-    """mypy's stubtest: every stub's signature matches the installed package's."""
+def test_stubs_agree_with_the_runtime(tmp_path):
+    """mypy's stubtest: every stub's signature matches the installed package's. The
+    private modules have no stubs of their own (their public names are checked through
+    `msd`'s stub); on Python 3.9 stubtest misreads their `typing` imports."""
     pytest.importorskip("mypy")
     import subprocess
     import sys
 
-    done = subprocess.run([sys.executable, "-m", "mypy.stubtest", "msd"], capture_output=True, text=True)
+    allow = tmp_path / "allowlist.txt"
+    allow.write_text("msd\\._convert\\..*\nmsd\\._results\\..*\n")
+    done = subprocess.run(
+        [sys.executable, "-m", "mypy.stubtest", "msd", "--allowlist", str(allow), "--ignore-unused-allowlist"],
+        capture_output=True, text=True,
+    )
     assert done.returncode == 0, done.stdout + done.stderr
