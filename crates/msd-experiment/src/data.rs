@@ -119,12 +119,7 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
     })?;
     let time = config.time.ok_or_else(|| missing("time"))?;
     let noise = config.noise.ok_or_else(|| missing("noise"))?;
-    let id_input = config
-        .identification
-        .as_ref()
-        .ok_or_else(|| missing("identification"))?
-        .input
-        .clone();
+    let id_exc = identification_excitation(config, config_path)?;
     let val_input = config
         .validation
         .input
@@ -136,8 +131,6 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
             ExperimentError::config(config_path, format!("{field}: {e}"))
         }
     };
-    let id_exc = Excitation::from_signal(id_input, time.start, time.dt, n)
-        .map_err(bad("identification.input"))?;
     let val_exc = Excitation::from_signal(val_input, time.start, time.dt, n)
         .map_err(bad("validation.input"))?;
     let truth = plant.parameters();
@@ -158,6 +151,21 @@ fn synthetic(config: &Config, config_path: &Path, seed: u64) -> Result<Experimen
         notes: Vec::new(),
         source: Source::Synthetic { sigma: noise.sigma },
     })
+}
+
+/// The identification input of a synthetic config, sampled on its time grid.
+pub(crate) fn identification_excitation(config: &Config, config_path: &Path) -> Result<Excitation> {
+    let missing =
+        |what: &str| ExperimentError::config(config_path, format!("{what}: missing section"));
+    let time = config.time.ok_or_else(|| missing("time"))?;
+    let input = config
+        .identification
+        .as_ref()
+        .ok_or_else(|| missing("identification"))?
+        .input
+        .clone();
+    Excitation::from_signal(input, time.start, time.dt, time.samples())
+        .map_err(|e| ExperimentError::config(config_path, format!("identification.input: {e}")))
 }
 
 /// One noisy record of the plant and its noise-free response: the exact simulation of a

@@ -91,7 +91,9 @@ pub use data::{DataSet, Excitation};
 pub use design::design_input;
 pub use dynamometer::{Dynamometer, DynamometerOptions, dynamometer};
 pub use error::{IdentError, Result};
-pub use estimate::{Estimate, EstimationOptions, Method, estimate, predicted_uncertainty};
+pub use estimate::{
+    Estimate, EstimationOptions, Method, PlannedInformation, estimate, predicted_uncertainty,
+};
 pub use free_decay::{FreeDecay, FreeDecayOptions, KnownParameter, ResponseQuantity, free_decay};
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check};
 pub use frf::{ModalFit, ModalOptions, OneModeFit, OneModeOptions, fit_modes, fit_one_mode};

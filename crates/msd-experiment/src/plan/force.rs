@@ -5,7 +5,7 @@ use super::search::{Widths, draws, duration_needed, longest_record, standard_dev
 use super::{Correlation, NAMES, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{Config, TimeGrid};
 use crate::{ExperimentError, Result};
-use msd_ident::{Interval, Uncertainty, estimate, predicted_uncertainty};
+use msd_ident::{Excitation, Interval, PlannedInformation, Uncertainty, estimate};
 use std::path::Path;
 
 /// The plan of a config without `[setup]`.
@@ -19,17 +19,40 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
             ));
         }
     };
-    let (uncertainty, record) = predict(config, config_path)?;
+    let (information, excitation) = predict(config, config_path)?;
+    let uncertainty = information
+        .uncertainty(sigma)
+        .map_err(|e| planned(config_path, e))?;
     let now = widths(&uncertainty);
     let verified = verify(config, config_path, options)?;
+    // Only a search for a longer record needs to know how the information grows.
+    let steady = match now.iter().any(|w| *w > options.target) {
+        true => steady_growth(config, config_path, time, &information)?,
+        false => None,
+    };
     let mut search = Widths::new(
         |duration| {
             let longer = with_duration(config, time, duration);
-            Ok(widths(&predict(&longer, config_path)?.0).to_vec())
+            let information = match &steady {
+                Some(later) => {
+                    let samples = longer.time.map_or(0, |t| t.samples());
+                    information.extrapolated(later, samples)
+                }
+                None => predict(&longer, config_path)?.0,
+            };
+            let u = information
+                .uncertainty(sigma)
+                .map_err(|e| planned(config_path, e))?;
+            Ok(widths(&u).to_vec())
         },
         options.progress,
     );
-    let longest = longest_record(time.duration, 2.0 * time.samples() as f64);
+    // Extrapolated lengths hold nothing in memory: only the planned record's 64× bounds
+    // them.
+    let longest = match steady {
+        Some(_) => 64.0 * time.duration,
+        None => longest_record(time.duration, 2.0 * time.samples() as f64),
+    };
     let mut quantities = Vec::new();
     for (q, iv) in intervals(&uncertainty).into_iter().enumerate() {
         let longer = |duration| search.width(duration, q);
@@ -50,14 +73,14 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
             simulated_standard_deviation: verified.as_ref().map(|v| v[q]),
         });
     }
-    let samples = record.excitation.samples();
+    let samples = excitation.samples();
     Ok(Plan {
         name: config.name.clone(),
         test: PlannedTest {
             excitation: "force",
             records: 1,
-            samples: record.len(),
-            duration_s: record.excitation.dt() * (record.len() - 1) as f64,
+            samples: excitation.len(),
+            duration_s: excitation.dt() * (excitation.len() - 1) as f64,
             drive: "force",
             peak_drive: samples.iter().fold(0.0, |m, f| m.max(f.abs())),
             drive_unit: "N",
@@ -78,23 +101,61 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
     })
 }
 
-/// The prediction at the config's prior, and the identification record.
-fn predict(config: &Config, config_path: &Path) -> Result<(Uncertainty, msd_ident::DataSet)> {
-    let (Some(plant), Some(noise)) = (&config.plant, &config.noise) else {
+/// The information of the identification record at the config's prior, and its input.
+fn predict(config: &Config, config_path: &Path) -> Result<(PlannedInformation, Excitation)> {
+    let Some(plant) = &config.plant else {
         return Err(ExperimentError::config(
             config_path,
             "plant: missing section",
         ));
     };
-    let data = crate::data::load(config, config_path, config.seed)?;
-    let u = predicted_uncertainty(
-        &plant.parameters(),
-        &data.identification.excitation,
-        noise.sigma,
-        &config.estimation,
-    )
-    .map_err(|e| ExperimentError::config(config_path, format!("the planned experiment: {e}")))?;
-    Ok((u, data.identification))
+    let excitation = crate::data::identification_excitation(config, config_path)?;
+    let information = PlannedInformation::new(&plant.parameters(), &excitation, &config.estimation)
+        .map_err(|e| planned(config_path, e))?;
+    Ok((information, excitation))
+}
+
+/// A prediction's error, as the config's.
+fn planned(config_path: &Path, e: msd_ident::IdentError) -> ExperimentError {
+    ExperimentError::config(config_path, format!("the planned experiment: {e}"))
+}
+
+/// The information of the record lengthened by half, when what a longer record adds
+/// grows in proportion to its length: the information added by the first quarter is
+/// half that of the first half, sample for sample, to 1e-6 (the input repeats itself
+/// beyond the record, periodic or constant, and the response is in steady state).
+/// Longer records then follow from it without simulating them
+/// ([`PlannedInformation::extrapolated`]); otherwise `None`, and each is simulated.
+fn steady_growth(
+    config: &Config,
+    config_path: &Path,
+    time: TimeGrid,
+    information: &PlannedInformation,
+) -> Result<Option<PlannedInformation>> {
+    let at = |factor: f64| {
+        predict(
+            &with_duration(config, time, factor * time.duration),
+            config_path,
+        )
+    };
+    let (quarter, _) = at(1.25)?;
+    let (half, _) = at(1.5)?;
+    let rate = |later: &PlannedInformation| {
+        let added = (later.samples - information.samples) as f64;
+        (&later.normal - &information.normal) / added
+    };
+    let (early, whole) = (rate(&quarter), rate(&half));
+    // On the scale of the record's own information per sample (a quantity the added
+    // stretch says nothing more about, such as m under a constant force, has rate 0).
+    let per_sample = &information.normal / information.samples as f64;
+    let p = whole.nrows();
+    let steady = (0..p).all(|i| {
+        (0..p).all(|j| {
+            let scale = (per_sample[(i, i)] * per_sample[(j, j)]).sqrt();
+            (early[(i, j)] - whole[(i, j)]).abs() <= 1e-6 * scale
+        })
+    });
+    Ok(steady.then_some(half))
 }
 
 /// The config with its record `duration` s long.

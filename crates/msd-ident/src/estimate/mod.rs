@@ -16,7 +16,7 @@ mod problem;
 pub use options::{
     EstimationOptions, FixedParameters, Method, MultistartSettings, ParameterBounds,
 };
-pub use plan::predicted_uncertainty;
+pub use plan::{PlannedInformation, predicted_uncertainty};
 
 use crate::local::Local;
 use crate::uncertainty::{Uncertainty, from_jacobian};

@@ -2,8 +2,9 @@
 
 use super::layout::Layout;
 use super::problem::output_jacobian;
-use crate::uncertainty::from_jacobian;
+use crate::uncertainty::from_normal_matrix;
 use crate::{EstimationOptions, Excitation, IdentError, Parameters, Result, Uncertainty};
+use nalgebra::DMatrix;
 
 /// The Cramér–Rao prediction of an estimate's uncertainty: the intervals that
 /// [`estimate`](crate::estimate()) will report on a record of `excitation` from the plant
@@ -31,25 +32,104 @@ pub fn predicted_uncertainty(
     options: &EstimationOptions,
 ) -> Result<Uncertainty> {
     plant.validate()?;
-    if !(sigma.is_finite() && sigma > 0.0) {
-        return Err(IdentError::InvalidParameter {
-            name: "noise sigma",
-            value: sigma,
-            expected: "a finite standard deviation > 0 (with no noise there is nothing to predict)",
-        });
+    check_sigma(sigma)?;
+    PlannedInformation::new(plant, excitation, options)?.uncertainty(sigma)
+}
+
+/// A noise level to predict with: finite and positive.
+fn check_sigma(sigma: f64) -> Result<()> {
+    if sigma.is_finite() && sigma > 0.0 {
+        return Ok(());
     }
-    let data = crate::DataSet::new("plan", excitation.clone(), vec![0.0; excitation.len()])?;
-    let layout = Layout::new(options, false);
-    let plant = layout.apply_fixed(plant);
-    let v = layout.pack(&plant, options.initial_state, options.offset);
-    let jacobian = output_jacobian(&data, &layout, &v)?;
-    let dof = jacobian.nrows().saturating_sub(jacobian.ncols());
-    from_jacobian(
-        &jacobian,
-        sigma * sigma * dof as f64,
-        layout.names(),
-        v,
-        &plant,
-        layout.parameter_columns(),
-    )
+    Err(IdentError::InvalidParameter {
+        name: "noise sigma",
+        value: sigma,
+        expected: "a finite standard deviation > 0 (with no noise there is nothing to predict)",
+    })
+}
+
+/// The information a planned record holds about what [`estimate`](crate::estimate())
+/// estimates: the normal matrix JᵀJ of the exact sensitivities of the output at the
+/// plant (the Fisher information per unit noise variance), and the record's samples.
+/// [`predicted_uncertainty`] is [`PlannedInformation::uncertainty`] of it.
+///
+/// Information adds up over samples: where a longer record only repeats what the record
+/// already holds (a periodic input, or a constant one, in steady state), the information
+/// of any length follows from two lengths ([`PlannedInformation::extrapolated`]), and
+/// `plan` searches record lengths without simulating them.
+///
+/// ```
+/// use msd_ident::{predicted_uncertainty, EstimationOptions, Excitation, Parameters, PlannedInformation};
+/// use msd_signal::paper_identification_input;
+/// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
+/// let options = EstimationOptions::default();
+/// let information = PlannedInformation::new(&Parameters::PAPER, &input, &options)?;
+/// let direct = predicted_uncertainty(&Parameters::PAPER, &input, 2.5e-3, &options)?;
+/// assert_eq!(information.uncertainty(2.5e-3)?.damping, direct.damping);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct PlannedInformation {
+    /// JᵀJ of the output's sensitivities to the estimated quantities.
+    pub normal: DMatrix<f64>,
+    /// Samples of the record.
+    pub samples: usize,
+    layout: Layout,
+    plant: Parameters,
+    values: Vec<f64>,
+}
+
+impl PlannedInformation {
+    /// The information of a record of `excitation` from `plant`, estimating what
+    /// `options` estimates.
+    pub fn new(
+        plant: &Parameters,
+        excitation: &Excitation,
+        options: &EstimationOptions,
+    ) -> Result<Self> {
+        plant.validate()?;
+        let data = crate::DataSet::new("plan", excitation.clone(), vec![0.0; excitation.len()])?;
+        let layout = Layout::new(options, false);
+        let plant = layout.apply_fixed(plant);
+        let values = layout.pack(&plant, options.initial_state, options.offset);
+        let jacobian = output_jacobian(&data, &layout, &values)?;
+        Ok(Self {
+            normal: jacobian.transpose() * &jacobian,
+            samples: jacobian.nrows(),
+            layout,
+            plant,
+            values,
+        })
+    }
+
+    /// The predicted uncertainty with white measurement noise of standard deviation
+    /// `sigma`: σ²(JᵀJ)⁻¹ and the intervals that follow (see [`predicted_uncertainty`]).
+    pub fn uncertainty(&self, sigma: f64) -> Result<Uncertainty> {
+        check_sigma(sigma)?;
+        let dof = self.samples.saturating_sub(self.normal.ncols());
+        from_normal_matrix(
+            &self.normal,
+            self.samples,
+            sigma * sigma * dof as f64,
+            self.layout.names(),
+            self.values.clone(),
+            &self.plant,
+            self.layout.parameter_columns(),
+        )
+    }
+
+    /// The information of the record lengthened to `samples` at the rate between `self`
+    /// and a longer record `longer` of the same input: `self` + s·(`longer` − `self`),
+    /// s the added samples over those `longer` adds. Exact where the added stretch
+    /// repeats itself (whole periods of a periodic input, or a constant input, in steady
+    /// state).
+    pub fn extrapolated(&self, longer: &Self, samples: usize) -> Self {
+        debug_assert!(longer.samples > self.samples);
+        let s = (samples as f64 - self.samples as f64) / (longer.samples - self.samples) as f64;
+        Self {
+            normal: &self.normal + (&longer.normal - &self.normal) * s,
+            samples,
+            ..self.clone()
+        }
+    }
 }

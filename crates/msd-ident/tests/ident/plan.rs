@@ -92,3 +92,47 @@ fn standard_errors_scale_as_the_noise_over_the_force() {
     // No noise, nothing to predict.
     assert!(predicted_uncertainty(&Parameters::PAPER, &input, 0.0, &options).is_err());
 }
+
+/// Information adds up over samples: a periodic force in steady state adds the same
+/// information every period, so the information of 60 periods follows from 10 and 15
+/// (PlannedInformation::extrapolated), as `plan` uses it, to rounding.
+#[test]
+fn the_information_of_a_repeating_input_extrapolates_exactly() {
+    use msd_ident::PlannedInformation;
+    // Three sines with a common period of 10 s, sampled at 100 Hz.
+    let dt = 0.01;
+    let force = |n: usize| {
+        let samples = (0..n)
+            .map(|i| {
+                let t = i as f64 * dt;
+                [0.1, 0.5, 1.1]
+                    .iter()
+                    .map(|f| (std::f64::consts::TAU * f * t + f).sin())
+                    .sum()
+            })
+            .collect();
+        Excitation::from_samples(0.0, dt, samples).unwrap()
+    };
+    let options = EstimationOptions::default();
+    let at = |seconds: usize| {
+        PlannedInformation::new(&Parameters::PAPER, &force(seconds * 100 + 1), &options).unwrap()
+    };
+    // After 100 s the start's transient has decayed by e^(−ζωn·100) = e^(−36).
+    let (ten, fifteen, sixty) = (at(100), at(150), at(600));
+    let extrapolated = ten.extrapolated(&fifteen, sixty.samples);
+    assert_eq!(extrapolated.samples, sixty.samples);
+    let p = sixty.normal.nrows();
+    for i in 0..p {
+        for j in 0..p {
+            let scale = (sixty.normal[(i, i)] * sixty.normal[(j, j)]).sqrt();
+            let error = (extrapolated.normal[(i, j)] - sixty.normal[(i, j)]).abs();
+            assert!(error < 1e-9 * scale, "({i}, {j}): {error:e} of {scale:e}");
+        }
+    }
+    let (direct, analytic) = (
+        sixty.uncertainty(1e-3).unwrap(),
+        extrapolated.uncertainty(1e-3).unwrap(),
+    );
+    let relative = (analytic.damping.standard_error / direct.damping.standard_error - 1.0).abs();
+    assert!(relative < 1e-8, "{relative:e}");
+}
