@@ -96,13 +96,6 @@ def test_modal_fit_of_one_frf(root):
         msd.modal_fit(f, h1, order=[2, 4])
 
 
-@pytest.mark.xfail(
-    reason="msd-signal's frf_estimate documents SignalError::ZeroInputPower for an input without "
-    "power, but an all-zero force gives |H| ~ 1e16 with coherence 1: its S_xx is rounding "
-    "(about 1e-32 of S_yy: welch_records transforms x + i·y in one FFT and splits it), so "
-    "estimate_from's check max(S_xx) <= 0 passes; reported with issue 32",
-    strict=False,
-)
 def test_a_force_without_power_is_refused(random_test):
     t, force, x = random_test
     with pytest.raises(ValueError):

@@ -347,6 +347,15 @@ pub fn frf_estimate(
     options.validate()?;
     positive(|| "fs".into(), fs)?;
     let n = check_records(records)?;
+    // A force that never varies has no power at any line (its mean, or DC, aside). Its
+    // spectrum after the paired transform would be rounding, 1e-32 of the response's,
+    // and H1 of the order of 1e16 with coherence 1.
+    if records
+        .iter()
+        .all(|r| r.input.iter().all(|&x| x == r.input[0]))
+    {
+        return Err(SignalError::ZeroInputPower { name: "input" });
+    }
     let l = options.welch.segment_length.unwrap_or(n);
     if l > n {
         return Err(SignalError::WindowTooLong { window: l, len: n });

@@ -451,3 +451,30 @@ fn an_input_that_does_not_repeat_keeps_the_hann_window() {
         msd_signal::Window::Hann
     );
 }
+
+/// A force that is zero, or constant, everywhere has no power at any line: refused, not
+/// a response of 1e16 with coherence 1 (the paired transform left its spectrum at
+/// rounding, 1e-32 of the response's).
+#[test]
+fn a_force_without_power_is_refused() {
+    let y = gaussian_noise(5, "frf.zero.y", 1.0, 512).expect("valid");
+    for level in [0.0, 3.0] {
+        let force = vec![level; 512];
+        let record = Record {
+            input: &force,
+            output: &y,
+        };
+        for options in [
+            FrfOptions::default(),
+            FrfOptions {
+                impact: Some(ImpactWindows::default()),
+                ..FrfOptions::default()
+            },
+        ] {
+            assert!(matches!(
+                frf_estimate(&[record, record], FS, &options),
+                Err(SignalError::ZeroInputPower { name: "input" })
+            ));
+        }
+    }
+}
