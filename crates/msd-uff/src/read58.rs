@@ -229,6 +229,9 @@ fn read_ascii(
     let count = |n: usize| format!("{n} values");
     let wanted = || format!("{expected} values ({})", layout.describe());
     loop {
+        if lines.numbers_line(&mut values, expected) {
+            continue;
+        }
         let Some(line) = lines.next_line() else {
             return Err(UffError::Truncated {
                 at: lines.here(DATASET, true),

@@ -53,9 +53,19 @@ impl Line<'_> {
     /// Whether this is a `    -1` line, which opens and closes every dataset: `-1` ending
     /// within the first six columns, blanks after.
     pub fn is_delimiter(&self) -> bool {
-        let t = self.text.trim_end();
-        t.trim_start() == "-1" && t.len() <= 6
+        is_delimiter(&self.text)
     }
+}
+
+/// [`Line::is_delimiter`] of a line's text.
+fn is_delimiter(text: &str) -> bool {
+    // Most lines are longer and end in a character that is not blank.
+    let bytes = text.as_bytes();
+    if bytes.len() > 6 && bytes.last().is_some_and(|&b| b > b' ' && b.is_ascii()) {
+        return false;
+    }
+    let t = text.trim_end();
+    t.trim_start() == "-1" && t.len() <= 6
 }
 
 /// Reads a byte slice line by line, and lets binary data be taken between lines.
@@ -65,14 +75,21 @@ pub(crate) struct Lines<'a> {
     pub pos: usize,
     /// Number of the next line.
     pub line: usize,
+    /// The longest start of `bytes` that is UTF-8, checked once: its lines need no check.
+    utf8: &'a str,
 }
 
 impl<'a> Lines<'a> {
     pub fn new(bytes: &'a [u8]) -> Self {
+        let utf8 = match std::str::from_utf8(bytes) {
+            Ok(text) => text,
+            Err(e) => std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default(),
+        };
         Self {
             bytes,
             pos: 0,
             line: 1,
+            utf8,
         }
     }
 
@@ -82,17 +99,12 @@ impl<'a> Lines<'a> {
             return None;
         }
         let rest = &self.bytes[self.pos..];
-        let len = rest
-            .iter()
-            .position(|&b| b == b'\n' || b == b'\r')
-            .unwrap_or(rest.len());
-        let ending = match rest.get(len..len + 2) {
-            Some(b"\r\n") => 2,
-            _ if len < rest.len() => 1,
-            _ => 0,
-        };
+        let len = line_length(rest);
         let raw = &rest[..len];
-        let text = match std::str::from_utf8(raw) {
+        // A line within the UTF-8 start begins and ends next to a line end (or at the end of
+        // the file), so on character boundaries.
+        let checked = self.utf8.get(self.pos..self.pos + len);
+        let text = match checked.map_or_else(|| std::str::from_utf8(raw), Ok) {
             Ok(s) => Cow::Borrowed(s),
             Err(_) => Cow::Owned(raw.iter().map(|&b| char::from(b)).collect()),
         };
@@ -101,9 +113,42 @@ impl<'a> Lines<'a> {
             offset: self.pos,
             number: self.line,
         };
+        self.pass_line(len);
+        Some(line)
+    }
+
+    /// Moves past the line of `len` bytes at the current position, and its line end.
+    fn pass_line(&mut self, len: usize) {
+        let ending = match self.bytes.get(self.pos + len..self.pos + len + 2) {
+            Some(b"\r\n") => 2,
+            _ if self.pos + len < self.bytes.len() => 1,
+            _ => 0,
+        };
         self.pos += len + ending;
         self.line += 1;
-        Some(line)
+    }
+
+    /// The common line of a data record, read without building a [`Line`]: if the next line
+    /// is UTF-8, is not a `    -1` line and holds only numbers, and `out` then holds at most
+    /// `max` of them, appends its numbers, moves past it and returns `true`. Otherwise
+    /// changes nothing and returns `false`: the line is for [`Lines::next_line`] and
+    /// [`data_numbers`], which read it (or say what is wrong with it) as they read any line.
+    pub fn numbers_line(&mut self, out: &mut Vec<f64>, max: usize) -> bool {
+        let Some(text) = self.utf8.get(self.pos..).filter(|t| !t.is_empty()) else {
+            return false;
+        };
+        let start = out.len();
+        let Some(len) = line_numbers(text, out) else {
+            return false;
+        };
+        // The line ends within the UTF-8 start, or the file ends with it.
+        let whole = len < text.len() || self.pos + len == self.bytes.len();
+        if !whole || out.len() > max || is_delimiter(&text[..len]) {
+            out.truncate(start);
+            return false;
+        }
+        self.pass_line(len);
+        true
     }
 
     /// Moves to byte `to` (not before the current position), counting the line feeds passed.
@@ -153,6 +198,48 @@ impl<'a> Lines<'a> {
         }
         None
     }
+}
+
+/// The length of the first line of `rest`: the bytes before the first LF or CR.
+fn line_length(rest: &[u8]) -> usize {
+    // The lowest zero byte of `v` sets the high bit of its byte, and no lower byte is set.
+    let zero_bytes = |v: u64| v.wrapping_sub(ONES) & !v & HIGHS;
+    let (lf, cr) = (ONES * u64::from(b'\n'), ONES * u64::from(b'\r'));
+    let lowest = |x: u64| zero_bytes(x ^ lf) | zero_bytes(x ^ cr);
+    find_byte(rest, 0, lowest, |b| b == b'\n' || b == b'\r')
+}
+
+/// The index of the first byte at or after `i` that is a control character or a blank
+/// (`<= b' '`), or the length.
+fn word_end(bytes: &[u8], i: usize) -> usize {
+    // The lowest byte below 0x21 sets the high bit of its byte, and no lower byte is set
+    // (bytes from 0x80 never are: they are not blanks either).
+    let lowest = |x: u64| x.wrapping_sub(ONES * 0x21) & !x & HIGHS;
+    find_byte(bytes, i, lowest, |b| b <= b' ')
+}
+
+/// The byte 0x01, and 0x80, in each byte of a `u64`.
+const ONES: u64 = u64::from_ne_bytes([0x01; 8]);
+const HIGHS: u64 = ONES * 0x80;
+
+/// The index of the first byte at or after `i` that `is` holds for, or the length. Eight
+/// bytes at a time, read as a little-endian `u64` `x`: `lowest(x)` sets the high bit of the
+/// first such byte, if there is one, and of no byte before it; the rest one at a time.
+fn find_byte(
+    bytes: &[u8],
+    mut i: usize,
+    lowest: impl Fn(u64) -> u64,
+    is: impl Fn(u8) -> bool,
+) -> usize {
+    while let Some(chunk) = bytes.get(i..i + 8) {
+        let found = lowest(u64::from_le_bytes(chunk.try_into().unwrap_or_default()));
+        if found != 0 {
+            return i + found.trailing_zeros() as usize / 8;
+        }
+        i += 8;
+    }
+    let tail = bytes.get(i..).unwrap_or_default();
+    i + tail.iter().position(|&b| is(b)).unwrap_or(tail.len())
 }
 
 /// A field of a line: its first column and its text.
@@ -207,13 +294,21 @@ pub(crate) fn numeric_fields<'l>(line: &'l Line<'_>, widths: &[usize]) -> Vec<Fi
 
 /// A Fortran real: `E`, `D` or no exponent letter (`1.5-100`), NaN and infinities too.
 pub(crate) fn parse_real(field: &str) -> Option<f64> {
-    let s = field.trim();
+    parse_word(field.trim())
+}
+
+/// [`parse_real`] of a field without surrounding blanks.
+#[inline]
+fn parse_word(s: &str) -> Option<f64> {
     if s.is_empty() || s.len() > 64 {
         return None;
     }
-    if let Ok(v) = s.parse() {
-        return Some(v);
-    }
+    s.parse().ok().or_else(|| parse_fortran(s))
+}
+
+/// [`parse_word`] of what the standard library does not read: a `D` or no exponent letter.
+#[cold]
+fn parse_fortran(s: &str) -> Option<f64> {
     let e = s.replace(['D', 'd'], "E");
     if let Ok(v) = e.parse() {
         return Some(v);
@@ -233,6 +328,9 @@ pub(crate) fn data_numbers(
     widths: &[usize],
     out: &mut Vec<f64>,
 ) -> Result<(), (usize, String)> {
+    if line_numbers(&line.text, out).is_some() {
+        return Ok(());
+    }
     let w = words(line);
     let parsed: Vec<Option<f64>> = w.iter().map(|(_, t)| parse_real(t)).collect();
     if parsed.iter().all(Option::is_some) {
@@ -253,6 +351,45 @@ pub(crate) fn data_numbers(
             let bad = parsed.iter().position(Option::is_none).unwrap_or(0);
             Err((w[bad].0, w[bad].1.to_string()))
         }
+    }
+}
+
+/// The common case of [`data_numbers`], without allocating: the words of `text` up to its
+/// first line end (LF or CR), or its end, when they all are numbers. Appends them and
+/// returns where they end, the length of the line; otherwise leaves `out` as it was and
+/// returns `None`, for the general path to decide. A word holding a character other than
+/// ASCII is never a number, so such a line goes to the general path, which splits it as
+/// `words` does.
+fn line_numbers(text: &str, out: &mut Vec<f64>) -> Option<usize> {
+    let start = out.len();
+    let end = push_line_numbers(text, out);
+    if end.is_none() {
+        out.truncate(start);
+    }
+    end
+}
+
+/// [`line_numbers`], leaving the numbers before a word that is not one in `out`.
+fn push_line_numbers(text: &str, out: &mut Vec<f64>) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    loop {
+        // The blanks of `char::is_whitespace` in ASCII, which `words` splits on (unlike
+        // `u8::is_ascii_whitespace`, they include the vertical tab); other control
+        // characters are not blanks, and make the line go to the general path.
+        while let Some(&b) = bytes.get(i).filter(|&&b| b <= b' ') {
+            match b {
+                b'\n' | b'\r' => return Some(i),
+                b' ' | b'\t' | b'\x0b' | b'\x0c' => i += 1,
+                _ => return None,
+            }
+        }
+        if i == bytes.len() {
+            return Some(i);
+        }
+        let from = i;
+        i = word_end(bytes, i);
+        out.push(parse_word(&text[from..i])?);
     }
 }
 

@@ -2,6 +2,7 @@
 //! round trips, the files this crate writes, refused files, and inputs that must not panic.
 
 mod data_at_nodes;
+mod data_lines;
 mod errors;
 mod errors55;
 mod fixtures;
