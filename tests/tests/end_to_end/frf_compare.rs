@@ -173,9 +173,19 @@ fn the_simulated_sources_refuse_estimator_settings_that_cannot_work() {
         &hammer.replace("IMPACT", "kind = \"jerk\"\nimpact = {}"),
         &["kind.toml", "jerk", "displacement"],
     );
+    // The default window, and Hann by name: each named as given.
+    refused(
+        "auto.toml",
+        &hammer.replace("IMPACT", "estimator = \"H1\""),
+        &[
+            "auto.toml",
+            "frequency_response.estimator.welch.window = \"auto\"",
+            "expected `impact` windows",
+        ],
+    );
     refused(
         "hann.toml",
-        &hammer.replace("IMPACT", "estimator = \"H1\""),
+        &hammer.replace("IMPACT", "welch = { window = \"hann\" }"),
         &[
             "hann.toml",
             "frequency_response.estimator.welch.window = \"hann\"",
