@@ -15,7 +15,7 @@ Errors: `ValueError` for bad input (with the toolkit's message), `Identification
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -243,6 +243,24 @@ def frf(
     )
 
 
+def _unpacked(name: str, frequencies: Any, frf: Any, coherence: Any, kind: Optional[str],
+              exponential_decay: Optional[float]) -> Tuple[Any, Any, Any, Optional[str], Optional[float]]:
+    """The fits' inputs, taken from a `FrequencyResponse` when `frequencies` is one (what
+    is given by name wins over its coherence, kind and window), else as given."""
+    if not isinstance(frequencies, FrequencyResponse):
+        return frequencies, frf, coherence, kind, exponential_decay
+    if frf is not None:
+        raise ValueError(f"{name}: not expected with a FrequencyResponse (it holds the FRF)")
+    fr = frequencies
+    return (
+        fr.frequency,
+        fr.h,
+        fr.coherence if coherence is None else coherence,
+        kind or fr.kind,
+        fr.exponential_decay if exponential_decay is None else exponential_decay,
+    )
+
+
 def modal_fit(
     frequencies: Any,
     frfs: Any = None,
@@ -268,16 +286,9 @@ def modal_fit(
 
     Raises `IdentificationError` when no mode can be selected.
     """
-    if isinstance(frequencies, FrequencyResponse):
-        if frfs is not None:
-            raise ValueError("frfs: not expected with a FrequencyResponse (it holds the FRF)")
-        fr = frequencies
-        frequencies, frfs = fr.frequency, fr.h
-        if coherence is None:
-            coherence = fr.coherence
-        kind = kind or fr.kind
-        if exponential_decay is None:
-            exponential_decay = fr.exponential_decay
+    frequencies, frfs, coherence, kind, exponential_decay = _unpacked(
+        "frfs", frequencies, frfs, coherence, kind, exponential_decay
+    )
     if frfs is None:
         raise ValueError("frfs: expected the complex frequency response(s)")
     members = rows("frfs", frfs, complex_=True)
@@ -321,16 +332,9 @@ def one_mode_fit(
     `kind` "receptance" (default), "mobility" or "accelerance"; `band_hz` the band to fit;
     `weighting` "coherence" (default), "uniform", "relative" or "variance".
     """
-    if isinstance(frequencies, FrequencyResponse):
-        if frf is not None:
-            raise ValueError("frf: not expected with a FrequencyResponse (it holds the FRF)")
-        fr = frequencies
-        frequencies, frf = fr.frequency, fr.h
-        if coherence is None:
-            coherence = fr.coherence
-        kind = kind or fr.kind
-        if exponential_decay is None:
-            exponential_decay = fr.exponential_decay
+    frequencies, frf, coherence, kind, exponential_decay = _unpacked(
+        "frf", frequencies, frf, coherence, kind, exponential_decay
+    )
     if frf is None:
         raise ValueError("frf: expected the complex frequency response")
     opts: Dict[str, Any] = {}
