@@ -2,6 +2,18 @@
 //! state matrix) and its exact response to a sampled force, for the frequency-response
 //! sources that simulate one.
 
+mod fit;
+mod model;
+mod modes;
+mod problem;
+mod setup;
+mod simulate;
+
+pub use fit::{ChainFit, ChainIntervals, ChainOptions, fit_chain};
+pub use modes::ChainMode;
+pub use setup::MAX_MASSES;
+pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};
+
 use crate::frf::ModalParameters;
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
@@ -70,20 +82,8 @@ impl ChainPlant {
 
     /// The mass, damping and stiffness matrices M, C, K: spring and damper i join mass
     /// i to mass i − 1, the first to the ground.
-    fn matrices(&self) -> [DMatrix<f64>; 3] {
-        let n = self.len();
-        let chain = |values: &[f64]| {
-            let mut out = DMatrix::zeros(n, n);
-            for (i, &v) in values.iter().enumerate() {
-                out[(i, i)] += v;
-                if i > 0 {
-                    out[(i - 1, i - 1)] += v;
-                    out[(i, i - 1)] -= v;
-                    out[(i - 1, i)] -= v;
-                }
-            }
-            out
-        };
+    pub(crate) fn matrices(&self) -> [DMatrix<f64>; 3] {
+        let chain = model::chain_matrix;
         [
             DMatrix::from_diagonal(&self.masses.clone().into()),
             chain(&self.dampers),
@@ -151,6 +151,11 @@ impl ChainPlant {
     /// assert!((modes[0].modal_constant - 1.0 / 2.5).abs() < 1e-12);
     /// ```
     pub fn modes(&self) -> Vec<ModalParameters> {
+        self.poles().iter().map(|&l| self.mode_of(l)).collect()
+    }
+
+    /// The underdamped poles λ (Im λ > 0) of the state matrix, by |λ|.
+    pub(crate) fn poles(&self) -> Vec<Complex64> {
         let (a, _) = self.state_space();
         let mut poles: Vec<Complex64> = a
             .complex_eigenvalues()
@@ -159,7 +164,7 @@ impl ChainPlant {
             .filter(|l| l.im > 1e-9 * l.norm())
             .collect();
         poles.sort_by(|x, y| x.norm().total_cmp(&y.norm()));
-        poles.iter().map(|&l| self.mode_of(l)).collect()
+        poles
     }
 
     /// The mode of pole `lambda`.
@@ -244,6 +249,50 @@ impl ChainPlant {
         out
     }
 }
+
+/// Every sensor's noise-free reading of `setup` with `parameters` driven by `input`
+/// (force or base acceleration, every `dt` s, linear between samples, from rest),
+/// delays and filters included: one series per sensor.
+///
+/// ```
+/// use msd_ident::{ChainParameters, ChainSetup, simulate_chain};
+/// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0] };
+/// let y = simulate_chain(&ChainSetup::default(), &p, &vec![1.0; 30_000], 2e-3)?;
+/// // A constant 1 N settles at 1/k (after 60 s the transient is e^(−c·t/2m) ≈ 4e-10 of it).
+/// assert!((y[0][29_999] - 1.0 / 120.0).abs() < 1e-11);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn simulate_chain(
+    setup: &ChainSetup,
+    parameters: &ChainParameters,
+    input: &[f64],
+    dt: f64,
+) -> crate::Result<Vec<Vec<f64>>> {
+    setup.validate()?;
+    parameters.validate(setup.masses)?;
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(crate::IdentError::InvalidParameter {
+            name: "dt",
+            value: dt,
+            expected: "a finite number > 0",
+        });
+    }
+    let plant = model::system(setup, &problem::values(parameters));
+    let delays: Vec<f64> = setup
+        .sensors
+        .iter()
+        .map(|s| s.delay.unwrap_or(0.0))
+        .collect();
+    let sim = simulate::simulate(&plant, &[], &delays, input, dt, false)?;
+    Ok(sim
+        .outputs
+        .chunks(input.len().max(1))
+        .map(<[f64]>::to_vec)
+        .collect())
+}
+
+#[cfg(test)]
+mod fit_tests;
 
 #[cfg(test)]
 mod tests {

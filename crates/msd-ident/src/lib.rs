@@ -86,7 +86,10 @@ mod synthetic;
 mod uncertainty;
 mod validation;
 
-pub use chain::ChainPlant;
+pub use chain::{
+    ChainDrive, ChainFit, ChainIntervals, ChainMode, ChainOptions, ChainParameters, ChainPlant,
+    ChainRecord, ChainSensor, ChainSetup, LowPass, MAX_MASSES, fit_chain, simulate_chain,
+};
 pub use data::{DataSet, Excitation};
 pub use design::design_input;
 pub use dynamometer::{Dynamometer, DynamometerOptions, dynamometer};

@@ -53,7 +53,9 @@ pub mod tableau;
 
 pub use dopri::{LaneSystem, Ode45Lanes, Ode45Stepper, Solution, TimeGrid, ode45, ode45_with};
 pub use error::OdeError;
-pub use lti::{Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, SampledInput};
+pub use lti::{
+    Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, RampStep, SampledInput,
+};
 pub use nalgebra::{SMatrix, SVector};
 pub use options::{Ode45Options, Stats};
 pub use system::{OdeSystem, SliceSystem};

@@ -25,8 +25,10 @@
 //! for four samples.
 
 mod lockstep;
+mod ramp;
 
 pub use lockstep::{InputSchedule, Lockstep};
+pub use ramp::RampStep;
 
 use crate::OdeError;
 use nalgebra::{DMatrix, SMatrix, SVector};

@@ -1,0 +1,416 @@
+//! `fit_chain`: every mass, damper and spring of a chain, with intervals, from one record.
+
+use super::modes::{ChainMode, modes_with_intervals};
+use super::problem::{ChainProblem, Layout};
+use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
+use crate::least_squares::{Linearization, SINGULAR_CONDITION};
+use crate::uncertainty::t_975;
+use crate::{IdentError, Interval, Result};
+use msd_opt::{LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// How a chain is fitted.
+///
+/// ```
+/// use msd_ident::ChainOptions;
+/// assert!(ChainOptions::default().known_masses.is_empty());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ChainOptions {
+    /// Masses (numbered from 1) that are known: held at the guess's value.
+    pub known_masses: Vec<usize>,
+    /// At most this many fits, each re-estimating every channel's noise level from the
+    /// last one's residuals. By default 4.
+    pub passes: usize,
+}
+
+impl Default for ChainOptions {
+    fn default() -> Self {
+        Self {
+            known_masses: Vec::new(),
+            passes: 4,
+        }
+    }
+}
+
+/// m_i, c_i and k_i with their 95 % intervals (a known mass with a zero standard error).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainIntervals {
+    /// The masses, kg.
+    pub masses: Vec<Interval>,
+    /// The dampers, N·s/m.
+    pub dampers: Vec<Interval>,
+    /// The springs, N/m.
+    pub springs: Vec<Interval>,
+}
+
+/// What [`fit_chain`] found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainFit {
+    /// The estimates (a known mass as given).
+    pub parameters: ChainParameters,
+    /// Their intervals, when the records identify every one; `None` otherwise (see
+    /// [`ChainFit::unidentifiable`]).
+    pub intervals: Option<ChainIntervals>,
+    /// The combinations of parameters the records cannot tell apart, in words (empty when
+    /// all are identified).
+    pub unidentifiable: Vec<String>,
+    /// The modes of the fitted chain, by frequency, with intervals (delta method). They
+    /// are identified even where the physical parameters are not.
+    pub modes: Vec<ChainMode>,
+    /// Each sensor's estimated delay, s (`None` where it was not estimated).
+    pub delays: Vec<Option<Interval>>,
+    /// σ̂ of each channel, in its own unit.
+    pub noise: Vec<f64>,
+    /// Condition number of the column-scaled JᵀJ.
+    pub condition_number: f64,
+    /// Samples × channels − estimated quantities.
+    pub degrees_of_freedom: usize,
+    /// The solver's exit on the last pass.
+    pub exit: LmExit,
+    /// Model evaluations over all passes.
+    pub evaluations: usize,
+}
+
+impl std::fmt::Display for ChainFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.intervals {
+            Some(iv) => {
+                for (i, ((m, c), k)) in iv
+                    .masses
+                    .iter()
+                    .zip(&iv.dampers)
+                    .zip(&iv.springs)
+                    .enumerate()
+                {
+                    writeln!(f, "m{} = {m:.6} kg", i + 1)?;
+                    writeln!(f, "c{} = {c:.6} N·s/m", i + 1)?;
+                    writeln!(f, "k{} = {k:.6} N/m", i + 1)?;
+                }
+            }
+            None => {
+                writeln!(f, "m, c, k: not identified from these records")?;
+                for reason in &self.unidentifiable {
+                    writeln!(f, "  {reason}")?;
+                }
+            }
+        }
+        for (i, mode) in self.modes.iter().enumerate() {
+            writeln!(f, "mode {}: {mode}", i + 1)?;
+        }
+        for (i, delay) in self.delays.iter().enumerate() {
+            if let Some(d) = delay {
+                writeln!(f, "delay of sensor {} = {d:.6} s", i + 1)?;
+            }
+        }
+        write!(f, "σ̂ per channel")?;
+        for (i, sigma) in self.noise.iter().enumerate() {
+            write!(f, "{}{sigma:.3e}", if i == 0 { " " } else { ", " })?;
+        }
+        write!(
+            f,
+            "; {} degrees of freedom, condition number {:.3e}",
+            self.degrees_of_freedom, self.condition_number
+        )
+    }
+}
+
+/// Fits every m, c and k of the chain `setup` (and the delays it asks to estimate) to
+/// `record` by weighted output error, from `guess`: each channel is weighted by its own
+/// noise level, re-estimated between passes. Exact simulation and exact sensitivities
+/// (see the module's equations), the Levenberg–Marquardt solver, intervals from
+/// σ̂²(JᵀJ)⁻¹ on the logarithms (so they stay positive).
+///
+/// When the records cannot separate the parameters (a base acceleration with no known
+/// mass, too few sensors) the fit says which combinations are lost and reports the modes.
+///
+/// ```
+/// use msd_ident::{ChainParameters, ChainRecord, ChainSetup, ChainSensor, ChainOptions, fit_chain, simulate_chain};
+/// use msd_ident::ResponseQuantity::Acceleration;
+/// let setup = ChainSetup {
+///     masses: 2,
+///     force_at: 2,
+///     sensors: vec![
+///         ChainSensor { at: 1, quantity: Acceleration, ..ChainSensor::default() },
+///         ChainSensor { at: 2, quantity: Acceleration, ..ChainSensor::default() },
+///     ],
+///     ..ChainSetup::default()
+/// };
+/// let truth = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4] };
+/// let dt = 2e-3;
+/// let force: Vec<f64> = (0..2000).map(|i| ((i * 7919) % 1000) as f64 / 500.0 - 1.0).collect();
+/// let outputs = simulate_chain(&setup, &truth, &force, dt)?;
+/// let record = ChainRecord { dt, input: force, outputs };
+/// let guess = ChainParameters { masses: vec![2.4, 0.8], dampers: vec![3.0, 3.0], springs: vec![2.5e4, 0.8e4] };
+/// let fit = fit_chain(&setup, &record, &guess, &ChainOptions::default())?;
+/// assert!((fit.parameters.springs[1] / 1e4 - 1.0).abs() < 1e-6);
+/// assert_eq!(fit.modes.len(), 2);
+/// # Ok::<(), msd_ident::IdentError>(())
+/// ```
+pub fn fit_chain(
+    setup: &ChainSetup,
+    record: &ChainRecord,
+    guess: &ChainParameters,
+    options: &ChainOptions,
+) -> Result<ChainFit> {
+    setup.validate()?;
+    guess.validate(setup.masses)?;
+    record.validate(setup)?;
+    if let Some(&m) = options
+        .known_masses
+        .iter()
+        .find(|&&m| !(1..=setup.masses).contains(&m))
+    {
+        return Err(setup_error(format!(
+            "known_masses contains {m}: expected masses from 1 to {}",
+            setup.masses
+        )));
+    }
+    let layout = Layout::new(setup, &options.known_masses);
+    let rows = record.len() * setup.sensors.len();
+    if rows <= layout.len() {
+        return Err(IdentError::TooFewSamples {
+            got: rows,
+            needed: layout.len() + 1,
+            why: "more samples than estimated quantities",
+        });
+    }
+    let start_delays: Vec<f64> = setup
+        .sensors
+        .iter()
+        .map(|s| s.delay.unwrap_or(0.0))
+        .collect();
+    let mut problem = ChainProblem {
+        setup,
+        record,
+        layout: &layout,
+        base: guess,
+        delays: &start_delays,
+        noise: record
+            .outputs
+            .iter()
+            .map(|y| rms(y).max(f64::MIN_POSITIVE))
+            .collect(),
+    };
+    let mut theta = layout.theta(guess, &start_delays);
+    let lm = LevenbergMarquardtOptions {
+        max_evaluations: Some(400),
+        ..LevenbergMarquardtOptions::default()
+    };
+    let (mut exit, mut evaluations) = (LmExit::MaxEvaluations, 0);
+    let dof = rows - layout.len();
+    for _ in 0..options.passes.max(1) {
+        let result = levenberg_marquardt(&mut problem, &theta, &lm)?;
+        theta = result.x;
+        (exit, evaluations) = (result.exit, evaluations + result.evaluations);
+        let sim = problem
+            .simulate(&theta, false)
+            .ok_or_else(|| IdentError::EstimationFailed {
+                reason: "the chain cannot be simulated at the estimate".into(),
+            })?;
+        let noise = channel_noise(&sim.outputs, record, rows as f64 / dof as f64);
+        let change = noise
+            .iter()
+            .zip(&problem.noise)
+            .map(|(a, b)| (a / b - 1.0).abs())
+            .fold(0.0, f64::max);
+        problem.noise = noise;
+        if change < 1e-3 {
+            break;
+        }
+    }
+    if !exit.is_success() {
+        return Err(IdentError::EstimationFailed {
+            reason: format!("the chain fit did not converge: {exit}"),
+        });
+    }
+    let mut jacobian = DMatrix::zeros(rows, layout.len());
+    let mut residuals = vec![0.0; rows];
+    let ok =
+        problem.residuals_at(&theta, &mut residuals) && problem.jacobian_at(&theta, &mut jacobian);
+    if !ok {
+        return Err(IdentError::EstimationFailed {
+            reason: "the chain's sensitivities cannot be computed at the estimate".into(),
+        });
+    }
+    let s2 = residuals.iter().map(|r| r * r).sum::<f64>() / dof as f64;
+    let (parameters, delays) = layout.unpack(&theta, guess, &start_delays);
+    let t = t_975(dof);
+    let (covariance, condition_number, unidentifiable) = match Linearization::new(&jacobian) {
+        Ok(lin) => (lin.covariance(s2), lin.condition_number, Vec::new()),
+        Err(_) => {
+            let (cov, condition, lost) = pseudo_covariance(&jacobian, s2, &layout);
+            (cov, condition, lost)
+        }
+    };
+    let se = |j: usize| covariance[(j, j)].max(0.0).sqrt();
+    let intervals = unidentifiable.is_empty().then(|| {
+        let interval = |family, i: usize, value: f64| {
+            match layout.free.iter().position(|&c| c == (family, i)) {
+                // The log's standard error times the value; the interval on the log.
+                Some(j) => Interval::positive(value, value * se(j), t),
+                None => Interval::new(value, 0.0, t),
+            }
+        };
+        use super::model::Family::{Damper, Mass, Spring};
+        let each = |family, values: &[f64]| {
+            values
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| interval(family, i, v))
+                .collect()
+        };
+        ChainIntervals {
+            masses: each(Mass, &parameters.masses),
+            dampers: each(Damper, &parameters.dampers),
+            springs: each(Spring, &parameters.springs),
+        }
+    });
+    let delay_intervals = (0..setup.sensors.len())
+        .map(|ch| {
+            layout.delayed.iter().position(|&d| d == ch).map(|j| {
+                let col = layout.free.len() + j;
+                Interval::new(delays[ch], se(col), t)
+            })
+        })
+        .collect();
+    let modes = modes_with_intervals(setup, &layout, &theta, guess, &start_delays, &covariance, t);
+    Ok(ChainFit {
+        parameters,
+        intervals,
+        unidentifiable,
+        modes,
+        delays: delay_intervals,
+        noise: problem.noise.clone(),
+        condition_number,
+        degrees_of_freedom: dof,
+        exit,
+        evaluations,
+    })
+}
+
+impl ChainProblem<'_> {
+    fn residuals_at(&mut self, theta: &[f64], out: &mut [f64]) -> bool {
+        msd_opt::LeastSquaresProblem::residuals(self, theta, out)
+    }
+
+    fn jacobian_at(&mut self, theta: &[f64], out: &mut DMatrix<f64>) -> bool {
+        msd_opt::LeastSquaresProblem::jacobian(self, theta, out)
+    }
+}
+
+fn rms(values: &[f64]) -> f64 {
+    (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
+}
+
+/// σ̂ of each channel from its residuals, with `inflation` = rows/dof shared evenly.
+fn channel_noise(outputs: &[f64], record: &ChainRecord, inflation: f64) -> Vec<f64> {
+    let samples = record.len();
+    record
+        .outputs
+        .iter()
+        .enumerate()
+        .map(|(ch, measured)| {
+            let sse: f64 = outputs[ch * samples..(ch + 1) * samples]
+                .iter()
+                .zip(measured)
+                .map(|(y, m)| (y - m) * (y - m))
+                .sum();
+            (sse * inflation / samples as f64)
+                .sqrt()
+                .max(f64::MIN_POSITIVE)
+        })
+        .collect()
+}
+
+/// The covariance on the identifiable subspace (the pseudo-inverse), the condition
+/// number, and the lost directions in words: first whether scaling every m, c and k
+/// together is among them (a base drive with no known mass), then each other one.
+fn pseudo_covariance(
+    jacobian: &DMatrix<f64>,
+    s2: f64,
+    layout: &Layout,
+) -> (DMatrix<f64>, f64, Vec<String>) {
+    let p = jacobian.ncols();
+    let norms: Vec<f64> = (0..p)
+        .map(|j| jacobian.column(j).norm().max(f64::MIN_POSITIVE))
+        .collect();
+    let scaled = DMatrix::from_fn(jacobian.nrows(), p, |r, c| jacobian[(r, c)] / norms[c]);
+    let svd = scaled.svd(false, true);
+    let Some(v_t) = svd.v_t else {
+        return (
+            DMatrix::zeros(p, p),
+            f64::INFINITY,
+            vec!["the sensitivities cannot be decomposed".into()],
+        );
+    };
+    let largest = svd.singular_values.max();
+    let cutoff = largest / SINGULAR_CONDITION.sqrt();
+    let mut covariance = DMatrix::zeros(p, p);
+    let mut null: Vec<DVector<f64>> = Vec::new();
+    for (i, &sv) in svd.singular_values.iter().enumerate() {
+        let v = v_t.row(i).transpose();
+        if sv > cutoff {
+            for r in 0..p {
+                for c in 0..p {
+                    covariance[(r, c)] += s2 * v[r] * v[c] / (sv * sv * norms[r] * norms[c]);
+                }
+            }
+        } else {
+            null.push(v);
+        }
+    }
+    let smallest = svd.singular_values.min();
+    let condition = (largest / smallest).powi(2);
+    (covariance, condition, lost_in_words(null, &norms, layout))
+}
+
+/// The null directions (orthonormal, in column-scaled coordinates) in words.
+fn lost_in_words(mut null: Vec<DVector<f64>>, norms: &[f64], layout: &Layout) -> Vec<String> {
+    let free = layout.free.len();
+    // The common scale: δ(ln p) = 1 for every free m, c, k.
+    let mut scale = DVector::from_fn(norms.len(), |j, _| if j < free { norms[j] } else { 0.0 });
+    scale /= scale.norm();
+    let captured: f64 = null.iter().map(|v| v.dot(&scale).powi(2)).sum();
+    let mut words = Vec::new();
+    if (captured - 1.0).abs() < 1e-6 {
+        words.push(
+            "every free m, c and k scaled by one factor leaves the records unchanged: give a known mass (known_masses) to set the scale".to_string(),
+        );
+        // The rest of the null space, orthogonal to the scale.
+        let projected: Vec<DVector<f64>> =
+            null.iter().map(|v| v - &scale * v.dot(&scale)).collect();
+        let basis = DMatrix::from_columns(&projected);
+        let svd = basis.svd(true, false);
+        null = match svd.u {
+            Some(u) => (0..svd.singular_values.len())
+                .filter(|&i| svd.singular_values[i] > 0.5)
+                .map(|i| u.column(i).clone_owned())
+                .collect(),
+            None => Vec::new(),
+        };
+    }
+    for v in null {
+        let theta: Vec<f64> = v.iter().zip(norms).map(|(x, n)| x / n).collect();
+        words.push(direction_in_words(&theta, layout));
+    }
+    words
+}
+
+/// A direction δθ (in logarithms) along which the records do not change, as the
+/// product of powers it leaves unfixed: "m1^1.00 · k2^-0.50 …".
+fn direction_in_words(v: &[f64], layout: &Layout) -> String {
+    let top = v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    let terms: Vec<String> = v
+        .iter()
+        .enumerate()
+        .filter(|(_, x)| x.abs() > 1e-2 * top)
+        .map(|(j, x)| format!("{}^{:.2}", layout.name(j), x / top))
+        .collect();
+    format!(
+        "the records do not change when these move together (each by one factor to the power shown): {}",
+        terms.join(" · ")
+    )
+}

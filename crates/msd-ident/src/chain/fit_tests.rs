@@ -1,0 +1,387 @@
+use super::problem::{ChainProblem, Layout};
+use super::*;
+use crate::ResponseQuantity::{Acceleration, Displacement};
+use msd_opt::LeastSquaresProblem;
+use msd_signal::noise::gaussian_noise;
+use nalgebra::DMatrix;
+
+fn two_storey() -> ChainSetup {
+    ChainSetup {
+        masses: 2,
+        force_at: 2,
+        sensors: vec![
+            ChainSensor {
+                at: 1,
+                quantity: Acceleration,
+                ..ChainSensor::default()
+            },
+            ChainSensor {
+                at: 2,
+                quantity: Acceleration,
+                ..ChainSensor::default()
+            },
+        ],
+        ..ChainSetup::default()
+    }
+}
+
+fn truth() -> ChainParameters {
+    ChainParameters {
+        masses: vec![2.0, 1.0],
+        dampers: vec![4.0, 2.0],
+        springs: vec![2e4, 1e4],
+    }
+}
+
+fn guess() -> ChainParameters {
+    ChainParameters {
+        masses: vec![2.4, 0.8],
+        dampers: vec![3.0, 3.0],
+        springs: vec![2.5e4, 0.8e4],
+    }
+}
+
+/// A record of `setup` with `parameters` under a white force of 1 N, with noise σ per channel.
+fn record(
+    setup: &ChainSetup,
+    parameters: &ChainParameters,
+    seed: u64,
+    sigma: &[f64],
+) -> ChainRecord {
+    let (n, dt) = (5000, 2e-3);
+    let input = gaussian_noise(seed, "force", 1.0, n).unwrap();
+    let clean = simulate_chain(setup, parameters, &input, dt).unwrap();
+    let outputs = clean
+        .iter()
+        .zip(sigma)
+        .enumerate()
+        .map(|(ch, (y, &s))| {
+            let noise = gaussian_noise(seed, &format!("sensor{ch}"), s, n).unwrap();
+            y.iter().zip(noise).map(|(a, b)| a + b).collect()
+        })
+        .collect();
+    ChainRecord { dt, input, outputs }
+}
+
+#[test]
+fn the_simulation_is_the_frequency_response_plants() {
+    // Force on mass 2, displacement of mass 1: the same exact discretisation as
+    // ChainPlant::sampled_response (there without balancing), to rounding.
+    let setup = ChainSetup {
+        sensors: vec![ChainSensor {
+            at: 1,
+            ..ChainSensor::default()
+        }],
+        ..two_storey()
+    };
+    let force = gaussian_noise(3, "force", 1.0, 2000).unwrap();
+    let ours = simulate_chain(&setup, &truth(), &force, 2e-3).unwrap();
+    let plant = truth().plant(2, 1);
+    let theirs = plant.sampled_response(&force, 2e-3, msd_signal::FrfKind::Receptance);
+    let scale = theirs.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    for (a, b) in ours[0].iter().zip(&theirs) {
+        // Both exact; rounding of the exponential (1e-16 of Φ's norm) over 2000 steps.
+        assert!((a - b).abs() < 1e-11 * scale, "{a} {b}");
+    }
+}
+
+#[test]
+fn the_jacobian_is_the_derivative_of_the_residuals() {
+    // Filters, a delay and both drives' acceleration outputs: every column against a
+    // central difference (step 1e-6 in θ: truncation ~1e-12, rounding ~1e-10 relative).
+    let mut setup = two_storey();
+    setup.sensors[0].low_pass = Some(LowPass {
+        cutoff_hz: 40.0,
+        order: 2,
+        ..LowPass::default()
+    });
+    setup.sensors[1].estimate_delay = true;
+    setup.sensors[1].low_pass = Some(LowPass {
+        cutoff_hz: 60.0,
+        ..LowPass::default()
+    });
+    setup.sensors.push(ChainSensor {
+        at: 1,
+        quantity: Displacement,
+        delay: Some(0.0031),
+        ..ChainSensor::default()
+    });
+    let rec = record(&setup, &truth(), 1, &[0.01, 0.01, 1e-6]);
+    let layout = Layout::new(&setup, &[1]);
+    let delays = [0.0, 0.0047, 0.0031];
+    let mut problem = ChainProblem {
+        setup: &setup,
+        record: &rec,
+        layout: &layout,
+        base: &truth(),
+        delays: &delays,
+        noise: vec![0.01, 0.01, 1e-6],
+    };
+    let theta = layout.theta(&guess(), &delays);
+    let rows = problem.residual_count();
+    let mut jac = DMatrix::zeros(rows, layout.len());
+    let mut r = vec![0.0; rows];
+    assert!(problem.residuals(&theta, &mut r) && problem.jacobian(&theta, &mut jac));
+    for j in 0..layout.len() {
+        let h = if j < layout.free.len() { 1e-6 } else { 1e-7 };
+        let (mut up, mut down) = (theta.clone(), theta.clone());
+        up[j] += h;
+        down[j] -= h;
+        let (mut ru, mut rd) = (vec![0.0; rows], vec![0.0; rows]);
+        assert!(problem.residuals(&up, &mut ru) && problem.residuals(&down, &mut rd));
+        let column = jac.column(j);
+        let scale = column.amax();
+        let worst = (0..rows)
+            .map(|i| ((ru[i] - rd[i]) / (2.0 * h) - column[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-5 * scale,
+            "column {} ({}): {worst:e} of {scale:e}",
+            j,
+            layout.name(j)
+        );
+    }
+}
+
+#[test]
+fn a_two_storey_rig_is_identified_within_its_intervals() {
+    let setup = two_storey();
+    for seed in 1..=3 {
+        let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
+        let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap();
+        let iv = fit.intervals.as_ref().expect("identified");
+        let t = truth();
+        for (estimates, truths) in [
+            (&iv.masses, &t.masses),
+            (&iv.dampers, &t.dampers),
+            (&iv.springs, &t.springs),
+        ] {
+            for (e, &x) in estimates.iter().zip(truths) {
+                // 4 SE: a miss has probability 6e-5 per parameter.
+                assert!(
+                    (e.value - x).abs() < 4.0 * e.standard_error,
+                    "seed {seed}: {e} vs {x}"
+                );
+            }
+        }
+        // ωn² = 5000 and 20000 (det(K − ω²M) = 0), within 4 SE of the fitted modes.
+        for (mode, w2) in fit.modes.iter().zip([5000.0f64, 20000.0]) {
+            let f = w2.sqrt() / std::f64::consts::TAU;
+            let iv = mode.natural_frequency_hz;
+            assert!(
+                (iv.value - f).abs() < 4.0 * iv.standard_error,
+                "{iv} vs {f}"
+            );
+        }
+        // The noise levels are found: σ̂/σ within 5 % (10,000 residuals: SD 0.7 %).
+        for s in &fit.noise {
+            assert!((s / 0.02 - 1.0).abs() < 0.05, "{s}");
+        }
+    }
+}
+
+fn base_driven(sensors: &[usize]) -> ChainSetup {
+    ChainSetup {
+        masses: 3,
+        drive: ChainDrive::BaseAcceleration,
+        sensors: sensors
+            .iter()
+            .map(|&at| ChainSensor {
+                at,
+                quantity: Acceleration,
+                ..ChainSensor::default()
+            })
+            .collect(),
+        ..ChainSetup::default()
+    }
+}
+
+fn three_masses() -> ChainParameters {
+    ChainParameters {
+        masses: vec![3.0, 2.0, 1.0],
+        dampers: vec![6.0, 4.0, 2.0],
+        springs: vec![3e4, 2e4, 1e4],
+    }
+}
+
+fn three_start() -> ChainParameters {
+    ChainParameters {
+        masses: vec![3.3, 1.9, 1.0],
+        dampers: vec![5.0, 5.0, 2.5],
+        springs: vec![3.2e4, 1.9e4, 1.05e4],
+    }
+}
+
+#[test]
+fn a_three_mass_chain_with_one_sensor_is_not_reported_as_identified() {
+    // Base drive, one accelerometer on the top mass: the scale (every m, c, k by one
+    // factor) is lost, and one transfer function cannot fix nine parameters either.
+    let setup = base_driven(&[3]);
+    let rec = record(&setup, &three_masses(), 5, &[0.01]);
+    let fit = fit_chain(&setup, &rec, &three_start(), &ChainOptions::default()).unwrap();
+    assert!(fit.intervals.is_none());
+    assert!(
+        fit.unidentifiable[0].contains("scaled by one factor"),
+        "{:?}",
+        fit.unidentifiable
+    );
+    assert!(fit.to_string().contains("not identified"));
+    // The modes are identified: three, each fn within 4 SE of the truth's.
+    let want = three_masses().plant(1, 1).modes();
+    assert_eq!(fit.modes.len(), 3);
+    for (mode, w) in fit.modes.iter().zip(&want) {
+        let iv = mode.natural_frequency_hz;
+        assert!(iv.standard_error > 0.0);
+        assert!(
+            (iv.value - w.natural_frequency_hz).abs() < 4.0 * iv.standard_error,
+            "{iv}"
+        );
+    }
+}
+
+#[test]
+fn a_known_mass_and_three_sensors_identify_a_base_driven_chain() {
+    let setup = base_driven(&[1, 2, 3]);
+    let rec = record(&setup, &three_masses(), 6, &[0.01, 0.01, 0.01]);
+    let options = ChainOptions {
+        known_masses: vec![3],
+        ..ChainOptions::default()
+    };
+    let fit = fit_chain(&setup, &rec, &three_start(), &options).unwrap();
+    let iv = fit.intervals.expect("identified with m3 known");
+    assert_eq!(iv.masses[2].standard_error, 0.0);
+    let t = three_masses();
+    for (estimates, truths) in [
+        (&iv.masses, &t.masses),
+        (&iv.dampers, &t.dampers),
+        (&iv.springs, &t.springs),
+    ] {
+        for (e, &x) in estimates.iter().zip(truths) {
+            assert!((e.value - x).abs() <= 4.0 * e.standard_error, "{e} vs {x}");
+        }
+    }
+}
+
+#[test]
+fn bad_layouts_name_the_key() {
+    let mut setup = two_storey();
+    setup.sensors[1].at = 4;
+    let err = setup.validate().unwrap_err().to_string();
+    assert!(err.contains("sensors[1].at = 4"), "{err}");
+    let mut setup = two_storey();
+    setup.sensors[0].low_pass = Some(LowPass {
+        cutoff_hz: -50.0,
+        ..LowPass::default()
+    });
+    let err = setup.validate().unwrap_err().to_string();
+    assert!(err.contains("sensors[0].low_pass.cutoff_hz = -50"), "{err}");
+    let mut setup = two_storey();
+    setup.sensors[0].delay = Some(20.0);
+    let rec = ChainRecord {
+        dt: 1e-3,
+        input: vec![0.0; 100],
+        outputs: vec![vec![0.0; 100]; 2],
+    };
+    let err = fit_chain(&setup, &rec, &truth(), &ChainOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("sensors[0].delay = 20"), "{err}");
+    let setup = ChainSetup {
+        masses: 0,
+        ..ChainSetup::default()
+    };
+    assert!(
+        setup
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("masses = 0")
+    );
+    let err = fit_chain(
+        &two_storey(),
+        &rec,
+        &truth(),
+        &ChainOptions {
+            known_masses: vec![5],
+            ..ChainOptions::default()
+        },
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("known_masses contains 5"), "{err}");
+}
+
+/// The paper's plant and input, its displacement read 3 samples late through a 50 Hz
+/// first-order low-pass, σ = 2.5 mm.
+fn delayed_paper(seed: u64) -> (ChainSetup, ChainRecord) {
+    let experiment = crate::PaperExperiment::generate(seed).unwrap();
+    let input = experiment.identification.excitation.samples().to_vec();
+    let dt = crate::PaperExperiment::DT;
+    let setup = ChainSetup {
+        sensors: vec![ChainSensor {
+            delay: Some(3.0 * dt),
+            low_pass: Some(LowPass {
+                cutoff_hz: 50.0,
+                ..LowPass::default()
+            }),
+            ..ChainSensor::default()
+        }],
+        ..ChainSetup::default()
+    };
+    let paper = ChainParameters {
+        masses: vec![2.5],
+        dampers: vec![1.8],
+        springs: vec![120.0],
+    };
+    let clean = simulate_chain(&setup, &paper, &input, dt).unwrap();
+    let noise = gaussian_noise(seed, "sensor", crate::PaperExperiment::SIGMA, input.len()).unwrap();
+    let output = clean[0].iter().zip(noise).map(|(a, b)| a + b).collect();
+    (
+        setup,
+        ChainRecord {
+            dt,
+            input,
+            outputs: vec![output],
+        },
+    )
+}
+
+#[test]
+fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
+    let guess = ChainParameters {
+        masses: vec![2.0],
+        dampers: vec![1.0],
+        springs: vec![100.0],
+    };
+    for seed in 1..=3 {
+        let (mut setup, rec) = delayed_paper(seed);
+        setup.sensors[0].delay = None;
+        setup.sensors[0].estimate_delay = true;
+        let fit = fit_chain(&setup, &rec, &guess, &ChainOptions::default()).unwrap();
+        let iv = fit.intervals.as_ref().unwrap();
+        let delay = fit.delays[0].unwrap();
+        assert!(
+            (delay.value - 0.006).abs() < 4.0 * delay.standard_error,
+            "{delay}"
+        );
+        let c = iv.dampers[0];
+        assert!((c.value - 1.8).abs() < 4.0 * c.standard_error, "{c}");
+        let zeta = fit.modes[0].damping_ratio;
+        let true_zeta = 1.8 / (2.0 * (2.5f64 * 120.0).sqrt());
+        assert!(
+            (zeta.value - true_zeta).abs() < 4.0 * zeta.standard_error,
+            "{zeta}"
+        );
+        // Ideal sensors assumed: the lag of 6 ms plus the filter's 3.2 ms reads as extra
+        // damping, more than 3 standard errors of c.
+        let ideal = fit_chain(
+            &setup.with_ideal_sensors(),
+            &rec,
+            &guess,
+            &ChainOptions::default(),
+        )
+        .unwrap();
+        let c = ideal.intervals.unwrap().dampers[0];
+        assert!(
+            (c.value - 1.8).abs() > 3.0 * c.standard_error,
+            "seed {seed}: {c}"
+        );
+    }
+}

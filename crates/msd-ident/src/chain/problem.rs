@@ -1,0 +1,228 @@
+//! The chain's weighted output-error least-squares problem for the Levenberg–Marquardt
+//! solver: θ = (ln of every free m, c, k; then each estimated delay in seconds).
+
+use super::model::{self, Family, System, Values};
+use super::setup::{ChainParameters, ChainRecord, ChainSetup};
+use super::simulate::{Simulation, simulate};
+use msd_opt::LeastSquaresProblem;
+use nalgebra::DMatrix;
+
+/// The fitted columns and what is held.
+#[derive(Debug, Clone)]
+pub(crate) struct Layout {
+    /// The free physical parameters, by family and index.
+    pub free: Vec<(Family, usize)>,
+    /// The channels whose delay is estimated.
+    pub delayed: Vec<usize>,
+}
+
+impl Layout {
+    pub(crate) fn new(setup: &ChainSetup, known_masses: &[usize]) -> Self {
+        let n = setup.masses;
+        let masses = (0..n).filter(|i| !known_masses.contains(&(i + 1)));
+        let free = masses
+            .map(|i| (Family::Mass, i))
+            .chain((0..n).map(|i| (Family::Damper, i)))
+            .chain((0..n).map(|i| (Family::Spring, i)))
+            .collect();
+        let delayed = (0..setup.sensors.len())
+            .filter(|&ch| setup.sensors[ch].estimate_delay)
+            .collect();
+        Self { free, delayed }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.free.len() + self.delayed.len()
+    }
+
+    /// θ of `parameters` and `delays`.
+    pub(crate) fn theta(&self, parameters: &ChainParameters, delays: &[f64]) -> Vec<f64> {
+        self.free
+            .iter()
+            .map(|&(family, i)| family_of(parameters, family)[i].ln())
+            .chain(self.delayed.iter().map(|&ch| delays[ch]))
+            .collect()
+    }
+
+    /// The parameters and delays at θ, the held ones from `base` and `delays`.
+    pub(crate) fn unpack(
+        &self,
+        theta: &[f64],
+        base: &ChainParameters,
+        delays: &[f64],
+    ) -> (ChainParameters, Vec<f64>) {
+        let mut parameters = base.clone();
+        for (&(family, i), &t) in self.free.iter().zip(theta) {
+            family_of_mut(&mut parameters, family)[i] = t.exp();
+        }
+        let mut delays = delays.to_vec();
+        for (&ch, &t) in self.delayed.iter().zip(&theta[self.free.len()..]) {
+            delays[ch] = t;
+        }
+        (parameters, delays)
+    }
+
+    /// The name of column `j` ("m1", "c2", "delay of sensor 1", …).
+    pub(crate) fn name(&self, j: usize) -> String {
+        match self.free.get(j) {
+            Some(&(family, i)) => format!("{}{}", symbol(family), i + 1),
+            None => format!("delay{}", self.delayed[j - self.free.len()] + 1),
+        }
+    }
+}
+
+pub(crate) fn symbol(family: Family) -> &'static str {
+    match family {
+        Family::Mass => "m",
+        Family::Damper => "c",
+        Family::Spring => "k",
+    }
+}
+
+pub(crate) fn family_of(p: &ChainParameters, family: Family) -> &[f64] {
+    match family {
+        Family::Mass => &p.masses,
+        Family::Damper => &p.dampers,
+        Family::Spring => &p.springs,
+    }
+}
+
+fn family_of_mut(p: &mut ChainParameters, family: Family) -> &mut Vec<f64> {
+    match family {
+        Family::Mass => &mut p.masses,
+        Family::Damper => &mut p.dampers,
+        Family::Spring => &mut p.springs,
+    }
+}
+
+pub(crate) fn values(p: &ChainParameters) -> Values {
+    Values {
+        w: p.masses.iter().map(|m| 1.0 / m).collect(),
+        c: p.dampers.clone(),
+        k: p.springs.clone(),
+    }
+}
+
+/// The system at `parameters` and its derivatives to the free θ (log parameters).
+pub(crate) fn systems(
+    setup: &ChainSetup,
+    layout: &Layout,
+    parameters: &ChainParameters,
+) -> (System, Vec<System>) {
+    let v = values(parameters);
+    let plant = model::system(setup, &v);
+    let partials = layout
+        .free
+        .iter()
+        .map(|&(family, i)| {
+            let mut d = model::derivative(setup, &v, family, i);
+            // ∂/∂ln m = −w·∂/∂w; ∂/∂ln p = p·∂/∂p otherwise.
+            let factor = match family {
+                Family::Mass => -v.w[i],
+                Family::Damper => v.c[i],
+                Family::Spring => v.k[i],
+            };
+            d.a *= factor;
+            d.b *= factor;
+            d.c *= factor;
+            d.d *= factor;
+            d
+        })
+        .collect();
+    (plant, partials)
+}
+
+/// The weighted residuals (ŷ − y)/σ of every channel, for the solver.
+pub(crate) struct ChainProblem<'a> {
+    pub setup: &'a ChainSetup,
+    pub record: &'a ChainRecord,
+    pub layout: &'a Layout,
+    pub base: &'a ChainParameters,
+    pub delays: &'a [f64],
+    /// σ of each channel.
+    pub noise: Vec<f64>,
+}
+
+impl ChainProblem<'_> {
+    /// The simulation at θ, or None where it cannot be computed (a delay out of range,
+    /// an exponential out of range).
+    pub(crate) fn simulate(&self, theta: &[f64], sensitivities: bool) -> Option<Simulation> {
+        let (parameters, delays) = self.layout.unpack(theta, self.base, self.delays);
+        let half = self.record.dt * self.record.len() as f64 / 2.0;
+        if delays
+            .iter()
+            .any(|d| !(d.is_finite() && *d >= 0.0 && *d < half))
+        {
+            return None;
+        }
+        let (plant, partials) = systems(self.setup, self.layout, &parameters);
+        simulate(
+            &plant,
+            &partials,
+            &delays,
+            &self.record.input,
+            self.record.dt,
+            sensitivities,
+        )
+        .ok()
+    }
+
+    fn weighted(&self, outputs: &[f64], out: &mut [f64]) {
+        let samples = self.record.len();
+        for (ch, measured) in self.record.outputs.iter().enumerate() {
+            let scale = 1.0 / self.noise[ch];
+            let range = ch * samples..(ch + 1) * samples;
+            for ((r, y), m) in out[range.clone()]
+                .iter_mut()
+                .zip(&outputs[range])
+                .zip(measured)
+            {
+                *r = (y - m) * scale;
+            }
+        }
+    }
+}
+
+impl LeastSquaresProblem for ChainProblem<'_> {
+    fn residual_count(&self) -> usize {
+        self.record.len() * self.record.outputs.len()
+    }
+
+    fn residuals(&mut self, theta: &[f64], out: &mut [f64]) -> bool {
+        match self.simulate(theta, false) {
+            Some(sim) => {
+                self.weighted(&sim.outputs, out);
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn jacobian(&mut self, theta: &[f64], out: &mut DMatrix<f64>) -> bool {
+        let Some(sim) = self.simulate(theta, true) else {
+            return false;
+        };
+        let Some(jac) = sim.sensitivities else {
+            return false;
+        };
+        let samples = self.record.len();
+        let free = self.layout.free.len();
+        out.fill(0.0);
+        for ch in 0..self.record.outputs.len() {
+            let scale = 1.0 / self.noise[ch];
+            for k in ch * samples..(ch + 1) * samples {
+                for j in 0..free {
+                    out[(k, j)] = jac[(k, j)] * scale;
+                }
+            }
+        }
+        for (j, &ch) in self.layout.delayed.iter().enumerate() {
+            let scale = 1.0 / self.noise[ch];
+            for k in ch * samples..(ch + 1) * samples {
+                // The channel reads y(t − τ): ∂/∂τ = −ẏ(t − τ).
+                out[(k, free + j)] = -sim.rates[k] * scale;
+            }
+        }
+        true
+    }
+}

@@ -1,0 +1,358 @@
+//! What a chain fit is given: the chain's layout, its drive, its sensors, its record.
+
+use crate::{IdentError, ResponseQuantity, Result};
+use serde::{Deserialize, Serialize};
+
+/// What drives a chain of masses.
+///
+/// By default [`ChainDrive::Force`].
+///
+/// ```
+/// use msd_ident::ChainDrive;
+/// assert_eq!(serde_json::to_value(ChainDrive::BaseAcceleration)?, "base_acceleration");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ChainDrive {
+    /// A measured force (N) on mass [`ChainSetup::force_at`]. Fixes the scale: every m,
+    /// c and k can be identified.
+    #[default]
+    Force,
+    /// A measured acceleration (m/s²) of the ground the first spring and damper stand
+    /// on. Scaling every m, c and k together leaves the motion unchanged, so one mass
+    /// (or more) must be known.
+    BaseAcceleration,
+}
+
+/// A sensor's own dynamics: a low-pass filter with unit gain at 0 Hz (an anti-aliasing
+/// filter, or the resonance of an accelerometer well above the band).
+///
+/// ```
+/// use msd_ident::LowPass;
+/// let filter = LowPass { cutoff_hz: 50.0, ..LowPass::default() };
+/// assert_eq!(filter.order, 1);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LowPass {
+    /// The cut-off (first order) or natural frequency (second order), Hz (> 0).
+    pub cutoff_hz: f64,
+    /// 1 (ωc/(s + ωc)) or 2 (ωc²/(s² + 2ζc·ωc·s + ωc²)). By default 1.
+    pub order: u8,
+    /// ζc of a second-order filter. By default 1/√2 (Butterworth).
+    pub damping_ratio: f64,
+}
+
+impl Default for LowPass {
+    fn default() -> Self {
+        Self {
+            cutoff_hz: f64::INFINITY,
+            order: 1,
+            damping_ratio: std::f64::consts::FRAC_1_SQRT_2,
+        }
+    }
+}
+
+/// One response channel of a chain.
+///
+/// ```
+/// use msd_ident::{ChainSensor, ResponseQuantity};
+/// let top = ChainSensor { at: 2, quantity: ResponseQuantity::Acceleration, ..ChainSensor::default() };
+/// assert!(top.delay.is_none() && !top.estimate_delay);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ChainSensor {
+    /// The mass it is on, numbered from 1 at the ground.
+    pub at: usize,
+    /// What it reads. Under a base acceleration, a displacement or velocity is relative
+    /// to the ground and an acceleration absolute (an accelerometer's).
+    pub quantity: ResponseQuantity,
+    /// A known delay, s (≥ 0): the channel reads the motion this long ago. By default none.
+    pub delay: Option<f64>,
+    /// Estimate the delay (with an interval), starting from `delay` or 0.
+    pub estimate_delay: bool,
+    /// A known low-pass filter in the sensor's path. By default none.
+    pub low_pass: Option<LowPass>,
+}
+
+impl Default for ChainSensor {
+    fn default() -> Self {
+        Self {
+            at: 1,
+            quantity: ResponseQuantity::Displacement,
+            delay: None,
+            estimate_delay: false,
+            low_pass: None,
+        }
+    }
+}
+
+/// A chain of masses and how it was tested: spring and damper i join mass i to mass
+/// i − 1, the first to the ground.
+///
+/// ```
+/// use msd_ident::{ChainSensor, ChainSetup, ResponseQuantity};
+/// let setup = ChainSetup {
+///     masses: 2,
+///     force_at: 2,
+///     sensors: vec![
+///         ChainSensor { at: 1, quantity: ResponseQuantity::Acceleration, ..ChainSensor::default() },
+///         ChainSensor { at: 2, quantity: ResponseQuantity::Acceleration, ..ChainSensor::default() },
+///     ],
+///     ..ChainSetup::default()
+/// };
+/// assert!(setup.validate().is_ok());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ChainSetup {
+    /// The number of masses, 1 to 8.
+    pub masses: usize,
+    /// What drives the chain.
+    pub drive: ChainDrive,
+    /// The mass a force acts on (with [`ChainDrive::Force`]), from 1.
+    pub force_at: usize,
+    /// The response channels, one or more.
+    pub sensors: Vec<ChainSensor>,
+}
+
+impl Default for ChainSetup {
+    fn default() -> Self {
+        Self {
+            masses: 1,
+            drive: ChainDrive::Force,
+            force_at: 1,
+            sensors: vec![ChainSensor::default()],
+        }
+    }
+}
+
+/// The most masses a chain may have.
+pub const MAX_MASSES: usize = 8;
+
+impl ChainSetup {
+    /// Checks the layout: 1 to [`MAX_MASSES`] masses, the force and every sensor on one
+    /// of them, delays ≥ 0 and filters with a positive cut-off. The error names the key.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.masses;
+        if !(1..=MAX_MASSES).contains(&n) {
+            return Err(setup_error(format!(
+                "masses = {n}: expected 1 to {MAX_MASSES}"
+            )));
+        }
+        if self.drive == ChainDrive::Force && !(1..=n).contains(&self.force_at) {
+            return Err(setup_error(format!(
+                "force_at = {}: expected a mass from 1 to {n}",
+                self.force_at
+            )));
+        }
+        if self.sensors.is_empty() {
+            return Err(setup_error("sensors: expected at least one".into()));
+        }
+        for (i, sensor) in self.sensors.iter().enumerate() {
+            if !(1..=n).contains(&sensor.at) {
+                return Err(setup_error(format!(
+                    "sensors[{i}].at = {}: expected a mass from 1 to {n}",
+                    sensor.at
+                )));
+            }
+            if let Some(delay) = sensor.delay
+                && !(delay.is_finite() && delay >= 0.0)
+            {
+                return Err(setup_error(format!(
+                    "sensors[{i}].delay = {delay}: expected a finite number of seconds ≥ 0"
+                )));
+            }
+            if let Some(filter) = sensor.low_pass {
+                if !(filter.cutoff_hz.is_finite() && filter.cutoff_hz > 0.0) {
+                    return Err(setup_error(format!(
+                        "sensors[{i}].low_pass.cutoff_hz = {}: expected a finite frequency > 0",
+                        filter.cutoff_hz
+                    )));
+                }
+                if !matches!(filter.order, 1 | 2) {
+                    return Err(setup_error(format!(
+                        "sensors[{i}].low_pass.order = {}: expected 1 or 2",
+                        filter.order
+                    )));
+                }
+                if !(filter.damping_ratio.is_finite() && filter.damping_ratio > 0.0) {
+                    return Err(setup_error(format!(
+                        "sensors[{i}].low_pass.damping_ratio = {}: expected a finite number > 0",
+                        filter.damping_ratio
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The same chain with ideal sensors: no delay, no filter. Fitting it too shows how
+    /// much ignoring the sensors' dynamics biases the estimates.
+    ///
+    /// ```
+    /// use msd_ident::{ChainSensor, ChainSetup};
+    /// let setup = ChainSetup { sensors: vec![ChainSensor { delay: Some(0.01), ..ChainSensor::default() }], ..ChainSetup::default() };
+    /// assert_eq!(setup.with_ideal_sensors().sensors[0].delay, None);
+    /// ```
+    pub fn with_ideal_sensors(&self) -> Self {
+        let mut ideal = self.clone();
+        for sensor in &mut ideal.sensors {
+            sensor.delay = None;
+            sensor.estimate_delay = false;
+            sensor.low_pass = None;
+        }
+        ideal
+    }
+}
+
+/// Every mass, damper and spring of a chain, from the ground out.
+///
+/// ```
+/// use msd_ident::ChainParameters;
+/// let p = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4] };
+/// assert!(p.validate(2).is_ok());
+/// assert!(p.validate(3).is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainParameters {
+    /// m_i, kg (> 0).
+    pub masses: Vec<f64>,
+    /// c_i, N·s/m (> 0), joining mass i to mass i − 1 (the first to the ground).
+    pub dampers: Vec<f64>,
+    /// k_i, N/m (> 0), likewise.
+    pub springs: Vec<f64>,
+}
+
+impl ChainParameters {
+    /// Checks that there are `n` of each, all finite and > 0.
+    pub fn validate(&self, n: usize) -> Result<()> {
+        for (name, values) in [
+            ("masses", &self.masses),
+            ("dampers", &self.dampers),
+            ("springs", &self.springs),
+        ] {
+            if values.len() != n {
+                return Err(setup_error(format!(
+                    "{name} has {} values: expected one per mass ({n})",
+                    values.len()
+                )));
+            }
+            if let Some((i, v)) = values
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+            {
+                return Err(setup_error(format!(
+                    "{name}[{i}] = {v}: expected a finite number > 0"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The plant for frequency responses (force on `force_at`, response at `response_at`).
+    pub fn plant(&self, force_at: usize, response_at: usize) -> super::ChainPlant {
+        super::ChainPlant {
+            masses: self.masses.clone(),
+            springs: self.springs.clone(),
+            dampers: self.dampers.clone(),
+            force_at,
+            response_at,
+        }
+    }
+}
+
+/// One test of a chain: the drive's samples (force or base acceleration) and one series
+/// per sensor, every `dt` seconds from rest.
+///
+/// ```
+/// use msd_ident::ChainRecord;
+/// let record = ChainRecord { dt: 1e-3, input: vec![0.0; 4], outputs: vec![vec![0.0; 4]] };
+/// assert_eq!(record.len(), 4);
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainRecord {
+    /// The sampling interval, s.
+    pub dt: f64,
+    /// The drive's samples (N or m/s²), linear between samples.
+    pub input: Vec<f64>,
+    /// One series per sensor, in the setup's order.
+    pub outputs: Vec<Vec<f64>>,
+}
+
+impl ChainRecord {
+    /// The number of samples.
+    pub fn len(&self) -> usize {
+        self.input.len()
+    }
+
+    /// Whether the record has no samples.
+    pub fn is_empty(&self) -> bool {
+        self.input.is_empty()
+    }
+
+    /// Checks the record against `setup`: dt, one finite series per sensor of the
+    /// input's length, delays shorter than the record.
+    pub fn validate(&self, setup: &ChainSetup) -> Result<()> {
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(IdentError::InvalidParameter {
+                name: "dt",
+                value: self.dt,
+                expected: "a finite number > 0",
+            });
+        }
+        if self.outputs.len() != setup.sensors.len() {
+            return Err(setup_error(format!(
+                "the record has {} output series: expected one per sensor ({})",
+                self.outputs.len(),
+                setup.sensors.len()
+            )));
+        }
+        check_finite("input", &self.input)?;
+        for output in &self.outputs {
+            if output.len() != self.input.len() {
+                return Err(IdentError::LengthMismatch {
+                    what: "output",
+                    expected: self.input.len(),
+                    got: output.len(),
+                });
+            }
+            check_finite("output", output)?;
+        }
+        let duration = self.dt * self.input.len() as f64;
+        for (i, sensor) in setup.sensors.iter().enumerate() {
+            if let Some(delay) = sensor.delay
+                && delay >= duration / 2.0
+            {
+                return Err(setup_error(format!(
+                    "sensors[{i}].delay = {delay} s: expected less than half the record ({} s)",
+                    duration / 2.0
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+fn check_finite(field: &'static str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(IdentError::NonFiniteSample {
+            field,
+            index,
+            value: values[index],
+        }),
+        None => Ok(()),
+    }
+}
+
+pub(crate) fn setup_error(reason: String) -> IdentError {
+    IdentError::Setup {
+        setup: "chain of masses",
+        reason,
+    }
+}
