@@ -6,6 +6,7 @@
 //! GIL released (`Python::detach`). The pure-Python package `msd` (python/msd) wraps
 //! these functions in typed result objects.
 
+mod chain;
 mod convert;
 mod errors;
 mod experiment;
@@ -31,6 +32,8 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit_records, m)?)?;
     m.add_function(wrap_pyfunction!(fit::free_decay, m)?)?;
     m.add_function(wrap_pyfunction!(fit::dynamometer, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::simulate_chain, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::fit_chain, m)?)?;
     m.add_function(wrap_pyfunction!(frf::frf, m)?)?;
     m.add_function(wrap_pyfunction!(frf::modal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(frf::one_mode_fit, m)?)?;

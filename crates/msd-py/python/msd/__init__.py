@@ -5,8 +5,8 @@ Every computation runs in the Rust crates of msd-toolkit (msd-ident, msd-signal,
 msd-uff, msd-experiment) with the GIL released; this package only converts.
 
 Functions: `estimate`, `simulate`, `validate`, `frf`, `modal_fit`, `one_mode_fit`, `fit_records`, `free_decay`,
-`dynamometer`, `run`, `plan`, `design`, `paper_data`; the module `msd.uff` reads and
-writes Universal File Format files.
+`dynamometer`, `simulate_chain`, `fit_chain`, `run`, `plan`, `design`, `paper_data`; the
+module `msd.uff` reads and writes Universal File Format files.
 
 Errors: `ValueError` for bad input (with the toolkit's message), `IdentificationError`
 (a subclass of `ValueError`) when the data cannot identify what is asked.
@@ -23,6 +23,10 @@ from . import _msd
 from ._convert import complex_vector, options_json, rows, value_json, vector
 from ._msd import IdentificationError
 from ._results import (
+    ChainFit,
+    ChainIntervals,
+    ChainMode,
+    ChainParameters,
     Estimate,
     FrequencyResponse,
     Interval,
@@ -42,6 +46,10 @@ __version__: str = _msd.__version__
 
 __all__ = [
     "IdentificationError",
+    "ChainFit",
+    "ChainIntervals",
+    "ChainMode",
+    "ChainParameters",
     "Estimate",
     "FrequencyResponse",
     "Interval",
@@ -63,6 +71,8 @@ __all__ = [
     "fit_records",
     "free_decay",
     "dynamometer",
+    "simulate_chain",
+    "fit_chain",
     "run",
     "plan",
     "design",
@@ -453,6 +463,149 @@ def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> Setu
             )
         )
     return SetupFit(_msd.dynamometer(built, options_json(options)))
+
+
+ChainParametersLike = Union[ChainParameters, Mapping[str, Any]]
+
+
+def _chain_parameters(parameters: ChainParametersLike, name: str) -> Dict[str, Any]:
+    """{masses, dampers, springs} of a `ChainParameters` or a dict (checked in Rust)."""
+    if isinstance(parameters, ChainParameters):
+        return parameters.to_dict()
+    if isinstance(parameters, Mapping):
+        return dict(parameters)
+    raise ValueError(
+        f"{name}: expected msd.ChainParameters or a dict with masses, dampers, springs, got {parameters!r}"
+    )
+
+
+def _chain_setup(
+    setup: Optional[Mapping[str, Any]],
+    keys: Dict[str, Any],
+    parameters: Dict[str, Any],
+) -> str:
+    """The setup's JSON: `setup` (serde's shape), its keys given by name replacing its
+    own, the number of masses by default that of `parameters`."""
+    if setup is None:
+        out: Dict[str, Any] = {}
+    elif isinstance(setup, Mapping):
+        out = dict(setup)
+    else:
+        raise ValueError(f"setup: expected a dict (masses, drive, force_at, sensors), got {setup!r}")
+    out.update({k: v for k, v in keys.items() if v is not None})
+    masses = parameters.get("masses")
+    if "masses" not in out and masses is not None and not isinstance(masses, (str, bytes)):
+        try:
+            out["masses"] = len(masses)
+        except TypeError:
+            pass
+    return options_json(out)
+
+
+def _seconds(name: str, value: Any) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {value!r}: expected a number of seconds") from None
+
+
+def simulate_chain(
+    parameters: ChainParametersLike,
+    input: Any,
+    dt: float,
+    *,
+    setup: Optional[Mapping[str, Any]] = None,
+    masses: Optional[int] = None,
+    drive: Optional[str] = None,
+    force_at: Optional[int] = None,
+    sensors: Optional[Sequence[Mapping[str, Any]]] = None,
+) -> np.ndarray:
+    """Every sensor's noise-free reading of a chain of masses driven by `input` (msd-ident's
+    `simulate_chain`): a 2-D array, one row per sensor.
+
+    `parameters`: ``msd.ChainParameters`` or a dict ``{"masses": [...], "dampers": [...],
+    "springs": [...]}``, from the ground out (spring and damper i join mass i to mass
+    i − 1, the first to the ground). `input`: the force (N) or base acceleration (m/s²)
+    every `dt` seconds, linear between samples, the chain at rest before it.
+
+    The setup (msd-ident's ``ChainSetup``), as a dict `setup` in its serde shape or by its
+    keys (which replace the dict's): `masses` (the number of masses, 1 to 8; by default
+    one per value of ``parameters["masses"]``), `drive` ("force", the default, or
+    "base_acceleration"), `force_at` (the mass the force acts on, from 1 at the ground;
+    default 1), `sensors` (default one displacement sensor on mass 1): a list of dicts
+    with ``at`` (the mass, default 1), ``quantity`` ("displacement", the default,
+    "velocity" or "acceleration"; under a base acceleration a displacement or velocity
+    is relative to the ground, an acceleration absolute), ``delay`` (s, default none),
+    ``estimate_delay`` (for `fit_chain`; default False) and ``low_pass`` (default none;
+    ``{"cutoff_hz": …, "order": 1 or 2, "damping_ratio": …}``, order 1 and ζ 1/√2 by
+    default).
+
+    Raises ValueError for a bad setup (the message names the key, e.g. ``sensors[1].at =
+    4``), bad parameters, a non-finite input, or a delay not shorter than half the record.
+    """
+    p = _chain_parameters(parameters, "parameters")
+    setup_json = _chain_setup(
+        setup, {"masses": masses, "drive": drive, "force_at": force_at, "sensors": sensors}, p
+    )
+    return _msd.simulate_chain(setup_json, options_json(p), vector("input", input), _seconds("dt", dt))
+
+
+def fit_chain(
+    input: Any,
+    outputs: Any,
+    dt: float,
+    guess: ChainParametersLike,
+    *,
+    setup: Optional[Mapping[str, Any]] = None,
+    masses: Optional[int] = None,
+    drive: Optional[str] = None,
+    force_at: Optional[int] = None,
+    sensors: Optional[Sequence[Mapping[str, Any]]] = None,
+    known_masses: Sequence[int] = (),
+    passes: int = 4,
+) -> ChainFit:
+    """Every m, c and k of a chain of masses (and the sensor delays asked for) from one
+    record, with 95 % intervals and the modes: msd-ident's `fit_chain` (weighted output
+    error, exact simulation and sensitivities, Levenberg–Marquardt from `guess`, each
+    channel weighted by its own noise level, re-estimated between passes).
+
+    `input`: the drive's samples (force, N, or base acceleration, m/s²) every `dt` s;
+    `outputs`: one series per sensor, in the setup's order (a 2-D array, one row per
+    sensor, or a list of 1-D arrays); the chain at rest before the record. `guess`:
+    ``msd.ChainParameters`` or ``{"masses", "dampers", "springs"}``. The setup as for
+    `simulate_chain` (`setup` dict or `masses`, `drive`, `force_at`, `sensors`; a
+    sensor's ``estimate_delay`` estimates its delay from ``delay`` or 0).
+    `known_masses`: masses (numbered from 1) held at the guess's value (under a base
+    acceleration one must be known to set the scale); `passes`: at most this many fits,
+    each re-estimating the channels' noise levels (default 4).
+
+    Returns a `ChainFit`; when the record cannot separate the parameters its
+    ``intervals`` is None and ``unidentifiable`` says which combinations are lost (the
+    modes are still given).
+
+    Raises ValueError for bad input (the message names the key: ``sensors[1].at = 4``,
+    ``sensors[0].low_pass.cutoff_hz = -50``, ``sensors[0].delay = 20 s``),
+    IdentificationError when the fit fails.
+    """
+    g = _chain_parameters(guess, "guess")
+    setup_json = _chain_setup(
+        setup, {"masses": masses, "drive": drive, "force_at": force_at, "sensors": sensors}, g
+    )
+    try:
+        known = [known_masses] if isinstance(known_masses, int) else list(known_masses)
+    except TypeError:
+        raise ValueError(f"known_masses = {known_masses!r}: expected a list of masses, numbered from 1") from None
+    opts = {"known_masses": known, "passes": passes}
+    return ChainFit(
+        _msd.fit_chain(
+            setup_json,
+            vector("input", input),
+            rows("outputs", outputs),
+            _seconds("dt", dt),
+            options_json(g),
+            options_json(opts),
+        )
+    )
 
 
 def run(

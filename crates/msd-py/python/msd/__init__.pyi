@@ -11,10 +11,11 @@ from ._msd import IdentificationError as IdentificationError
 __version__: str
 
 __all__ = [
-    "IdentificationError", "Estimate", "FrequencyResponse", "Interval", "ModalFit", "Mode",
+    "IdentificationError", "ChainFit", "ChainIntervals", "ChainMode", "ChainParameters", "Estimate",
+    "FrequencyResponse", "Interval", "ModalFit", "Mode",
     "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
     "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "fit_records", "free_decay", "dynamometer",
-    "run", "plan", "design", "paper_data", "uff",
+    "simulate_chain", "fit_chain", "run", "plan", "design", "paper_data", "uff",
 ]
 
 _ArrayLike = npt.ArrayLike
@@ -161,6 +162,54 @@ class RecordsFit(SetupFit):
     def damping_ratio(self) -> Optional[Interval]: ...
     def _repr_html_(self) -> str: ...
 
+@dataclass(frozen=True)
+class ChainParameters:
+    masses: Tuple[float, ...]
+    dampers: Tuple[float, ...]
+    springs: Tuple[float, ...]
+    @classmethod
+    def from_dict(cls, d: Dict[str, Any]) -> ChainParameters: ...
+    def to_dict(self) -> Dict[str, List[float]]: ...
+
+ChainParametersLike = Union[ChainParameters, Mapping[str, Any]]
+
+@dataclass(frozen=True)
+class ChainIntervals:
+    masses: List[Interval]
+    dampers: List[Interval]
+    springs: List[Interval]
+
+@dataclass(frozen=True)
+class ChainMode:
+    natural_frequency_hz: Interval
+    damping_ratio: Interval
+    shape: List[Interval]
+
+class ChainFit(Result):
+    @property
+    def parameters(self) -> ChainParameters: ...
+    @property
+    def intervals(self) -> Optional[ChainIntervals]: ...
+    @property
+    def identified(self) -> bool: ...
+    @property
+    def unidentifiable(self) -> List[str]: ...
+    @property
+    def modes(self) -> List[ChainMode]: ...
+    @property
+    def delays(self) -> List[Optional[Interval]]: ...
+    @property
+    def noise(self) -> _F64: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def degrees_of_freedom(self) -> int: ...
+    @property
+    def exit(self) -> str: ...
+    @property
+    def evaluations(self) -> int: ...
+    def _repr_html_(self) -> str: ...
+
 class RunResults(Dict[str, Any]):
     summary: str
     out_dir: str
@@ -226,6 +275,31 @@ def free_decay(
     known_stiffness: Optional[float] = ...,
 ) -> SetupFit: ...
 def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> SetupFit: ...
+def simulate_chain(
+    parameters: ChainParametersLike,
+    input: _ArrayLike,
+    dt: float,
+    *,
+    setup: Optional[Mapping[str, Any]] = ...,
+    masses: Optional[int] = ...,
+    drive: Optional[str] = ...,
+    force_at: Optional[int] = ...,
+    sensors: Optional[Sequence[Mapping[str, Any]]] = ...,
+) -> _F64: ...
+def fit_chain(
+    input: _ArrayLike,
+    outputs: Any,
+    dt: float,
+    guess: ChainParametersLike,
+    *,
+    setup: Optional[Mapping[str, Any]] = ...,
+    masses: Optional[int] = ...,
+    drive: Optional[str] = ...,
+    force_at: Optional[int] = ...,
+    sensors: Optional[Sequence[Mapping[str, Any]]] = ...,
+    known_masses: Sequence[int] = ...,
+    passes: int = ...,
+) -> ChainFit: ...
 def run(config: _PathLike, out: Optional[_PathLike] = ..., seed: Optional[int] = ..., threads: Optional[int] = ...) -> RunResults: ...
 def plan(config: _PathLike, target: float = ..., verify: int = ...) -> SetupFit: ...
 def design(config: _PathLike, out: Optional[_PathLike] = ..., verify: int = ..., write: bool = ...) -> SetupFit: ...

@@ -7,9 +7,9 @@ import numpy.typing as npt
 
 __version__: str
 __all__ = [
-    "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_records",
+    "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_chain", "fit_records",
     "free_decay", "frf", "modal_fit", "one_mode_fit", "paper_data", "plan", "run", "simulate",
-    "uff_read", "uff_write", "validate",
+    "simulate_chain", "uff_read", "uff_write", "validate",
 ]
 
 class IdentificationError(ValueError):
@@ -33,6 +33,10 @@ def free_decay(t: _F64, response: _F64, options_json: str) -> Dict[str, Any]: ..
 def dynamometer(
     conditions: Sequence[Tuple[str, Optional[float], Optional[_F64], _F64, _F64, Optional[float]]],
     options_json: str,
+) -> Dict[str, Any]: ...
+def simulate_chain(setup_json: str, parameters_json: str, input: _F64, dt: float) -> _F64: ...
+def fit_chain(
+    setup_json: str, input: _F64, outputs: Sequence[_F64], dt: float, guess_json: str, options_json: str
 ) -> Dict[str, Any]: ...
 def frf(t: _F64, forces: Sequence[_F64], responses: Sequence[_F64], options_json: str) -> Dict[str, Any]: ...
 def modal_fit(

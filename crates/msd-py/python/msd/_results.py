@@ -447,6 +447,140 @@ class RecordsFit(SetupFit):
         return _table(f"msd.fit_records ({self.data.get('drive', '')})", rows)
 
 
+@dataclass(frozen=True)
+class ChainParameters:
+    """Every mass m_i (kg), damper c_i (N·s/m) and spring k_i (N/m) of a chain, from the
+    ground out: spring and damper i join mass i to mass i − 1 (the first to the ground)."""
+
+    masses: Tuple[float, ...]
+    dampers: Tuple[float, ...]
+    springs: Tuple[float, ...]
+
+    @classmethod
+    def from_dict(cls, d: Dict[str, Any]) -> "ChainParameters":
+        """From {masses, dampers, springs} (lists of numbers)."""
+        return cls(*(tuple(float(v) for v in d[key]) for key in ("masses", "dampers", "springs")))
+
+    def to_dict(self) -> Dict[str, List[float]]:
+        """{masses, dampers, springs} as lists (msd-ident's `ChainParameters`)."""
+        return {"masses": list(self.masses), "dampers": list(self.dampers), "springs": list(self.springs)}
+
+
+@dataclass(frozen=True)
+class ChainIntervals:
+    """m_i, c_i and k_i with their 95 % intervals (a known mass with standard error 0)."""
+
+    masses: List[Interval]
+    dampers: List[Interval]
+    springs: List[Interval]
+
+
+@dataclass(frozen=True)
+class ChainMode:
+    """One mode of a chain: fn (Hz) and ζ with intervals, and its shape (the real part of
+    each mass's displacement, the largest scaled to 1) with intervals."""
+
+    natural_frequency_hz: Interval
+    damping_ratio: Interval
+    shape: List[Interval]
+
+    def __repr__(self) -> str:
+        return f"ChainMode(fn = {self.natural_frequency_hz!r} Hz, ζ = {self.damping_ratio!r})"
+
+
+class ChainFit(Result):
+    """`msd.fit_chain`'s result: every m, c, k of the chain with intervals (when the
+    record identifies them), the modes, the sensors' estimated delays and noise levels;
+    every field of msd-ident's `ChainFit` in `data`."""
+
+    _arrays = ("noise",)
+
+    @property
+    def parameters(self) -> ChainParameters:
+        """The estimates (a known mass as given)."""
+        return ChainParameters.from_dict(self.data["parameters"])
+
+    @property
+    def intervals(self) -> Optional[ChainIntervals]:
+        """m_i, c_i, k_i with intervals; None when the record cannot separate them (see
+        `unidentifiable`)."""
+        iv = self.data["intervals"]
+        if iv is None:
+            return None
+        each = {k: [Interval.from_dict(v) for v in iv[k]] for k in ("masses", "dampers", "springs")}
+        return ChainIntervals(**each)
+
+    @property
+    def identified(self) -> bool:
+        """Whether every m, c and k is identified (`intervals` is not None)."""
+        return self.data["intervals"] is not None
+
+    @property
+    def unidentifiable(self) -> List[str]:
+        """The combinations of parameters the record cannot tell apart, in words."""
+        return list(self.data["unidentifiable"])
+
+    @property
+    def modes(self) -> List[ChainMode]:
+        """The fitted chain's modes, by frequency, with intervals (delta method)."""
+        return [
+            ChainMode(
+                Interval.from_dict(m["natural_frequency_hz"]),
+                Interval.from_dict(m["damping_ratio"]),
+                [Interval.from_dict(s) for s in m["shape"]],
+            )
+            for m in self.data["modes"]
+        ]
+
+    @property
+    def delays(self) -> List[Optional[Interval]]:
+        """Each sensor's estimated delay, s (None where it was not estimated)."""
+        return [None if d is None else Interval.from_dict(d) for d in self.data["delays"]]
+
+    @property
+    def noise(self) -> np.ndarray:
+        """σ̂ of each channel, in its own unit."""
+        return self.data["noise"]
+
+    @property
+    def condition_number(self) -> float:
+        """Condition number of the column-scaled JᵀJ (inf when singular)."""
+        c = self.data["condition_number"]
+        return float("inf") if c is None else float(c)
+
+    @property
+    def degrees_of_freedom(self) -> int:
+        """Samples × channels − estimated quantities."""
+        return int(self.data["degrees_of_freedom"])
+
+    @property
+    def exit(self) -> str:
+        """The solver's exit on the last pass (e.g. "FTolerance")."""
+        return str(self.data["exit"])
+
+    @property
+    def evaluations(self) -> int:
+        """Model evaluations over all passes."""
+        return int(self.data["evaluations"])
+
+    def _repr_html_(self) -> str:
+        rows: List[Tuple[str, Any]] = []
+        iv = self.intervals
+        if iv is None:
+            rows.append(("m, c, k", "not identified from this record"))
+            rows += [("lost", w) for w in self.unidentifiable]
+        else:
+            for i, (m, c, k) in enumerate(zip(iv.masses, iv.dampers, iv.springs)):
+                rows += [(f"m{i + 1} [kg]", m), (f"c{i + 1} [N·s/m]", c), (f"k{i + 1} [N/m]", k)]
+        for i, mode in enumerate(self.modes):
+            rows += [(f"mode {i + 1} fn [Hz]", mode.natural_frequency_hz), (f"mode {i + 1} ζ [-]", mode.damping_ratio)]
+        for i, d in enumerate(self.delays):
+            if d is not None:
+                rows.append((f"delay of sensor {i + 1} [s]", d))
+        rows.append(("σ̂ per channel", ", ".join(f"{s:.3e}" for s in self.noise)))
+        return _table("msd.fit_chain", rows)
+
+
 class RunResults(dict):
     """The `results.json` content of a run (a dict), with `summary` (what the command
     prints) and `out_dir` (where the folder was written)."""
