@@ -55,6 +55,13 @@ def test_time_domain_functions(t_name, a_name):
     survives(msd.free_decay, t, a)
     survives(msd.fit_records, {"t": t, "drive": a, "displacement": a})
     survives(msd.dynamometer, [{"t": t, "displacement": a, "force": a}])
+    dt = t[1] - t[0]
+    one = {"masses": [1.0], "dampers": [0.1], "springs": [10.0]}
+    survives(msd.simulate_chain, one, a, dt, sensors=[{"delay": 0.05, "low_pass": {"cutoff_hz": 5.0, "order": 2}}])
+    survives(msd.simulate_chain, {"masses": [1e300, 1e-300], "dampers": [1e-300, 1e300], "springs": [1e300, 1.0]}, a, dt)
+    survives(msd.fit_chain, a, a, dt, one, sensors=[{"estimate_delay": True, "low_pass": {"cutoff_hz": 5.0}}])
+    survives(msd.fit_chain, a, [a, a], dt, one, drive="base_acceleration",
+             sensors=[{"quantity": "acceleration"}, {"quantity": "velocity", "delay": 1e300}])
 
 
 @pytest.mark.parametrize("a_name", ODD_ARRAYS)
