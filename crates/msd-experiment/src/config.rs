@@ -44,10 +44,12 @@ use msd_signal::Signal;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::{Path, PathBuf};
 
+mod chain;
 mod frf;
 mod nonlinear;
 mod pilot;
 mod setup;
+pub use chain::{ChainSection, ChainSensorSection};
 pub use frf::{
     ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ReferenceMode, ShakerSource,
     Spacing, SweepSource, TableSource, UffSource,
@@ -72,6 +74,9 @@ pub struct Config {
     /// displacement channel, the paper's setup).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub setup: Option<SetupSection>,
+    /// A chain of masses tested in the time domain (`crate::chain`; off unless given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain: Option<ChainSection>,
     /// The true plant (synthetic experiments).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plant: Option<Plant>,
@@ -419,6 +424,11 @@ fn unused_sections(text: &str, config: &Config) -> std::result::Result<(), (Stri
     const COMMON: [&str; 4] = ["name", "description", "seed", "output"];
     let (kind, reads): (&str, &[&str]) = if config.frequency_only() {
         ("a frequency-response config", &["frequency_response"])
+    } else if config.chain.is_some() {
+        (
+            "a [chain] config (a chain of masses)",
+            &["chain", "time", "identification"],
+        )
     } else if config.setup.is_some() {
         (
             "a [setup] config (a lab setup)",
@@ -824,6 +834,7 @@ impl Config {
             description: String::new(),
             seed: default_seed(),
             setup: None,
+            chain: None,
             plant: None,
             time: None,
             noise: None,
@@ -890,6 +901,9 @@ impl Config {
         }
         if let Some(pilot) = &self.pilot {
             self.validate_pilot(pilot)?;
+        }
+        if let Some(chain) = &self.chain {
+            return self.validate_chain(chain);
         }
         match (&self.setup, self.kind()) {
             (Some(setup), kind) => setup.validate_config(self, kind)?,
@@ -987,6 +1001,24 @@ impl Config {
             ));
         }
         Ok(())
+    }
+
+    /// A `[chain]` needs `[time]` and `[identification.input]` (the drive's samples).
+    fn validate_chain(&self, chain: &ChainSection) -> std::result::Result<(), (String, String)> {
+        let Some(time) = &self.time else {
+            return Err((
+                "time".into(),
+                ": missing section: a [chain] config needs [time]".into(),
+            ));
+        };
+        validate_time(time)?;
+        if self.identification.is_none() {
+            return Err((
+                "identification.input".into(),
+                ": missing section: a [chain] config needs the drive's signal".into(),
+            ));
+        }
+        chain.validate(time.duration)
     }
 
     fn validate_synthetic(&self) -> std::result::Result<(), (String, String)> {

@@ -22,6 +22,7 @@
 //! ```
 
 pub mod budget;
+pub mod chain;
 pub mod cli;
 pub mod config;
 pub mod data;

@@ -70,3 +70,38 @@ pub(crate) fn write_json(
         serde_json::to_string_pretty(json).map_err(|e| crate::ExperimentError::run("write", e))?;
     staging.write("results.json", format!("{text}\n").as_bytes())
 }
+
+/// The `timings_ms` of a run: each stage's wall time in ms, then `total`.
+pub(crate) fn timings_ms(
+    stages: &[(&'static str, std::time::Duration)],
+    extra: &[(&'static str, std::time::Duration)],
+    total: std::time::Duration,
+) -> std::collections::BTreeMap<&'static str, f64> {
+    let mut timings: std::collections::BTreeMap<&'static str, f64> = stages
+        .iter()
+        .chain(extra)
+        .map(|(n, d)| (*n, d.as_secs_f64() * 1e3))
+        .collect();
+    timings.insert("total", total.as_secs_f64() * 1e3);
+    timings
+}
+
+/// The head of a run's report: its name, its description, and how it was run.
+pub(crate) fn report_head(
+    s: &mut String,
+    config: &crate::config::Config,
+    command: &str,
+    config_path: &std::path::Path,
+    seed: u64,
+) -> std::fmt::Result {
+    use std::fmt::Write;
+    writeln!(s, "# {}\n", config.name)?;
+    if !config.description.is_empty() {
+        writeln!(s, "{}\n", config.description)?;
+    }
+    writeln!(
+        s,
+        "Run with `{command} {}` (seed {seed}).\n",
+        config_path.display()
+    )
+}

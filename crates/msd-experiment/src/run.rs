@@ -9,7 +9,7 @@
 use crate::config::Config;
 use crate::output::Staging;
 use crate::progress::Progress;
-use crate::{Outcome, Result, RunOptions, RunSummary, frf, paper, setup};
+use crate::{Outcome, Result, RunOptions, RunSummary, chain, frf, paper, setup};
 use serde_json::Value;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -24,6 +24,8 @@ pub enum ExperimentKind {
     Setup,
     /// A frequency response (`[frequency_response]` and no time-domain data).
     FrequencyResponse,
+    /// A chain of masses in the time domain (`[chain]`).
+    Chain,
 }
 
 impl ExperimentKind {
@@ -38,6 +40,8 @@ impl ExperimentKind {
     pub fn of(config: &Config) -> Self {
         if config.frequency_only() {
             Self::FrequencyResponse
+        } else if config.chain.is_some() {
+            Self::Chain
         } else if config.setup.is_some() {
             Self::Setup
         } else {
@@ -55,6 +59,8 @@ pub(crate) enum Finished<'a> {
     Setup(&'a setup::SetupOutcome),
     /// A frequency response.
     FrequencyResponse(&'a frf::FrfOutcome),
+    /// A chain of masses.
+    Chain(&'a chain::ChainOutcome),
 }
 
 /// Runs the config at `config_path` and writes its results (see [`write`]).
@@ -81,6 +87,10 @@ pub(crate) fn run_and_write(
                 .map_err(|f| frf::write_failure(f, &target))?;
             let finished = Finished::FrequencyResponse(&outcome);
             write(finished, &target, progress, started)
+        }
+        ExperimentKind::Chain => {
+            let outcome = chain::run(config, config_path, options, progress)?;
+            write(Finished::Chain(&outcome), &target, progress, started)
         }
     }
 }
@@ -126,6 +136,7 @@ impl Finished<'_> {
             Self::Paper(o) => &o.config,
             Self::Setup(o) => &o.config,
             Self::FrequencyResponse(o) => &o.config,
+            Self::Chain(o) => &o.config,
         }
     }
 
@@ -134,6 +145,7 @@ impl Finished<'_> {
             Self::Paper(o) => crate::paper::figures::write_all(o, dir),
             Self::Setup(o) => setup::figures(o, dir),
             Self::FrequencyResponse(o) => frf::figures(o, dir),
+            Self::Chain(o) => chain::figures(o, dir),
         }
     }
 
@@ -145,6 +157,7 @@ impl Finished<'_> {
                 .collect(),
             Self::Setup(o) => setup::tables(o),
             Self::FrequencyResponse(_) => Vec::new(),
+            Self::Chain(o) => chain::tables(o),
         }
     }
 
@@ -158,6 +171,7 @@ impl Finished<'_> {
             Self::Paper(o) => crate::paper::report::markdown(o, figures, extra, elapsed),
             Self::Setup(o) => setup::report(o, figures),
             Self::FrequencyResponse(o) => frf::report(o, figures),
+            Self::Chain(o) => chain::report(o, figures),
         }
     }
 
@@ -166,6 +180,7 @@ impl Finished<'_> {
             Self::Paper(o) => Ok(crate::paper::results::to_json(o, extra, total)),
             Self::Setup(o) => setup::results(o, extra, total),
             Self::FrequencyResponse(o) => Ok(frf::to_json(o, extra, total)),
+            Self::Chain(o) => chain::results(o, extra, total),
         }
     }
 
@@ -181,6 +196,9 @@ impl Finished<'_> {
                 format!("{}\nresults in {}\n", setup::summary(o), target.display())
             }
             Self::FrequencyResponse(o) => format!("{o}\nresults in {}\n", target.display()),
+            Self::Chain(o) => {
+                format!("{}results in {}\n", chain::summary(o), target.display())
+            }
         }
     }
 }

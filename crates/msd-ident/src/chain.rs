@@ -277,13 +277,34 @@ pub fn simulate_chain(
             expected: "a finite number > 0",
         });
     }
+    if let Some(index) = input.iter().position(|u| !u.is_finite()) {
+        return Err(crate::IdentError::NonFiniteSample {
+            field: "input",
+            index,
+            value: input[index],
+        });
+    }
+    for (i, sensor) in setup.sensors.iter().enumerate() {
+        if let Some(delay) = sensor.delay
+            && delay >= dt * input.len() as f64
+        {
+            return Err(setup::setup_error(format!(
+                "sensors[{i}].delay = {} s: expected less than the record ({} s)",
+                setup::show(delay),
+                dt * input.len() as f64
+            )));
+        }
+    }
+    if input.is_empty() {
+        return Ok(vec![Vec::new(); setup.sensors.len()]);
+    }
     let plant = model::system(setup, &problem::values(parameters));
     let delays: Vec<f64> = setup
         .sensors
         .iter()
         .map(|s| s.delay.unwrap_or(0.0))
         .collect();
-    let sim = simulate::simulate(&plant, &[], &delays, input, dt, false)?;
+    let sim = simulate::simulate(&plant, &[], &delays, input, dt, None)?;
     Ok(sim
         .outputs
         .chunks(input.len().max(1))

@@ -25,6 +25,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
+mod chain;
 mod design;
 mod dynamometer;
 mod frequency;
@@ -104,6 +105,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
     // Cheap enough for the smoke test, which so checks them too.
     rows.extend(setups::setups(budget, &experiment)?);
     rows.extend(dynamometer::dynamometer_rows(budget)?);
+    rows.extend(chain::chain_rows(budget)?);
     if !options.smoke {
         rows.extend(rows::identification(budget, &experiment)?);
         rows.extend(rows::nonlinear(budget, &experiment)?);

@@ -231,3 +231,30 @@ impl Figure for PanelFigure<'_> {
         }
     }
 }
+
+/// A figure of panels stacked vertically.
+pub(crate) struct Stack<'a> {
+    /// The file's base name.
+    pub name: &'static str,
+    /// The figure's title.
+    pub title: String,
+    /// The panels, top to bottom.
+    pub panels: Vec<Panel<'a>>,
+}
+
+impl Figure for Stack<'_> {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 120 + 380 * self.panels.len().max(2) as u32)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
+        let area = suptitle(root, &self.title)?;
+        let parts = area.split_evenly((self.panels.len(), 1));
+        for (panel, part) in self.panels.iter().zip(&parts) {
+            panel.draw(part)?;
+        }
+        Ok(())
+    }
+}

@@ -10,35 +10,10 @@
 use super::fit::models;
 use super::{SetupFit, SetupOutcome};
 use crate::Result;
-use crate::plots::panel::{Curve, Panel, Style};
-use crate::plots::{BLUE, Draw, Figure, RED, register_fonts, save, suptitle};
-use plotters::coord::Shift;
+use crate::plots::panel::{Curve, Panel, Stack, Style};
+use crate::plots::{BLUE, RED, register_fonts, save};
 use plotters::prelude::*;
 use std::path::Path;
-
-/// A figure of panels stacked vertically.
-struct Stack<'a> {
-    name: &'static str,
-    title: String,
-    panels: Vec<Panel<'a>>,
-}
-
-impl Figure for Stack<'_> {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-    fn size(&self) -> (u32, u32) {
-        (1400, 120 + 380 * self.panels.len().max(2) as u32)
-    }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
-        let area = suptitle(root, &self.title)?;
-        let parts = area.split_evenly((self.panels.len(), 1));
-        for (panel, part) in self.panels.iter().zip(&parts) {
-            panel.draw(part)?;
-        }
-        Ok(())
-    }
-}
 
 /// Writes every figure of the setup; returns their base names.
 pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str>> {

@@ -123,17 +123,7 @@ pub(crate) fn markdown(o: &SetupOutcome, figures: &[&str]) -> String {
 }
 
 fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result {
-    writeln!(s, "# {}\n", o.config.name)?;
-    if !o.config.description.is_empty() {
-        writeln!(s, "{}\n", o.config.description)?;
-    }
-    writeln!(
-        s,
-        "Run with `{} {}` (seed {}).\n",
-        o.command,
-        o.config_path.display(),
-        o.seed
-    )?;
+    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
     setup_section(s, o)?;
     estimate_section(s, o)?;
     match &o.fit {

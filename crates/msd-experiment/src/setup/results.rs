@@ -91,13 +91,7 @@ pub(crate) fn to_json(
         ),
         SetupFit::Machine(m) => (None, None, None, None, Some(m.as_ref()), None),
     };
-    let mut timings: BTreeMap<&'static str, f64> = o
-        .timings
-        .iter()
-        .chain(extra)
-        .map(|(n, d)| (*n, d.as_secs_f64() * 1e3))
-        .collect();
-    timings.insert("total", total.as_secs_f64() * 1e3);
+    let timings = crate::results::timings_ms(&o.timings, extra, total);
     let setup = &o.data.setup;
     let results = Results {
         experiment: Experiment::new(

@@ -6,7 +6,7 @@ use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
 use crate::least_squares::{Linearization, SINGULAR_CONDITION};
 use crate::uncertainty::t_975;
 use crate::{IdentError, Interval, Result};
-use msd_opt::{LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
+use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
@@ -155,6 +155,30 @@ pub fn fit_chain(
     guess: &ChainParameters,
     options: &ChainOptions,
 ) -> Result<ChainFit> {
+    check(setup, record, guess, options)?;
+    let layout = Layout::new(setup, &options.known_masses);
+    let delays: Vec<f64> = setup
+        .sensors
+        .iter()
+        .map(|s| s.delay.unwrap_or(0.0))
+        .collect();
+    let start = Start {
+        setup,
+        layout: &layout,
+        guess,
+        delays: &delays,
+    };
+    let solved = solve(&start, record, options.passes)?;
+    statistics(&start, record, solved)
+}
+
+/// Checks the inputs; the errors name the key.
+fn check(
+    setup: &ChainSetup,
+    record: &ChainRecord,
+    guess: &ChainParameters,
+    options: &ChainOptions,
+) -> Result<()> {
     setup.validate()?;
     guess.validate(setup.masses)?;
     record.validate(setup)?;
@@ -168,107 +192,222 @@ pub fn fit_chain(
             setup.masses
         )));
     }
-    let layout = Layout::new(setup, &options.known_masses);
+    if record.input.iter().all(|&u| u == 0.0) {
+        return Err(setup_error(
+            "the drive is zero throughout: nothing excites the chain".into(),
+        ));
+    }
+    for (i, y) in record.outputs.iter().enumerate() {
+        let level = rms(y);
+        if !(level.is_finite() && level > 0.0) {
+            return Err(setup_error(format!(
+                "sensors[{i}]: its series has RMS {level:e}: expected a record that is neither zero throughout nor beyond 1e150"
+            )));
+        }
+    }
     let rows = record.len() * setup.sensors.len();
-    if rows <= layout.len() {
+    let estimated = Layout::new(setup, &options.known_masses).len();
+    if rows <= estimated {
         return Err(IdentError::TooFewSamples {
             got: rows,
-            needed: layout.len() + 1,
+            needed: estimated + 1,
             why: "more samples than estimated quantities",
         });
     }
-    let start_delays: Vec<f64> = setup
-        .sensors
-        .iter()
-        .map(|s| s.delay.unwrap_or(0.0))
-        .collect();
-    let mut problem = ChainProblem {
-        setup,
-        record,
-        layout: &layout,
-        base: guess,
-        delays: &start_delays,
-        noise: record
-            .outputs
-            .iter()
-            .map(|y| rms(y).max(f64::MIN_POSITIVE))
-            .collect(),
-    };
-    let mut theta = layout.theta(guess, &start_delays);
+    Ok(())
+}
+
+/// What the fit starts from and holds.
+struct Start<'a> {
+    setup: &'a ChainSetup,
+    layout: &'a Layout,
+    guess: &'a ChainParameters,
+    delays: &'a [f64],
+}
+
+impl<'a> Start<'a> {
+    /// The problem on `record`, each channel weighted by its RMS.
+    fn problem(&self, record: &'a ChainRecord) -> ChainProblem<'a> {
+        ChainProblem {
+            setup: self.setup,
+            record,
+            layout: self.layout,
+            base: self.guess,
+            delays: self.delays,
+            noise: record.outputs.iter().map(|y| rms(y)).collect(),
+        }
+    }
+}
+
+/// Where the solver ended.
+struct Solved {
+    theta: Vec<f64>,
+    /// Each channel's noise level from the final residuals.
+    noise: Vec<f64>,
+    /// The levels the last pass weighted by, and its Jacobian and residuals at `theta`.
+    weights: Vec<f64>,
+    jacobian: DMatrix<f64>,
+    residuals: Vec<f64>,
+    exit: LmExit,
+    evaluations: usize,
+}
+
+/// Prefix stages first, then `passes` fits of the whole record with the noise levels
+/// re-estimated between them.
+///
+/// An output-error fit of lightly damped modes has many local minima over a long record
+/// (a wrong frequency drifts out of phase); over a short one it has few. So the solver
+/// first fits the record's first sixteenth, then its first quarter (each of at least
+/// [`MIN_STAGE`] samples), each starting where the last ended; these stages are also
+/// cheap. A stage that fails, or runs a parameter away (see [`runaway`]), leaves the
+/// start as it was.
+fn solve(start: &Start<'_>, record: &ChainRecord, passes: usize) -> Result<Solved> {
+    // The step test at 1e-6 of ‖θ‖: a step of 1e-6 in a logarithm is 1e-6 relative, far
+    // below any standard error a record gives; the cost test stays MINPACK's √ε.
     let lm = LevenbergMarquardtOptions {
         max_evaluations: Some(400),
+        x_tolerance: 1e-6,
         ..LevenbergMarquardtOptions::default()
     };
-    let (mut exit, mut evaluations) = (LmExit::MaxEvaluations, 0);
-    let dof = rows - layout.len();
-    for _ in 0..options.passes.max(1) {
+    let mut theta = start.layout.theta(start.guess, start.delays);
+    let mut evaluations = 0;
+    for length in [record.len() / 16, record.len() / 4] {
+        if length < MIN_STAGE.max(20 * start.layout.len()) {
+            continue;
+        }
+        let prefix = record.prefix(length);
+        let mut problem = start.problem(&prefix);
+        if let Ok(result) = levenberg_marquardt(&mut problem, &theta, &lm) {
+            evaluations += result.evaluations;
+            // A short record may not fix every parameter: a stage that ran one away
+            // is dropped.
+            if runaway(start, &result.x).is_ok() {
+                theta = result.x;
+            }
+        }
+    }
+    let mut problem = start.problem(record);
+    let rows = problem.residual_count();
+    let inflation = rows as f64 / (rows - start.layout.len()) as f64;
+    // The first weights: each channel's noise level at the stages' estimate.
+    if let Some(sim) = problem.simulate(&theta, None) {
+        let noise = channel_noise(&sim.outputs, record, inflation);
+        if noise.iter().all(|v| v.is_finite() && *v > 0.0) {
+            problem.noise = noise;
+        }
+    }
+    let mut last = None;
+    for _ in 0..passes.max(1) {
         let result = levenberg_marquardt(&mut problem, &theta, &lm)?;
-        theta = result.x;
-        (exit, evaluations) = (result.exit, evaluations + result.evaluations);
-        let sim = problem
-            .simulate(&theta, false)
-            .ok_or_else(|| IdentError::EstimationFailed {
-                reason: "the chain cannot be simulated at the estimate".into(),
-            })?;
-        let noise = channel_noise(&sim.outputs, record, rows as f64 / dof as f64);
+        evaluations += result.evaluations;
+        let sim =
+            problem
+                .simulate(&result.x, None)
+                .ok_or_else(|| IdentError::EstimationFailed {
+                    reason: "the chain cannot be simulated at the estimate".into(),
+                })?;
+        let noise = channel_noise(&sim.outputs, record, inflation);
         let change = noise
             .iter()
             .zip(&problem.noise)
             .map(|(a, b)| (a / b - 1.0).abs())
             .fold(0.0, f64::max);
-        problem.noise = noise;
-        if change < 1e-3 {
+        theta.clone_from(&result.x);
+        last = Some((result, std::mem::replace(&mut problem.noise, noise)));
+        // Weights a few per cent off move the estimate by a second-order amount.
+        if change < REWEIGHT {
             break;
         }
     }
-    if !exit.is_success() {
+    let Some((result, weights)) = last else {
         return Err(IdentError::EstimationFailed {
-            reason: format!("the chain fit did not converge: {exit}"),
+            reason: "no pass of the chain fit ran".into(),
+        });
+    };
+    if !result.exit.is_success() {
+        return Err(IdentError::EstimationFailed {
+            reason: format!("the chain fit did not converge: {}", result.exit),
         });
     }
-    let mut jacobian = DMatrix::zeros(rows, layout.len());
-    let mut residuals = vec![0.0; rows];
-    let ok =
-        problem.residuals_at(&theta, &mut residuals) && problem.jacobian_at(&theta, &mut jacobian);
-    if !ok {
-        return Err(IdentError::EstimationFailed {
-            reason: "the chain's sensitivities cannot be computed at the estimate".into(),
-        });
+    runaway(start, &theta)?;
+    Ok(Solved {
+        theta,
+        noise: problem.noise,
+        weights,
+        jacobian: result.jacobian,
+        residuals: result.residuals,
+        exit: result.exit,
+        evaluations,
+    })
+}
+
+/// A change of the noise levels below this ends the passes.
+const REWEIGHT: f64 = 0.05;
+
+/// The fewest samples of a prefix stage.
+const MIN_STAGE: usize = 256;
+
+/// A parameter that left its guess by more than [`RUNAWAY`] (or to 0 or ∞) is a
+/// fit that fell into a wrong minimum, not an estimate: an error naming it.
+fn runaway(start: &Start<'_>, theta: &[f64]) -> Result<()> {
+    let first = start.layout.theta(start.guess, start.delays);
+    for (j, (t, t0)) in theta
+        .iter()
+        .zip(&first)
+        .enumerate()
+        .take(start.layout.free.len())
+    {
+        let ratio = (t - t0).exp();
+        if !(ratio.is_finite() && ratio > 1.0 / RUNAWAY && ratio < RUNAWAY && t.exp() > 0.0) {
+            return Err(IdentError::EstimationFailed {
+                reason: format!(
+                    "{} ran from the guess {:e} to {:e}: the fit fell into a wrong minimum (or the records do not fix it); start from a closer guess",
+                    start.layout.name(j),
+                    t0.exp(),
+                    t.exp()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The factor a parameter may move from its guess.
+const RUNAWAY: f64 = 1e4;
+
+/// The intervals, the modes and what is lost, at the solution.
+fn statistics(start: &Start<'_>, record: &ChainRecord, solved: Solved) -> Result<ChainFit> {
+    let layout = start.layout;
+    let theta = &solved.theta;
+    let rows = solved.residuals.len();
+    let dof = rows - layout.len();
+    // The last pass's Jacobian and residuals, reweighted by the final noise levels.
+    let (mut jacobian, mut residuals) = (solved.jacobian, solved.residuals);
+    let samples = record.len();
+    for (ch, (old, new)) in solved.weights.iter().zip(&solved.noise).enumerate() {
+        let factor = old / new;
+        jacobian.rows_mut(ch * samples, samples).scale_mut(factor);
+        residuals[ch * samples..(ch + 1) * samples]
+            .iter_mut()
+            .for_each(|r| *r *= factor);
     }
     let s2 = residuals.iter().map(|r| r * r).sum::<f64>() / dof as f64;
-    let (parameters, delays) = layout.unpack(&theta, guess, &start_delays);
+    if !s2.is_finite() || jacobian.iter().any(|v| !v.is_finite()) {
+        return Err(IdentError::EstimationFailed {
+            reason: "the chain's residuals or sensitivities are not finite at the estimate".into(),
+        });
+    }
+    let (parameters, delays) = layout.unpack(theta, start.guess, start.delays);
     let t = t_975(dof);
     let (covariance, condition_number, unidentifiable) = match Linearization::new(&jacobian) {
         Ok(lin) => (lin.covariance(s2), lin.condition_number, Vec::new()),
-        Err(_) => {
-            let (cov, condition, lost) = pseudo_covariance(&jacobian, s2, &layout);
-            (cov, condition, lost)
-        }
+        Err(_) => pseudo_covariance(&jacobian, s2, layout),
     };
     let se = |j: usize| covariance[(j, j)].max(0.0).sqrt();
-    let intervals = unidentifiable.is_empty().then(|| {
-        let interval = |family, i: usize, value: f64| {
-            match layout.free.iter().position(|&c| c == (family, i)) {
-                // The log's standard error times the value; the interval on the log.
-                Some(j) => Interval::positive(value, value * se(j), t),
-                None => Interval::new(value, 0.0, t),
-            }
-        };
-        use super::model::Family::{Damper, Mass, Spring};
-        let each = |family, values: &[f64]| {
-            values
-                .iter()
-                .enumerate()
-                .map(|(i, &v)| interval(family, i, v))
-                .collect()
-        };
-        ChainIntervals {
-            masses: each(Mass, &parameters.masses),
-            dampers: each(Damper, &parameters.dampers),
-            springs: each(Spring, &parameters.springs),
-        }
-    });
-    let delay_intervals = (0..setup.sensors.len())
+    let intervals = unidentifiable
+        .is_empty()
+        .then(|| intervals(layout, &parameters, &se, t));
+    let delay_intervals = (0..start.setup.sensors.len())
         .map(|ch| {
             layout.delayed.iter().position(|&d| d == ch).map(|j| {
                 let col = layout.free.len() + j;
@@ -276,28 +415,54 @@ pub fn fit_chain(
             })
         })
         .collect();
-    let modes = modes_with_intervals(setup, &layout, &theta, guess, &start_delays, &covariance, t);
+    let modes = modes_with_intervals(
+        start.setup,
+        layout,
+        theta,
+        start.guess,
+        start.delays,
+        &covariance,
+        t,
+    );
     Ok(ChainFit {
         parameters,
         intervals,
         unidentifiable,
         modes,
         delays: delay_intervals,
-        noise: problem.noise.clone(),
+        noise: solved.noise,
         condition_number,
         degrees_of_freedom: dof,
-        exit,
-        evaluations,
+        exit: solved.exit,
+        evaluations: solved.evaluations,
     })
 }
 
-impl ChainProblem<'_> {
-    fn residuals_at(&mut self, theta: &[f64], out: &mut [f64]) -> bool {
-        msd_opt::LeastSquaresProblem::residuals(self, theta, out)
-    }
-
-    fn jacobian_at(&mut self, theta: &[f64], out: &mut DMatrix<f64>) -> bool {
-        msd_opt::LeastSquaresProblem::jacobian(self, theta, out)
+/// Every m, c, k with its interval, computed on its logarithm (a known mass exact).
+fn intervals(
+    layout: &Layout,
+    parameters: &ChainParameters,
+    se: &dyn Fn(usize) -> f64,
+    t: f64,
+) -> ChainIntervals {
+    use super::model::Family::{self, Damper, Mass, Spring};
+    let each = |family: Family, values: &[f64]| {
+        values
+            .iter()
+            .enumerate()
+            .map(
+                |(i, &value)| match layout.free.iter().position(|&c| c == (family, i)) {
+                    // The log's standard error times the value; the interval on the log.
+                    Some(j) => Interval::positive(value, value * se(j), t),
+                    None => Interval::new(value, 0.0, t),
+                },
+            )
+            .collect()
+    };
+    ChainIntervals {
+        masses: each(Mass, &parameters.masses),
+        dampers: each(Damper, &parameters.dampers),
+        springs: each(Spring, &parameters.springs),
     }
 }
 

@@ -385,3 +385,88 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
         );
     }
 }
+
+#[test]
+fn a_hundred_records_of_the_rig_all_converge_to_the_truth() {
+    // From the same rough guess (masses ±20 %, springs ±25 %, dampers ±50 %), every
+    // record is fitted and every estimate lies within 5 SE of the truth: over 600
+    // estimates a miss has probability 600 × 5.7e-7 ≈ 3e-4.
+    let setup = two_storey();
+    let mut worst = 0.0f64;
+    for seed in 100..200 {
+        let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
+        let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default())
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        let iv = fit.intervals.as_ref().expect("identified");
+        let t = truth();
+        for (estimates, truths) in [
+            (&iv.masses, &t.masses),
+            (&iv.dampers, &t.dampers),
+            (&iv.springs, &t.springs),
+        ] {
+            for (e, &x) in estimates.iter().zip(truths) {
+                worst = worst.max((e.value - x).abs() / e.standard_error);
+            }
+        }
+    }
+    assert!(worst < 5.0, "{worst}");
+}
+
+#[test]
+fn records_with_nothing_to_fit_are_refused() {
+    let setup = two_storey();
+    let mut rec = record(&setup, &truth(), 1, &[0.02, 0.02]);
+    let zero = ChainRecord {
+        input: vec![0.0; rec.len()],
+        ..rec.clone()
+    };
+    let err = fit_chain(&setup, &zero, &guess(), &ChainOptions::default()).unwrap_err();
+    assert!(
+        err.to_string().contains("the drive is zero throughout"),
+        "{err}"
+    );
+    rec.outputs[1].iter_mut().for_each(|y| *y = 0.0);
+    let err = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap_err();
+    assert!(
+        err.to_string().contains("sensors[1]: its series has RMS 0"),
+        "{err}"
+    );
+    rec.outputs[1].iter_mut().for_each(|y| *y = 1e300);
+    let err = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("sensors[1]: its series has RMS inf"),
+        "{err}"
+    );
+    // A delay longer than the record, and a non-finite drive, in a simulation.
+    let mut delayed = setup.clone();
+    delayed.sensors[0].delay = Some(1e300);
+    let err = simulate_chain(&delayed, &truth(), &[1.0; 10], 1e-3).unwrap_err();
+    assert!(
+        err.to_string().contains("sensors[0].delay = 1e300"),
+        "{err}"
+    );
+    let err = simulate_chain(&setup, &truth(), &[1.0, f64::NAN], 1e-3).unwrap_err();
+    assert!(err.to_string().contains("input sample 1 is NaN"), "{err}");
+    assert_eq!(
+        simulate_chain(&setup, &truth(), &[], 1e-3).unwrap(),
+        vec![Vec::<f64>::new(); 2]
+    );
+}
+
+#[test]
+fn mode_shapes_keep_their_sign_from_record_to_record() {
+    // The rig's second mode moves the floors nearly equally and oppositely: the first
+    // floor is the reference (positive) in every record.
+    let setup = two_storey();
+    for seed in 1..=4 {
+        let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
+        let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap();
+        for mode in &fit.modes {
+            assert!(mode.shape[0].value > 0.0, "seed {seed}: {mode}");
+            let largest = mode.shape.iter().map(|s| s.value.abs()).fold(0.0, f64::max);
+            // Real parts of a complex shape: the largest is 1 to O(ζ²) ≈ 1e-4.
+            assert!((largest - 1.0).abs() < 1e-3, "{largest}");
+        }
+    }
+}

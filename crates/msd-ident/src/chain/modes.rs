@@ -24,7 +24,8 @@ pub struct ChainMode {
     pub natural_frequency_hz: Interval,
     /// ζ = −Re λ/|λ|.
     pub damping_ratio: Interval,
-    /// The real part of each mass's displacement, the largest scaled to 1.
+    /// The real part of each mass's displacement, scaled so that the largest magnitude
+    /// is 1 and the first mass that moves at least half as much is positive.
     pub shape: Vec<Interval>,
 }
 
@@ -61,11 +62,16 @@ pub(crate) fn modal_quantities(setup: &ChainSetup, parameters: &ChainParameters)
             let v_t = svd.v_t.expect("requested");
             let smallest = svd.singular_values.imin();
             let shape: Vec<Complex64> = (0..n).map(|j| v_t[(smallest, j)].conj()).collect();
-            let top = shape
+            // Scaled by the largest magnitude (continuous), turned so that the first
+            // mass moving at least half as much is real and positive: a choice that
+            // does not flip between records when two masses move equally.
+            let largest = shape.iter().map(|s| s.norm()).fold(0.0, f64::max);
+            let reference = shape
                 .iter()
                 .copied()
-                .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+                .find(|s| s.norm() >= 0.5 * largest)
                 .unwrap_or(Complex64::new(1.0, 0.0));
+            let top = reference / reference.norm() * largest;
             let wn = l.norm();
             [wn / TAU, -l.re / wn]
                 .into_iter()

@@ -146,7 +146,11 @@ pub(crate) struct ChainProblem<'a> {
 impl ChainProblem<'_> {
     /// The simulation at θ, or None where it cannot be computed (a delay out of range,
     /// an exponential out of range).
-    pub(crate) fn simulate(&self, theta: &[f64], sensitivities: bool) -> Option<Simulation> {
+    pub(crate) fn simulate(
+        &self,
+        theta: &[f64],
+        jacobian: Option<&mut DMatrix<f64>>,
+    ) -> Option<Simulation> {
         let (parameters, delays) = self.layout.unpack(theta, self.base, self.delays);
         let half = self.record.dt * self.record.len() as f64 / 2.0;
         if delays
@@ -162,7 +166,7 @@ impl ChainProblem<'_> {
             &delays,
             &self.record.input,
             self.record.dt,
-            sensitivities,
+            jacobian,
         )
         .ok()
     }
@@ -189,7 +193,7 @@ impl LeastSquaresProblem for ChainProblem<'_> {
     }
 
     fn residuals(&mut self, theta: &[f64], out: &mut [f64]) -> bool {
-        match self.simulate(theta, false) {
+        match self.simulate(theta, None) {
             Some(sim) => {
                 self.weighted(&sim.outputs, out);
                 true
@@ -199,21 +203,15 @@ impl LeastSquaresProblem for ChainProblem<'_> {
     }
 
     fn jacobian(&mut self, theta: &[f64], out: &mut DMatrix<f64>) -> bool {
-        let Some(sim) = self.simulate(theta, true) else {
-            return false;
-        };
-        let Some(jac) = sim.sensitivities else {
+        let Some(sim) = self.simulate(theta, Some(out)) else {
             return false;
         };
         let samples = self.record.len();
         let free = self.layout.free.len();
-        out.fill(0.0);
-        for ch in 0..self.record.outputs.len() {
-            let scale = 1.0 / self.noise[ch];
-            for k in ch * samples..(ch + 1) * samples {
-                for j in 0..free {
-                    out[(k, j)] = jac[(k, j)] * scale;
-                }
+        for j in 0..free {
+            for (ch, sigma) in self.noise.iter().enumerate() {
+                out.view_mut((ch * samples, j), (samples, 1))
+                    .scale_mut(1.0 / sigma);
             }
         }
         for (j, &ch) in self.layout.delayed.iter().enumerate() {

@@ -162,7 +162,8 @@ impl ChainSetup {
                 && !(delay.is_finite() && delay >= 0.0)
             {
                 return Err(setup_error(format!(
-                    "sensors[{i}].delay = {delay}: expected a finite number of seconds ≥ 0"
+                    "sensors[{i}].delay = {}: expected a finite number of seconds ≥ 0",
+                    show(delay)
                 )));
             }
             if let Some(filter) = sensor.low_pass {
@@ -246,9 +247,20 @@ impl ChainParameters {
                 .enumerate()
                 .find(|(_, v)| !(v.is_finite() && **v > 0.0))
             {
-                return Err(setup_error(format!(
-                    "{name}[{i}] = {v}: expected a finite number > 0"
-                )));
+                let why = if name == "springs" && *v == 0.0 {
+                    format!(
+                        ": mass {} would not be connected to {} (expected a stiffness > 0)",
+                        i + 1,
+                        if i == 0 {
+                            "the ground".to_string()
+                        } else {
+                            format!("mass {i}")
+                        }
+                    )
+                } else {
+                    ": expected a finite number > 0".to_string()
+                };
+                return Err(setup_error(format!("{name}[{i}] = {}{why}", show(*v))));
             }
         }
         Ok(())
@@ -296,6 +308,16 @@ impl ChainRecord {
         self.input.is_empty()
     }
 
+    /// The record's first `samples` samples.
+    pub(crate) fn prefix(&self, samples: usize) -> Self {
+        let n = samples.min(self.len());
+        Self {
+            dt: self.dt,
+            input: self.input[..n].to_vec(),
+            outputs: self.outputs.iter().map(|y| y[..n].to_vec()).collect(),
+        }
+    }
+
     /// Checks the record against `setup`: dt, one finite series per sensor of the
     /// input's length, delays shorter than the record.
     pub fn validate(&self, setup: &ChainSetup) -> Result<()> {
@@ -330,7 +352,8 @@ impl ChainRecord {
                 && delay >= duration / 2.0
             {
                 return Err(setup_error(format!(
-                    "sensors[{i}].delay = {delay} s: expected less than half the record ({} s)",
+                    "sensors[{i}].delay = {} s: expected less than half the record ({} s)",
+                    show(delay),
                     duration / 2.0
                 )));
             }
@@ -354,5 +377,14 @@ pub(crate) fn setup_error(reason: String) -> IdentError {
     IdentError::Setup {
         setup: "chain of masses",
         reason,
+    }
+}
+
+/// A value as written in a message: plainly, or in exponent form when very large or small.
+pub(crate) fn show(v: f64) -> String {
+    if v != 0.0 && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }

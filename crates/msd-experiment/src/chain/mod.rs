@@ -1,0 +1,208 @@
+//! A `[chain]` run: a chain of masses tested in the time domain. The records are
+//! simulated through the sensors as tested (delays, filters, noise), msd-ident's
+//! [`fit_chain`](msd_ident::fit_chain) fits every m, c, k (and the delays asked for),
+//! and where a sensor has a delay or a filter the same records are fitted again as if it
+//! had none, to show what ignoring it would have cost.
+
+mod plots;
+mod report;
+
+use crate::config::Config;
+use crate::progress::Progress;
+use crate::results::Experiment;
+use crate::{ExperimentError, Result, RunOptions};
+use msd_ident::{ChainFit, ChainOptions, ChainRecord, fit_chain, simulate_chain};
+use msd_signal::gaussian_noise;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Everything a chain run produced, in memory.
+#[derive(Debug, Clone)]
+pub struct ChainOutcome {
+    /// The config as read.
+    pub config: Config,
+    /// The config file as given.
+    pub config_path: PathBuf,
+    /// The command that ran it, for the report.
+    pub command: String,
+    /// The seed used.
+    pub seed: u64,
+    /// The record: the drive and each sensor's noisy series.
+    pub record: ChainRecord,
+    /// The fit with the sensors as configured.
+    pub fit: ChainFit,
+    /// The fitted model's reading of each sensor.
+    pub fitted: Vec<Vec<f64>>,
+    /// The fit that ignores every sensor's delay and filter (when there are any).
+    pub ideal: Option<ChainFit>,
+    /// Wall time of each stage, in order.
+    pub timings: Vec<(&'static str, Duration)>,
+}
+
+/// Runs the `[chain]` experiment of `config`.
+pub fn run(
+    config: Config,
+    config_path: &Path,
+    options: &RunOptions,
+    progress: &Progress,
+) -> Result<ChainOutcome> {
+    let Some(chain) = config.chain.clone() else {
+        return Err(ExperimentError::config(config_path, "no [chain] section"));
+    };
+    let seed = options.seed.unwrap_or(config.seed);
+    progress.stage("data");
+    let t = Instant::now();
+    let input = crate::setup::data::synthetic_input(&config, config_path)?
+        .ok_or_else(|| ExperimentError::config(config_path, "identification.input: missing"))?;
+    let dt = input.dt();
+    let tested = chain.tested(chain.plant.masses.len());
+    let clean = simulate_chain(&tested, &chain.plant, input.samples(), dt)
+        .map_err(|e| ExperimentError::run("data", e))?;
+    let mut outputs = Vec::with_capacity(clean.len());
+    for (j, (y, sensor)) in clean.iter().zip(&chain.sensors).enumerate() {
+        let noise = gaussian_noise(seed, &format!("chain/{j}"), sensor.sigma, y.len())
+            .map_err(|e| ExperimentError::run("data", e))?;
+        outputs.push(y.iter().zip(noise).map(|(a, b)| a + b).collect());
+    }
+    let record = ChainRecord {
+        dt,
+        input: input.samples().to_vec(),
+        outputs,
+    };
+    let mut timings = vec![("data", t.elapsed())];
+    progress.stage("estimation");
+    let t = Instant::now();
+    let fit_options = ChainOptions {
+        known_masses: chain.known_masses.clone(),
+        ..ChainOptions::default()
+    };
+    let fitted_setup = chain.fitted();
+    let fit = fit_chain(&fitted_setup, &record, &chain.guess, &fit_options)
+        .map_err(|e| ExperimentError::run("estimation", e))?;
+    let mut reading = fitted_setup.clone();
+    for (sensor, delay) in reading.sensors.iter_mut().zip(&fit.delays) {
+        if let Some(d) = delay {
+            sensor.delay = Some(d.value);
+        }
+    }
+    let fitted = simulate_chain(&reading, &fit.parameters, &record.input, dt)
+        .map_err(|e| ExperimentError::run("estimation", e))?;
+    timings.push(("estimation", t.elapsed()));
+    let has_dynamics = chain
+        .sensors
+        .iter()
+        .any(|s| s.delay.is_some() || s.low_pass.is_some());
+    let ideal = if has_dynamics {
+        let t = Instant::now();
+        let ideal = fit_chain(
+            &fitted_setup.with_ideal_sensors(),
+            &record,
+            &chain.guess,
+            &fit_options,
+        )
+        .map_err(|e| ExperimentError::run("ideal-sensor refit", e))?;
+        timings.push(("ideal-sensor refit", t.elapsed()));
+        Some(ideal)
+    } else {
+        None
+    };
+    Ok(ChainOutcome {
+        command: options
+            .command
+            .clone()
+            .unwrap_or_else(|| "msd run".to_string()),
+        config,
+        config_path: config_path.to_path_buf(),
+        seed,
+        record,
+        fit,
+        fitted,
+        ideal,
+        timings,
+    })
+}
+
+/// `record.csv`: time, the drive, then each sensor measured and as fitted.
+pub(crate) fn tables(o: &ChainOutcome) -> Vec<(String, String)> {
+    let names = channel_names(o);
+    let mut text = format!(
+        "time,{}",
+        if o.config
+            .chain
+            .as_ref()
+            .is_some_and(|c| c.drive == msd_ident::ChainDrive::Force)
+        {
+            "force"
+        } else {
+            "base_acceleration"
+        }
+    );
+    for name in &names {
+        text.push_str(&format!(",{name},{name}_fitted"));
+    }
+    text.push('\n');
+    for k in 0..o.record.len() {
+        text.push_str(&format!("{},{}", k as f64 * o.record.dt, o.record.input[k]));
+        for (y, f) in o.record.outputs.iter().zip(&o.fitted) {
+            text.push_str(&format!(",{},{}", y[k], f[k]));
+        }
+        text.push('\n');
+    }
+    vec![("record.csv".into(), text)]
+}
+
+/// "acceleration_2" and the like, one per sensor.
+pub(crate) fn channel_names(o: &ChainOutcome) -> Vec<String> {
+    o.config.chain.as_ref().map_or_else(Vec::new, |c| {
+        c.sensors
+            .iter()
+            .map(|s| {
+                let q = serde_json::to_value(s.quantity)
+                    .ok()
+                    .and_then(|v| v.as_str().map(str::to_string))
+                    .unwrap_or_default();
+                format!("{q}_{}", s.at)
+            })
+            .collect()
+    })
+}
+
+#[derive(Serialize)]
+struct Results<'a> {
+    experiment: Experiment<'a>,
+    command: &'a str,
+    chain: &'a crate::config::ChainSection,
+    fit: &'a ChainFit,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ideal_sensors: Option<&'a ChainFit>,
+    timings_ms: BTreeMap<&'static str, f64>,
+}
+
+/// The `results.json` value of `o`.
+pub(crate) fn results(
+    o: &ChainOutcome,
+    extra: &[(&'static str, Duration)],
+    total: Duration,
+) -> Result<serde_json::Value> {
+    let Some(chain) = o.config.chain.as_ref() else {
+        return Err(ExperimentError::config(
+            &o.config_path,
+            "no [chain] section",
+        ));
+    };
+    let timings = crate::results::timings_ms(&o.timings, extra, total);
+    let results = Results {
+        experiment: Experiment::new(&o.config, &o.config_path, "synthetic", o.seed, None),
+        command: &o.command,
+        chain,
+        fit: &o.fit,
+        ideal_sensors: o.ideal.as_ref(),
+        timings_ms: timings,
+    };
+    serde_json::to_value(&results).map_err(|e| ExperimentError::run("write", e))
+}
+
+pub(crate) use plots::write_all as figures;
+pub(crate) use report::{markdown as report, summary};

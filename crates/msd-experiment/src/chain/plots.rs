@@ -1,0 +1,78 @@
+//! The figure of a chain run, PNG and SVG in the house style: `chain_fit`, the drive and
+//! each sensor, measured and as fitted.
+
+use super::{ChainOutcome, channel_names};
+use crate::Result;
+use crate::plots::panel::{Curve, Panel, Stack, Style};
+use crate::plots::{BLUE, RED, register_fonts, save};
+use plotters::prelude::SeriesLabelPosition;
+use std::path::Path;
+
+/// Writes the figure; returns its base name.
+pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str>> {
+    register_fonts();
+    let time: Vec<f64> = (0..o.record.len())
+        .map(|k| k as f64 * o.record.dt)
+        .collect();
+    let Some(&end) = time.last() else {
+        return Ok(Vec::new());
+    };
+    let range = (0.0, end);
+    let drive = o
+        .config
+        .chain
+        .as_ref()
+        .map_or("force [N]", |c| match c.drive {
+            msd_ident::ChainDrive::Force => "force [N]",
+            msd_ident::ChainDrive::BaseAcceleration => "base acceleration [m/s²]",
+        });
+    let mut panels = vec![Panel {
+        title: "Drive".into(),
+        x_desc: "time t [s]".into(),
+        y_desc: drive.into(),
+        x_range: range,
+        curves: vec![Curve {
+            label: "measured".into(),
+            x: &time,
+            y: o.record.input.clone(),
+            style: Style::Line(BLUE, 1),
+        }],
+        band: None,
+        legend: None,
+    }];
+    for ((name, measured), fitted) in channel_names(o)
+        .iter()
+        .zip(&o.record.outputs)
+        .zip(&o.fitted)
+    {
+        panels.push(Panel {
+            title: name.replace('_', " on mass "),
+            x_desc: "time t [s]".into(),
+            y_desc: name.split('_').next().unwrap_or("response").into(),
+            x_range: range,
+            curves: vec![
+                Curve {
+                    label: "measured".into(),
+                    x: &time,
+                    y: measured.clone(),
+                    style: Style::Points(BLUE, 2),
+                },
+                Curve {
+                    label: "model".into(),
+                    x: &time,
+                    y: fitted.clone(),
+                    style: Style::Line(RED, 2),
+                },
+            ],
+            band: None,
+            legend: Some(SeriesLabelPosition::UpperRight),
+        });
+    }
+    let figure = Stack {
+        name: "chain_fit",
+        title: format!("Chain fit — {}", o.config.name),
+        panels,
+    };
+    save(&figure, dir)?;
+    Ok(vec![figure.name])
+}

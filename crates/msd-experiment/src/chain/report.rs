@@ -1,0 +1,285 @@
+//! The report of a chain run, and the summary the command prints.
+
+use super::{ChainOutcome, channel_names};
+use crate::fmt::{millis, sig};
+use msd_ident::{ChainFit, Interval};
+use std::fmt::Write;
+
+/// `report.md` of `o`, with `figures` embedded.
+pub(crate) fn markdown(o: &ChainOutcome, figures: &[&str]) -> String {
+    let mut s = String::new();
+    // Writing into a String cannot fail.
+    let _ = page(&mut s, o, figures);
+    s
+}
+
+/// The rows (name, truth, estimate) of every physical parameter.
+fn rows<'a>(o: &'a ChainOutcome, fit: &'a ChainFit) -> Vec<(String, f64, Option<Interval>)> {
+    let Some(chain) = o.config.chain.as_ref() else {
+        return Vec::new();
+    };
+    let truth = &chain.plant;
+    let iv = fit.intervals.as_ref();
+    let mut out = Vec::new();
+    for i in 0..truth.masses.len() {
+        out.push((
+            format!("m{} [kg]", i + 1),
+            truth.masses[i],
+            iv.map(|v| v.masses[i]),
+        ));
+        out.push((
+            format!("c{} [N·s/m]", i + 1),
+            truth.dampers[i],
+            iv.map(|v| v.dampers[i]),
+        ));
+        out.push((
+            format!("k{} [N/m]", i + 1),
+            truth.springs[i],
+            iv.map(|v| v.springs[i]),
+        ));
+    }
+    out
+}
+
+fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result {
+    let Some(chain) = o.config.chain.as_ref() else {
+        return Ok(());
+    };
+    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
+    writeln!(s, "## Chain\n")?;
+    writeln!(
+        s,
+        "{} masses in a chain from the ground; drive: **{}**; {} samples every {} s (synthetic).\n",
+        chain.plant.masses.len(),
+        match chain.drive {
+            msd_ident::ChainDrive::Force => format!("force on mass {}", chain.force_at),
+            msd_ident::ChainDrive::BaseAcceleration => "base acceleration".into(),
+        },
+        o.record.len(),
+        sig(o.record.dt, 4)
+    )?;
+    if !chain.known_masses.is_empty() {
+        writeln!(s, "Known masses (held): {:?}.\n", chain.known_masses)?;
+    }
+    writeln!(
+        s,
+        "| sensor | mass | noise σ | true delay [s] | delay in the fit | filter |\n|---|---|---|---|---|---|"
+    )?;
+    for ((name, sensor), delay) in channel_names(o)
+        .iter()
+        .zip(&chain.sensors)
+        .zip(&o.fit.delays)
+    {
+        let fitted = match delay {
+            Some(d) => format!("estimated: {}", interval(d)),
+            None => sensor
+                .delay
+                .map_or("none".into(), |d| format!("known, {}", sig(d, 4))),
+        };
+        let filter = sensor.low_pass.map_or("none".into(), |f| {
+            format!("order {} low-pass at {} Hz", f.order, sig(f.cutoff_hz, 4))
+        });
+        writeln!(
+            s,
+            "| {name} | {} | {} | {} | {fitted} | {filter} |",
+            sensor.at,
+            sig(sensor.sigma, 4),
+            sensor.delay.map_or("—".into(), |d| sig(d, 4)),
+        )?;
+    }
+    writeln!(s, "\n## Estimates\n")?;
+    estimates(s, o, &o.fit)?;
+    writeln!(s, "\n## Modes\n")?;
+    modes(s, o, &o.fit)?;
+    if let Some(ideal) = &o.ideal {
+        ignoring(s, o, ideal)?;
+    }
+    writeln!(s, "\n## Fit\n")?;
+    writeln!(s, "```text\n{}\n```\n", o.fit)?;
+    writeln!(
+        s,
+        "Solver: {}, {} evaluations of the model.\n",
+        o.fit.exit, o.fit.evaluations
+    )?;
+    writeln!(s, "## Figures\n")?;
+    for f in figures {
+        writeln!(s, "![{f}]({f}.png)\n")?;
+    }
+    writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
+    for (name, d) in &o.timings {
+        writeln!(s, "| {name} | {} |", millis(*d))?;
+    }
+    Ok(())
+}
+
+fn interval(iv: &Interval) -> String {
+    format!(
+        "{} ± {} (95 % {} … {})",
+        sig(iv.value, 6),
+        sig(iv.standard_error, 2),
+        sig(iv.ci95[0], 6),
+        sig(iv.ci95[1], 6)
+    )
+}
+
+fn estimates(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
+    if fit.intervals.is_none() {
+        writeln!(s, "**m, c and k are not identified from these records.**\n")?;
+        for reason in &fit.unidentifiable {
+            writeln!(s, "- {reason}")?;
+        }
+        writeln!(s, "\nWhat the records do fix is below: the modes.")?;
+        return Ok(());
+    }
+    writeln!(
+        s,
+        "| parameter | truth | estimate ± SE (95 % CI) | (estimate − truth)/SE |\n|---|---|---|---|"
+    )?;
+    for (name, truth, iv) in rows(o, fit) {
+        let Some(iv) = iv else { continue };
+        let z = if iv.standard_error > 0.0 {
+            format!("{:+.2}", (iv.value - truth) / iv.standard_error)
+        } else {
+            "known".into()
+        };
+        writeln!(
+            s,
+            "| {name} | {} | {} | {z} |",
+            sig(truth, 6),
+            interval(&iv)
+        )?;
+    }
+    Ok(())
+}
+
+fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
+    let truth = truth_modes(o);
+    writeln!(
+        s,
+        "| mode | fn truth [Hz] | fn [Hz] | ζ truth | ζ | shape (largest = 1) |\n|---|---|---|---|---|---|"
+    )?;
+    for (i, mode) in fit.modes.iter().enumerate() {
+        let (f, z) = truth.get(i).map_or(("—".into(), "—".into()), |t| {
+            (sig(t.natural_frequency_hz, 6), sig(t.damping_ratio, 4))
+        });
+        let shape: Vec<String> = mode
+            .shape
+            .iter()
+            .map(|v| format!("{:.4} ± {}", v.value, sig(v.standard_error, 2)))
+            .collect();
+        writeln!(
+            s,
+            "| {} | {f} | {} | {z} | {} | {} |",
+            i + 1,
+            interval(&mode.natural_frequency_hz),
+            interval(&mode.damping_ratio),
+            shape.join(", ")
+        )?;
+    }
+    Ok(())
+}
+
+/// What the fit with ideal sensors found, against the fit with the sensors' model.
+fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Result {
+    writeln!(
+        s,
+        "\n## What ignoring the sensors' delay and filters costs\n"
+    )?;
+    writeln!(
+        s,
+        "The same records fitted as if every sensor were ideal (no delay, no filter). The shift is in standard errors of the fit above.\n"
+    )?;
+    writeln!(
+        s,
+        "| quantity | truth | with the sensor model | ideal sensors assumed | shift [SE] |\n|---|---|---|---|---|"
+    )?;
+    let pairs = rows(o, &o.fit).into_iter().zip(rows(o, ideal));
+    for ((name, truth, proper), (_, _, naive)) in pairs {
+        if let (Some(p), Some(n)) = (proper, naive)
+            && p.standard_error > 0.0
+        {
+            writeln!(
+                s,
+                "| {name} | {} | {} | {} | {:+.1} |",
+                sig(truth, 6),
+                sig(p.value, 6),
+                sig(n.value, 6),
+                (n.value - p.value) / p.standard_error
+            )?;
+        }
+    }
+    let truth = truth_modes(o);
+    for (i, (p, n)) in o.fit.modes.iter().zip(&ideal.modes).enumerate() {
+        let t = truth.get(i).map_or("—".into(), |t| sig(t.damping_ratio, 4));
+        writeln!(
+            s,
+            "| ζ{} | {t} | {} | {} | {:+.1} |",
+            i + 1,
+            sig(p.damping_ratio.value, 6),
+            sig(n.damping_ratio.value, 6),
+            (n.damping_ratio.value - p.damping_ratio.value) / p.damping_ratio.standard_error
+        )?;
+    }
+    Ok(())
+}
+
+/// The summary the command prints.
+pub(crate) fn summary(o: &ChainOutcome) -> String {
+    let mut s = format!("{}\n", o.config.name);
+    match &o.fit.intervals {
+        Some(_) => {
+            for (name, truth, iv) in rows(o, &o.fit) {
+                if let Some(iv) = iv {
+                    let _ = writeln!(
+                        s,
+                        "  {name:<14} {}  (true {})",
+                        interval(&iv),
+                        sig(truth, 6)
+                    );
+                }
+            }
+        }
+        None => {
+            let _ = writeln!(s, "  m, c, k not identified:");
+            for reason in &o.fit.unidentifiable {
+                let _ = writeln!(s, "    {reason}");
+            }
+        }
+    }
+    for (i, mode) in o.fit.modes.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "  mode {}: fn {} Hz, ζ {}",
+            i + 1,
+            interval(&mode.natural_frequency_hz),
+            interval(&mode.damping_ratio)
+        );
+    }
+    for (i, d) in o.fit.delays.iter().enumerate() {
+        if let Some(d) = d {
+            let _ = writeln!(s, "  delay of sensor {}: {} s", i + 1, interval(d));
+        }
+    }
+    if let Some(ideal) = &o.ideal {
+        for (i, (p, n)) in o.fit.modes.iter().zip(&ideal.modes).enumerate() {
+            let _ = writeln!(
+                s,
+                "  ideal sensors assumed: ζ{} {} instead of {} ({:+.1} SE)",
+                i + 1,
+                sig(n.damping_ratio.value, 6),
+                sig(p.damping_ratio.value, 6),
+                (n.damping_ratio.value - p.damping_ratio.value) / p.damping_ratio.standard_error
+            );
+        }
+    }
+    s
+}
+
+/// The true chain's modes.
+fn truth_modes(o: &ChainOutcome) -> Vec<msd_ident::frf::ModalParameters> {
+    o.config
+        .chain
+        .as_ref()
+        .map(|c| c.plant.plant(1, 1).modes())
+        .unwrap_or_default()
+}

@@ -1,0 +1,146 @@
+//! `[chain]`: a chain of masses tested in the time domain (`crate::chain`).
+
+use msd_ident::{ChainDrive, ChainParameters, ChainSensor, ChainSetup, LowPass, ResponseQuantity};
+use serde::{Deserialize, Serialize};
+
+/// A chain of masses, its sensors and the start of the fit.
+///
+/// ```
+/// let config = msd_experiment::config::Config::load("../../configs/two-storey.toml".as_ref())?;
+/// let chain = config.chain.expect("a [chain] config");
+/// assert_eq!(chain.plant.masses.len(), 2);
+/// # Ok::<(), msd_experiment::ExperimentError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainSection {
+    /// What drives the chain: `"force"` (on `force_at`) or `"base_acceleration"`.
+    #[serde(default)]
+    pub drive: ChainDrive,
+    /// The mass the force acts on, from 1 at the ground. By default 1.
+    #[serde(default = "first")]
+    pub force_at: usize,
+    /// The true chain (synthetic records): masses, dampers, springs from the ground out.
+    pub plant: ChainParameters,
+    /// Where the fit starts.
+    pub guess: ChainParameters,
+    /// Masses (from 1) that are known: held at the guess's value.
+    #[serde(default)]
+    pub known_masses: Vec<usize>,
+    /// The response channels.
+    pub sensors: Vec<ChainSensorSection>,
+}
+
+fn first() -> usize {
+    1
+}
+
+/// One sensor of a chain as tested: where, what, its noise, its delay and filter.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainSensorSection {
+    /// The mass it is on, from 1 at the ground.
+    pub at: usize,
+    /// `"displacement"`, `"velocity"` or `"acceleration"`. By default a displacement.
+    #[serde(default)]
+    pub quantity: ResponseQuantity,
+    /// Noise σ of the synthetic record, in the channel's unit (≥ 0).
+    pub sigma: f64,
+    /// The sensor's true delay, s. By default none.
+    #[serde(default)]
+    pub delay: Option<f64>,
+    /// Estimate the delay (the fit starts from 0) instead of taking `delay` as known.
+    #[serde(default)]
+    pub estimate_delay: bool,
+    /// A known low-pass filter in the sensor's path.
+    #[serde(default)]
+    pub low_pass: Option<LowPass>,
+}
+
+impl ChainSection {
+    /// The chain as tested: the records are simulated through these sensors.
+    pub fn tested(&self, masses: usize) -> ChainSetup {
+        ChainSetup {
+            masses,
+            drive: self.drive,
+            force_at: self.force_at,
+            sensors: self
+                .sensors
+                .iter()
+                .map(|s| ChainSensor {
+                    at: s.at,
+                    quantity: s.quantity,
+                    delay: s.delay,
+                    estimate_delay: false,
+                    low_pass: s.low_pass,
+                })
+                .collect(),
+        }
+    }
+
+    /// The chain as fitted: an estimated delay starts from 0.
+    pub fn fitted(&self) -> ChainSetup {
+        let mut setup = self.tested(self.plant.masses.len());
+        for (sensor, section) in setup.sensors.iter_mut().zip(&self.sensors) {
+            if section.estimate_delay {
+                sensor.delay = None;
+                sensor.estimate_delay = true;
+            }
+        }
+        setup
+    }
+
+    /// Checks the section; errors name the key under `chain.`.
+    pub(crate) fn validate(&self, duration: f64) -> Result<(), (String, String)> {
+        let keyed = |prefix: &str, e: msd_ident::IdentError| {
+            let reason = match e {
+                msd_ident::IdentError::Setup { reason, .. } => reason,
+                other => other.to_string(),
+            };
+            let split = reason.find(" = ").or_else(|| reason.find(':')).unwrap_or(0);
+            (
+                format!("chain.{prefix}{}", &reason[..split]),
+                reason[split..].to_string(),
+            )
+        };
+        let n = self.plant.masses.len();
+        if !(1..=msd_ident::MAX_MASSES).contains(&n) {
+            return Err((
+                "chain.plant.masses".into(),
+                format!(
+                    " has {n} values: expected 1 to {} masses",
+                    msd_ident::MAX_MASSES
+                ),
+            ));
+        }
+        self.plant.validate(n).map_err(|e| keyed("plant.", e))?;
+        self.guess.validate(n).map_err(|e| keyed("guess.", e))?;
+        self.fitted().validate().map_err(|e| keyed("", e))?;
+        if let Some(&m) = self.known_masses.iter().find(|&&m| !(1..=n).contains(&m)) {
+            return Err((
+                "chain.known_masses".into(),
+                format!(" contains {m}: expected masses from 1 to {n}"),
+            ));
+        }
+        for (i, s) in self.sensors.iter().enumerate() {
+            if !(s.sigma.is_finite() && s.sigma >= 0.0) {
+                return Err((
+                    format!("chain.sensors[{i}].sigma"),
+                    format!(" = {}: expected a finite number ≥ 0", s.sigma),
+                ));
+            }
+            if let Some(delay) = s.delay
+                && delay >= duration / 2.0
+            {
+                return Err((
+                    format!("chain.sensors[{i}].delay"),
+                    format!(
+                        " = {delay}: expected less than half the record ({} s)",
+                        duration / 2.0
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

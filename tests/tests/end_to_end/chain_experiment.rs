@@ -1,0 +1,140 @@
+//! The chain configs (issue 33): every parameter of the two-storey rig and the tuned
+//! mass damper within 4 standard errors of the truth; the delayed sensor fitted with its
+//! delay, and the bias of ignoring it measured; bad chains refused naming the key.
+
+use msd_tests::{config, run_in_temp};
+use serde_json::Value;
+
+/// Every estimate of `results.json` against the config's truth, in standard errors.
+fn worst_z(results: &Value) -> f64 {
+    let truth = &results["chain"]["plant"];
+    let intervals = &results["fit"]["intervals"];
+    let mut worst = 0.0f64;
+    for family in ["masses", "dampers", "springs"] {
+        let t = truth[family].as_array().expect("the truth");
+        let e = intervals[family].as_array().expect("identified");
+        for (t, e) in t.iter().zip(e) {
+            let se = e["standard_error"].as_f64().unwrap();
+            if se > 0.0 {
+                let z = (e["value"].as_f64().unwrap() - t.as_f64().unwrap()).abs() / se;
+                worst = worst.max(z);
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn the_two_storey_rig_and_the_tuned_mass_damper_are_identified() {
+    for name in ["two-storey.toml", "tuned-mass-damper.toml"] {
+        for seed in [1, 2, 3] {
+            let run = run_in_temp(&config(name), Some(seed), None).expect("runs");
+            let z = worst_z(&run.summary.results);
+            // 4 SE: a miss has probability 6e-5 per parameter.
+            assert!(z < 4.0, "{name} seed {seed}: {z}");
+            assert!(run.out().join("chain_fit.png").exists());
+            assert!(run.out().join("record.csv").exists());
+            let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+            assert!(report.contains("## Modes"));
+        }
+    }
+}
+
+#[test]
+fn the_delayed_sensor_is_fitted_with_its_delay_and_the_bias_of_ignoring_it_is_shown() {
+    let run = run_in_temp(&config("delayed-sensor.toml"), None, None).expect("runs");
+    let r = &run.summary.results;
+    let c = &r["fit"]["intervals"]["dampers"][0];
+    let (value, se) = (
+        c["value"].as_f64().unwrap(),
+        c["standard_error"].as_f64().unwrap(),
+    );
+    assert!((value - 1.8).abs() < 4.0 * se, "c = {value} ± {se}");
+    let delay = &r["fit"]["delays"][0];
+    let d = delay["value"].as_f64().unwrap();
+    assert!(
+        (d - 0.006).abs() < 4.0 * delay["standard_error"].as_f64().unwrap(),
+        "{d}"
+    );
+    let zeta = &r["fit"]["modes"][0]["damping_ratio"];
+    let true_zeta = 1.8 / (2.0 * (2.5f64 * 120.0).sqrt());
+    let (z, zse) = (
+        zeta["value"].as_f64().unwrap(),
+        zeta["standard_error"].as_f64().unwrap(),
+    );
+    assert!((z - true_zeta).abs() < 4.0 * zse);
+    // Ignoring the 6 ms delay and the filter's lag: c and ζ more than 3 SE off.
+    let naive = r["ideal_sensors"]["intervals"]["dampers"][0]["value"]
+        .as_f64()
+        .unwrap();
+    assert!((naive - 1.8).abs() > 3.0 * se, "{naive} vs 1.8 ± {se}");
+    let naive_zeta = r["ideal_sensors"]["modes"][0]["damping_ratio"]["value"]
+        .as_f64()
+        .unwrap();
+    assert!((naive_zeta - true_zeta).abs() > 3.0 * zse);
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(report.contains("What ignoring the sensors' delay and filters costs"));
+}
+
+/// The two-storey config with `from` replaced by `to`, run into a temporary folder: the
+/// refusal (exit 2, nothing written) must contain every fragment.
+fn refuses(from: &str, to: &str, fragments: &[&str]) {
+    let text = std::fs::read_to_string(config("two-storey.toml")).unwrap();
+    assert!(text.contains(from), "two-storey.toml has no `{from}`");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.toml");
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    let options = msd_experiment::RunOptions {
+        out: Some(dir.path().join("out")),
+        ..Default::default()
+    };
+    let err = msd_experiment::run_experiment(&path, &options).expect_err("refused");
+    assert_eq!(err.exit_code(), 2, "{err}");
+    let message = err.to_string();
+    for f in fragments {
+        assert!(message.contains(f), "`{message}` lacks `{f}`");
+    }
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn bad_chains_are_refused_naming_the_key() {
+    // A spring of 0 leaves the masses unconnected.
+    refuses(
+        "springs = [8000.0, 6000.0]",
+        "springs = [8000.0, 0.0]",
+        &[
+            "bad.toml:",
+            "chain.plant.springs[1] = 0",
+            "would not be connected",
+        ],
+    );
+    refuses(
+        "{ at = 2, quantity",
+        "{ at = 3, quantity",
+        &["chain.sensors[1].at = 3", "expected a mass from 1 to 2"],
+    );
+    refuses(
+        "{ at = 2, quantity = \"acceleration\", sigma = 0.02 }",
+        "{ at = 2, quantity = \"acceleration\", sigma = 0.02, delay = 12.0 }",
+        &["chain.sensors[1].delay = 12", "half the record"],
+    );
+    refuses(
+        "{ at = 2, quantity = \"acceleration\", sigma = 0.02 }",
+        "{ at = 2, quantity = \"acceleration\", sigma = 0.02, low_pass = { cutoff_hz = -50.0 } }",
+        &[
+            "chain.sensors[1].low_pass.cutoff_hz = -50",
+            "expected a finite frequency > 0",
+        ],
+    );
+    refuses(
+        "force_at = 2 ",
+        "force_at = 5 ",
+        &["chain.force_at = 5", "expected a mass from 1 to 2"],
+    );
+    refuses(
+        "masses = [2.0, 1.5]",
+        "masses = [2.0, 1.5, 1.0]",
+        &["chain.plant.dampers has 2 values", "one per mass (3)"],
+    );
+}

@@ -1,0 +1,80 @@
+//! The rows of chains of masses (issue 33: a 3-mass chain, 3 channels × 10,000 samples,
+//! fitted in ≤ 50 ms).
+
+use super::harness::{Budget, measure};
+use super::report::{Row, Target};
+use super::rows::fail;
+use crate::Result;
+use msd_ident::{
+    ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, ResponseQuantity,
+    fit_chain, simulate_chain,
+};
+use msd_signal::gaussian_noise;
+
+/// A 3-mass chain, force on the top mass, accelerometers on all three.
+fn three_masses() -> Result<(ChainSetup, ChainRecord, ChainParameters)> {
+    let setup = ChainSetup {
+        masses: 3,
+        force_at: 3,
+        sensors: (1..=3)
+            .map(|at| ChainSensor {
+                at,
+                quantity: ResponseQuantity::Acceleration,
+                ..ChainSensor::default()
+            })
+            .collect(),
+        ..ChainSetup::default()
+    };
+    let truth = ChainParameters {
+        masses: vec![3.0, 2.0, 1.0],
+        dampers: vec![6.0, 4.0, 2.0],
+        springs: vec![3e4, 2e4, 1e4],
+    };
+    let n = 10_000;
+    let input = gaussian_noise(1, "chain/force", 1.0, n)
+        .map_err(|e| fail("bench: chain force")(e.into()))?;
+    let clean = simulate_chain(&setup, &truth, &input, 2e-3).map_err(fail("bench: chain"))?;
+    let mut outputs = Vec::new();
+    for (j, y) in clean.iter().enumerate() {
+        let e = gaussian_noise(1, &format!("chain/{j}"), 0.02, n)
+            .map_err(|e| fail("bench: noise")(e.into()))?;
+        outputs.push(y.iter().zip(e).map(|(a, b)| a + b).collect());
+    }
+    let guess = ChainParameters {
+        masses: vec![3.3, 1.8, 1.1],
+        dampers: vec![5.0, 5.0, 2.5],
+        springs: vec![3.3e4, 1.8e4, 1.1e4],
+    };
+    Ok((
+        setup,
+        ChainRecord {
+            dt: 2e-3,
+            input,
+            outputs,
+        },
+        guess,
+    ))
+}
+
+/// The fit and one simulation of the 3-mass chain.
+pub fn chain_rows(budget: &Budget) -> Result<Vec<Row>> {
+    let (setup, record, guess) = three_masses()?;
+    let options = ChainOptions::default();
+    let fit = fit_chain(&setup, &record, &guess, &options).map_err(fail("bench: chain fit"))?;
+    Ok(vec![
+        Row::new(
+            "chain",
+            "3-mass chain: fit of m, c, k (9) from 3 accelerometers × 10,000 samples",
+            measure(budget, || fit_chain(&setup, &record, &guess, &options).ok()),
+        )
+        .target(Target::Seconds(50e-3))
+        .note(format!("{} model evaluations", fit.evaluations)),
+        Row::new(
+            "chain",
+            "3-mass chain: one exact simulation, 3 channels × 10,000 samples",
+            measure(budget, || {
+                simulate_chain(&setup, &fit.parameters, &record.input, record.dt).ok()
+            }),
+        ),
+    ])
+}
