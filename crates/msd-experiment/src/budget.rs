@@ -89,6 +89,9 @@ pub fn samples_per_experiment(config: &crate::config::Config) -> f64 {
     let Some(time) = &config.time else {
         return 0.0;
     };
+    if let Some(chain) = &config.chain {
+        return (chain.sensors.len() as f64 + 1.0) * time.samples() as f64;
+    }
     let Some(setup) = &config.setup else {
         return 2.0 * time.samples() as f64;
     };

@@ -5,14 +5,18 @@
 mod fit;
 mod model;
 mod modes;
+mod plan;
 mod problem;
 mod setup;
 mod simulate;
+mod uncertainty;
 
-pub use fit::{ChainFit, ChainIntervals, ChainOptions, fit_chain};
+pub use fit::{ChainFit, ChainOptions, fit_chain};
 pub use modes::ChainMode;
+pub use plan::predict_chain;
 pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};
+pub use uncertainty::{ChainIntervals, ChainUncertainty};
 
 use crate::frf::ModalParameters;
 use msd_signal::{Complex64, FrfKind};

@@ -88,7 +88,8 @@ mod validation;
 
 pub use chain::{
     ChainDrive, ChainFit, ChainIntervals, ChainMode, ChainOptions, ChainParameters, ChainPlant,
-    ChainRecord, ChainSensor, ChainSetup, LowPass, MAX_MASSES, fit_chain, simulate_chain,
+    ChainRecord, ChainSensor, ChainSetup, ChainUncertainty, LowPass, MAX_MASSES, fit_chain,
+    predict_chain, simulate_chain,
 };
 pub use data::{DataSet, Excitation};
 pub use design::design_input;

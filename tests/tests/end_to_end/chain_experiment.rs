@@ -138,3 +138,27 @@ fn bad_chains_are_refused_naming_the_key() {
         &["chain.plant.dampers has 2 values", "one per mass (3)"],
     );
 }
+
+#[test]
+fn the_plan_predicts_the_spread_and_the_coverage_of_simulated_records() {
+    // 200 simulated records of each config, fitted as the run fits them. The sample SD
+    // of 200 draws has a relative standard error of 1/√398 = 5 %: each SD/SE ratio
+    // within 1 ± 0.2 (4 of those). Coverage pooled over the quantities: 95 ± 3 %.
+    for name in ["two-storey.toml", "tuned-mass-damper.toml"] {
+        let options = msd_experiment::plan::PlanOptions {
+            verify: 200,
+            ..Default::default()
+        };
+        let plan = msd_experiment::plan::plan(&config(name), &options).expect("plans");
+        let mut covered = Vec::new();
+        for q in &plan.quantities {
+            let sd = q.simulated_standard_deviation.expect("verified");
+            let ratio = sd / q.standard_error;
+            assert!((0.8..1.2).contains(&ratio), "{name} {}: {ratio}", q.name);
+            covered.push(q.coverage.expect("verified"));
+        }
+        let pooled = covered.iter().sum::<f64>() / covered.len() as f64;
+        assert!((0.92..=0.98).contains(&pooled), "{name}: {pooled}");
+        assert!(plan.quantity("k1").is_some() && plan.quantity("zeta2").is_some());
+    }
+}

@@ -7,7 +7,7 @@
 mod plots;
 mod report;
 
-use crate::config::Config;
+use crate::config::{ChainSection, Config};
 use crate::progress::Progress;
 use crate::results::Experiment;
 use crate::{ExperimentError, Result, RunOptions};
@@ -54,35 +54,16 @@ pub fn run(
     let seed = options.seed.unwrap_or(config.seed);
     progress.stage("data");
     let t = Instant::now();
-    let input = crate::setup::data::synthetic_input(&config, config_path)?
-        .ok_or_else(|| ExperimentError::config(config_path, "identification.input: missing"))?;
-    let dt = input.dt();
-    let tested = chain.tested(chain.plant.masses.len());
-    let clean = simulate_chain(&tested, &chain.plant, input.samples(), dt)
-        .map_err(|e| ExperimentError::run("data", e))?;
-    let mut outputs = Vec::with_capacity(clean.len());
-    for (j, (y, sensor)) in clean.iter().zip(&chain.sensors).enumerate() {
-        let noise = gaussian_noise(seed, &format!("chain/{j}"), sensor.sigma, y.len())
-            .map_err(|e| ExperimentError::run("data", e))?;
-        outputs.push(y.iter().zip(noise).map(|(a, b)| a + b).collect());
-    }
-    let record = ChainRecord {
-        dt,
-        input: input.samples().to_vec(),
-        outputs,
-    };
+    let record = record(&config, config_path, seed)?;
+    let dt = record.dt;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
     let t = Instant::now();
-    let fit_options = ChainOptions {
-        known_masses: chain.known_masses.clone(),
-        ..ChainOptions::default()
-    };
+    let fit = fit(&chain, &record)?;
     let fitted_setup = chain.fitted();
-    let fit = fit_chain(&fitted_setup, &record, &chain.guess, &fit_options)
-        .map_err(|e| ExperimentError::run("estimation", e))?;
+    let fit_options = fit_options(&chain);
     let mut reading = fitted_setup.clone();
-    for (sensor, delay) in reading.sensors.iter_mut().zip(&fit.delays) {
+    for (sensor, delay) in reading.sensors.iter_mut().zip(&fit.uncertainty.delays) {
         if let Some(d) = delay {
             sensor.delay = Some(d.value);
         }
@@ -122,6 +103,45 @@ pub fn run(
         ideal,
         timings,
     })
+}
+
+/// The synthetic record of `config` for `seed`: the drive from `[identification.input]`
+/// on the `[time]` grid, each sensor's reading of the true chain (delays and filters
+/// included) plus its noise (stream `chain/<sensor index>`).
+pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<ChainRecord> {
+    let Some(chain) = config.chain.as_ref() else {
+        return Err(ExperimentError::config(config_path, "no [chain] section"));
+    };
+    let input = crate::setup::data::synthetic_input(config, config_path)?
+        .ok_or_else(|| ExperimentError::config(config_path, "identification.input: missing"))?;
+    let tested = chain.tested(chain.plant.masses.len());
+    let clean = simulate_chain(&tested, &chain.plant, input.samples(), input.dt())
+        .map_err(|e| ExperimentError::run("data", e))?;
+    let mut outputs = Vec::with_capacity(clean.len());
+    for (j, (y, sensor)) in clean.iter().zip(&chain.sensors).enumerate() {
+        let noise = gaussian_noise(seed, &format!("chain/{j}"), sensor.sigma, y.len())
+            .map_err(|e| ExperimentError::run("data", e))?;
+        outputs.push(y.iter().zip(noise).map(|(a, b)| a + b).collect());
+    }
+    Ok(ChainRecord {
+        dt: input.dt(),
+        input: input.samples().to_vec(),
+        outputs,
+    })
+}
+
+/// The fit options of `chain`: its known masses.
+pub(crate) fn fit_options(chain: &ChainSection) -> ChainOptions {
+    ChainOptions {
+        known_masses: chain.known_masses.clone(),
+        ..ChainOptions::default()
+    }
+}
+
+/// `record` fitted as the run fits it: the sensors as configured, from the guess.
+pub(crate) fn fit(chain: &ChainSection, record: &ChainRecord) -> Result<ChainFit> {
+    fit_chain(&chain.fitted(), record, &chain.guess, &fit_options(chain))
+        .map_err(|e| ExperimentError::run("estimation", e))
 }
 
 /// `record.csv`: time, the drive, then each sensor measured and as fitted.

@@ -19,7 +19,7 @@ fn rows<'a>(o: &'a ChainOutcome, fit: &'a ChainFit) -> Vec<(String, f64, Option<
         return Vec::new();
     };
     let truth = &chain.plant;
-    let iv = fit.intervals.as_ref();
+    let iv = fit.uncertainty.intervals.as_ref();
     let mut out = Vec::new();
     for i in 0..truth.masses.len() {
         out.push((
@@ -68,7 +68,7 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     for ((name, sensor), delay) in channel_names(o)
         .iter()
         .zip(&chain.sensors)
-        .zip(&o.fit.delays)
+        .zip(&o.fit.uncertainty.delays)
     {
         let fitted = match delay {
             Some(d) => format!("estimated: {}", interval(d)),
@@ -123,9 +123,9 @@ fn interval(iv: &Interval) -> String {
 }
 
 fn estimates(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
-    if fit.intervals.is_none() {
+    if fit.uncertainty.intervals.is_none() {
         writeln!(s, "**m, c and k are not identified from these records.**\n")?;
-        for reason in &fit.unidentifiable {
+        for reason in &fit.uncertainty.unidentifiable {
             writeln!(s, "- {reason}")?;
         }
         writeln!(s, "\nWhat the records do fix is below: the modes.")?;
@@ -158,7 +158,7 @@ fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
         s,
         "| mode | fn truth [Hz] | fn [Hz] | ζ truth | ζ | shape (largest = 1) |\n|---|---|---|---|---|---|"
     )?;
-    for (i, mode) in fit.modes.iter().enumerate() {
+    for (i, mode) in fit.uncertainty.modes.iter().enumerate() {
         let (f, z) = truth.get(i).map_or(("—".into(), "—".into()), |t| {
             (sig(t.natural_frequency_hz, 6), sig(t.damping_ratio, 4))
         });
@@ -209,15 +209,15 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
         }
     }
     let truth = truth_modes(o);
-    for (i, (p, n)) in o.fit.modes.iter().zip(&ideal.modes).enumerate() {
+    for (i, (p, n)) in damping_pairs(o, ideal) {
         let t = truth.get(i).map_or("—".into(), |t| sig(t.damping_ratio, 4));
         writeln!(
             s,
             "| ζ{} | {t} | {} | {} | {:+.1} |",
             i + 1,
-            sig(p.damping_ratio.value, 6),
-            sig(n.damping_ratio.value, 6),
-            (n.damping_ratio.value - p.damping_ratio.value) / p.damping_ratio.standard_error
+            sig(p.value, 6),
+            sig(n.value, 6),
+            (n.value - p.value) / p.standard_error
         )?;
     }
     Ok(())
@@ -226,7 +226,7 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
 /// The summary the command prints.
 pub(crate) fn summary(o: &ChainOutcome) -> String {
     let mut s = format!("{}\n", o.config.name);
-    match &o.fit.intervals {
+    match &o.fit.uncertainty.intervals {
         Some(_) => {
             for (name, truth, iv) in rows(o, &o.fit) {
                 if let Some(iv) = iv {
@@ -241,12 +241,12 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
         }
         None => {
             let _ = writeln!(s, "  m, c, k not identified:");
-            for reason in &o.fit.unidentifiable {
+            for reason in &o.fit.uncertainty.unidentifiable {
                 let _ = writeln!(s, "    {reason}");
             }
         }
     }
-    for (i, mode) in o.fit.modes.iter().enumerate() {
+    for (i, mode) in o.fit.uncertainty.modes.iter().enumerate() {
         let _ = writeln!(
             s,
             "  mode {}: fn {} Hz, ζ {}",
@@ -255,20 +255,20 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             interval(&mode.damping_ratio)
         );
     }
-    for (i, d) in o.fit.delays.iter().enumerate() {
+    for (i, d) in o.fit.uncertainty.delays.iter().enumerate() {
         if let Some(d) = d {
             let _ = writeln!(s, "  delay of sensor {}: {} s", i + 1, interval(d));
         }
     }
     if let Some(ideal) = &o.ideal {
-        for (i, (p, n)) in o.fit.modes.iter().zip(&ideal.modes).enumerate() {
+        for (i, (p, n)) in damping_pairs(o, ideal) {
             let _ = writeln!(
                 s,
                 "  ideal sensors assumed: ζ{} {} instead of {} ({:+.1} SE)",
                 i + 1,
-                sig(n.damping_ratio.value, 6),
-                sig(p.damping_ratio.value, 6),
-                (n.damping_ratio.value - p.damping_ratio.value) / p.damping_ratio.standard_error
+                sig(n.value, 6),
+                sig(p.value, 6),
+                (n.value - p.value) / p.standard_error
             );
         }
     }
@@ -282,4 +282,18 @@ fn truth_modes(o: &ChainOutcome) -> Vec<msd_ident::frf::ModalParameters> {
         .as_ref()
         .map(|c| c.plant.plant(1, 1).modes())
         .unwrap_or_default()
+}
+
+/// Each mode's damping ratio with the sensor model and with ideal sensors.
+fn damping_pairs<'a>(
+    o: &'a ChainOutcome,
+    ideal: &'a ChainFit,
+) -> impl Iterator<Item = (usize, (&'a Interval, &'a Interval))> {
+    o.fit
+        .uncertainty
+        .modes
+        .iter()
+        .zip(&ideal.uncertainty.modes)
+        .map(|(p, n)| (&p.damping_ratio, &n.damping_ratio))
+        .enumerate()
 }

@@ -78,6 +78,16 @@ impl ChainSection {
         }
     }
 
+    /// The chain as planned: the true sensors, each estimated delay marked so (the plan
+    /// predicts its interval at its true value).
+    pub fn planned(&self) -> ChainSetup {
+        let mut setup = self.tested(self.plant.masses.len());
+        for (sensor, section) in setup.sensors.iter_mut().zip(&self.sensors) {
+            sensor.estimate_delay = section.estimate_delay;
+        }
+        setup
+    }
+
     /// The chain as fitted: an estimated delay starts from 0.
     pub fn fitted(&self) -> ChainSetup {
         let mut setup = self.tested(self.plant.masses.len());

@@ -72,6 +72,9 @@ fn table(plan: &Plan, f: &mut Formatter<'_>) -> Result {
     )?;
     if plan.verified_with > 0 {
         write!(f, " {:>13}", format!("sd of {}", plan.verified_with))?;
+        if plan.quantities.iter().any(|q| q.coverage.is_some()) {
+            write!(f, " {:>9}", "coverage")?;
+        }
     }
     writeln!(f)?;
     for q in &plan.quantities {
@@ -86,6 +89,9 @@ fn table(plan: &Plan, f: &mut Formatter<'_>) -> Result {
         )?;
         if let Some(sd) = q.simulated_standard_deviation {
             write!(f, " {sd:>13.3e}")?;
+        }
+        if let Some(c) = q.coverage {
+            write!(f, " {:>7.1} %", 100.0 * c)?;
         }
         writeln!(f)?;
     }

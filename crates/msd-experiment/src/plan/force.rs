@@ -71,6 +71,7 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
             )?,
             repeats_needed: None,
             simulated_standard_deviation: verified.as_ref().map(|v| v[q]),
+            coverage: None,
         });
     }
     let samples = excitation.samples();
@@ -159,7 +160,7 @@ fn steady_growth(
 }
 
 /// The config with its record `duration` s long.
-fn with_duration(config: &Config, time: TimeGrid, duration: f64) -> Config {
+pub(super) fn with_duration(config: &Config, time: TimeGrid, duration: f64) -> Config {
     let mut c = config.clone();
     c.time = Some(TimeGrid { duration, ..time });
     c

@@ -50,6 +50,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
                 repeats_needed: repeats_needed(setup.cycles, w, options.target)
                     .map(|n| n.max(msd_ident::dynamometer::MIN_CYCLES)),
                 simulated_standard_deviation: verified.as_ref().map(|v| v[j]),
+                coverage: None,
             }
         })
         .collect();

@@ -22,6 +22,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
+mod chain;
 mod display;
 mod force;
 mod machine;
@@ -94,6 +95,10 @@ pub struct PlannedQuantity {
     pub repeats_needed: Option<usize>,
     /// The standard deviation over the simulated experiments, when verified.
     pub simulated_standard_deviation: Option<f64>,
+    /// The fraction of the simulated experiments whose 95 % interval holds the prior
+    /// value, when verified (a `[chain]` plan).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coverage: Option<f64>,
 }
 
 /// The planned test, as the plan read it.
@@ -200,6 +205,9 @@ pub fn plan_config(config: &Config, config_path: &Path, options: &PlanOptions) -
         ));
     }
     verify_budget(config, config_path, options.verify)?;
+    if config.chain.is_some() {
+        return chain::plan(config, config_path, options);
+    }
     match &config.setup {
         None => force::plan(config, config_path, options),
         Some(s) if s.excitation == crate::config::ExcitationKind::ImposedDisplacement => {

@@ -60,6 +60,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
             )?,
             repeats_needed: repeats_needed(p.setup.records, w, options.target),
             simulated_standard_deviation: verified.as_ref().map(|v| v[q]),
+            coverage: None,
         });
     }
     Ok(Plan {

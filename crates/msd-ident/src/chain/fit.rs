@@ -1,13 +1,11 @@
 //! `fit_chain`: every mass, damper and spring of a chain, with intervals, from one record.
 
-use super::modes::{ChainMode, modes_with_intervals};
-use super::problem::{ChainProblem, Layout};
+use super::problem::{ChainProblem, Layout, enough_rows};
 use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
-use crate::least_squares::{Linearization, SINGULAR_CONDITION};
-use crate::uncertainty::t_975;
-use crate::{IdentError, Interval, Result};
+use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
+use crate::{IdentError, Result};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 /// How a chain is fitted.
@@ -35,39 +33,19 @@ impl Default for ChainOptions {
     }
 }
 
-/// m_i, c_i and k_i with their 95 % intervals (a known mass with a zero standard error).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ChainIntervals {
-    /// The masses, kg.
-    pub masses: Vec<Interval>,
-    /// The dampers, N·s/m.
-    pub dampers: Vec<Interval>,
-    /// The springs, N/m.
-    pub springs: Vec<Interval>,
-}
-
 /// What [`fit_chain`] found.
+///
+/// Serialises flat: the estimates, the fields of [`ChainUncertainty`], the noise levels
+/// and the solver's record. Displays the uncertainty, then σ̂ of each channel.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ChainFit {
     /// The estimates (a known mass as given).
     pub parameters: ChainParameters,
-    /// Their intervals, when the records identify every one; `None` otherwise (see
-    /// [`ChainFit::unidentifiable`]).
-    pub intervals: Option<ChainIntervals>,
-    /// The combinations of parameters the records cannot tell apart, in words (empty when
-    /// all are identified).
-    pub unidentifiable: Vec<String>,
-    /// The modes of the fitted chain, by frequency, with intervals (delta method). They
-    /// are identified even where the physical parameters are not.
-    pub modes: Vec<ChainMode>,
-    /// Each sensor's estimated delay, s (`None` where it was not estimated).
-    pub delays: Vec<Option<Interval>>,
+    /// Their intervals, the modes, the delays, what is lost.
+    #[serde(flatten)]
+    pub uncertainty: ChainUncertainty,
     /// σ̂ of each channel, in its own unit.
     pub noise: Vec<f64>,
-    /// Condition number of the column-scaled JᵀJ.
-    pub condition_number: f64,
-    /// Samples × channels − estimated quantities.
-    pub degrees_of_freedom: usize,
     /// The solver's exit on the last pass.
     pub exit: LmExit,
     /// Model evaluations over all passes.
@@ -76,44 +54,12 @@ pub struct ChainFit {
 
 impl std::fmt::Display for ChainFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.intervals {
-            Some(iv) => {
-                for (i, ((m, c), k)) in iv
-                    .masses
-                    .iter()
-                    .zip(&iv.dampers)
-                    .zip(&iv.springs)
-                    .enumerate()
-                {
-                    writeln!(f, "m{} = {m:.6} kg", i + 1)?;
-                    writeln!(f, "c{} = {c:.6} N·s/m", i + 1)?;
-                    writeln!(f, "k{} = {k:.6} N/m", i + 1)?;
-                }
-            }
-            None => {
-                writeln!(f, "m, c, k: not identified from these records")?;
-                for reason in &self.unidentifiable {
-                    writeln!(f, "  {reason}")?;
-                }
-            }
-        }
-        for (i, mode) in self.modes.iter().enumerate() {
-            writeln!(f, "mode {}: {mode}", i + 1)?;
-        }
-        for (i, delay) in self.delays.iter().enumerate() {
-            if let Some(d) = delay {
-                writeln!(f, "delay of sensor {} = {d:.6} s", i + 1)?;
-            }
-        }
+        writeln!(f, "{}", self.uncertainty)?;
         write!(f, "σ̂ per channel")?;
         for (i, sigma) in self.noise.iter().enumerate() {
             write!(f, "{}{sigma:.3e}", if i == 0 { " " } else { ", " })?;
         }
-        write!(
-            f,
-            "; {} degrees of freedom, condition number {:.3e}",
-            self.degrees_of_freedom, self.condition_number
-        )
+        Ok(())
     }
 }
 
@@ -146,7 +92,7 @@ impl std::fmt::Display for ChainFit {
 /// let guess = ChainParameters { masses: vec![2.4, 0.8], dampers: vec![3.0, 3.0], springs: vec![2.5e4, 0.8e4] };
 /// let fit = fit_chain(&setup, &record, &guess, &ChainOptions::default())?;
 /// assert!((fit.parameters.springs[1] / 1e4 - 1.0).abs() < 1e-6);
-/// assert_eq!(fit.modes.len(), 2);
+/// assert_eq!(fit.uncertainty.modes.len(), 2);
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 pub fn fit_chain(
@@ -207,14 +153,7 @@ fn check(
     }
     let rows = record.len() * setup.sensors.len();
     let estimated = Layout::new(setup, &options.known_masses).len();
-    if rows <= estimated {
-        return Err(IdentError::TooFewSamples {
-            got: rows,
-            needed: estimated + 1,
-            why: "more samples than estimated quantities",
-        });
-    }
-    Ok(())
+    enough_rows(rows, estimated)
 }
 
 /// What the fit starts from and holds.
@@ -226,6 +165,17 @@ struct Start<'a> {
 }
 
 impl<'a> Start<'a> {
+    /// The point θ of this fit, for the statistics.
+    fn at(&self, theta: &'a [f64]) -> Point<'a> {
+        Point {
+            setup: self.setup,
+            layout: self.layout,
+            theta,
+            base: self.guess,
+            delays: self.delays,
+        }
+    }
+
     /// The problem on `record`, each channel weighted by its RMS.
     fn problem(&self, record: &'a ChainRecord) -> ChainProblem<'a> {
         ChainProblem {
@@ -397,73 +347,15 @@ fn statistics(start: &Start<'_>, record: &ChainRecord, solved: Solved) -> Result
             reason: "the chain's residuals or sensitivities are not finite at the estimate".into(),
         });
     }
-    let (parameters, delays) = layout.unpack(theta, start.guess, start.delays);
-    let t = t_975(dof);
-    let (covariance, condition_number, unidentifiable) = match Linearization::new(&jacobian) {
-        Ok(lin) => (lin.covariance(s2), lin.condition_number, Vec::new()),
-        Err(_) => pseudo_covariance(&jacobian, s2, layout),
-    };
-    let se = |j: usize| covariance[(j, j)].max(0.0).sqrt();
-    let intervals = unidentifiable
-        .is_empty()
-        .then(|| intervals(layout, &parameters, &se, t));
-    let delay_intervals = (0..start.setup.sensors.len())
-        .map(|ch| {
-            layout.delayed.iter().position(|&d| d == ch).map(|j| {
-                let col = layout.free.len() + j;
-                Interval::new(delays[ch], se(col), t)
-            })
-        })
-        .collect();
-    let modes = modes_with_intervals(
-        start.setup,
-        layout,
-        theta,
-        start.guess,
-        start.delays,
-        &covariance,
-        t,
-    );
+    let (parameters, _) = layout.unpack(theta, start.guess, start.delays);
+    let uncertainty = uncertainty_at(&start.at(theta), &jacobian, s2, dof);
     Ok(ChainFit {
         parameters,
-        intervals,
-        unidentifiable,
-        modes,
-        delays: delay_intervals,
+        uncertainty,
         noise: solved.noise,
-        condition_number,
-        degrees_of_freedom: dof,
         exit: solved.exit,
         evaluations: solved.evaluations,
     })
-}
-
-/// Every m, c, k with its interval, computed on its logarithm (a known mass exact).
-fn intervals(
-    layout: &Layout,
-    parameters: &ChainParameters,
-    se: &dyn Fn(usize) -> f64,
-    t: f64,
-) -> ChainIntervals {
-    use super::model::Family::{self, Damper, Mass, Spring};
-    let each = |family: Family, values: &[f64]| {
-        values
-            .iter()
-            .enumerate()
-            .map(
-                |(i, &value)| match layout.free.iter().position(|&c| c == (family, i)) {
-                    // The log's standard error times the value; the interval on the log.
-                    Some(j) => Interval::positive(value, value * se(j), t),
-                    None => Interval::new(value, 0.0, t),
-                },
-            )
-            .collect()
-    };
-    ChainIntervals {
-        masses: each(Mass, &parameters.masses),
-        dampers: each(Damper, &parameters.dampers),
-        springs: each(Spring, &parameters.springs),
-    }
 }
 
 fn rms(values: &[f64]) -> f64 {
@@ -488,94 +380,4 @@ fn channel_noise(outputs: &[f64], record: &ChainRecord, inflation: f64) -> Vec<f
                 .max(f64::MIN_POSITIVE)
         })
         .collect()
-}
-
-/// The covariance on the identifiable subspace (the pseudo-inverse), the condition
-/// number, and the lost directions in words: first whether scaling every m, c and k
-/// together is among them (a base drive with no known mass), then each other one.
-fn pseudo_covariance(
-    jacobian: &DMatrix<f64>,
-    s2: f64,
-    layout: &Layout,
-) -> (DMatrix<f64>, f64, Vec<String>) {
-    let p = jacobian.ncols();
-    let norms: Vec<f64> = (0..p)
-        .map(|j| jacobian.column(j).norm().max(f64::MIN_POSITIVE))
-        .collect();
-    let scaled = DMatrix::from_fn(jacobian.nrows(), p, |r, c| jacobian[(r, c)] / norms[c]);
-    let svd = scaled.svd(false, true);
-    let Some(v_t) = svd.v_t else {
-        return (
-            DMatrix::zeros(p, p),
-            f64::INFINITY,
-            vec!["the sensitivities cannot be decomposed".into()],
-        );
-    };
-    let largest = svd.singular_values.max();
-    let cutoff = largest / SINGULAR_CONDITION.sqrt();
-    let mut covariance = DMatrix::zeros(p, p);
-    let mut null: Vec<DVector<f64>> = Vec::new();
-    for (i, &sv) in svd.singular_values.iter().enumerate() {
-        let v = v_t.row(i).transpose();
-        if sv > cutoff {
-            for r in 0..p {
-                for c in 0..p {
-                    covariance[(r, c)] += s2 * v[r] * v[c] / (sv * sv * norms[r] * norms[c]);
-                }
-            }
-        } else {
-            null.push(v);
-        }
-    }
-    let smallest = svd.singular_values.min();
-    let condition = (largest / smallest).powi(2);
-    (covariance, condition, lost_in_words(null, &norms, layout))
-}
-
-/// The null directions (orthonormal, in column-scaled coordinates) in words.
-fn lost_in_words(mut null: Vec<DVector<f64>>, norms: &[f64], layout: &Layout) -> Vec<String> {
-    let free = layout.free.len();
-    // The common scale: δ(ln p) = 1 for every free m, c, k.
-    let mut scale = DVector::from_fn(norms.len(), |j, _| if j < free { norms[j] } else { 0.0 });
-    scale /= scale.norm();
-    let captured: f64 = null.iter().map(|v| v.dot(&scale).powi(2)).sum();
-    let mut words = Vec::new();
-    if (captured - 1.0).abs() < 1e-6 {
-        words.push(
-            "every free m, c and k scaled by one factor leaves the records unchanged: give a known mass (known_masses) to set the scale".to_string(),
-        );
-        // The rest of the null space, orthogonal to the scale.
-        let projected: Vec<DVector<f64>> =
-            null.iter().map(|v| v - &scale * v.dot(&scale)).collect();
-        let basis = DMatrix::from_columns(&projected);
-        let svd = basis.svd(true, false);
-        null = match svd.u {
-            Some(u) => (0..svd.singular_values.len())
-                .filter(|&i| svd.singular_values[i] > 0.5)
-                .map(|i| u.column(i).clone_owned())
-                .collect(),
-            None => Vec::new(),
-        };
-    }
-    for v in null {
-        let theta: Vec<f64> = v.iter().zip(norms).map(|(x, n)| x / n).collect();
-        words.push(direction_in_words(&theta, layout));
-    }
-    words
-}
-
-/// A direction δθ (in logarithms) along which the records do not change, as the
-/// product of powers it leaves unfixed: "m1^1.00 · k2^-0.50 …".
-fn direction_in_words(v: &[f64], layout: &Layout) -> String {
-    let top = v.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-    let terms: Vec<String> = v
-        .iter()
-        .enumerate()
-        .filter(|(_, x)| x.abs() > 1e-2 * top)
-        .map(|(j, x)| format!("{}^{:.2}", layout.name(j), x / top))
-        .collect();
-    format!(
-        "the records do not change when these move together (each by one factor to the power shown): {}",
-        terms.join(" · ")
-    )
 }

@@ -149,7 +149,7 @@ fn a_two_storey_rig_is_identified_within_its_intervals() {
     for seed in 1..=3 {
         let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
         let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap();
-        let iv = fit.intervals.as_ref().expect("identified");
+        let iv = fit.uncertainty.intervals.as_ref().expect("identified");
         let t = truth();
         for (estimates, truths) in [
             (&iv.masses, &t.masses),
@@ -165,7 +165,7 @@ fn a_two_storey_rig_is_identified_within_its_intervals() {
             }
         }
         // ωn² = 5000 and 20000 (det(K − ω²M) = 0), within 4 SE of the fitted modes.
-        for (mode, w2) in fit.modes.iter().zip([5000.0f64, 20000.0]) {
+        for (mode, w2) in fit.uncertainty.modes.iter().zip([5000.0f64, 20000.0]) {
             let f = w2.sqrt() / std::f64::consts::TAU;
             let iv = mode.natural_frequency_hz;
             assert!(
@@ -219,17 +219,17 @@ fn a_three_mass_chain_with_one_sensor_is_not_reported_as_identified() {
     let setup = base_driven(&[3]);
     let rec = record(&setup, &three_masses(), 5, &[0.01]);
     let fit = fit_chain(&setup, &rec, &three_start(), &ChainOptions::default()).unwrap();
-    assert!(fit.intervals.is_none());
+    assert!(fit.uncertainty.intervals.is_none());
     assert!(
-        fit.unidentifiable[0].contains("scaled by one factor"),
+        fit.uncertainty.unidentifiable[0].contains("scaled by one factor"),
         "{:?}",
-        fit.unidentifiable
+        fit.uncertainty.unidentifiable
     );
     assert!(fit.to_string().contains("not identified"));
     // The modes are identified: three, each fn within 4 SE of the truth's.
     let want = three_masses().plant(1, 1).modes();
-    assert_eq!(fit.modes.len(), 3);
-    for (mode, w) in fit.modes.iter().zip(&want) {
+    assert_eq!(fit.uncertainty.modes.len(), 3);
+    for (mode, w) in fit.uncertainty.modes.iter().zip(&want) {
         let iv = mode.natural_frequency_hz;
         assert!(iv.standard_error > 0.0);
         assert!(
@@ -248,7 +248,7 @@ fn a_known_mass_and_three_sensors_identify_a_base_driven_chain() {
         ..ChainOptions::default()
     };
     let fit = fit_chain(&setup, &rec, &three_start(), &options).unwrap();
-    let iv = fit.intervals.expect("identified with m3 known");
+    let iv = fit.uncertainty.intervals.expect("identified with m3 known");
     assert_eq!(iv.masses[2].standard_error, 0.0);
     let t = three_masses();
     for (estimates, truths) in [
@@ -355,15 +355,15 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
         setup.sensors[0].delay = None;
         setup.sensors[0].estimate_delay = true;
         let fit = fit_chain(&setup, &rec, &guess, &ChainOptions::default()).unwrap();
-        let iv = fit.intervals.as_ref().unwrap();
-        let delay = fit.delays[0].unwrap();
+        let iv = fit.uncertainty.intervals.as_ref().unwrap();
+        let delay = fit.uncertainty.delays[0].unwrap();
         assert!(
             (delay.value - 0.006).abs() < 4.0 * delay.standard_error,
             "{delay}"
         );
         let c = iv.dampers[0];
         assert!((c.value - 1.8).abs() < 4.0 * c.standard_error, "{c}");
-        let zeta = fit.modes[0].damping_ratio;
+        let zeta = fit.uncertainty.modes[0].damping_ratio;
         let true_zeta = 1.8 / (2.0 * (2.5f64 * 120.0).sqrt());
         assert!(
             (zeta.value - true_zeta).abs() < 4.0 * zeta.standard_error,
@@ -378,7 +378,7 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
             &ChainOptions::default(),
         )
         .unwrap();
-        let c = ideal.intervals.unwrap().dampers[0];
+        let c = ideal.uncertainty.intervals.unwrap().dampers[0];
         assert!(
             (c.value - 1.8).abs() > 3.0 * c.standard_error,
             "seed {seed}: {c}"
@@ -397,7 +397,7 @@ fn a_hundred_records_of_the_rig_all_converge_to_the_truth() {
         let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
         let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default())
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
-        let iv = fit.intervals.as_ref().expect("identified");
+        let iv = fit.uncertainty.intervals.as_ref().expect("identified");
         let t = truth();
         for (estimates, truths) in [
             (&iv.masses, &t.masses),
@@ -462,7 +462,7 @@ fn mode_shapes_keep_their_sign_from_record_to_record() {
     for seed in 1..=4 {
         let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
         let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap();
-        for mode in &fit.modes {
+        for mode in &fit.uncertainty.modes {
             assert!(mode.shape[0].value > 0.0, "seed {seed}: {mode}");
             let largest = mode.shape.iter().map(|s| s.value.abs()).fold(0.0, f64::max);
             // Real parts of a complex shape: the largest is 1 to O(ζ²) ≈ 1e-4.

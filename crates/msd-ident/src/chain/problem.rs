@@ -224,3 +224,15 @@ impl LeastSquaresProblem for ChainProblem<'_> {
         true
     }
 }
+
+/// Refuses a record with no more rows than estimated quantities.
+pub(crate) fn enough_rows(rows: usize, estimated: usize) -> crate::Result<()> {
+    if rows <= estimated {
+        return Err(crate::IdentError::TooFewSamples {
+            got: rows,
+            needed: estimated + 1,
+            why: "more samples than estimated quantities",
+        });
+    }
+    Ok(())
+}
