@@ -128,6 +128,14 @@ fn bad_chains_are_refused_naming_the_key() {
         ],
     );
     refuses(
+        "{ at = 2, quantity = \"acceleration\", sigma = 0.02 }",
+        "{ at = 2, quantity = \"acceleration\", sigma = 0.02, estimate_cutoff = true }",
+        &[
+            "chain.sensors[1].estimate_cutoff = true",
+            "expected a low_pass",
+        ],
+    );
+    refuses(
         "force_at = 2 ",
         "force_at = 5 ",
         &["chain.force_at = 5", "expected a mass from 1 to 2"],

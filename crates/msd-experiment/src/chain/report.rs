@@ -79,6 +79,17 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
         let filter = sensor.low_pass.map_or("none".into(), |f| {
             format!("order {} low-pass at {} Hz", f.order, sig(f.cutoff_hz, 4))
         });
+        let filter = match o
+            .fit
+            .uncertainty
+            .cutoffs
+            .get(sensor_index(o, name))
+            .copied()
+            .flatten()
+        {
+            Some(c) => format!("{filter}; cut-off estimated: {}", interval(&c)),
+            None => filter,
+        };
         writeln!(
             s,
             "| {name} | {} | {} | {} | {fitted} | {filter} |",
@@ -260,6 +271,16 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             let _ = writeln!(s, "  delay of sensor {}: {} s", i + 1, interval(d));
         }
     }
+    for (i, c) in o.fit.uncertainty.cutoffs.iter().enumerate() {
+        if let Some(c) = c {
+            let _ = writeln!(
+                s,
+                "  filter cut-off of sensor {}: {} Hz",
+                i + 1,
+                interval(c)
+            );
+        }
+    }
     if let Some(ideal) = &o.ideal {
         for (i, (p, n)) in damping_pairs(o, ideal) {
             let _ = writeln!(
@@ -296,4 +317,12 @@ fn damping_pairs<'a>(
         .zip(&ideal.uncertainty.modes)
         .map(|(p, n)| (&p.damping_ratio, &n.damping_ratio))
         .enumerate()
+}
+
+/// The index of the sensor named `name` in the report's order.
+fn sensor_index(o: &ChainOutcome, name: &str) -> usize {
+    channel_names(o)
+        .iter()
+        .position(|n| n == name)
+        .unwrap_or(usize::MAX)
 }

@@ -52,9 +52,13 @@ pub struct ChainSensorSection {
     /// Estimate the delay (the fit starts from 0) instead of taking `delay` as known.
     #[serde(default)]
     pub estimate_delay: bool,
-    /// A known low-pass filter in the sensor's path.
+    /// A low-pass filter in the sensor's path (the true one for the synthetic record).
     #[serde(default)]
     pub low_pass: Option<LowPass>,
+    /// Estimate the filter's cut-off (the fit starts from `low_pass`'s) instead of
+    /// taking it as known.
+    #[serde(default)]
+    pub estimate_cutoff: bool,
 }
 
 impl ChainSection {
@@ -73,6 +77,7 @@ impl ChainSection {
                     delay: s.delay,
                     estimate_delay: false,
                     low_pass: s.low_pass,
+                    estimate_cutoff: false,
                 })
                 .collect(),
         }
@@ -84,6 +89,7 @@ impl ChainSection {
         let mut setup = self.tested(self.plant.masses.len());
         for (sensor, section) in setup.sensors.iter_mut().zip(&self.sensors) {
             sensor.estimate_delay = section.estimate_delay;
+            sensor.estimate_cutoff = section.estimate_cutoff;
         }
         setup
     }
@@ -96,6 +102,7 @@ impl ChainSection {
                 sensor.delay = None;
                 sensor.estimate_delay = true;
             }
+            sensor.estimate_cutoff = section.estimate_cutoff;
         }
         setup
     }

@@ -21,6 +21,9 @@ const FN: [&str; 8] = ["fn1", "fn2", "fn3", "fn4", "fn5", "fn6", "fn7", "fn8"];
 const ZETA: [&str; 8] = [
     "zeta1", "zeta2", "zeta3", "zeta4", "zeta5", "zeta6", "zeta7", "zeta8",
 ];
+const CUTOFF: [&str; 8] = [
+    "cutoff1", "cutoff2", "cutoff3", "cutoff4", "cutoff5", "cutoff6", "cutoff7", "cutoff8",
+];
 const DELAY: [&str; 8] = [
     "delay1", "delay2", "delay3", "delay4", "delay5", "delay6", "delay7", "delay8",
 ];
@@ -33,6 +36,7 @@ enum Slot {
     Spring(usize),
     Frequency(usize),
     Damping(usize),
+    Cutoff(usize),
     Delay(usize),
 }
 
@@ -45,6 +49,7 @@ impl Slot {
             Slot::Spring(i) => at(&K, i),
             Slot::Frequency(i) => at(&FN, i),
             Slot::Damping(i) => at(&ZETA, i),
+            Slot::Cutoff(i) => at(&CUTOFF, i),
             Slot::Delay(i) => at(&DELAY, i),
         }
     }
@@ -57,13 +62,14 @@ impl Slot {
             Slot::Spring(i) => iv.map(|v| v.springs[i]),
             Slot::Frequency(i) => u.modes.get(i).map(|m| m.natural_frequency_hz),
             Slot::Damping(i) => u.modes.get(i).map(|m| m.damping_ratio),
+            Slot::Cutoff(i) => u.cutoffs.get(i).copied().flatten(),
             Slot::Delay(i) => u.delays.get(i).copied().flatten(),
         }
     }
 }
 
 /// The quantities of a chain's plan: each free m, c, k when all are identified, each
-/// mode's fn and ζ, each estimated delay.
+/// mode's fn and ζ, each estimated filter cut-off and delay.
 fn slots(chain: &ChainSection, u: &ChainUncertainty) -> Vec<Slot> {
     let mut out = Vec::new();
     if u.intervals.is_some() {
@@ -76,6 +82,11 @@ fn slots(chain: &ChainSection, u: &ChainUncertainty) -> Vec<Slot> {
     }
     for i in 0..u.modes.len() {
         out.extend([Slot::Frequency(i), Slot::Damping(i)]);
+    }
+    for (i, cutoff) in u.cutoffs.iter().enumerate() {
+        if cutoff.is_some() {
+            out.push(Slot::Cutoff(i));
+        }
     }
     for (i, delay) in u.delays.iter().enumerate() {
         if delay.is_some() {
@@ -170,7 +181,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
 
 /// The static name of a fitted column's name ("m2", "delay1").
 fn static_name(name: &str) -> &'static str {
-    [M, C, K, DELAY]
+    [M, C, K, CUTOFF, DELAY]
         .iter()
         .flat_map(|names| names.iter())
         .find(|n| **n == name)

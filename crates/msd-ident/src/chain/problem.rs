@@ -1,5 +1,6 @@
 //! The chain's weighted output-error least-squares problem for the Levenberg–Marquardt
-//! solver: θ = (ln of every free m, c, k; then each estimated delay in seconds).
+//! solver: θ = (ln of every free m, c, k; ln of each estimated filter cut-off; then each
+//! estimated delay in seconds).
 
 use super::model::{self, Family, System, Values};
 use super::setup::{ChainParameters, ChainRecord, ChainSetup};
@@ -12,6 +13,8 @@ use nalgebra::DMatrix;
 pub(crate) struct Layout {
     /// The free physical parameters, by family and index.
     pub free: Vec<(Family, usize)>,
+    /// The channels whose low-pass cut-off is estimated, and each one's start, Hz.
+    pub cutoffs: Vec<(usize, f64)>,
     /// The channels whose delay is estimated.
     pub delayed: Vec<usize>,
 }
@@ -28,11 +31,38 @@ impl Layout {
         let delayed = (0..setup.sensors.len())
             .filter(|&ch| setup.sensors[ch].estimate_delay)
             .collect();
-        Self { free, delayed }
+        let cutoffs = setup
+            .sensors
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.estimate_cutoff)
+            .filter_map(|(ch, s)| s.low_pass.map(|f| (ch, f.cutoff_hz)))
+            .collect();
+        Self {
+            free,
+            cutoffs,
+            delayed,
+        }
     }
 
     pub(crate) fn len(&self) -> usize {
-        self.free.len() + self.delayed.len()
+        self.free.len() + self.cutoffs.len() + self.delayed.len()
+    }
+
+    /// The columns with sensitivities from the simulation: m, c, k, then the cut-offs.
+    pub(crate) fn simulated(&self) -> usize {
+        self.free.len() + self.cutoffs.len()
+    }
+
+    /// `setup` with the cut-offs of θ.
+    pub(crate) fn setup_at(&self, theta: &[f64], setup: &ChainSetup) -> ChainSetup {
+        let mut out = setup.clone();
+        for (&(ch, _), &t) in self.cutoffs.iter().zip(&theta[self.free.len()..]) {
+            if let Some(filter) = out.sensors[ch].low_pass.as_mut() {
+                filter.cutoff_hz = t.exp();
+            }
+        }
+        out
     }
 
     /// θ of `parameters` and `delays`.
@@ -40,6 +70,7 @@ impl Layout {
         self.free
             .iter()
             .map(|&(family, i)| family_of(parameters, family)[i].ln())
+            .chain(self.cutoffs.iter().map(|&(_, hz)| hz.ln()))
             .chain(self.delayed.iter().map(|&ch| delays[ch]))
             .collect()
     }
@@ -56,17 +87,19 @@ impl Layout {
             family_of_mut(&mut parameters, family)[i] = t.exp();
         }
         let mut delays = delays.to_vec();
-        for (&ch, &t) in self.delayed.iter().zip(&theta[self.free.len()..]) {
+        for (&ch, &t) in self.delayed.iter().zip(&theta[self.simulated()..]) {
             delays[ch] = t;
         }
         (parameters, delays)
     }
 
-    /// The name of column `j` ("m1", "c2", "delay of sensor 1", …).
+    /// The name of column `j` ("m1", "c2", "cutoff1", "delay2", …; sensors from 1).
     pub(crate) fn name(&self, j: usize) -> String {
+        let free = self.free.len();
         match self.free.get(j) {
             Some(&(family, i)) => format!("{}{}", symbol(family), i + 1),
-            None => format!("delay{}", self.delayed[j - self.free.len()] + 1),
+            None if j < self.simulated() => format!("cutoff{}", self.cutoffs[j - free].0 + 1),
+            None => format!("delay{}", self.delayed[j - self.simulated()] + 1),
         }
     }
 }
@@ -128,8 +161,35 @@ pub(crate) fn systems(
             d.d *= factor;
             d
         })
+        .chain(
+            layout
+                .cutoffs
+                .iter()
+                .map(|&(ch, _)| cutoff_derivative(setup, &v, ch)),
+        )
         .collect();
     (plant, partials)
+}
+
+/// ∂System/∂ln fc of channel `ch`'s filter: a central difference, exact up to rounding
+/// because the system is a polynomial of degree ≤ 2 in fc (ωc·… and ωc²·… entries).
+fn cutoff_derivative(setup: &ChainSetup, v: &Values, ch: usize) -> System {
+    let at = |factor: f64| {
+        let mut s = setup.clone();
+        if let Some(filter) = s.sensors[ch].low_pass.as_mut() {
+            filter.cutoff_hz *= factor;
+        }
+        model::system(&s, v)
+    };
+    const H: f64 = 1e-3;
+    let (up, down) = (at(1.0 + H), at(1.0 - H));
+    // fc·(S(fc(1 + h)) − S(fc(1 − h)))/(2h·fc)
+    System {
+        a: (up.a - down.a) / (2.0 * H),
+        b: (up.b - down.b) / (2.0 * H),
+        c: (up.c - down.c) / (2.0 * H),
+        d: (up.d - down.d) / (2.0 * H),
+    }
 }
 
 /// The weighted residuals (ŷ − y)/σ of every channel, for the solver.
@@ -159,7 +219,8 @@ impl ChainProblem<'_> {
         {
             return None;
         }
-        let (plant, partials) = systems(self.setup, self.layout, &parameters);
+        let setup = self.layout.setup_at(theta, self.setup);
+        let (plant, partials) = systems(&setup, self.layout, &parameters);
         simulate(
             &plant,
             &partials,
@@ -207,7 +268,7 @@ impl LeastSquaresProblem for ChainProblem<'_> {
             return false;
         };
         let samples = self.record.len();
-        let free = self.layout.free.len();
+        let free = self.layout.simulated();
         for j in 0..free {
             for (ch, sigma) in self.noise.iter().enumerate() {
                 out.view_mut((ch * samples, j), (samples, 1))

@@ -73,8 +73,11 @@ pub struct ChainSensor {
     pub delay: Option<f64>,
     /// Estimate the delay (with an interval), starting from `delay` or 0.
     pub estimate_delay: bool,
-    /// A known low-pass filter in the sensor's path. By default none.
+    /// A low-pass filter in the sensor's path, known unless `estimate_cutoff`. By default
+    /// none.
     pub low_pass: Option<LowPass>,
+    /// Estimate the filter's cut-off (with an interval), starting from `low_pass`'s.
+    pub estimate_cutoff: bool,
 }
 
 impl Default for ChainSensor {
@@ -85,6 +88,7 @@ impl Default for ChainSensor {
             delay: None,
             estimate_delay: false,
             low_pass: None,
+            estimate_cutoff: false,
         }
     }
 }
@@ -166,6 +170,11 @@ impl ChainSetup {
                     show(delay)
                 )));
             }
+            if sensor.estimate_cutoff && sensor.low_pass.is_none() {
+                return Err(setup_error(format!(
+                    "sensors[{i}].estimate_cutoff = true: expected a low_pass to start from"
+                )));
+            }
             if let Some(filter) = sensor.low_pass {
                 if !(filter.cutoff_hz.is_finite() && filter.cutoff_hz > 0.0) {
                     return Err(setup_error(format!(
@@ -204,6 +213,7 @@ impl ChainSetup {
             sensor.delay = None;
             sensor.estimate_delay = false;
             sensor.low_pass = None;
+            sensor.estimate_cutoff = false;
         }
         ideal
     }

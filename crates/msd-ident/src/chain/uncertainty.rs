@@ -41,6 +41,8 @@ pub struct ChainUncertainty {
     pub modes: Vec<ChainMode>,
     /// Each sensor's estimated delay, s (`None` where it is not estimated).
     pub delays: Vec<Option<Interval>>,
+    /// Each sensor's estimated filter cut-off, Hz (`None` where it is not estimated).
+    pub cutoffs: Vec<Option<Interval>>,
     /// The estimated quantities ("m1", "c2", "delay1", …), in the order of `correlation`.
     pub names: Vec<String>,
     /// Their correlation (of the logarithms for m, c, k).
@@ -82,6 +84,11 @@ impl std::fmt::Display for ChainUncertainty {
                 writeln!(f, "delay of sensor {} = {d:.6} s", i + 1)?;
             }
         }
+        for (i, cutoff) in self.cutoffs.iter().enumerate() {
+            if let Some(c) = cutoff {
+                writeln!(f, "filter cut-off of sensor {} = {c:.4} Hz", i + 1)?;
+            }
+        }
         write!(
             f,
             "{} degrees of freedom, condition number {:.3e}",
@@ -120,9 +127,17 @@ pub(crate) fn uncertainty_at(
     let delay_intervals = (0..at.setup.sensors.len())
         .map(|ch| {
             layout.delayed.iter().position(|&d| d == ch).map(|j| {
-                let col = layout.free.len() + j;
+                let col = layout.simulated() + j;
                 Interval::new(delays[ch], se(col), t)
             })
+        })
+        .collect();
+    let setup = layout.setup_at(at.theta, at.setup);
+    let cutoffs = (0..at.setup.sensors.len())
+        .map(|ch| {
+            let j = layout.cutoffs.iter().position(|&(c, _)| c == ch)?;
+            let hz = setup.sensors[ch].low_pass?.cutoff_hz;
+            Some(Interval::positive(hz, hz * se(layout.free.len() + j), t))
         })
         .collect();
     let modes = modes_with_intervals(
@@ -140,6 +155,7 @@ pub(crate) fn uncertainty_at(
         unidentifiable,
         modes,
         delays: delay_intervals,
+        cutoffs,
         names: (0..layout.len()).map(|j| layout.name(j)).collect(),
         correlation: correlation
             .row_iter()
