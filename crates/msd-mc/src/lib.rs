@@ -40,6 +40,7 @@
 mod band;
 mod barrier;
 mod batch;
+mod chain;
 mod draw;
 mod engine;
 mod error;
@@ -51,6 +52,7 @@ mod sobol_msd;
 mod tracker;
 
 pub use band::{Band, monte_carlo_band, monte_carlo_band_with_progress};
+pub use chain::{ChainBand, ChainBandOptions, chain_band};
 pub use draw::{MAX_REDRAWS, sample_rng};
 pub use engine::MemoryPlan;
 pub use error::{McError, Result, SampleFailure};

@@ -36,6 +36,16 @@ fn the_two_storey_rig_and_the_tuned_mass_damper_are_identified() {
             assert!(run.out().join("record.csv").exists());
             let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
             assert!(report.contains("## Modes"));
+            // The ±10 % band holds most of each measured record (the noise is small
+            // beside the spread of ±10 % in every parameter).
+            let coverage = run.summary.results["monte_carlo"]["coverage"]
+                .as_array()
+                .unwrap()
+                .clone();
+            assert!(
+                coverage.iter().all(|c| c.as_f64().unwrap() > 0.5),
+                "{coverage:?}"
+            );
         }
     }
 }

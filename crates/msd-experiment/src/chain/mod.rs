@@ -12,6 +12,7 @@ use crate::progress::Progress;
 use crate::results::Experiment;
 use crate::{ExperimentError, Result, RunOptions};
 use msd_ident::{ChainFit, ChainOptions, ChainRecord, fit_chain, simulate_chain};
+use msd_mc::{ChainBand, ChainBandOptions, chain_band};
 use msd_signal::gaussian_noise;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -37,6 +38,8 @@ pub struct ChainOutcome {
     pub fitted: Vec<Vec<f64>>,
     /// The fit that ignores every sensor's delay and filter (when there are any).
     pub ideal: Option<ChainFit>,
+    /// The paper's robustness band around the fit: every m, c, k within ±10 %.
+    pub band: ChainBand,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
 }
@@ -71,6 +74,25 @@ pub fn run(
     let fitted = simulate_chain(&reading, &fit.parameters, &record.input, dt)
         .map_err(|e| ExperimentError::run("estimation", e))?;
     timings.push(("estimation", t.elapsed()));
+    progress.stage("monte carlo");
+    let t = Instant::now();
+    let band_options = ChainBandOptions {
+        seed,
+        threads: options
+            .threads
+            .unwrap_or(ChainBandOptions::default().threads),
+        ..ChainBandOptions::default()
+    };
+    let band = chain_band(
+        &reading,
+        &fit.parameters,
+        &record.input,
+        dt,
+        Some(&record.outputs),
+        &band_options,
+    )
+    .map_err(|e| ExperimentError::run("monte carlo", e))?;
+    timings.push(("monte carlo", t.elapsed()));
     let has_dynamics = chain
         .sensors
         .iter()
@@ -101,6 +123,7 @@ pub fn run(
         fit,
         fitted,
         ideal,
+        band,
         timings,
     })
 }
@@ -197,7 +220,17 @@ struct Results<'a> {
     fit: &'a ChainFit,
     #[serde(skip_serializing_if = "Option::is_none")]
     ideal_sensors: Option<&'a ChainFit>,
+    monte_carlo: BandSummary<'a>,
     timings_ms: BTreeMap<&'static str, f64>,
+}
+
+/// The band in `results.json`: its draws and each sensor's coverage (not the band).
+#[derive(Serialize)]
+struct BandSummary<'a> {
+    samples: usize,
+    percent: f64,
+    percentiles: [f64; 2],
+    coverage: Option<&'a [f64]>,
 }
 
 /// The `results.json` value of `o`.
@@ -219,6 +252,12 @@ pub(crate) fn results(
         chain,
         fit: &o.fit,
         ideal_sensors: o.ideal.as_ref(),
+        monte_carlo: BandSummary {
+            samples: o.band.samples,
+            percent: ChainBandOptions::default().percent,
+            percentiles: o.band.percentiles,
+            coverage: o.band.coverage.as_deref(),
+        },
         timings_ms: timings,
     };
     serde_json::to_value(&results).map_err(|e| ExperimentError::run("write", e))

@@ -3,7 +3,7 @@
 
 use super::{ChainOutcome, channel_names};
 use crate::Result;
-use crate::plots::panel::{Curve, Panel, Stack, Style};
+use crate::plots::panel::{Band, Curve, Panel, Stack, Style};
 use crate::plots::{BLUE, RED, register_fonts, save};
 use plotters::prelude::SeriesLabelPosition;
 use std::path::Path;
@@ -40,15 +40,17 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
         band: None,
         legend: None,
     }];
-    for ((name, measured), fitted) in channel_names(o)
+    let bands = o.band.lower.iter().zip(&o.band.upper);
+    for (((name, measured), fitted), (lower, upper)) in channel_names(o)
         .iter()
         .zip(&o.record.outputs)
         .zip(&o.fitted)
+        .zip(bands)
     {
         panels.push(Panel {
             title: name.replace('_', " on mass "),
             x_desc: "time t [s]".into(),
-            y_desc: name.split('_').next().unwrap_or("response").into(),
+            y_desc: axis(name),
             x_range: range,
             curves: vec![
                 Curve {
@@ -64,7 +66,12 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
                     style: Style::Line(RED, 2),
                 },
             ],
-            band: None,
+            band: Some(Band {
+                label: format!("Monte Carlo ±10 % ({} draws)", o.band.samples),
+                x: &time,
+                lower: lower.clone(),
+                upper: upper.clone(),
+            }),
             legend: Some(SeriesLabelPosition::UpperRight),
         });
     }
@@ -75,4 +82,15 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
     };
     save(&figure, dir)?;
     Ok(vec![figure.name])
+}
+
+/// "acceleration [m/s²]" for a channel named "acceleration_2".
+fn axis(name: &str) -> String {
+    let quantity = name.split('_').next().unwrap_or("response");
+    let unit = match quantity {
+        "displacement" => "m",
+        "velocity" => "m/s",
+        _ => "m/s²",
+    };
+    format!("{quantity} [{unit}]")
 }

@@ -105,6 +105,24 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     if let Some(ideal) = &o.ideal {
         ignoring(s, o, ideal)?;
     }
+    writeln!(s, "\n## Monte Carlo band\n")?;
+    writeln!(
+        s,
+        "Every m, c and k drawn uniform within ±{} % of the estimate, {} draws; the band is the {}–{} percentile of each sensor's response (drawn in the figure).\n",
+        msd_mc::ChainBandOptions::default().percent,
+        o.band.samples,
+        o.band.percentiles[0],
+        o.band.percentiles[1]
+    )?;
+    if let Some(coverage) = &o.band.coverage {
+        writeln!(
+            s,
+            "| sensor | share of the record inside the band |\n|---|---|"
+        )?;
+        for (name, c) in channel_names(o).iter().zip(coverage) {
+            writeln!(s, "| {name} | {:.1} % |", 100.0 * c)?;
+        }
+    }
     writeln!(s, "\n## Fit\n")?;
     writeln!(s, "```text\n{}\n```\n", o.fit)?;
     writeln!(
