@@ -129,13 +129,9 @@ impl ChainPlant {
     fn state_space(&self) -> (DMatrix<f64>, DMatrix<f64>) {
         let n = self.len();
         let [m, c, k] = self.matrices();
-        let m_inv = DMatrix::from_diagonal(&m.diagonal().map(|v| 1.0 / v));
-        let mut a = DMatrix::zeros(2 * n, 2 * n);
-        a.view_mut((0, n), (n, n)).fill_with_identity();
-        a.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * k));
-        a.view_mut((n, n), (n, n)).copy_from(&(-&m_inv * c));
+        let a = state_matrix(&m, &c, &k);
         let mut b = DMatrix::zeros(2 * n, 1);
-        b[(n + self.force_at - 1, 0)] = m_inv[(self.force_at - 1, self.force_at - 1)];
+        b[(n + self.force_at - 1, 0)] = 1.0 / m[(self.force_at - 1, self.force_at - 1)];
         (a, b)
     }
 
@@ -160,15 +156,8 @@ impl ChainPlant {
 
     /// The underdamped poles λ (Im λ > 0) of the state matrix, by |λ|.
     pub(crate) fn poles(&self) -> Vec<Complex64> {
-        let (a, _) = self.state_space();
-        let mut poles: Vec<Complex64> = a
-            .complex_eigenvalues()
-            .iter()
-            .copied()
-            .filter(|l| l.im > 1e-9 * l.norm())
-            .collect();
-        poles.sort_by(|x, y| x.norm().total_cmp(&y.norm()));
-        poles
+        let [m, c, k] = self.matrices();
+        underdamped_poles(&state_matrix(&m, &c, &k))
     }
 
     /// The mode of pole `lambda`.
@@ -254,13 +243,37 @@ impl ChainPlant {
     }
 }
 
+/// The state matrix [[0, I], [−M⁻¹K, −M⁻¹C]] of a diagonal M.
+pub(crate) fn state_matrix(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = m.nrows();
+    let m_inv = DMatrix::from_diagonal(&m.diagonal().map(|v| 1.0 / v));
+    let mut a = DMatrix::zeros(2 * n, 2 * n);
+    a.view_mut((0, n), (n, n)).fill_with_identity();
+    a.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * k));
+    a.view_mut((n, n), (n, n)).copy_from(&(-&m_inv * c));
+    a
+}
+
+/// The poles λ with Im λ > 0 among the eigenvalues of `a`, by |λ| (overdamped, real
+/// poles are not modes).
+pub(crate) fn underdamped_poles(a: &DMatrix<f64>) -> Vec<Complex64> {
+    let mut poles: Vec<Complex64> = a
+        .complex_eigenvalues()
+        .iter()
+        .copied()
+        .filter(|l| l.im > 1e-9 * l.norm())
+        .collect();
+    poles.sort_by(|x, y| x.norm().total_cmp(&y.norm()));
+    poles
+}
+
 /// Every sensor's noise-free reading of `setup` with `parameters` driven by `input`
 /// (force or base acceleration, every `dt` s, linear between samples, from rest),
 /// delays and filters included: one series per sensor.
 ///
 /// ```
 /// use msd_ident::{ChainParameters, ChainSetup, simulate_chain};
-/// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0] };
+/// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let y = simulate_chain(&ChainSetup::default(), &p, &vec![1.0; 30_000], 2e-3)?;
 /// // A constant 1 N settles at 1/k (after 60 s the transient is e^(−c·t/2m) ≈ 4e-10 of it).
 /// assert!((y[0][29_999] - 1.0 / 120.0).abs() < 1e-11);

@@ -1,4 +1,5 @@
-//! The paper's robustness band for a chain of masses: every m, c and k drawn
+//! The paper's robustness band for a chain of masses: every m, c and k (and connection
+//! to the ground) drawn
 //! independently uniform within ±p % of the estimate, each sensor's response simulated
 //! exactly, and per sample the percentiles over the draws.
 
@@ -65,7 +66,7 @@ pub struct ChainBand {
 /// ```
 /// use msd_ident::{ChainParameters, ChainSetup};
 /// use msd_mc::{ChainBandOptions, chain_band};
-/// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0] };
+/// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let force = vec![1.0; 500];
 /// let band = chain_band(&ChainSetup::default(), &p, &force, 2e-3, None, &ChainBandOptions::default())?;
 /// assert!(band.lower[0][499] < band.upper[0][499]);
@@ -93,6 +94,8 @@ pub fn chain_band(
             masses: scale(&parameters.masses),
             dampers: scale(&parameters.dampers),
             springs: scale(&parameters.springs),
+            ground_springs: scale(&parameters.ground_springs),
+            ground_dampers: scale(&parameters.ground_dampers),
         };
         Ok(simulate_chain(setup, &drawn, input, dt)?)
     };
@@ -194,6 +197,7 @@ mod tests {
             masses: vec![2.0, 1.5],
             dampers: vec![3.0, 2.0],
             springs: vec![8000.0, 6000.0],
+            ..ChainParameters::default()
         };
         (setup, p)
     }

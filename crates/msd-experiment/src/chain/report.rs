@@ -37,6 +37,26 @@ fn rows<'a>(o: &'a ChainOutcome, fit: &'a ChainFit) -> Vec<(String, f64, Option<
             truth.springs[i],
             iv.map(|v| v.springs[i]),
         ));
+        let ground = [
+            (
+                "cg",
+                "N·s/m",
+                &truth.ground_dampers,
+                iv.map(|v| &v.ground_dampers),
+            ),
+            (
+                "kg",
+                "N/m",
+                &truth.ground_springs,
+                iv.map(|v| &v.ground_springs),
+            ),
+        ];
+        for (symbol, unit, values, fitted) in ground {
+            if let Some(&t) = values.get(i).filter(|v| **v > 0.0) {
+                let interval = fitted.and_then(|f| f.get(i).copied());
+                out.push((format!("{symbol}{} [{unit}]", i + 1), t, interval));
+            }
+        }
     }
     out
 }
@@ -188,9 +208,9 @@ fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
         "| mode | fn truth [Hz] | fn [Hz] | ζ truth | ζ | shape (largest = 1) |\n|---|---|---|---|---|---|"
     )?;
     for (i, mode) in fit.uncertainty.modes.iter().enumerate() {
-        let (f, z) = truth.get(i).map_or(("—".into(), "—".into()), |t| {
-            (sig(t.natural_frequency_hz, 6), sig(t.damping_ratio, 4))
-        });
+        let (f, z) = truth
+            .get(i)
+            .map_or(("—".into(), "—".into()), |t| (sig(t.0, 6), sig(t.1, 4)));
         let shape: Vec<String> = mode
             .shape
             .iter()
@@ -239,7 +259,7 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
     }
     let truth = truth_modes(o);
     for (i, (p, n)) in damping_pairs(o, ideal) {
-        let t = truth.get(i).map_or("—".into(), |t| sig(t.damping_ratio, 4));
+        let t = truth.get(i).map_or("—".into(), |t| sig(t.1, 4));
         writeln!(
             s,
             "| ζ{} | {t} | {} | {} | {:+.1} |",
@@ -315,11 +335,11 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
 }
 
 /// The true chain's modes.
-fn truth_modes(o: &ChainOutcome) -> Vec<msd_ident::frf::ModalParameters> {
+fn truth_modes(o: &ChainOutcome) -> Vec<(f64, f64)> {
     o.config
         .chain
         .as_ref()
-        .map(|c| c.plant.plant(1, 1).modes())
+        .map(|c| c.plant.modes())
         .unwrap_or_default()
 }
 

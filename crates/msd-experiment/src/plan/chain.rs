@@ -17,6 +17,8 @@ use std::path::Path;
 const M: [&str; 8] = ["m1", "m2", "m3", "m4", "m5", "m6", "m7", "m8"];
 const C: [&str; 8] = ["c1", "c2", "c3", "c4", "c5", "c6", "c7", "c8"];
 const K: [&str; 8] = ["k1", "k2", "k3", "k4", "k5", "k6", "k7", "k8"];
+const CG: [&str; 8] = ["cg1", "cg2", "cg3", "cg4", "cg5", "cg6", "cg7", "cg8"];
+const KG: [&str; 8] = ["kg1", "kg2", "kg3", "kg4", "kg5", "kg6", "kg7", "kg8"];
 const FN: [&str; 8] = ["fn1", "fn2", "fn3", "fn4", "fn5", "fn6", "fn7", "fn8"];
 const ZETA: [&str; 8] = [
     "zeta1", "zeta2", "zeta3", "zeta4", "zeta5", "zeta6", "zeta7", "zeta8",
@@ -34,6 +36,8 @@ enum Slot {
     Mass(usize),
     Damper(usize),
     Spring(usize),
+    GroundDamper(usize),
+    GroundSpring(usize),
     Frequency(usize),
     Damping(usize),
     Cutoff(usize),
@@ -47,6 +51,8 @@ impl Slot {
             Slot::Mass(i) => at(&M, i),
             Slot::Damper(i) => at(&C, i),
             Slot::Spring(i) => at(&K, i),
+            Slot::GroundDamper(i) => at(&CG, i),
+            Slot::GroundSpring(i) => at(&KG, i),
             Slot::Frequency(i) => at(&FN, i),
             Slot::Damping(i) => at(&ZETA, i),
             Slot::Cutoff(i) => at(&CUTOFF, i),
@@ -60,6 +66,8 @@ impl Slot {
             Slot::Mass(i) => iv.map(|v| v.masses[i]),
             Slot::Damper(i) => iv.map(|v| v.dampers[i]),
             Slot::Spring(i) => iv.map(|v| v.springs[i]),
+            Slot::GroundDamper(i) => iv.and_then(|v| v.ground_dampers.get(i).copied()),
+            Slot::GroundSpring(i) => iv.and_then(|v| v.ground_springs.get(i).copied()),
             Slot::Frequency(i) => u.modes.get(i).map(|m| m.natural_frequency_hz),
             Slot::Damping(i) => u.modes.get(i).map(|m| m.damping_ratio),
             Slot::Cutoff(i) => u.cutoffs.get(i).copied().flatten(),
@@ -68,7 +76,8 @@ impl Slot {
     }
 }
 
-/// The quantities of a chain's plan: each free m, c, k when all are identified, each
+/// The quantities of a chain's plan: each free m, c, k (and connection to the ground)
+/// when all are identified, each
 /// mode's fn and ζ, each estimated filter cut-off and delay.
 fn slots(chain: &ChainSection, u: &ChainUncertainty) -> Vec<Slot> {
     let mut out = Vec::new();
@@ -78,6 +87,12 @@ fn slots(chain: &ChainSection, u: &ChainUncertainty) -> Vec<Slot> {
                 out.push(Slot::Mass(i));
             }
             out.extend([Slot::Damper(i), Slot::Spring(i)]);
+            if chain.guess.ground_dampers.get(i).is_some_and(|v| *v > 0.0) {
+                out.push(Slot::GroundDamper(i));
+            }
+            if chain.guess.ground_springs.get(i).is_some_and(|v| *v > 0.0) {
+                out.push(Slot::GroundSpring(i));
+            }
         }
     }
     for i in 0..u.modes.len() {
@@ -181,7 +196,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
 
 /// The static name of a fitted column's name ("m2", "delay1").
 fn static_name(name: &str) -> &'static str {
-    [M, C, K, CUTOFF, DELAY]
+    [M, C, K, CG, KG, CUTOFF, DELAY]
         .iter()
         .flat_map(|names| names.iter())
         .find(|n| **n == name)

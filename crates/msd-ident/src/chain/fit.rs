@@ -84,12 +84,12 @@ impl std::fmt::Display for ChainFit {
 ///     ],
 ///     ..ChainSetup::default()
 /// };
-/// let truth = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4] };
+/// let truth = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4], ..ChainParameters::default() };
 /// let dt = 2e-3;
 /// let force: Vec<f64> = (0..2000).map(|i| ((i * 7919) % 1000) as f64 / 500.0 - 1.0).collect();
 /// let outputs = simulate_chain(&setup, &truth, &force, dt)?;
 /// let record = ChainRecord { dt, input: force, outputs };
-/// let guess = ChainParameters { masses: vec![2.4, 0.8], dampers: vec![3.0, 3.0], springs: vec![2.5e4, 0.8e4] };
+/// let guess = ChainParameters { masses: vec![2.4, 0.8], dampers: vec![3.0, 3.0], springs: vec![2.5e4, 0.8e4], ..ChainParameters::default() };
 /// let fit = fit_chain(&setup, &record, &guess, &ChainOptions::default())?;
 /// assert!((fit.parameters.springs[1] / 1e4 - 1.0).abs() < 1e-6);
 /// assert_eq!(fit.uncertainty.modes.len(), 2);
@@ -102,7 +102,7 @@ pub fn fit_chain(
     options: &ChainOptions,
 ) -> Result<ChainFit> {
     check(setup, record, guess, options)?;
-    let layout = Layout::new(setup, &options.known_masses);
+    let layout = Layout::new(setup, &options.known_masses, guess);
     let delays: Vec<f64> = setup
         .sensors
         .iter()
@@ -152,7 +152,7 @@ fn check(
         }
     }
     let rows = record.len() * setup.sensors.len();
-    let estimated = Layout::new(setup, &options.known_masses).len();
+    let estimated = Layout::new(setup, &options.known_masses, guess).len();
     enough_rows(rows, estimated)
 }
 

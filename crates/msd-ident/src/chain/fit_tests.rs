@@ -30,6 +30,7 @@ fn truth() -> ChainParameters {
         masses: vec![2.0, 1.0],
         dampers: vec![4.0, 2.0],
         springs: vec![2e4, 1e4],
+        ..ChainParameters::default()
     }
 }
 
@@ -38,6 +39,7 @@ fn guess() -> ChainParameters {
         masses: vec![2.4, 0.8],
         dampers: vec![3.0, 3.0],
         springs: vec![2.5e4, 0.8e4],
+        ..ChainParameters::default()
     }
 }
 
@@ -108,7 +110,7 @@ fn the_jacobian_is_the_derivative_of_the_residuals() {
         ..ChainSensor::default()
     });
     let rec = record(&setup, &truth(), 1, &[0.01, 0.01, 1e-6]);
-    let layout = Layout::new(&setup, &[1]);
+    let layout = Layout::new(&setup, &[1], &truth());
     let delays = [0.0, 0.0047, 0.0031];
     let mut problem = ChainProblem {
         setup: &setup,
@@ -202,6 +204,7 @@ fn three_masses() -> ChainParameters {
         masses: vec![3.0, 2.0, 1.0],
         dampers: vec![6.0, 4.0, 2.0],
         springs: vec![3e4, 2e4, 1e4],
+        ..ChainParameters::default()
     }
 }
 
@@ -210,6 +213,7 @@ fn three_start() -> ChainParameters {
         masses: vec![3.3, 1.9, 1.0],
         dampers: vec![5.0, 5.0, 2.5],
         springs: vec![3.2e4, 1.9e4, 1.05e4],
+        ..ChainParameters::default()
     }
 }
 
@@ -330,6 +334,7 @@ fn delayed_paper(seed: u64) -> (ChainSetup, ChainRecord) {
         masses: vec![2.5],
         dampers: vec![1.8],
         springs: vec![120.0],
+        ..ChainParameters::default()
     };
     let clean = simulate_chain(&setup, &paper, &input, dt).unwrap();
     let noise = gaussian_noise(seed, "sensor", crate::PaperExperiment::SIGMA, input.len()).unwrap();
@@ -350,6 +355,7 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
         masses: vec![2.0],
         dampers: vec![1.0],
         springs: vec![100.0],
+        ..ChainParameters::default()
     };
     for seed in 1..=3 {
         let (mut setup, rec) = delayed_paper(seed);
@@ -489,6 +495,7 @@ fn a_sensor_filters_cut_off_is_estimated() {
         masses: vec![2.5],
         dampers: vec![1.8],
         springs: vec![120.0],
+        ..ChainParameters::default()
     };
     let clean = simulate_chain(&setup, &paper, &input, 2e-3).unwrap();
     let noise = gaussian_noise(1, "sensor", 1e-4, input.len()).unwrap();
@@ -508,6 +515,7 @@ fn a_sensor_filters_cut_off_is_estimated() {
         masses: vec![2.2],
         dampers: vec![1.5],
         springs: vec![110.0],
+        ..ChainParameters::default()
     };
     let fit = fit_chain(&setup, &rec, &guess, &ChainOptions::default()).unwrap();
     let cutoff = fit.uncertainty.cutoffs[0].expect("estimated");
@@ -518,4 +526,57 @@ fn a_sensor_filters_cut_off_is_estimated() {
     let c = fit.uncertainty.intervals.as_ref().unwrap().dampers[0];
     assert!((c.value - 1.8).abs() < 4.0 * c.standard_error, "{c}");
     assert!(fit.to_string().contains("filter cut-off of sensor 1"));
+}
+
+#[test]
+fn extra_springs_and_dampers_to_the_ground_are_fitted() {
+    // The rig's top floor also tied to a wall by a spring and a damper.
+    let setup = two_storey();
+    let t = ChainParameters {
+        ground_springs: vec![0.0, 4e3],
+        ground_dampers: vec![0.0, 1.0],
+        ..truth()
+    };
+    let start = ChainParameters {
+        ground_springs: vec![0.0, 5e3],
+        ground_dampers: vec![0.0, 1.5],
+        ..guess()
+    };
+    // The modes follow from the full K (the ground spring on the diagonal):
+    // det(K − ω²M) = 0 with K = [[3e4, −1e4], [−1e4, 1.4e4]], M = diag(2, 1); |λ| of
+    // the damped mode differs from that ω by O(ζ²) ≈ 1e-4 relative.
+    let (a, b, c): (f64, f64, f64) = (2.0, -(3e4 + 2.0 * 1.4e4), 3e4 * 1.4e4 - 1e8);
+    let w2 = (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
+    let f1 = w2.sqrt() / std::f64::consts::TAU;
+    assert!(
+        (t.modes()[0].0 / f1 - 1.0).abs() < 1e-3,
+        "{:?} vs {f1}",
+        t.modes()
+    );
+    for seed in 1..=3 {
+        let rec = record(&setup, &t, seed, &[0.02, 0.02]);
+        let fit = fit_chain(&setup, &rec, &start, &ChainOptions::default()).unwrap();
+        let iv = fit.uncertainty.intervals.expect("identified");
+        for (e, x) in [
+            (iv.ground_springs[1], 4e3),
+            (iv.ground_dampers[1], 1.0),
+            (iv.springs[1], 1e4),
+            (iv.masses[0], 2.0),
+        ] {
+            assert!(
+                (e.value - x).abs() < 4.0 * e.standard_error,
+                "seed {seed}: {e} vs {x}"
+            );
+        }
+        // Mass 1 has no ground connection: held at 0, not estimated.
+        assert_eq!(iv.ground_springs[0].value, 0.0);
+        assert_eq!(iv.ground_springs[0].standard_error, 0.0);
+        assert!(fit.uncertainty.names.contains(&"kg2".to_string()));
+    }
+    let bad = ChainParameters {
+        ground_springs: vec![1.0],
+        ..truth()
+    };
+    let err = bad.validate(2).unwrap_err().to_string();
+    assert!(err.contains("ground_springs has 1 values"), "{err}");
 }

@@ -36,14 +36,21 @@ pub(crate) enum Family {
     Mass,
     Damper,
     Spring,
+    /// An extra damper from a mass to the ground.
+    GroundDamper,
+    /// An extra spring from a mass to the ground.
+    GroundSpring,
 }
 
-/// The chain's parameters as three vectors: inverse masses w, dampers c, springs k.
+/// The chain's parameters as vectors: inverse masses w, dampers c, springs k, and the
+/// extra dampers cg and springs kg to the ground (zeros where there are none).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Values {
     pub w: Vec<f64>,
     pub c: Vec<f64>,
     pub k: Vec<f64>,
+    pub cg: Vec<f64>,
+    pub kg: Vec<f64>,
 }
 
 impl Values {
@@ -52,6 +59,8 @@ impl Values {
             Family::Mass => &mut self.w,
             Family::Damper => &mut self.c,
             Family::Spring => &mut self.k,
+            Family::GroundDamper => &mut self.cg,
+            Family::GroundSpring => &mut self.kg,
         }
     }
 }
@@ -85,7 +94,11 @@ pub(crate) fn chain_matrix(values: &[f64]) -> DMatrix<f64> {
 pub(crate) fn system(setup: &ChainSetup, values: &Values) -> System {
     let n = setup.masses;
     let ns = state_count(setup);
-    let (kk, cc) = (chain_matrix(&values.k), chain_matrix(&values.c));
+    let (mut kk, mut cc) = (chain_matrix(&values.k), chain_matrix(&values.c));
+    for i in 0..n {
+        kk[(i, i)] += values.kg[i];
+        cc[(i, i)] += values.cg[i];
+    }
     let mut a = DMatrix::zeros(ns, ns);
     let mut b = DVector::zeros(ns);
     for i in 0..n {
@@ -214,8 +227,16 @@ mod tests {
             w: vec![0.5, 1.0],
             c: vec![4.0, 2.0],
             k: vec![2e4, 1e4],
+            cg: vec![0.0, 0.5],
+            kg: vec![0.0, 3e3],
         };
-        for (family, index) in [(Family::Mass, 1), (Family::Damper, 0), (Family::Spring, 1)] {
+        for (family, index) in [
+            (Family::Mass, 1),
+            (Family::Damper, 0),
+            (Family::Spring, 1),
+            (Family::GroundSpring, 1),
+            (Family::GroundDamper, 1),
+        ] {
             let exact = derivative(&setup(), &values, family, index);
             let (mut up, mut down) = (values.clone(), values.clone());
             let h = 1e-3 * up.family_mut(family)[index];
@@ -239,6 +260,8 @@ mod tests {
             w: vec![0.5, 1.0],
             c: vec![4.0, 2.0],
             k: vec![2e4, 1e4],
+            cg: vec![0.0, 0.0],
+            kg: vec![0.0, 0.0],
         };
         let s = system(&setup(), &values);
         let x = -s.a.clone().lu().solve(&s.b).expect("a stable system");

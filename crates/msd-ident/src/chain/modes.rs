@@ -1,7 +1,7 @@
 //! The modes of a fitted chain with their intervals by the delta method.
 
 use super::problem::Layout;
-use super::setup::{ChainParameters, ChainSetup};
+use super::setup::ChainParameters;
 use crate::Interval;
 use crate::least_squares::delta_variance;
 use msd_signal::Complex64;
@@ -45,12 +45,16 @@ impl std::fmt::Display for ChainMode {
 }
 
 /// (fn, ζ, shape…) of each underdamped mode of the chain, by frequency.
-pub(crate) fn modal_quantities(setup: &ChainSetup, parameters: &ChainParameters) -> Vec<Vec<f64>> {
-    let n = setup.masses;
-    let plant = parameters.plant(1, 1);
-    let [m, c, k] = plant.matrices();
-    plant
-        .poles()
+pub(crate) fn modal_quantities(parameters: &ChainParameters) -> Vec<Vec<f64>> {
+    let n = parameters.masses.len();
+    let [m, mut c, mut k] = parameters.plant(1, 1).matrices();
+    // The extra connections to the ground, which the frequency-response plant has not.
+    let v = super::problem::values(parameters);
+    for i in 0..n {
+        c[(i, i)] += v.cg[i];
+        k[(i, i)] += v.kg[i];
+    }
+    super::underdamped_poles(&super::state_matrix(&m, &c, &k))
         .iter()
         .map(|&l| {
             let z = DMatrix::from_fn(n, n, |i, j| {
@@ -85,7 +89,6 @@ pub(crate) fn modal_quantities(setup: &ChainSetup, parameters: &ChainParameters)
 /// gradients by central differences of step 1e-6 in the logarithms (the eigenvalues are
 /// smooth; the truncation error ~1e-12 relative).
 pub(crate) fn modes_with_intervals(
-    setup: &ChainSetup,
     layout: &Layout,
     theta: &[f64],
     base: &ChainParameters,
@@ -93,7 +96,7 @@ pub(crate) fn modes_with_intervals(
     covariance: &DMatrix<f64>,
     t: f64,
 ) -> Vec<ChainMode> {
-    let at = |theta: &[f64]| modal_quantities(setup, &layout.unpack(theta, base, delays).0);
+    let at = |theta: &[f64]| modal_quantities(&layout.unpack(theta, base, delays).0);
     let centre = at(theta);
     const H: f64 = 1e-6;
     let free = layout.free.len();

@@ -16,7 +16,7 @@ use nalgebra::DMatrix;
 ///
 /// ```
 /// use msd_ident::{ChainOptions, ChainParameters, ChainSetup, predict_chain};
-/// let paper = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0] };
+/// let paper = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let force: Vec<f64> = (0..5000).map(|i| (0.01 * i as f64).sin()).collect();
 /// let plan = predict_chain(&ChainSetup::default(), &paper, &force, 2e-3, &[0.0025], &ChainOptions::default())?;
 /// let k = plan.intervals.expect("identified").springs[0];
@@ -54,7 +54,7 @@ pub fn predict_chain(
         outputs,
     };
     record.validate(setup)?;
-    let layout = Layout::new(setup, &options.known_masses);
+    let layout = Layout::new(setup, &options.known_masses, truth);
     let delays: Vec<f64> = setup
         .sensors
         .iter()

@@ -20,13 +20,23 @@ pub(crate) struct Layout {
 }
 
 impl Layout {
-    pub(crate) fn new(setup: &ChainSetup, known_masses: &[usize]) -> Self {
+    /// The columns of a fit of `setup` from `guess`: the masses not known, every c and k,
+    /// the ground connections the guess has (> 0), the cut-offs and delays asked for.
+    pub(crate) fn new(setup: &ChainSetup, known_masses: &[usize], guess: &ChainParameters) -> Self {
         let n = setup.masses;
         let masses = (0..n).filter(|i| !known_masses.contains(&(i + 1)));
+        let grounded = |values: &[f64], family: Family| {
+            (0..values.len())
+                .filter(move |&i| values[i] > 0.0)
+                .map(move |i| (family, i))
+                .collect::<Vec<_>>()
+        };
         let free = masses
             .map(|i| (Family::Mass, i))
             .chain((0..n).map(|i| (Family::Damper, i)))
             .chain((0..n).map(|i| (Family::Spring, i)))
+            .chain(grounded(&guess.ground_dampers, Family::GroundDamper))
+            .chain(grounded(&guess.ground_springs, Family::GroundSpring))
             .collect();
         let delayed = (0..setup.sensors.len())
             .filter(|&ch| setup.sensors[ch].estimate_delay)
@@ -109,6 +119,8 @@ pub(crate) fn symbol(family: Family) -> &'static str {
         Family::Mass => "m",
         Family::Damper => "c",
         Family::Spring => "k",
+        Family::GroundDamper => "cg",
+        Family::GroundSpring => "kg",
     }
 }
 
@@ -117,6 +129,8 @@ pub(crate) fn family_of(p: &ChainParameters, family: Family) -> &[f64] {
         Family::Mass => &p.masses,
         Family::Damper => &p.dampers,
         Family::Spring => &p.springs,
+        Family::GroundDamper => &p.ground_dampers,
+        Family::GroundSpring => &p.ground_springs,
     }
 }
 
@@ -125,6 +139,8 @@ fn family_of_mut(p: &mut ChainParameters, family: Family) -> &mut Vec<f64> {
         Family::Mass => &mut p.masses,
         Family::Damper => &mut p.dampers,
         Family::Spring => &mut p.springs,
+        Family::GroundDamper => &mut p.ground_dampers,
+        Family::GroundSpring => &mut p.ground_springs,
     }
 }
 
@@ -133,6 +149,17 @@ pub(crate) fn values(p: &ChainParameters) -> Values {
         w: p.masses.iter().map(|m| 1.0 / m).collect(),
         c: p.dampers.clone(),
         k: p.springs.clone(),
+        cg: or_zeros(&p.ground_dampers, p.masses.len()),
+        kg: or_zeros(&p.ground_springs, p.masses.len()),
+    }
+}
+
+/// `values`, or `n` zeros when there are none.
+fn or_zeros(values: &[f64], n: usize) -> Vec<f64> {
+    if values.is_empty() {
+        vec![0.0; n]
+    } else {
+        values.to_vec()
     }
 }
 
@@ -154,6 +181,8 @@ pub(crate) fn systems(
                 Family::Mass => -v.w[i],
                 Family::Damper => v.c[i],
                 Family::Spring => v.k[i],
+                Family::GroundDamper => v.cg[i],
+                Family::GroundSpring => v.kg[i],
             };
             d.a *= factor;
             d.b *= factor;

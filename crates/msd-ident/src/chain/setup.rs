@@ -223,7 +223,7 @@ impl ChainSetup {
 ///
 /// ```
 /// use msd_ident::ChainParameters;
-/// let p = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4] };
+/// let p = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4], ..ChainParameters::default() };
 /// assert!(p.validate(2).is_ok());
 /// assert!(p.validate(3).is_err());
 /// ```
@@ -236,11 +236,54 @@ pub struct ChainParameters {
     pub dampers: Vec<f64>,
     /// k_i, N/m (> 0), likewise.
     pub springs: Vec<f64>,
+    /// Extra springs from each mass to the ground, N/m (≥ 0; 0 where there is none):
+    /// one per mass, or none at all (the default). In a fit, those > 0 in the guess are
+    /// estimated, the others held at 0.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ground_springs: Vec<f64>,
+    /// Extra dampers from each mass to the ground, N·s/m, likewise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ground_dampers: Vec<f64>,
+}
+
+impl Default for ChainParameters {
+    /// No mass: a start for `..ChainParameters::default()`.
+    fn default() -> Self {
+        Self {
+            masses: Vec::new(),
+            dampers: Vec::new(),
+            springs: Vec::new(),
+            ground_springs: Vec::new(),
+            ground_dampers: Vec::new(),
+        }
+    }
 }
 
 impl ChainParameters {
-    /// Checks that there are `n` of each, all finite and > 0.
+    /// Checks that there are `n` of each, all finite and > 0 (the ground connections,
+    /// when given, `n` of each, finite and ≥ 0).
     pub fn validate(&self, n: usize) -> Result<()> {
+        for (name, values) in [
+            ("ground_springs", &self.ground_springs),
+            ("ground_dampers", &self.ground_dampers),
+        ] {
+            if !values.is_empty() && values.len() != n {
+                return Err(setup_error(format!(
+                    "{name} has {} values: expected none or one per mass ({n})",
+                    values.len()
+                )));
+            }
+            if let Some((i, v)) = values
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+            {
+                return Err(setup_error(format!(
+                    "{name}[{i}] = {}: expected a finite number ≥ 0 (0: no connection)",
+                    show(*v)
+                )));
+            }
+        }
         for (name, values) in [
             ("masses", &self.masses),
             ("dampers", &self.dampers),
@@ -276,7 +319,25 @@ impl ChainParameters {
         Ok(())
     }
 
-    /// The plant for frequency responses (force on `force_at`, response at `response_at`).
+    /// (fn in Hz, ζ) of each underdamped mode, by frequency (ground connections included).
+    ///
+    /// ```
+    /// use msd_ident::ChainParameters;
+    /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
+    /// let (f, zeta) = p.modes()[0];
+    /// assert!((f - 48f64.sqrt() / std::f64::consts::TAU).abs() < 1e-12);
+    /// assert!((zeta - 1.8 / (2.0 * 300f64.sqrt())).abs() < 1e-12);
+    /// ```
+    pub fn modes(&self) -> Vec<(f64, f64)> {
+        super::modes::modal_quantities(self)
+            .iter()
+            .map(|q| (q[0], q[1]))
+            .collect()
+    }
+
+    /// The plant for frequency responses (force on `force_at`, response at
+    /// `response_at`). [`ChainPlant`](super::ChainPlant) has no extra ground connections:
+    /// they are left out.
     pub fn plant(&self, force_at: usize, response_at: usize) -> super::ChainPlant {
         super::ChainPlant {
             masses: self.masses.clone(),

@@ -21,6 +21,12 @@ pub struct ChainIntervals {
     pub dampers: Vec<Interval>,
     /// The springs, N/m.
     pub springs: Vec<Interval>,
+    /// The extra dampers to the ground, N·s/m (none when the chain has none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ground_dampers: Vec<Interval>,
+    /// The extra springs to the ground, N/m, likewise.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ground_springs: Vec<Interval>,
 }
 
 /// The uncertainty of a chain's parameters at one point: from a fit's records
@@ -67,6 +73,15 @@ impl std::fmt::Display for ChainUncertainty {
                     writeln!(f, "m{} = {m:.6} kg", i + 1)?;
                     writeln!(f, "c{} = {c:.6} N·s/m", i + 1)?;
                     writeln!(f, "k{} = {k:.6} N/m", i + 1)?;
+                }
+                for i in 0..iv.masses.len() {
+                    let (c, k) = (iv.ground_dampers.get(i), iv.ground_springs.get(i));
+                    if let Some(c) = c.filter(|c| c.value > 0.0) {
+                        writeln!(f, "cg{} = {c:.6} N·s/m (to the ground)", i + 1)?;
+                    }
+                    if let Some(k) = k.filter(|k| k.value > 0.0) {
+                        writeln!(f, "kg{} = {k:.6} N/m (to the ground)", i + 1)?;
+                    }
                 }
             }
             None => {
@@ -140,15 +155,7 @@ pub(crate) fn uncertainty_at(
             Some(Interval::positive(hz, hz * se(layout.free.len() + j), t))
         })
         .collect();
-    let modes = modes_with_intervals(
-        at.setup,
-        layout,
-        at.theta,
-        at.base,
-        at.delays,
-        &covariance,
-        t,
-    );
+    let modes = modes_with_intervals(layout, at.theta, at.base, at.delays, &covariance, t);
     let correlation = correlation(&covariance);
     ChainUncertainty {
         intervals,
@@ -173,7 +180,7 @@ fn intervals(
     se: &dyn Fn(usize) -> f64,
     t: f64,
 ) -> ChainIntervals {
-    use super::model::Family::{self, Damper, Mass, Spring};
+    use super::model::Family::{self, Damper, GroundDamper, GroundSpring, Mass, Spring};
     let each = |family: Family, values: &[f64]| {
         values
             .iter()
@@ -191,6 +198,8 @@ fn intervals(
         masses: each(Mass, &parameters.masses),
         dampers: each(Damper, &parameters.dampers),
         springs: each(Spring, &parameters.springs),
+        ground_dampers: each(GroundDamper, &parameters.ground_dampers),
+        ground_springs: each(GroundSpring, &parameters.ground_springs),
     }
 }
 
