@@ -15,7 +15,13 @@ complex filter per eigenvalue, scipy.signal.lfilter).
 
 Each fit weights each channel by its own noise level: fit, re-estimate every channel's
 σ from its residuals (σ² = SSE·(rows/dof)/samples), refit, at most 4 passes, until the
-σ change by less than 1e-3 (as msd does, from the channels' rms).
+σ change by less than 1e-3, from the channels' rms. msd-ident (since 9639c79) takes its
+first weights from the residuals at its estimate of the record's first quarter and
+stops re-weighting once the σ change by less than 5 %: its weights may be a few per cent
+from these converged ones, which moves the estimates by a small fraction of a standard
+error (first order in the weights' error; measured on the two-storey records: 3.3e-2 SE
+for seed 1, 4e-4 for seed 2; on the delayed sensor's single channel, where the weight
+does not matter, 1e-6), σ̂ by ~1e-5 and the standard errors by ~3e-5 relative.
 """
 
 import math
@@ -287,8 +293,9 @@ def test_two_storey_rig_scipy_agrees_with_msd(seed):
     truth = TWO_STOREY["masses"] + TWO_STOREY["dampers"] + TWO_STOREY["springs"]
     for e, x in zip(ours, truth):
         assert abs(e.value - x) < 4 * e.standard_error, (e, x)
-    # The noise levels and the standard errors are the same computation.
-    np.testing.assert_allclose(sigma, fit.noise, rtol=1e-6)
+    # The noise levels and the standard errors are the same computation (at weights up
+    # to 5 % apart: see the module's note).
+    np.testing.assert_allclose(sigma, fit.noise, rtol=1e-4)
     np.testing.assert_allclose(se, [e.standard_error for e in ours], rtol=1e-3)
 
 
