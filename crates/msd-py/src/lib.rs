@@ -34,6 +34,7 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::dynamometer, m)?)?;
     m.add_function(wrap_pyfunction!(chain::simulate_chain, m)?)?;
     m.add_function(wrap_pyfunction!(chain::fit_chain, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::predict_chain, m)?)?;
     m.add_function(wrap_pyfunction!(frf::frf, m)?)?;
     m.add_function(wrap_pyfunction!(frf::modal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(frf::one_mode_fit, m)?)?;

@@ -5,7 +5,7 @@ Every computation runs in the Rust crates of msd-toolkit (msd-ident, msd-signal,
 msd-uff, msd-experiment) with the GIL released; this package only converts.
 
 Functions: `estimate`, `simulate`, `validate`, `frf`, `modal_fit`, `one_mode_fit`, `fit_records`, `free_decay`,
-`dynamometer`, `simulate_chain`, `fit_chain`, `run`, `plan`, `design`, `paper_data`; the
+`dynamometer`, `simulate_chain`, `fit_chain`, `predict_chain`, `run`, `plan`, `design`, `paper_data`; the
 module `msd.uff` reads and writes Universal File Format files.
 
 Errors: `ValueError` for bad input (with the toolkit's message), `IdentificationError`
@@ -15,7 +15,7 @@ Errors: `ValueError` for bad input (with the toolkit's message), `Identification
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -27,6 +27,7 @@ from ._results import (
     ChainIntervals,
     ChainMode,
     ChainParameters,
+    ChainUncertainty,
     Estimate,
     FrequencyResponse,
     Interval,
@@ -50,6 +51,7 @@ __all__ = [
     "ChainIntervals",
     "ChainMode",
     "ChainParameters",
+    "ChainUncertainty",
     "Estimate",
     "FrequencyResponse",
     "Interval",
@@ -73,6 +75,7 @@ __all__ = [
     "dynamometer",
     "simulate_chain",
     "fit_chain",
+    "predict_chain",
     "run",
     "plan",
     "design",
@@ -509,6 +512,13 @@ def _seconds(name: str, value: Any) -> float:
         raise ValueError(f"{name} = {value!r}: expected a number of seconds") from None
 
 
+def _known_masses(known_masses: Any) -> List[int]:
+    try:
+        return [known_masses] if isinstance(known_masses, int) else list(known_masses)
+    except TypeError:
+        raise ValueError(f"known_masses = {known_masses!r}: expected a list of masses, numbered from 1") from None
+
+
 def simulate_chain(
     parameters: ChainParametersLike,
     input: Any,
@@ -525,7 +535,9 @@ def simulate_chain(
 
     `parameters`: ``msd.ChainParameters`` or a dict ``{"masses": [...], "dampers": [...],
     "springs": [...]}``, from the ground out (spring and damper i join mass i to mass
-    i − 1, the first to the ground). `input`: the force (N) or base acceleration (m/s²)
+    i − 1, the first to the ground), optionally with ``"ground_springs"`` and
+    ``"ground_dampers"`` (extra connections from each mass straight to the ground, one
+    per mass, 0 where there is none). `input`: the force (N) or base acceleration (m/s²)
     every `dt` seconds, linear between samples, the chain at rest before it.
 
     The setup (msd-ident's ``ChainSetup``), as a dict `setup` in its serde shape or by its
@@ -536,12 +548,15 @@ def simulate_chain(
     with ``at`` (the mass, default 1), ``quantity`` ("displacement", the default,
     "velocity" or "acceleration"; under a base acceleration a displacement or velocity
     is relative to the ground, an acceleration absolute), ``delay`` (s, default none),
-    ``estimate_delay`` (for `fit_chain`; default False) and ``low_pass`` (default none;
+    ``estimate_delay`` (for `fit_chain`; default False), ``low_pass`` (default none;
     ``{"cutoff_hz": …, "order": 1 or 2, "damping_ratio": …}``, order 1 and ζ 1/√2 by
-    default).
+    default) and ``estimate_cutoff`` (for `fit_chain`: the filter's cut-off estimated
+    from ``low_pass``'s; default False).
 
     Raises ValueError for a bad setup (the message names the key, e.g. ``sensors[1].at =
-    4``), bad parameters, a non-finite input, or a delay not shorter than half the record.
+    4``), bad parameters, a non-finite input, or a delay not shorter than the record (a
+    fit needs it shorter than half the record). An empty input gives one empty row per
+    sensor.
     """
     p = _chain_parameters(parameters, "parameters")
     setup_json = _chain_setup(
@@ -572,30 +587,32 @@ def fit_chain(
     `input`: the drive's samples (force, N, or base acceleration, m/s²) every `dt` s;
     `outputs`: one series per sensor, in the setup's order (a 2-D array, one row per
     sensor, or a list of 1-D arrays); the chain at rest before the record. `guess`:
-    ``msd.ChainParameters`` or ``{"masses", "dampers", "springs"}``. The setup as for
-    `simulate_chain` (`setup` dict or `masses`, `drive`, `force_at`, `sensors`; a
-    sensor's ``estimate_delay`` estimates its delay from ``delay`` or 0).
+    ``msd.ChainParameters`` or ``{"masses", "dampers", "springs"}`` (with
+    ``"ground_springs"``/``"ground_dampers"``: those > 0 in the guess are estimated, the
+    others held at 0). The setup as for `simulate_chain` (`setup` dict or `masses`,
+    `drive`, `force_at`, `sensors`; a sensor's ``estimate_delay`` estimates its delay from
+    ``delay`` or 0, its ``estimate_cutoff`` its filter's cut-off from ``low_pass``'s).
     `known_masses`: masses (numbered from 1) held at the guess's value (under a base
     acceleration one must be known to set the scale); `passes`: at most this many fits,
     each re-estimating the channels' noise levels (default 4).
 
-    Returns a `ChainFit`; when the record cannot separate the parameters its
+    Returns a `ChainFit` (the estimates, σ̂ per channel, and as a `ChainUncertainty` the
+    intervals, modes, delays, cut-offs and the correlation of the estimated quantities
+    in the order of its ``names``); when the record cannot separate the parameters its
     ``intervals`` is None and ``unidentifiable`` says which combinations are lost (the
     modes are still given).
 
     Raises ValueError for bad input (the message names the key: ``sensors[1].at = 4``,
-    ``sensors[0].low_pass.cutoff_hz = -50``, ``sensors[0].delay = 20 s``),
-    IdentificationError when the fit fails.
+    ``sensors[0].low_pass.cutoff_hz = -50``, ``sensors[0].delay = 20 s``; a drive that is
+    zero throughout, a channel that is zero throughout or beyond 1e150),
+    IdentificationError when the fit fails (it did not converge, or a parameter ran more
+    than 10⁴ times from its guess: a wrong minimum, start from a closer guess).
     """
     g = _chain_parameters(guess, "guess")
     setup_json = _chain_setup(
         setup, {"masses": masses, "drive": drive, "force_at": force_at, "sensors": sensors}, g
     )
-    try:
-        known = [known_masses] if isinstance(known_masses, int) else list(known_masses)
-    except TypeError:
-        raise ValueError(f"known_masses = {known_masses!r}: expected a list of masses, numbered from 1") from None
-    opts = {"known_masses": known, "passes": passes}
+    opts = {"known_masses": _known_masses(known_masses), "passes": passes}
     return ChainFit(
         _msd.fit_chain(
             setup_json,
@@ -603,6 +620,66 @@ def fit_chain(
             rows("outputs", outputs),
             _seconds("dt", dt),
             options_json(g),
+            options_json(opts),
+        )
+    )
+
+
+def _noise(noise: Any) -> np.ndarray:
+    """Each sensor's σ as a 1-D array (a number for a single sensor)."""
+    if isinstance(noise, (int, float, np.integer, np.floating)):
+        noise = [noise]
+    return vector("noise", noise)
+
+
+def predict_chain(
+    truth: ChainParametersLike,
+    input: Any,
+    dt: float,
+    noise: Any,
+    *,
+    setup: Optional[Mapping[str, Any]] = None,
+    masses: Optional[int] = None,
+    drive: Optional[str] = None,
+    force_at: Optional[int] = None,
+    sensors: Optional[Sequence[Mapping[str, Any]]] = None,
+    known_masses: Sequence[int] = (),
+) -> ChainUncertainty:
+    """The uncertainty a `fit_chain` of one record will have, before the test: msd-ident's
+    `predict_chain`, the Cramér–Rao bound σ²(JᵀJ)⁻¹ from the exact sensitivities at the
+    truth (the fit's own linearisation, with the true noise levels instead of σ̂).
+
+    `truth`: the chain (``msd.ChainParameters`` or ``{"masses", "dampers", "springs"}``);
+    `input`: the planned drive (force, N, or base acceleration, m/s²) every `dt` s;
+    `noise`: each sensor's noise σ in its own unit, one per sensor in the setup's order
+    (a number for a single sensor). The setup as for `simulate_chain` (`setup` dict or
+    `masses`, `drive`, `force_at`, `sensors`): a sensor's ``delay`` and ``low_pass`` are
+    its true ones, and ``estimate_delay`` and ``estimate_cutoff`` ask for their intervals
+    too; ground connections > 0 in `truth` are estimated. `known_masses`: masses
+    (numbered from 1) the fit will hold.
+
+    Returns a `ChainUncertainty`: every m, c, k with its predicted 95 % interval (about
+    the truth), the modes, the delays and cut-offs, the correlation; when the test cannot separate
+    the parameters, ``intervals`` is None and ``unidentifiable`` says which combinations
+    are lost.
+
+    Raises ValueError for bad input (the setup's key named as in `fit_chain`; noise
+    levels not one per sensor, not finite, or below 1e-300) and for a test `fit_chain`
+    could not fit: a drive that is zero throughout, a sensor that reads nothing, or
+    readings that overflow (beyond 1e150) or stand more than 1e100 above their σ.
+    """
+    t = _chain_parameters(truth, "truth")
+    setup_json = _chain_setup(
+        setup, {"masses": masses, "drive": drive, "force_at": force_at, "sensors": sensors}, t
+    )
+    opts = {"known_masses": _known_masses(known_masses)}
+    return ChainUncertainty(
+        _msd.predict_chain(
+            setup_json,
+            options_json(t),
+            vector("input", input),
+            _seconds("dt", dt),
+            _noise(noise),
             options_json(opts),
         )
     )

@@ -11,11 +11,11 @@ from ._msd import IdentificationError as IdentificationError
 __version__: str
 
 __all__ = [
-    "IdentificationError", "ChainFit", "ChainIntervals", "ChainMode", "ChainParameters", "Estimate",
+    "IdentificationError", "ChainFit", "ChainIntervals", "ChainMode", "ChainParameters", "ChainUncertainty", "Estimate",
     "FrequencyResponse", "Interval", "ModalFit", "Mode",
     "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
     "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "fit_records", "free_decay", "dynamometer",
-    "simulate_chain", "fit_chain", "run", "plan", "design", "paper_data", "uff",
+    "simulate_chain", "fit_chain", "predict_chain", "run", "plan", "design", "paper_data", "uff",
 ]
 
 _ArrayLike = npt.ArrayLike
@@ -167,6 +167,8 @@ class ChainParameters:
     masses: Tuple[float, ...]
     dampers: Tuple[float, ...]
     springs: Tuple[float, ...]
+    ground_springs: Tuple[float, ...] = ...
+    ground_dampers: Tuple[float, ...] = ...
     @classmethod
     def from_dict(cls, d: Dict[str, Any]) -> ChainParameters: ...
     def to_dict(self) -> Dict[str, List[float]]: ...
@@ -178,6 +180,8 @@ class ChainIntervals:
     masses: List[Interval]
     dampers: List[Interval]
     springs: List[Interval]
+    ground_dampers: List[Interval] = ...
+    ground_springs: List[Interval] = ...
 
 @dataclass(frozen=True)
 class ChainMode:
@@ -185,9 +189,7 @@ class ChainMode:
     damping_ratio: Interval
     shape: List[Interval]
 
-class ChainFit(Result):
-    @property
-    def parameters(self) -> ChainParameters: ...
+class ChainUncertainty(Result):
     @property
     def intervals(self) -> Optional[ChainIntervals]: ...
     @property
@@ -199,11 +201,22 @@ class ChainFit(Result):
     @property
     def delays(self) -> List[Optional[Interval]]: ...
     @property
-    def noise(self) -> _F64: ...
+    def cutoffs(self) -> List[Optional[Interval]]: ...
+    @property
+    def names(self) -> List[str]: ...
+    @property
+    def correlation(self) -> _F64: ...
     @property
     def condition_number(self) -> float: ...
     @property
     def degrees_of_freedom(self) -> int: ...
+    def _repr_html_(self) -> str: ...
+
+class ChainFit(ChainUncertainty):
+    @property
+    def parameters(self) -> ChainParameters: ...
+    @property
+    def noise(self) -> _F64: ...
     @property
     def exit(self) -> str: ...
     @property
@@ -300,6 +313,19 @@ def fit_chain(
     known_masses: Sequence[int] = ...,
     passes: int = ...,
 ) -> ChainFit: ...
+def predict_chain(
+    truth: ChainParametersLike,
+    input: _ArrayLike,
+    dt: float,
+    noise: Union[float, _ArrayLike],
+    *,
+    setup: Optional[Mapping[str, Any]] = ...,
+    masses: Optional[int] = ...,
+    drive: Optional[str] = ...,
+    force_at: Optional[int] = ...,
+    sensors: Optional[Sequence[Mapping[str, Any]]] = ...,
+    known_masses: Sequence[int] = ...,
+) -> ChainUncertainty: ...
 def run(config: _PathLike, out: Optional[_PathLike] = ..., seed: Optional[int] = ..., threads: Optional[int] = ...) -> RunResults: ...
 def plan(config: _PathLike, target: float = ..., verify: int = ...) -> SetupFit: ...
 def design(config: _PathLike, out: Optional[_PathLike] = ..., verify: int = ..., write: bool = ...) -> SetupFit: ...

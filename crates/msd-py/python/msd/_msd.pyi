@@ -8,7 +8,7 @@ import numpy.typing as npt
 __version__: str
 __all__ = [
     "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_chain", "fit_records",
-    "free_decay", "frf", "modal_fit", "one_mode_fit", "paper_data", "plan", "run", "simulate",
+    "free_decay", "frf", "modal_fit", "one_mode_fit", "paper_data", "plan", "predict_chain", "run", "simulate",
     "simulate_chain", "uff_read", "uff_write", "validate",
 ]
 
@@ -37,6 +37,9 @@ def dynamometer(
 def simulate_chain(setup_json: str, parameters_json: str, input: _F64, dt: float) -> _F64: ...
 def fit_chain(
     setup_json: str, input: _F64, outputs: Sequence[_F64], dt: float, guess_json: str, options_json: str
+) -> Dict[str, Any]: ...
+def predict_chain(
+    setup_json: str, truth_json: str, input: _F64, dt: float, noise: _F64, options_json: str
 ) -> Dict[str, Any]: ...
 def frf(t: _F64, forces: Sequence[_F64], responses: Sequence[_F64], options_json: str) -> Dict[str, Any]: ...
 def modal_fit(

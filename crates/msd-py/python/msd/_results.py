@@ -4,7 +4,7 @@ display text) and an HTML table for notebooks."""
 from __future__ import annotations
 
 import html
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
@@ -450,29 +450,46 @@ class RecordsFit(SetupFit):
 @dataclass(frozen=True)
 class ChainParameters:
     """Every mass m_i (kg), damper c_i (N·s/m) and spring k_i (N/m) of a chain, from the
-    ground out: spring and damper i join mass i to mass i − 1 (the first to the ground)."""
+    ground out: spring and damper i join mass i to mass i − 1 (the first to the ground);
+    optionally extra springs and dampers from each mass straight to the ground (one per
+    mass, ≥ 0, 0 where there is none; empty: none at all)."""
 
     masses: Tuple[float, ...]
     dampers: Tuple[float, ...]
     springs: Tuple[float, ...]
+    ground_springs: Tuple[float, ...] = ()
+    ground_dampers: Tuple[float, ...] = ()
 
     @classmethod
     def from_dict(cls, d: Dict[str, Any]) -> "ChainParameters":
-        """From {masses, dampers, springs} (lists of numbers)."""
-        return cls(*(tuple(float(v) for v in d[key]) for key in ("masses", "dampers", "springs")))
+        """From {masses, dampers, springs} and optionally {ground_springs, ground_dampers}
+        (lists of numbers)."""
+        each = [tuple(float(v) for v in d[key]) for key in ("masses", "dampers", "springs")]
+        ground = [tuple(float(v) for v in d.get(key) or ()) for key in ("ground_springs", "ground_dampers")]
+        return cls(*each, *ground)
 
     def to_dict(self) -> Dict[str, List[float]]:
-        """{masses, dampers, springs} as lists (msd-ident's `ChainParameters`)."""
-        return {"masses": list(self.masses), "dampers": list(self.dampers), "springs": list(self.springs)}
+        """{masses, dampers, springs} as lists, and the ground connections when there are
+        any (msd-ident's `ChainParameters`)."""
+        out = {"masses": list(self.masses), "dampers": list(self.dampers), "springs": list(self.springs)}
+        if self.ground_springs:
+            out["ground_springs"] = list(self.ground_springs)
+        if self.ground_dampers:
+            out["ground_dampers"] = list(self.ground_dampers)
+        return out
 
 
 @dataclass(frozen=True)
 class ChainIntervals:
-    """m_i, c_i and k_i with their 95 % intervals (a known mass with standard error 0)."""
+    """m_i, c_i and k_i with their 95 % intervals (a known mass, or a ground connection
+    held at 0, with standard error 0); the ground connections' when the chain has them
+    (else empty)."""
 
     masses: List[Interval]
     dampers: List[Interval]
     springs: List[Interval]
+    ground_dampers: List[Interval] = field(default_factory=list)
+    ground_springs: List[Interval] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -488,26 +505,22 @@ class ChainMode:
         return f"ChainMode(fn = {self.natural_frequency_hz!r} Hz, ζ = {self.damping_ratio!r})"
 
 
-class ChainFit(Result):
-    """`msd.fit_chain`'s result: every m, c, k of the chain with intervals (when the
-    record identifies them), the modes, the sensors' estimated delays and noise levels;
-    every field of msd-ident's `ChainFit` in `data`."""
-
-    _arrays = ("noise",)
-
-    @property
-    def parameters(self) -> ChainParameters:
-        """The estimates (a known mass as given)."""
-        return ChainParameters.from_dict(self.data["parameters"])
+class ChainUncertainty(Result):
+    """The uncertainty of a chain's parameters at one point: `msd.predict_chain`'s result
+    (predicted before the test) and the statistics of a `ChainFit`: every m, c, k with
+    intervals (when identified), the modes, the estimated delays and filter cut-offs, the
+    correlation of the estimated quantities; every field of msd-ident's
+    `ChainUncertainty` in `data`."""
 
     @property
     def intervals(self) -> Optional[ChainIntervals]:
-        """m_i, c_i, k_i with intervals; None when the record cannot separate them (see
+        """m_i, c_i, k_i with intervals; None when the records cannot separate them (see
         `unidentifiable`)."""
         iv = self.data["intervals"]
         if iv is None:
             return None
-        each = {k: [Interval.from_dict(v) for v in iv[k]] for k in ("masses", "dampers", "springs")}
+        keys = ("masses", "dampers", "springs", "ground_dampers", "ground_springs")
+        each = {k: [Interval.from_dict(v) for v in iv.get(k) or ()] for k in keys}
         return ChainIntervals(**each)
 
     @property
@@ -517,12 +530,12 @@ class ChainFit(Result):
 
     @property
     def unidentifiable(self) -> List[str]:
-        """The combinations of parameters the record cannot tell apart, in words."""
+        """The combinations of parameters the records cannot tell apart, in words."""
         return list(self.data["unidentifiable"])
 
     @property
     def modes(self) -> List[ChainMode]:
-        """The fitted chain's modes, by frequency, with intervals (delta method)."""
+        """The chain's modes, by frequency, with intervals (delta method)."""
         return [
             ChainMode(
                 Interval.from_dict(m["natural_frequency_hz"]),
@@ -534,13 +547,27 @@ class ChainFit(Result):
 
     @property
     def delays(self) -> List[Optional[Interval]]:
-        """Each sensor's estimated delay, s (None where it was not estimated)."""
+        """Each sensor's estimated delay, s (None where it is not estimated)."""
         return [None if d is None else Interval.from_dict(d) for d in self.data["delays"]]
 
     @property
-    def noise(self) -> np.ndarray:
-        """σ̂ of each channel, in its own unit."""
-        return self.data["noise"]
+    def cutoffs(self) -> List[Optional[Interval]]:
+        """Each sensor's estimated low-pass cut-off, Hz (None where it is not estimated)."""
+        return [None if c is None else Interval.from_dict(c) for c in self.data.get("cutoffs") or ()]
+
+    @property
+    def names(self) -> List[str]:
+        """The estimated quantities ("m1", "c2", "k1", "kg2", "cutoff1", "delay1", …: a
+        known mass is not among them), in the order of `correlation`."""
+        return list(self.data["names"])
+
+    @property
+    def correlation(self) -> np.ndarray:
+        """The correlation matrix of the estimated quantities (of the logarithms for m, c,
+        k; order: `names`; NaN where a quantity is not determined)."""
+        return np.array(
+            [[np.nan if v is None else v for v in row] for row in self.data["correlation"]], dtype=float
+        ).reshape(len(self.data["names"]), len(self.data["names"]))
 
     @property
     def condition_number(self) -> float:
@@ -553,6 +580,54 @@ class ChainFit(Result):
         """Samples × channels − estimated quantities."""
         return int(self.data["degrees_of_freedom"])
 
+    def _rows(self) -> List[Tuple[str, Any]]:
+        rows: List[Tuple[str, Any]] = []
+        iv = self.intervals
+        if iv is None:
+            rows.append(("m, c, k", "not identified from these records"))
+            rows += [("lost", w) for w in self.unidentifiable]
+        else:
+            for i, (m, c, k) in enumerate(zip(iv.masses, iv.dampers, iv.springs)):
+                rows += [(f"m{i + 1} [kg]", m), (f"c{i + 1} [N·s/m]", c), (f"k{i + 1} [N/m]", k)]
+            # The ground connections the chain has (as the Rust display: those > 0).
+            for i, c in enumerate(iv.ground_dampers):
+                if c.value > 0:
+                    rows.append((f"cg{i + 1} [N·s/m] (to the ground)", c))
+            for i, k in enumerate(iv.ground_springs):
+                if k.value > 0:
+                    rows.append((f"kg{i + 1} [N/m] (to the ground)", k))
+        for i, mode in enumerate(self.modes):
+            rows += [(f"mode {i + 1} fn [Hz]", mode.natural_frequency_hz), (f"mode {i + 1} ζ [-]", mode.damping_ratio)]
+        for i, d in enumerate(self.delays):
+            if d is not None:
+                rows.append((f"delay of sensor {i + 1} [s]", d))
+        for i, fc in enumerate(self.cutoffs):
+            if fc is not None:
+                rows.append((f"filter cut-off of sensor {i + 1} [Hz]", fc))
+        return rows
+
+    def _repr_html_(self) -> str:
+        return _table("msd.predict_chain", self._rows())
+
+
+class ChainFit(ChainUncertainty):
+    """`msd.fit_chain`'s result: the estimates, and as a `ChainUncertainty` their
+    intervals (when the record identifies them), the modes, the sensors' estimated delays
+    and the correlation; the channels' noise levels and the solver's record. Every field
+    of msd-ident's `ChainFit` in `data` (its uncertainty's flattened, as in its JSON)."""
+
+    _arrays = ("noise",)
+
+    @property
+    def parameters(self) -> ChainParameters:
+        """The estimates (a known mass as given)."""
+        return ChainParameters.from_dict(self.data["parameters"])
+
+    @property
+    def noise(self) -> np.ndarray:
+        """σ̂ of each channel, in its own unit."""
+        return self.data["noise"]
+
     @property
     def exit(self) -> str:
         """The solver's exit on the last pass (e.g. "FTolerance")."""
@@ -564,19 +639,7 @@ class ChainFit(Result):
         return int(self.data["evaluations"])
 
     def _repr_html_(self) -> str:
-        rows: List[Tuple[str, Any]] = []
-        iv = self.intervals
-        if iv is None:
-            rows.append(("m, c, k", "not identified from this record"))
-            rows += [("lost", w) for w in self.unidentifiable]
-        else:
-            for i, (m, c, k) in enumerate(zip(iv.masses, iv.dampers, iv.springs)):
-                rows += [(f"m{i + 1} [kg]", m), (f"c{i + 1} [N·s/m]", c), (f"k{i + 1} [N/m]", k)]
-        for i, mode in enumerate(self.modes):
-            rows += [(f"mode {i + 1} fn [Hz]", mode.natural_frequency_hz), (f"mode {i + 1} ζ [-]", mode.damping_ratio)]
-        for i, d in enumerate(self.delays):
-            if d is not None:
-                rows.append((f"delay of sensor {i + 1} [s]", d))
+        rows = self._rows()
         rows.append(("σ̂ per channel", ", ".join(f"{s:.3e}" for s in self.noise)))
         return _table("msd.fit_chain", rows)
 
