@@ -1,5 +1,6 @@
-"""msd.simulate_chain and msd.fit_chain: a simulated two-storey rig fitted back, the
-result object, the setup given as a dict or by keys, and bad input named by its key."""
+"""msd.simulate_chain, msd.fit_chain and msd.predict_chain: a simulated two-storey rig
+fitted back, its uncertainty predicted before the test, the result objects, the setup
+given as a dict or by keys, and bad input named by its key."""
 
 import json
 
@@ -76,13 +77,44 @@ def test_two_storey_rig_round_trip(rig):
     assert fit.parameters.masses == tuple(e.value for e in iv.masses)
 
 
-@pytest.mark.xfail(reason="msd-ident: from this guess about 3 records in 100 (seeds 4, 38, 64) end with a "
-                   "damper at 0 and σ̂ far above the noise, reported as not identified", strict=False)
-def test_a_record_where_the_fit_stalls_on_a_vanishing_damper():
-    force, outputs = rig_record(4)
+@pytest.mark.parametrize("seed", [4, 38, 64])
+def test_records_where_the_fit_stalled_before_the_prefix_stages(seed):
+    """From this guess about 3 records in 100 (these seeds) ended with a damper at 0 and
+    σ̂ far above the noise until msd-ident fitted the record's first sixteenth and quarter
+    before the whole: now every one of seeds 0–199 is fitted within 4 SE (checked when
+    this test was written)."""
+    force, outputs = rig_record(seed)
     fit = msd.fit_chain(force, outputs, DT, GUESS, force_at=2, sensors=SENSORS)
-    assert fit.identified and np.all(np.array(fit.parameters.dampers) > 0)
+    iv = fit.intervals
+    assert fit.identified and iv is not None
+    for estimates, truths in ((iv.masses, TRUTH.masses), (iv.dampers, TRUTH.dampers), (iv.springs, TRUTH.springs)):
+        for e, x in zip(estimates, truths):
+            assert abs(e.value - x) < 4 * e.standard_error, (seed, e, x)
     np.testing.assert_allclose(fit.noise, 0.02, rtol=0.05)
+
+
+def test_mode_shapes_keep_their_sign(rig):
+    """Each shape is scaled so that its largest magnitude is 1 and the first mass moving at
+    least half as much is positive: the same signs on every record (mode 1: both floors
+    in phase, [0.5, 1]; mode 2: in opposition, [1, −1], where the two magnitudes tie)."""
+    _, _, fit = rig
+    other = msd.fit_chain(*rig_record(4), DT, GUESS, force_at=2, sensors=SENSORS)
+    for result in (fit, other):
+        shapes = [[s.value for s in mode.shape] for mode in result.modes]
+        for shape in shapes:
+            first = next(v for v in shape if abs(v) >= 0.5 * max(abs(w) for w in shape))
+            assert first > 0, shapes
+        assert shapes[0] == pytest.approx([0.5, 1.0], abs=2e-3)
+        assert shapes[1] == pytest.approx([1.0, -1.0], abs=2e-3)
+
+
+def test_a_fit_that_runs_a_parameter_away_is_an_identification_error(rig):
+    """Springs guessed 100 times too soft: the fit sends c2 to 0 (a wrong minimum), which
+    msd-ident reports instead of an estimate."""
+    force, outputs, _ = rig
+    far = dict(GUESS, springs=[2.5e2, 0.8e2])
+    with pytest.raises(msd.IdentificationError, match=r"c2 ran from the guess .* start from a closer guess"):
+        msd.fit_chain(force, outputs, DT, far, force_at=2, sensors=SENSORS)
 
 
 def test_the_fit_is_deterministic(rig):
@@ -118,7 +150,18 @@ def test_result_object(rig):
     assert back == fit and repr(back) == repr(fit)
     np.testing.assert_array_equal(back.noise, fit.noise)
     assert back.intervals == fit.intervals and back.modes == fit.modes
+    assert back.names == fit.names and np.array_equal(back.correlation, fit.correlation)
     assert msd.ChainParameters.from_dict(fit.parameters.to_dict()) == fit.parameters
+    # The statistics are a ChainUncertainty's (msd-ident flattens them into the fit).
+    assert isinstance(fit, msd.ChainUncertainty)
+    assert fit.names == ["m1", "m2", "c1", "c2", "k1", "k2"]
+    r = fit.correlation
+    assert r.shape == (6, 6) and r.dtype == np.float64
+    np.testing.assert_allclose(np.diag(r), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(r, r.T, atol=1e-12)
+    assert np.all(np.abs(r) <= 1.0 + 1e-12)
+    # k2 and m1 move together (the first mode's frequency fixes k/m).
+    assert r[0, 5] > 0.9
 
 
 def test_known_masses_are_held(rig):
@@ -127,6 +170,7 @@ def test_known_masses_are_held(rig):
     iv = fit.intervals
     assert iv.masses[1].value == 1.0 and iv.masses[1].standard_error == 0.0
     assert fit.degrees_of_freedom == 2 * 5000 - 5
+    assert fit.names == ["m1", "c1", "c2", "k1", "k2"] and fit.correlation.shape == (5, 5)
     assert abs(iv.masses[0].value - 2.0) < 4 * iv.masses[0].standard_error
 
 
@@ -148,6 +192,7 @@ def test_a_delayed_sensor_is_fitted_with_its_delay():
     assert delay is not None and abs(delay.value - 3 * dt) < 4 * delay.standard_error, delay
     assert abs(fit.intervals.dampers[0].value - 1.8) < 4 * fit.intervals.dampers[0].standard_error
     assert "delay of sensor 1 = " in repr(fit) and "delay of sensor 1" in fit._repr_html_()
+    assert fit.names == ["m1", "c1", "k1", "delay1"]
 
 
 def test_a_base_driven_chain_with_one_sensor_is_not_identified():
@@ -165,6 +210,7 @@ def test_a_base_driven_chain_with_one_sensor_is_not_identified():
     assert "not identified" in repr(fit) and "not identified" in fit._repr_html_()
     assert len(fit.modes) == 3 and all(m.natural_frequency_hz.standard_error > 0 for m in fit.modes)
     assert msd.ChainFit.from_dict(json.loads(json.dumps(fit.to_dict()))) == fit
+    assert fit.correlation.shape == (9, 9)
 
 
 @pytest.mark.parametrize(
@@ -174,10 +220,6 @@ def test_a_base_driven_chain_with_one_sensor_is_not_identified():
         (
             {"sensors": [dict(SENSORS[0], low_pass={"cutoff_hz": -50.0}), SENSORS[1]]},
             r"sensors\[0\]\.low_pass\.cutoff_hz = -50: expected a finite frequency > 0",
-        ),
-        (
-            {"sensors": [dict(SENSORS[0], delay=20.0), SENSORS[1]]},
-            r"sensors\[0\]\.delay = 20 s: expected less than half the record \(5 s\)",
         ),
         ({"sensors": [dict(SENSORS[0], low_pass={"cutoff_hz": np.inf}), SENSORS[1]]}, r"sensors\[0\]\.low_pass\.cutoff_hz = inf"),
         ({"sensors": [dict(SENSORS[0], place=1), SENSORS[1]]}, r"sensors\[0\]: unknown field `place`"),
@@ -195,9 +237,29 @@ def test_bad_setups_name_the_key(rig, change, message):
     keys = dict({"force_at": 2, "sensors": SENSORS}, **change)
     with pytest.raises(ValueError, match=message):
         msd.fit_chain(force, outputs, DT, GUESS, **keys)
+    with pytest.raises(ValueError, match=message):
+        msd.predict_chain(TRUTH, force, DT, [0.02, 0.02], **keys)
     if "known_masses" not in change:
         with pytest.raises(ValueError, match=message):
             msd.simulate_chain(TRUTH, force, DT, **keys)
+
+
+def test_delays_are_shorter_than_the_record(rig):
+    """A fit (and a prediction) needs a delay shorter than half the record; a simulation
+    one shorter than the record (the channel reads 0 until the delay has passed)."""
+    force, outputs, _ = rig
+    late = [SENSORS[0], dict(SENSORS[1], delay=6.0)]
+    half = r"sensors\[1\]\.delay = 6 s: expected less than half the record \(5 s\)"
+    with pytest.raises(ValueError, match=half):
+        msd.fit_chain(force, outputs, DT, GUESS, force_at=2, sensors=late)
+    with pytest.raises(ValueError, match=half):
+        msd.predict_chain(TRUTH, force, DT, [0.02, 0.02], force_at=2, sensors=late)
+    y = msd.simulate_chain(TRUTH, force, DT, force_at=2, sensors=late)
+    now = msd.simulate_chain(TRUTH, force, DT, force_at=2, sensors=SENSORS)
+    assert np.all(y[1, :3000] == 0.0)
+    np.testing.assert_allclose(y[1, 3000:], now[1, :2000], rtol=1e-9, atol=1e-12 * np.max(np.abs(now[1])))
+    with pytest.raises(ValueError, match=r"sensors\[1\]\.delay = 20 s: expected less than the record \(10 s\)"):
+        msd.simulate_chain(TRUTH, force, DT, force_at=2, sensors=[SENSORS[0], dict(SENSORS[1], delay=20.0)])
 
 
 def test_bad_records_and_parameters(rig):
@@ -223,11 +285,251 @@ def test_bad_records_and_parameters(rig):
         fit(force, outputs, DT, dict(GUESS, dampers=[4.0, -2.0]))
     with pytest.raises(ValueError, match="guess: expected msd.ChainParameters"):
         fit(force, outputs, DT, [2.0, 1.0])
-    with pytest.raises(ValueError, match="too few samples"):
+    # An empty record: msd-ident checks the drive before the record's length, so it
+    # says that the (empty) drive is zero throughout.
+    with pytest.raises(ValueError, match="too few samples|the drive is zero throughout"):
         fit([], [[], []], DT, GUESS)
+    with pytest.raises(ValueError, match="too few samples"):
+        fit(force[:3], outputs[:, :3], DT, GUESS)
+    with pytest.raises(ValueError, match="the drive is zero throughout"):
+        fit(np.zeros_like(force), outputs, DT, GUESS)
+    with pytest.raises(ValueError, match=r"sensors\[1\]: its series has RMS 0"):
+        fit(force, [outputs[0], np.zeros_like(force)], DT, GUESS)
+    with pytest.raises(ValueError, match=r"sensors\[0\]: its series has RMS inf"):
+        fit(force, [np.full_like(force, 1e300), outputs[1]], DT, GUESS)
     with pytest.raises(ValueError, match=r"masses = 9: expected 1 to 8"):
         msd.simulate_chain({k: [1.0] * 9 for k in ("masses", "dampers", "springs")}, force, DT)
     with pytest.raises(ValueError, match="parameters: unknown field `mass`"):
         msd.simulate_chain({"mass": [1.0], "dampers": [1.0], "springs": [1.0]}, force, DT)
     with pytest.raises(ValueError, match="known_masses"):
         fit(force, outputs, DT, GUESS, known_masses=None)
+
+
+# ---------------------------------------------------------------- predict_chain
+
+
+def standard_errors(result):
+    """Every m, c, k's standard error, then each mode's fn and ζ."""
+    iv = result.intervals
+    out = [e.standard_error for e in iv.masses + iv.dampers + iv.springs]
+    for mode in result.modes:
+        out += [mode.natural_frequency_hz.standard_error, mode.damping_ratio.standard_error]
+    return np.array(out)
+
+
+def test_predict_chain_gives_the_fits_standard_errors(rig):
+    """The prediction before the test (σ and the truth) and the fit's own report (σ̂ and
+    the estimate) are the same linearisation: within 15 % (measured: 0.4 %)."""
+    force, _, fit = rig
+    plan = msd.predict_chain(TRUTH, force, DT, [0.02, 0.02], force_at=2, sensors=SENSORS)
+    assert type(plan) is msd.ChainUncertainty and plan.identified and plan.unidentifiable == []
+    predicted, reported = standard_errors(plan), standard_errors(fit)
+    assert predicted.shape == (10,) and np.all(predicted > 0)
+    ratio = predicted / reported
+    print(f"predicted/reported standard errors: {ratio.min():.4f} … {ratio.max():.4f}")
+    np.testing.assert_allclose(predicted, reported, rtol=0.15)
+    # The intervals are about the truth (through its logarithm: to rounding); the
+    # correlations are the fit's.
+    iv = plan.intervals
+    assert [e.value for e in iv.masses + iv.dampers + iv.springs] == pytest.approx(
+        TRUTH.masses + TRUTH.dampers + TRUTH.springs, rel=1e-14
+    )
+    assert plan.names == fit.names
+    np.testing.assert_allclose(plan.correlation, fit.correlation, atol=0.02)
+    assert plan.degrees_of_freedom == fit.degrees_of_freedom
+    assert plan.condition_number == pytest.approx(fit.condition_number, rel=0.05)
+    assert plan.delays == [None, None] and plan.cutoffs == [None, None]
+    # The same setup as a dict, the truth as a dict, σ as an array.
+    again = msd.predict_chain(
+        TRUTH.to_dict(), list(force), DT, np.array([0.02, 0.02]), setup={"masses": 2, "force_at": 2, "sensors": SENSORS}
+    )
+    assert again == plan
+
+
+def test_predict_chain_scales_with_the_noise(rig):
+    """σ(JᵀJ)⁻¹ᐟ²: twice the noise on every channel, twice every standard error."""
+    force, _, _ = rig
+    one = msd.predict_chain(TRUTH, force, DT, [0.02, 0.02], force_at=2, sensors=SENSORS)
+    two = msd.predict_chain(TRUTH, force, DT, [0.04, 0.04], force_at=2, sensors=SENSORS)
+    np.testing.assert_allclose(standard_errors(two), 2 * standard_errors(one), rtol=1e-9)
+
+
+def test_predict_chain_result_object(rig):
+    force, _, _ = rig
+    plan = msd.predict_chain(TRUTH, force, DT, [0.02, 0.02], force_at=2, sensors=SENSORS)
+    text = repr(plan)
+    assert text == plan.summary.rstrip("\n")
+    assert text.startswith("m1 = 2.000000") and "mode 2: fn = " in text
+    assert text.splitlines()[-1].startswith("9994 degrees of freedom, condition number")
+    assert "σ̂" not in text
+    page = plan._repr_html_()
+    assert page.startswith("<table") and "msd.predict_chain" in page and "k2 [N/m]" in page
+    back = msd.ChainUncertainty.from_dict(json.loads(json.dumps(plan.to_dict(), allow_nan=False)))
+    assert back == plan and repr(back) == repr(plan)
+    assert back.intervals == plan.intervals and back.modes == plan.modes
+    assert set(plan.to_dict()) == {
+        "intervals", "unidentifiable", "modes", "delays", "cutoffs", "names", "correlation",
+        "condition_number", "degrees_of_freedom", "summary",
+    }
+    assert plan.cutoffs == [None, None] and plan.intervals.ground_springs == []
+
+
+def test_predict_chain_with_a_delay_and_known_masses():
+    """One mass read 6 ms late through a 50 Hz low-pass, the delay to be estimated: its
+    interval is predicted about the true delay, and close to what a fit of such a record
+    reports (as the two-storey rig's, the same linearisation)."""
+    rng = np.random.default_rng(3)
+    dt = 2e-3
+    t = np.arange(7501) * dt
+    force = 6.0 * (t >= 0.5) + np.where(t >= 9.0, 2.5 * np.sin(2 * np.pi * 1.4 * t), 3.0 * np.sin(np.pi * t))
+    paper = {"masses": [2.5], "dampers": [1.8], "springs": [120.0]}
+    sensor = {"delay": 3 * dt, "estimate_delay": True, "low_pass": {"cutoff_hz": 50.0}}
+    plan = msd.predict_chain(paper, force, dt, 2.5e-3, sensors=[sensor])
+    delay = plan.delays[0]
+    assert delay is not None and delay.value == pytest.approx(3 * dt, rel=1e-12) and delay.standard_error > 0
+    assert plan.names == ["m1", "c1", "k1", "delay1"] and plan.correlation.shape == (4, 4)
+    y = msd.simulate_chain(paper, force, dt, sensors=[sensor])[0] + 2.5e-3 * rng.normal(size=t.size)
+    fit = msd.fit_chain(force, y, dt, {"masses": [2.0], "dampers": [1.0], "springs": [100.0]},
+                        sensors=[dict(sensor, delay=None)])
+    assert fit.delays[0].standard_error == pytest.approx(delay.standard_error, rel=0.15)
+    np.testing.assert_allclose(standard_errors(plan), standard_errors(fit), rtol=0.15)
+    # A known mass is not estimated.
+    known = msd.predict_chain(paper, force, dt, [2.5e-3], sensors=[sensor], known_masses=[1])
+    assert known.names == ["c1", "k1", "delay1"] and known.intervals.masses[0].standard_error == 0.0
+
+
+def test_predict_chain_says_what_a_test_cannot_separate():
+    """A base-driven chain read by one accelerometer: no intervals, the lost scale in
+    words, the modes still predicted."""
+    truth = {"masses": [3.0, 2.0, 1.0], "dampers": [6.0, 4.0, 2.0], "springs": [3e4, 2e4, 1e4]}
+    setup = {"masses": 3, "drive": "base_acceleration", "sensors": [{"at": 3, "quantity": "acceleration"}]}
+    ground = np.random.default_rng(5).normal(size=5000)
+    plan = msd.predict_chain(truth, ground, DT, 0.01, setup=setup)
+    assert plan.intervals is None and not plan.identified
+    assert "scaled by one factor" in plan.unidentifiable[0]
+    assert "not identified" in repr(plan) and "not identified" in plan._repr_html_()
+    assert len(plan.modes) == 3 and all(m.natural_frequency_hz.standard_error > 0 for m in plan.modes)
+    assert msd.ChainUncertainty.from_dict(json.loads(json.dumps(plan.to_dict()))) == plan
+
+
+def test_a_ground_spring_and_a_filter_cutoff_fitted_and_predicted():
+    """The two-storey rig with an extra 3 kN/m spring from mass 2 to the ground (guessed
+    at 2 kN/m: estimated), and the same rig read through a 40 Hz first-order low-pass on
+    mass 2 whose cut-off is estimated from 60 Hz: each within 4 SE of the truth, its name
+    among the estimated quantities, its standard error predicted within 15 %."""
+    rng = np.random.default_rng(21)
+    force = rng.normal(size=5000)
+    grounded = msd.ChainParameters(TRUTH.masses, TRUTH.dampers, TRUTH.springs, ground_springs=(0.0, 3e3))
+    y = msd.simulate_chain(grounded, force, DT, force_at=2, sensors=SENSORS)
+    y += 0.02 * rng.normal(size=y.shape)
+    fit = msd.fit_chain(force, y, DT, dict(GUESS, ground_springs=[0.0, 2e3]), force_at=2, sensors=SENSORS)
+    kg = fit.intervals.ground_springs
+    assert fit.names == ["m1", "m2", "c1", "c2", "k1", "k2", "kg2"]
+    assert kg[0].value == 0.0 and kg[0].standard_error == 0.0 and fit.intervals.ground_dampers == []
+    assert abs(kg[1].value - 3e3) < 4 * kg[1].standard_error, kg[1]
+    assert fit.parameters.ground_springs == (0.0, kg[1].value) and fit.parameters.ground_dampers == ()
+    assert "kg2 = " in repr(fit) and "kg2 [N/m] (to the ground)" in fit._repr_html_()
+    back = msd.ChainFit.from_dict(json.loads(json.dumps(fit.to_dict())))
+    assert back == fit and back.intervals == fit.intervals
+    assert msd.ChainParameters.from_dict(fit.parameters.to_dict()) == fit.parameters
+    plan = msd.predict_chain(grounded, force, DT, [0.02, 0.02], force_at=2, sensors=SENSORS)
+    assert plan.names == fit.names
+    np.testing.assert_allclose(standard_errors(plan), standard_errors(fit), rtol=0.15)
+    assert plan.intervals.ground_springs[1].standard_error == pytest.approx(kg[1].standard_error, rel=0.15)
+
+    filtered = [SENSORS[0], dict(SENSORS[1], low_pass={"cutoff_hz": 40.0})]
+    y = msd.simulate_chain(TRUTH, force, DT, force_at=2, sensors=filtered)
+    y += 0.02 * rng.normal(size=y.shape)
+    start = [SENSORS[0], dict(SENSORS[1], low_pass={"cutoff_hz": 60.0}, estimate_cutoff=True)]
+    fit = msd.fit_chain(force, y, DT, GUESS, force_at=2, sensors=start)
+    fc = fit.cutoffs[1]
+    assert fit.cutoffs[0] is None and fc is not None and abs(fc.value - 40.0) < 4 * fc.standard_error, fc
+    assert fit.names[-1] == "cutoff2" and "filter cut-off of sensor 2" in fit._repr_html_()
+    plan = msd.predict_chain(TRUTH, force, DT, [0.02, 0.02], force_at=2,
+                             sensors=[SENSORS[0], dict(SENSORS[1], low_pass={"cutoff_hz": 40.0}, estimate_cutoff=True)])
+    assert plan.cutoffs[1].value == pytest.approx(40.0, rel=1e-12)
+    assert plan.cutoffs[1].standard_error == pytest.approx(fc.standard_error, rel=0.15)
+    with pytest.raises(ValueError, match=r"sensors\[1\]\.estimate_cutoff = true: expected a low_pass"):
+        msd.fit_chain(force, y, DT, GUESS, force_at=2, sensors=[SENSORS[0], dict(SENSORS[1], estimate_cutoff=True)])
+    with pytest.raises(ValueError, match=r"ground_springs has 1 values: expected none or one per mass \(2\)"):
+        msd.predict_chain(dict(GUESS, ground_springs=[1.0]), force, DT, [0.02, 0.02], force_at=2, sensors=SENSORS)
+
+
+@pytest.mark.parametrize(
+    "noise, message",
+    [
+        ([0.02], r"1 noise levels: expected one per sensor \(2\)"),
+        (0.02, r"1 noise levels: expected one per sensor \(2\)"),
+        ([0.02, 0.02, 0.02], r"3 noise levels: expected one per sensor \(2\)"),
+        ([0.02, 0.0], r"sensors\[1\] noise σ = 0: expected a finite number > 0"),
+        ([-0.02, 0.02], r"sensors\[0\] noise σ = -0.02: expected a finite number > 0"),
+        ([0.02, np.nan], r"sensors\[1\] noise σ = NaN: expected a finite number > 0"),
+        ([0.02, np.inf], r"sensors\[1\] noise σ = inf: expected a finite number > 0"),
+        (["0.02", "0.02"], r"noise: expected real numbers"),
+        ([[0.02, 0.02]], r"noise: expected a 1-D array"),
+        (None, r"noise: expected a 1-D array of numbers, got None"),
+        ([0.02, 1e-310], r"sensors\[1\] noise σ = 1e-310: expected at least 1e-300"),
+        ([1e-120, 0.02], r"sensors\[0\] noise σ = 1e-120 beside an RMS reading of .*: expected a signal-to-noise ratio below 1e100"),
+    ],
+)
+def test_predict_chain_refuses_bad_noise(rig, noise, message):
+    force, _, _ = rig
+    with pytest.raises(ValueError, match=message):
+        msd.predict_chain(TRUTH, force, DT, noise, force_at=2, sensors=SENSORS)
+
+
+def test_predict_chain_bad_input(rig):
+    force, _, _ = rig
+    predict = lambda *a, **k: msd.predict_chain(*a, **dict({"force_at": 2, "sensors": SENSORS}, **k))  # noqa: E731
+    with pytest.raises(ValueError, match="too few samples"):
+        predict(TRUTH, force[:3], DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match="input sample 3 is NaN"):
+        predict(TRUTH, np.where(np.arange(force.size) == 3, np.nan, force), DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match="invalid dt = 0"):
+        predict(TRUTH, force, 0.0, [0.02, 0.02])
+    with pytest.raises(ValueError, match=r"masses\[1\] = -1: expected a finite number > 0"):
+        predict(dict(TRUTH.to_dict(), masses=[2.0, -1.0]), force, DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match="truth: expected msd.ChainParameters"):
+        predict([2.0, 1.0], force, DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match="truth: missing field `springs`"):
+        predict({"masses": [2.0, 1.0], "dampers": [4.0, 2.0]}, force, DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match="known_masses contains 3: expected masses from 1 to 2"):
+        predict(TRUTH, force, DT, [0.02, 0.02], known_masses=[3])
+    with pytest.raises(ValueError, match="known_masses = None"):
+        predict(TRUTH, force, DT, [0.02, 0.02], known_masses=None)
+    # What fit_chain would refuse in the record (checked by the binding before
+    # msd-ident's predict_chain, which would report a drive of zeros as not identified and
+    # not return from readings that overflow).
+    with pytest.raises(ValueError, match="the drive is zero throughout"):
+        predict(TRUTH, np.zeros_like(force), DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match=r"sensors\[0\]: its noise-free reading has RMS \d.*e\d{3}: expected a test"):
+        predict(TRUTH, force * 1e200, DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match=r"sensors\[0\]: its noise-free reading overflows \(sample \d+ is (NaN|inf|-inf)\)"):
+        predict(TRUTH, force * (1e307 / np.max(np.abs(force))), DT, [0.02, 0.02])
+    with pytest.raises(ValueError, match=r"sensors\[0\]: its noise-free reading has RMS 0e0"):
+        # The force comes in the last 0.8 s; the sensor reads 4.9 s late.
+        predict(TRUTH, np.where(np.arange(force.size) >= 4600, force, 0.0), DT, [0.02], sensors=[{"at": 1, "delay": 4.9}])
+
+
+@pytest.mark.xfail(reason="msd-ident: predict_chain does not check that the sensitivities are finite (fit_chain's "
+                   "statistics do) and its SVD of a non-finite Jacobian does not end", strict=True)
+def test_predict_chain_returns_where_the_sensitivities_overflow():
+    """m = 1e128, c = 1e111, k = 1e-125: the readings are finite (the binding's checks
+    pass them), the exact sensitivities are not (fit_chain from this point says so at
+    once). Run in a subprocess with a deadline: it must return or raise within 20 s."""
+    import subprocess
+    import sys
+
+    code = (
+        "import numpy as np, msd\n"
+        "try:\n"
+        "    msd.predict_chain({'masses': [1e128], 'dampers': [1e111], 'springs': [1e-125]},"
+        " np.sin(np.arange(64.0)), 1e-3, 1.0)\n"
+        "except ValueError:\n"
+        "    pass\n"
+    )
+    try:
+        done = subprocess.run([sys.executable, "-c", code], timeout=20, capture_output=True, text=True)
+    except subprocess.TimeoutExpired:
+        pytest.fail("predict_chain did not return within 20 s")
+    assert done.returncode == 0, done.stderr

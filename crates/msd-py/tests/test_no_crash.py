@@ -62,6 +62,11 @@ def test_time_domain_functions(t_name, a_name):
     survives(msd.fit_chain, a, a, dt, one, sensors=[{"estimate_delay": True, "low_pass": {"cutoff_hz": 5.0}}])
     survives(msd.fit_chain, a, [a, a], dt, one, drive="base_acceleration",
              sensors=[{"quantity": "acceleration"}, {"quantity": "velocity", "delay": 1e300}])
+    survives(msd.predict_chain, one, a, dt, a, sensors=[{"estimate_delay": True, "low_pass": {"cutoff_hz": 5.0}}])
+    survives(msd.predict_chain, one, a, dt, [1e-300], sensors=[{"estimate_delay": True, "delay": 1e-3}])
+    survives(msd.predict_chain, {"masses": [1e300, 1e-300], "dampers": [1e-300, 1e300], "springs": [1e300, 1.0]},
+             a, dt, [0.1, 1e300], drive="base_acceleration", known_masses=[1],
+             sensors=[{"quantity": "acceleration"}, {"at": 2, "quantity": "velocity", "low_pass": {"cutoff_hz": 1e300, "order": 2}}])
 
 
 @pytest.mark.parametrize("a_name", ODD_ARRAYS)
