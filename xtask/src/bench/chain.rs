@@ -29,6 +29,7 @@ fn three_masses() -> Result<(ChainSetup, ChainRecord, ChainParameters)> {
         masses: vec![3.0, 2.0, 1.0],
         dampers: vec![6.0, 4.0, 2.0],
         springs: vec![3e4, 2e4, 1e4],
+        ..ChainParameters::default()
     };
     let n = 10_000;
     let input = gaussian_noise(1, "chain/force", 1.0, n)
@@ -44,6 +45,7 @@ fn three_masses() -> Result<(ChainSetup, ChainRecord, ChainParameters)> {
         masses: vec![3.3, 1.8, 1.1],
         dampers: vec![5.0, 5.0, 2.5],
         springs: vec![3.3e4, 1.8e4, 1.1e4],
+        ..ChainParameters::default()
     };
     Ok((
         setup,
