@@ -511,8 +511,6 @@ def test_predict_chain_bad_input(rig):
         predict(TRUTH, np.where(np.arange(force.size) >= 4600, force, 0.0), DT, [0.02], sensors=[{"at": 1, "delay": 4.9}])
 
 
-@pytest.mark.xfail(reason="msd-ident: predict_chain does not check that the sensitivities are finite (fit_chain's "
-                   "statistics do) and its SVD of a non-finite Jacobian does not end", strict=True)
 def test_predict_chain_returns_where_the_sensitivities_overflow():
     """m = 1e128, c = 1e111, k = 1e-125: the readings are finite (the binding's checks
     pass them), the exact sensitivities are not (fit_chain from this point says so at

@@ -580,3 +580,27 @@ fn extra_springs_and_dampers_to_the_ground_are_fitted() {
     let err = bad.validate(2).unwrap_err().to_string();
     assert!(err.contains("ground_springs has 1 values"), "{err}");
 }
+
+#[test]
+fn a_prediction_with_overflowing_sensitivities_is_an_error_not_a_hang() {
+    // Found by msd-py's fuzzing: m = 1e128, c = 1e111, k = 1e-125 gave non-finite
+    // sensitivities on which the SVD never returned.
+    let p = ChainParameters {
+        masses: vec![1e128],
+        dampers: vec![1e111],
+        springs: vec![1e-125],
+        ..ChainParameters::default()
+    };
+    let input: Vec<f64> = (0..64).map(|i| (i as f64).sin()).collect();
+    let options = ChainOptions::default();
+    let result = predict_chain(&ChainSetup::default(), &p, &input, 1e-3, &[1.0], &options);
+    if let Ok(u) = result {
+        assert!(u.condition_number.is_finite() || u.intervals.is_none());
+    }
+    let bad = ChainOptions {
+        known_masses: vec![5],
+        ..ChainOptions::default()
+    };
+    let err = predict_chain(&two_storey(), &truth(), &input, 1e-3, &[1.0, 1.0], &bad).unwrap_err();
+    assert!(err.to_string().contains("known_masses contains 5"), "{err}");
+}

@@ -54,6 +54,16 @@ pub fn predict_chain(
         outputs,
     };
     record.validate(setup)?;
+    if let Some(&m) = options
+        .known_masses
+        .iter()
+        .find(|&&m| !(1..=setup.masses).contains(&m))
+    {
+        return Err(setup_error(format!(
+            "known_masses contains {m}: expected masses from 1 to {}",
+            setup.masses
+        )));
+    }
     let layout = Layout::new(setup, &options.known_masses, truth);
     let delays: Vec<f64> = setup
         .sensors
@@ -72,7 +82,8 @@ pub fn predict_chain(
     enough_rows(rows, layout.len())?;
     let theta = layout.theta(truth, &delays);
     let mut jacobian = DMatrix::zeros(rows, layout.len());
-    if !problem.jacobian(&theta, &mut jacobian) {
+    // Non-finite sensitivities (absurd parameter ratios) would stall the SVD below.
+    if !problem.jacobian(&theta, &mut jacobian) || jacobian.iter().any(|v| !v.is_finite()) {
         return Err(IdentError::EstimationFailed {
             reason: "the chain's sensitivities cannot be computed at the planned plant".into(),
         });
