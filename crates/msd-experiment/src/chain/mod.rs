@@ -1,6 +1,6 @@
 //! A `[chain]` run: a chain of masses tested in the time domain. The records are
 //! simulated through the sensors as tested (delays, filters, noise), msd-ident's
-//! [`fit_chain`](msd_ident::fit_chain) fits every m, c, k (and the delays asked for),
+//! [`fit_chain`] fits every m, c, k (and the delays asked for),
 //! and where a sensor has a delay or a filter the same records are fitted again as if it
 //! had none, to show what ignoring it would have cost.
 
