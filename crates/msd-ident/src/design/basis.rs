@@ -8,11 +8,13 @@
 //! the state is exactly the steady state Re(Z a e^{iωτ}), Z = (iωI − A)⁻¹b, minus the free
 //! response e^{A(τ−τ_a)} Re(Z a e^{iωτ_a}); a tone windowed on [τ_a, τ_b) adds the free
 //! response from τ_b; a step d at τ_s gives d·(z_dc − e^{A(τ−τ_s)} z_dc), z_dc = −A⁻¹b.
-//! So per plant only Z per line, z_dc and the free responses C·e^{A n dt} (n = 0 … N−1)
-//! are needed, and the steady-state sums over the lines of the record's frequency
-//! grid (j/(M·dt), M = N − 1) are one inverse FFT of length M per output. Exact in
+//! So per plant only Z per line, z_dc and the free responses C·e^{A n dt} (n = 0, 1, … until
+//! they settle) are needed, and the steady-state sums over the lines of the multisine's
+//! frequency grid (j/(M·dt), M its period: the record's N − 1 samples, or less for a long
+//! record that repeats it) are one inverse FFT of length M per output. Exact in
 //! continuous time; the sampled force differs from the continuous one only by the hold
-//! between samples.
+//! between samples. Between the edges, once the free responses have settled, every series
+//! repeats with period M: only the samples of one period are kept there (see [`Layout`]).
 
 use crate::{Parameters, Result};
 use msd_ode::{ExactSimulator, Hold, SMatrix, SVector};
@@ -24,30 +26,76 @@ use std::sync::Arc;
 pub(crate) const OUTPUTS: usize = 4;
 const STATE_OF_OUTPUT: [usize; OUTPUTS] = [0, 2, 4, 6];
 
-/// Where the design's amplitudes sit, on which grid.
+/// Where the design's amplitudes sit, on which grid, and which samples stand for the
+/// record.
+///
+/// ## Kept samples
+/// After the free responses of the segment edges and the step have died out, every
+/// series is periodic (period M) between two edges. So only the samples up to one period
+/// past each edge's settling are kept; a kept sample after the settling stands for
+/// itself and its repetitions every M samples up to the next edge (its weight), and every
+/// sum over the record is a weighted sum over the kept samples. Without repetitions (a
+/// record of one period) every sample is kept, with weight 1.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Layout {
     /// Samples N of the record.
     pub samples: usize,
     /// Sampling interval, s.
     pub dt: f64,
-    /// The excited lines, as indices j of the grid j/(M·dt), M = N − 1.
+    /// The multisine's period M, in samples: N − 1 (the record) or less.
+    pub period: usize,
+    /// The excited lines, as indices j of the grid j/(M·dt).
     pub lines: Vec<usize>,
     /// The segments' sample windows [a, b); the last ends at N.
     pub segments: Vec<(usize, usize)>,
     /// The sample of the step, if any.
     pub step: Option<usize>,
+    /// The kept samples, ascending.
+    pub kept: Vec<usize>,
+    /// How many samples of the record each kept sample stands for.
+    pub weights: Vec<f64>,
 }
 
 impl Layout {
-    /// The period M of the grid, in samples.
-    pub fn period(&self) -> usize {
-        self.samples - 1
-    }
-
     /// ω of line `l`, rad/s.
     pub fn omega(&self, l: usize) -> f64 {
-        std::f64::consts::TAU * self.lines[l] as f64 / (self.period() as f64 * self.dt)
+        std::f64::consts::TAU * self.lines[l] as f64 / (self.period as f64 * self.dt)
+    }
+
+    /// Keeps, between consecutive edges (the segments' ends and the step), the first
+    /// `settle` samples (where a free response may be alive) and one period after them;
+    /// the samples of that period stand for their repetitions up to the next edge.
+    pub fn keep(&mut self, settle: usize) {
+        let mut edges: Vec<usize> = self.segments.iter().map(|s| s.0).collect();
+        edges.extend(self.step);
+        edges.push(self.samples);
+        edges.sort_unstable();
+        edges.dedup();
+        let (m, span) = (self.period, settle.saturating_add(self.period));
+        self.kept.clear();
+        self.weights.clear();
+        for edge in edges.windows(2) {
+            let (u, v) = (edge[0], edge[1]);
+            for n in u..v.min(u.saturating_add(span)) {
+                self.kept.push(n);
+                let repeats = if n - u < settle {
+                    1
+                } else {
+                    (v - 1 - n) / m + 1
+                };
+                self.weights.push(repeats as f64);
+            }
+        }
+        debug_assert_eq!(
+            self.weights.iter().sum::<f64>(),
+            self.samples as f64,
+            "the kept samples stand for the record"
+        );
+    }
+
+    /// The kept samples' indices in `lo..hi`.
+    pub fn kept_within(&self, lo: usize, hi: usize) -> std::ops::Range<usize> {
+        self.kept.partition_point(|&n| n < lo)..self.kept.partition_point(|&n| n < hi)
     }
 
     /// Number of design variables: (Re, Im) per line and segment, then the step.
@@ -81,9 +129,15 @@ pub(crate) struct PlantBasis {
     pub dc_outputs: [f64; OUTPUTS],
     /// The static state z_dc = −A⁻¹b.
     pub dc_state: [f64; 8],
-    /// C·e^{A n dt}, n = 0 … N−1: each output's free response to each initial state.
+    /// C·e^{A n dt}, n = 0, 1, …: each output's free response to each initial state, up
+    /// to N − 1 or until e^{A n dt} has fallen below 10⁻¹⁶ of its largest norm (the
+    /// responses' settling).
     pub free: Vec<[[f64; 8]; OUTPUTS]>,
 }
+
+/// The free responses are cut where ‖e^{A n dt}‖ has fallen below this share of its
+/// largest value: what is left is below the rounding of the sums it enters.
+const SETTLED: f64 = 1e-16;
 
 impl PlantBasis {
     /// The blocks of `plant` on `layout`'s grid.
@@ -95,10 +149,17 @@ impl PlantBasis {
         for (o, r) in row.iter_mut().enumerate() {
             r[STATE_OF_OUTPUT[o]] = scale[o];
         }
-        let mut free = Vec::with_capacity(layout.samples);
+        let mut free = Vec::new();
+        let (mut power, mut largest) = (SMatrix::<f64, 8, 8>::identity(), 0.0f64);
         for _ in 0..layout.samples {
+            let norm = power.norm();
+            largest = largest.max(norm);
+            if norm < SETTLED * largest {
+                break;
+            }
             free.push(row);
             row = row.map(|r| std::array::from_fn(|j| (0..8).map(|i| r[i] * phi[(i, j)]).sum()));
+            power *= phi;
         }
         let dc = model.a.lu().solve(&model.b).map(|z| -z);
         let dc_state: [f64; 8] = std::array::from_fn(|i| dc.map_or(0.0, |z| z[i]));
@@ -155,8 +216,8 @@ impl Transform {
         }
     }
 
-    /// a[n] += Re Σ_l c_l e^{iω_l n dt} and b[n] += Re Σ_l d_l e^{iω_l n dt} for n in
-    /// `lo..hi`, with (c_l, d_l) = `coefficients(l)`: one FFT for two real series, c at
+    /// a[n] += Re Σ_l c_l e^{iω_l n dt} and b[n] += Re Σ_l d_l e^{iω_l n dt} for the kept
+    /// n in `lo..hi`, with (c_l, d_l) = `coefficients(l)`: one FFT for two real series, c at
     /// bin j and its conjugate at M − j for the real part, d the same for the imaginary.
     pub fn add_lines(
         &mut self,
@@ -176,17 +237,19 @@ impl Transform {
         }
         self.fft
             .process_with_scratch(&mut self.buffer, &mut self.scratch);
-        for (n, o) in a.iter_mut().enumerate().take(hi).skip(lo) {
+        let kept = layout.kept_within(lo, hi);
+        for (&n, o) in layout.kept[kept.clone()].iter().zip(&mut a[kept.clone()]) {
             *o += self.buffer[n % m].re;
         }
         if let Some(b) = b {
-            for (n, o) in b.iter_mut().enumerate().take(hi).skip(lo) {
+            for (&n, o) in layout.kept[kept.clone()].iter().zip(&mut b[kept]) {
                 *o += self.buffer[n % m].im;
             }
         }
     }
 
-    /// p_l = Σ_{n in lo..hi} a[n] e^{iω_l n dt} and q_l the same of b, for every line: one
+    /// p_l = Σ_{n in lo..hi} a[n] e^{iω_l n dt} and q_l the same of b, for every line (each
+    /// kept sample with its weight): one
     /// FFT of a + i·b, split by conjugate symmetry.
     pub fn project_lines(
         &mut self,
@@ -198,8 +261,10 @@ impl Transform {
     ) {
         let m = self.buffer.len();
         self.buffer.fill(Complex64::default());
-        for n in lo..hi {
-            self.buffer[n % m] += Complex64::new(a[n], b.map_or(0.0, |b| b[n]));
+        for i in layout.kept_within(lo, hi) {
+            let weight = layout.weights[i];
+            self.buffer[layout.kept[i] % m] +=
+                weight * Complex64::new(a[i], b.map_or(0.0, |b| b[i]));
         }
         self.fft
             .process_with_scratch(&mut self.buffer, &mut self.scratch);
@@ -211,19 +276,21 @@ impl Transform {
     }
 }
 
-/// outs[k][n] += sign·F_{os[k]}(n − a)·z for n ≥ a: the outputs' free response from the
-/// state z at sample a, in one pass over the free responses.
+/// outs[k][n] += sign·F_{os[k]}(n − a)·z for the kept samples n ≥ a while the free
+/// response lasts: the outputs' free response from the state z at sample a, in one pass
+/// over the free responses (a kept sample within it stands for itself only).
 pub(crate) fn add_free(
-    free: &[[[f64; 8]; OUTPUTS]],
+    (layout, free): (&Layout, &[[[f64; 8]; OUTPUTS]]),
     os: &[usize],
     z: &[f64; 8],
     a: usize,
     sign: f64,
     outs: &mut [Vec<f64>],
 ) {
-    for (n, f) in (a..outs[0].len()).zip(free) {
+    for i in layout.kept_within(a, a.saturating_add(free.len())) {
+        let f = &free[layout.kept[i] - a];
         for (out, &o) in outs.iter_mut().zip(os) {
-            out[n] += sign * dot8(&f[o], z);
+            out[i] += sign * dot8(&f[o], z);
         }
     }
 }
@@ -231,15 +298,20 @@ pub(crate) fn add_free(
 /// ζ += Σ_k Σ_{n ≥ a} v[k][n]·F_{os[k]}(n − a): the adjoint of [`add_free`] (without its
 /// sign).
 pub(crate) fn project_free(
-    free: &[[[f64; 8]; OUTPUTS]],
+    (layout, free): (&Layout, &[[[f64; 8]; OUTPUTS]]),
     os: &[usize],
     v: &[Vec<f64>],
     a: usize,
     zeta: &mut [f64; 8],
 ) {
-    for (n, f) in (a..v[0].len()).zip(free) {
+    for i in layout.kept_within(a, a.saturating_add(free.len())) {
+        let f = &free[layout.kept[i] - a];
+        debug_assert_eq!(
+            layout.weights[i], 1.0,
+            "a free response on a repeated sample"
+        );
         for (v, &o) in v.iter().zip(os) {
-            let x = v[n];
+            let x = v[i];
             for i in 0..8 {
                 zeta[i] += x * f[o][i];
             }

@@ -2,17 +2,20 @@
 //! m, c and k within the limits of the test rig, before the test is run.
 //!
 //! ## The family
-//! A multisine on the record's frequency grid (lines j/T, T the record length) over a
-//! band, with an amplitude and phase per line, optionally in several time segments with
-//! their own amplitudes and phases, plus an optional step (for the static stiffness).
+//! A multisine on the frequency grid of its period (lines j/T, T the record length, or for
+//! a long record a shorter period it repeats: [`DesignOptions::period`]) over a band,
+//! with an amplitude and phase per line, optionally in several time segments with their
+//! own amplitudes and phases, plus an optional step (for the static stiffness).
 //!
 //! ## The algorithm
 //! * The Fisher information of the relative parameters (m/m₀, c/c₀, k/k₀) comes from the
 //!   exact sensitivities, by superposition: the response of each line, segment edge and
 //!   step is computed once per plant (steady state by frequency response, transients
 //!   from the free response of the 8-state sensitivity system), the sums over lines are
-//!   inverse FFTs. A design's information and its exact gradient cost a few FFTs per
-//!   plant; no ODE is solved while optimising.
+//!   inverse FFTs of the period's length. Once the free responses have settled, the
+//!   series repeat with the period, so a long record costs one period and the settling
+//!   after each edge, whatever its length. A design's information and its exact gradient
+//!   cost a few FFTs per plant; no ODE is solved while optimising.
 //! * The cost is the criterion (D: det, A: trace, minimax: worst diagonal of the
 //!   inverse information) combined over the plants, plus twice the log of a smooth
 //!   maximum of the force, stroke and RMS ratios to their limits (and a penalty on a
@@ -49,8 +52,8 @@ mod signal;
 
 pub use compare::InputComparison;
 pub use options::{
-    Aggregate, Criterion, DesignConstraints, DesignOptions, Normalise, RobustBox, StepOption,
-    StrokeOn,
+    Aggregate, Criterion, DesignConstraints, DesignOptions, LONGEST_PERIOD, Normalise, RobustBox,
+    StepOption, StrokeOn,
 };
 
 use crate::{Excitation, Parameters, Result};
@@ -147,12 +150,13 @@ pub fn design_input(
     options: &DesignOptions,
 ) -> Result<Design> {
     options.validate(prior, reference)?;
-    let layout = signal::layout(options, reference);
+    let mut layout = signal::layout(options, reference);
     let plants = plants(prior, &options.robust, options.seed)?;
     let bases = plants
         .iter()
         .map(|p| PlantBasis::new(p, &layout))
         .collect::<Result<Vec<_>>>()?;
+    layout.keep(bases.iter().map(|b| b.free.len()).max().unwrap_or(0));
     let c = &options.constraints;
     let limits = Limits {
         force: c.max_force,

@@ -61,7 +61,7 @@ impl<'a> Objective<'a> {
         criterion: Criterion,
         aggregate: Aggregate,
     ) -> Self {
-        let n = layout.samples;
+        let n = layout.kept.len();
         Self {
             layout,
             plants,
@@ -70,7 +70,7 @@ impl<'a> Objective<'a> {
             aggregate,
             sharpness: 8.0,
             units: vec![[1.0; 3]; plants.len()],
-            transform: Transform::new(layout.period()),
+            transform: Transform::new(layout.period),
             force: vec![0.0; n],
             strokes: vec![vec![0.0; n]; limits.stroke_plants.clamp(1, plants.len())],
             sens: plants
@@ -111,9 +111,10 @@ impl<'a> Objective<'a> {
         }
         if let Some(n_s) = layout.step {
             let d = layout.step_amplitude(w);
-            force[n_s..].iter_mut().for_each(|u| *u += d);
+            let from = layout.kept_within(n_s, layout.samples).start;
+            force[from..].iter_mut().for_each(|u| *u += d);
             for (basis, x) in self.plants.iter().zip(strokes.iter_mut()) {
-                step(basis, d, n_s, &[0], std::slice::from_mut(x));
+                step((layout, basis), d, n_s, &[0], std::slice::from_mut(x));
             }
         }
         (&self.force, &self.strokes[0])
@@ -139,9 +140,10 @@ impl<'a> Objective<'a> {
             free_edges(layout, basis, w, s, &SENSITIVITIES, outs);
         }
         if let Some(n_s) = layout.step {
-            step(basis, layout.step_amplitude(w), n_s, &SENSITIVITIES, outs);
+            let d = layout.step_amplitude(w);
+            step((layout, basis), d, n_s, &SENSITIVITIES, outs);
         }
-        gram(&self.sens[p])
+        gram(&self.sens[p], &layout.weights)
     }
 
     /// The cost at `w` and its gradient into `grad`.
@@ -158,7 +160,7 @@ impl<'a> Objective<'a> {
         for (p, weight) in weights.iter().enumerate() {
             let g = 2.0 * weight * self.parts[p].1;
             let sens = &self.sens[p];
-            for n in 0..self.layout.samples {
+            for n in 0..self.layout.kept.len() {
                 let j = [sens[0][n], sens[1][n], sens[2][n]];
                 for (o, adjoint) in self.adjoint.iter_mut().enumerate() {
                     adjoint[n] = (0..3).map(|c| g[(o, c)] * j[c]).sum();
@@ -179,8 +181,12 @@ impl<'a> Objective<'a> {
             ..
         } = self.limits;
         let _ = self.signals(w);
-        let n = self.layout.samples as f64;
-        let rms = (self.force.iter().map(|u| u * u).sum::<f64>() / n).sqrt();
+        let (n, weights) = (self.layout.samples as f64, &self.layout.weights);
+        let rms = (self.force.iter().zip(weights))
+            .map(|(u, w)| w * u * u)
+            .sum::<f64>()
+            / n;
+        let rms = rms.sqrt();
         let rho = rms_force.map(|r| rms / r);
         let p = self.sharpness;
         let largest = (self.force.iter().map(|u| u.abs() / f_max))
@@ -190,18 +196,16 @@ impl<'a> Objective<'a> {
         if !(largest > 0.0 && largest.is_finite()) {
             return f64::INFINITY;
         }
-        let sum = (self
-            .force
-            .iter()
-            .map(|u| (u.abs() / f_max / largest).powf(p)))
-        .chain(
-            self.strokes
-                .iter()
-                .flatten()
-                .map(|x| (x.abs() / x_max / largest).powf(p)),
-        )
-        .chain(rho.map(|r| (r / largest).powf(p)))
-        .sum::<f64>();
+        let ratio = |e: f64, limit: f64| (e.abs() / limit / largest).powf(p);
+        let sum = (self.force.iter().zip(weights))
+            .map(|(u, w)| w * ratio(*u, f_max))
+            .chain(
+                self.strokes
+                    .iter()
+                    .flat_map(|x| x.iter().zip(weights).map(|(x, w)| w * ratio(*x, x_max))),
+            )
+            .chain(rho.map(|r| ratio(r, 1.0)))
+            .sum::<f64>();
         let r = largest * sum.powf(1.0 / p);
         // dΦ/d log r: 2, plus the step penalty's share.
         let d = self.layout.step_amplitude(w);
@@ -241,16 +245,17 @@ impl<'a> Objective<'a> {
     }
 }
 
-/// Σₙ J(n) J(n)ᵀ of the three sensitivity series.
-fn gram(s: &[Vec<f64>; 3]) -> Matrix3<f64> {
+/// Σₙ J(n) J(n)ᵀ of the three sensitivity series (each kept sample with its weight).
+fn gram(s: &[Vec<f64>; 3], weights: &[f64]) -> Matrix3<f64> {
     let mut g = [0.0; 6];
-    for ((a, b), c) in s[0].iter().zip(&s[1]).zip(&s[2]) {
-        g[0] += a * a;
-        g[1] += a * b;
-        g[2] += a * c;
-        g[3] += b * b;
-        g[4] += b * c;
-        g[5] += c * c;
+    for (((a, b), c), w) in s[0].iter().zip(&s[1]).zip(&s[2]).zip(weights) {
+        let wa = w * a;
+        g[0] += wa * a;
+        g[1] += wa * b;
+        g[2] += wa * c;
+        g[3] += w * b * b;
+        g[4] += w * b * c;
+        g[5] += w * c * c;
     }
     Matrix3::new(g[0], g[1], g[2], g[1], g[3], g[4], g[2], g[4], g[5])
 }
@@ -313,7 +318,7 @@ fn boundary_state(layout: &Layout, basis: &PlantBasis, w: &[f64], s: usize, n: u
 
 /// e^{iω_l n dt}, from the exact phase (j·n mod M)/M.
 fn rotation(layout: &Layout, l: usize, n: usize) -> Complex64 {
-    let m = layout.period();
+    let m = layout.period;
     let turn = ((layout.lines[l] * n) % m) as f64 / m as f64;
     Complex64::from_polar(1.0, std::f64::consts::TAU * turn)
 }
@@ -338,7 +343,8 @@ impl Objective<'_> {
             free_edges_adjoint(layout, basis, s, &SENSITIVITIES, &self.adjoint, grad);
         }
         if let Some(n_s) = layout.step {
-            grad[w.len() - 1] += step_adjoint(basis, n_s, &SENSITIVITIES, &self.adjoint);
+            let v = &self.adjoint;
+            grad[w.len() - 1] += step_adjoint((layout, basis), n_s, &SENSITIVITIES, v);
         }
     }
 
@@ -355,9 +361,9 @@ impl Objective<'_> {
             free_edges_adjoint(layout, basis, s, &[0], std::slice::from_ref(stroke), grad);
         }
         if let Some(n_s) = layout.step {
-            let steady: f64 = force[n_s..].iter().sum();
+            let steady = weighted_sum(layout, n_s, force);
             grad[w.len() - 1] +=
-                steady + step_adjoint(basis, n_s, &[0], std::slice::from_ref(stroke));
+                steady + step_adjoint((layout, basis), n_s, &[0], std::slice::from_ref(stroke));
         }
     }
 
@@ -373,7 +379,7 @@ impl Objective<'_> {
             free_edges_adjoint(layout, basis, s, &[0], std::slice::from_ref(v), grad);
         }
         if let Some(n_s) = layout.step {
-            grad[w.len() - 1] += step_adjoint(basis, n_s, &[0], std::slice::from_ref(v));
+            grad[w.len() - 1] += step_adjoint((layout, basis), n_s, &[0], std::slice::from_ref(v));
         }
     }
 }
@@ -390,7 +396,7 @@ fn free_edges(
 ) {
     let (a, b) = layout.segments[s];
     add_free(
-        &basis.free,
+        (layout, &basis.free),
         os,
         &boundary_state(layout, basis, w, s, a),
         a,
@@ -399,7 +405,7 @@ fn free_edges(
     );
     if b < layout.samples {
         add_free(
-            &basis.free,
+            (layout, &basis.free),
             os,
             &boundary_state(layout, basis, w, s, b),
             b,
@@ -425,7 +431,7 @@ fn free_edges_adjoint(
             continue;
         }
         let mut zeta = [0.0; 8];
-        project_free(&basis.free, os, v, n, &mut zeta);
+        project_free((layout, &basis.free), os, v, n, &mut zeta);
         for l in 0..lines {
             // z = Re Σ Z a e: dz/dRe a = Re(Z e), dz/dIm a = −Im(Z e).
             let e = rotation(layout, l, n);
@@ -442,26 +448,48 @@ fn free_edges_adjoint(
 }
 
 /// outs += d·(steady − free) of a step of height d at sample n_s, for outputs `os`.
-fn step(basis: &PlantBasis, d: f64, n_s: usize, os: &[usize], outs: &mut [Vec<f64>]) {
+fn step(
+    (layout, basis): (&Layout, &PlantBasis),
+    d: f64,
+    n_s: usize,
+    os: &[usize],
+    outs: &mut [Vec<f64>],
+) {
+    let from = layout.kept_within(n_s, layout.samples).start;
     for (out, &o) in outs.iter_mut().zip(os) {
-        out[n_s..]
+        out[from..]
             .iter_mut()
             .for_each(|y| *y += d * basis.dc_outputs[o]);
     }
-    add_free(&basis.free, os, &basis.dc_state, n_s, -d, outs);
+    add_free((layout, &basis.free), os, &basis.dc_state, n_s, -d, outs);
 }
 
 /// d(Σ v·outputs)/d(step height), the adjoint of [`step`].
-fn step_adjoint(basis: &PlantBasis, n_s: usize, os: &[usize], v: &[Vec<f64>]) -> f64 {
+fn step_adjoint(
+    (layout, basis): (&Layout, &PlantBasis),
+    n_s: usize,
+    os: &[usize],
+    v: &[Vec<f64>],
+) -> f64 {
     let mut zeta = [0.0; 8];
-    project_free(&basis.free, os, v, n_s, &mut zeta);
+    project_free((layout, &basis.free), os, v, n_s, &mut zeta);
     let free: f64 = zeta.iter().zip(&basis.dc_state).map(|(a, b)| a * b).sum();
     let steady: f64 = v
         .iter()
         .zip(os)
-        .map(|(v, &o)| v[n_s..].iter().sum::<f64>() * basis.dc_outputs[o])
+        .map(|(v, &o)| weighted_sum(layout, n_s, v) * basis.dc_outputs[o])
         .sum();
     steady - free
+}
+
+/// Σ_{n ≥ from} v[n] over the record: the kept samples from `from`, each with its weight.
+fn weighted_sum(layout: &Layout, from: usize, v: &[f64]) -> f64 {
+    let kept = layout.kept_within(from, layout.samples);
+    v[kept.clone()]
+        .iter()
+        .zip(&layout.weights[kept])
+        .map(|(v, w)| w * v)
+        .sum()
 }
 
 /// grad += d(Σ_n v·Re(T_l a_l e^{iω_l n dt}))/d(Re a, Im a) = (Re(T q), −Im(T q)), with

@@ -183,9 +183,15 @@ pub struct DesignOptions {
     pub normalise: Normalise,
     /// The limits.
     pub constraints: DesignConstraints,
-    /// Lines of the record's frequency grid in the band (spread evenly over the band's
-    /// lines when it has more). By default 60.
+    /// Lines of the multisine's frequency grid (every 1/period Hz) in the band (spread
+    /// evenly over the band's lines when it has more). By default 60.
     pub lines: usize,
+    /// The multisine's period, s: the record repeats it. By default the record, up to
+    /// [`LONGEST_PERIOD`] samples; a longer record is split into the fewest equal
+    /// periods of at most that many samples (a periodic input whose information is
+    /// counted on one period and its repetitions, not along the whole record).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period: Option<f64>,
     /// Time segments of equal length, each with its own amplitudes and phases. By
     /// default 1 (one multisine over the whole record).
     pub segments: usize,
@@ -206,6 +212,7 @@ impl Default for DesignOptions {
             normalise: Normalise::Prior,
             constraints: DesignConstraints::default(),
             lines: 60,
+            period: None,
             segments: 1,
             robust: RobustBox::default(),
             starts: 1,
@@ -237,7 +244,30 @@ fn at_least_one(key: &'static str, value: usize) -> Result<()> {
     }
 }
 
+/// The longest period, in samples, of a design's multisine by default.
+pub const LONGEST_PERIOD: usize = 65_536;
+
 impl DesignOptions {
+    /// The multisine's period in samples on the record of `reference` (see
+    /// [`period`](Self::period)).
+    ///
+    /// ```
+    /// use msd_ident::{Excitation, design::DesignOptions};
+    /// let short = Excitation::from_samples(0.0, 0.002, vec![0.0; 7501])?;
+    /// let long = Excitation::from_samples(0.0, 0.002, vec![0.0; 1_000_000])?;
+    /// let options = DesignOptions::default();
+    /// assert_eq!(options.period_samples(&short), 7500); // the record
+    /// assert_eq!(options.period_samples(&long), 62_500); // 16 periods of 125 s
+    /// # Ok::<(), msd_ident::IdentError>(())
+    /// ```
+    pub fn period_samples(&self, reference: &Excitation) -> usize {
+        let record = reference.len().max(2) - 1;
+        match self.period {
+            Some(t) => ((t / reference.dt()).round() as usize).clamp(1, record),
+            None => record.div_ceil(record.div_ceil(LONGEST_PERIOD)),
+        }
+    }
+
     /// Checks every field for a design on `prior` over the record of `reference`, each
     /// error naming its key.
     ///
@@ -259,6 +289,7 @@ impl DesignOptions {
         if let Some(rms) = c.max_rms_force {
             positive("constraints.max_rms_force", rms)?;
         }
+        self.validate_period(reference)?;
         self.validate_band(reference)?;
         if let Some(step) = c.step {
             self.validate_step(&step, prior, reference)?;
@@ -282,10 +313,26 @@ impl DesignOptions {
         at_least_one("iterations", self.iterations)
     }
 
+    fn validate_period(&self, reference: &Excitation) -> Result<()> {
+        let Some(period) = self.period else {
+            return Ok(());
+        };
+        let dt = reference.dt();
+        let record = dt * (reference.len().max(2) - 1) as f64;
+        if !(period.is_finite() && period >= 4.0 * dt && period <= record * (1.0 + 1e-12)) {
+            let expected = format!(
+                "a period of at least 4 samples ({} s) and at most the record, {record} s",
+                4.0 * dt
+            );
+            return Err(invalid("period", period, expected));
+        }
+        Ok(())
+    }
+
     fn validate_band(&self, reference: &Excitation) -> Result<()> {
         let [low, high] = self.constraints.band_hz;
         let nyquist = 0.5 / reference.dt();
-        let spacing = 1.0 / (reference.dt() * (reference.len().max(2) - 1) as f64);
+        let spacing = 1.0 / (reference.dt() * self.period_samples(reference) as f64);
         if !(low.is_finite() && low >= 0.0) {
             return Err(invalid("constraints.band_hz", low, "a lower edge ≥ 0 Hz"));
         }
@@ -301,7 +348,7 @@ impl DesignOptions {
         }
         if (high / spacing).floor() < (low / spacing).ceil().max(1.0) {
             let expected = format!(
-                "a band holding a line of the record's frequency grid (every {spacing:.4} Hz)"
+                "a band holding a line of the multisine's frequency grid (every {spacing:.4} Hz, 1/period)"
             );
             return Err(invalid("constraints.band_hz", high, expected));
         }

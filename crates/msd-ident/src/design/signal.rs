@@ -12,7 +12,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 /// The lines, segments and step of `options` on `reference`'s record (validated).
 pub(super) fn layout(options: &DesignOptions, reference: &Excitation) -> Layout {
     let (samples, dt) = (reference.len(), reference.dt());
-    let period = samples - 1;
+    let period = options.period_samples(reference);
     let spacing = 1.0 / (dt * period as f64);
     let [low, high] = options.constraints.band_hz;
     let first = ((low / spacing - 1e-9).ceil() as usize).max(1);
@@ -30,9 +30,9 @@ pub(super) fn layout(options: &DesignOptions, reference: &Excitation) -> Layout 
         picked.dedup();
         picked
     };
-    let s = options.segments;
+    let (s, record) = (options.segments, samples - 1);
     let edges: Vec<usize> = (0..=s)
-        .map(|i| (i * period).div_ceil(s).min(period))
+        .map(|i| (i * record).div_ceil(s).min(record))
         .collect();
     let mut segments: Vec<(usize, usize)> = edges.windows(2).map(|e| (e[0], e[1])).collect();
     if let Some(last) = segments.last_mut() {
@@ -45,9 +45,12 @@ pub(super) fn layout(options: &DesignOptions, reference: &Excitation) -> Layout 
     Layout {
         samples,
         dt,
+        period,
         lines,
         segments,
         step,
+        kept: (0..samples).collect(),
+        weights: vec![1.0; samples],
     }
 }
 

@@ -162,3 +162,80 @@ fn a_step_below_its_least_height_is_raised_to_it() {
     let ratio = (scaled.peak_force / 9.0).max(scaled.peak_strokes[0] / 0.1115);
     assert!(ratio <= 1.0 && ratio > 1.0 - 1e-6, "{ratio}");
 }
+
+/// A record of eight periods on a well-damped plant: the kept samples (the settling after
+/// each edge and one period) stand for the record. The cost and its gradient equal those
+/// summed over every sample, to the rounding of the sums (the free responses cut at 1e-16
+/// of their peak change nothing above it), and the gradient equals central differences.
+#[test]
+fn a_repeated_period_counts_as_the_whole_record() {
+    let reference = Excitation::from_samples(0.0, 0.01, vec![0.0; 2001]).unwrap();
+    let mut options = DesignOptions {
+        lines: 5,
+        segments: 2,
+        period: Some(2.5),
+        ..DesignOptions::default()
+    };
+    options.constraints.band_hz = [0.3, 3.0];
+    options.constraints.step = Some(StepOption {
+        time: 3.0,
+        min_amplitude: 0.0,
+    });
+    let every = signal::layout(&options, &reference);
+    assert_eq!(every.period, 250);
+    let plants = [Parameters {
+        mass: 1.0,
+        damping: 40.0,
+        stiffness: 400.0,
+    }];
+    let bases = [PlantBasis::new(&plants[0], &every).unwrap()];
+    let settle = bases[0].free.len();
+    assert!(settle < 400, "settles in {settle} samples");
+    let mut kept = every.clone();
+    kept.keep(settle);
+    assert!(kept.kept.len() < 1400, "{} kept", kept.kept.len());
+    assert_eq!(kept.weights.iter().sum::<f64>(), 2001.0);
+    let w = msd_signal::gaussian_noise(5, "test", 1.0, every.variables()).unwrap();
+    let limits = Limits {
+        force: 9.0,
+        stroke: 0.01,
+        rms_force: Some(5.0),
+        min_step: 1.0,
+        stroke_plants: 1,
+    };
+    let evaluate = |layout: &super::basis::Layout, w: &[f64]| {
+        let mut objective = Objective::new(
+            layout,
+            &bases,
+            limits,
+            Criterion::DOptimal,
+            Aggregate::Average,
+        );
+        let mut grad = vec![0.0; w.len()];
+        let cost = objective.evaluate(w, &mut grad);
+        (cost, grad, objective.information(w, 0))
+    };
+    let (cost, grad, fim) = evaluate(&every, &w);
+    let (kept_cost, kept_grad, kept_fim) = evaluate(&kept, &w);
+    let norm = grad.iter().map(|g| g * g).sum::<f64>().sqrt();
+    assert!(
+        (cost - kept_cost).abs() < 1e-12 * cost.abs().max(1.0),
+        "{cost} vs {kept_cost}"
+    );
+    assert!(
+        (fim - kept_fim).norm() < 1e-12 * fim.norm(),
+        "{fim} vs {kept_fim}"
+    );
+    for (i, (g, k)) in grad.iter().zip(&kept_grad).enumerate() {
+        assert!((g - k).abs() < 1e-11 * norm, "variable {i}: {g} vs {k}");
+        let h = 1e-6 * w[i].abs().max(1e-3);
+        let (mut up, mut down) = (w.clone(), w.clone());
+        up[i] += h;
+        down[i] -= h;
+        let diff = (evaluate(&kept, &up).0 - evaluate(&kept, &down).0) / (2.0 * h);
+        assert!(
+            (diff - k).abs() < 1e-5 * norm,
+            "variable {i}: {diff} vs {k}"
+        );
+    }
+}
