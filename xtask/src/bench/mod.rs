@@ -114,6 +114,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         derived.extend(silverbox_derived);
         rows.extend(frequency::frequency_domain(budget)?);
         rows.extend(design::design_rows(budget)?);
+        rows.extend(design::design_scaling(budget, &out_dir())?);
         let (mc, mc_derived) = rows::monte_carlo(budget, &experiment)?;
         rows.extend(mc);
         derived.extend(mc_derived);
