@@ -127,11 +127,18 @@ pub fn listing(dir: &Path) -> Vec<String> {
     names
 }
 
-/// Decodes a PNG and returns its size.
+/// Decodes a PNG (every row of its pixels) and returns its size.
 pub fn decode_png(path: &Path) -> (u32, u32) {
-    let image =
-        image::open(path).unwrap_or_else(|e| panic!("{} does not decode: {e}", path.display()));
-    (image.width(), image.height())
+    let decode = || -> Result<(u32, u32), String> {
+        let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+        let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+            .read_info()
+            .map_err(|e| e.to_string())?;
+        let mut pixels = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut pixels).map_err(|e| e.to_string())?;
+        Ok((info.width, info.height))
+    };
+    decode().unwrap_or_else(|e| panic!("{} does not decode: {e}", path.display()))
 }
 
 /// Parses an SVG as XML and returns the number of elements.

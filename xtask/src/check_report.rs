@@ -317,13 +317,23 @@ fn on_path(name: &str) -> Option<PathBuf> {
 
 /// The share of pixels that differ from the top-left pixel (the background).
 fn ink(png: &Path) -> Result<f64> {
-    let image = image::open(png)
-        .map_err(|e| fail(format!("cannot read the screenshot {}: {e}", png.display())))?
-        .to_rgb8();
-    let background = *image.get_pixel(0, 0);
-    let pixels = image.pixels().count().max(1);
-    let inked = image.pixels().filter(|p| **p != background).count();
-    Ok(inked as f64 / pixels as f64)
+    let unreadable = |e: String| fail(format!("cannot read the screenshot {}: {e}", png.display()));
+    let file = std::fs::File::open(png).map_err(|e| unreadable(e.to_string()))?;
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    // Palettes and bit depths below 8 expanded: every pixel is whole bytes.
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().map_err(|e| unreadable(e.to_string()))?;
+    let mut buffer = vec![0; reader.output_buffer_size()];
+    let info = reader
+        .next_frame(&mut buffer)
+        .map_err(|e| unreadable(e.to_string()))?;
+    let stride = info.color_type.samples() * usize::from(info.bit_depth as u8).div_ceil(8);
+    let pixels: Vec<&[u8]> = buffer[..info.buffer_size()].chunks_exact(stride).collect();
+    let Some(&background) = pixels.first() else {
+        return Ok(0.0);
+    };
+    let inked = pixels.iter().filter(|p| **p != background).count();
+    Ok(inked as f64 / pixels.len().max(1) as f64)
 }
 
 /// The page count of a PDF: the `/Count` of its page tree's root.

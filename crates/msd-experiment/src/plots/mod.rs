@@ -74,8 +74,12 @@ pub(crate) fn save(figure: &(impl Figure + Sync), dir: &Path) -> Result<()> {
     let svg = dir.join(format!("{}.svg", figure.name()));
     let (png, svg) = std::thread::scope(|s| {
         let png = s.spawn(|| {
-            let root = BitMapBackend::new(&png, figure.size()).into_drawing_area();
-            draw_on(figure, &root)
+            let (width, height) = figure.size();
+            let mut pixels = vec![0u8; 3 * width as usize * height as usize];
+            let root = BitMapBackend::with_buffer(&mut pixels, (width, height)).into_drawing_area();
+            draw_on(figure, &root)?;
+            drop(root);
+            write_png(&png, &pixels, (width, height))
         });
         let root = SVGBackend::new(&svg, figure.size()).into_drawing_area();
         let svg = draw_on(figure, &root);
@@ -86,6 +90,18 @@ pub(crate) fn save(figure: &(impl Figure + Sync), dir: &Path) -> Result<()> {
     });
     png.map_err(fail)?;
     svg.map_err(fail)
+}
+
+/// Encodes 8-bit RGB `pixels` as a PNG in memory, then writes it to `path` at once.
+fn write_png(path: &Path, pixels: &[u8], (width, height): (u32, u32)) -> Draw {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(text)?;
+    writer.write_image_data(pixels).map_err(text)?;
+    writer.finish().map_err(text)?;
+    std::fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Fills `root` white, draws `figure` on it and writes it out.
