@@ -64,6 +64,10 @@ enum Command {
         /// A result folder to check instead of running configs/paper.toml.
         dir: Option<PathBuf>,
     },
+    /// Time the first run as a new user meets it: git clone of this checkout's committed
+    /// state into a temporary folder, then `cargo xtask experiment configs/paper.toml`
+    /// there with its own target folder (offline: the crates must be downloaded).
+    BenchFirstRun,
     /// The measuring half of `bench`, run in release by `bench` itself.
     #[command(hide = true)]
     BenchRun(BenchArgs),
@@ -101,6 +105,10 @@ fn try_main() -> Result<(), ExperimentError> {
         Some(Command::FetchData(args)) => fetch_data(&args),
         Some(Command::Bench(args)) => bench_in_release(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
+        Some(Command::BenchFirstRun) => {
+            println!("{}", xtask::bench::first_run::first_run()?);
+            Ok(())
+        }
         Some(Command::CheckReport { dir }) => check_report(dir),
         Some(Command::BenchPeakMemory { config }) => {
             println!("{:.1}", xtask::bench::pipeline_peak_memory(&config)?);

@@ -28,6 +28,7 @@
 mod chain;
 mod design;
 mod dynamometer;
+pub mod first_run;
 mod frequency;
 pub mod harness;
 pub mod report;
