@@ -49,11 +49,7 @@ pub fn design_scaling(budget: &Budget, dir: &std::path::Path) -> Result<Vec<Row>
     let text = std::fs::read_to_string(&shipped)
         .map_err(|e| ExperimentError::run("bench: design-paper.toml", e))?;
     std::fs::create_dir_all(dir).map_err(|e| ExperimentError::run("bench: write", e))?;
-    let budget = Budget {
-        time: std::time::Duration::ZERO,
-        min_reps: budget.min_reps.min(3),
-        max_reps: budget.min_reps.min(3),
-    };
+    let budget = super::growth::few(budget);
     let mut rows = Vec::new();
     for samples in [10_000usize, 100_000, 1_000_000] {
         let duration = (samples - 1) as f64 * 0.002;

@@ -30,6 +30,7 @@ mod design;
 mod dynamometer;
 pub mod first_run;
 mod frequency;
+mod growth;
 pub mod harness;
 pub mod report;
 mod rows;
@@ -116,6 +117,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         rows.extend(frequency::frequency_domain(budget)?);
         rows.extend(design::design_rows(budget)?);
         rows.extend(design::design_scaling(budget, &out_dir())?);
+        rows.extend(growth::growth_rows(budget, &out_dir().join("growth"))?);
         let (mc, mc_derived) = rows::monte_carlo(budget, &experiment)?;
         rows.extend(mc);
         derived.extend(mc_derived);

@@ -249,9 +249,16 @@ fn bad_constraints_are_refused_by_their_key() {
     let err = refused(|o| o.constraints.band_hz = [0.01, 0.05]);
     assert!(
         err.to_string()
-            .contains("a line of the record's frequency grid"),
+            .contains("a line of the multisine's frequency grid"),
         "{err}"
     );
+    for period in [0.0, 0.005, 16.0, f64::NAN] {
+        let err = refused(|o| o.period = Some(period));
+        assert!(
+            matches!(err, IdentError::InvalidDesign { key: "period", .. }),
+            "{err}"
+        );
+    }
     let err = refused(|o| o.robust.spread = 1.5);
     assert!(
         matches!(
