@@ -87,19 +87,68 @@ impl PlannedInformation {
         excitation: &Excitation,
         options: &EstimationOptions,
     ) -> Result<Self> {
+        let (jacobian, information) = Self::new_rows(plant, excitation, options)?;
+        Ok(Self {
+            normal: jacobian.transpose() * &jacobian,
+            ..information
+        })
+    }
+
+    /// The information of the first `lengths[i]` samples of a record of `excitation`
+    /// (each at most its length), from one simulation of the whole record: the first rows
+    /// of its sensitivities. A prefix differs from a record that ends there only by the
+    /// input's interpolation at that end (the cubic hold reads the samples after it).
+    ///
+    /// ```
+    /// use msd_ident::{EstimationOptions, Excitation, Parameters, PlannedInformation};
+    /// use msd_signal::paper_identification_input;
+    /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
+    /// let options = EstimationOptions::default();
+    /// let [short, whole] = PlannedInformation::prefixes(&Parameters::PAPER, &input, &options, [5001, 7501])?;
+    /// let direct = PlannedInformation::new(&Parameters::PAPER, &input, &options)?;
+    /// assert!((&whole.normal - &direct.normal).norm() <= 1e-12 * direct.normal.norm());
+    /// assert_eq!(short.samples, 5001);
+    /// assert!(whole.normal[(1, 1)] > short.normal[(1, 1)]);
+    /// # Ok::<(), msd_ident::IdentError>(())
+    /// ```
+    pub fn prefixes<const K: usize>(
+        plant: &Parameters,
+        excitation: &Excitation,
+        options: &EstimationOptions,
+        lengths: [usize; K],
+    ) -> Result<[Self; K]> {
+        let (jacobian, information) = Self::new_rows(plant, excitation, options)?;
+        Ok(lengths.map(|n| {
+            let rows = jacobian.rows(0, n.clamp(1, jacobian.nrows()));
+            Self {
+                normal: rows.tr_mul(&rows),
+                samples: rows.nrows(),
+                ..information.clone()
+            }
+        }))
+    }
+
+    /// The output Jacobian of the record, and the rest of its information (`normal`
+    /// left empty).
+    fn new_rows(
+        plant: &Parameters,
+        excitation: &Excitation,
+        options: &EstimationOptions,
+    ) -> Result<(DMatrix<f64>, Self)> {
         plant.validate()?;
         let data = crate::DataSet::new("plan", excitation.clone(), vec![0.0; excitation.len()])?;
         let layout = Layout::new(options, false);
         let plant = layout.apply_fixed(plant);
         let values = layout.pack(&plant, options.initial_state, options.offset);
         let jacobian = output_jacobian(&data, &layout, &values)?;
-        Ok(Self {
-            normal: jacobian.transpose() * &jacobian,
+        let information = Self {
+            normal: DMatrix::zeros(0, 0),
             samples: jacobian.nrows(),
             layout,
             plant,
             values,
-        })
+        };
+        Ok((jacobian, information))
     }
 
     /// The predicted uncertainty with white measurement noise of standard deviation
