@@ -99,3 +99,23 @@ pub fn growth_rows(budget: &Budget, dir: &Path) -> Result<Vec<Row>> {
     }
     Ok(rows)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The variants the rows time are the shipped files with the one key changed, and
+    /// they load.
+    #[test]
+    fn the_variants_change_one_key_and_load() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = variant(dir.path(), "paper.toml", "duration", "19.998", 10_000).unwrap();
+        let config = Config::load(&path).unwrap();
+        assert_eq!(config.time.map(|t| t.samples()), Some(10_000));
+        let path = variant(dir.path(), "repeats.toml", "records", "10", 10).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text.lines().filter(|l| *l == "records = 10").count(), 1);
+        Config::load(&path).unwrap();
+        assert!(variant(dir.path(), "paper.toml", "no_such_key", "1", 1).is_err());
+    }
+}
