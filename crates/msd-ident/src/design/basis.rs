@@ -287,12 +287,11 @@ pub(crate) fn add_free(
     sign: f64,
     outs: &mut [Vec<f64>],
 ) {
-    for i in layout.kept_within(a, a.saturating_add(free.len())) {
-        let f = &free[layout.kept[i] - a];
+    each_free(layout, free, a, |i, f| {
         for (out, &o) in outs.iter_mut().zip(os) {
             out[i] += sign * dot8(&f[o], z);
         }
-    }
+    });
 }
 
 /// ζ += Σ_k Σ_{n ≥ a} v[k][n]·F_{os[k]}(n − a): the adjoint of [`add_free`] (without its
@@ -304,18 +303,38 @@ pub(crate) fn project_free(
     a: usize,
     zeta: &mut [f64; 8],
 ) {
-    for i in layout.kept_within(a, a.saturating_add(free.len())) {
-        let f = &free[layout.kept[i] - a];
+    each_free(layout, free, a, |i, f| {
         debug_assert_eq!(
             layout.weights[i], 1.0,
             "a free response on a repeated sample"
         );
         for (v, &o) in v.iter().zip(os) {
             let x = v[i];
-            for i in 0..8 {
-                zeta[i] += x * f[o][i];
+            for (zeta, f) in zeta.iter_mut().zip(&f[o]) {
+                *zeta += x * f;
             }
         }
+    });
+}
+
+/// Calls `each(i, F(n − a))` for the kept samples i (at n) in a … a + the free response's
+/// length, in order: a plain walk where they are consecutive samples (every sample kept,
+/// or one interval's), by index otherwise.
+#[inline(always)]
+fn each_free<'f>(
+    layout: &Layout,
+    free: &'f [[[f64; 8]; OUTPUTS]],
+    a: usize,
+    mut each: impl FnMut(usize, &'f [[f64; 8]; OUTPUTS]),
+) {
+    let kept = layout.kept_within(a, a.saturating_add(free.len()));
+    let Some(&first) = layout.kept.get(kept.start).filter(|_| !kept.is_empty()) else {
+        return;
+    };
+    if layout.kept[kept.end - 1] - first == kept.len() - 1 {
+        kept.zip(&free[first - a..]).for_each(|(i, f)| each(i, f));
+    } else {
+        kept.for_each(|i| each(i, &free[layout.kept[i] - a]));
     }
 }
 
