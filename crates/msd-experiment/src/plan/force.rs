@@ -19,7 +19,7 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
             ));
         }
     };
-    let (information, excitation, growth) = predict_growing(config, config_path, time)?;
+    let (information, excitation) = predict(config, config_path)?;
     let uncertainty = information
         .uncertainty(sigma)
         .map_err(|e| planned(config_path, e))?;
@@ -27,7 +27,7 @@ pub(super) fn plan(config: &Config, config_path: &Path, options: &PlanOptions) -
     let verified = verify(config, config_path, options)?;
     // Only a search for a longer record needs to know how the information grows.
     let steady = match now.iter().any(|w| *w > options.target) {
-        true => steady_growth(config, config_path, time, &information, growth)?,
+        true => steady_growth(config, config_path, time, (&information, &excitation))?,
         false => None,
     };
     let mut search = Widths::new(
@@ -116,49 +116,41 @@ fn predict(config: &Config, config_path: &Path) -> Result<(PlannedInformation, E
     Ok((information, excitation))
 }
 
-/// [`predict`], and where the input does not depend on the record's length (its samples
-/// on the record lengthened by half begin with the record's own), the information of
-/// the record lengthened by a quarter and by half from one simulation of the longer
-/// (the quarter its first rows: it differs from its own record only by the input's
-/// interpolation at the end, far below [`STEADY`] on records long enough to need it):
-/// what [`steady_growth`] compares.
-fn predict_growing(
+/// The information of the record lengthened by a quarter and by half. Where the input
+/// does not depend on the record's length (its samples on the record lengthened by half
+/// begin with the record's own), both come from one simulation of the longer (the
+/// quarter its first rows: it differs from its own record only by the input's
+/// interpolation at the end, far below [`STEADY`] on records long enough to need it);
+/// otherwise each is simulated.
+fn lengthened(
     config: &Config,
     config_path: &Path,
     time: TimeGrid,
-) -> Result<(
-    PlannedInformation,
-    Excitation,
-    Option<[PlannedInformation; 2]>,
-)> {
-    let samples = |factor: f64| {
-        let longer = with_duration(config, time, factor * time.duration);
-        longer.time.map_or(0, |t| t.samples())
-    };
-    let (record, quarter, half) = (time.samples(), samples(1.25), samples(1.5));
-    let (information, excitation) = predict(config, config_path)?;
-    let (Some(plant), true) = (&config.plant, half as f64 <= crate::budget::SAMPLES_HELD) else {
-        return Ok((information, excitation, None));
-    };
-    let longest = crate::data::identification_excitation(
-        &with_duration(config, time, 1.5 * time.duration),
-        config_path,
-    )?;
-    let same_start = longest.t0() == excitation.t0() && longest.dt() == excitation.dt();
+    excitation: &Excitation,
+) -> Result<[PlannedInformation; 2]> {
+    let longer = |factor: f64| with_duration(config, time, factor * time.duration);
+    let samples = |factor: f64| longer(factor).time.map_or(0, |t| t.samples());
+    let (quarter, half) = (samples(1.25), samples(1.5));
+    let longest = crate::data::identification_excitation(&longer(1.5), config_path)?;
     let n = excitation.len();
-    if !(same_start && n == record && quarter > n && longest.len() == half)
-        || longest.samples()[..n] != *excitation.samples()
-    {
-        return Ok((information, excitation, None));
+    let repeats_the_record = longest.t0() == excitation.t0()
+        && longest.dt() == excitation.dt()
+        && quarter > n
+        && longest.len() == half
+        && longest.samples()[..n] == *excitation.samples();
+    match (&config.plant, repeats_the_record) {
+        (Some(plant), true) => PlannedInformation::prefixes(
+            &plant.parameters(),
+            &longest,
+            &config.estimation,
+            [quarter, half],
+        )
+        .map_err(|e| planned(config_path, e)),
+        _ => Ok([
+            predict(&longer(1.25), config_path)?.0,
+            predict(&longer(1.5), config_path)?.0,
+        ]),
     }
-    let growth = PlannedInformation::prefixes(
-        &plant.parameters(),
-        &longest,
-        &config.estimation,
-        [quarter, half],
-    )
-    .map_err(|e| planned(config_path, e))?;
-    Ok((information, excitation, Some(growth)))
 }
 
 /// A prediction's error, as the config's.
@@ -176,19 +168,9 @@ fn steady_growth(
     config: &Config,
     config_path: &Path,
     time: TimeGrid,
-    information: &PlannedInformation,
-    growth: Option<[PlannedInformation; 2]>,
+    (information, excitation): (&PlannedInformation, &Excitation),
 ) -> Result<Option<PlannedInformation>> {
-    let at = |factor: f64| {
-        predict(
-            &with_duration(config, time, factor * time.duration),
-            config_path,
-        )
-    };
-    let [quarter, half] = match growth {
-        Some(growth) => growth,
-        None => [at(1.25)?.0, at(1.5)?.0],
-    };
+    let [quarter, half] = lengthened(config, config_path, time, excitation)?;
     let rate = |later: &PlannedInformation| {
         let added = (later.samples - information.samples) as f64;
         (&later.normal - &information.normal) / added
