@@ -17,6 +17,7 @@ CRATES = [
     ("msd-ode", "OdeError"),
     ("msd-signal", "SignalError"),
     ("msd-opt", "OptError"),
+    ("msd-modal", "ModalError"),
     ("msd-ident", "IdentError"),
     ("msd-mc", "McError"),
 ]

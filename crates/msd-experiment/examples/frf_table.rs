@@ -16,7 +16,7 @@ use std::fmt::Write;
 pub fn stepped_sine_table() -> String {
     let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     let f: Vec<f64> = (0..30).map(|i| 0.3 * 10f64.powf(i as f64 / 29.0)).collect();
-    let frf = msd_ident::frf::synthetic_frequency_response(&f, 0.01, 21, |f| plant.receptance(f))
+    let frf = msd_modal::synthetic_frequency_response(&f, 0.01, 21, |f| plant.receptance(f))
         .expect("a valid synthetic response");
     let mut text = String::from(
         "# The paper's plant by a stepped sine: receptance with 1 % complex noise (seed 21),\n# written by msd-experiment's example frf_table.\nfrequency_hz,magnitude_m_per_n,phase_deg\n",

@@ -21,7 +21,7 @@ pub fn frf_2dof() -> UffFile {
         response_at: 2,
     };
     let f: Vec<f64> = (1..=200).map(|i| 0.25 * i as f64).collect();
-    let frf = msd_ident::frf::synthetic_frequency_response(&f, 0.01, 21, |f| plant.receptance(f))
+    let frf = msd_modal::synthetic_frequency_response(&f, 0.01, 21, |f| plant.receptance(f))
         .expect("a valid synthetic response");
     let values = frf.h.iter().map(|h| (h.re, h.im)).collect();
     let mut function = Function58::new(

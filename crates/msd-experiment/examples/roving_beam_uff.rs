@@ -9,7 +9,7 @@
 //!
 //!     cargo run -p msd-experiment --example roving_beam_uff
 
-use msd_ident::frf::{ModalParameters, synthetic_frequency_response};
+use msd_modal::{ModalParameters, synthetic_frequency_response};
 use msd_uff::{
     Abscissa, Analysis55, Data55, Function58, FunctionType, Node, Ordinate, Precision, UffFile,
 };

@@ -291,7 +291,7 @@ pub struct FrequencySection {
     pub data: RecordChoice,
     /// Fit band in Hz; by default chosen from the input's power.
     #[serde(skip_serializing_if = "Option::is_none")]
-    #[serde(default, deserialize_with = "msd_ident::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub band_hz: Option<[f64; 2]>,
     /// Share of the input's peak DFT power that marks a frequency as excited.
     /// By default 0.01.
@@ -343,7 +343,7 @@ pub struct MonteCarloSection {
     /// Half-width of the uniform draw around θ̂, as a fraction. By default 0.10 (±10 %).
     pub spread: f64,
     /// Lower and upper percentile of the band, in percent. By default [5, 95] (90 %).
-    #[serde(deserialize_with = "msd_ident::pair::exactly_two")]
+    #[serde(deserialize_with = "msd_signal::pair::exactly_two")]
     pub percentiles: [f64; 2],
     /// Worker threads. By default 2 (`--threads` overrides).
     pub threads: usize,
@@ -586,14 +586,14 @@ pub struct Range {
     #[serde(
         default,
         skip_serializing_if = "Option::is_none",
-        deserialize_with = "msd_ident::pair::optional"
+        deserialize_with = "msd_signal::pair::optional"
     )]
     pub range: Option<[usize; 2]>,
     /// Times `[start, end)`, in seconds on the record's own time axis.
     #[serde(
         default,
         skip_serializing_if = "Option::is_none",
-        deserialize_with = "msd_ident::pair::optional"
+        deserialize_with = "msd_signal::pair::optional"
     )]
     pub time: Option<[f64; 2]>,
     /// Leading samples used only to settle the initial state, not scored (validation).
@@ -1254,7 +1254,12 @@ fn library_error(section: &str, error: msd_ident::IdentError) -> (String, String
             name,
             value,
             expected,
-        } => (
+        }
+        | msd_ident::IdentError::Modal(msd_modal::ModalError::InvalidParameter {
+            name,
+            value,
+            expected,
+        }) => (
             format!("{section}.{name}"),
             format!(" = {value}: expected {expected}"),
         ),

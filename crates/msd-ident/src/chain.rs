@@ -1,6 +1,10 @@
-//! A chain of masses (M, C, K): its receptance, its modes (from the eigenvalues of its
-//! state matrix) and its exact response to a sampled force, for the frequency-response
-//! sources that simulate one.
+//! A chain of masses (M, C, K), one to eight, as a lab's two-storey rig or tuned mass
+//! damper: the setup (a force on any mass or the base's acceleration; displacement,
+//! velocity or acceleration sensors with delays and low-pass filters), its exact
+//! simulation ([`simulate_chain`]), the fit of every m, c, k from measured records with
+//! intervals and modes ([`fit_chain`]), the Cramér–Rao prediction for planning
+//! ([`predict_chain`]); and [`ChainPlant`]: the receptance, modes and response of a chain
+//! for the frequency-response sources that simulate one.
 
 mod fit;
 mod model;
@@ -18,7 +22,7 @@ pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};
 pub use uncertainty::{ChainIntervals, ChainUncertainty};
 
-use crate::frf::ModalParameters;
+use msd_modal::ModalParameters;
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};

@@ -1,5 +1,6 @@
 //! The one error type of this crate; errors of the layers below convert into it.
 
+use msd_modal::ModalError;
 use msd_ode::OdeError;
 use msd_opt::OptError;
 use msd_signal::SignalError;
@@ -93,30 +94,6 @@ pub enum IdentError {
         /// Why, in words.
         reason: String,
     },
-    /// The stabilization diagram holds fewer modes at peaks of the data than the fit
-    /// needs (none, or fewer than `mode_count`): why, in words, and the diagram itself,
-    /// so that a failed selection can still be drawn and looked at.
-    ///
-    /// ```
-    /// use msd_ident::{IdentError, ModalOptions, fit_modes};
-    /// use msd_signal::{Complex64, FrequencyResponseEstimate};
-    /// // A smooth response with no mode in it.
-    /// let f: Vec<f64> = (1..=200).map(|i| i as f64).collect();
-    /// let h = f.iter().map(|&f| Complex64::new(1.0 + 1e-3 * f, 0.0)).collect();
-    /// let err = fit_modes(&FrequencyResponseEstimate::new(f, h)?, &ModalOptions::default()).unwrap_err();
-    /// let IdentError::TooFewModes { diagram, .. } = &err else { panic!("{err}") };
-    /// assert_eq!(diagram.orders.len(), 20); // orders 2, 4, …, 40, drawn as usual
-    /// assert!(err.to_string().contains("no mode is stable"));
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    #[error("parameters are not identifiable from these data: {reason}")]
-    TooFewModes {
-        /// Why, in words: the candidate columns, the likely cause and the keys to change.
-        reason: String,
-        /// The diagram as computed, with its candidate columns and no (or too few)
-        /// selected modes.
-        diagram: Box<crate::frf::StabilizationDiagram>,
-    },
     /// The estimator ran but did not produce a usable estimate.
     #[error("estimation failed: {reason}")]
     EstimationFailed {
@@ -180,6 +157,9 @@ pub enum IdentError {
     /// From the optimisation layer.
     #[error(transparent)]
     Opt(#[from] OptError),
+    /// An error from msd-modal (a modal fit's lines, its diagram, too few modes).
+    #[error(transparent)]
+    Modal(#[from] ModalError),
 }
 
 fn channel_suffix(channel: &Option<String>) -> String {

@@ -20,9 +20,9 @@
 //!   with their noise levels estimated; several [`Record`]s of one rig with
 //!   leave-one-record-out validation; what each setup identifies said in
 //!   [`PlantIntervals`](records::PlantIntervals), its Cramér–Rao prediction by [`predicted_records_uncertainty`](records::predicted_records_uncertainty);
-//! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals), the
-//!   classroom [`half_power`](frf::half_power) estimates, the [`stabilization_diagram`](frf::stabilization_diagram) and [`fit_modes`]
-//!   (several modes with intervals);
+//! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals, the
+//!   classroom half-power estimate beside them); the modal fits (stabilization diagram,
+//!   several modes, sets and shapes) are msd-modal's;
 //! - imposed motion, measured force (a damper test machine): [`dynamometer()`] gives each
 //!   condition's loop energy, equivalent damping, storage stiffness and loss factor, and
 //!   fits and ranks the damping laws across all conditions;
@@ -74,7 +74,6 @@ mod least_squares;
 mod local;
 mod metrics;
 pub mod nonlinear;
-pub mod pair;
 mod params;
 pub mod records;
 pub mod residuals;
@@ -100,7 +99,7 @@ pub use estimate::{
 };
 pub use free_decay::{FreeDecay, FreeDecayOptions, KnownParameter, ResponseQuantity, free_decay};
 pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check};
-pub use frf::{ModalFit, ModalOptions, OneModeFit, OneModeOptions, fit_modes, fit_one_mode};
+pub use frf::{OneModeFit, OneModeOptions, fit_one_mode};
 pub use metrics::{FTest, FitMetrics};
 /// The solver types that appear in this crate's options and results: how a sampled
 /// input is held between samples, ode45's step counts, and why Levenberg–Marquardt

@@ -46,6 +46,7 @@ pub mod lbfgs;
 pub mod levenberg_marquardt;
 pub mod multistart;
 pub mod nelder_mead;
+pub mod statistics;
 
 pub use bounds::Bounds;
 pub use error::{OptError, ThreadPoolError};
@@ -60,3 +61,4 @@ pub use multistart::{
 pub use nelder_mead::{
     NelderMeadExit, NelderMeadOptions, NelderMeadResult, Step, TRACE_HEADER, TraceRow, nelder_mead,
 };
+pub use statistics::Interval;

@@ -2,6 +2,7 @@
 
 use msd_experiment::ExperimentError;
 use msd_ident::IdentError;
+use msd_modal::ModalError;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::{PyErr, create_exception};
 
@@ -19,14 +20,19 @@ fn cannot_identify(e: &IdentError) -> bool {
     matches!(
         e,
         IdentError::NotIdentifiable { .. }
-            | IdentError::TooFewModes { .. }
             | IdentError::EstimationFailed { .. }
+            | IdentError::Modal(
+                ModalError::NotIdentifiable { .. }
+                    | ModalError::TooFewModes { .. }
+                    | ModalError::EstimationFailed { .. }
+            )
     )
 }
 
-/// msd-ident's error: `IdentificationError` for a fit that cannot identify, else
-/// `ValueError`.
-pub fn ident(e: IdentError) -> PyErr {
+/// msd-ident's (or msd-modal's) error: `IdentificationError` for a fit that cannot
+/// identify, else `ValueError`.
+pub fn ident(e: impl Into<IdentError>) -> PyErr {
+    let e = e.into();
     if cannot_identify(&e) {
         IdentificationError::new_err(e.to_string())
     } else {

@@ -3,8 +3,9 @@
 
 use crate::convert::{array, options, result_dict, vec_f64};
 use crate::errors;
-use msd_ident::frf::{Dof, SetMember};
-use msd_ident::{ModalOptions, OneModeOptions};
+use msd_modal::{Dof, SetMember};
+use msd_ident::OneModeOptions;
+use msd_modal::ModalOptions;
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, FrfOptions};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -165,7 +166,7 @@ pub fn modal_fit<'py>(
             }
             let e = estimates.pop().expect("one estimate");
             let fit = py
-                .detach(|| msd_ident::fit_modes(&e, &opts))
+                .detach(|| msd_modal::fit_modes(&e, &opts))
                 .map_err(errors::ident)?;
             let dict = result_dict(py, &fit, &[])?;
             dict.set_item("summary", fit.to_string())?;
@@ -196,7 +197,7 @@ pub fn modal_fit<'py>(
                 })
                 .collect();
             let fit = py
-                .detach(|| msd_ident::frf::fit_mode_set(&members, &opts))
+                .detach(|| msd_modal::fit_mode_set(&members, &opts))
                 .map_err(errors::ident)?;
             let dict = result_dict(py, &fit, &[])?;
             dict.set_item("summary", fit.to_string())?;

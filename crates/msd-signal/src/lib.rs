@@ -8,6 +8,7 @@
 //!   describe themselves in TOML; [`paper_identification_input`] and
 //!   [`paper_validation_input`] are the paper experiment's two inputs.
 //! * [`noise`]: seeded Gaussian white noise in named, independent ChaCha streams.
+//! * [`pair`]: strict `[low, high]` pairs for configs read with serde.
 //! * [`preprocess`]: mean/offset and trend removal, moving average, decimation,
 //!   resampling onto a uniform grid, each refusing bad data with a clear error.
 //! * [`spectral`]: Welch PSD, cross spectrum, H1 frequency-response estimate and
@@ -66,6 +67,7 @@
 pub mod error;
 pub mod frf;
 pub mod noise;
+pub mod pair;
 pub mod paper;
 pub mod preprocess;
 pub mod signal;

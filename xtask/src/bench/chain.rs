@@ -33,12 +33,15 @@ fn three_masses() -> Result<(ChainSetup, ChainRecord, ChainParameters)> {
     };
     let n = 10_000;
     let input = gaussian_noise(1, "chain/force", 1.0, n)
-        .map_err(|e| fail("bench: chain force")(e.into()))?;
+        .map_err(fail::<msd_signal::SignalError>("bench: chain force"))?;
     let clean = simulate_chain(&setup, &truth, &input, 2e-3).map_err(fail("bench: chain"))?;
     let mut outputs = Vec::new();
     for (j, y) in clean.iter().enumerate() {
-        let e = gaussian_noise(1, &format!("chain/{j}"), 0.02, n)
-            .map_err(|e| fail("bench: noise")(e.into()))?;
+        let e = gaussian_noise(1, &format!("chain/{j}"), 0.02, n).map_err(fail::<
+            msd_signal::SignalError,
+        >(
+            "bench: noise"
+        ))?;
         outputs.push(y.iter().zip(e).map(|(a, b)| a + b).collect());
     }
     let guess = ChainParameters {

@@ -6,11 +6,9 @@ use super::harness::{Budget, measure};
 use super::report::{Row, Target};
 use super::rows::fail;
 use crate::Result;
-use msd_ident::{
-    ModalOptions, fit_modes,
-    frf::{
-        Dof, FrfWeighting, ModalParameters, SetMember, fit_mode_set, synthetic_frequency_response,
-    },
+use msd_modal::{
+    Dof, FrfWeighting, ModalOptions, ModalParameters, SetMember, fit_mode_set, fit_modes,
+    synthetic_frequency_response,
 };
 
 /// Three modes (fn 10, 23, 41 Hz; ζ 1 %, 2 %, 0.5 %) in 2000 lines with 1 % noise:

@@ -20,8 +20,10 @@ use msd_ode::Hold;
 use std::path::Path;
 
 /// A library error as the bench's error, naming what was measured.
-pub(super) fn fail(what: &'static str) -> impl Fn(msd_ident::IdentError) -> ExperimentError {
-    move |e| ExperimentError::run(what, e)
+pub(super) fn fail<E: Into<msd_ident::IdentError>>(
+    what: &'static str,
+) -> impl Fn(E) -> ExperimentError {
+    move |e| ExperimentError::run(what, e.into())
 }
 
 /// One simulation (exact, ode45 RelTol 1e-6) and one cost evaluation (simulation + SSE)

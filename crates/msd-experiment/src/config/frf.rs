@@ -5,7 +5,7 @@
 //! A config with this section and no time-domain sections (`[plant]`, `[data]`, …) is a
 //! frequency-domain experiment of its own. Exactly one source: `sweep`, `hammer`,
 //! `shaker`, `table`, `uff` or `records`. One mode is fitted unless `[frequency_response.modes]`
-//! is given (msd-ident's [`OneModeOptions`] and [`ModalOptions`], as they are).
+//! is given (msd-ident's [`OneModeOptions`] and msd-modal's [`ModalOptions`], as they are).
 //!
 //! ```
 //! use msd_experiment::config::Config;
@@ -31,7 +31,8 @@
 //! ```
 
 use super::{Column, Config, default_true};
-use msd_ident::{ModalOptions, OneModeOptions};
+use msd_ident::OneModeOptions;
+use msd_modal::ModalOptions;
 use msd_signal::{FrfKind, FrfOptions, Signal};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -63,7 +64,7 @@ pub struct FrequencyResponseSection {
     pub table: Option<TableSource>,
     /// A set of measured FRFs of one test (`[[frequency_response.set]]`: one table
     /// each, with its `response` and `reference` DOFs): modes common to all of them,
-    /// with their shapes (msd-ident's `fit_mode_set`).
+    /// with their shapes (msd-modal's `fit_mode_set`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub set: Option<Vec<TableSource>>,
     /// A UFF file's dataset 58.
@@ -83,7 +84,7 @@ pub struct FrequencyResponseSection {
     /// every line, weights from the coherence.
     #[serde(default)]
     pub one_mode: OneModeOptions,
-    /// Several modes instead: msd-ident's [`ModalOptions`] (orders, tolerances,
+    /// Several modes instead: msd-modal's [`ModalOptions`] (orders, tolerances,
     /// `mode_count`, …). By default not given (one mode).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub modes: Option<ModalOptions>,
@@ -111,7 +112,7 @@ pub struct FrequencyResponseSection {
 }
 
 pub use msd_ident::ChainPlant;
-pub use msd_ident::frf::Dof;
+pub use msd_modal::Dof;
 
 /// A mode a set is compared with: fn, ζ and the shape over the set's roving DOFs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -139,12 +140,12 @@ pub enum Spacing {
 
 /// A stepped sine simulated on the plant: each line the exact response with complex
 /// noise of relative size `relative_noise` (msd-ident's
-/// [`synthetic_frequency_response`](msd_ident::frf::synthetic_frequency_response)).
+/// [`synthetic_frequency_response`](msd_modal::synthetic_frequency_response)).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepSource {
     /// First and last excitation frequency, Hz (0 < first < last).
-    #[serde(deserialize_with = "msd_ident::pair::exactly_two")]
+    #[serde(deserialize_with = "msd_signal::pair::exactly_two")]
     pub band_hz: [f64; 2],
     /// Number of excitation frequencies (≥ 4).
     pub lines: usize,

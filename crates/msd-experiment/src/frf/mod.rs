@@ -48,12 +48,10 @@ mod uff_out;
 
 use crate::config::{ChainPlant, Config};
 use crate::{ExperimentError, Result, RunOptions};
-use msd_ident::{
-    ModalFit, OneModeFit, fit_modes, fit_one_mode,
-    frf::{
-        Dof, HalfPower, ModalParameters, ModeIndicator, ModeSetFit, SetMember,
-        StabilizationDiagram, fit_mode_set, half_power, mode_indicator,
-    },
+use msd_ident::{OneModeFit, fit_one_mode};
+use msd_modal::{
+    Dof, HalfPower, ModalError, ModalFit, ModalParameters, ModeIndicator, ModeSetFit, SetMember,
+    StabilizationDiagram, fit_mode_set, fit_modes, half_power, mode_indicator,
 };
 use msd_signal::{FrequencyResponseEstimate, Window};
 use std::path::{Path, PathBuf};
@@ -195,7 +193,7 @@ pub(crate) fn run_keeping(
     let t = Instant::now();
     let fail = |e: msd_ident::IdentError| {
         let kept = match &e {
-            msd_ident::IdentError::TooFewModes { diagram, .. } => {
+            msd_ident::IdentError::Modal(ModalError::TooFewModes { diagram, .. }) => {
                 let members: Vec<_> = loaded.members.iter().map(|m| &m.frf).collect();
                 Some((
                     diagram.clone(),
@@ -229,10 +227,12 @@ pub(crate) fn run_keeping(
                 )));
             }
             FrfFit::Set(Box::new(
-                fit_mode_set(&loaded.members, &options).map_err(fail)?,
+                fit_mode_set(&loaded.members, &options).map_err(|e| fail(e.into()))?,
             ))
         }
-        Some(options) => FrfFit::Modes(Box::new(fit_modes(&loaded.frf, options).map_err(fail)?)),
+        Some(options) => FrfFit::Modes(Box::new(
+            fit_modes(&loaded.frf, options).map_err(|e| fail(e.into()))?,
+        )),
         None => {
             let fit = fit_one_mode(&loaded.frf, &section.one_mode).map_err(fail)?;
             if fit.negative_modal_constant && section.force_scale_known {
@@ -398,24 +398,26 @@ fn fit_failure(
         data.frequency[n - 1]
     );
     match e {
-        IdentError::TooFewSamples { got, needed, why } => ExperimentError::config(
-            key("band_hz"),
-            format!(
-                "{got} {why}: expected at least {needed} ({range}); widen the band, or measure more lines"
-            ),
-        ),
-        IdentError::InvalidParameter {
+        IdentError::Modal(ModalError::TooFewSamples { got, needed, why }) => {
+            ExperimentError::config(
+                key("band_hz"),
+                format!(
+                    "{got} {why}: expected at least {needed} ({range}); widen the band, or measure more lines"
+                ),
+            )
+        }
+        IdentError::Modal(ModalError::InvalidParameter {
             name,
             value,
             expected,
-        } => ExperimentError::config(key(name), format!("{value}: expected {expected}")),
+        }) => ExperimentError::config(key(name), format!("{value}: expected {expected}")),
         // With `mode_count`, the diagram held fewer modes at peaks than it asks for.
-        IdentError::TooFewModes { reason, .. } if count_given => {
+        IdentError::Modal(ModalError::TooFewModes { reason, .. }) if count_given => {
             ExperimentError::config(key("mode_count"), reason)
         }
         // The selection found nothing with these settings (the band, the orders, the
         // weighting): the keys to change are in the reason.
-        IdentError::TooFewModes { reason, .. } => ExperimentError::config(
+        IdentError::Modal(ModalError::TooFewModes { reason, .. }) => ExperimentError::config(
             format!("frequency_response.{part}"),
             format!("{reason} ({range})"),
         ),
@@ -449,7 +451,7 @@ pub fn reference_mac(m: &ModeSetFit, reference: &[crate::config::ReferenceMode])
                 .map(|&x| msd_signal::Complex64::new(x, 0.0))
                 .collect();
             if a.len() == b.len() {
-                msd_ident::frf::mac(&a, &b)
+                msd_modal::mac(&a, &b)
             } else {
                 f64::NAN
             }

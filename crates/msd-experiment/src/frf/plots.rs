@@ -43,7 +43,7 @@ pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>>
 /// Writes `frf_stabilization` (PNG and SVG) into `dir`: the diagram with `magnitude`
 /// (frequency, |H|) behind it.
 pub(crate) fn save_diagram(
-    diagram: &msd_ident::frf::StabilizationDiagram,
+    diagram: &msd_modal::StabilizationDiagram,
     magnitude: Vec<(f64, f64)>,
     dir: &Path,
 ) -> Result<()> {
@@ -300,7 +300,7 @@ pub(crate) fn summed_magnitude(
 
 /// The diagram, with the data's (summed) magnitude drawn behind it on a logarithmic
 /// scale spanning the orders' axis.
-struct Stabilization<'a>(&'a msd_ident::frf::StabilizationDiagram, Vec<(f64, f64)>);
+struct Stabilization<'a>(&'a msd_modal::StabilizationDiagram, Vec<(f64, f64)>);
 
 impl Figure for Stabilization<'_> {
     fn name(&self) -> &'static str {
@@ -328,7 +328,7 @@ impl Figure for Stabilization<'_> {
             .y_label_formatter(&tick)
             .draw()
             .map_err(text)?;
-        let pick = |keep: fn(&msd_ident::frf::DiagramPole) -> bool| -> Vec<(f64, f64)> {
+        let pick = |keep: fn(&msd_modal::DiagramPole) -> bool| -> Vec<(f64, f64)> {
             d.orders
                 .iter()
                 .flat_map(|o| {

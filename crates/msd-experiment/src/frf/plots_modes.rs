@@ -8,7 +8,7 @@ use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, save, suptitle, text, tick,
     title_style,
 };
-use msd_ident::frf::{ModeIndicator, ModeSetFit};
+use msd_modal::{ModeIndicator, ModeSetFit};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

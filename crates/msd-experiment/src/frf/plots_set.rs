@@ -7,7 +7,7 @@ use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, save, suptitle, text,
     tick, tick_style,
 };
-use msd_ident::frf::ModeSetFit;
+use msd_modal::ModeSetFit;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

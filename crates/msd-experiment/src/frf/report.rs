@@ -3,10 +3,8 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::fmt::sig;
-use msd_ident::{
-    Interval, ModalFit, OneModeFit,
-    frf::{HalfPower, ModalParameters},
-};
+use msd_ident::{Interval, OneModeFit};
+use msd_modal::{HalfPower, ModalFit, ModalParameters};
 use std::fmt::Write;
 
 /// "a of b quantities (names)": how many fitted fn and ζ (and m, c, k of a one-mass
@@ -335,7 +333,7 @@ pub(super) fn unreliable_note<'a>(
 /// What the exponential window did, stated: ζ as fitted and what was taken off.
 fn window_note(
     w: &mut String,
-    c: Option<&msd_ident::frf::WindowCorrection>,
+    c: Option<&msd_modal::WindowCorrection>,
     h: Option<&HalfPower>,
 ) -> std::fmt::Result {
     if let Some(c) = c {

@@ -4,7 +4,7 @@
 use super::FrfOutcome;
 use super::report::{classroom_cell, interval, truth_cell, unreliable_note};
 use crate::fmt::sig;
-use msd_ident::frf::{ModeSetFit, ShapeEntry};
+use msd_modal::{ModeSetFit, ShapeEntry};
 use std::fmt::Write;
 
 /// `## Modes` for a set.
@@ -67,7 +67,7 @@ fn reference_shapes_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result 
         return Ok(());
     };
     let c = &r.comparison;
-    let list = |dofs: &[msd_ident::frf::Dof]| {
+    let list = |dofs: &[msd_modal::Dof]| {
         let shown: Vec<String> = dofs.iter().take(6).map(ToString::to_string).collect();
         match dofs.len() {
             0 => "none".to_string(),
@@ -151,8 +151,8 @@ fn shapes_table(w: &mut String, m: &ModeSetFit) -> std::fmt::Result {
         w,
         "\n### Mode shapes\n\nEach shape scaled so that its largest entry is 1 (over the {} DOFs); written as UFF datasets 55 to `modes.uff`, and every FRF as the model synthesises it as datasets 58 to `synthesized.uff`.\n",
         match m.roving {
-            msd_ident::frf::Roving::Reference => "hammer's",
-            msd_ident::frf::Roving::Response => "responses'",
+            msd_modal::Roving::Reference => "hammer's",
+            msd_modal::Roving::Response => "responses'",
         }
     )?;
     write!(w, "| DOF |")?;

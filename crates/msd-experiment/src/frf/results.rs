@@ -4,13 +4,11 @@
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::config::{ChainPlant, Config};
 use crate::results::Experiment;
+use msd_ident::Interval;
 use msd_ident::LmExit;
-use msd_ident::{
-    Interval,
-    frf::{
-        Dof, HalfPower, MemberFit, ModalParameters, Mode, Roving, SetMode, StabilizationDiagram,
-        WindowCorrection,
-    },
+use msd_modal::{
+    Dof, HalfPower, MemberFit, ModalParameters, Mode, Roving, SetMode, StabilizationDiagram,
+    WindowCorrection,
 };
 use serde::Serialize;
 use serde_json::Value;

@@ -3,7 +3,7 @@
 //! 2411, `geometry`).
 
 use crate::{ExperimentError, Result};
-use msd_ident::frf::{ModeSetFit, ShapeComparison, ShapeEntry, compare_shapes};
+use msd_modal::{ModeSetFit, ShapeComparison, ShapeEntry, compare_shapes};
 use serde::Serialize;
 use std::path::Path;
 

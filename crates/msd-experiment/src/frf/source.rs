@@ -11,7 +11,7 @@ use crate::config::{
 };
 use crate::{ExperimentError, Result};
 use msd_ident::Hold;
-use msd_ident::frf::{Dof, SetMember};
+use msd_modal::{Dof, SetMember};
 use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};
 use std::path::Path;
 
@@ -73,7 +73,7 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
             Spacing::Linear => low + (high - low) * step(i),
         })
         .collect();
-    let frf = msd_ident::frf::synthetic_frequency_response(&f, s.relative_noise, seed, |f| {
+    let frf = msd_modal::synthetic_frequency_response(&f, s.relative_noise, seed, |f| {
         plant.receptance(f)
     })
     .map_err(run_error)?;

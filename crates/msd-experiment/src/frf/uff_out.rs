@@ -4,7 +4,7 @@
 
 use super::FrfOutcome;
 use crate::{ExperimentError, Result};
-use msd_ident::frf::{ModeSetFit, SetMode};
+use msd_modal::{ModeSetFit, SetMode};
 use msd_signal::FrfKind;
 use msd_uff::{Abscissa, Analysis55, Data55, Function58, FunctionType, Ordinate, UffFile};
 use std::f64::consts::TAU;

@@ -3,7 +3,7 @@
 
 use msd_experiment::config::Config;
 use msd_experiment::frf::{self, FrfFit};
-use msd_ident::frf::ModalParameters;
+use msd_modal::ModalParameters;
 use std::fmt::Write;
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 use super::problem::Layout;
 use super::setup::ChainParameters;
 use crate::Interval;
-use crate::least_squares::delta_variance;
+use msd_opt::statistics::delta_variance;
 use msd_signal::Complex64;
 use nalgebra::DMatrix;
 use serde::Serialize;

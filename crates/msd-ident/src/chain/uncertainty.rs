@@ -7,8 +7,8 @@ use super::modes::{ChainMode, modes_with_intervals};
 use super::problem::Layout;
 use super::setup::{ChainParameters, ChainSetup};
 use crate::Interval;
-use crate::least_squares::{Linearization, SINGULAR_CONDITION, correlation};
 use crate::uncertainty::t_975;
+use msd_opt::statistics::{Linearization, SINGULAR_CONDITION, correlation};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 

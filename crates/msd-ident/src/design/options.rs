@@ -101,7 +101,7 @@ pub struct DesignConstraints {
     /// let err = toml::from_str::<DesignConstraints>("band_hz = [0.5, 3.0, 9.0]").unwrap_err();
     /// assert!(err.to_string().contains("expected 2 values [low, high], got 3"), "{err}");
     /// ```
-    #[serde(deserialize_with = "crate::pair::exactly_two")]
+    #[serde(deserialize_with = "msd_signal::pair::exactly_two")]
     pub band_hz: [f64; 2],
     /// An optional step. By default none.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -6,9 +6,9 @@ use super::harmonics::derivative;
 use super::regression::{
     ACCELERATION, COULOMB, DISPLACEMENT, Normal, ONE, Prepared, QUADRATIC, VELOCITY, row, select,
 };
-use crate::least_squares::Linearization;
 use crate::uncertainty::t_975;
 use crate::{FitMetrics, IdentError, Interval, Result, nonlinear::DampingLaw};
+use msd_opt::statistics::Linearization;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 

@@ -65,13 +65,13 @@ impl FixedParameters {
 #[serde(deny_unknown_fields)]
 pub struct ParameterBounds {
     /// Bounds on the mass.
-    #[serde(default, deserialize_with = "crate::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub mass: Option<[f64; 2]>,
     /// Bounds on the damping.
-    #[serde(default, deserialize_with = "crate::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub damping: Option<[f64; 2]>,
     /// Bounds on the stiffness.
-    #[serde(default, deserialize_with = "crate::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub stiffness: Option<[f64; 2]>,
 }
 

@@ -18,9 +18,9 @@ mod classroom;
 
 pub use classroom::ClassroomEstimates;
 
-use crate::least_squares::{Linearization, delta_variance};
 use crate::uncertainty::t_975;
 use crate::{FitMetrics, IdentError, Interval, Result};
+use msd_opt::statistics::{Linearization, delta_variance};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};

@@ -49,7 +49,7 @@ use std::f64::consts::PI;
 #[serde(deny_unknown_fields, default)]
 pub struct FrequencyCheckOptions {
     /// Fit band in Hz; `None` picks it from the input's power. By default `None`.
-    #[serde(default, deserialize_with = "crate::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub band_hz: Option<[f64; 2]>,
     /// Share of the input's peak DFT power that marks a frequency as excited.
     /// By default 0.01.

@@ -9,16 +9,18 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::half_power::{HalfPower, half_power};
-use super::lines::{FrfWeighting, Lines, check_band, prepare};
-use super::window::WindowCorrection;
-use crate::uncertainty::{from_jacobian, t_975};
-use crate::{IdentError, Interval, PARAMETER_NAMES, Parameters, Result, Uncertainty};
+use crate::error::{IdentError, Result};
+use crate::params::{PARAMETER_NAMES, Parameters};
+use crate::uncertainty::{Uncertainty, from_jacobian};
+use msd_modal::lines::{FrfWeighting, Lines, check_band, prepare};
+use msd_modal::{HalfPower, WindowCorrection, half_power};
+use msd_opt::statistics::{Interval, t_975};
 
 /// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
 ///
 /// ```
-/// use msd_ident::{OneModeOptions, frf::FrfWeighting};
+/// use msd_ident::OneModeOptions;
+/// use msd_modal::FrfWeighting;
 /// let options: OneModeOptions = toml::from_str("band_hz = [0.5, 2.0]\nweighting = \"variance\"")?;
 /// assert_eq!(options.band_hz, Some([0.5, 2.0]));
 /// assert_eq!(options.weighting, FrfWeighting::Variance);
@@ -29,7 +31,7 @@ use crate::{IdentError, Interval, PARAMETER_NAMES, Parameters, Result, Uncertain
 #[serde(default, deny_unknown_fields)]
 pub struct OneModeOptions {
     /// The band to fit in Hz; `None` = every line above 0 Hz. By default `None`.
-    #[serde(default, deserialize_with = "crate::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub band_hz: Option<[f64; 2]>,
     /// How the lines are weighted. By default [`FrfWeighting::Coherence`].
     pub weighting: FrfWeighting,
@@ -38,7 +40,7 @@ pub struct OneModeOptions {
 impl OneModeOptions {
     /// Checks the band.
     pub fn validate(&self) -> Result<()> {
-        check_band(self.band_hz)
+        Ok(check_band(self.band_hz)?)
     }
 }
 
@@ -49,7 +51,8 @@ impl OneModeOptions {
 /// the half-power estimate; serializes with every field.
 ///
 /// ```
-/// use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response, frf::synthetic_frequency_response};
+/// use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response};
+/// use msd_modal::synthetic_frequency_response;
 /// let f: Vec<f64> = (0..40).map(|i| 0.25 + 0.0577 * i as f64).collect();
 /// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {
 ///     model_response(&Parameters::PAPER, std::f64::consts::TAU * f)
@@ -123,7 +126,7 @@ impl OneModeFit {
 impl std::fmt::Display for OneModeFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let (lines, band, iterations) = (self.lines, self.band_hz, self.iterations);
-        super::lines::fit_line(
+        msd_modal::lines::fit_line(
             f,
             "one mode",
             lines,

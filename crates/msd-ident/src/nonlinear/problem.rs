@@ -6,8 +6,9 @@ use super::estimate::NonlinearOptions;
 use super::model::{Forces, ModelStructure, NonlinearParameters};
 use super::rk4::Columns;
 use super::simulate::{NonlinearSimulation, NonlinearSolver, Simulator, checked_forces};
-use crate::least_squares::{self, Linearization};
+use crate::least_squares::SingularError;
 use crate::{DataSet, IdentError, InitialState, Interval, Parameters, Result};
+use msd_opt::statistics::{Linearization, correlation};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
 use nalgebra::DMatrix;
 
@@ -304,7 +305,7 @@ impl Statistics {
         let d = scaling.derivative(z);
         let in_z = linearization.covariance(sigma2);
         let covariance = DMatrix::from_fn(p, p, |r, c| d[r] * in_z[(r, c)] * d[c]);
-        let correlation = least_squares::correlation(&covariance);
+        let correlation = correlation(&covariance);
         Ok(Self {
             sse,
             dof,

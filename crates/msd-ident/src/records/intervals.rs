@@ -9,9 +9,10 @@
 
 use super::problem::Joint;
 use super::setup::Drive;
-use crate::least_squares::Linearization;
+use crate::least_squares::SingularError;
 use crate::uncertainty::t_975;
 use crate::{Interval, KnownParameter, Result};
+use msd_opt::statistics::Linearization;
 use nalgebra::{DMatrix, Matrix3};
 use serde::Serialize;
 use std::f64::consts::PI;

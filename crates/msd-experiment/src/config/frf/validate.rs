@@ -60,7 +60,7 @@ impl FrequencyResponseSection {
         match &self.modes {
             Some(m) => m
                 .validate()
-                .map_err(|e| library_error("frequency_response.modes", e)),
+                .map_err(|e| library_error("frequency_response.modes", e.into())),
             None => self
                 .one_mode
                 .validate()

@@ -1,11 +1,9 @@
-//! Fitting frequency responses: one mode from a noisy stepped sine (intervals and their
-//! coverage), an impact test with an exponential window, several modes.
+//! Fitting frequency responses as the one-mass plant: one mode from a noisy stepped sine
+//! (intervals and their coverage), an impact test with an exponential window. The modal
+//! fits are tested in msd-modal.
 
-mod beam;
 mod impact;
-mod modes;
 mod one_mode;
-mod real_hammer;
 
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 

@@ -2,11 +2,8 @@
 //! noise; the intervals and their coverage; the classroom estimates; refusals.
 
 use super::table;
-use msd_ident::{
-    IdentError, OneModeOptions, Parameters, fit_one_mode,
-    frequency::model_response,
-    frf::{FrfWeighting, half_power, synthetic_frequency_response},
-};
+use msd_ident::{IdentError, OneModeOptions, Parameters, fit_one_mode, frequency::model_response};
+use msd_modal::{FrfWeighting, ModalError, half_power, synthetic_frequency_response};
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use std::f64::consts::TAU;
 
@@ -134,7 +131,7 @@ fn the_classroom_estimates_sit_beside_the_fit() {
     // A band that cuts the peak off, or holds no peak.
     assert!(matches!(
         half_power(&frf, Some([1.2, 2.0])),
-        Err(IdentError::NotIdentifiable { .. })
+        Err(ModalError::NotIdentifiable { .. })
     ));
     let err = half_power(&frf, Some([1.05, 1.2])).expect_err("half-power points outside");
     assert!(err.to_string().contains("lies outside the band"), "{err}");
@@ -158,11 +155,11 @@ fn bad_inputs_are_refused_by_name() {
     };
     assert!(matches!(
         fit_one_mode(&sweep, &narrow),
-        Err(IdentError::TooFewSamples {
+        Err(IdentError::Modal(ModalError::TooFewSamples {
             got: 1,
             needed: 4,
             ..
-        })
+        }))
     ));
     let reversed = OneModeOptions {
         band_hz: Some([2.0, 1.0]),
@@ -170,10 +167,10 @@ fn bad_inputs_are_refused_by_name() {
     };
     assert!(matches!(
         fit_one_mode(&sweep, &reversed),
-        Err(IdentError::InvalidParameter {
+        Err(IdentError::Modal(ModalError::InvalidParameter {
             name: "band_hz[1]",
             ..
-        })
+        }))
     ));
     // A pure spring (no mass, no resonance): no mode to fit.
     let spring = table(&f, vec![Complex64::new(0.01, 0.0); f.len()]);
@@ -185,10 +182,10 @@ fn bad_inputs_are_refused_by_name() {
     short.coherence.pop();
     assert!(matches!(
         fit_one_mode(&short, &OneModeOptions::default()),
-        Err(IdentError::LengthMismatch {
+        Err(IdentError::Modal(ModalError::LengthMismatch {
             what: "coherence",
             ..
-        })
+        }))
     ));
 }
 

@@ -1,9 +1,10 @@
 //! Several modes: three modes (fn 10, 23, 41 Hz; ζ 1 %, 2 %, 0.5 %) in 2000 lines with
 //! 1 % noise; the stabilization diagram, the polished parameters and their intervals.
 
-use msd_ident::{
-    IdentError, ModalOptions, fit_modes,
-    frf::{FrfWeighting, ModalParameters, stabilization_diagram, synthetic_frequency_response},
+use msd_modal::ModalError;
+use msd_modal::{
+    FrfWeighting, ModalOptions, ModalParameters, fit_modes, stabilization_diagram,
+    synthetic_frequency_response,
 };
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 
@@ -134,7 +135,7 @@ fn the_diagram_flags_stable_poles_and_counts_orders() {
         ..OPTIONS
     };
     let err = stabilization_diagram(&noisy(2), &four).expect_err("not so many");
-    let IdentError::TooFewModes { diagram, reason } = &err else {
+    let ModalError::TooFewModes { diagram, reason } = &err else {
         panic!("{err}")
     };
     assert!(reason.contains("40 were asked for"), "{reason}");
@@ -218,7 +219,7 @@ fn bad_modal_options_are_refused_by_name() {
     for (options, name) in cases {
         let err = fit_modes(&frf, &options).expect_err(name);
         assert!(
-            matches!(err, IdentError::InvalidParameter { name: n, .. } if n == name),
+            matches!(err, ModalError::InvalidParameter { name: n, .. } if n == name),
             "{err}"
         );
     }
@@ -229,7 +230,7 @@ fn bad_modal_options_are_refused_by_name() {
     };
     assert!(matches!(
         fit_modes(&frf, &narrow),
-        Err(IdentError::TooFewSamples {
+        Err(ModalError::TooFewSamples {
             got: 37,
             needed: 41,
             ..

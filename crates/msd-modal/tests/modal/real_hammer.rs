@@ -2,8 +2,8 @@
 //! by `cargo xtask fetch-data impact-frf`): with default settings every clear mode is
 //! found, each against a local single-mode fit computed here independently.
 
-use msd_ident::frf::{Dof, Roving, SetMember, fit_mode_set};
-use msd_ident::{ModalFit, ModalOptions, fit_modes};
+use msd_modal::{Dof, Roving, SetMember, fit_mode_set};
+use msd_modal::{ModalFit, ModalOptions, fit_modes};
 use msd_opt::{LevenbergMarquardtOptions, ResidualFn, levenberg_marquardt};
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use std::f64::consts::TAU;

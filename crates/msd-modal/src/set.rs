@@ -6,21 +6,22 @@ use std::f64::consts::TAU;
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::{Deserialize, Serialize};
 
-use super::lines::{FrfWeighting, Lines, prepare};
-use super::modes::{ModalOptions, RefusedMode, drop_moved, moved_from_column, pole_intervals};
-use super::polish::{PER_MODE, lsfd, model};
-use super::set_poles::refine_poles;
-use super::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
-use super::stabilization::{StabilizationDiagram, StableMode, diagram_of_set};
-use super::window::WindowCorrection;
-use crate::uncertainty::t_975;
-use crate::{IdentError, Interval, Result};
+use crate::error::{ModalError, Result};
+use crate::lines::{FrfWeighting, Lines, prepare};
+use crate::modes::{ModalOptions, RefusedMode, drop_moved, moved_from_column, pole_intervals};
+use crate::polish::{PER_MODE, lsfd, model};
+use crate::set_poles::refine_poles;
+use crate::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
+use crate::stabilization::{StabilizationDiagram, StableMode, diagram_of_set};
+use crate::window::WindowCorrection;
+use msd_opt::statistics::Interval;
+use msd_opt::statistics::t_975;
 
 /// A measurement point and direction (as UFF numbers them: direction 1, 2, 3 = +X, +Y,
 /// +Z, negative for the opposite sense). Displays as `node:direction`, e.g. `3:+2`.
 ///
 /// ```
-/// use msd_ident::frf::Dof;
+/// use msd_modal::Dof;
 /// assert_eq!(Dof { node: 3, direction: -2 }.to_string(), "3:-2");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -84,7 +85,7 @@ pub struct SetMode {
     /// At how many orders of the diagram its column has a pole.
     pub stable_orders: usize,
     /// The modal constant A + jB of every member (receptance, as in
-    /// [`ModalParameters`](super::ModalParameters)), over the roving DOFs.
+    /// [`ModalParameters`](crate::ModalParameters)), over the roving DOFs.
     pub modal_constants: Vec<ShapeEntry>,
     /// The shape: the modal constants scaled so that the largest entry is 1.
     pub shape: Vec<ShapeEntry>,
@@ -167,7 +168,7 @@ impl ModeSetFit {
                 );
             }
             let a = m.modal_constants[member];
-            h += super::modal::term(&[wn, zeta, a.re, a.im], w);
+            h += crate::modal::term(&[wn, zeta, a.re, a.im], w);
         }
         h
     }
@@ -211,7 +212,7 @@ impl std::fmt::Display for ModeSetFit {
 
 /// Which DOF roves in `members`, and the driving point; errors name the member at fault.
 fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
-    let invalid = |reason: String| Err(IdentError::NotIdentifiable { reason });
+    let invalid = |reason: String| Err(ModalError::NotIdentifiable { reason });
     let Some(first) = members.first() else {
         return invalid("a set of frequency responses needs at least one member".into());
     };
@@ -259,7 +260,7 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 /// driving point — the modal masses.
 ///
 /// ## The method
-/// Each member's lines are prepared as for [`fit_modes`](super::fit_modes) (the same band
+/// Each member's lines are prepared as for [`fit_modes`](crate::fit_modes) (the same band
 /// and weighting). The stabilization diagram is that of a common denominator: the LSCF
 /// reduced normal matrices of the members summed (Peeters et al., "The PolyMAX
 /// frequency-domain method", 2004, for one reference), its columns selected at the peaks
@@ -271,10 +272,10 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 ///
 /// Errors: members on different lines or of different quantities, a pair of DOFs twice,
 /// members that share neither reference nor response, and those of
-/// [`fit_modes`](super::fit_modes).
+/// [`fit_modes`](crate::fit_modes).
 ///
 /// ```
-/// use msd_ident::{ModalOptions, frf::{fit_mode_set, mac, Dof, ModalParameters, SetMember}};
+/// use msd_modal::{ModalOptions, fit_mode_set, mac, Dof, ModalParameters, SetMember};
 /// use msd_signal::{Complex64, FrequencyResponseEstimate};
 /// // Two modes of a three-point structure, the force at point 1.
 /// let shapes = [[1.0, 0.8, 0.4], [1.0, -0.5, -1.0]];
@@ -296,7 +297,7 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 ///     assert!(mac(&estimated, &truth) > 0.9999);
 ///     assert!((mode.modal_mass.unwrap() - 1.0).abs() < 1e-6); // unit shapes, unit modal mass
 /// }
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<ModeSetFit> {
     options.validate()?;
@@ -307,7 +308,7 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
         .map(|m| prepare(&m.frf, options.band_hz, options.weighting, min_lines))
         .collect::<Result<_>>()?;
     if let Some(i) = lines.iter().position(|l| l.omega != lines[0].omega) {
-        return Err(IdentError::NotIdentifiable {
+        return Err(ModalError::NotIdentifiable {
             reason: format!(
                 "member {} keeps other lines than member 1 after weighting (a line without a usable weight in one of them); use weighting = \"uniform\"",
                 i + 1
@@ -317,7 +318,7 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
     let peaks = lines[0].summed_magnitudes(&lines);
     let diagram = diagram_of_set(&lines, &peaks, options)?;
     if diagram.modes.is_empty() {
-        return Err(IdentError::TooFewModes {
+        return Err(ModalError::TooFewModes {
             reason: format!(
                 "no mode is stable in the stabilization diagram of the set{}",
                 diagram.why_too_few(options)
@@ -361,7 +362,7 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
 
 /// What [`assemble`] builds the result from.
 struct Parts {
-    poles: super::set_poles::RefinedPoles,
+    poles: crate::set_poles::RefinedPoles,
     selected: Vec<StableMode>,
     refused: Vec<RefusedMode>,
     diagram: StabilizationDiagram,

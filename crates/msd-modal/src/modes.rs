@@ -8,20 +8,21 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use super::lines::Lines;
-use super::lines::{FrfWeighting, check_band, prepare};
-use super::modal::ModalParameters;
-use super::polish::{PER_MODE, Polished, lsfd, model, polish};
-use super::stabilization::{StabilizationDiagram, StableMode, diagram_of};
-use super::window::{WindowCorrection, unshift_pole};
-use crate::uncertainty::t_975;
-use crate::{IdentError, Interval, Result};
+use crate::error::{ModalError, Result};
+use crate::lines::Lines;
+use crate::lines::{FrfWeighting, check_band, prepare};
+use crate::modal::ModalParameters;
+use crate::polish::{PER_MODE, Polished, lsfd, model, polish};
+use crate::stabilization::{StabilizationDiagram, StableMode, diagram_of};
+use crate::window::{WindowCorrection, unshift_pole};
+use msd_opt::statistics::Interval;
+use msd_opt::statistics::t_975;
 
-/// Options of [`fit_modes`] and [`stabilization_diagram`](crate::frf::stabilization_diagram)
+/// Options of [`fit_modes`] and [`stabilization_diagram`](crate::stabilization_diagram)
 /// (in TOML: a table with any of these fields).
 ///
 /// ```
-/// use msd_ident::ModalOptions;
+/// use msd_modal::ModalOptions;
 /// let options: ModalOptions = toml::from_str("orders = [2, 60]\nmode_count = 2")?;
 /// assert_eq!((options.orders, options.order_step, options.mode_count), ([2, 60], 2, Some(2)));
 /// assert_eq!(options.frequency_tolerance, 0.01);
@@ -31,12 +32,12 @@ use crate::{IdentError, Interval, Result};
 #[serde(default, deny_unknown_fields)]
 pub struct ModalOptions {
     /// The band to fit in Hz; `None` = every line above 0 Hz. By default `None`.
-    #[serde(default, deserialize_with = "crate::pair::optional")]
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub band_hz: Option<[f64; 2]>,
     /// How the lines are weighted. By default [`FrfWeighting::Coherence`].
     pub weighting: FrfWeighting,
     /// The lowest and highest model order of the diagram. By default [2, 40].
-    #[serde(deserialize_with = "crate::pair::exactly_two")]
+    #[serde(deserialize_with = "msd_signal::pair::exactly_two")]
     pub orders: [usize; 2],
     /// The step between orders. By default 2 (the poles come in conjugate pairs).
     pub order_step: usize,
@@ -76,14 +77,14 @@ impl ModalOptions {
     /// Checks every option, naming the first out of range.
     ///
     /// ```
-    /// use msd_ident::{IdentError, ModalOptions};
+    /// use msd_modal::{ModalError, ModalOptions};
     /// let bad = ModalOptions { orders: [10, 4], ..ModalOptions::default() };
-    /// assert!(matches!(bad.validate(), Err(IdentError::InvalidParameter { name: "orders[1]", .. })));
+    /// assert!(matches!(bad.validate(), Err(ModalError::InvalidParameter { name: "orders[1]", .. })));
     /// ```
     pub fn validate(&self) -> Result<()> {
         check_band(self.band_hz)?;
         let invalid = |name, value: f64, expected| {
-            Err(IdentError::InvalidParameter {
+            Err(ModalError::InvalidParameter {
                 name,
                 value,
                 expected,
@@ -119,7 +120,7 @@ impl ModalOptions {
 /// One mode of a [`ModalFit`], every quantity with its 95 % interval.
 ///
 /// ```
-/// use msd_ident::{fit_modes, ModalOptions, frf::{synthetic_frequency_response, ModalParameters}};
+/// use msd_modal::{fit_modes, ModalOptions, synthetic_frequency_response, ModalParameters};
 /// let truth = ModalParameters { natural_frequency_hz: 12.0, damping_ratio: 0.02,
 ///     modal_constant: 0.5, modal_constant_imaginary: 0.0 };
 /// let f: Vec<f64> = (1..=400).map(|i| 0.05 * i as f64).collect();
@@ -128,7 +129,7 @@ impl ModalOptions {
 /// let mode = fit_modes(&frf, &options)?.modes[0];
 /// assert!((mode.parameters().natural_frequency_hz / 12.0 - 1.0).abs() < 1e-3);
 /// assert!(mode.stable_orders >= 5);
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Mode {
@@ -164,7 +165,7 @@ impl Mode {
 /// every field (the diagram included).
 ///
 /// ```
-/// use msd_ident::{fit_modes, ModalOptions, frf::{synthetic_frequency_response, ModalParameters}};
+/// use msd_modal::{fit_modes, ModalOptions, synthetic_frequency_response, ModalParameters};
 /// let modes = [(6.0, 0.02, 1.0), (15.0, 0.01, 0.3)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
 /// let f: Vec<f64> = (1..=800).map(|i| 0.025 * i as f64).collect();
@@ -176,7 +177,7 @@ impl Mode {
 /// assert_eq!(json["modes"][1]["natural_frequency_hz"]["value"], fit.modes[1].natural_frequency_hz.value);
 /// // The fitted model beside the data, for a Bode or Nyquist plot.
 /// assert!((fit.response(15.0) - frf.h[599]).norm() < 0.05 * frf.h[599].norm());
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModalFit {
@@ -240,7 +241,7 @@ impl std::fmt::Display for ModalFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let what = format!("{} modes", self.modes.len());
         let (lines, band, iterations) = (self.lines, self.band_hz, self.iterations);
-        super::lines::fit_line(
+        crate::lines::fit_line(
             f,
             &what,
             lines,
@@ -286,13 +287,13 @@ fn scientific(i: &Interval) -> String {
 /// Fits several modes to `frf` (converted to receptance): H(ω) = Σ_r H_r(ω) − L/ω² + U.
 ///
 /// ## The algorithm
-/// The [`stabilization_diagram`](crate::frf::stabilization_diagram) gives the poles (fn, ζ)
+/// The [`stabilization_diagram`](crate::stabilization_diagram) gives the poles (fn, ζ)
 /// of the selected modes; LSFD (linear least squares for fixed poles) the modal
 /// constants A + jB and the residual terms L and U; weights relative to |H| are then
-/// taken from this model rather than the measured |H| (as in [`fit_one_mode`](crate::fit_one_mode)),
+/// taken from this model rather than the measured |H| (as in msd-ident's `fit_one_mode`),
 /// and Levenberg–Marquardt (msd-opt, analytic Jacobian) polishes all 4M + 2 parameters
 /// at once. The covariance is s²(JᵀJ)⁻¹ with s² = SSE/(2K − p), times the estimate's
-/// noise bandwidth (as in [`fit_one_mode`](crate::fit_one_mode)), the intervals
+/// noise bandwidth (as in msd-ident's `fit_one_mode`), the intervals
 /// Student's t with 2K − p degrees of freedom. With an exponential window each pole is moved back
 /// by 1/τ ([`WindowCorrection`]) and its fn and ζ intervals follow by the delta method;
 /// the modal constants and residual terms are those of the windowed response.
@@ -301,7 +302,7 @@ fn scientific(i: &Interval) -> String {
 /// that does not converge.
 ///
 /// ```
-/// use msd_ident::{fit_modes, ModalOptions, frf::ModalParameters};
+/// use msd_modal::{fit_modes, ModalOptions, ModalParameters};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let truth = [(8.0, 0.02, 1.0), (17.0, 0.01, -0.5)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
@@ -327,7 +328,7 @@ pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Res
     )?;
     let diagram = diagram_of(&lines, options)?;
     if diagram.modes.is_empty() {
-        return Err(IdentError::TooFewModes {
+        return Err(ModalError::TooFewModes {
             reason: format!(
                 "no mode is stable in the stabilization diagram{}",
                 diagram.why_too_few(options)
@@ -390,7 +391,7 @@ fn polish_selected(
             .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
             .collect();
         if 2 * lines.omega.len() <= PER_MODE * poles.len() + 2 {
-            return Err(IdentError::TooFewSamples {
+            return Err(ModalError::TooFewSamples {
                 got: lines.omega.len(),
                 needed: (PER_MODE * poles.len() + 2) / 2 + 1,
                 why: "lines for the modal parameters of every stable mode",
@@ -424,7 +425,7 @@ pub(crate) fn drop_moved(
     refused.extend(moved);
     if selected.is_empty() {
         let list: Vec<String> = refused.iter().map(ToString::to_string).collect();
-        return Err(IdentError::NotIdentifiable {
+        return Err(ModalError::NotIdentifiable {
             reason: format!(
                 "the final fit moved every selected mode away from its column of the stabilization diagram: {}",
                 list.join("; ")
@@ -482,7 +483,7 @@ pub(crate) fn moved_from_column(
 /// column: it is not reported (see [`ModalFit::refused`]).
 ///
 /// ```
-/// use msd_ident::frf::RefusedMode;
+/// use msd_modal::RefusedMode;
 /// let r = RefusedMode { natural_frequency_hz: 278.68, fitted_hz: 142.17,
 ///     reason: "moved onto the mode selected at 142.1812 Hz".into() };
 /// assert!(r.to_string().starts_with("278.6800 Hz (fitted at 142.1700 Hz): moved onto"));

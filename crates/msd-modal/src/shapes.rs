@@ -1,7 +1,8 @@
 //! Mode shapes compared and judged: the modal assurance criterion (MAC) and the
 //! complexity of a shape (MPC, MPD).
 
-use super::set::{Dof, ShapeEntry};
+use crate::error::{ModalError, Result};
+use crate::set::{Dof, ShapeEntry};
 use msd_signal::Complex64;
 
 /// The modal assurance criterion of two shapes over the same DOFs:
@@ -9,7 +10,7 @@ use msd_signal::Complex64;
 /// orthogonal ones (Allemang & Brown, IMAC 1982). 0 when either shape is zero.
 ///
 /// ```
-/// use msd_ident::frf::mac;
+/// use msd_modal::mac;
 /// use msd_signal::Complex64;
 /// let a = [1.0, 2.0, -1.0].map(|x| Complex64::new(x, 0.0));
 /// let b = a.map(|x| x * Complex64::new(0.0, -3.0)); // the same shape, scaled and rotated
@@ -31,7 +32,7 @@ pub fn mac(a: &[Complex64], b: &[Complex64]) -> f64 {
 /// (the auto-MAC with `b = a`).
 ///
 /// ```
-/// use msd_ident::frf::mac_matrix;
+/// use msd_modal::mac_matrix;
 /// use msd_signal::Complex64;
 /// let shapes = vec![
 ///     [1.0, 1.0].map(|x| Complex64::new(x, 0.0)).to_vec(),
@@ -51,7 +52,7 @@ pub fn mac_matrix(a: &[Vec<Complex64>], b: &[Vec<Complex64>]) -> Vec<Vec<f64>> {
 /// Sxx = Σ Re², Syy = Σ Im², Sxy = Σ Re·Im. 0 for a zero shape.
 ///
 /// ```
-/// use msd_ident::frf::modal_phase_collinearity;
+/// use msd_modal::modal_phase_collinearity;
 /// use msd_signal::Complex64;
 /// let real = [1.0, -0.5, 0.2].map(|x| Complex64::from_polar(x, 0.3));
 /// assert!((modal_phase_collinearity(&real) - 1.0).abs() < 1e-14);
@@ -74,7 +75,7 @@ pub fn modal_phase_collinearity(shape: &[Complex64]) -> f64 {
 /// 180°); 0 for a real mode. 0 for a zero shape.
 ///
 /// ```
-/// use msd_ident::frf::mean_phase_deviation;
+/// use msd_modal::mean_phase_deviation;
 /// use msd_signal::Complex64;
 /// let real = [1.0, -0.5, 0.2].map(|x| Complex64::from_polar(x, 1.1));
 /// assert!(mean_phase_deviation(&real) < 1e-6);
@@ -110,7 +111,7 @@ fn principal_angle(shape: &[Complex64]) -> f64 {
 /// equal, and the first of them is the reference: the sign does not hang on rounding.
 ///
 /// ```
-/// use msd_ident::frf::unit_normalised;
+/// use msd_modal::unit_normalised;
 /// use msd_signal::Complex64;
 /// let shape = [Complex64::new(0.0, 2.0), Complex64::new(0.0, -1.0)];
 /// assert_eq!(unit_normalised(&shape), vec![Complex64::new(1.0, 0.0), Complex64::new(-0.5, 0.0)]);
@@ -170,7 +171,7 @@ impl ShapeComparison {
 /// one DOF is 1 for any pair of shapes).
 ///
 /// ```
-/// use msd_ident::frf::{ShapeEntry, compare_shapes};
+/// use msd_modal::{ShapeEntry, compare_shapes};
 /// let shape = |values: &[(u32, i32, f64)]| -> Vec<ShapeEntry> {
 ///     values.iter().map(|&(node, direction, re)| ShapeEntry { node, direction, re, im: 0.0 }).collect()
 /// };
@@ -182,38 +183,37 @@ impl ShapeComparison {
 /// assert!((c.mac[0][0] - 1.0).abs() < 1e-15);
 /// assert_eq!(c.only_first[0].node, 3);
 /// assert_eq!(c.only_second[0].node, 9);
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 pub fn compare_shapes(
     first: &[Vec<ShapeEntry>],
     second: &[Vec<ShapeEntry>],
-) -> crate::Result<ShapeComparison> {
-    let keyed =
-        |set: &[Vec<ShapeEntry>], name: &str| -> crate::Result<Vec<Vec<(Dof, Complex64)>>> {
-            set.iter()
-                .enumerate()
-                .map(|(i, shape)| {
-                    let mut out: Vec<(Dof, Complex64)> = Vec::with_capacity(shape.len());
-                    for e in shape {
-                        let sign = if e.direction < 0 { -1.0 } else { 1.0 };
-                        let dof = Dof {
-                            node: e.node,
-                            direction: e.direction.abs(),
-                        };
-                        if out.iter().any(|(d, _)| *d == dof) {
-                            return Err(crate::IdentError::NotIdentifiable {
-                                reason: format!(
-                                    "the {name} set's mode {} gives DOF {dof} twice",
-                                    i + 1
-                                ),
-                            });
-                        }
-                        out.push((dof, Complex64::new(sign * e.re, sign * e.im)));
+) -> Result<ShapeComparison> {
+    let keyed = |set: &[Vec<ShapeEntry>], name: &str| -> Result<Vec<Vec<(Dof, Complex64)>>> {
+        set.iter()
+            .enumerate()
+            .map(|(i, shape)| {
+                let mut out: Vec<(Dof, Complex64)> = Vec::with_capacity(shape.len());
+                for e in shape {
+                    let sign = if e.direction < 0 { -1.0 } else { 1.0 };
+                    let dof = Dof {
+                        node: e.node,
+                        direction: e.direction.abs(),
+                    };
+                    if out.iter().any(|(d, _)| *d == dof) {
+                        return Err(ModalError::NotIdentifiable {
+                            reason: format!(
+                                "the {name} set's mode {} gives DOF {dof} twice",
+                                i + 1
+                            ),
+                        });
                     }
-                    Ok(out)
-                })
-                .collect()
-        };
+                    out.push((dof, Complex64::new(sign * e.re, sign * e.im)));
+                }
+                Ok(out)
+            })
+            .collect()
+    };
     let (a, b) = (keyed(first, "first")?, keyed(second, "second")?);
     let dofs = |set: &[Vec<(Dof, Complex64)>]| -> Vec<Dof> {
         let mut all: Vec<Dof> = Vec::new();
@@ -234,7 +234,7 @@ pub fn compare_shapes(
         .filter(|d| given_by_all(&a, d) && given_by_all(&b, d))
         .collect();
     if shared.len() < 2 {
-        return Err(crate::IdentError::NotIdentifiable {
+        return Err(ModalError::NotIdentifiable {
             reason: format!(
                 "the two sets of shapes share {} DOF(s) that every shape gives: the MAC needs at least two",
                 shared.len()

@@ -2,7 +2,7 @@
 
 use msd_signal::{Complex64, FrequencyResponseEstimate, gaussian_noise};
 
-use crate::Result;
+use crate::error::Result;
 
 /// A measured table made up: `response(f)` at each of the `frequency_hz` lines plus
 /// complex Gaussian noise of relative size `relative_noise` (E|e|² = relative²·|H|²:
@@ -14,15 +14,18 @@ use crate::Result;
 /// non-finite noise level, and a response that is not finite.
 ///
 /// ```
-/// use msd_ident::{Parameters, frequency::model_response, frf::synthetic_frequency_response};
-/// // The paper's plant measured at 40 frequencies with 1 % complex noise.
+/// use msd_modal::synthetic_frequency_response;
+/// use msd_signal::Complex64;
+/// // The paper's plant (m 2.5 kg, c 1.8 N·s/m, k 120 N/m) measured at 40 frequencies
+/// // with 1 % complex noise.
 /// let f: Vec<f64> = (0..40).map(|i| 0.25 + 2.25 * i as f64 / 39.0).collect();
 /// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {
-///     model_response(&Parameters::PAPER, std::f64::consts::TAU * f)
+///     let w = std::f64::consts::TAU * f;
+///     Complex64::new(1.0, 0.0) / Complex64::new(120.0 - 2.5 * w * w, 1.8 * w)
 /// })?;
 /// assert_eq!(sweep.h.len(), 40);
 /// assert!(sweep.variance.is_some());
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 pub fn synthetic_frequency_response(
     frequency_hz: &[f64],

@@ -1,8 +1,8 @@
 //! Mode indicator functions of a set of frequency responses: where the modes are, before
 //! any model is fitted.
 
-use super::set::{Dof, SetMember};
-use crate::{IdentError, Result};
+use crate::error::{ModalError, Result};
+use crate::set::{Dof, SetMember};
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -22,7 +22,7 @@ use serde::Serialize;
 ///   response is in quadrature with the force.
 ///
 /// ```
-/// use msd_ident::frf::{Dof, ModalParameters, SetMember, mode_indicator};
+/// use msd_modal::{Dof, ModalParameters, SetMember, mode_indicator};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let mode = ModalParameters { natural_frequency_hz: 10.0, damping_ratio: 0.01,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
@@ -60,7 +60,7 @@ pub struct ModeIndicator {
 /// references (the CMIF needs every pair; a roving test of one reference or one
 /// response always fills it).
 pub fn mode_indicator(members: &[SetMember]) -> Result<ModeIndicator> {
-    let refuse = |reason: String| Err(IdentError::NotIdentifiable { reason });
+    let refuse = |reason: String| Err(ModalError::NotIdentifiable { reason });
     let Some(first) = members.first() else {
         return refuse("a mode indicator needs at least one frequency response".into());
     };
@@ -143,7 +143,7 @@ fn receptance_turn(kind: FrfKind) -> Complex64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frf::ModalParameters;
+    use crate::ModalParameters;
     use msd_signal::FrequencyResponseEstimate;
 
     fn member(response: u32, reference: u32, h: Vec<Complex64>, f: &[f64]) -> SetMember {

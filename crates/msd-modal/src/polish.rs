@@ -3,7 +3,7 @@
 //! least squares, and the Gauss–Newton covariance.
 //!
 //! The parameters θ are, per mode, (ωn, ζ, A, B) (see
-//! [`ModalParameters`](super::ModalParameters)), then the lower and upper residual terms
+//! [`ModalParameters`](crate::ModalParameters)), then the lower and upper residual terms
 //! (L, U) of H(ω) = Σ_r H_r(ω) − L/ω² + U.
 
 use msd_opt::{
@@ -12,10 +12,10 @@ use msd_opt::{
 use msd_signal::Complex64;
 use nalgebra::{DMatrix, DVector};
 
-use super::lines::Lines;
-use super::modal::{term, term_with_gradient};
-use crate::least_squares::Linearization;
-use crate::{IdentError, Result};
+use crate::error::{ModalError, Result, not_identifiable};
+use crate::lines::Lines;
+use crate::modal::{term, term_with_gradient};
+use msd_opt::statistics::Linearization;
 
 /// Parameters per mode.
 pub(crate) const PER_MODE: usize = 4;
@@ -78,7 +78,7 @@ fn lsfd_solve(mut a: DMatrix<f64>, b: &DVector<f64>, poles: &[(f64, f64)]) -> Re
     let solution = (a.transpose() * &a)
         .cholesky()
         .map(|c| c.solve(&(a.transpose() * b)))
-        .ok_or_else(|| IdentError::NotIdentifiable {
+        .ok_or_else(|| ModalError::NotIdentifiable {
             reason: "the modal constants cannot be told apart (two poles too close?)".into(),
         })?;
     let mut theta = Vec::with_capacity(PER_MODE * poles.len() + 2);
@@ -114,7 +114,7 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     let x0: Vec<f64> = start.iter().zip(&scale).map(|(t, s)| t / s).collect();
     let fit = levenberg_marquardt(&mut problem, &x0, &LevenbergMarquardtOptions::default())?;
     if !fit.exit.is_success() {
-        return Err(IdentError::EstimationFailed {
+        return Err(ModalError::EstimationFailed {
             reason: format!("the modal fit did not converge: {}", fit.exit),
         });
     }
@@ -139,7 +139,7 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
 fn covariance(jacobian: &DMatrix<f64>, s2: f64) -> Result<DMatrix<f64>> {
     Linearization::new(jacobian)
         .map(|l| l.covariance(s2))
-        .map_err(|e| e.error("the modal fit's lines", &[]))
+        .map_err(|e| not_identifiable(e, "the modal fit's lines", &[]))
 }
 
 /// Typical sizes of the parameters, so that the solver's variables are near 1: ωn and

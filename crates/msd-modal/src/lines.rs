@@ -6,17 +6,17 @@ use std::f64::consts::TAU;
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use serde::{Deserialize, Serialize};
 
-use crate::{IdentError, Result};
+use crate::error::{ModalError, Result};
 
 /// How the lines of a frequency response are weighted in a fit: each line's residual is
 /// divided by the standard deviation σ_k this gives (up to a common factor, which the
 /// fit estimates from the residuals).
 ///
 /// ```
-/// use msd_ident::{OneModeOptions, frf::FrfWeighting};
-/// let options: OneModeOptions = toml::from_str(r#"weighting = "relative""#)?;
+/// use msd_modal::{FrfWeighting, ModalOptions};
+/// let options: ModalOptions = toml::from_str(r#"weighting = "relative""#)?;
 /// assert_eq!(options.weighting, FrfWeighting::Relative);
-/// assert_eq!(OneModeOptions::default().weighting, FrfWeighting::Coherence);
+/// assert_eq!(FrfWeighting::default(), FrfWeighting::Coherence);
 /// assert_eq!(FrfWeighting::Relative.to_string(), "relative");
 /// # Ok::<(), toml::de::Error>(())
 /// ```
@@ -56,7 +56,7 @@ impl std::fmt::Display for FrfWeighting {
 
 /// The lines used by a fit.
 #[derive(Debug, Clone)]
-pub(crate) struct Lines {
+pub struct Lines {
     /// Angular frequencies ω_k (rad/s), increasing, > 0.
     pub omega: Vec<f64>,
     /// The receptance at ω_k.
@@ -95,7 +95,7 @@ fn check_shape(frf: &FrequencyResponseEstimate) -> Result<()> {
     }
     for (what, got) in arrays {
         if got != lines {
-            return Err(IdentError::LengthMismatch {
+            return Err(ModalError::LengthMismatch {
                 what,
                 expected: lines,
                 got,
@@ -106,9 +106,9 @@ fn check_shape(frf: &FrequencyResponseEstimate) -> Result<()> {
 }
 
 /// Checks an optional band: finite, 0 ≤ low < high.
-pub(crate) fn check_band(band_hz: Option<[f64; 2]>) -> Result<()> {
+pub fn check_band(band_hz: Option<[f64; 2]>) -> Result<()> {
     let invalid = |name, value, expected| {
-        Err(IdentError::InvalidParameter {
+        Err(ModalError::InvalidParameter {
             name,
             value,
             expected,
@@ -129,7 +129,7 @@ pub(crate) fn check_band(band_hz: Option<[f64; 2]>) -> Result<()> {
 /// `None`), as receptance, weighted by `weighting`; lines without information (zero
 /// response under relative weights, infinite variance) are left out. Errors when fewer
 /// than `min_lines` remain.
-pub(crate) fn prepare(
+pub fn prepare(
     frf: &FrequencyResponseEstimate,
     band_hz: Option<[f64; 2]>,
     weighting: FrfWeighting,
@@ -138,7 +138,7 @@ pub(crate) fn prepare(
     check_shape(frf)?;
     check_band(band_hz)?;
     if weighting == FrfWeighting::Variance && frf.variance.is_none() {
-        return Err(IdentError::InvalidParameter {
+        return Err(ModalError::InvalidParameter {
             name: "weighting",
             value: f64::NAN,
             expected: "\"variance\" only for a frequency response that has variances",
@@ -209,7 +209,7 @@ pub(crate) fn prepare(
         }
     }
     if lines.omega.len() < min_lines {
-        return Err(IdentError::TooFewSamples {
+        return Err(ModalError::TooFewSamples {
             got: lines.omega.len(),
             needed: min_lines,
             why: "frequency lines in the band with a usable weight",
@@ -228,7 +228,7 @@ impl Lines {
     /// count less, biasing the fit low by about the noise variance and widening the
     /// spread). Lines where the model is 0 keep their weight. No change for the other
     /// weightings.
-    pub(crate) fn reweight(&mut self, model: impl Fn(f64) -> Complex64) {
+    pub fn reweight(&mut self, model: impl Fn(f64) -> Complex64) {
         for ((s, &r), &w) in self
             .sigma
             .iter_mut()
@@ -244,7 +244,7 @@ impl Lines {
 
     /// The weighted residuals (model − H)/σ of every line: real parts in the first half
     /// of `out`, imaginary parts in the second (the layout of both fits' Jacobians).
-    pub(crate) fn weighted_residuals(&self, model: impl Fn(f64) -> Complex64, out: &mut [f64]) {
+    pub fn weighted_residuals(&self, model: impl Fn(f64) -> Complex64, out: &mut [f64]) {
         let n = self.omega.len();
         debug_assert_eq!(out.len(), 2 * n);
         for (k, ((&w, h), &s)) in self.omega.iter().zip(&self.h).zip(&self.sigma).enumerate() {
@@ -318,7 +318,7 @@ impl Lines {
 
     /// The normalised error ‖model − H‖/‖H‖ over the lines, in the measured quantity
     /// ((jω)^p × receptance).
-    pub(crate) fn relative_error(&self, model: impl Fn(f64) -> Complex64) -> f64 {
+    pub fn relative_error(&self, model: impl Fn(f64) -> Complex64) -> f64 {
         let (mut sse, mut energy) = (0.0, 0.0);
         for (&w, h) in self.omega.iter().zip(&self.h) {
             let scale = w.powi(2 * self.measured_power);
@@ -351,7 +351,7 @@ impl Lines {
 
 /// The first line of a modal fit's display: what was fitted, to how many lines in which
 /// band, the weighting, the iterations and the relative error.
-pub(super) fn fit_line(
+pub fn fit_line(
     f: &mut std::fmt::Formatter<'_>,
     what: &str,
     lines: usize,

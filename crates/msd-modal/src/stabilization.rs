@@ -6,15 +6,15 @@ use std::f64::consts::TAU;
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::Serialize;
 
-use super::lines::{Lines, prepare};
-use super::lscf::{Lscf, roots_of};
-use super::modes::ModalOptions;
-use crate::{IdentError, Result};
+use crate::error::{ModalError, Result};
+use crate::lines::{Lines, prepare};
+use crate::lscf::{Lscf, roots_of};
+use crate::modes::ModalOptions;
 
 /// One pole of one model order in the diagram.
 ///
 /// ```
-/// use msd_ident::{ModalOptions, frf::{stabilization_diagram, synthetic_frequency_response, ModalParameters}};
+/// use msd_modal::{ModalOptions, stabilization_diagram, synthetic_frequency_response, ModalParameters};
 /// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
 /// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
@@ -30,7 +30,7 @@ use crate::{IdentError, Result};
 /// assert!(diagram.orders[1].poles.iter().all(|p| p.stable_frequency && !p.stable));
 /// assert_eq!(diagram.modes.len(), 1);
 /// assert_eq!(diagram.modes[0].stable_orders, 4); // stable in frequency at orders 4 to 10
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DiagramPole {
@@ -77,7 +77,7 @@ pub struct StableMode {
 /// for a plot.
 ///
 /// ```
-/// use msd_ident::{ModalOptions, frf::{stabilization_diagram, synthetic_frequency_response, ModalParameters}};
+/// use msd_modal::{ModalOptions, stabilization_diagram, synthetic_frequency_response, ModalParameters};
 /// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
 /// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
@@ -86,7 +86,7 @@ pub struct StableMode {
 /// assert!(diagram.to_string().starts_with("stabilization diagram, orders 2–40"));
 /// let json = serde_json::to_value(&diagram).expect("serializable");
 /// assert_eq!(json["orders"].as_array().map(Vec::len), Some(20));
-/// # Ok::<(), msd_ident::IdentError>(())
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StabilizationDiagram {
@@ -105,7 +105,7 @@ impl StabilizationDiagram {
     /// likely causes and the keys to change (for an error message).
     ///
     /// ```
-    /// use msd_ident::{ModalOptions, frf::{stabilization_diagram, ModalParameters}};
+    /// use msd_modal::{ModalOptions, stabilization_diagram, ModalParameters};
     /// use msd_signal::{Complex64, FrequencyResponseEstimate};
     /// // A smooth response with no mode in it.
     /// let f: Vec<f64> = (1..=200).map(|i| i as f64).collect();
@@ -163,10 +163,10 @@ impl std::fmt::Display for StabilizationDiagram {
 ///
 /// Errors: too few lines for the largest order, bad options, `Variance` weighting
 /// without variances, fewer stable modes than `mode_count`
-/// ([`IdentError::TooFewModes`](crate::IdentError::TooFewModes), which keeps the diagram).
+/// ([`ModalError::TooFewModes`](ModalError::TooFewModes), which keeps the diagram).
 ///
 /// ```
-/// use msd_ident::{ModalOptions, frf::{stabilization_diagram, ModalParameters}};
+/// use msd_modal::{ModalOptions, stabilization_diagram, ModalParameters};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let modes = [(8.0, 0.02, 1.0), (17.0, 0.01, -0.5)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });
@@ -252,7 +252,7 @@ fn diagram_from(
         orders.push(DiagramOrder { order, poles });
     }
     if orders.is_empty() {
-        return Err(IdentError::NotIdentifiable {
+        return Err(ModalError::NotIdentifiable {
             reason: "the LSCF normal equations are singular at every order".into(),
         });
     }
@@ -264,7 +264,7 @@ fn diagram_from(
         band_hz: lines.band_hz,
     };
     match shortfall {
-        Some(reason) => Err(IdentError::TooFewModes {
+        Some(reason) => Err(ModalError::TooFewModes {
             reason,
             diagram: Box::new(diagram),
         }),

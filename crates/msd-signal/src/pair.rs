@@ -8,7 +8,7 @@
 //! ```
 //! #[derive(serde::Deserialize)]
 //! struct Band {
-//!     #[serde(deserialize_with = "msd_ident::pair::exactly_two")]
+//!     #[serde(deserialize_with = "msd_signal::pair::exactly_two")]
 //!     band: [f64; 2],
 //! }
 //! assert!(toml::from_str::<Band>("band = [1.0, 2.0]").is_ok());

@@ -11,11 +11,11 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::lines::Lines;
-use super::modal::term_with_gradient;
-use super::polish::lsfd_system;
-use crate::least_squares::Linearization;
-use crate::{IdentError, Result};
+use crate::error::{ModalError, Result, not_identifiable};
+use crate::lines::Lines;
+use crate::modal::term_with_gradient;
+use crate::polish::lsfd_system;
+use msd_opt::statistics::Linearization;
 
 /// The refined poles (ωn, ζ), their covariance (rows ωn₁, ζ₁, ωn₂, …), σ̂ and the
 /// degrees of freedom, and the iterations taken.
@@ -71,7 +71,7 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
     let residuals: usize = lines.iter().map(|l| 2 * l.omega.len()).sum();
     let parameters = 2 * poles.len() + lines.len() * (2 * poles.len() + 2);
     if residuals <= parameters {
-        return Err(IdentError::TooFewSamples {
+        return Err(ModalError::TooFewSamples {
             got: residuals / 2,
             needed: parameters / 2 + 1,
             why: "lines (summed over the set) for the modal parameters of every mode",
@@ -81,7 +81,7 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
     let s2 = at.sse / degrees_of_freedom as f64;
     let covariance = Linearization::from_normal_matrix(&at.normal)
         .map(|l| l.covariance(s2 * lines[0].correlated_lines))
-        .map_err(|e| e.error("the set's lines", &[]))?;
+        .map_err(|e| not_identifiable(e, "the set's lines", &[]))?;
     Ok(RefinedPoles {
         poles,
         covariance,
@@ -99,7 +99,7 @@ fn reduce(lines: &[Lines], poles: &[(f64, f64)]) -> Result<Reduced> {
         normal: DMatrix::zeros(m2, m2),
         gradient: DVector::zeros(m2),
     };
-    let singular = || IdentError::NotIdentifiable {
+    let singular = || ModalError::NotIdentifiable {
         reason: "the modal constants cannot be told apart (two poles too close?)".into(),
     };
     for l in lines {

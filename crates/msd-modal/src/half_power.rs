@@ -3,8 +3,8 @@
 use msd_signal::{FrequencyResponseEstimate, FrfKind};
 use serde::{Deserialize, Serialize};
 
-use super::lines::check_band;
-use crate::{IdentError, Result};
+use crate::error::{ModalError, Result};
+use crate::lines::check_band;
 
 /// Peak picking and the half-power bandwidth: fn at the peak of |H|, ζ ≈ (f₂ − f₁)/(2·fn)
 /// with f₁ and f₂ where |H| is the peak's 1/√2.
@@ -71,11 +71,11 @@ impl std::fmt::Display for HalfPower {
 /// Peak picking and the half-power bandwidth of the largest peak of `frf` in `band_hz`
 /// (all lines above 0 Hz when `None`).
 ///
-/// Errors ([`IdentError::NotIdentifiable`]) when the peak is at the edge of the band or
+/// Errors ([`ModalError::NotIdentifiable`]) when the peak is at the edge of the band or
 /// a half-power point lies outside it, and on a malformed band.
 ///
 /// ```
-/// use msd_ident::{frf::{half_power, ModalParameters}};
+/// use msd_modal::{half_power, ModalParameters};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.02,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
@@ -100,7 +100,7 @@ pub fn half_power(frf: &FrequencyResponseEstimate, band_hz: Option<[f64; 2]>) ->
         })
         .map(|((f, h), _)| (*f, h.norm()))
         .unzip();
-    let refuse = |reason: String| Err(IdentError::NotIdentifiable { reason });
+    let refuse = |reason: String| Err(ModalError::NotIdentifiable { reason });
     let Some(p) = (0..mag.len()).max_by(|&a, &b| mag[a].total_cmp(&mag[b])) else {
         return refuse("no frequency lines in the band".into());
     };
@@ -176,7 +176,12 @@ mod tests {
 #[cfg(test)]
 mod sparse_tests {
     use super::*;
-    use crate::{Parameters, frequency::model_response};
+    use msd_signal::Complex64;
+
+    /// The paper's plant m = 2.5 kg, c = 1.8 N·s/m, k = 120 N/m: 1/(k − mω² + jcω).
+    fn paper_receptance(w: f64) -> Complex64 {
+        Complex64::new(1.0, 0.0) / Complex64::new(120.0 - 2.5 * w * w, 1.8 * w)
+    }
 
     /// A stepped sine of 4 logarithmic lines over 0.25–2.5 Hz on the paper's plant (issue
     /// 31: this reached an assertion): the peak is not resolved, and the estimate says
@@ -186,11 +191,11 @@ mod sparse_tests {
         let f: Vec<f64> = (0..4).map(|i| 0.25 * 10f64.powf(i as f64 / 3.0)).collect();
         let h = f
             .iter()
-            .map(|&f| model_response(&Parameters::PAPER, std::f64::consts::TAU * f))
+            .map(|&f| paper_receptance(std::f64::consts::TAU * f))
             .collect();
         let frf = FrequencyResponseEstimate::new(f, h).expect("an estimate");
         let err = half_power(&frf, None).expect_err("four lines do not resolve the peak");
-        assert!(matches!(err, IdentError::NotIdentifiable { .. }), "{err}");
+        assert!(matches!(err, ModalError::NotIdentifiable { .. }), "{err}");
         assert!(err.to_string().contains("not resolved"), "{err}");
     }
 }

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// ζ_added = ζ' − ζ ≈ 1/(ωn·τ).
 ///
 /// ```
-/// use msd_ident::frf::WindowCorrection;
+/// use msd_modal::WindowCorrection;
 /// let c = WindowCorrection { decay_time: 0.5, natural_frequency_hz_windowed: 10.0,
 ///     damping_ratio_windowed: 0.05, damping_ratio_added: 0.03 };
 /// assert_eq!(c.to_string(),

@@ -25,7 +25,7 @@ use std::f64::consts::TAU;
 use msd_signal::Complex64;
 use nalgebra::DMatrix;
 
-use super::lines::Lines;
+use crate::lines::Lines;
 
 /// The Toeplitz sums of one frequency response, up to a largest order.
 pub(crate) struct Lscf {
@@ -243,8 +243,8 @@ fn aberth(alpha: &[f64], mut z: Vec<Complex64>) -> Option<Vec<Complex64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::frf::modal::term;
-    use crate::frf::synthetic_frequency_response;
+    use crate::modal::term;
+    use crate::synthetic_frequency_response;
 
     #[test]
     fn two_exact_modes_give_their_poles_at_order_four() {

@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 /// test the viscous form biased the lowest mode's ζ by 40–50 % against local fits).
 ///
 /// ```
-/// use msd_ident::frf::ModalParameters;
+/// use msd_modal::ModalParameters;
 /// // The paper's plant, m = 2.5 kg, k = 120 N/m, c = 1.8 N·s/m: A = 1/m.
 /// let mode = ModalParameters {
 ///     natural_frequency_hz: (120.0f64 / 2.5).sqrt() / std::f64::consts::TAU,

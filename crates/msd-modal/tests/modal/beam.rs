@@ -3,10 +3,8 @@
 //! set's fit against the truth: every mode, fn, ζ, the shapes (MAC), the modal masses,
 //! and the coverage of the 95 % intervals over 200 noise seeds.
 
-use msd_ident::ModalOptions;
-use msd_ident::frf::{
-    Dof, ModalParameters, SetMember, fit_mode_set, mac, synthetic_frequency_response,
-};
+use msd_modal::ModalOptions;
+use msd_modal::{Dof, ModalParameters, SetMember, fit_mode_set, mac, synthetic_frequency_response};
 use msd_signal::Complex64;
 
 const POINTS: usize = 10;
