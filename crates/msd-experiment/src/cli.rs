@@ -15,7 +15,7 @@
 //! assert!(cli.run.quiet);
 //! ```
 
-use crate::{ExperimentError, RunOptions, run_experiment};
+use crate::{error::ExperimentError, options::RunOptions, run_experiment};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

@@ -35,7 +35,7 @@
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::{
     Backend, EstimationOptions, InitialState, Parameters, ResidualOptions, data::MIN_SAMPLES,
 };
@@ -178,10 +178,7 @@ impl Plant {
     /// assert_eq!(plant.nonlinear().unwrap().structure.name(), "viscous+cubic");
     /// ```
     pub fn nonlinear(&self) -> Option<msd_ident::nonlinear::NonlinearParameters> {
-        use msd_ident::{
-            ModelStructure,
-            nonlinear::{DampingLaw, StiffnessLaw},
-        };
+        use msd_ident::nonlinear::{DampingLaw, ModelStructure, StiffnessLaw};
         let (damping, extra) = if self.coulomb_force != 0.0 {
             (DampingLaw::CoulombViscous, Some(self.coulomb_force))
         } else if self.quadratic_damping != 0.0 {
@@ -306,7 +303,7 @@ pub struct FrequencySection {
 
 impl Default for FrequencySection {
     fn default() -> Self {
-        let o = msd_ident::FrequencyCheckOptions::default();
+        let o = msd_ident::frequency::FrequencyCheckOptions::default();
         Self {
             enabled: true,
             data: RecordChoice::Validation,
@@ -321,8 +318,8 @@ impl Default for FrequencySection {
 
 impl FrequencySection {
     /// As msd-ident's options.
-    pub fn options(&self) -> msd_ident::FrequencyCheckOptions {
-        msd_ident::FrequencyCheckOptions {
+    pub fn options(&self) -> msd_ident::frequency::FrequencyCheckOptions {
+        msd_ident::frequency::FrequencyCheckOptions {
             band_hz: self.band_hz,
             power_threshold: self.power_threshold,
             frequency_tolerance: self.frequency_tolerance,

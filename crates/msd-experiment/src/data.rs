@@ -7,7 +7,7 @@
 //! columns ignored. Every bad cell is reported with the file, its line and the column.
 
 use crate::config::{Columns, Config, DataSection, Kind, Preprocess, Range};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::{
     DataSet, Excitation, Parameters, SyntheticOptions, nonlinear::synthetic_nonlinear_data,
     synthetic_data,

@@ -1,6 +1,6 @@
 //! `design`: the input that will give the smallest uncertainty of m, c and k within the
 //! rig's limits, designed before the test from a synthetic config with a `[design]`
-//! section ([`msd_ident::design_input`]).
+//! section ([`msd_ident::design::design_input`]).
 //!
 //! The config's `[plant]` is the prior guess, its `[time]` grid, `[noise]` and
 //! identification input the reference test the design is compared with. The outputs go
@@ -26,7 +26,7 @@ pub use crate::config::PilotSection;
 pub use pilot::Pilot;
 
 use crate::config::{Config, Noise, Plant};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::{
     IdentError,
     design::{Design, RobustBox},
@@ -143,12 +143,11 @@ pub fn design(config_path: &Path, options: &DesignRunOptions) -> Result<DesignRe
         "design: optimising the input over {} samples",
         reference.len()
     ));
-    let design = msd_ident::design_input(&plant, &reference, sigma, &design_options).map_err(
-        |e| match e {
+    let design = msd_ident::design::design_input(&plant, &reference, sigma, &design_options)
+        .map_err(|e| match e {
             IdentError::InvalidDesign { .. } => ExperimentError::config(config_path, e.to_string()),
             e => ExperimentError::run("design", e),
-        },
-    )?;
+        })?;
     let design_seconds = started.elapsed().as_secs_f64();
     progress.finish();
     let verification = verify(

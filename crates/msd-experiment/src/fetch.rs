@@ -26,7 +26,7 @@ mod download;
 
 pub use download::{DownloadOptions, direct_url, download, is_http};
 
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 

@@ -11,7 +11,7 @@
 //! For tests of these failure paths, [`inject_fault`] makes this thread's writes fail as
 //! a full disk, a panic or a kill would.
 
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 

@@ -180,7 +180,7 @@ pub(crate) fn write_pages(
     staging: &crate::output::Staging,
     markdown: &str,
     title: &str,
-) -> crate::Result<()> {
+) -> crate::error::Result<()> {
     staging.write("report.md", markdown.as_bytes())?;
     let svg = |png: &str| {
         let name = png.strip_suffix(".png")?;

@@ -65,7 +65,7 @@ impl<'a> Experiment<'a> {
 pub(crate) fn write_json(
     staging: &crate::output::Staging,
     json: &serde_json::Value,
-) -> crate::Result<()> {
+) -> crate::error::Result<()> {
     let text =
         serde_json::to_string_pretty(json).map_err(|e| crate::ExperimentError::run("write", e))?;
     staging.write("results.json", format!("{text}\n").as_bytes())

@@ -9,7 +9,9 @@
 use crate::config::Config;
 use crate::output::Staging;
 use crate::progress::Progress;
-use crate::{Outcome, Result, RunOptions, RunSummary, chain, frf, paper, setup};
+use crate::{
+    RunSummary, chain, error::Result, frf, options::RunOptions, paper, paper::Outcome, setup,
+};
 use serde_json::Value;
 use std::path::Path;
 use std::time::{Duration, Instant};

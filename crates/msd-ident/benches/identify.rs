@@ -4,8 +4,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use msd_ident::{
-    Backend, EstimationOptions, FrequencyCheckOptions, InitialState, PaperExperiment,
-    ValidationOptions, estimate, frequency_check, simulate, validate_model,
+    Backend, EstimationOptions, InitialState, PaperExperiment, ValidationOptions, estimate,
+    frequency::{FrequencyCheckOptions, frequency_check},
+    simulate, validate_model,
 };
 use std::hint::black_box;
 

@@ -7,8 +7,7 @@
 
 use msd_ident::{
     Excitation, Parameters,
-    design::{Criterion, DesignOptions, Normalise, RobustBox, StepOption},
-    design_input,
+    design::{Criterion, DesignOptions, Normalise, RobustBox, StepOption, design_input},
 };
 use msd_signal::paper_identification_input;
 

@@ -10,8 +10,7 @@
 
 use msd_ident::{
     Excitation, Parameters,
-    design::{DesignOptions, InputComparison, RobustBox, StrokeOn},
-    design_input,
+    design::{DesignOptions, InputComparison, RobustBox, StrokeOn, design_input},
 };
 use msd_signal::paper_identification_input;
 

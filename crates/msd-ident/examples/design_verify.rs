@@ -11,8 +11,8 @@
 
 use msd_ident::{
     EstimationOptions, Excitation, Parameters, SyntheticOptions,
-    design::{Criterion, DesignOptions, Normalise},
-    design_input, estimate, predicted_uncertainty, synthetic_data,
+    design::{Criterion, DesignOptions, Normalise, design_input},
+    estimate, predicted_uncertainty, synthetic_data,
 };
 use msd_signal::paper_identification_input;
 

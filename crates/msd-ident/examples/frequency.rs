@@ -1,7 +1,10 @@
 //! The frequency-consistency check on the paper's data, for several seeds.
 //!
 //! `cargo run --release -p msd-ident --example frequency`
-use msd_ident::{FrequencyCheckOptions, PaperExperiment, Parameters, frequency_check};
+use msd_ident::{
+    PaperExperiment, Parameters,
+    frequency::{FrequencyCheckOptions, frequency_check},
+};
 
 fn main() -> Result<(), msd_ident::IdentError> {
     for seed in 1..=5 {

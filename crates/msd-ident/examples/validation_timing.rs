@@ -2,9 +2,10 @@
 //!
 //! `cargo run --release -p msd-ident --example validation_timing`
 use msd_ident::{
-    Backend, FrequencyCheckOptions, InitialState, PaperExperiment, Parameters, ResidualOptions,
-    ValidationOptions, correlation::cross_correlation, frequency_check, residual_analysis,
-    simulate, validate_model,
+    Backend, InitialState, PaperExperiment, Parameters, ResidualOptions, ValidationOptions,
+    correlation::cross_correlation,
+    frequency::{FrequencyCheckOptions, frequency_check},
+    residual_analysis, simulate, validate_model,
 };
 use std::time::Instant;
 

@@ -18,7 +18,12 @@
 //! Everything is relative, so it works in any units (a plant with m ≈ 1e-6 in volts as
 //! well as the paper's kilograms). It is only a starting point for the estimators.
 
-use crate::{Backend, DataSet, IdentError, InitialState, Parameters, Result, simulate};
+use crate::{
+    data::DataSet,
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+    simulate::{Backend, simulate},
+};
 use nalgebra::{DMatrix, DVector};
 
 /// Estimates (m, c, k) from the data by instrumental-variable ARX(2, 3) fits at several

@@ -32,7 +32,7 @@ use std::f64::consts::TAU;
 /// mass i − 1 (the first to the ground). One mass is the single-degree-of-freedom plant.
 ///
 /// ```
-/// use msd_ident::ChainPlant;
+/// use msd_ident::chain::ChainPlant;
 /// let plant = ChainPlant { masses: vec![2.0, 1.0], springs: vec![2e4, 1e4], dampers: vec![4.0, 2.0],
 ///     force_at: 2, response_at: 2 };
 /// assert_eq!(plant.modes().len(), 2);
@@ -63,7 +63,7 @@ impl ChainPlant {
     /// single-degree-of-freedom plant m·x″ + c·x′ + k·x = F.
     ///
     /// ```
-    /// use msd_ident::ChainPlant;
+    /// use msd_ident::chain::ChainPlant;
     /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     /// assert_eq!((plant.len(), plant.force_at, plant.response_at), (1, 1, 1));
     /// assert_eq!(plant.springs, [120.0]);
@@ -111,7 +111,7 @@ impl ChainPlant {
     /// Z(jω)⁻¹ at the force's row.
     ///
     /// ```
-    /// use msd_ident::ChainPlant;
+    /// use msd_ident::chain::ChainPlant;
     /// let plant = ChainPlant { masses: vec![2.5], springs: vec![120.0], dampers: vec![1.8],
     ///     force_at: 1, response_at: 1 };
     /// let w = std::f64::consts::TAU * 0.7;
@@ -146,7 +146,7 @@ impl ChainPlant {
     /// are not modes and are left out.
     ///
     /// ```
-    /// use msd_ident::ChainPlant;
+    /// use msd_ident::chain::ChainPlant;
     /// let plant = ChainPlant { masses: vec![2.5], springs: vec![120.0], dampers: vec![1.8],
     ///     force_at: 1, response_at: 1 };
     /// let modes = plant.modes();
@@ -205,7 +205,7 @@ impl ChainPlant {
     /// equation's row, a = (A·x + B·F)[n + response].
     ///
     /// ```
-    /// use msd_ident::ChainPlant;
+    /// use msd_ident::chain::ChainPlant;
     /// use msd_signal::FrfKind;
     /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     /// // A constant 1 N from rest: x ≈ 0, x″ = F/m at the first instant.
@@ -276,7 +276,7 @@ pub(crate) fn underdamped_poles(a: &DMatrix<f64>) -> Vec<Complex64> {
 /// delays and filters included: one series per sensor.
 ///
 /// ```
-/// use msd_ident::{ChainParameters, ChainSetup, simulate_chain};
+/// use msd_ident::{chain::{ChainParameters, ChainSetup, simulate_chain}};
 /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let y = simulate_chain(&ChainSetup::default(), &p, &vec![1.0; 30_000], 2e-3)?;
 /// // A constant 1 N settles at 1/k (after 60 s the transient is e^(−c·t/2m) ≈ 4e-10 of it).
@@ -288,18 +288,18 @@ pub fn simulate_chain(
     parameters: &ChainParameters,
     input: &[f64],
     dt: f64,
-) -> crate::Result<Vec<Vec<f64>>> {
+) -> crate::error::Result<Vec<Vec<f64>>> {
     setup.validate()?;
     parameters.validate(setup.masses)?;
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(crate::IdentError::InvalidParameter {
+        return Err(crate::error::IdentError::InvalidParameter {
             name: "dt",
             value: dt,
             expected: "a finite number > 0",
         });
     }
     if let Some(index) = input.iter().position(|u| !u.is_finite()) {
-        return Err(crate::IdentError::NonFiniteSample {
+        return Err(crate::error::IdentError::NonFiniteSample {
             field: "input",
             index,
             value: input[index],

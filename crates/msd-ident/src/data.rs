@@ -1,7 +1,7 @@
 //! Excitations (a known input on a uniform grid) and data sets (input plus measured
 //! displacement).
 
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use msd_ode::Breakpoint;
 use msd_signal::{PreparedSignal, Signal};
 

@@ -2,7 +2,7 @@
 //! [`statistics`](msd_opt::statistics); this module adds the one error of a fit that
 //! cannot identify what it was asked.
 
-use crate::IdentError;
+use crate::error::IdentError;
 use msd_opt::statistics::Singular;
 
 /// The error of a fit whose Jacobian is singular: `data` is what was fitted ("the

@@ -13,7 +13,7 @@
 //!   automatic ARX guess ([`arx_initial_guess`](arx::arx_initial_guess)); every [`Estimate`] carries an
 //!   [`Uncertainty`] (covariance, 95 % intervals, identifiability warnings);
 //! - validation: [`validate_model`], [`residual_analysis`] (Ljung–Box, residual–input
-//!   correlation, verdicts in words) and [`frequency_check`];
+//!   correlation, verdicts in words) and [`frequency_check`](frequency::frequency_check);
 //! - every lab setup as one joint fit, [`fit_records`]: a force on the mass, the base's
 //!   acceleration or displacement, or a free decay ([`Drive`]); displacement, velocity and
 //!   acceleration sensors, absolute or relative ([`Channel`], [`Frame`]), several at once
@@ -23,18 +23,20 @@
 //! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals, the
 //!   classroom half-power estimate beside them); the modal fits (stabilization diagram,
 //!   several modes, sets and shapes) are msd-modal's;
-//! - imposed motion, measured force (a damper test machine): [`dynamometer()`] gives each
+//! - imposed motion, measured force (a damper test machine): [`dynamometer()`](dynamometer::dynamometer) gives each
 //!   condition's loop energy, equivalent damping, storage stiffness and loss factor, and
 //!   fits and ranks the damping laws across all conditions;
+//! - a chain of one to eight masses ([`chain`]): every m, c, k from force or base-motion
+//!   records with sensor delays and low-pass filters, the modes, the Cramér–Rao plan;
 //! - planning the test: [`predicted_uncertainty`] (the Cramér–Rao bound of an input) and
-//!   [`design_input`] (the input that minimises it within the rig's limits);
+//!   [`design_input`](design::design_input) (the input that minimises it within the rig's limits);
 //! - synthetic data for tests and teaching: [`PaperExperiment`], [`synthetic_data`] with
 //!   [`SyntheticOptions`].
 //!
 //! ```
 //! use msd_ident::{
-//!     estimate, frequency_check, validate_model, EstimationOptions, FrequencyCheckOptions,
-//!     PaperExperiment, ValidationOptions,
+//!     estimate, validate_model, EstimationOptions, PaperExperiment, ValidationOptions,
+//!     frequency::{frequency_check, FrequencyCheckOptions},
 //! };
 //!
 //! // The paper's experiment (shared/paper-experiment.md) with noise seed 1.
@@ -59,7 +61,7 @@
 //! ```
 
 pub mod arx;
-mod chain;
+pub mod chain;
 pub mod correlation;
 pub mod data;
 pub mod design;
@@ -85,20 +87,11 @@ mod synthetic;
 mod uncertainty;
 mod validation;
 
-pub use chain::{
-    ChainDrive, ChainFit, ChainIntervals, ChainMode, ChainOptions, ChainParameters, ChainPlant,
-    ChainRecord, ChainSensor, ChainSetup, ChainUncertainty, LowPass, MAX_MASSES, fit_chain,
-    predict_chain, simulate_chain,
-};
 pub use data::{DataSet, Excitation};
-pub use design::design_input;
-pub use dynamometer::{Dynamometer, DynamometerOptions, dynamometer};
 pub use error::{IdentError, Result};
 pub use estimate::{
     Estimate, EstimationOptions, Method, PlannedInformation, estimate, predicted_uncertainty,
 };
-pub use free_decay::{FreeDecay, FreeDecayOptions, KnownParameter, ResponseQuantity, free_decay};
-pub use frequency::{FrequencyCheck, FrequencyCheckOptions, frequency_check};
 pub use frf::{OneModeFit, OneModeOptions, fit_one_mode};
 pub use metrics::{FTest, FitMetrics};
 /// The solver types that appear in this crate's options and results: how a sampled
@@ -107,15 +100,15 @@ pub use metrics::{FTest, FitMetrics};
 pub use msd_ode::{Hold, Stats as Ode45Stats};
 #[doc(no_inline)]
 pub use msd_opt::LmExit;
-pub use nonlinear::{
-    ModelStructure, NonlinearEstimate, NonlinearOptions, compare_models, estimate_nonlinear,
-};
-pub use params::{InitialState, PARAMETER_NAMES, Parameters};
+pub use msd_opt::statistics::Interval;
+/// What a sensor measures (msd-signal's, shared by every record and engine).
+pub use msd_signal::ResponseQuantity;
+pub use params::{InitialState, KnownParameter, PARAMETER_NAMES, Parameters};
 pub use records::{Channel, Drive, Frame, Record, RecordsFit, RecordsOptions, fit_records};
 pub use residuals::{ResidualAnalysis, ResidualOptions, residual_analysis};
 pub use sensitivity::sensitivities;
 pub use simulate::{Backend, simulate, simulate_into};
 pub use stop::StopReason;
 pub use synthetic::{PaperExperiment, SyntheticOptions, synthetic_data};
-pub use uncertainty::{Interval, Uncertainty};
+pub use uncertainty::Uncertainty;
 pub use validation::{Validation, ValidationOptions, validate_model};

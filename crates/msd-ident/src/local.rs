@@ -1,6 +1,6 @@
 //! One local optimisation's outcome, as the estimators rank it under multistart.
 
-use crate::StopReason;
+use crate::stop::StopReason;
 use msd_opt::{LevenbergMarquardtResult, NelderMeadResult, OptError, RankedCost};
 
 /// One local run: its point, cost, counts and why it stopped, or the error that ended

@@ -1,6 +1,6 @@
 //! The physical parameters and the quantities derived from them.
 
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use msd_ode::{LtiModel, SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
@@ -207,5 +207,43 @@ impl std::fmt::Display for InitialState {
             "x(t₀) = {:.4e}, x'(t₀) = {:.4e}",
             self.displacement, self.velocity
         )
+    }
+}
+
+/// What else is known about the plant: a free decay alone gives ωn and ζ only.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum KnownParameter {
+    /// Nothing: ωn and ζ only.
+    #[default]
+    None,
+    /// The mass m, kg (weighed): gives c and k.
+    Mass(f64),
+    /// The static stiffness k, N/m (from a static load test): gives m and c.
+    Stiffness(f64),
+}
+
+impl KnownParameter {
+    /// Checks that a known mass or stiffness is finite and > 0.
+    ///
+    /// ```
+    /// use msd_ident::KnownParameter;
+    /// assert!(KnownParameter::Mass(2.5).validate().is_ok());
+    /// assert!(KnownParameter::Stiffness(-1.0).validate().is_err());
+    /// ```
+    pub fn validate(&self) -> Result<()> {
+        let (name, value) = match *self {
+            KnownParameter::Mass(v) => ("known mass", v),
+            KnownParameter::Stiffness(v) => ("known stiffness", v),
+            KnownParameter::None => return Ok(()),
+        };
+        if value.is_finite() && value > 0.0 {
+            return Ok(());
+        }
+        Err(IdentError::InvalidParameter {
+            name,
+            value,
+            expected: "a finite number > 0",
+        })
     }
 }

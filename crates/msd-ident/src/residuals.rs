@@ -15,7 +15,7 @@
 //!   the chance of a false alarm at 1 − confidence; the lags outside the plain band are
 //!   still counted and reported.
 
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 

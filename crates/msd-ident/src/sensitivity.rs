@@ -13,7 +13,11 @@
 //! response, so the Jacobian is the exact derivative of the simulated output. The
 //! sensitivities to the initial state are the first row of Φⁱ = e^{A·i·dt}.
 
-use crate::{Excitation, InitialState, Parameters, Result};
+use crate::{
+    data::Excitation,
+    error::Result,
+    params::{InitialState, Parameters},
+};
 use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
 
 /// One sample of the response and its sensitivities.

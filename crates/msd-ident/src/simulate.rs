@@ -1,6 +1,10 @@
 //! Response of the model to a known excitation, by either backend.
 
-use crate::{Excitation, IdentError, InitialState, Parameters, Result};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+};
 use msd_ode::{ExactSimulator, Hold, Ode45Options, SVector, SampledInput, Stats, ode45_with};
 use serde::{Deserialize, Serialize};
 

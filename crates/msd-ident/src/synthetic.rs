@@ -1,6 +1,11 @@
 //! Synthetic test data: the response of a known plant plus seeded Gaussian noise.
 
-use crate::{Backend, DataSet, Excitation, IdentError, InitialState, Parameters, Result, simulate};
+use crate::{
+    data::{DataSet, Excitation},
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+    simulate::{Backend, simulate},
+};
 use msd_signal::{NoiseStream, paper_identification_input, paper_validation_input};
 use serde::{Deserialize, Serialize};
 

@@ -10,7 +10,10 @@
 //! the model: they assume white Gaussian output noise and a correct model structure.
 
 use crate::least_squares::SingularError;
-use crate::{IdentError, Parameters, Result};
+use crate::{
+    error::{IdentError, Result},
+    params::Parameters,
+};
 pub use msd_opt::statistics::Interval;
 pub(crate) use msd_opt::statistics::t_975;
 use msd_opt::statistics::{Linearization, correlation, delta_variance};

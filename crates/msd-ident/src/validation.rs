@@ -1,8 +1,12 @@
 //! Validation of an identified model on fresh data (never used for fitting).
 
 use crate::{
-    Backend, DataSet, FitMetrics, InitialState, Parameters, ResidualAnalysis, ResidualOptions,
-    Result, residual_analysis, simulate,
+    data::DataSet,
+    error::Result,
+    metrics::FitMetrics,
+    params::{InitialState, Parameters},
+    residuals::{ResidualAnalysis, ResidualOptions, residual_analysis},
+    simulate::{Backend, simulate},
 };
 use serde::{Deserialize, Serialize};
 

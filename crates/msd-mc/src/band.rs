@@ -4,7 +4,12 @@ use crate::batch::{BatchSimulator, LANES};
 use crate::engine::{self, MemoryPlan, Restart};
 use crate::order::similarity_order;
 use crate::tracker::TrackerCounts;
-use crate::{McError, McOptions, Result, SampleFailure, Sampling, Summary, draw::Sampler};
+use crate::{
+    draw::Sampler,
+    error::{McError, Result, SampleFailure},
+    options::{McOptions, Sampling},
+    quantile::Summary,
+};
 use msd_ident::{Backend, Excitation, Parameters, simulate};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -126,7 +131,7 @@ pub fn monte_carlo_band(
 /// counts samples × chunks, `total` = N × chunks).
 ///
 /// ## The algorithm
-/// Sample i draws its parameters from its own generator ([`sample_rng`](crate::sample_rng)
+/// Sample i draws its parameters from its own generator ([`sample_rng`](crate::draw::sample_rng)
 /// (seed, i)), simulates the excitation with the chosen backend, and contributes to the
 /// pointwise percentiles (MATLAB `prctile` convention) computed exactly per time chunk
 /// (see [`MemoryPlan`]). Everything runs on a local rayon pool of `options.threads`
@@ -212,7 +217,7 @@ fn band_and_counts(
     if good.is_empty() {
         let first = match drawn[0] {
             None => SampleFailure::NonPhysical {
-                redraws: crate::MAX_REDRAWS,
+                redraws: crate::draw::MAX_REDRAWS,
             },
             Some(p) => simulate(&p, excitation, initial, backend)
                 .err()

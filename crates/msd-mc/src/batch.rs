@@ -9,7 +9,7 @@
 //! for bit what `msd_ident::simulate` gives for its parameters with the same backend
 //! (tested): the band is the percentiles of each draw simulated alone.
 
-use crate::Result;
+use crate::error::Result;
 use msd_ident::{Backend, Excitation, IdentError, InitialState, Parameters};
 use msd_ode::{
     ExactSimulator, Hold, InputSchedule, LaneSystem, Lockstep, Ode45Lanes, Ode45Options, SVector,

@@ -5,8 +5,11 @@
 
 use crate::options::validate_percentiles;
 use crate::quantile::percentiles;
-use crate::{McError, Result, sample_rng};
-use msd_ident::{ChainParameters, ChainSetup, simulate_chain};
+use crate::{
+    draw::sample_rng,
+    error::{McError, Result},
+};
+use msd_ident::chain::{ChainParameters, ChainSetup, simulate_chain};
 use rand::Rng;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -64,7 +67,7 @@ pub struct ChainBand {
 /// count: draw i depends on (seed, i) only, and the percentiles are taken in draw order.
 ///
 /// ```
-/// use msd_ident::{ChainParameters, ChainSetup};
+/// use msd_ident::{chain::{ChainParameters, ChainSetup}};
 /// use msd_mc::{ChainBandOptions, chain_band};
 /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let force = vec![1.0; 500];
@@ -161,10 +164,10 @@ fn validate(options: &ChainBandOptions) -> Result<()> {
     if options.threads == 0 {
         return Err(McError::ZeroThreads);
     }
-    if options.threads > crate::MAX_THREADS {
+    if options.threads > crate::options::MAX_THREADS {
         return Err(McError::TooManyThreads {
             threads: options.threads,
-            max: crate::MAX_THREADS,
+            max: crate::options::MAX_THREADS,
         });
     }
     if !(options.percent > 0.0 && options.percent < 100.0) {
@@ -178,7 +181,7 @@ fn validate(options: &ChainBandOptions) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use msd_ident::{ChainSensor, ResponseQuantity};
+    use msd_ident::{ResponseQuantity, chain::ChainSensor};
 
     fn two_storey() -> (ChainSetup, ChainParameters) {
         let setup = ChainSetup {

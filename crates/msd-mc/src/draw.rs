@@ -4,7 +4,10 @@
 //! stream i (`set_stream(i)`): its draw depends on (s, i) only, never on the thread that
 //! runs it or how the samples are chunked.
 
-use crate::{McError, Result, Sampling};
+use crate::{
+    error::{McError, Result},
+    options::Sampling,
+};
 use msd_ident::Parameters;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -337,7 +337,7 @@ fn finish(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sample_rng;
+    use crate::draw::sample_rng;
     use rand::Rng;
 
     /// Response of sample i at time j: a_j + b_j·u with u ~ U(0, 1) from sample i's

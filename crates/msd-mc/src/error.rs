@@ -63,7 +63,7 @@ pub enum McError {
         /// Its value (negative or not finite), or the asymmetry.
         value: f64,
     },
-    /// More worker threads than [`crate::MAX_THREADS`].
+    /// More worker threads than [`crate::options::MAX_THREADS`].
     #[error("the number of threads is {threads}: expected at most {max}")]
     TooManyThreads {
         /// The threads asked for.
@@ -173,7 +173,7 @@ pub enum SampleFailure {
     /// No draw of the sample was physical, after `redraws` redraws.
     #[error("non-physical draw after {redraws} redraws")]
     NonPhysical {
-        /// Redraws tried ([`MAX_REDRAWS`](crate::MAX_REDRAWS)).
+        /// Redraws tried ([`MAX_REDRAWS`](crate::draw::MAX_REDRAWS)).
         redraws: usize,
     },
     /// Its parameters could not be simulated.

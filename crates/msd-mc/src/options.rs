@@ -1,6 +1,6 @@
 //! Options of a Monte Carlo band run and how parameters are sampled.
 
-use crate::{McError, Result};
+use crate::error::{McError, Result};
 use msd_ident::{Backend, InitialState, PARAMETER_NAMES, Uncertainty};
 use serde::{Deserialize, Serialize};
 
@@ -19,7 +19,7 @@ pub enum Sampling {
     ///
     /// A draw with m ≤ 0, c < 0 or k ≤ 0 is rejected and redrawn from the same
     /// per-sample generator (so the draws follow the normal distribution truncated to
-    /// the physical region); after [`MAX_REDRAWS`](crate::MAX_REDRAWS) rejections the
+    /// the physical region); after [`MAX_REDRAWS`](crate::draw::MAX_REDRAWS) rejections the
     /// sample counts as failed. All deterministic in (seed, sample index).
     Covariance {
         /// Symmetric positive semi-definite covariance of (m, c, k); a zero row and
@@ -73,7 +73,7 @@ impl Sampling {
     }
 }
 
-/// Options of [`monte_carlo_band`](crate::monte_carlo_band).
+/// Options of [`monte_carlo_band`](crate::band::monte_carlo_band).
 ///
 /// By default the paper's: N = 1000, p = 10 % uniform, percentiles 5/50/95 (the 90 %
 /// band), 2 threads, seed 0, the paper's ode45 (RelTol 1e-6, AbsTol 1e-9) from rest, and

@@ -15,13 +15,16 @@
 //! percentile intervals at the requested confidence, and the standard error as the
 //! standard deviation of the replicates. A quantity with V = 0 gets NaN indices.
 //!
-//! Row j of A and B draws 2d uniforms from [`sample_rng`](crate::sample_rng)(seed, j);
+//! Row j of A and B draws 2d uniforms from [`sample_rng`](crate::draw::sample_rng)(seed, j);
 //! bootstrap resample r draws from stream 2⁶³ + r. Inputs come from their distributions
 //! by the inverse CDF of uniforms in (0, 1). Rows run in parallel on a local pool and are
 //! reduced in row order, so results do not depend on the thread count.
 
 use crate::quantile::percentiles;
-use crate::{McError, Result, sample_rng};
+use crate::{
+    draw::sample_rng,
+    error::{McError, Result},
+};
 use rand::Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,9 @@
 //! Sobol indices of the mass–spring–damper's scalar quantities of interest.
 
-use crate::{Distribution, McError, Result, SobolOptions, SobolResult, sobol_indices};
+use crate::{
+    error::{McError, Result},
+    sobol::{Distribution, SobolOptions, SobolResult, sobol_indices},
+};
 use msd_ident::{Backend, Excitation, InitialState, Parameters, simulate, simulate_into};
 use serde::{Deserialize, Serialize};
 use std::cell::RefCell;

@@ -1,6 +1,6 @@
 //! The one error type of this crate; msd-signal's and msd-opt's errors convert into it.
 
-use crate::stabilization::StabilizationDiagram;
+use crate::diagram::StabilizationDiagram;
 use msd_opt::OptError;
 use msd_opt::statistics::Singular;
 use msd_signal::SignalError;

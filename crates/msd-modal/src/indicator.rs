@@ -143,7 +143,7 @@ fn receptance_turn(kind: FrfKind) -> Complex64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ModalParameters;
+    use crate::modal::ModalParameters;
     use msd_signal::FrequencyResponseEstimate;
 
     fn member(response: u32, reference: u32, h: Vec<Complex64>, f: &[f64]) -> SetMember {

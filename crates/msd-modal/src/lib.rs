@@ -38,6 +38,7 @@
 //! # Ok::<(), msd_modal::ModalError>(())
 //! ```
 
+mod diagram;
 pub mod error;
 mod half_power;
 mod indicator;
@@ -45,6 +46,7 @@ pub mod lines;
 mod lscf;
 mod modal;
 mod modes;
+mod options;
 mod polish;
 mod set;
 mod set_poles;
@@ -53,20 +55,20 @@ mod stabilization;
 mod synthetic;
 mod window;
 
+pub use diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableMode};
 pub use error::{ModalError, Result};
 pub use half_power::{HalfPower, half_power};
 pub use indicator::{ModeIndicator, mode_indicator};
 pub use lines::FrfWeighting;
 pub use modal::ModalParameters;
-pub use modes::{ModalFit, ModalOptions, Mode, RefusedMode, fit_modes};
+pub use modes::{ModalFit, Mode, RefusedMode, fit_modes};
 pub use msd_signal::FrequencyResponseEstimate;
+pub use options::ModalOptions;
 pub use set::{Dof, MemberFit, ModeSetFit, Roving, SetMember, SetMode, ShapeEntry, fit_mode_set};
 pub use shapes::{
     ShapeComparison, compare_shapes, mac, mac_matrix, mean_phase_deviation,
     modal_phase_collinearity, unit_normalised,
 };
-pub use stabilization::{
-    DiagramOrder, DiagramPole, StabilizationDiagram, StableMode, stabilization_diagram,
-};
+pub use stabilization::stabilization_diagram;
 pub use synthetic::synthetic_frequency_response;
 pub use window::WindowCorrection;

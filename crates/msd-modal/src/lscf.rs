@@ -244,7 +244,7 @@ fn aberth(alpha: &[f64], mut z: Vec<Complex64>) -> Option<Vec<Complex64>> {
 mod tests {
     use super::*;
     use crate::modal::term;
-    use crate::synthetic_frequency_response;
+    use crate::synthetic::synthetic_frequency_response;
 
     #[test]
     fn two_exact_modes_give_their_poles_at_order_four() {

@@ -6,116 +6,19 @@ use std::f64::consts::TAU;
 use msd_opt::LmExit;
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
+use crate::diagram::{StabilizationDiagram, StableMode};
 use crate::error::{ModalError, Result};
 use crate::lines::Lines;
-use crate::lines::{FrfWeighting, check_band, prepare};
+use crate::lines::{FrfWeighting, prepare};
 use crate::modal::ModalParameters;
+use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, Polished, lsfd, model, polish};
-use crate::stabilization::{StabilizationDiagram, StableMode, diagram_of};
+use crate::stabilization::diagram_of;
 use crate::window::{WindowCorrection, unshift_pole};
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::t_975;
-
-/// Options of [`fit_modes`] and [`stabilization_diagram`](crate::stabilization_diagram)
-/// (in TOML: a table with any of these fields).
-///
-/// ```
-/// use msd_modal::ModalOptions;
-/// let options: ModalOptions = toml::from_str("orders = [2, 60]\nmode_count = 2")?;
-/// assert_eq!((options.orders, options.order_step, options.mode_count), ([2, 60], 2, Some(2)));
-/// assert_eq!(options.frequency_tolerance, 0.01);
-/// # Ok::<(), toml::de::Error>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ModalOptions {
-    /// The band to fit in Hz; `None` = every line above 0 Hz. By default `None`.
-    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
-    pub band_hz: Option<[f64; 2]>,
-    /// How the lines are weighted. By default [`FrfWeighting::Coherence`].
-    pub weighting: FrfWeighting,
-    /// The lowest and highest model order of the diagram. By default [2, 40].
-    #[serde(deserialize_with = "msd_signal::pair::exactly_two")]
-    pub orders: [usize; 2],
-    /// The step between orders. By default 2 (the poles come in conjugate pairs).
-    pub order_step: usize,
-    /// Relative change of fn from the order before that counts as stable. By default
-    /// 0.01 (1 %, the usual criterion; Peeters et al., "The PolyMAX frequency-domain
-    /// method", Shock and Vibration 11, 2004).
-    pub frequency_tolerance: f64,
-    /// Relative change of ζ that counts as stable. By default 0.05 (5 %, idem).
-    pub damping_tolerance: f64,
-    /// Poles more damped than this are left out of the diagram. By default 0.5.
-    pub max_damping_ratio: f64,
-    /// Automatic selection: a mode must be stable at this share of the orders.
-    /// By default 0.4.
-    pub min_stable_share: f64,
-    /// Select this many modes (those stable at the most orders) instead. By default
-    /// `None` (automatic).
-    pub mode_count: Option<usize>,
-}
-
-impl Default for ModalOptions {
-    fn default() -> Self {
-        Self {
-            band_hz: None,
-            weighting: FrfWeighting::Coherence,
-            orders: [2, 40],
-            order_step: 2,
-            frequency_tolerance: 0.01,
-            damping_tolerance: 0.05,
-            max_damping_ratio: 0.5,
-            min_stable_share: 0.4,
-            mode_count: None,
-        }
-    }
-}
-
-impl ModalOptions {
-    /// Checks every option, naming the first out of range.
-    ///
-    /// ```
-    /// use msd_modal::{ModalError, ModalOptions};
-    /// let bad = ModalOptions { orders: [10, 4], ..ModalOptions::default() };
-    /// assert!(matches!(bad.validate(), Err(ModalError::InvalidParameter { name: "orders[1]", .. })));
-    /// ```
-    pub fn validate(&self) -> Result<()> {
-        check_band(self.band_hz)?;
-        let invalid = |name, value: f64, expected| {
-            Err(ModalError::InvalidParameter {
-                name,
-                value,
-                expected,
-            })
-        };
-        let [low, high] = self.orders;
-        if low < 1 {
-            return invalid("orders[0]", low as f64, "an order >= 1");
-        }
-        if !(low..=400).contains(&high) {
-            return invalid("orders[1]", high as f64, "an order from orders[0] to 400");
-        }
-        if self.order_step < 1 {
-            return invalid("order_step", 0.0, "a step >= 1");
-        }
-        for (name, value) in [
-            ("frequency_tolerance", self.frequency_tolerance),
-            ("damping_tolerance", self.damping_tolerance),
-            ("max_damping_ratio", self.max_damping_ratio),
-            ("min_stable_share", self.min_stable_share),
-        ] {
-            if !(value > 0.0 && value <= 1.0) {
-                return invalid(name, value, "a number in (0, 1]");
-            }
-        }
-        if self.mode_count == Some(0) {
-            return invalid("mode_count", 0.0, "at least 1 mode");
-        }
-        Ok(())
-    }
-}
 
 /// One mode of a [`ModalFit`], every quantity with its 95 % interval.
 ///
@@ -287,7 +190,7 @@ fn scientific(i: &Interval) -> String {
 /// Fits several modes to `frf` (converted to receptance): H(ω) = Σ_r H_r(ω) − L/ω² + U.
 ///
 /// ## The algorithm
-/// The [`stabilization_diagram`](crate::stabilization_diagram) gives the poles (fn, ζ)
+/// The [`stabilization_diagram`](crate::stabilization::stabilization_diagram) gives the poles (fn, ζ)
 /// of the selected modes; LSFD (linear least squares for fixed poles) the modal
 /// constants A + jB and the residual terms L and U; weights relative to |H| are then
 /// taken from this model rather than the measured |H| (as in msd-ident's `fit_one_mode`),

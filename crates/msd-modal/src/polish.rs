@@ -3,7 +3,7 @@
 //! least squares, and the Gauss–Newton covariance.
 //!
 //! The parameters θ are, per mode, (ωn, ζ, A, B) (see
-//! [`ModalParameters`](crate::ModalParameters)), then the lower and upper residual terms
+//! [`ModalParameters`](crate::modal::ModalParameters)), then the lower and upper residual terms
 //! (L, U) of H(ω) = Σ_r H_r(ω) − L/ω² + U.
 
 use msd_opt::{

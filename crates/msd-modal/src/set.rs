@@ -6,13 +6,15 @@ use std::f64::consts::TAU;
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::{Deserialize, Serialize};
 
+use crate::diagram::{StabilizationDiagram, StableMode};
 use crate::error::{ModalError, Result};
 use crate::lines::{FrfWeighting, Lines, prepare};
-use crate::modes::{ModalOptions, RefusedMode, drop_moved, moved_from_column, pole_intervals};
+use crate::modes::{RefusedMode, drop_moved, moved_from_column, pole_intervals};
+use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, lsfd, model};
 use crate::set_poles::refine_poles;
 use crate::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
-use crate::stabilization::{StabilizationDiagram, StableMode, diagram_of_set};
+use crate::stabilization::diagram_of_set;
 use crate::window::WindowCorrection;
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::t_975;
@@ -85,7 +87,7 @@ pub struct SetMode {
     /// At how many orders of the diagram its column has a pole.
     pub stable_orders: usize,
     /// The modal constant A + jB of every member (receptance, as in
-    /// [`ModalParameters`](crate::ModalParameters)), over the roving DOFs.
+    /// [`ModalParameters`](crate::modal::ModalParameters)), over the roving DOFs.
     pub modal_constants: Vec<ShapeEntry>,
     /// The shape: the modal constants scaled so that the largest entry is 1.
     pub shape: Vec<ShapeEntry>,
@@ -260,7 +262,7 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 /// driving point — the modal masses.
 ///
 /// ## The method
-/// Each member's lines are prepared as for [`fit_modes`](crate::fit_modes) (the same band
+/// Each member's lines are prepared as for [`fit_modes`](crate::modes::fit_modes) (the same band
 /// and weighting). The stabilization diagram is that of a common denominator: the LSCF
 /// reduced normal matrices of the members summed (Peeters et al., "The PolyMAX
 /// frequency-domain method", 2004, for one reference), its columns selected at the peaks
@@ -272,7 +274,7 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 ///
 /// Errors: members on different lines or of different quantities, a pair of DOFs twice,
 /// members that share neither reference nor response, and those of
-/// [`fit_modes`](crate::fit_modes).
+/// [`fit_modes`](crate::modes::fit_modes).
 ///
 /// ```
 /// use msd_modal::{ModalOptions, fit_mode_set, mac, Dof, ModalParameters, SetMember};

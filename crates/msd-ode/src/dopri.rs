@@ -31,7 +31,7 @@ mod lanes;
 mod step;
 mod stepper;
 
-use crate::OdeError;
+use crate::error::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::system::OdeSystem;
 pub use lanes::{LaneSystem, Ode45Lanes};

@@ -30,7 +30,7 @@ mod ramp;
 pub use lockstep::{InputSchedule, Lockstep};
 pub use ramp::RampStep;
 
-use crate::OdeError;
+use crate::error::OdeError;
 use nalgebra::{DMatrix, SMatrix, SVector};
 
 /// A linear time-invariant system x' = A x + b u with one input.

@@ -1,8 +1,8 @@
 //! Options and statistics of the Dormand–Prince solver.
 
-use crate::OdeError;
+use crate::error::OdeError;
 
-/// Options of [`ode45`](crate::ode45), named and defaulted as MATLAB's `odeset`.
+/// Options of [`ode45`](crate::dopri::ode45), named and defaulted as MATLAB's `odeset`.
 ///
 /// Plain public fields; call [`validate`](Ode45Options::validate) (the solver does) to
 /// check them.

@@ -21,7 +21,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::OptError;
+use crate::error::OptError;
 
 /// Lower and upper bounds per coordinate; infinite values mean "no bound".
 ///

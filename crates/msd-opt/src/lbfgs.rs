@@ -28,10 +28,10 @@
 
 use std::fmt;
 
-use crate::OptError;
+use crate::error::OptError;
 use crate::error::{check_non_negative, check_start};
 
-/// Options of [`lbfgs`](crate::lbfgs()).
+/// Options of [`lbfgs`](crate::lbfgs::lbfgs()).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LbfgsOptions {
     /// Number of (s, y) pairs kept. By default 8 (Nocedal & Wright: 3 to 20 work well).
@@ -56,7 +56,7 @@ impl Default for LbfgsOptions {
     }
 }
 
-/// Why [`lbfgs`](crate::lbfgs()) stopped. Serializes in snake case.
+/// Why [`lbfgs`](crate::lbfgs::lbfgs()) stopped. Serializes in snake case.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LbfgsExit {
@@ -81,7 +81,7 @@ impl fmt::Display for LbfgsExit {
     }
 }
 
-/// What [`lbfgs`](crate::lbfgs()) found.
+/// What [`lbfgs`](crate::lbfgs::lbfgs()) found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LbfgsResult {
     /// The best point.

@@ -33,7 +33,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::check_count;
-use crate::{Bounds, LevenbergMarquardtResult, NelderMeadResult, OptError};
+use crate::{
+    bounds::Bounds, error::OptError, levenberg_marquardt::LevenbergMarquardtResult,
+    nelder_mead::NelderMeadResult,
+};
 
 /// How starting points are spread over the box.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

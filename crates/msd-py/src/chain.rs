@@ -3,7 +3,7 @@
 
 use crate::convert::{options, result_dict, vec_f64};
 use crate::errors;
-use msd_ident::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, IdentError};
+use msd_ident::{chain::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup}, IdentError};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -58,7 +58,7 @@ pub fn simulate_chain<'py>(
     let input = vec_f64(&input);
     let samples = input.len();
     let series = py
-        .detach(|| msd_ident::simulate_chain(&setup, &parameters, &input, dt))
+        .detach(|| msd_ident::chain::simulate_chain(&setup, &parameters, &input, dt))
         .map_err(errors::ident)?;
     let mut flat = Vec::with_capacity(series.len() * samples);
     for row in &series {
@@ -93,7 +93,7 @@ pub fn fit_chain<'py>(
     };
     // fit_chain checks the setup, the guess, the options and the record itself.
     let fit = py
-        .detach(|| msd_ident::fit_chain(&setup, &record, &guess, &opts))
+        .detach(|| msd_ident::chain::fit_chain(&setup, &record, &guess, &opts))
         .map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &["noise"])?;
     dict.set_item("summary", fit.to_string())?;
@@ -123,7 +123,7 @@ pub fn predict_chain<'py>(
     let predicted = py
         .detach(|| {
             check_planned(&setup, &truth, &input, dt, &noise, &opts.known_masses)?;
-            msd_ident::predict_chain(&setup, &truth, &input, dt, &noise, &opts)
+            msd_ident::chain::predict_chain(&setup, &truth, &input, dt, &noise, &opts)
         })
         .map_err(errors::ident)?;
     let dict = result_dict(py, &predicted, &[])?;
@@ -162,7 +162,7 @@ fn check_planned(
         })
     };
     // predict_chain's first step: the setup, the truth, dt, the input and the delays.
-    let readings = msd_ident::simulate_chain(setup, truth, input, dt)?;
+    let readings = msd_ident::chain::simulate_chain(setup, truth, input, dt)?;
     if let Some(&m) = known_masses
         .iter()
         .find(|&&m| !(1..=setup.masses).contains(&m))

@@ -4,10 +4,7 @@
 use crate::convert::{array, merged, options, result_dict, vec_f64};
 use crate::errors;
 use msd_ident::dynamometer::Condition;
-use msd_ident::{
-    Backend, Channel, DataSet, DynamometerOptions, EstimationOptions, Excitation, FreeDecayOptions,
-    InitialState, PaperExperiment, Parameters, Record, RecordsOptions, ValidationOptions,
-};
+use msd_ident::{Backend, Channel, DataSet, dynamometer::DynamometerOptions, EstimationOptions, Excitation, free_decay::FreeDecayOptions, InitialState, PaperExperiment, Parameters, Record, RecordsOptions, ValidationOptions};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -262,7 +259,7 @@ pub fn free_decay<'py>(
         )));
     }
     let fit = py
-        .detach(|| msd_ident::free_decay(grid.dt(), &response, &opts))
+        .detach(|| msd_ident::free_decay::free_decay(grid.dt(), &response, &opts))
         .map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &[])?;
     dict.set_item("summary", fit.to_string())?;
@@ -315,7 +312,7 @@ pub fn dynamometer<'py>(
         });
     }
     let fit = py
-        .detach(|| msd_ident::dynamometer(&built, &opts))
+        .detach(|| msd_ident::dynamometer::dynamometer(&built, &opts))
         .map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &[])?;
     dict.set_item("summary", fit.to_string())?;

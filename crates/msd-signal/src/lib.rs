@@ -9,6 +9,7 @@
 //!   [`paper_validation_input`] are the paper experiment's two inputs.
 //! * [`noise`]: seeded Gaussian white noise in named, independent ChaCha streams.
 //! * [`pair`]: strict `[low, high]` pairs for configs read with serde.
+//! * [`quantity`]: [`ResponseQuantity`], what a sensor measures.
 //! * [`preprocess`]: mean/offset and trend removal, moving average, decimation,
 //!   resampling onto a uniform grid, each refusing bad data with a clear error.
 //! * [`spectral`]: Welch PSD, cross spectrum, H1 frequency-response estimate and
@@ -70,6 +71,7 @@ pub mod noise;
 pub mod pair;
 pub mod paper;
 pub mod preprocess;
+pub mod quantity;
 pub mod signal;
 pub mod spectral;
 
@@ -84,6 +86,7 @@ pub use preprocess::{
     decimate, detrend_linear, detrend_linear_at, moving_average, remove_mean, remove_offset,
     resample_uniform,
 };
+pub use quantity::ResponseQuantity;
 pub use rustfft::num_complex::Complex64;
 pub use signal::{
     Breakpoint, ClippingOptions, LineSelection, Multisine, MultisineSpec, PhaseScheme, Prbs,

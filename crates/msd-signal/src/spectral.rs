@@ -49,9 +49,9 @@ use crate::error::{Result, SignalError, check_data, positive, same_length};
 #[serde(rename_all = "snake_case")]
 pub enum Window {
     /// Chosen from the data, the default: [`Window::Rectangular`] where
-    /// [`frf_estimate`](crate::frf_estimate) averages whole records whose input repeats
+    /// [`frf_estimate`](crate::frf::frf_estimate) averages whole records whose input repeats
     /// from record to record (a periodic force over whole periods, which a taper would
-    /// only smear into the lines between its own: see [`REPEATING`](crate::REPEATING)),
+    /// only smear into the lines between its own: see [`REPEATING`](crate::frf::REPEATING)),
     /// [`Window::Hann`] everywhere else (a PSD, one record, Welch segments, an input
     /// that does not repeat).
     #[default]

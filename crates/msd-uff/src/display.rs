@@ -4,7 +4,8 @@
 use std::fmt;
 
 use crate::{
-    Abscissa, Analysis55, ByteOrder, Data55, Encoding, Function58, Ordinate, Precision, UffFile,
+    nodes::{Analysis55, Data55},
+    types::{Abscissa, ByteOrder, Encoding, Function58, Ordinate, Precision, UffFile},
 };
 
 /// `+X`, `-RZ`, `scalar`, … for a direction code (record 6, fields 7 and 10).

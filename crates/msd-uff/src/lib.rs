@@ -163,6 +163,7 @@
 
 mod display;
 mod error;
+mod framing;
 mod function_type;
 mod nodes;
 mod read;

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::Precision;
+use crate::types::Precision;
 
 /// A node of the geometry: dataset 15 (*Nodes*, coordinates in `E13.5`) or 2411 (*Nodes –
 /// Double Precision*, coordinates in `D25.16`).

@@ -1,8 +1,12 @@
 //! Reading dataset 55 (data at nodes) and the nodes of datasets 15 and 2411.
 
-use crate::read::record;
+use crate::framing::record;
 use crate::text::{FieldReader, Line, Lines, data_numbers, integer_fields, numeric_fields, words};
-use crate::{Analysis55, Data55, Node, Precision, UffError};
+use crate::{
+    error::UffError,
+    nodes::{Analysis55, Data55, Node},
+    types::Precision,
+};
 
 const DATASET: Option<u32> = Some(55);
 

@@ -1,10 +1,11 @@
 //! Reading dataset 58 (ASCII) and 58b (binary): records 1–11, then the data of record 12.
 
-use crate::read::{BinaryId, IdLine, missing_close, record};
+use crate::framing::{BinaryId, IdLine, missing_close, record};
 use crate::text::{FieldReader, Line, Lines, columns, data_numbers, numeric_fields};
 use crate::{
-    Abscissa, Axis, ByteOrder, Encoding, Function58, FunctionType, Ordinate, Position, Precision,
-    UffError,
+    error::{Position, UffError},
+    function_type::FunctionType,
+    types::{Abscissa, Axis, ByteOrder, Encoding, Function58, Ordinate, Precision},
 };
 
 /// How record 12 is laid out: the eight cases of the SDRC description.

@@ -2,7 +2,7 @@
 
 use std::borrow::Cow;
 
-use crate::{Position, UffError};
+use crate::error::{Position, UffError};
 
 /// One line of the file, without its line end.
 pub(crate) struct Line<'a> {

@@ -2,7 +2,10 @@
 
 use serde::Serialize;
 
-use crate::{Data55, FunctionType, Node};
+use crate::{
+    function_type::FunctionType,
+    nodes::{Data55, Node},
+};
 
 /// Everything read from, or to be written to, one UFF file.
 ///
@@ -259,7 +262,7 @@ impl Ordinate {
 /// The precision of the data in the file (record 7, field 1).
 ///
 /// Values are `f64` in memory either way. Writing in single precision rounds them to
-/// `f32` in binary and to the 13 columns of `E13.5` in ASCII (see [`crate::AsciiNumbers`]).
+/// `f32` in binary and to the 13 columns of `E13.5` in ASCII (see [`crate::write::AsciiNumbers`]).
 ///
 /// ```
 /// assert_eq!(msd_uff::Precision::default(), msd_uff::Precision::Double);

@@ -7,8 +7,11 @@ use crate::read58::Layout;
 use crate::text::format_real;
 use crate::write55::{write_nodes, write55};
 use crate::{
-    Abscissa, ByteOrder, Encoding, Function58, Header151, Ordinate, Precision, UffError, UffFile,
-    Units164,
+    error::UffError,
+    types::{
+        Abscissa, ByteOrder, Encoding, Function58, Header151, Ordinate, Precision, UffFile,
+        Units164,
+    },
 };
 
 /// How numbers are written as text.

@@ -3,7 +3,12 @@
 
 use crate::text::format_real;
 use crate::write::Out;
-use crate::{AsciiNumbers, Data55, Node, Precision, UffError, WriteOptions};
+use crate::{
+    error::UffError,
+    nodes::{Data55, Node},
+    types::Precision,
+    write::{AsciiNumbers, WriteOptions},
+};
 
 /// The nodes, each run of consecutive nodes of one precision as one dataset: 15
 /// (Format(4I10,1P3E13.5)) for single precision, 2411 (Format(4I10) then

@@ -5,9 +5,10 @@
 
 use crate::{cases, wild_count, wild_f64};
 use msd_ident::{
-    Backend, DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
-    InitialState, Method, Parameters, ResidualOptions, SyntheticOptions,
+    Backend, DataSet, EstimationOptions, Excitation, IdentError, InitialState, Method, Parameters,
+    ResidualOptions, SyntheticOptions,
     estimate::{FixedParameters, MultistartSettings, ParameterBounds},
+    frequency::FrequencyCheckOptions,
 };
 use msd_ode::{ExactSimulator, Hold, LtiModel, Ode45Options, OdeError, SMatrix, SVector};
 use msd_opt::{
@@ -321,7 +322,7 @@ proptest! {
             model[1] = model[1].max(2e-6 * (model[0] * model[2]).abs().sqrt());
         }
         let parameters = if paper_model { Parameters::PAPER } else { Parameters::from_array(model) };
-        match msd_ident::frequency_check(paper_validation(), &parameters, None, &options) {
+        match msd_ident::frequency::frequency_check(paper_validation(), &parameters, None, &options) {
             Ok(c) => {
                 prop_assert!(parameters.validate().is_ok());
                 prop_assert!(non_finite_token(&c).is_none(), "{:?}", non_finite_token(&c));
@@ -424,7 +425,12 @@ fn frequency_check_refuses_invalid_options() {
     ];
     for (option, options) in cases {
         let outcome = std::panic::catch_unwind(|| {
-            msd_ident::frequency_check(paper_validation(), &Parameters::PAPER, None, &options)
+            msd_ident::frequency::frequency_check(
+                paper_validation(),
+                &Parameters::PAPER,
+                None,
+                &options,
+            )
         });
         match outcome {
             Ok(Err(IdentError::InvalidParameter { name, .. })) => {
@@ -445,7 +451,7 @@ fn frequency_check_of_an_extreme_model_has_no_nan() {
         damping: 0.0,
         stiffness: f64::MAX,
     };
-    let result = msd_ident::frequency_check(
+    let result = msd_ident::frequency::frequency_check(
         paper_validation(),
         &parameters,
         None,

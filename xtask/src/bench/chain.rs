@@ -6,8 +6,11 @@ use super::report::{Row, Target};
 use super::rows::fail;
 use crate::Result;
 use msd_ident::{
-    ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, ResponseQuantity,
-    fit_chain, simulate_chain,
+    ResponseQuantity,
+    chain::{
+        ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, fit_chain,
+        simulate_chain,
+    },
 };
 use msd_signal::gaussian_noise;
 

@@ -7,8 +7,7 @@ use super::report::{Row, Target};
 use super::rows::fail;
 use crate::Result;
 use msd_ident::{
-    DynamometerOptions, dynamometer,
-    dynamometer::{SyntheticDynamometer, synthetic_dynamometer},
+    dynamometer::{DynamometerOptions, SyntheticDynamometer, dynamometer, synthetic_dynamometer},
     nonlinear::DampingLaw,
 };
 

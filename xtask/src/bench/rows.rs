@@ -6,12 +6,12 @@ use super::report::{Row, Target, duration};
 use super::simulate_once;
 use crate::{ExperimentError, Result, config::Config, paper, progress::Progress};
 use msd_ident::{
-    Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, InitialState,
-    ModelStructure, NonlinearOptions, PaperExperiment, Parameters, ResidualOptions,
-    SyntheticOptions, ValidationOptions, estimate, estimate_nonlinear, frequency_check,
+    Backend, DataSet, Estimate, EstimationOptions, Excitation, InitialState, PaperExperiment,
+    Parameters, ResidualOptions, SyntheticOptions, ValidationOptions, estimate,
+    frequency::{FrequencyCheckOptions, frequency_check},
     nonlinear::{
-        DampingLaw, NonlinearParameters, NonlinearSimulation, NonlinearSolver, StiffnessLaw,
-        simulate_nonlinear,
+        DampingLaw, ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation,
+        NonlinearSolver, StiffnessLaw, estimate_nonlinear, simulate_nonlinear,
     },
     residual_analysis, synthetic_data, validate_model,
 };

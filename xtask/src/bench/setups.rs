@@ -10,9 +10,11 @@ use crate::Result;
 use msd_experiment::config::Config;
 use msd_experiment::plan::{PlanOptions, plan_config};
 use msd_ident::{
-    Channel, Drive, EstimationOptions, Excitation, Frame, FreeDecayOptions, InitialState,
-    KnownParameter, PaperExperiment, Parameters, Record, RecordsOptions, ResponseQuantity,
-    fit_records, free_decay, predicted_uncertainty, records::simulate_response,
+    Channel, Drive, EstimationOptions, Excitation, Frame, InitialState, KnownParameter,
+    PaperExperiment, Parameters, Record, RecordsOptions, ResponseQuantity, fit_records,
+    free_decay::{FreeDecayOptions, free_decay},
+    predicted_uncertainty,
+    records::simulate_response,
 };
 
 /// Free decay, base excitation and the Cramér–Rao plan on records of the paper's length.

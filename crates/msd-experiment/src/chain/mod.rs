@@ -10,8 +10,11 @@ mod report;
 use crate::config::{ChainSection, Config};
 use crate::progress::Progress;
 use crate::results::Experiment;
-use crate::{ExperimentError, Result, RunOptions};
-use msd_ident::{ChainFit, ChainOptions, ChainRecord, fit_chain, simulate_chain};
+use crate::{
+    error::{ExperimentError, Result},
+    options::RunOptions,
+};
+use msd_ident::chain::{ChainFit, ChainOptions, ChainRecord, fit_chain, simulate_chain};
 use msd_mc::{ChainBand, ChainBandOptions, chain_band};
 use msd_signal::gaussian_noise;
 use serde::Serialize;
@@ -175,7 +178,7 @@ pub(crate) fn tables(o: &ChainOutcome) -> Vec<(String, String)> {
         if o.config
             .chain
             .as_ref()
-            .is_some_and(|c| c.drive == msd_ident::ChainDrive::Force)
+            .is_some_and(|c| c.drive == msd_ident::chain::ChainDrive::Force)
         {
             "force"
         } else {

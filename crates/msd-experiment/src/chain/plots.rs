@@ -2,7 +2,7 @@
 //! each sensor, measured and as fitted.
 
 use super::{ChainOutcome, channel_names};
-use crate::Result;
+use crate::error::Result;
 use crate::plots::panel::{Band, Curve, Panel, Stack, Style};
 use crate::plots::{BLUE, RED, register_fonts, save};
 use plotters::prelude::SeriesLabelPosition;
@@ -23,8 +23,8 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
         .chain
         .as_ref()
         .map_or("force [N]", |c| match c.drive {
-            msd_ident::ChainDrive::Force => "force [N]",
-            msd_ident::ChainDrive::BaseAcceleration => "base acceleration [m/s²]",
+            msd_ident::chain::ChainDrive::Force => "force [N]",
+            msd_ident::chain::ChainDrive::BaseAcceleration => "base acceleration [m/s²]",
         });
     let mut panels = vec![Panel {
         title: "Drive".into(),

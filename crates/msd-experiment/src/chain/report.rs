@@ -2,7 +2,7 @@
 
 use super::{ChainOutcome, channel_names};
 use crate::fmt::{millis, sig};
-use msd_ident::{ChainFit, Interval};
+use msd_ident::{Interval, chain::ChainFit};
 use std::fmt::Write;
 
 /// `report.md` of `o`, with `figures` embedded.
@@ -72,8 +72,8 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
         "{} masses in a chain from the ground; drive: **{}**; {} samples every {} s (synthetic).\n",
         chain.plant.masses.len(),
         match chain.drive {
-            msd_ident::ChainDrive::Force => format!("force on mass {}", chain.force_at),
-            msd_ident::ChainDrive::BaseAcceleration => "base acceleration".into(),
+            msd_ident::chain::ChainDrive::Force => format!("force on mass {}", chain.force_at),
+            msd_ident::chain::ChainDrive::BaseAcceleration => "base acceleration".into(),
         },
         o.record.len(),
         sig(o.record.dt, 4)

@@ -1,6 +1,9 @@
 //! `[chain]`: a chain of masses tested in the time domain (`crate::chain`).
 
-use msd_ident::{ChainDrive, ChainParameters, ChainSensor, ChainSetup, LowPass, ResponseQuantity};
+use msd_ident::{
+    ResponseQuantity,
+    chain::{ChainDrive, ChainParameters, ChainSensor, ChainSetup, LowPass},
+};
 use serde::{Deserialize, Serialize};
 
 /// A chain of masses, its sensors and the start of the fit.
@@ -121,12 +124,12 @@ impl ChainSection {
             )
         };
         let n = self.plant.masses.len();
-        if !(1..=msd_ident::MAX_MASSES).contains(&n) {
+        if !(1..=msd_ident::chain::MAX_MASSES).contains(&n) {
             return Err((
                 "chain.plant.masses".into(),
                 format!(
                     " has {n} values: expected 1 to {} masses",
-                    msd_ident::MAX_MASSES
+                    msd_ident::chain::MAX_MASSES
                 ),
             ));
         }

@@ -111,7 +111,7 @@ pub struct FrequencyResponseSection {
     pub force_scale_known: bool,
 }
 
-pub use msd_ident::ChainPlant;
+pub use msd_ident::chain::ChainPlant;
 pub use msd_modal::Dof;
 
 /// A mode a set is compared with: fn, ζ and the shape over the set's roving DOFs.

@@ -1,10 +1,10 @@
 //! The optional `[nonlinear]` section: estimate one nonlinear model (`model`) or compare
 //! candidate models by BIC (`compare`, the linear baseline always included), with
-//! msd-ident's [`estimate_nonlinear`](msd_ident::estimate_nonlinear) and
-//! [`compare_models`](msd_ident::compare_models). Off unless present.
+//! msd-ident's [`estimate_nonlinear`](msd_ident::nonlinear::estimate_nonlinear) and
+//! [`compare_models`](msd_ident::nonlinear::compare_models). Off unless present.
 //!
 //! ```
-//! use msd_ident::{ModelStructure, nonlinear::{DampingLaw, StiffnessLaw}};
+//! use msd_ident::{nonlinear::{DampingLaw, ModelStructure, StiffnessLaw}};
 //! use msd_experiment::config::{Candidates, NonlinearSection};
 //! let section: NonlinearSection = toml::from_str(r#"
 //!     compare = [{ damping = "viscous", stiffness = "cubic" }]
@@ -18,15 +18,14 @@
 //! ```
 
 use super::{check_positive, default_true};
-use msd_ident::{
-    ModelStructure,
-    nonlinear::{NonlinearMethod, NonlinearSimulation, SmoothingVelocity},
+use msd_ident::nonlinear::{
+    ModelStructure, NonlinearMethod, NonlinearSimulation, SmoothingVelocity,
 };
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// The `[nonlinear]` section.
 ///
-/// By default (for every optional field) msd-ident's [`msd_ident::NonlinearOptions`]:
+/// By default (for every optional field) msd-ident's [`msd_ident::nonlinear::NonlinearOptions`]:
 /// Levenberg–Marquardt with the Jacobian from the forward sensitivities, the solver
 /// `auto` (RK4 on the cubic hold for measured data, ode45 RelTol 1e-8 and AbsTol 1e-12
 /// for a known signal), Coulomb smoothing velocity 1e-3 × the nominal RMS velocity,

@@ -4,7 +4,7 @@
 
 use super::Record;
 use crate::config::{Column, DataSection};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use std::path::Path;
 
 /// One column to read: its role in messages (`input`, `output`, `acceleration`), the

@@ -19,7 +19,7 @@
 //! ```
 
 use crate::config::{Config, PilotSection};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::{Interval, Parameters};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

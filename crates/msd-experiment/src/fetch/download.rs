@@ -2,7 +2,7 @@
 //! from a local file), its members are found, read and checked, and only then written.
 
 use super::{DataFile, DataSetFiles, check, missing, place};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use std::borrow::Cow;
 use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};

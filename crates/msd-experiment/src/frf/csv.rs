@@ -2,7 +2,7 @@
 //! records sources: errors name the file, the line, the column and the config key.
 
 use crate::config::Column;
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_signal::Complex64;
 use std::path::Path;
 

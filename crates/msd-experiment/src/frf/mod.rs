@@ -47,7 +47,10 @@ mod uff;
 mod uff_out;
 
 use crate::config::{ChainPlant, Config};
-use crate::{ExperimentError, Result, RunOptions};
+use crate::{
+    error::{ExperimentError, Result},
+    options::RunOptions,
+};
 use msd_ident::{OneModeFit, fit_one_mode};
 use msd_modal::{
     Dof, HalfPower, ModalError, ModalFit, ModalParameters, ModeIndicator, ModeSetFit, SetMember,

@@ -3,7 +3,7 @@
 //! `frf_stabilization` (several modes).
 
 use super::{FrfFit, FrfOutcome};
-use crate::Result;
+use crate::error::Result;
 use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, limits, phase_panel, save,
     suptitle, text, tick, title_style,

@@ -3,7 +3,7 @@
 //! coordinates (`frf_shapes_geometry`).
 
 use super::FrfOutcome;
-use crate::Result;
+use crate::error::Result;
 use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, save, suptitle, text, tick,
     title_style,

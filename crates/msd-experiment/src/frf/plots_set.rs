@@ -2,7 +2,7 @@
 //! matrix (`frf_mac`) and the shapes over the DOFs (`frf_shapes`).
 
 use super::FrfOutcome;
-use crate::Result;
+use crate::error::Result;
 use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, save, suptitle, text,
     tick, tick_style,

@@ -2,7 +2,7 @@
 //! (UFF datasets 55, `reference_shapes`) and the nodes' coordinates (datasets 15 or
 //! 2411, `geometry`).
 
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_modal::{ModeSetFit, ShapeComparison, ShapeEntry, compare_shapes};
 use serde::Serialize;
 use std::path::Path;

@@ -5,9 +5,9 @@
 
 use super::source::{Loaded, run_error};
 use super::time_domain::TimeRecords;
-use crate::ExperimentError;
-use crate::Result;
 use crate::config::{ChainPlant, HammerSource, ShakerSource};
+use crate::error::ExperimentError;
+use crate::error::Result;
 use msd_ident::Hold;
 use msd_signal::{FrfOptions, Record, frf_estimate, gaussian_noise};
 

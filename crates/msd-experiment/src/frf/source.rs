@@ -9,7 +9,7 @@ use crate::config::{
     ChainPlant, Column, FrequencyResponseSection, RecordsSource, Spacing, SweepSource, TableSource,
     UffSource,
 };
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::Hold;
 use msd_modal::{Dof, SetMember};
 use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};

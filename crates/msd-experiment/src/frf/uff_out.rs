@@ -3,7 +3,7 @@
 //! the data's lines (`synthesized.uff`).
 
 use super::FrfOutcome;
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_modal::{ModeSetFit, SetMode};
 use msd_signal::FrfKind;
 use msd_uff::{Abscissa, Analysis55, Data55, Function58, FunctionType, Ordinate, UffFile};

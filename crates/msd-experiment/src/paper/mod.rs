@@ -15,11 +15,12 @@ pub use crate::options::RunOptions;
 
 use crate::config::{Config, Kind, RecordChoice};
 use crate::data::{self, ExperimentData};
+use crate::error::{ExperimentError, Result};
 use crate::progress::Progress;
-use crate::{ExperimentError, Result};
 use msd_ident::{
     Backend, Estimate, FitMetrics, IdentError, InitialState, Parameters, ResidualOptions,
-    ValidationOptions, estimate, frequency_check,
+    ValidationOptions, estimate,
+    frequency::frequency_check,
     nonlinear::{FixedModel, fit_initial_state},
     residual_analysis, simulate_into, validate_model,
 };
@@ -71,7 +72,7 @@ pub enum FrequencyStage {
     /// Not asked for (`[frequency_check] enabled = false`).
     Off,
     /// Done.
-    Checked(Box<msd_ident::FrequencyCheck>),
+    Checked(Box<msd_ident::frequency::FrequencyCheck>),
     /// Asked for, but not possible on these data (no resonance in the excited band — an
     /// over-damped plant, or a mode outside the band — or no input power above DC): the
     /// check's reason, in words. The run goes on without it.
@@ -80,7 +81,7 @@ pub enum FrequencyStage {
 
 impl FrequencyStage {
     /// The check, when it was done.
-    pub fn check(&self) -> Option<&msd_ident::FrequencyCheck> {
+    pub fn check(&self) -> Option<&msd_ident::frequency::FrequencyCheck> {
         match self {
             Self::Checked(check) => Some(check),
             _ => None,

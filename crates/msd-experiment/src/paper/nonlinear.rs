@@ -15,12 +15,12 @@
 
 use crate::config::{Config, NonlinearSection};
 use crate::data::ExperimentData;
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::{
-    Estimate, NonlinearOptions, ResidualOptions, compare_models, estimate_nonlinear,
+    Estimate, ResidualOptions,
     nonlinear::{
-        Comparison, ComparisonOptions, NonlinearMultistart, NonlinearParameters, ValidationStart,
-        assess_estimate,
+        Comparison, ComparisonOptions, NonlinearMultistart, NonlinearOptions, NonlinearParameters,
+        ValidationStart, assess_estimate, compare_models, estimate_nonlinear,
     },
 };
 

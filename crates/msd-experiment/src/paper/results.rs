@@ -10,7 +10,8 @@ use crate::config::{Config, Kind};
 use crate::results::{Experiment, ms};
 use msd_ident::Ode45Stats as Stats;
 use msd_ident::{
-    Backend, FitMetrics, FrequencyCheck, InitialState, Interval, Parameters, ResidualAnalysis,
+    Backend, FitMetrics, InitialState, Interval, Parameters, ResidualAnalysis,
+    frequency::FrequencyCheck,
 };
 use serde::Serialize;
 use serde_json::Value;

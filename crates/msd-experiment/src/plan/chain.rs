@@ -1,5 +1,5 @@
 //! A `[chain]` config: every m, c, k, mode and estimated delay of the chain predicted by
-//! [`msd_ident::predict_chain`] at the config's chain (the Cramér–Rao bound of the fit's
+//! [`msd_ident::chain::predict_chain`] at the config's chain (the Cramér–Rao bound of the fit's
 //! own linearisation), what reaches the target (a stronger drive, a longer record, repeats),
 //! and with `verify` the spread and the coverage of that many simulated records, each
 //! fitted as the run fits it.
@@ -10,8 +10,11 @@ use super::search::{
 };
 use super::{Correlation, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{ChainSection, Config};
-use crate::{ExperimentError, Result};
-use msd_ident::{ChainDrive, ChainUncertainty, Interval, ResponseQuantity, predict_chain};
+use crate::error::{ExperimentError, Result};
+use msd_ident::{
+    Interval, ResponseQuantity,
+    chain::{ChainDrive, ChainUncertainty, predict_chain},
+};
 use std::path::Path;
 
 const M: [&str; 8] = ["m1", "m2", "m3", "m4", "m5", "m6", "m7", "m8"];

@@ -4,7 +4,7 @@
 use super::search::{Widths, draws, duration_needed, longest_record, standard_deviations};
 use super::{Correlation, NAMES, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{Config, TimeGrid};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::{Excitation, Interval, PlannedInformation, Uncertainty, estimate};
 use std::path::Path;
 

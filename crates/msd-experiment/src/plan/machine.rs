@@ -6,11 +6,13 @@
 use super::search::{repeats_needed, standard_deviations};
 use super::{Correlation, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{Config, Plant, SetupSection};
+use crate::error::{ExperimentError, Result};
 use crate::setup::{data, fit, machine};
-use crate::{ExperimentError, Result};
 use msd_ident::{
-    DynamometerOptions, dynamometer,
-    dynamometer::{Condition, DynamometerNoise, PredictedLaw, predicted_dynamometer},
+    dynamometer::{
+        Condition, DynamometerNoise, DynamometerOptions, PredictedLaw, dynamometer,
+        predicted_dynamometer,
+    },
     nonlinear::DampingLaw,
 };
 use std::path::Path;

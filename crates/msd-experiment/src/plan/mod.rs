@@ -32,7 +32,7 @@ pub(crate) use search::{draws, standard_deviations};
 mod setup;
 
 use crate::config::Config;
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use serde::Serialize;
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! What reaches the target: the record length (searched), the repeats (the 1/√N law),
 //! and the spread of simulated experiments.
 
-use crate::Result;
+use crate::error::Result;
 
 /// The shortest record (to 1 %) whose relative half-width `width_at(duration)` is within
 /// `target`, given the planned `duration` and its width `now`: doubling the duration up

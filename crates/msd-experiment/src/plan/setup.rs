@@ -7,8 +7,8 @@ use super::search::{
 };
 use super::{Correlation, NAMES, Plan, PlanOptions, PlannedQuantity, PlannedTest};
 use crate::config::{Config, ExcitationKind, SetupSection, TimeGrid};
+use crate::error::{ExperimentError, Result};
 use crate::setup::{data, fit};
-use crate::{ExperimentError, Result};
 use msd_ident::{
     Excitation, InitialState, Interval, RecordsOptions, fit_records,
     records::{PlannedChannel, PlannedRecord, PlantIntervals, predicted_records_uncertainty},

@@ -11,7 +11,7 @@
 pub(crate) mod design;
 pub(crate) mod panel;
 
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
 use plotters::coord::combinators::LogCoord;

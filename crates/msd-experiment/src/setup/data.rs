@@ -4,7 +4,7 @@
 
 use crate::config::{Config, ExcitationKind, Plant, Response, SetupSection};
 use crate::data::{ColumnSpec, read_columns};
-use crate::{ExperimentError, Result};
+use crate::error::{ExperimentError, Result};
 use msd_ident::Excitation;
 use msd_signal::gaussian_noise;
 use std::path::{Path, PathBuf};

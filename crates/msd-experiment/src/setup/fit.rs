@@ -3,12 +3,13 @@
 
 use super::{SetupData, SetupOutcome};
 use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
+use crate::error::{ExperimentError, Result};
 use crate::table::Table;
-use crate::{ExperimentError, Result};
 use msd_ident::{
-    Channel, Dynamometer, DynamometerOptions, Excitation, FreeDecay, FreeDecayOptions,
-    KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity, dynamometer,
-    dynamometer::Condition, fit_records, free_decay,
+    Channel, Excitation, KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity,
+    dynamometer::{Condition, Dynamometer, DynamometerOptions, dynamometer},
+    fit_records,
+    free_decay::{FreeDecay, FreeDecayOptions, free_decay},
 };
 use std::path::Path;
 

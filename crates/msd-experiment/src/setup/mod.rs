@@ -5,7 +5,7 @@
 //! The records ([`data`]) are fitted by msd-ident's [`fit_records`](msd_ident::fit_records)
 //! (shared m, c, k or ωn, ζ over every record and channel, each channel's noise level
 //! estimated, leave-one-record-out validation) or, for a test machine, by its
-//! [`dynamometer`](msd_ident::dynamometer()) analysis; the report, the figures, the CSV
+//! [`dynamometer`](msd_ident::dynamometer::dynamometer()) analysis; the report, the figures, the CSV
 //! files and `results.json` follow the setup.
 
 pub mod data;
@@ -21,7 +21,7 @@ pub use fit::SetupFit;
 
 use crate::config::Config;
 use crate::progress::Progress;
-use crate::{Result, RunOptions};
+use crate::{error::Result, options::RunOptions};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

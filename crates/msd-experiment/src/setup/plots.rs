@@ -9,7 +9,7 @@
 
 use super::fit::models;
 use super::{SetupFit, SetupOutcome};
-use crate::Result;
+use crate::error::Result;
 use crate::plots::panel::{Curve, Panel, Stack, Style};
 use crate::plots::{BLUE, RED, register_fonts, save};
 use plotters::prelude::*;

@@ -298,7 +298,7 @@ fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
     Ok(())
 }
 
-fn classroom_section(s: &mut String, c: &msd_ident::FreeDecay) -> std::fmt::Result {
+fn classroom_section(s: &mut String, c: &msd_ident::free_decay::FreeDecay) -> std::fmt::Result {
     let k = &c.classroom;
     writeln!(
         s,

@@ -3,7 +3,7 @@
 
 use super::report::law_name;
 use crate::fmt::sig;
-use msd_ident::Dynamometer;
+use msd_ident::dynamometer::Dynamometer;
 use std::fmt::Write;
 
 /// Writes the conditions table and the law comparison.

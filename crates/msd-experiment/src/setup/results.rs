@@ -7,8 +7,8 @@
 use super::report::estimates;
 use super::{SetupFit, SetupOutcome};
 use crate::config::{Plant, Response};
+use crate::error::{ExperimentError, Result};
 use crate::results::Experiment;
-use crate::{ExperimentError, Result};
 use msd_ident::Interval;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -29,7 +29,7 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     free_decay: Option<FreeDecaySection<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    dynamometer: Option<&'a msd_ident::Dynamometer>,
+    dynamometer: Option<&'a msd_ident::dynamometer::Dynamometer>,
     #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<Truth<'a>>,
     timings_ms: BTreeMap<&'static str, f64>,

@@ -3,7 +3,7 @@
 use super::problem::{ChainProblem, Layout, enough_rows};
 use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
 use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 /// How a chain is fitted.
 ///
 /// ```
-/// use msd_ident::ChainOptions;
+/// use msd_ident::chain::ChainOptions;
 /// assert!(ChainOptions::default().known_masses.is_empty());
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -73,7 +73,7 @@ impl std::fmt::Display for ChainFit {
 /// mass, too few sensors) the fit says which combinations are lost and reports the modes.
 ///
 /// ```
-/// use msd_ident::{ChainParameters, ChainRecord, ChainSetup, ChainSensor, ChainOptions, fit_chain, simulate_chain};
+/// use msd_ident::{chain::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, fit_chain, simulate_chain}};
 /// use msd_ident::ResponseQuantity::Acceleration;
 /// let setup = ChainSetup {
 ///     masses: 2,

@@ -316,9 +316,9 @@ fn bad_layouts_name_the_key() {
 /// The paper's plant and input, its displacement read 3 samples late through a 50 Hz
 /// first-order low-pass, σ = 2.5 mm.
 fn delayed_paper(seed: u64) -> (ChainSetup, ChainRecord) {
-    let experiment = crate::PaperExperiment::generate(seed).unwrap();
+    let experiment = crate::synthetic::PaperExperiment::generate(seed).unwrap();
     let input = experiment.identification.excitation.samples().to_vec();
-    let dt = crate::PaperExperiment::DT;
+    let dt = crate::synthetic::PaperExperiment::DT;
     let setup = ChainSetup {
         sensors: vec![ChainSensor {
             delay: Some(3.0 * dt),
@@ -337,7 +337,13 @@ fn delayed_paper(seed: u64) -> (ChainSetup, ChainRecord) {
         ..ChainParameters::default()
     };
     let clean = simulate_chain(&setup, &paper, &input, dt).unwrap();
-    let noise = gaussian_noise(seed, "sensor", crate::PaperExperiment::SIGMA, input.len()).unwrap();
+    let noise = gaussian_noise(
+        seed,
+        "sensor",
+        crate::synthetic::PaperExperiment::SIGMA,
+        input.len(),
+    )
+    .unwrap();
     let output = clean[0].iter().zip(noise).map(|(a, b)| a + b).collect();
     (
         setup,
@@ -489,7 +495,7 @@ fn a_sensor_filters_cut_off_is_estimated() {
         order: 2,
         ..LowPass::default()
     });
-    let experiment = crate::PaperExperiment::generate(1).unwrap();
+    let experiment = crate::synthetic::PaperExperiment::generate(1).unwrap();
     let input = experiment.identification.excitation.samples().to_vec();
     let paper = ChainParameters {
         masses: vec![2.5],

@@ -17,7 +17,7 @@
 //! θ = ln p the fit's parameters, ∂/∂ln k_j = k_j·∂/∂k_j and ∂/∂ln m_j = −w_j·∂/∂w_j.
 
 use super::setup::{ChainDrive, ChainSetup};
-use crate::ResponseQuantity;
+use msd_signal::ResponseQuantity;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::TAU;
 
@@ -186,7 +186,7 @@ pub(crate) fn derivative(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{ChainSensor, LowPass};
+    use crate::chain::{ChainSensor, LowPass};
 
     fn setup() -> ChainSetup {
         ChainSetup {

@@ -2,7 +2,7 @@
 
 use super::problem::Layout;
 use super::setup::ChainParameters;
-use crate::Interval;
+use msd_opt::statistics::Interval;
 use msd_opt::statistics::delta_variance;
 use msd_signal::Complex64;
 use nalgebra::DMatrix;
@@ -13,7 +13,7 @@ use std::f64::consts::TAU;
 /// displacements, scaled so that the largest is 1), each with a 95 % interval.
 ///
 /// ```
-/// use msd_ident::{ChainMode, Interval};
+/// use msd_ident::{chain::ChainMode, Interval};
 /// let fixed = |v| Interval { value: v, standard_error: 0.0, ci95: [v, v] };
 /// let mode = ChainMode { natural_frequency_hz: fixed(11.25), damping_ratio: fixed(0.01), shape: vec![fixed(1.0)] };
 /// assert!(mode.to_string().starts_with("fn = 11.25"));
@@ -41,6 +41,24 @@ impl std::fmt::Display for ChainMode {
             write!(f, "{sep}{:.4} ± {:.1e}", s.value, s.standard_error)?;
         }
         write!(f, "]")
+    }
+}
+
+impl ChainParameters {
+    /// (fn in Hz, ζ) of each underdamped mode, by frequency (ground connections included).
+    ///
+    /// ```
+    /// use msd_ident::chain::ChainParameters;
+    /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
+    /// let (f, zeta) = p.modes()[0];
+    /// assert!((f - 48f64.sqrt() / std::f64::consts::TAU).abs() < 1e-12);
+    /// assert!((zeta - 1.8 / (2.0 * 300f64.sqrt())).abs() < 1e-12);
+    /// ```
+    pub fn modes(&self) -> Vec<(f64, f64)> {
+        modal_quantities(self)
+            .iter()
+            .map(|q| (q[0], q[1]))
+            .collect()
     }
 }
 

@@ -4,7 +4,7 @@ use super::problem::{ChainProblem, Layout, enough_rows};
 use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
 use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
 use super::{ChainOptions, simulate_chain};
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use msd_opt::LeastSquaresProblem;
 use nalgebra::DMatrix;
 
@@ -15,7 +15,7 @@ use nalgebra::DMatrix;
 /// estimated one (`estimate_delay`) gets an interval too.
 ///
 /// ```
-/// use msd_ident::{ChainOptions, ChainParameters, ChainSetup, predict_chain};
+/// use msd_ident::{chain::{ChainOptions, ChainParameters, ChainSetup, predict_chain}};
 /// let paper = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let force: Vec<f64> = (0..5000).map(|i| (0.01 * i as f64).sin()).collect();
 /// let plan = predict_chain(&ChainSetup::default(), &paper, &force, 2e-3, &[0.0025], &ChainOptions::default())?;

@@ -316,9 +316,9 @@ impl LeastSquaresProblem for ChainProblem<'_> {
 }
 
 /// Refuses a record with no more rows than estimated quantities.
-pub(crate) fn enough_rows(rows: usize, estimated: usize) -> crate::Result<()> {
+pub(crate) fn enough_rows(rows: usize, estimated: usize) -> crate::error::Result<()> {
     if rows <= estimated {
-        return Err(crate::IdentError::TooFewSamples {
+        return Err(crate::error::IdentError::TooFewSamples {
             got: rows,
             needed: estimated + 1,
             why: "more samples than estimated quantities",

@@ -1,6 +1,7 @@
 //! What a chain fit is given: the chain's layout, its drive, its sensors, its record.
 
-use crate::{IdentError, ResponseQuantity, Result};
+use crate::error::{IdentError, Result};
+use msd_signal::ResponseQuantity;
 use serde::{Deserialize, Serialize};
 
 /// What drives a chain of masses.
@@ -8,7 +9,7 @@ use serde::{Deserialize, Serialize};
 /// By default [`ChainDrive::Force`].
 ///
 /// ```
-/// use msd_ident::ChainDrive;
+/// use msd_ident::chain::ChainDrive;
 /// assert_eq!(serde_json::to_value(ChainDrive::BaseAcceleration)?, "base_acceleration");
 /// # Ok::<(), serde_json::Error>(())
 /// ```
@@ -29,7 +30,7 @@ pub enum ChainDrive {
 /// filter, or the resonance of an accelerometer well above the band).
 ///
 /// ```
-/// use msd_ident::LowPass;
+/// use msd_ident::chain::LowPass;
 /// let filter = LowPass { cutoff_hz: 50.0, ..LowPass::default() };
 /// assert_eq!(filter.order, 1);
 /// ```
@@ -57,7 +58,7 @@ impl Default for LowPass {
 /// One response channel of a chain.
 ///
 /// ```
-/// use msd_ident::{ChainSensor, ResponseQuantity};
+/// use msd_ident::{chain::ChainSensor, ResponseQuantity};
 /// let top = ChainSensor { at: 2, quantity: ResponseQuantity::Acceleration, ..ChainSensor::default() };
 /// assert!(top.delay.is_none() && !top.estimate_delay);
 /// ```
@@ -97,7 +98,7 @@ impl Default for ChainSensor {
 /// i − 1, the first to the ground.
 ///
 /// ```
-/// use msd_ident::{ChainSensor, ChainSetup, ResponseQuantity};
+/// use msd_ident::{chain::{ChainSensor, ChainSetup}, ResponseQuantity};
 /// let setup = ChainSetup {
 ///     masses: 2,
 ///     force_at: 2,
@@ -203,7 +204,7 @@ impl ChainSetup {
     /// much ignoring the sensors' dynamics biases the estimates.
     ///
     /// ```
-    /// use msd_ident::{ChainSensor, ChainSetup};
+    /// use msd_ident::{chain::{ChainSensor, ChainSetup}};
     /// let setup = ChainSetup { sensors: vec![ChainSensor { delay: Some(0.01), ..ChainSensor::default() }], ..ChainSetup::default() };
     /// assert_eq!(setup.with_ideal_sensors().sensors[0].delay, None);
     /// ```
@@ -222,7 +223,7 @@ impl ChainSetup {
 /// Every mass, damper and spring of a chain, from the ground out.
 ///
 /// ```
-/// use msd_ident::ChainParameters;
+/// use msd_ident::chain::ChainParameters;
 /// let p = ChainParameters { masses: vec![2.0, 1.0], dampers: vec![4.0, 2.0], springs: vec![2e4, 1e4], ..ChainParameters::default() };
 /// assert!(p.validate(2).is_ok());
 /// assert!(p.validate(3).is_err());
@@ -319,22 +320,6 @@ impl ChainParameters {
         Ok(())
     }
 
-    /// (fn in Hz, ζ) of each underdamped mode, by frequency (ground connections included).
-    ///
-    /// ```
-    /// use msd_ident::ChainParameters;
-    /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
-    /// let (f, zeta) = p.modes()[0];
-    /// assert!((f - 48f64.sqrt() / std::f64::consts::TAU).abs() < 1e-12);
-    /// assert!((zeta - 1.8 / (2.0 * 300f64.sqrt())).abs() < 1e-12);
-    /// ```
-    pub fn modes(&self) -> Vec<(f64, f64)> {
-        super::modes::modal_quantities(self)
-            .iter()
-            .map(|q| (q[0], q[1]))
-            .collect()
-    }
-
     /// The plant for frequency responses (force on `force_at`, response at
     /// `response_at`). [`ChainPlant`](super::ChainPlant) has no extra ground connections:
     /// they are left out.
@@ -353,7 +338,7 @@ impl ChainParameters {
 /// per sensor, every `dt` seconds from rest.
 ///
 /// ```
-/// use msd_ident::ChainRecord;
+/// use msd_ident::chain::ChainRecord;
 /// let record = ChainRecord { dt: 1e-3, input: vec![0.0; 4], outputs: vec![vec![0.0; 4]] };
 /// assert_eq!(record.len(), 4);
 /// ```

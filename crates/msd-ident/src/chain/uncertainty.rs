@@ -6,8 +6,8 @@
 use super::modes::{ChainMode, modes_with_intervals};
 use super::problem::Layout;
 use super::setup::{ChainParameters, ChainSetup};
-use crate::Interval;
 use crate::uncertainty::t_975;
+use msd_opt::statistics::Interval;
 use msd_opt::statistics::{Linearization, SINGULAR_CONDITION, correlation};
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;

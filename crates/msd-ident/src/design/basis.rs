@@ -16,7 +16,7 @@
 //! between samples. Between the edges, once the free responses have settled, every series
 //! repeats with period M: only the samples of one period are kept there (see [`Layout`]).
 
-use crate::{Parameters, Result};
+use crate::{error::Result, params::Parameters};
 use msd_ode::{ExactSimulator, Hold, SMatrix, SVector};
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};

@@ -2,7 +2,11 @@
 //! and the ratios the design criteria are judged by.
 
 use crate::{
-    EstimationOptions, Excitation, Parameters, Result, Uncertainty, predicted_uncertainty,
+    data::Excitation,
+    error::Result,
+    estimate::{EstimationOptions, predicted_uncertainty},
+    params::Parameters,
+    uncertainty::Uncertainty,
 };
 use serde::Serialize;
 

@@ -28,13 +28,13 @@
 //!   plant with [`StrokeOn::EveryPlant`]) meets its limit; a step left below its least
 //!   height is raised to it and the multisine scaled down until the limits hold again.
 //!   It is compared with the reference input by the Cramér–Rao bound
-//!   ([`predicted_uncertainty`](crate::predicted_uncertainty)).
+//!   ([`predicted_uncertainty`](crate::estimate::predicted_uncertainty)).
 //!
 //! Sequential design: design from a pilot test's estimate instead of a guess, with
 //! [`RobustBox::around`] its uncertainty.
 //!
 //! ```
-//! use msd_ident::{design_input, Excitation, Parameters, design::{Criterion, DesignOptions}};
+//! use msd_ident::{design::{Criterion, design_input, DesignOptions}, Excitation, Parameters};
 //! use msd_signal::paper_identification_input;
 //! let paper = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;
 //! let options = DesignOptions { lines: 20, iterations: 20, ..DesignOptions::default() };
@@ -56,7 +56,7 @@ pub use options::{
     StepOption, StrokeOn,
 };
 
-use crate::{Excitation, Parameters, Result};
+use crate::{data::Excitation, error::Result, params::Parameters};
 use basis::PlantBasis;
 use msd_opt::{LbfgsExit, LbfgsOptions, lbfgs};
 use msd_signal::Signal;
@@ -235,8 +235,12 @@ pub fn design_input(
 
 /// The reference input's relative standard errors on `plant` (for σ = 1).
 fn reference_units(plant: &Parameters, reference: &Excitation) -> Result<[f64; 3]> {
-    let u =
-        crate::predicted_uncertainty(plant, reference, 1.0, &crate::EstimationOptions::default())?;
+    let u = crate::estimate::predicted_uncertainty(
+        plant,
+        reference,
+        1.0,
+        &crate::estimate::EstimationOptions::default(),
+    )?;
     Ok([
         u.mass.standard_error / plant.mass,
         u.damping.standard_error / plant.damping,

@@ -1,6 +1,10 @@
 //! What a design optimises and within which limits; checked once, here.
 
-use crate::{Excitation, IdentError, Parameters, Result};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::Parameters,
+};
 use serde::{Deserialize, Serialize};
 
 /// The optimality criterion, on the covariance of the relative parameters
@@ -159,7 +163,7 @@ impl RobustBox {
     /// assert!(robust.spread >= 0.01 && robust.spread < 0.3);
     /// # Ok::<(), msd_ident::IdentError>(())
     /// ```
-    pub fn around(pilot: &[crate::Interval; 3], plants: usize) -> Self {
+    pub fn around(pilot: &[msd_opt::statistics::Interval; 3], plants: usize) -> Self {
         let worst = pilot
             .iter()
             .map(|iv| iv.standard_error / iv.value.abs())
@@ -398,11 +402,11 @@ impl DesignOptions {
         };
         let force =
             Excitation::from_signal(signal, reference.t0(), reference.dt(), reference.len())?;
-        let x = crate::simulate(
+        let x = crate::simulate::simulate(
             prior,
             &force,
-            crate::InitialState::REST,
-            &crate::Backend::EXACT,
+            crate::params::InitialState::REST,
+            &crate::simulate::Backend::EXACT,
         )?;
         let peak = x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         if peak > self.constraints.max_stroke {

@@ -4,7 +4,12 @@
 use super::DesignOptions;
 use super::basis::Layout;
 use super::options::{DesignConstraints, StrokeOn};
-use crate::{Backend, Excitation, IdentError, InitialState, Parameters, Result, simulate};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+    simulate::{Backend, simulate},
+};
 use msd_signal::Signal;
 use rustfft::num_complex::Complex64;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};

@@ -3,7 +3,11 @@
 use super::basis::PlantBasis;
 use super::objective::{Limits, Objective};
 use super::{Aggregate, Criterion, DesignOptions, StepOption, signal};
-use crate::{Excitation, InitialState, Parameters, sensitivities};
+use crate::{
+    data::Excitation,
+    params::{InitialState, Parameters},
+    sensitivity::sensitivities,
+};
 use msd_ode::Hold;
 
 /// Two segments and a step on a short record of the paper plant.

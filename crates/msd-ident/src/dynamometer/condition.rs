@@ -1,6 +1,6 @@
 //! One test condition of a dynamometer record, and its checks.
 
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use serde::{Deserialize, Serialize};
 
 /// Fewest whole stroke cycles a condition must hold: one cycle gives a loop, a second

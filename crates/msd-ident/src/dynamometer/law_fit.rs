@@ -7,7 +7,12 @@ use super::regression::{
     ACCELERATION, COULOMB, DISPLACEMENT, Normal, ONE, Prepared, QUADRATIC, VELOCITY, row, select,
 };
 use crate::uncertainty::t_975;
-use crate::{FitMetrics, IdentError, Interval, Result, nonlinear::DampingLaw};
+use crate::{
+    error::{IdentError, Result},
+    metrics::FitMetrics,
+    nonlinear::DampingLaw,
+};
+use msd_opt::statistics::Interval;
 use msd_opt::statistics::Linearization;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -18,7 +23,7 @@ use serde::Serialize;
 /// Displays as one row of the laws table (see [`Dynamometer`](super::Dynamometer)).
 ///
 /// ```
-/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
+/// use msd_ident::{dynamometer::{dynamometer, DynamometerOptions, synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
 /// let options = DynamometerOptions { laws: vec![DampingLaw::QuadraticViscous], ..Default::default() };
 /// let fit = &dynamometer(&conditions, &options)?.laws[0];

@@ -20,7 +20,7 @@ pub use summary::ConditionSummary;
 pub use synthetic::{Stroke, SyntheticDynamometer, synthetic_dynamometer};
 
 use crate::{
-    IdentError, Result,
+    error::{IdentError, Result},
     nonlinear::{DampingLaw, SmoothingVelocity, bic_evidence},
 };
 use harmonics::{HarmonicFit, estimate_frequency};
@@ -31,7 +31,7 @@ use std::f64::consts::PI;
 /// Options of [`dynamometer()`].
 ///
 /// ```
-/// use msd_ident::DynamometerOptions;
+/// use msd_ident::dynamometer::DynamometerOptions;
 /// let o = DynamometerOptions::default();
 /// assert_eq!((o.harmonics, o.laws.len(), o.known_mass, o.force_offset), (5, 3, None, true));
 /// ```
@@ -111,7 +111,7 @@ impl DynamometerOptions {
 /// Displays as two Markdown tables (conditions; laws, ranked) and the verdict.
 ///
 /// ```
-/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
+/// use msd_ident::{dynamometer::{dynamometer, DynamometerOptions, synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
 /// let result = dynamometer(&conditions, &DynamometerOptions::default())?;
 /// assert_eq!(result.laws[result.best].rank, 1);
@@ -222,7 +222,7 @@ impl std::fmt::Display for Dynamometer {
 /// analysis refuses otherwise.
 ///
 /// ```
-/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
+/// use msd_ident::{dynamometer::{dynamometer, DynamometerOptions, synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let spec = SyntheticDynamometer::default(); // a quadratic damper, 5 frequencies × 2 strokes
 /// let conditions = synthetic_dynamometer(&spec)?;
 /// let result = dynamometer(&conditions, &DynamometerOptions::default())?;
@@ -269,7 +269,7 @@ pub struct DynamometerNoise {
 /// first order for the stroke noise.
 ///
 /// ```
-/// use msd_ident::{dynamometer, DynamometerOptions, dynamometer::{predicted_dynamometer, synthetic_dynamometer, DynamometerNoise, SyntheticDynamometer}, nonlinear::DampingLaw};
+/// use msd_ident::{dynamometer::{dynamometer, DynamometerNoise, DynamometerOptions, predicted_dynamometer, synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let mut spec = SyntheticDynamometer::default();
 /// let noise = DynamometerNoise { force_sigma: spec.force_noise, stroke_sigma: 0.0 };
 /// (spec.force_noise, spec.displacement_noise) = (0.0, 0.0); // the planned strokes, noise-free

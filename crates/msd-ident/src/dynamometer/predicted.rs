@@ -1,7 +1,8 @@
 //! A damping law's coefficients as a planned test will give them.
 
 use super::LawFit;
-use crate::{Interval, nonlinear::DampingLaw};
+use crate::nonlinear::DampingLaw;
+use msd_opt::statistics::Interval;
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -10,7 +11,7 @@ use serde::Serialize;
 /// plant gives, the standard errors and 95 % intervals the run will report.
 ///
 /// ```
-/// use msd_ident::{DynamometerOptions, dynamometer::{predicted_dynamometer, synthetic_dynamometer, DynamometerNoise, SyntheticDynamometer}, nonlinear::DampingLaw};
+/// use msd_ident::{dynamometer::{DynamometerNoise, DynamometerOptions, predicted_dynamometer, synthetic_dynamometer, SyntheticDynamometer}, nonlinear::DampingLaw};
 /// let spec = SyntheticDynamometer { force_noise: 0.0, displacement_noise: 0.0, ..Default::default() };
 /// let noise = DynamometerNoise { force_sigma: 1.0, stroke_sigma: 0.0 };
 /// let options = DynamometerOptions { laws: vec![DampingLaw::Viscous], ..Default::default() };

@@ -22,7 +22,7 @@ use std::f64::consts::PI;
 /// Displays as one row of the conditions table (see [`Dynamometer`](super::Dynamometer)).
 ///
 /// ```
-/// use msd_ident::{dynamometer, DynamometerOptions, ModelStructure, Parameters, dynamometer::{synthetic_dynamometer, Stroke, SyntheticDynamometer}, nonlinear::{DampingLaw, NonlinearParameters}};
+/// use msd_ident::{dynamometer::{dynamometer, DynamometerOptions, Stroke, synthetic_dynamometer, SyntheticDynamometer}, nonlinear::{DampingLaw, ModelStructure, NonlinearParameters}, Parameters};
 /// // A linear plant, noise-free: c_eq = c and k′ = k − m·ω².
 /// let (m, c, k) = (2.0, 400.0, 5000.0);
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::new(m, c, k)?);

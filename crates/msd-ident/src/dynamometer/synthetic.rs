@@ -2,8 +2,8 @@
 
 use super::Condition;
 use crate::{
-    IdentError, ModelStructure, Result,
-    nonlinear::{DampingLaw, NonlinearParameters, StiffnessLaw},
+    error::{IdentError, Result},
+    nonlinear::{DampingLaw, ModelStructure, NonlinearParameters, StiffnessLaw},
 };
 use msd_signal::gaussian_noise;
 use serde::{Deserialize, Serialize};

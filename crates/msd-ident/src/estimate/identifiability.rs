@@ -1,6 +1,6 @@
 //! Is the mass identifiable at all? A likelihood-ratio probe of the mass profile.
 //!
-//! The linearised intervals of [`crate::Uncertainty`] describe the cost near θ̂ only.
+//! The linearised intervals of [`crate::uncertainty::Uncertainty`] describe the cost near θ̂ only.
 //! When the record does not excite the mass line — no dynamics at all (a constant force
 //! at equilibrium), or a resonance far above the excited band or beyond the Nyquist
 //! frequency — the cost is flat in m over orders of magnitude, the optimiser stops
@@ -13,8 +13,11 @@
 
 use super::Cost;
 use super::layout::Layout;
-use crate::{Backend, DataSet, EstimationOptions, IdentError, InitialState};
-use crate::{Method, Parameters, Result};
+use crate::{
+    data::DataSet, error::IdentError, estimate::EstimationOptions, params::InitialState,
+    simulate::Backend,
+};
+use crate::{error::Result, estimate::Method, params::Parameters};
 
 /// The factors the probes divide the mass by.
 const PROBES: [f64; 2] = [1e2, 1e4];
@@ -112,7 +115,7 @@ pub(super) fn check(
     data: &DataSet,
     options: &EstimationOptions,
     at: At<'_>,
-    uncertainty: &crate::Uncertainty,
+    uncertainty: &crate::uncertainty::Uncertainty,
 ) -> Result<Option<String>> {
     let mass_given = options.fixed.mass.is_some();
     let top = if mass_given { None } else { excited_top(data) };
@@ -142,7 +145,7 @@ fn check_mass<'a>(
     data: &DataSet,
     options: &EstimationOptions,
     at: At<'_>,
-    uncertainty: &crate::Uncertainty,
+    uncertainty: &crate::uncertainty::Uncertainty,
     band_top: Option<f64>,
     reference: &LazyReference<'a>,
 ) -> Result<()> {
@@ -182,7 +185,7 @@ fn check_intervals<'a>(
     data: &DataSet,
     options: &EstimationOptions,
     at: At<'_>,
-    uncertainty: &crate::Uncertainty,
+    uncertainty: &crate::uncertainty::Uncertainty,
     reference: &LazyReference<'a>,
 ) -> Result<()> {
     let intervals = [uncertainty.mass, uncertainty.damping, uncertainty.stiffness];

@@ -1,7 +1,7 @@
 //! Mapping between the optimiser's vector and (θ, initial state, offset).
 
 use super::EstimationOptions;
-use crate::{InitialState, Parameters};
+use crate::params::{InitialState, Parameters};
 
 /// Which quantities are free and where they sit in the optimiser's vector.
 #[derive(Debug, Clone)]
@@ -46,7 +46,10 @@ impl Layout {
     }
 
     pub(crate) fn names(&self) -> Vec<&'static str> {
-        let mut names: Vec<&'static str> = self.free().map(|i| crate::PARAMETER_NAMES[i]).collect();
+        let mut names: Vec<&'static str> = self
+            .free()
+            .map(|i| crate::params::PARAMETER_NAMES[i])
+            .collect();
         if self.estimate_initial_state {
             names.extend(STATE_NAMES);
         }

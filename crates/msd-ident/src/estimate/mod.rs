@@ -21,8 +21,13 @@ pub use plan::{PlannedInformation, predicted_uncertainty};
 use crate::local::Local;
 use crate::uncertainty::{Uncertainty, from_jacobian};
 use crate::{
-    Backend, DataSet, FitMetrics, IdentError, InitialState, Parameters, Result, StopReason,
     arx::arx_initial_guess,
+    data::DataSet,
+    error::{IdentError, Result},
+    metrics::FitMetrics,
+    params::{InitialState, Parameters},
+    simulate::Backend,
+    stop::StopReason,
 };
 use layout::Layout;
 use msd_ode::Hold;
@@ -444,7 +449,7 @@ fn bound_notes(theta: &Parameters, bounds: &ParameterBounds) -> Vec<String> {
 fn gauss_newton_distance(
     jacobian: &nalgebra::DMatrix<f64>,
     residuals: &[f64],
-    uncertainty: &crate::Uncertainty,
+    uncertainty: &crate::uncertainty::Uncertainty,
 ) -> Option<(&'static str, f64)> {
     let r = nalgebra::DVector::from_column_slice(residuals);
     let step = jacobian

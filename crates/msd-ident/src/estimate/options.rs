@@ -1,6 +1,10 @@
 //! Options of the estimators.
 
-use crate::{Backend, IdentError, InitialState, Parameters, Result};
+use crate::{
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+    simulate::Backend,
+};
 use msd_opt::{LevenbergMarquardtOptions, NelderMeadOptions};
 use serde::{Deserialize, Serialize};
 
@@ -171,7 +175,7 @@ pub struct EstimationOptions {
 
 /// `initial_guess` in TOML: `"auto"` for `None`, or a table `{ mass, damping, stiffness }`.
 mod auto_or_given {
-    use crate::Parameters;
+    use crate::params::Parameters;
     use serde::{Deserialize, Deserializer, Serialize, Serializer, de};
 
     pub fn serialize<S: Serializer>(guess: &Option<Parameters>, s: S) -> Result<S::Ok, S::Error> {

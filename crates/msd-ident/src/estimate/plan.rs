@@ -3,11 +3,17 @@
 use super::layout::Layout;
 use super::problem::output_jacobian;
 use crate::uncertainty::from_normal_matrix;
-use crate::{EstimationOptions, Excitation, IdentError, Parameters, Result, Uncertainty};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    estimate::EstimationOptions,
+    params::Parameters,
+    uncertainty::Uncertainty,
+};
 use nalgebra::DMatrix;
 
 /// The Cramér–Rao prediction of an estimate's uncertainty: the intervals that
-/// [`estimate`](crate::estimate()) will report on a record of `excitation` from the plant
+/// [`estimate`](crate::estimate::estimate()) will report on a record of `excitation` from the plant
 /// `plant` with white measurement noise of standard deviation `sigma`, estimating what
 /// `options` estimates (its fixed parameters, initial state and offset). The covariance
 /// is σ²(JᵀJ)⁻¹ with J the exact sensitivities at the plant: the smallest any unbiased
@@ -48,7 +54,7 @@ fn check_sigma(sigma: f64) -> Result<()> {
     })
 }
 
-/// The information a planned record holds about what [`estimate`](crate::estimate())
+/// The information a planned record holds about what [`estimate`](crate::estimate::estimate())
 /// estimates: the normal matrix JᵀJ of the exact sensitivities of the output at the
 /// plant (the Fisher information per unit noise variance), and the record's samples.
 /// [`predicted_uncertainty`] is [`PlannedInformation::uncertainty`] of it.
@@ -136,7 +142,8 @@ impl PlannedInformation {
         options: &EstimationOptions,
     ) -> Result<(DMatrix<f64>, Self)> {
         plant.validate()?;
-        let data = crate::DataSet::new("plan", excitation.clone(), vec![0.0; excitation.len()])?;
+        let data =
+            crate::data::DataSet::new("plan", excitation.clone(), vec![0.0; excitation.len()])?;
         let layout = Layout::new(options, false);
         let plant = layout.apply_fixed(plant);
         let values = layout.pack(&plant, options.initial_state, options.offset);

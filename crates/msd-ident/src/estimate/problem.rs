@@ -1,7 +1,11 @@
 //! The cost (Nelder–Mead) and the residual problem (Levenberg–Marquardt).
 
 use super::layout::Layout;
-use crate::{Backend, DataSet, sensitivities, simulate_into};
+use crate::{
+    data::DataSet,
+    sensitivity::sensitivities,
+    simulate::{Backend, simulate_into},
+};
 use msd_ode::Hold;
 use msd_opt::LeastSquaresProblem;
 use nalgebra::DMatrix;
@@ -127,8 +131,8 @@ impl LeastSquaresProblem for Residuals<'_> {
 fn fill_jacobian(
     data: &DataSet,
     layout: &Layout,
-    theta: crate::Parameters,
-    state: crate::InitialState,
+    theta: crate::params::Parameters,
+    state: crate::params::InitialState,
     hold: Hold,
     out: &mut DMatrix<f64>,
     parameter_scale: impl Fn(usize) -> f64,
@@ -161,7 +165,7 @@ pub(crate) fn output_jacobian(
     data: &DataSet,
     layout: &Layout,
     v_raw: &[f64],
-) -> crate::Result<DMatrix<f64>> {
+) -> crate::error::Result<DMatrix<f64>> {
     let (theta, state, _) = layout.unpack(v_raw);
     theta.validate()?;
     let mut j = DMatrix::<f64>::zeros(data.len(), layout.len());
@@ -175,7 +179,7 @@ pub(crate) fn output_jacobian(
         |_| 1.0,
         1.0,
     ) {
-        return Err(crate::IdentError::EstimationFailed {
+        return Err(crate::error::IdentError::EstimationFailed {
             reason: "the sensitivities cannot be simulated at the estimate".into(),
         });
     }

@@ -1,7 +1,7 @@
 //! The classroom estimates of a free decay: the logarithmic decrement of successive
 //! peaks and the damped frequency from zero crossings.
 
-use crate::{IdentError, Result};
+use crate::error::{IdentError, Result};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 

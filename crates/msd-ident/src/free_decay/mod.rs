@@ -18,64 +18,19 @@ mod classroom;
 
 pub use classroom::ClassroomEstimates;
 
+use crate::params::KnownParameter;
 use crate::uncertainty::t_975;
-use crate::{FitMetrics, IdentError, Interval, Result};
+use crate::{
+    error::{IdentError, Result},
+    metrics::FitMetrics,
+};
+use msd_opt::statistics::Interval;
 use msd_opt::statistics::{Linearization, delta_variance};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
+use msd_signal::ResponseQuantity;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
-
-/// The quantity a sensor measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ResponseQuantity {
-    /// Displacement x (a laser or LVDT).
-    #[default]
-    Displacement,
-    /// Velocity x′ (a geophone or laser vibrometer).
-    Velocity,
-    /// Acceleration x″ (an accelerometer).
-    Acceleration,
-}
-
-/// What else is known about the plant: a free decay alone gives ωn and ζ only.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum KnownParameter {
-    /// Nothing: ωn and ζ only.
-    #[default]
-    None,
-    /// The mass m, kg (weighed): gives c and k.
-    Mass(f64),
-    /// The static stiffness k, N/m (from a static load test): gives m and c.
-    Stiffness(f64),
-}
-
-impl KnownParameter {
-    /// Checks that a known mass or stiffness is finite and > 0.
-    ///
-    /// ```
-    /// use msd_ident::KnownParameter;
-    /// assert!(KnownParameter::Mass(2.5).validate().is_ok());
-    /// assert!(KnownParameter::Stiffness(-1.0).validate().is_err());
-    /// ```
-    pub fn validate(&self) -> Result<()> {
-        let (name, value) = match *self {
-            KnownParameter::Mass(v) => ("known mass", v),
-            KnownParameter::Stiffness(v) => ("known stiffness", v),
-            KnownParameter::None => return Ok(()),
-        };
-        if value.is_finite() && value > 0.0 {
-            return Ok(());
-        }
-        Err(IdentError::InvalidParameter {
-            name,
-            value,
-            expected: "a finite number > 0",
-        })
-    }
-}
 
 /// Options of [`free_decay`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -111,7 +66,7 @@ pub struct PhysicalParameters {
 /// The identified free decay.
 ///
 /// ```
-/// use msd_ident::{free_decay, FreeDecayOptions, KnownParameter};
+/// use msd_ident::{free_decay::{free_decay, FreeDecayOptions}, KnownParameter};
 /// // m = 6 kg, k = 5400 N/m, successive peaks in ratio 3 : 2.
 /// let (m, k) = (6.0, 5400.0);
 /// let delta = 1.5f64.ln();

@@ -37,7 +37,12 @@
 
 mod mode_fit;
 
-use crate::{DataSet, IdentError, Parameters, Result, Uncertainty};
+use crate::{
+    data::DataSet,
+    error::{IdentError, Result},
+    params::Parameters,
+    uncertainty::Uncertainty,
+};
 use mode_fit::{SingleModeFit, transient_for};
 use msd_opt::{NelderMeadOptions, nelder_mead};
 use msd_signal::{Complex64, DftPair};
@@ -118,7 +123,7 @@ impl FrequencyCheckOptions {
 /// Displays the data's and the model's fn and ζ with the outcome, then the verdict.
 ///
 /// ```
-/// use msd_ident::{frequency_check, FrequencyCheckOptions, PaperExperiment, Parameters};
+/// use msd_ident::{frequency::{frequency_check, FrequencyCheckOptions}, PaperExperiment, Parameters};
 /// let experiment = PaperExperiment::generate(1)?;
 /// let check = frequency_check(&experiment.validation, &Parameters::PAPER, None, &FrequencyCheckOptions::default())?;
 /// assert!(check.to_string().starts_with("data fn = 1.10"), "{check}");
@@ -187,7 +192,7 @@ impl std::fmt::Display for FrequencyCheck {
 /// Compares the frequency response in `data` with that of `parameters`.
 ///
 /// ```
-/// use msd_ident::{frequency_check, FrequencyCheckOptions, PaperExperiment, Parameters};
+/// use msd_ident::{frequency::{frequency_check, FrequencyCheckOptions}, PaperExperiment, Parameters};
 /// let experiment = PaperExperiment::generate(1)?;
 /// let check = frequency_check(&experiment.validation, &Parameters::PAPER, None, &FrequencyCheckOptions::default())?;
 /// assert!(check.consistent, "{}", check.verdict);

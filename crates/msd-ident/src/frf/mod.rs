@@ -4,8 +4,8 @@
 //!
 //! The modal fits (the stabilization diagram, several modes, sets of FRFs, shapes) are
 //! msd-modal's; this fit uses its weighted lines ([`msd_modal::lines`]) and reports the
-//! plant in this crate's [`Parameters`](crate::Parameters) and
-//! [`Uncertainty`](crate::Uncertainty).
+//! plant in this crate's [`Parameters`](crate::params::Parameters) and
+//! [`Uncertainty`](crate::uncertainty::Uncertainty).
 //!
 //! The data are a [`FrequencyResponseEstimate`](msd_signal::FrequencyResponseEstimate):
 //! estimated from time records by msd-signal ([`frf_estimate`](msd_signal::frf_estimate):

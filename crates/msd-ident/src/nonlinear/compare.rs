@@ -5,9 +5,15 @@ use super::estimate::{NonlinearEstimate, NonlinearOptions, estimate_nonlinear};
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, SimulationUsed, simulate_nonlinear};
 use crate::{
-    Backend, DataSet, FitMetrics, IdentError, InitialState, Interval, Parameters, ResidualOptions,
-    Result, StopReason, residual_analysis,
+    data::DataSet,
+    error::{IdentError, Result},
+    metrics::FitMetrics,
+    params::{InitialState, Parameters},
+    residuals::{ResidualOptions, residual_analysis},
+    simulate::Backend,
+    stop::StopReason,
 };
+use msd_opt::statistics::Interval;
 use serde::{Deserialize, Serialize};
 
 /// How each candidate's validation simulation starts.
@@ -213,7 +219,7 @@ pub fn bic_evidence(delta: f64) -> &'static str {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FixedModel<'a> {
     /// A linear model whose output carries a constant sensor `offset`, simulated by
-    /// `backend`: the fit is [`estimate`](crate::estimate())'s Levenberg–Marquardt with m,
+    /// `backend`: the fit is [`estimate`](crate::estimate::estimate())'s Levenberg–Marquardt with m,
     /// c, k and the offset fixed (exact sensitivities on the exact backend).
     Linear {
         /// m, c, k.
@@ -269,8 +275,8 @@ pub fn fit_initial_state(
             backend,
             offset,
         } => {
-            let options = crate::EstimationOptions {
-                method: crate::Method::LevenbergMarquardt,
+            let options = crate::estimate::EstimationOptions {
+                method: crate::estimate::Method::LevenbergMarquardt,
                 backend,
                 initial_guess: Some(*parameters),
                 fixed: crate::estimate::FixedParameters {
@@ -280,9 +286,9 @@ pub fn fit_initial_state(
                 },
                 estimate_initial_state: true,
                 offset,
-                ..crate::EstimationOptions::default()
+                ..crate::estimate::EstimationOptions::default()
             };
-            return crate::estimate(&head, &options).map(|e| e.initial_state);
+            return crate::estimate::estimate(&head, &options).map(|e| e.initial_state);
         }
         FixedModel::Nonlinear {
             parameters,
@@ -351,7 +357,7 @@ fn predict(
 /// tests against the linear model's.
 ///
 /// ```
-/// use msd_ident::{compare_models, Excitation, ModelStructure, Parameters, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, ComparisonOptions, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
+/// use msd_ident::{Excitation, nonlinear::{compare_models, ComparisonOptions, DampingLaw, ModelStructure, NonlinearParameters, NonlinearSimulation, StiffnessLaw, synthetic_nonlinear_data}, Parameters, SyntheticOptions};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
 /// let sim = NonlinearSimulation::default();
@@ -381,12 +387,13 @@ pub fn compare_models(
     }
     let mut estimation = options.estimation.clone();
     if estimation.linear_start.is_none() {
-        let linear = crate::EstimationOptions {
+        let linear = crate::estimate::EstimationOptions {
             initial_state: estimation.initial_state,
             estimate_initial_state: estimation.estimate_initial_state,
-            ..crate::EstimationOptions::default()
+            ..crate::estimate::EstimationOptions::default()
         };
-        estimation.linear_start = Some(crate::estimate(identification, &linear)?.parameters);
+        estimation.linear_start =
+            Some(crate::estimate::estimate(identification, &linear)?.parameters);
     }
     let mut rows = Vec::with_capacity(structures.len());
     let mut failures = Vec::new();
@@ -440,7 +447,7 @@ fn score(
 /// same row as a comparison would give it.
 ///
 /// ```
-/// use msd_ident::{estimate_nonlinear, Excitation, ModelStructure, NonlinearOptions, SyntheticOptions, nonlinear::{assess_estimate, synthetic_nonlinear_data, ComparisonOptions, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
+/// use msd_ident::{Excitation, nonlinear::{assess_estimate, ComparisonOptions, DampingLaw, estimate_nonlinear, ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation, StiffnessLaw, synthetic_nonlinear_data}, SyntheticOptions};
 /// use msd_signal::{paper_identification_input, paper_validation_input};
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;

@@ -6,9 +6,14 @@ use super::problem::{OutputError, Scaling, Statistics, at_optimum, step_doubling
 use super::simulate::{NonlinearSimulation, SimulationUsed, Simulator, simulate_nonlinear};
 use crate::local::Local;
 use crate::{
-    DataSet, EstimationOptions, FitMetrics, IdentError, InitialState, Interval, Parameters, Result,
-    StopReason, estimate,
+    data::DataSet,
+    error::{IdentError, Result},
+    estimate::{EstimationOptions, estimate},
+    metrics::FitMetrics,
+    params::{InitialState, Parameters},
+    stop::StopReason,
 };
+use msd_opt::statistics::Interval;
 use msd_opt::{
     Bounds, LevenbergMarquardtOptions, MultistartOptions, NelderMeadOptions, levenberg_marquardt,
     multistart, nelder_mead,
@@ -398,7 +403,7 @@ impl Search<'_> {
 ///    Student-t 95 % intervals; under RK4 the output's error by step doubling.
 ///
 /// ```
-/// use msd_ident::{estimate_nonlinear, Excitation, ModelStructure, NonlinearOptions, Parameters, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, NonlinearParameters, NonlinearSimulation}};
+/// use msd_ident::{Excitation, nonlinear::{estimate_nonlinear, ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation, synthetic_nonlinear_data}, Parameters, SyntheticOptions};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 2001)?;
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
@@ -499,14 +504,14 @@ pub fn estimate_nonlinear(
 
 /// Noisy synthetic data from a nonlinear plant: its ode45 response to `excitation` from
 /// `options.initial_state` plus the noise of `options` (see
-/// [`SyntheticOptions`](crate::SyntheticOptions)). The Coulomb smoothing velocity is
+/// [`SyntheticOptions`](crate::synthetic::SyntheticOptions)). The Coulomb smoothing velocity is
 /// resolved from `simulation` on this excitation.
 ///
 /// Returns the noisy data set and the noise-free response, as
-/// [`synthetic_data`](crate::synthetic_data).
+/// [`synthetic_data`](crate::synthetic::synthetic_data).
 ///
 /// ```
-/// use msd_ident::{Excitation, ModelStructure, Parameters, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, NonlinearParameters, NonlinearSimulation}};
+/// use msd_ident::{Excitation, nonlinear::{ModelStructure, NonlinearParameters, NonlinearSimulation, synthetic_nonlinear_data}, Parameters, SyntheticOptions};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.004, 501)?;
 /// let plant = NonlinearParameters::from_linear(ModelStructure::LINEAR, &Parameters::PAPER);
@@ -518,9 +523,9 @@ pub fn estimate_nonlinear(
 /// ```
 pub fn synthetic_nonlinear_data(
     plant: &NonlinearParameters,
-    excitation: crate::Excitation,
+    excitation: crate::data::Excitation,
     simulation: &NonlinearSimulation,
-    options: &crate::SyntheticOptions,
+    options: &crate::synthetic::SyntheticOptions,
 ) -> Result<(DataSet, Vec<f64>)> {
     options.validate()?;
     let initial = options.initial_state;

@@ -41,7 +41,7 @@
 //!
 //! ## The estimator
 //! [`estimate_nonlinear`]: output error Σ(ŷ − y)² with each ŷ one simulation.
-//! Start: the linear estimate ([`estimate`](crate::estimate()), fast method) with zero
+//! Start: the linear estimate ([`estimate`](crate::estimate::estimate()), fast method) with zero
 //! nonlinear coefficients. Parameters are scaled: ln m, ln c, ln k (positive), and
 //! F_c/s, c₂/s, k₃/s (which may be 0, and k₃ negative) with s making the nonlinear force
 //! comparable to the linear one at the output's RMS amplitude (s = c·v_rms for F_c,
@@ -72,7 +72,7 @@
 //! aborting the comparison.
 //!
 //! ```
-//! use msd_ident::{estimate_nonlinear, Excitation, ModelStructure, NonlinearOptions, SyntheticOptions, nonlinear::{synthetic_nonlinear_data, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
+//! use msd_ident::{Excitation, nonlinear::{DampingLaw, estimate_nonlinear, ModelStructure, NonlinearOptions, NonlinearParameters, NonlinearSimulation, StiffnessLaw, synthetic_nonlinear_data}, SyntheticOptions};
 //! use msd_signal::paper_identification_input;
 //! let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 //! let plant = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;

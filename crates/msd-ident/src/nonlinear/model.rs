@@ -1,6 +1,9 @@
 //! The model structures (damping law × stiffness law) and their parameter vectors.
 
-use crate::{IdentError, Parameters, Result};
+use crate::{
+    error::{IdentError, Result},
+    params::Parameters,
+};
 use serde::{Deserialize, Serialize};
 
 /// The damping force f_d(x').
@@ -29,7 +32,7 @@ pub enum StiffnessLaw {
 /// law. A set of candidates is data (e.g. a list in a config), not code.
 ///
 /// ```
-/// use msd_ident::{ModelStructure, nonlinear::{DampingLaw, StiffnessLaw}};
+/// use msd_ident::{nonlinear::{DampingLaw, ModelStructure, StiffnessLaw}};
 /// let s = ModelStructure { damping: DampingLaw::CoulombViscous, stiffness: StiffnessLaw::Cubic };
 /// assert_eq!(s.parameter_names(), ["mass", "damping", "stiffness", "coulomb_force", "cubic_stiffness"]);
 /// assert_eq!(s.name(), "coulomb_viscous+cubic");
@@ -124,7 +127,7 @@ impl ModelStructure {
 /// [`ModelStructure::parameter_names`].
 ///
 /// ```
-/// use msd_ident::{ModelStructure, Parameters, nonlinear::{DampingLaw, NonlinearParameters, StiffnessLaw}};
+/// use msd_ident::{nonlinear::{DampingLaw, ModelStructure, NonlinearParameters, StiffnessLaw}, Parameters};
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let p = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 4000.0])?;
 /// assert_eq!(p.cubic_stiffness(), 4000.0);

@@ -7,7 +7,12 @@ use super::model::{Forces, ModelStructure, NonlinearParameters};
 use super::rk4::Columns;
 use super::simulate::{NonlinearSimulation, NonlinearSolver, Simulator, checked_forces};
 use crate::least_squares::SingularError;
-use crate::{DataSet, IdentError, InitialState, Interval, Parameters, Result};
+use crate::{
+    data::DataSet,
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+};
+use msd_opt::statistics::Interval;
 use msd_opt::statistics::{Linearization, correlation};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
 use nalgebra::DMatrix;

@@ -24,7 +24,11 @@
 //! the same sub-steps simulate.
 
 use super::model::Forces;
-use crate::{Excitation, IdentError, InitialState, Result};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::InitialState,
+};
 use msd_ode::{Hold, SampledInput};
 
 /// θ: the largest ρ·h, ρ the eigenvalue bound and h the sub-step (see the module doc).

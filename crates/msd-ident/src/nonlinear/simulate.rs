@@ -4,7 +4,12 @@
 
 use super::model::{Forces, NonlinearParameters};
 use super::rk4::{Columns, HoldRk4};
-use crate::{Backend, Excitation, IdentError, InitialState, Result, simulate};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::InitialState,
+    simulate::{Backend, simulate},
+};
 use msd_ode::{Hold, Ode45Options, SVector, Stats, ode45_with};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -63,7 +68,7 @@ impl std::fmt::Display for NonlinearSolver {
 /// | field | default | why |
 /// |---|---|---|
 /// | `solver` | `Auto` | RK4 on the hold for measured data, ode45 for a known signal |
-/// | `hold` | cubic | as the linear model's exact backend ([`Backend::EXACT`](crate::Backend::EXACT)) |
+/// | `hold` | cubic | as the linear model's exact backend ([`Backend::EXACT`](crate::simulate::Backend::EXACT)) |
 /// | `rel_tol` | 1e-8 | ode45 only: tighter than the paper's 1e-6 so that the solver's error stays far below the noise |
 /// | `abs_tol` | 1e-12 | ode45 only: idem, far below any noise level in metres or volts |
 /// | `smoothing_velocity` | `Relative(1e-3)` | see [`SmoothingVelocity`] |
@@ -197,7 +202,7 @@ fn nominal_rms_velocity(x: &[f64], dt: f64) -> f64 {
 /// evaluations a sub-step; a pass redone with more sub-steps counts as rejected).
 ///
 /// ```
-/// use msd_ident::{simulate, Backend, Excitation, InitialState, ModelStructure, Parameters, nonlinear::{simulate_nonlinear, NonlinearParameters, NonlinearSimulation, NonlinearSolver}};
+/// use msd_ident::{Backend, Excitation, InitialState, nonlinear::{ModelStructure, NonlinearParameters, NonlinearSimulation, NonlinearSolver, simulate_nonlinear}, Parameters, simulate};
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 2001)?;
 /// // The linear member of the family agrees with the exact linear simulation, by
@@ -236,7 +241,7 @@ pub struct NonlinearSensitivities {
     /// x(tᵢ) at every sample.
     pub displacement: Vec<f64>,
     /// ∂x(tᵢ)/∂θⱼ, samples × parameters, in the order of
-    /// [`ModelStructure::parameter_names`](crate::ModelStructure::parameter_names).
+    /// [`ModelStructure::parameter_names`](crate::nonlinear::ModelStructure::parameter_names).
     pub parameters: DMatrix<f64>,
     /// ∂x(tᵢ)/∂x(t₀) and ∂x(tᵢ)/∂x'(t₀), samples × 2.
     pub initial_state: DMatrix<f64>,
@@ -253,7 +258,7 @@ pub struct NonlinearSensitivities {
 /// estimator uses. v_s is the Coulomb smoothing velocity (ignored without a Coulomb law).
 ///
 /// ```
-/// use msd_ident::{Excitation, InitialState, ModelStructure, nonlinear::{nonlinear_sensitivities, DampingLaw, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
+/// use msd_ident::{Excitation, InitialState, nonlinear::{DampingLaw, ModelStructure, nonlinear_sensitivities, NonlinearParameters, NonlinearSimulation, StiffnessLaw}};
 /// use msd_signal::paper_identification_input;
 /// let duffing = ModelStructure { damping: DampingLaw::Viscous, stiffness: StiffnessLaw::Cubic };
 /// let p = NonlinearParameters::new(duffing, vec![2.5, 1.8, 120.0, 3000.0])?;

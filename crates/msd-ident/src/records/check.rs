@@ -2,7 +2,10 @@
 
 use super::model::OutputKind;
 use super::setup::{Record, RecordsOptions};
-use crate::{IdentError, Result, data::MIN_SAMPLES};
+use crate::{
+    data::MIN_SAMPLES,
+    error::{IdentError, Result},
+};
 
 /// Checks every record against the options; returns each channel's output kind.
 pub(crate) fn check_records(

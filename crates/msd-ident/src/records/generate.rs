@@ -2,8 +2,13 @@
 //! one exact simulation, for synthetic tests.
 
 use super::setup::{Drive, Frame};
-use crate::{Excitation, IdentError, InitialState, Parameters, ResponseQuantity, Result};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+};
 use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
+use msd_signal::ResponseQuantity;
 
 /// The noise-free channels (`quantity`, `frame`) of `plant` under `drive`, released from
 /// `initial` at the first of `samples` instants `dt` apart: one exact simulation (the
@@ -17,7 +22,7 @@ use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
 /// relative) only.
 ///
 /// This is the synthetic tests' generator on the physical parameters; the model that
-/// [`fit_records`](crate::fit_records) fits is [`simulate_response`](crate::records::simulate_response)
+/// [`fit_records`](crate::records::fit_records) fits is [`simulate_response`](crate::records::simulate_response)
 /// (the same system, its own rounding).
 ///
 /// ```

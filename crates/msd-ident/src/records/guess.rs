@@ -11,7 +11,11 @@
 use super::problem::Joint;
 use super::setup::{Drive, RecordsOptions};
 use crate::arx::arx_poles;
-use crate::{IdentError, KnownParameter, Result, free_decay::ClassroomEstimates};
+use crate::{
+    error::{IdentError, Result},
+    free_decay::ClassroomEstimates,
+    params::KnownParameter,
+};
 use std::f64::consts::PI;
 
 /// θ₀ (m, c, k; m = 1 and c, k per unit mass unless the drive is a force).

@@ -137,7 +137,12 @@ pub(super) fn influence(
 mod tests {
     use super::*;
     use crate::records::simulate_response;
-    use crate::{Channel, Drive, Excitation, Frame, InitialState, Parameters, ResponseQuantity};
+    use crate::{
+        data::Excitation,
+        params::{InitialState, Parameters},
+        records::{Channel, Drive, Frame},
+    };
+    use msd_signal::ResponseQuantity;
 
     /// On five repeats of the paper's test (σ = 2.5 mm each, as `configs/repeats.toml`),
     /// the one-step plant's prediction of each left-out record differs from the refitted
@@ -175,7 +180,7 @@ mod tests {
             })
             .collect();
         let options = RecordsOptions::default();
-        let fit = crate::fit_records(&records, &options).expect("fits");
+        let fit = crate::records::fit_records(&records, &options).expect("fits");
         let refitted = fit.leave_one_out.expect("5 records");
         let kinds: Vec<Vec<OutputKind>> = records
             .iter()
@@ -183,7 +188,7 @@ mod tests {
                 rec.channels
                     .iter()
                     .map(|c| options.output_kind(&rec.name, c))
-                    .collect::<crate::Result<_>>()
+                    .collect::<crate::error::Result<_>>()
                     .unwrap()
             })
             .collect();

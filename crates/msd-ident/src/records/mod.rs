@@ -24,7 +24,11 @@ pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, sim
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
 pub use setup::{Channel, Drive, Frame, Record, RecordsOptions};
 
-use crate::{IdentError, InitialState, KnownParameter, Result, free_decay::ClassroomEstimates};
+use crate::{
+    error::{IdentError, Result},
+    free_decay::ClassroomEstimates,
+    params::{InitialState, KnownParameter},
+};
 use check::check_records;
 use loo::leave_one_out;
 use model::Plant;
@@ -281,7 +285,7 @@ pub(super) fn channel_fits(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<Cha
             ChannelFit {
                 channel: channel.name.clone(),
                 offset: offsets[ch],
-                fit: crate::FitMetrics::new(&channel.samples, &model),
+                fit: crate::metrics::FitMetrics::new(&channel.samples, &model),
                 model,
             }
         })

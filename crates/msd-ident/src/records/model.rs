@@ -15,7 +15,7 @@
 //! ∂y/∂θ_p = C·s_p + C_p·s + D_p·u.
 
 use super::setup::Drive;
-use crate::Result;
+use crate::error::Result;
 use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector};
 
 /// What a channel reads off the state s and the input u.

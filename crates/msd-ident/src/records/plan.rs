@@ -5,8 +5,13 @@ use super::intervals::{PlantIntervals, log_covariance, plant_intervals};
 use super::model::Plant;
 use super::problem::Joint;
 use super::setup::{Channel, Drive, Frame, Record, RecordsOptions};
-use crate::{Excitation, IdentError, InitialState, Parameters, ResponseQuantity, Result};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::{InitialState, Parameters},
+};
 use msd_ode::{SVector, SampledInput};
+use msd_signal::ResponseQuantity;
 
 /// A sensor of a planned record: what it will measure and its noise level (see
 /// [`predicted_records_uncertainty`] for a plan).
@@ -53,7 +58,7 @@ pub struct PlannedRecord {
     pub channels: Vec<PlannedChannel>,
 }
 
-/// The Cramér–Rao prediction of [`fit_records`](crate::fit_records)' intervals: the
+/// The Cramér–Rao prediction of [`fit_records`](crate::records::fit_records)' intervals: the
 /// covariance (JᵀWJ)⁻¹ of the exact sensitivities at `plant`, each record's initial
 /// state and offsets estimated as `options` says and accounted for, the 95 % intervals
 /// with the fit's Student's t. The values are the plant's own.
@@ -212,7 +217,7 @@ fn state(plant: &Plant, initial: InitialState, excitation: &Excitation) -> [f64;
 
 /// The noise-free response of a `quantity` sensor in `frame` on `plant` under `drive`,
 /// released from `initial` (relative to the base under a base acceleration) at the
-/// first sample: the model [`fit_records`](crate::fit_records) fits, for synthetic
+/// first sample: the model [`fit_records`](crate::records::fit_records) fits, for synthetic
 /// records. A free decay ignores the excitation's samples.
 ///
 /// ```

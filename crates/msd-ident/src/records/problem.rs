@@ -14,7 +14,7 @@
 use super::linear::LinearSolve;
 use super::model::{OutputKind, OutputMap, Plant};
 use super::setup::{Drive, Record, RecordsOptions};
-use crate::Result;
+use crate::error::Result;
 use msd_ode::{Hold, SVector, SampledInput};
 use msd_opt::LeastSquaresProblem;
 use nalgebra::DMatrix;

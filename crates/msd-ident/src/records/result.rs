@@ -2,7 +2,7 @@
 
 use super::intervals::PlantIntervals;
 use super::setup::Drive;
-use crate::{FitMetrics, InitialState, free_decay::ClassroomEstimates};
+use crate::{free_decay::ClassroomEstimates, metrics::FitMetrics, params::InitialState};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -91,7 +91,7 @@ pub struct LeftOut {
     pub channels: Vec<ChannelFit>,
 }
 
-/// The result of [`fit_records`](crate::fit_records).
+/// The result of [`fit_records`](crate::records::fit_records).
 ///
 /// Serializes the plant's intervals at the top level (`identifiable`, `mass`, …,
 /// `damping_ratio`), then the noise levels, the records, the leave-one-out predictions,

@@ -1,9 +1,14 @@
 //! What a joint fit is given: the drive, the records with their channels, the options.
 
 use super::model::OutputKind;
-use crate::{Excitation, IdentError, KnownParameter, Parameters, ResponseQuantity, Result};
+use crate::{
+    data::Excitation,
+    error::{IdentError, Result},
+    params::{KnownParameter, Parameters},
+};
 use msd_ode::Hold;
 use msd_opt::LevenbergMarquardtOptions;
+use msd_signal::ResponseQuantity;
 use serde::{Deserialize, Serialize};
 
 /// What drives the plant.
@@ -137,7 +142,7 @@ pub struct Record {
     pub channels: Vec<Channel>,
 }
 
-/// Options of [`fit_records`](crate::fit_records).
+/// Options of [`fit_records`](crate::records::fit_records).
 ///
 /// ```
 /// use msd_ident::{Drive, KnownParameter, RecordsOptions};

@@ -5,8 +5,9 @@ use msd_ident::{
     Backend, Excitation, IdentError, InitialState, Parameters,
     design::{
         Criterion, DesignOptions, InputComparison, Normalise, RobustBox, StepOption, StrokeOn,
+        design_input,
     },
-    design_input, simulate,
+    simulate,
 };
 use msd_signal::{Signal, paper_identification_input};
 

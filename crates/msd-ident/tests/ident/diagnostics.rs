@@ -1,10 +1,12 @@
 //! Validation, residual diagnostics and the frequency-consistency check.
 
 use msd_ident::{
-    DataSet, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError, PaperExperiment,
-    Parameters, ResidualOptions, SyntheticOptions, ValidationOptions,
+    DataSet, EstimationOptions, Excitation, IdentError, PaperExperiment, Parameters,
+    ResidualOptions, SyntheticOptions, ValidationOptions,
     correlation::{autocorrelation, cross_correlation},
-    estimate, frequency_check, residual_analysis,
+    estimate,
+    frequency::{FrequencyCheckOptions, frequency_check},
+    residual_analysis,
     residuals::ljung_box,
     validate_model,
 };

@@ -3,9 +3,12 @@
 //! the refusals.
 
 use msd_ident::{
-    DynamometerOptions, IdentError, ModelStructure, dynamometer,
-    dynamometer::{Condition, Stroke, SyntheticDynamometer, synthetic_dynamometer},
-    nonlinear::{DampingLaw, NonlinearParameters, StiffnessLaw},
+    IdentError,
+    dynamometer::{
+        Condition, DynamometerOptions, Stroke, SyntheticDynamometer, dynamometer,
+        synthetic_dynamometer,
+    },
+    nonlinear::{DampingLaw, ModelStructure, NonlinearParameters, StiffnessLaw},
 };
 use std::f64::consts::PI;
 

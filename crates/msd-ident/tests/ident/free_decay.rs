@@ -1,7 +1,10 @@
 //! Free decay: the textbook case, every sensor, coverage and the Cramér–Rao bound over
 //! 200 noise seeds, and the refusals.
 
-use msd_ident::{FreeDecayOptions, IdentError, KnownParameter, ResponseQuantity, free_decay};
+use msd_ident::{
+    IdentError, KnownParameter, ResponseQuantity,
+    free_decay::{FreeDecayOptions, free_decay},
+};
 use msd_signal::gaussian_noise;
 use std::f64::consts::PI;
 

@@ -14,11 +14,11 @@
 //! benchmark README and configs/silverbox.toml do).
 
 use msd_ident::{
-    DataSet, Excitation, IdentError, InitialState, ModelStructure, NonlinearOptions, Parameters,
-    SyntheticOptions, compare_models, estimate_nonlinear,
+    DataSet, Excitation, IdentError, InitialState, Parameters, SyntheticOptions,
     nonlinear::{
-        ComparisonOptions, DampingLaw, NonlinearMethod, NonlinearMultistart, NonlinearParameters,
-        NonlinearSimulation, NonlinearSolver, SmoothingVelocity, StiffnessLaw, ValidationStart,
+        ComparisonOptions, DampingLaw, ModelStructure, NonlinearMethod, NonlinearMultistart,
+        NonlinearOptions, NonlinearParameters, NonlinearSimulation, NonlinearSolver,
+        SmoothingVelocity, StiffnessLaw, ValidationStart, compare_models, estimate_nonlinear,
         synthetic_nonlinear_data,
     },
     synthetic_data,

@@ -8,12 +8,11 @@
 
 use crate::nonlinear::{DT, SAMPLES, SIGMA, plant, silverbox, slice, structure};
 use msd_ident::{
-    DataSet, Excitation, IdentError, InitialState, ModelStructure, NonlinearOptions,
-    SyntheticOptions, estimate_nonlinear,
+    DataSet, Excitation, IdentError, InitialState, SyntheticOptions,
     nonlinear::{
-        ComparisonOptions, DampingLaw, NonlinearParameters, NonlinearSimulation, NonlinearSolver,
-        StiffnessLaw, ValidationStart, assess_estimate, nonlinear_sensitivities,
-        simulate_nonlinear, synthetic_nonlinear_data,
+        ComparisonOptions, DampingLaw, ModelStructure, NonlinearOptions, NonlinearParameters,
+        NonlinearSimulation, NonlinearSolver, StiffnessLaw, ValidationStart, assess_estimate,
+        estimate_nonlinear, nonlinear_sensitivities, simulate_nonlinear, synthetic_nonlinear_data,
     },
 };
 use msd_ode::{Hold, Ode45Options, SVector, SampledInput, ode45};

@@ -2,13 +2,13 @@
 //! and texts a reader relies on.
 
 use msd_ident::{
-    Backend, EstimationOptions, Excitation, InitialState, Method, ModelStructure, NonlinearOptions,
-    PaperExperiment, Parameters, SyntheticOptions, estimate,
+    Backend, EstimationOptions, Excitation, InitialState, Method, PaperExperiment, Parameters,
+    SyntheticOptions, estimate,
     estimate::GuessSource,
-    estimate_nonlinear,
     nonlinear::{
-        CandidateFailure, Comparison, ComparisonOptions, NonlinearParameters, NonlinearSimulation,
-        NonlinearSolver, assess_estimate, synthetic_nonlinear_data,
+        CandidateFailure, Comparison, ComparisonOptions, ModelStructure, NonlinearOptions,
+        NonlinearParameters, NonlinearSimulation, NonlinearSolver, assess_estimate,
+        estimate_nonlinear, synthetic_nonlinear_data,
     },
 };
 use msd_signal::{paper_identification_input, paper_validation_input};

@@ -9,10 +9,11 @@
 //! RMS of the noise; a frequency check that agrees with the truth.
 
 use msd_ident::{
-    Backend, DataSet, Estimate, EstimationOptions, Excitation, FrequencyCheckOptions, IdentError,
-    InitialState, Method, Parameters, SyntheticOptions, ValidationOptions,
-    estimate::MultistartSettings, frequency_check, sensitivities, simulate, simulate_into,
-    synthetic_data, validate_model,
+    Backend, DataSet, Estimate, EstimationOptions, Excitation, IdentError, InitialState, Method,
+    Parameters, SyntheticOptions, ValidationOptions,
+    estimate::MultistartSettings,
+    frequency::{FrequencyCheckOptions, frequency_check},
+    sensitivities, simulate, simulate_into, synthetic_data, validate_model,
 };
 use msd_signal::{Signal, Sweep};
 

@@ -18,7 +18,7 @@
 
 use super::step::POW;
 use super::{TimeGrid, eps_of};
-use crate::OdeError;
+use crate::error::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::tableau::{A, C, E, INTERPOLANT};
 
@@ -71,7 +71,7 @@ enum Status {
 /// vectorise. [`advance`](Self::advance) hands out
 /// one state component of every lane at the grid points up to an index and keeps the
 /// solvers' states. Lane l's values are bit for bit those of an
-/// [`Ode45Stepper`](crate::Ode45Stepper) on lane l's system alone, however the grid is
+/// [`Ode45Stepper`](crate::dopri::Ode45Stepper) on lane l's system alone, however the grid is
 /// cut, and so are its statistics.
 ///
 /// ```

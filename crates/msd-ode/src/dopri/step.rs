@@ -1,9 +1,9 @@
 //! One Dormand–Prince step at a time: the state between steps and the step itself,
-//! shared by [`ode45_with`](crate::ode45_with) and [`Ode45Stepper`](crate::Ode45Stepper)
+//! shared by [`ode45_with`](crate::dopri::ode45_with) and [`Ode45Stepper`](crate::dopri::Ode45Stepper)
 //! so that both perform exactly the same arithmetic.
 
 use super::{eps_of, first_non_finite, scaled_norm};
-use crate::OdeError;
+use crate::error::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::system::OdeSystem;
 use crate::tableau::{A, C, E, INTERPOLANT};

@@ -2,7 +2,7 @@
 
 use super::step::{Core, Interpolant};
 use super::validate_span;
-use crate::OdeError;
+use crate::error::OdeError;
 use crate::options::{Ode45Options, Stats};
 use crate::system::OdeSystem;
 use nalgebra::SVector;
@@ -23,7 +23,7 @@ pub struct TimeGrid<'a> {
 }
 
 impl<'a> TimeGrid<'a> {
-    /// Checks `times` as [`ode45`](crate::ode45) checks its time span.
+    /// Checks `times` as [`ode45`](crate::dopri::ode45) checks its time span.
     pub fn new(times: &'a [f64]) -> Result<Self, OdeError> {
         validate_span(times)?;
         Ok(Self { times })
@@ -41,7 +41,7 @@ impl<'a> TimeGrid<'a> {
     }
 }
 
-/// [`ode45_with`](crate::ode45_with) on a grid of output times, one stretch at a time:
+/// [`ode45_with`](crate::dopri::ode45_with) on a grid of output times, one stretch at a time:
 /// [`advance`](Ode45Stepper::advance) outputs the grid points up to a given index and
 /// keeps the solver's state, so a long record can be produced in pieces (a Monte Carlo
 /// engine streaming the time axis keeps one stepper per sample instead of every

@@ -7,7 +7,7 @@
 //! ([`InputSchedule`]).
 
 use super::{ExactSimulator, Hold, SampledInput, for_each_step};
-use crate::OdeError;
+use crate::error::OdeError;
 use nalgebra::SVector;
 
 /// The per-step drive of a sampled input for one hold: for the step into sample i, the

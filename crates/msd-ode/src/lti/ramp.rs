@@ -1,9 +1,9 @@
 //! One exact step of a linear system of any size whose input is a ramp: the heap-sized
-//! companion of [`ExactSimulator`](crate::ExactSimulator) for systems whose size is known
+//! companion of [`ExactSimulator`](crate::lti::ExactSimulator) for systems whose size is known
 //! only at run time (chains of masses with their sensitivities).
 
 use super::{balance, exponential};
-use crate::OdeError;
+use crate::error::OdeError;
 use nalgebra::{DMatrix, DVector};
 
 /// x(t + h) = Φ·x(t) + Γᵤ·u(t) + Γᵥ·u′ for x′ = A·x + b·u, when over [t, t + h] the input
@@ -12,7 +12,7 @@ use nalgebra::{DMatrix, DVector};
 /// the whole interval, gives the state between samples (a delayed sensor reads it).
 ///
 /// Φ, Γᵤ and Γᵥ come from one matrix exponential of [[A, b, 0], [0, 0, 1], [0, 0, 0]]·h
-/// (Van Loan), balanced first as in [`ExactSimulator`](crate::ExactSimulator).
+/// (Van Loan), balanced first as in [`ExactSimulator`](crate::lti::ExactSimulator).
 ///
 /// ```
 /// use msd_ode::RampStep;
@@ -110,7 +110,7 @@ mod tests {
         let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -k / m, -c / m]);
         let b = DVector::from_column_slice(&[0.0, 1.0 / m]);
         let step = RampStep::new(&a, &b, dt).unwrap();
-        let model = crate::LtiModel {
+        let model = crate::lti::LtiModel {
             a: nalgebra::SMatrix::<f64, 2, 2>::from_row_slice(&[0.0, 1.0, -k / m, -c / m]),
             b: nalgebra::SVector::<f64, 2>::new(0.0, 1.0 / m),
         };

@@ -66,7 +66,7 @@ mod types;
 
 use nalgebra::DMatrix;
 
-use crate::OptError;
+use crate::error::OptError;
 use crate::error::check_start;
 use minpack::{enorm, lmpar, qrfac};
 pub use types::{

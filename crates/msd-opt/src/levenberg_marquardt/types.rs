@@ -6,7 +6,7 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check_count, check_non_negative, check_positive};
-use crate::{Bounds, OptError};
+use crate::{bounds::Bounds, error::OptError};
 
 /// A nonlinear least-squares problem: residuals r(x) ∈ ℝᵐ and optionally their
 /// Jacobian.
@@ -64,7 +64,7 @@ pub enum FiniteDifference {
     Central,
 }
 
-/// Options of [`levenberg_marquardt`](crate::levenberg_marquardt()); defaults follow MINPACK (`lmder1`,
+/// Options of [`levenberg_marquardt`](crate::levenberg_marquardt::levenberg_marquardt()); defaults follow MINPACK (`lmder1`,
 /// as SciPy's `leastsq`).
 ///
 /// | field | default | source |
@@ -159,7 +159,7 @@ impl LevenbergMarquardtOptions {
     }
 }
 
-/// Why [`levenberg_marquardt`](crate::levenberg_marquardt()) stopped (MINPACK's `info` 1–8, plus one of ours).
+/// Why [`levenberg_marquardt`](crate::levenberg_marquardt::levenberg_marquardt()) stopped (MINPACK's `info` 1–8, plus one of ours).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum LmExit {
     /// info 1: actual and predicted relative reductions at most `f_tolerance`.
@@ -220,7 +220,7 @@ impl fmt::Display for LmExit {
     }
 }
 
-/// What [`levenberg_marquardt`](crate::levenberg_marquardt()) found.
+/// What [`levenberg_marquardt`](crate::levenberg_marquardt::levenberg_marquardt()) found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LevenbergMarquardtResult {
     /// Final parameters (inside the bounds).

@@ -42,7 +42,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{check_count, check_positive, check_start};
-use crate::{Bounds, OptError};
+use crate::{bounds::Bounds, error::OptError};
 use moves::{Coefficients, Simplex};
 pub use trace::{Step, TRACE_HEADER, TraceRow};
 

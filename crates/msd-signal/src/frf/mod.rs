@@ -261,7 +261,7 @@ pub struct Record<'a> {
 }
 
 /// A frequency response with its coherence: estimated from time records
-/// ([`frf_estimate`], [`h1_estimate`](crate::h1_estimate)) or measured line by line
+/// ([`frf_estimate`], [`h1_estimate`](crate::spectral::h1_estimate)) or measured line by line
 /// ([`from_magnitude_phase`](Self::from_magnitude_phase),
 /// [`from_real_imaginary`](Self::from_real_imaginary)).
 ///
@@ -282,7 +282,7 @@ pub struct FrequencyResponseEstimate {
     pub frequency: Vec<f64>,
     /// The response (output units per input unit). From records: 0 where the input has
     /// no power, where it is undefined (S_xx below 1e-12 of its maximum for
-    /// [`frf_estimate`], [`UNEXCITED`]; 1e-24 for [`h1_estimate`](crate::h1_estimate)).
+    /// [`frf_estimate`], [`UNEXCITED`]; 1e-24 for [`h1_estimate`](crate::spectral::h1_estimate)).
     pub h: Vec<Complex64>,
     /// γ² = |S_xy|²/(S_xx·S_yy) in [0, 1]; identically 1 with one segment or for a
     /// measured table; 0 where the input or output has no power.
@@ -554,8 +554,8 @@ mod tests {
     fn the_lines_between_a_periodic_forces_own_are_left_out() {
         let (periods, per_period) = (64usize, 128usize);
         let n = periods * per_period;
-        let force_noise = crate::gaussian_noise(1, "force", 1e-9, n).unwrap();
-        let output_noise = crate::gaussian_noise(1, "output", 1e-3, n).unwrap();
+        let force_noise = crate::noise::gaussian_noise(1, "force", 1e-9, n).unwrap();
+        let output_noise = crate::noise::gaussian_noise(1, "output", 1e-3, n).unwrap();
         let x: Vec<f64> = (0..n)
             .map(|i| {
                 let t = i as f64 / per_period as f64; // in periods

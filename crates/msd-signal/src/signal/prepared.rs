@@ -344,7 +344,10 @@ impl PreparedSignal {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{MultisineSpec, PrbsSpec, SineSegment, paper_identification_input};
+    use crate::{
+        paper::paper_identification_input,
+        signal::{MultisineSpec, PrbsSpec, SineSegment},
+    };
 
     /// Every kind of term, nested, at times around their edges and far away.
     #[test]

@@ -5,7 +5,7 @@ use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, phase_panel, suptitle, text,
     thin_line, tick, title_style,
 };
-use msd_ident::{FrequencyCheck, ResidualAnalysis, residuals::CorrelationTest};
+use msd_ident::{ResidualAnalysis, frequency::FrequencyCheck, residuals::CorrelationTest};
 use plotters::coord::Shift;
 use plotters::coord::combinators::LogCoord;
 use plotters::coord::ranged1d::Ranged;

@@ -17,7 +17,7 @@ mod models;
 mod time;
 
 use super::Outcome;
-use crate::Result;
+use crate::error::Result;
 use crate::plots::{Figure, register_fonts, save};
 use std::path::Path;
 
