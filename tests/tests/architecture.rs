@@ -1,7 +1,7 @@
 //! The structure `docs/architecture.md` promises, checked on the source tree (issue 41):
 //! msd-ident's root stays small, modules import a name from the module that defines it
-//! (not through their crate root's re-exports), and no import circle spans more than two
-//! files of a crate.
+//! (not through their crate root's re-exports), no import circle spans more than two
+//! files of a crate, and no function runs over 120 lines.
 //!
 //! The sources are read as text: `use crate::…` and `super::…` paths, comments and
 //! `#[cfg(test)]` modules at the end of a file left out. A crate's root re-exports are
@@ -27,6 +27,9 @@ const CRATES: [&str; 11] = [
 
 /// The most names msd-ident's root may show (issue 41).
 const MAX_IDENT_ROOT_NAMES: usize = 60;
+
+/// The longest a function may be, from its `fn` line to its closing brace (issue 41).
+const MAX_FUNCTION_LINES: usize = 120;
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -304,6 +307,64 @@ fn circles(graph: &BTreeMap<Vec<String>, BTreeSet<Vec<String>>>) -> Vec<Vec<Vec<
     s.out
 }
 
+/// Functions longer than `MAX_FUNCTION_LINES` in `text`: (name, first line, length). A
+/// function runs from its `fn` line to the first line after it that closes a brace at
+/// the `fn` line's indentation.
+fn long_functions(text: &str) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let indent = line.len() - trimmed.len();
+        let signature = ["pub fn ", "pub(crate) fn ", "pub(super) fn ", "fn "]
+            .iter()
+            .find_map(|p| trimmed.strip_prefix(p));
+        let Some(rest) = signature else { continue };
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        // A declaration without a body (in a trait) ends with `;` before any `{`.
+        let Some(open) = (i..lines.len()).find(|&j| {
+            let l = lines[j].trim_end();
+            l.ends_with('{') || l.ends_with(';')
+        }) else {
+            continue;
+        };
+        if lines[open].trim_end().ends_with(';') {
+            continue;
+        }
+        let close = (open + 1..lines.len()).find(|&j| {
+            let l = lines[j];
+            l.len() - l.trim_start().len() == indent && l.trim_start().starts_with('}')
+        });
+        let length = close.map_or(lines.len(), |c| c + 1) - i;
+        if length > MAX_FUNCTION_LINES {
+            out.push((name, i + 1, length));
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_runs_over_120_lines() {
+    let root = workspace();
+    let mut offences = Vec::new();
+    for src in CRATES {
+        for file in rust_files(&root.join(src)) {
+            let text = std::fs::read_to_string(&file).expect("a readable source file");
+            for (name, line, length) in long_functions(&text) {
+                offences.push(format!("{}:{line}: {name}, {length} lines", file.display()));
+            }
+        }
+    }
+    assert!(
+        offences.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines:\n{}",
+        offences.join("\n")
+    );
+}
+
 #[test]
 fn msd_idents_root_shows_at_most_sixty_names() {
     let lib = std::fs::read_to_string(workspace().join("crates/msd-ident/src/lib.rs"))
@@ -414,4 +475,10 @@ fn the_checks_find_what_they_look_for() {
     let module = vec!["a".to_string(), "c".to_string()];
     let edges = file_imports(&module, "use super::super::b::X; use crate::a::Y;", &files);
     assert_eq!(edges, [node("b")].into());
+    let body = "    x += 1;\n".repeat(MAX_FUNCTION_LINES);
+    let long = format!("fn short() {{\n}}\n\npub fn long(x: &mut u8) {{\n{body}}}\n");
+    assert_eq!(
+        long_functions(&long),
+        [("long".to_string(), 4, MAX_FUNCTION_LINES + 2)]
+    );
 }

@@ -167,13 +167,7 @@ where
     let states: Vec<Mutex<Vec<Option<S>>>> = (0..groups)
         .map(|_| Mutex::new((0..per_group).map(|_| None).collect()))
         .collect();
-    // Two chunk buffers, a region of rows (envelopes and values, see `tracker`) per
-    // group; chunk c in buffer c % 2.
-    let buffers: [Vec<RwLock<Region>>; 2] = std::array::from_fn(|_| {
-        (0..groups)
-            .map(|_| RwLock::new(Region::new(width)))
-            .collect()
-    });
+    let buffers = chunk_buffers(groups, width);
     debug_assert_eq!(GROUP_COLUMN_BYTES * groups * width, plan.buffer_bytes);
     let ok: Vec<AtomicBool> = (0..padded).map(|_| AtomicBool::new(true)).collect();
     // Per level: its tracker (made once the first chunk has settled the good samples)
@@ -189,12 +183,7 @@ where
     // Phase p: the trackers of chunk p − 1 (p ≥ 1), then the groups of chunk p (p < chunks).
     let trackers_in = |p: usize| if p >= 1 { l } else { 0 };
     let groups_in = |p: usize| if p < chunks { groups } else { 0 };
-    let span = |chunk: usize| {
-        (
-            chunk * width,
-            ((chunk + 1) * width).min(points) - chunk * width,
-        )
-    };
+    let span = |chunk: usize| chunk_span(chunk, width, points);
 
     let simulate = |chunk: usize, g: usize| {
         let (t0, w) = span(chunk);
@@ -252,14 +241,7 @@ where
     let threads = pool.current_num_threads();
     let barrier = SpinBarrier::new(threads);
     let worker = |w: usize| {
-        // Each worker starts with a tracker of its own and its own share of the groups
-        // (their states and chunk regions stay in its cache), then helps with the rest.
-        let own = (groups * w / threads)..(groups * (w + 1) / threads);
-        let others = (0..groups).rev().filter(|g| !own.contains(g));
-        let trackers = (0..l).map(|k| (k + w) % l);
-        let order: Vec<usize> = trackers
-            .chain(own.clone().chain(others).map(|g| l + g))
-            .collect();
+        let order = work_order(w, threads, l, groups);
         for p in 0..=chunks {
             for &i in &order {
                 let available = if i < l {
@@ -267,15 +249,7 @@ where
                 } else {
                     groups_in(p) > 0
                 };
-                let taken = claimed[i].0.load(Ordering::Relaxed);
-                if !available || taken > p {
-                    continue;
-                }
-                let won = claimed[i]
-                    .0
-                    .compare_exchange(taken, p + 1, Ordering::AcqRel, Ordering::Relaxed)
-                    .is_ok();
-                match (won, i < l) {
+                match (available && claim(&claimed[i], p), i < l) {
                     (false, _) => {}
                     (true, true) => track(p - 1, i),
                     (true, false) => simulate(p, i - l),
@@ -288,6 +262,48 @@ where
     };
     broadcast(pool, &barrier, &worker);
     finish(&ok[..n], restart.into_inner(), trackers)
+}
+
+/// Chunk `chunk` of `width` points (the last one shorter) of a record of `points`: its
+/// first point and its width.
+fn chunk_span(chunk: usize, width: usize, points: usize) -> (usize, usize) {
+    (
+        chunk * width,
+        ((chunk + 1) * width).min(points) - chunk * width,
+    )
+}
+
+/// Two chunk buffers, a region of rows (envelopes and values, see `tracker`) of `width`
+/// points per group; chunk c goes in buffer c % 2.
+fn chunk_buffers(groups: usize, width: usize) -> [Vec<RwLock<Region>>; 2] {
+    std::array::from_fn(|_| {
+        (0..groups)
+            .map(|_| RwLock::new(Region::new(width)))
+            .collect()
+    })
+}
+
+/// The order in which worker `w` of `threads` looks at the items (trackers 0..l, then the
+/// groups): a tracker of its own and its own share of the groups first (their states and
+/// chunk regions stay in its cache), then the rest.
+fn work_order(w: usize, threads: usize, l: usize, groups: usize) -> Vec<usize> {
+    let own = (groups * w / threads)..(groups * (w + 1) / threads);
+    let others = (0..groups).rev().filter(|g| !own.contains(g));
+    let trackers = (0..l).map(|k| (k + w) % l);
+    trackers
+        .chain(own.clone().chain(others).map(|g| l + g))
+        .collect()
+}
+
+/// Takes an item in phase `p` unless a worker took it in this phase already: its claim
+/// (1 + the last phase it was taken in) raised to p + 1 by this worker alone.
+fn claim(claimed: &Padded, p: usize) -> bool {
+    let taken = claimed.0.load(Ordering::Relaxed);
+    taken <= p
+        && claimed
+            .0
+            .compare_exchange(taken, p + 1, Ordering::AcqRel, Ordering::Relaxed)
+            .is_ok()
 }
 
 /// Runs `worker(index)` on every thread of `pool`; a panic in one aborts the barrier

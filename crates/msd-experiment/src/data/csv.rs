@@ -81,20 +81,7 @@ pub fn read_columns(
     columns: &[ColumnSpec],
 ) -> Result<Table> {
     let bytes = read_bytes(path, path_key)?;
-    // Line numbers come from byte offsets (the csv crate's own count is off by one
-    // with CRLF line endings): line of byte b = 1 + number of '\n' before b.
-    let newlines: Vec<usize> = bytes
-        .iter()
-        .enumerate()
-        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
-        .collect();
-    let start = if d.skip_lines == 0 {
-        0
-    } else {
-        newlines
-            .get(d.skip_lines - 1)
-            .map_or(bytes.len(), |&i| i + 1)
-    };
+    let (newlines, start) = line_starts(&bytes, d.skip_lines);
     if !d.delimiter.is_ascii() {
         return Err(ExperimentError::data(
             path,
@@ -123,20 +110,8 @@ pub fn read_columns(
         })
     };
     let mut records = csv.records();
-    let header: Option<(Vec<String>, usize)> = if d.header {
-        match records.next() {
-            Some(Ok(r)) => Some((
-                r.iter().map(str::to_string).collect(),
-                line_of(r.position()),
-            )),
-            Some(Err(e)) => return Err(ExperimentError::data(path, csv_error(&e, &line_of))),
-            None => {
-                return Err(ExperimentError::data(
-                    path,
-                    "the file is empty: expected a header line and data rows",
-                ));
-            }
-        }
+    let header = if d.header {
+        Some(read_header(path, records.next(), &line_of)?)
     } else {
         None
     };
@@ -150,16 +125,9 @@ pub fn read_columns(
         .as_ref()
         .map(|c| find("time", "data.time", c))
         .transpose()?;
-    let time_spec = time_col.zip(d.time.clone()).map(|(i, column)| {
-        let spec = ColumnSpec {
-            role: "time".into(),
-            key: "data.time".into(),
-            column,
-            scale: 1.0,
-            scale_key: String::new(),
-        };
-        (spec, i)
-    });
+    let time_spec = time_col
+        .zip(d.time.clone())
+        .map(|(i, column)| (time_column(column), i));
     let cells: Vec<(&ColumnSpec, usize)> = columns
         .iter()
         .zip(indices)
@@ -198,6 +166,64 @@ pub fn read_columns(
         }
     }
     let rows = values.first().map_or(time.len(), Vec::len);
+    check_rows(path, rows)?;
+    let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
+    Ok(Table {
+        time,
+        columns: values,
+        dt,
+    })
+}
+
+/// The byte offset of every '\n' of `bytes`, and where the data start after `skip_lines`
+/// lines. Line numbers come from these offsets (the csv crate's own count is off by one
+/// with CRLF line endings): line of byte b = 1 + number of '\n' before b.
+fn line_starts(bytes: &[u8], skip_lines: usize) -> (Vec<usize>, usize) {
+    let newlines: Vec<usize> = bytes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
+        .collect();
+    let start = if skip_lines == 0 {
+        0
+    } else {
+        newlines.get(skip_lines - 1).map_or(bytes.len(), |&i| i + 1)
+    };
+    (newlines, start)
+}
+
+/// The header's names and its line, from the file's first record.
+fn read_header(
+    path: &Path,
+    first: Option<std::result::Result<csv::StringRecord, csv::Error>>,
+    line_of: &impl Fn(Option<&csv::Position>) -> usize,
+) -> Result<(Vec<String>, usize)> {
+    match first {
+        Some(Ok(r)) => Ok((
+            r.iter().map(str::to_string).collect(),
+            line_of(r.position()),
+        )),
+        Some(Err(e)) => Err(ExperimentError::data(path, csv_error(&e, line_of))),
+        None => Err(ExperimentError::data(
+            path,
+            "the file is empty: expected a header line and data rows",
+        )),
+    }
+}
+
+/// The time column read as the others are, unscaled.
+fn time_column(column: Column) -> ColumnSpec {
+    ColumnSpec {
+        role: "time".into(),
+        key: "data.time".into(),
+        column,
+        scale: 1.0,
+        scale_key: String::new(),
+    }
+}
+
+/// At least msd-ident's minimum of samples.
+fn check_rows(path: &Path, rows: usize) -> Result<()> {
     if rows < msd_ident::data::MIN_SAMPLES {
         return Err(ExperimentError::data(
             path,
@@ -208,12 +234,7 @@ pub fn read_columns(
             ),
         ));
     }
-    let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
-    Ok(Table {
-        time,
-        columns: values,
-        dt,
-    })
+    Ok(())
 }
 
 /// The bytes of the data file `path` (`path_key` names it in messages).

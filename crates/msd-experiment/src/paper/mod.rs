@@ -191,19 +191,7 @@ pub fn run_on_data(
 
     progress.stage("estimation");
     let t = Instant::now();
-    let mut est_options = config.estimation.clone();
-    if let Some(ms) = &mut est_options.multistart
-        && config.estimation.multistart.is_some()
-    {
-        ms.threads = threads;
-    }
-    let estimate = estimate(&data.identification, &est_options).map_err(estimation_error)?;
-    let estimation_solver = ode45_stats(
-        &estimate.parameters,
-        &data.identification.excitation,
-        estimate.initial_state,
-        &estimate.backend,
-    );
+    let (estimate, estimation_solver) = estimation_stage(&config, &data, threads)?;
     timed("estimation", t);
 
     progress.stage("validation");
@@ -226,25 +214,9 @@ pub fn run_on_data(
     let frequency = if config.frequency_check.enabled {
         progress.stage("frequency check");
         let t = Instant::now();
-        let set = match config.frequency_check.data {
-            RecordChoice::Identification => &data.identification,
-            RecordChoice::Validation => &data.validation,
-        };
-        let check = frequency_check(
-            set,
-            &estimate.parameters,
-            Some(&estimate.uncertainty),
-            &config.frequency_check.options(),
-        );
+        let stage = frequency_stage(&config, &data, &estimate)?;
         timed("frequency_check", t);
-        match check {
-            Ok(check) => FrequencyStage::Checked(Box::new(check)),
-            // Nothing to measure (no resonance in the excited band — a damper past
-            // critical damping, a mode the input misses — or no input power): the other
-            // stages still stand, so the run goes on and says why.
-            Err(IdentError::NotIdentifiable { reason }) => FrequencyStage::Skipped(reason),
-            Err(e) => return Err(ExperimentError::run("frequency check", e)),
-        }
+        stage
     } else {
         FrequencyStage::Off
     };
@@ -304,6 +276,55 @@ pub fn run_on_data(
         nonlinear,
         timings,
     })
+}
+
+/// The estimation stage: the fit (its multistart on the run's threads) and the ode45
+/// statistics of its model.
+fn estimation_stage(
+    config: &Config,
+    data: &ExperimentData,
+    threads: usize,
+) -> Result<(Estimate, Option<msd_ident::Ode45Stats>)> {
+    let mut est_options = config.estimation.clone();
+    if let Some(ms) = &mut est_options.multistart
+        && config.estimation.multistart.is_some()
+    {
+        ms.threads = threads;
+    }
+    let estimate = estimate(&data.identification, &est_options).map_err(estimation_error)?;
+    let estimation_solver = ode45_stats(
+        &estimate.parameters,
+        &data.identification.excitation,
+        estimate.initial_state,
+        &estimate.backend,
+    );
+    Ok((estimate, estimation_solver))
+}
+
+/// The frequency check on the record the config names.
+fn frequency_stage(
+    config: &Config,
+    data: &ExperimentData,
+    estimate: &Estimate,
+) -> Result<FrequencyStage> {
+    let set = match config.frequency_check.data {
+        RecordChoice::Identification => &data.identification,
+        RecordChoice::Validation => &data.validation,
+    };
+    let check = frequency_check(
+        set,
+        &estimate.parameters,
+        Some(&estimate.uncertainty),
+        &config.frequency_check.options(),
+    );
+    match check {
+        Ok(check) => Ok(FrequencyStage::Checked(Box::new(check))),
+        // Nothing to measure (no resonance in the excited band — a damper past
+        // critical damping, a mode the input misses — or no input power): the other
+        // stages still stand, so the run goes on and says why.
+        Err(IdentError::NotIdentifiable { reason }) => Ok(FrequencyStage::Skipped(reason)),
+        Err(e) => Err(ExperimentError::run("frequency check", e)),
+    }
 }
 
 /// A failed estimation as a failure of the stage "estimation", its reason said once

@@ -185,36 +185,15 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
             why: "more samples than estimated quantities",
         });
     }
-    let mut theta0 = clamp_to_bounds(&layout.apply_fixed(&guess), options);
     let mut notes = Vec::new();
-    if log && theta0.damping <= 0.0 && options.fixed.as_array()[1].is_none() {
-        // Levenberg–Marquardt works on ln c: start an undamped guess at ζ = 1 %.
-        theta0.damping = 0.02 * (theta0.mass * theta0.stiffness).sqrt();
-        notes.push(format!(
-            "the damping guess 0 was replaced by {:.4e} (ζ = 1 %): Levenberg–Marquardt works on ln c",
-            theta0.damping
-        ));
-    }
+    let theta0 = starting_point(&guess, options, &layout, log, &mut notes);
     let v0 = layout.pack(&theta0, options.initial_state, options.offset);
     let hold = match options.backend {
         Backend::Exact { hold } => hold,
         Backend::Ode45 { .. } => Hold::Cubic,
     };
 
-    // fminsearch's tolerances are absolute: against parameters far below 1 (m = 1e-6 kg
-    // in SI units) they would stop the search at once. Relative tolerances then.
-    let mut nm_options = nelder_mead_options(options, &layout);
-    let scale = theta0.mass.min(theta0.stiffness);
-    if options.method == Method::NelderMead
-        && !nm_options.relative_tolerances
-        && scale < 100.0 * nm_options.x_tolerance
-    {
-        nm_options.relative_tolerances = true;
-        notes.push(format!(
-            "Nelder–Mead used relative tolerances: the absolute TolX = {:e} is coarse against parameters of size {scale:.3e}",
-            nm_options.x_tolerance
-        ));
-    }
+    let nm_options = scaled_nelder_mead_options(options, &layout, &theta0, &mut notes);
     let local = |start: &[f64]| -> std::result::Result<Local, msd_opt::OptError> {
         match options.method {
             Method::NelderMead => {
@@ -267,27 +246,15 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
         &parameters,
         raw_layout.parameter_columns(),
     )?;
-    // Is it a minimum? A Gauss–Newton step from the estimate that moves some quantity by
-    // more than one standard error means the optimiser stopped short.
-    // A parameter held at a bound is not at a minimum of the data's cost either, but
-    // that is the bound's doing: say so instead.
-    let mut stop = stop;
     let at_bounds = bound_notes(&parameters, &options.bounds);
-    let at_a_bound = !at_bounds.is_empty();
-    notes.extend(at_bounds);
-    if let Some((name, ratio)) = gauss_newton_distance(&jacobian, &residuals, &uncertainty)
-        && ratio > 1.0
-        && !at_a_bound
-    {
-        notes.push(format!(
-            "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {stop}); try Levenberg–Marquardt, multistart or a better guess"
-        ));
-        stop = StopReason::StoppedShort {
-            exit: Box::new(stop),
-            quantity: name.to_string(),
-            standard_errors: ratio,
-        };
-    }
+    let stop = at_minimum(
+        stop,
+        at_bounds,
+        &jacobian,
+        &residuals,
+        &uncertainty,
+        &mut notes,
+    );
     if checks == Checks::All {
         let at = (&parameters, initial_state, offset);
         notes.extend(identifiability::check(data, options, at, &uncertainty)?);
@@ -312,6 +279,81 @@ fn fit(data: &DataSet, options: &EstimationOptions, checks: Checks) -> Result<Es
         residuals,
         uncertainty,
     })
+}
+
+/// Is it a minimum? A Gauss–Newton step from the estimate that moves some quantity by
+/// more than one standard error means the optimiser stopped short: the stop reason says
+/// so, and `notes`. A parameter held at a bound (`at_bounds`, its notes) is not at a
+/// minimum of the data's cost either, but that is the bound's doing: said instead.
+fn at_minimum(
+    stop: StopReason,
+    at_bounds: Vec<String>,
+    jacobian: &nalgebra::DMatrix<f64>,
+    residuals: &[f64],
+    uncertainty: &Uncertainty,
+    notes: &mut Vec<String>,
+) -> StopReason {
+    let at_a_bound = !at_bounds.is_empty();
+    notes.extend(at_bounds);
+    if let Some((name, ratio)) = gauss_newton_distance(jacobian, residuals, uncertainty)
+        && ratio > 1.0
+        && !at_a_bound
+    {
+        notes.push(format!(
+            "not at a minimum of the squared error: a Gauss–Newton step from the estimate moves {name} by {ratio:.1} standard errors (the optimiser stopped short: {stop}); try Levenberg–Marquardt, multistart or a better guess"
+        ));
+        return StopReason::StoppedShort {
+            exit: Box::new(stop),
+            quantity: name.to_string(),
+            standard_errors: ratio,
+        };
+    }
+    stop
+}
+
+/// The first guess within the bounds, with the fixed parameters set; for
+/// Levenberg–Marquardt (which works on ln c) an undamped guess starts at ζ = 1 %, said in
+/// `notes`.
+fn starting_point(
+    guess: &Parameters,
+    options: &EstimationOptions,
+    layout: &Layout,
+    log: bool,
+    notes: &mut Vec<String>,
+) -> Parameters {
+    let mut theta0 = clamp_to_bounds(&layout.apply_fixed(guess), options);
+    if log && theta0.damping <= 0.0 && options.fixed.as_array()[1].is_none() {
+        theta0.damping = 0.02 * (theta0.mass * theta0.stiffness).sqrt();
+        notes.push(format!(
+            "the damping guess 0 was replaced by {:.4e} (ζ = 1 %): Levenberg–Marquardt works on ln c",
+            theta0.damping
+        ));
+    }
+    theta0
+}
+
+/// Nelder–Mead's options. fminsearch's tolerances are absolute: against parameters far
+/// below 1 (m = 1e-6 kg in SI units) they would stop the search at once, so they become
+/// relative there, said in `notes`.
+fn scaled_nelder_mead_options(
+    options: &EstimationOptions,
+    layout: &Layout,
+    theta0: &Parameters,
+    notes: &mut Vec<String>,
+) -> msd_opt::NelderMeadOptions {
+    let mut nm_options = nelder_mead_options(options, layout);
+    let scale = theta0.mass.min(theta0.stiffness);
+    if options.method == Method::NelderMead
+        && !nm_options.relative_tolerances
+        && scale < 100.0 * nm_options.x_tolerance
+    {
+        nm_options.relative_tolerances = true;
+        notes.push(format!(
+            "Nelder–Mead used relative tolerances: the absolute TolX = {:e} is coarse against parameters of size {scale:.3e}",
+            nm_options.x_tolerance
+        ));
+    }
+    nm_options
 }
 
 /// The local search from `v0`, or from every start of the configured multistart (the

@@ -235,27 +235,7 @@ pub fn frequency_check(
     let ub: Vec<Complex64> = bins.iter().map(|&k| uf[k]).collect();
     let yb: Vec<Complex64> = bins.iter().map(|&k| yf[k]).collect();
 
-    // Start at the peak of |Y/U| where the input is strong.
-    let start_bin = (0..bins.len())
-        .filter(|&i| ub[i].norm_sqr() >= options.power_threshold * peak_power)
-        .max_by(|&a, &b| (yb[a] / ub[a]).norm().total_cmp(&(yb[b] / ub[b]).norm()))
-        .unwrap_or(0);
-    let x0 = [omega[start_bin].ln(), 0.05f64.ln()];
-    let mode_fit = SingleModeFit::new(omega.clone(), ub.clone(), yb.clone());
-    let objective = |v: &[f64]| -> f64 {
-        mode_fit
-            .sse(v[0].exp(), v[1].exp())
-            .unwrap_or(f64::INFINITY)
-    };
-    // 1e-6 relative in (ln ωn, ln ζ) is far below the statistical spread of ζ (≈ 0.5 %).
-    let nm = NelderMeadOptions {
-        x_tolerance: 1e-6,
-        f_tolerance: 1e-10,
-        relative_tolerances: true,
-        ..NelderMeadOptions::default()
-    };
-    let fit = nelder_mead(objective, &x0, &nm)?;
-    let (wn, zeta) = (fit.x[0].exp(), fit.x[1].exp());
+    let (wn, zeta) = fit_data_mode(&omega, &ub, &yb, options.power_threshold * peak_power)?;
     let natural_frequency_hz = wn / (2.0 * PI);
     // The fit sees the response only at its lines, f_lo … f_hi (below Nyquist). A mode
     // with ζ ≥ 1 has no resonance. A mode outside the lines is measured through its skirt,
@@ -335,6 +315,37 @@ pub fn frequency_check(
         consistent,
         verdict,
     })
+}
+
+/// (ωn, ζ) of the single mode that fits the data's lines best (Nelder–Mead in ln ωn,
+/// ln ζ), started at the peak of |Y/U| among the lines whose input power is at least
+/// `min_power`.
+fn fit_data_mode(
+    omega: &[f64],
+    ub: &[Complex64],
+    yb: &[Complex64],
+    min_power: f64,
+) -> Result<(f64, f64)> {
+    let start_bin = (0..omega.len())
+        .filter(|&i| ub[i].norm_sqr() >= min_power)
+        .max_by(|&a, &b| (yb[a] / ub[a]).norm().total_cmp(&(yb[b] / ub[b]).norm()))
+        .unwrap_or(0);
+    let x0 = [omega[start_bin].ln(), 0.05f64.ln()];
+    let mode_fit = SingleModeFit::new(omega.to_vec(), ub.to_vec(), yb.to_vec());
+    let objective = |v: &[f64]| -> f64 {
+        mode_fit
+            .sse(v[0].exp(), v[1].exp())
+            .unwrap_or(f64::INFINITY)
+    };
+    // 1e-6 relative in (ln ωn, ln ζ) is far below the statistical spread of ζ (≈ 0.5 %).
+    let nm = NelderMeadOptions {
+        x_tolerance: 1e-6,
+        f_tolerance: 1e-10,
+        relative_tolerances: true,
+        ..NelderMeadOptions::default()
+    };
+    let fit = nelder_mead(objective, &x0, &nm)?;
+    Ok((fit.x[0].exp(), fit.x[1].exp()))
 }
 
 /// The input's largest line power above DC (`power` from bin 0 to Nyquist), refused

@@ -203,6 +203,41 @@ pub(crate) fn qrsolv(
     }
 }
 
+/// The Gauss–Newton direction of `lmpar` into `x` (a least-squares solution where R is
+/// singular: the components from its first zero diagonal on are 0); R's rank, `nsing`.
+fn gauss_newton_direction(
+    n: usize,
+    r: &[f64],
+    ld: usize,
+    ipvt: &[usize],
+    qtb: &[f64],
+    x: &mut [f64],
+    wa1: &mut [f64],
+) -> usize {
+    let idx = |i: usize, j: usize| i + j * ld;
+    let mut nsing = n;
+    for j in 0..n {
+        wa1[j] = qtb[j];
+        if r[idx(j, j)] == 0.0 && nsing == n {
+            nsing = j;
+        }
+        if nsing < n {
+            wa1[j] = 0.0;
+        }
+    }
+    for j in (0..nsing).rev() {
+        wa1[j] /= r[idx(j, j)];
+        let temp = wa1[j];
+        for i in 0..j {
+            wa1[i] -= r[idx(i, j)] * temp;
+        }
+    }
+    for j in 0..n {
+        x[ipvt[j]] = wa1[j];
+    }
+    nsing
+}
+
 /// Determines the Levenberg–Marquardt parameter λ (`lmpar`) so that the solution
 /// `x` of the damped system has `‖D·x‖` within 10 % of `delta` (or λ = 0 when the
 /// Gauss–Newton step is already short enough). Returns the new λ; `x` holds the
@@ -224,27 +259,7 @@ pub(crate) fn lmpar(
 ) -> f64 {
     let idx = |i: usize, j: usize| i + j * ld;
     let dwarf = f64::MIN_POSITIVE;
-    // Gauss–Newton direction (least-squares solution if R is singular).
-    let mut nsing = n;
-    for j in 0..n {
-        wa1[j] = qtb[j];
-        if r[idx(j, j)] == 0.0 && nsing == n {
-            nsing = j;
-        }
-        if nsing < n {
-            wa1[j] = 0.0;
-        }
-    }
-    for j in (0..nsing).rev() {
-        wa1[j] /= r[idx(j, j)];
-        let temp = wa1[j];
-        for i in 0..j {
-            wa1[i] -= r[idx(i, j)] * temp;
-        }
-    }
-    for j in 0..n {
-        x[ipvt[j]] = wa1[j];
-    }
+    let nsing = gauss_newton_direction(n, r, ld, ipvt, qtb, x, wa1);
     for j in 0..n {
         wa2[j] = diag[j] * x[j];
     }

@@ -523,6 +523,66 @@ fn check_inputs<P: LeastSquaresProblem + ?Sized>(
     Ok((m, n))
 }
 
+impl Work {
+    /// MINPACK's `lmpar` on the factored Jacobian: the Levenberg–Marquardt parameter for
+    /// the trust radius `delta` from the previous `par`, the step in `step`.
+    fn levenberg_parameter(&mut self, delta: f64, par: f64) -> f64 {
+        let (m, n) = self.jac.shape();
+        lmpar(
+            n,
+            &mut self.qr,
+            m,
+            &self.ipvt,
+            &self.diag,
+            &self.qtf,
+            delta,
+            par,
+            &mut self.step,
+            &mut self.sdiag,
+            &mut self.wa1,
+            &mut self.wa2,
+        )
+    }
+
+    /// The scaling D = max(D, column norms of J), as lmder does without a given `diag`.
+    fn raise_diagonal(&mut self) {
+        for (d, c) in self.diag.iter_mut().zip(&self.col_norms) {
+            *d = d.max(*c);
+        }
+    }
+
+    /// The residuals at the trial point and their norm (infinite where they are not
+    /// finite).
+    fn trial_norm<P: LeastSquaresProblem + ?Sized>(&mut self, problem: &mut P) -> f64 {
+        if residuals_ok(problem, &self.trial, &mut self.f_trial) {
+            enorm(&self.f_trial)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Takes the trial point and its residuals as the new iterate; ‖D·x‖.
+    fn accept(&mut self, x: &mut [f64], fvec: &mut [f64]) -> f64 {
+        let n = x.len();
+        x.copy_from_slice(&self.trial);
+        fvec.copy_from_slice(&self.f_trial);
+        for j in 0..n {
+            self.wa2[j] = self.diag[j] * x[j];
+        }
+        enorm(&self.wa2[..n])
+    }
+}
+
+/// The actual reduction 1 − (‖r₁‖/‖r‖)², −1 where the trial's norm is ten times the
+/// current one or more (MINPACK's guard against overflow).
+fn actual_reduction(fnorm: f64, fnorm1: f64) -> f64 {
+    if 0.1 * fnorm1 < fnorm {
+        1.0 - (fnorm1 / fnorm).powi(2)
+    } else {
+        -1.0
+    }
+}
+
 /// Solves `min ‖r(x)‖²` (within the bounds, if any) from `x0` by MINPACK's
 /// Levenberg–Marquardt method.
 ///
@@ -554,16 +614,15 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
     let exit = 'outer: loop {
         // Jacobian at x: the last residual evaluation was at this x.
         njev += 1;
+        jacobian_current = true;
         if let Err((row, column)) =
             compute_jacobian(problem, &x, &fvec, options, &mut w, &mut fd_evaluations)
         {
             if njev == 1 {
                 return Err(OptError::InitialJacobian { row, column });
             }
-            jacobian_current = true;
             break LmExit::NonFiniteJacobian;
         }
-        jacobian_current = true;
 
         w.factor(&x, &fvec, options);
 
@@ -576,27 +635,12 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
             break LmExit::Gradient;
         }
         if options.diagonal.is_none() {
-            for j in 0..n {
-                w.diag[j] = w.diag[j].max(w.col_norms[j]);
-            }
+            w.raise_diagonal();
         }
 
         // Inner loop: find an acceptable step.
         loop {
-            par = lmpar(
-                n,
-                &mut w.qr,
-                m,
-                &w.ipvt,
-                &w.diag,
-                &w.qtf,
-                delta,
-                par,
-                &mut w.step,
-                &mut w.sdiag,
-                &mut w.wa1,
-                &mut w.wa2,
-            );
+            par = w.levenberg_parameter(delta, par);
             let (pnorm, clipped) = w.trial_step(&x, options);
             if pnorm == 0.0 {
                 break 'outer LmExit::XTolerance;
@@ -605,14 +649,9 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
                 delta = delta.min(pnorm);
             }
 
-            let ok = residuals_ok(problem, &w.trial, &mut w.f_trial);
+            let fnorm1 = w.trial_norm(problem);
             nfev += 1;
-            let fnorm1 = if ok { enorm(&w.f_trial) } else { f64::INFINITY };
-            let actred = if 0.1 * fnorm1 < fnorm {
-                1.0 - (fnorm1 / fnorm).powi(2)
-            } else {
-                -1.0
-            };
+            let actred = actual_reduction(fnorm, fnorm1);
 
             // Predicted reduction and directional derivative, both scaled by ‖r‖².
             let (prered, dirder) = w.predicted_reduction(&fvec, fnorm, par, pnorm, clipped);
@@ -627,12 +666,7 @@ pub fn levenberg_marquardt<P: LeastSquaresProblem + ?Sized>(
             );
 
             if ratio >= 1e-4 {
-                x.copy_from_slice(&w.trial);
-                fvec.copy_from_slice(&w.f_trial);
-                for j in 0..n {
-                    w.wa2[j] = w.diag[j] * x[j];
-                }
-                xnorm = enorm(&w.wa2[..n]);
+                xnorm = w.accept(&mut x, &mut fvec);
                 fnorm = fnorm1;
                 iter += 1;
                 jacobian_current = false;

@@ -288,6 +288,91 @@ fn converged(s: &Simplex, options: &NelderMeadOptions) -> bool {
     })
 }
 
+/// One Nelder–Mead step from the centroid `xbar` of the best n vertices: reflect, then
+/// expand, contract outside or inside, the worst vertex replaced where the move pays, or
+/// `Step::Shrink` for the caller; and the evaluations it used. `xr` and `xe` are work
+/// space.
+fn step(
+    s: &mut Simplex,
+    c: &Coefficients,
+    eval: &mut impl FnMut(&[f64]) -> f64,
+    xbar: &[f64],
+    [xr, xe]: [&mut Vec<f64>; 2],
+) -> (Step, usize) {
+    let n = s.n;
+    moves::reflect(xbar, s.vertex(n), c, xr);
+    let fxr = eval(xr);
+    let mut used = 1;
+
+    let step = if fxr < s.values[0] {
+        moves::expand(xbar, s.vertex(n), c, xe);
+        let fxe = eval(xe);
+        used += 1;
+        if fxe < fxr {
+            s.replace_worst(xe, fxe);
+            Step::Expand
+        } else {
+            s.replace_worst(xr, fxr);
+            Step::Reflect
+        }
+    } else if fxr < s.values[n - 1] {
+        s.replace_worst(xr, fxr);
+        Step::Reflect
+    } else if fxr < s.values[n] {
+        moves::contract_outside(xbar, s.vertex(n), c, xe);
+        let fxc = eval(xe);
+        used += 1;
+        if fxc <= fxr {
+            s.replace_worst(xe, fxc);
+            Step::ContractOutside
+        } else {
+            Step::Shrink
+        }
+    } else {
+        moves::contract_inside(xbar, s.vertex(n), c, xe);
+        let fxcc = eval(xe);
+        used += 1;
+        if fxcc < s.values[n] {
+            s.replace_worst(xe, fxcc);
+            Step::ContractInside
+        } else {
+            Step::Shrink
+        }
+    };
+    (step, used)
+}
+
+/// The vertices 1..=n of the initial simplex around `x0` (vertex 0, already set), as
+/// fminsearch places them, with their costs; sorted.
+fn initial_simplex(s: &mut Simplex, x0: &[f64], eval: &mut impl FnMut(&[f64]) -> f64) {
+    for j in 0..x0.len() {
+        moves::initial_vertex(x0, j, s.vertex_mut(j + 1));
+        s.values[j + 1] = eval(s.vertex(j + 1));
+    }
+    s.sort();
+}
+
+/// Every vertex but the best moved towards it, with its new cost.
+fn shrink(s: &mut Simplex, c: &Coefficients, eval: &mut impl FnMut(&[f64]) -> f64) {
+    for j in 1..s.values.len() {
+        let (best, vertex) = s.best_and_vertex_mut(j);
+        moves::shrink_vertex(best, vertex, c);
+        s.values[j] = eval(s.vertex(j));
+    }
+}
+
+/// Why the search stopped: a budget spent ([evaluations, iterations] against their
+/// maxima, evaluations first, as fminsearch says), or convergence.
+fn exit([evaluations, iterations]: [usize; 2], [max_e, max_i]: [usize; 2]) -> NelderMeadExit {
+    if evaluations >= max_e {
+        NelderMeadExit::MaxEvaluations
+    } else if iterations >= max_i {
+        NelderMeadExit::MaxIterations
+    } else {
+        NelderMeadExit::Converged
+    }
+}
+
 /// The method itself, on validated input, in the solver's working variables.
 fn run<F: FnMut(&[f64]) -> f64>(
     mut cost: F,
@@ -326,11 +411,7 @@ fn run<F: FnMut(&[f64]) -> f64>(
     s.vertex_mut(0).copy_from_slice(x0);
     s.values[0] = eval(x0);
     record(&mut trace, 0, 1, s.values[0], Step::Start);
-    for j in 0..n {
-        moves::initial_vertex(x0, j, s.vertex_mut(j + 1));
-        s.values[j + 1] = eval(s.vertex(j + 1));
-    }
-    s.sort();
+    initial_simplex(&mut s, x0, &mut eval);
     let mut iterations = 1;
     let mut evaluations = n + 1;
     record(
@@ -360,51 +441,10 @@ fn run<F: FnMut(&[f64]) -> f64>(
             break;
         }
         s.centroid(&mut xbar);
-        moves::reflect(&xbar, s.vertex(n), &c, &mut xr);
-        let fxr = eval(&xr);
-        evaluations += 1;
-
-        let step = if fxr < s.values[0] {
-            moves::expand(&xbar, s.vertex(n), &c, &mut xe);
-            let fxe = eval(&xe);
-            evaluations += 1;
-            if fxe < fxr {
-                s.replace_worst(&xe, fxe);
-                Step::Expand
-            } else {
-                s.replace_worst(&xr, fxr);
-                Step::Reflect
-            }
-        } else if fxr < s.values[n - 1] {
-            s.replace_worst(&xr, fxr);
-            Step::Reflect
-        } else if fxr < s.values[n] {
-            moves::contract_outside(&xbar, s.vertex(n), &c, &mut xe);
-            let fxc = eval(&xe);
-            evaluations += 1;
-            if fxc <= fxr {
-                s.replace_worst(&xe, fxc);
-                Step::ContractOutside
-            } else {
-                Step::Shrink
-            }
-        } else {
-            moves::contract_inside(&xbar, s.vertex(n), &c, &mut xe);
-            let fxcc = eval(&xe);
-            evaluations += 1;
-            if fxcc < s.values[n] {
-                s.replace_worst(&xe, fxcc);
-                Step::ContractInside
-            } else {
-                Step::Shrink
-            }
-        };
+        let (step, used) = step(&mut s, &c, &mut eval, &xbar, [&mut xr, &mut xe]);
+        evaluations += used;
         if step == Step::Shrink {
-            for j in 1..=n {
-                let (best, vertex) = s.best_and_vertex_mut(j);
-                moves::shrink_vertex(best, vertex, &c);
-                s.values[j] = eval(s.vertex(j));
-            }
+            shrink(&mut s, &c, &mut eval);
             evaluations += n;
         }
         s.sort();
@@ -412,17 +452,10 @@ fn run<F: FnMut(&[f64]) -> f64>(
         record(&mut trace, iterations, evaluations, s.values[0], step);
     }
 
-    let exit = if evaluations >= max_evaluations {
-        NelderMeadExit::MaxEvaluations
-    } else if iterations >= max_iterations {
-        NelderMeadExit::MaxIterations
-    } else {
-        NelderMeadExit::Converged
-    };
     NelderMeadResult {
         x: s.vertex(0).to_vec(),
         cost: s.values[0],
-        exit,
+        exit: exit([evaluations, iterations], [max_evaluations, max_iterations]),
         iterations,
         evaluations,
         trace,

@@ -180,7 +180,6 @@ impl Figure for Bode<'_> {
         (1400, 1000)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
-        let c = self.check;
         let area = suptitle(
             root,
             &format!(
@@ -190,7 +189,43 @@ impl Figure for Bode<'_> {
         )?;
         let h = area.dim_in_pixel().1 as i32;
         let (top, bottom) = area.split_vertically(h * 55 / 100);
-        // Positive frequencies with finite values only (a log axis).
+        let curves = BodeCurves::new(self.check, &self.parameters)?;
+        self.draw_magnitude(&top, &curves)?;
+        let phase = PhaseCurves {
+            f: &curves.f,
+            data: &curves.data_phase,
+            model_at_data: &curves.model_phase_at_data,
+            dense: &curves.dense,
+            model: &curves.model_phase,
+        };
+        let c = self.check;
+        draw_phase(&bottom, &phase, c.band_hz, c.model_natural_frequency_hz)
+    }
+}
+
+/// The Bode check's curves: the data at positive frequencies with finite values (a log
+/// axis), the model on a dense logarithmic grid, and the magnitude axis's range.
+struct BodeCurves {
+    /// The data's frequencies, Hz.
+    f: Vec<f64>,
+    /// The data's magnitude.
+    data_magnitude: Vec<f64>,
+    /// The data's phase, wrapped to within ±180° of the model's at each frequency.
+    data_phase: Vec<f64>,
+    /// The model's phase at the data's frequencies, degrees.
+    model_phase_at_data: Vec<f64>,
+    /// The dense grid, Hz.
+    dense: Vec<f64>,
+    /// The model's magnitude and phase on it.
+    model_magnitude: Vec<f64>,
+    model_phase: Vec<f64>,
+    /// The magnitude axis spans the model and the data inside the fit band (outside it
+    /// the input has no power and H1 is noise).
+    magnitude_range: (f64, f64),
+}
+
+impl BodeCurves {
+    fn new(c: &FrequencyCheck, p: &msd_ident::Parameters) -> std::result::Result<Self, String> {
         let keep: Vec<usize> = (0..c.frequency_hz.len())
             .filter(|&i| {
                 c.frequency_hz[i] > 0.0
@@ -203,11 +238,9 @@ impl Figure for Bode<'_> {
             return Err("fewer than two positive frequencies to draw".into());
         }
         let f: Vec<f64> = keep.iter().map(|&i| c.frequency_hz[i]).collect();
-        let pick = |v: &[f64]| -> Vec<f64> { keep.iter().map(|&i| v[i]).collect() };
-        let emp_mag = pick(&c.empirical_magnitude);
+        let data_magnitude: Vec<f64> = keep.iter().map(|&i| c.empirical_magnitude[i]).collect();
         // The model on a dense logarithmic grid (smooth through the resonance).
         let (f0, f1) = (f[0], f[f.len() - 1]);
-        let p = &self.parameters;
         let dense: Vec<f64> = (0..=800)
             .map(|i| f0 * (f1 / f0).powf(i as f64 / 800.0))
             .collect();
@@ -216,34 +249,56 @@ impl Figure for Bode<'_> {
             let (re, im) = (p.stiffness - p.mass * w * w, p.damping * w);
             (1.0 / re.hypot(im), -im.atan2(re).to_degrees())
         };
-        let dense_mag: Vec<f64> = dense.iter().map(|&fi| response(fi).0).collect();
-        let dense_ph: Vec<f64> = dense.iter().map(|&fi| response(fi).1).collect();
-        let mod_ph: Vec<f64> = f.iter().map(|&fi| response(fi).1).collect();
-        // The data's phase, wrapped to within ±180° of the model's at each frequency.
-        let emp_ph: Vec<f64> = keep
+        let model_magnitude: Vec<f64> = dense.iter().map(|&fi| response(fi).0).collect();
+        let model_phase: Vec<f64> = dense.iter().map(|&fi| response(fi).1).collect();
+        let model_phase_at_data: Vec<f64> = f.iter().map(|&fi| response(fi).1).collect();
+        let data_phase: Vec<f64> = keep
             .iter()
-            .zip(&mod_ph)
+            .zip(&model_phase_at_data)
             .map(|(&i, m)| m + (c.empirical_phase_deg[i] - m + 180.0).rem_euclid(360.0) - 180.0)
             .collect();
-        // The magnitude axis spans the model and the data inside the fit band (outside it
-        // the input has no power and H1 is noise).
         let [b0, b1] = c.band_hz;
         let in_band = f
             .iter()
-            .zip(&emp_mag)
+            .zip(&data_magnitude)
             .filter(|(fi, _)| **fi >= b0 && **fi <= b1)
             .map(|(_, v)| v);
-        let (mlo, mhi) = dense_mag
+        let magnitude_range = model_magnitude
             .iter()
             .chain(in_band)
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
                 (lo.min(v), hi.max(v))
             });
+        Ok(Self {
+            f,
+            data_magnitude,
+            data_phase,
+            model_phase_at_data,
+            dense,
+            model_magnitude,
+            model_phase,
+            magnitude_range,
+        })
+    }
+}
+
+impl Bode<'_> {
+    /// The magnitude panel: the fit band shaded, the data, the model, the model's fn.
+    fn draw_magnitude<DB: DrawingBackend>(
+        &self,
+        top: &DrawingArea<DB, Shift>,
+        curves: &BodeCurves,
+    ) -> Draw {
+        let c = self.check;
+        let f = &curves.f;
+        let (f0, f1) = (f[0], f[f.len() - 1]);
+        let (mlo, mhi) = curves.magnitude_range;
+        let [b0, b1] = c.band_hz;
         let fn_model = c.model_natural_frequency_hz;
         let fn_data = c.natural_frequency_hz;
         let unit = format!("{}/{}", self.units_output_raw(), self.units.input);
 
-        let mut chart = ChartBuilder::on(&top)
+        let mut chart = ChartBuilder::on(top)
             .caption(
                 format!(
                     "Magnitude: fn = {fn_data:.4} Hz, ζ = {:.4} (data) vs fn = {fn_model:.4} Hz, ζ = {:.4} (model) → {}",
@@ -276,14 +331,19 @@ impl Figure for Bode<'_> {
             .label("band of the single-mode fit")
             .legend(move |(x, y)| Rectangle::new([(x, y - 7), (x + 24, y + 7)], band.filled()));
         // Clamped to the axis: a line leaving the plot area would be drawn past it.
-        let clamped: Vec<f64> = emp_mag
+        let clamped: Vec<f64> = curves
+            .data_magnitude
             .iter()
             .map(|v| v.clamp(mlo * 0.7, mhi * 1.5))
             .collect();
-        draw_data(&mut chart, &f, &clamped, [b0, b1], true)?;
+        draw_data(&mut chart, f, &clamped, [b0, b1], true)?;
         chart
             .draw_series(LineSeries::new(
-                dense.iter().copied().zip(dense_mag.iter().copied()),
+                curves
+                    .dense
+                    .iter()
+                    .copied()
+                    .zip(curves.model_magnitude.iter().copied()),
                 RED.stroke_width(3),
             ))
             .map_err(text)?
@@ -303,16 +363,7 @@ impl Figure for Bode<'_> {
                     PathElement::new(vec![(x, y), (x + 10, y)], BLACK.stroke_width(2))
                 });
         }
-        draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)?;
-
-        let curves = PhaseCurves {
-            f: &f,
-            data: &emp_ph,
-            model_at_data: &mod_ph,
-            dense: &dense,
-            model: &dense_ph,
-        };
-        draw_phase(&bottom, &curves, [b0, b1], fn_model)
+        draw_legend(&mut chart, SeriesLabelPosition::LowerLeft)
     }
 }
 
