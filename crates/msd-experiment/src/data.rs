@@ -168,6 +168,22 @@ pub(crate) fn identification_excitation(config: &Config, config_path: &Path) -> 
         .map_err(|e| ExperimentError::config(config_path, format!("identification.input: {e}")))
 }
 
+/// The synthetic drive: `[identification.input]` on the `[time]` grid (none for a free
+/// decay or a test machine), as a lab records it: its samples alone, no breakpoints
+/// between them, so that the synthetic run and its measured template (which reads these
+/// samples back) describe the same experiment, the one the fit's model assumes.
+pub(crate) fn synthetic_input(config: &Config, config_path: &Path) -> Result<Option<Excitation>> {
+    let (Some(section), Some(time)) = (&config.identification, config.time) else {
+        return Ok(None);
+    };
+    let signal = |e| ExperimentError::config(config_path, format!("identification.input: {e}"));
+    let x = Excitation::from_signal(section.input.clone(), time.start, time.dt, time.samples())
+        .map_err(signal)?;
+    Excitation::from_samples(x.t0(), x.dt(), x.samples().to_vec())
+        .map(Some)
+        .map_err(signal)
+}
+
 /// One noisy record of the plant and its noise-free response: the exact simulation of a
 /// linear plant, or ode45 on the continuous force (RelTol 1e-8, AbsTol 1e-12: msd-ident's
 /// default tolerances) for a plant with nonlinear terms; the noise from the stream named

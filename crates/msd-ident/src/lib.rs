@@ -77,6 +77,7 @@ mod local;
 mod metrics;
 pub mod nonlinear;
 mod params;
+mod plant;
 pub mod records;
 pub mod residuals;
 pub mod sensitivity;
@@ -104,7 +105,8 @@ pub use msd_opt::statistics::Interval;
 /// What a sensor measures (msd-signal's, shared by every record and engine).
 pub use msd_signal::ResponseQuantity;
 pub use params::{InitialState, KnownParameter, PARAMETER_NAMES, Parameters};
-pub use records::{Channel, Drive, Frame, Record, RecordsFit, RecordsOptions, fit_records};
+pub use plant::Drive;
+pub use records::{Channel, Frame, Record, RecordsFit, RecordsOptions, fit_records};
 pub use residuals::{ResidualAnalysis, ResidualOptions, residual_analysis};
 pub use sensitivity::sensitivities;
 pub use simulate::{Backend, simulate, simulate_into};

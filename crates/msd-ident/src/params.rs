@@ -1,7 +1,8 @@
 //! The physical parameters and the quantities derived from them.
 
 use crate::error::{IdentError, Result};
-use msd_ode::{LtiModel, SMatrix, SVector};
+use crate::plant::{Drive, Plant};
+use msd_ode::{LtiModel, SVector};
 use serde::{Deserialize, Serialize};
 
 /// Mass m, damping c and stiffness k of m·x'' + c·x' + k·x = F(t), in consistent units
@@ -131,10 +132,14 @@ impl Parameters {
 
     /// State-space form with state (x, x'): A = [[0, 1], [−k/m, −c/m]], b = [0, 1/m].
     pub fn state_space(&self) -> LtiModel<2> {
-        let (m, c, k) = (self.mass, self.damping, self.stiffness);
-        LtiModel {
-            a: SMatrix::<f64, 2, 2>::new(0.0, 1.0, -k / m, -c / m),
-            b: SVector::<f64, 2>::new(0.0, 1.0 / m),
+        self.plant().model()
+    }
+
+    /// The plant driven by a force on the mass.
+    pub(crate) fn plant(&self) -> Plant {
+        Plant {
+            theta: self.to_array(),
+            drive: Drive::Force,
         }
     }
 }

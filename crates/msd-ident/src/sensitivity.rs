@@ -18,7 +18,7 @@ use crate::{
     error::Result,
     params::{InitialState, Parameters},
 };
-use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
+use msd_ode::{ExactSimulator, Hold, LtiModel, SVector, SampledInput};
 
 /// One sample of the response and its sensitivities.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,22 +86,5 @@ pub fn sensitivities<F: FnMut(usize, &SensitivitySample)>(
 /// The 8-state system z' = A z + b u of the response (x, v) and its sensitivities
 /// (x_m, v_m, x_c, v_c, x_k, v_k), in that order (the equations in the module docs).
 pub(crate) fn sensitivity_model(parameters: &Parameters) -> LtiModel<8> {
-    let (m, c, k) = (parameters.mass, parameters.damping, parameters.stiffness);
-    let mut a = SMatrix::<f64, 8, 8>::zeros();
-    // Each (x_j, v_j) block has the plant's dynamics.
-    for block in 0..4 {
-        let r = 2 * block;
-        a[(r, r + 1)] = 1.0;
-        a[(r + 1, r)] = -k / m;
-        a[(r + 1, r + 1)] = -c / m;
-    }
-    // Coupling to the response.
-    a[(3, 0)] = k / (m * m);
-    a[(3, 1)] = c / (m * m);
-    a[(5, 1)] = -1.0 / m;
-    a[(7, 0)] = -1.0 / m;
-    let mut b = SVector::<f64, 8>::zeros();
-    b[1] = 1.0 / m;
-    b[3] = -1.0 / (m * m);
-    LtiModel { a, b }
+    parameters.plant().sensitivity_model()
 }

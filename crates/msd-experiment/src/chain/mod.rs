@@ -138,7 +138,7 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
     let Some(chain) = config.chain.as_ref() else {
         return Err(ExperimentError::config(config_path, "no [chain] section"));
     };
-    let input = crate::setup::data::synthetic_input(config, config_path)?
+    let input = crate::data::synthetic_input(config, config_path)?
         .ok_or_else(|| ExperimentError::config(config_path, "identification.input: missing"))?;
     let tested = chain.tested(chain.plant.masses.len());
     let clean = simulate_chain(&tested, &chain.plant, input.samples(), input.dt())

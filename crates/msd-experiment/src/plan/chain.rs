@@ -134,7 +134,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
         ));
     }
     let predict = |config: &Config| -> Result<ChainUncertainty> {
-        let input = crate::setup::data::synthetic_input(config, path)?
+        let input = crate::data::synthetic_input(config, path)?
             .ok_or_else(|| ExperimentError::config(path, "identification.input: missing"))?;
         let noise: Vec<f64> = chain.sensors.iter().map(|s| s.sigma).collect();
         let options = crate::chain::fit_options(chain);
@@ -215,7 +215,7 @@ fn test(config: &Config, chain: &ChainSection) -> PlannedTest {
         ChainDrive::Force => ("force", "N"),
         ChainDrive::BaseAcceleration => ("base acceleration", "m/s²"),
     };
-    let peak = crate::setup::data::synthetic_input(config, Path::new(""))
+    let peak = crate::data::synthetic_input(config, Path::new(""))
         .ok()
         .flatten()
         .map_or(0.0, |x| {

@@ -152,7 +152,7 @@ impl<'a> Planned<'a> {
             ..self.time
         };
         config.time = Some(time);
-        let drive = match data::synthetic_input(&config, self.path)? {
+        let drive = match crate::data::synthetic_input(&config, self.path)? {
             Some(x) => x.samples().iter().map(|u| amplitude * u).collect(),
             None => vec![0.0; time.samples()],
         };

@@ -170,7 +170,7 @@ fn synthetic(
         return Ok(records);
     }
     let n = time.samples();
-    let input = synthetic_input(config, config_path)?;
+    let input = crate::data::synthetic_input(config, config_path)?;
     let sensors: Vec<_> = channels.iter().map(super::fit::sensor).collect();
     let clean = msd_ident::records::simulate_channels(
         &plant.parameters(),
@@ -202,22 +202,6 @@ pub(crate) fn channel_sigmas(config: &Config, channels: &[Response]) -> Vec<f64>
         .iter()
         .map(|r| r.sigma.unwrap_or(default_sigma))
         .collect()
-}
-
-/// The synthetic drive: `[identification.input]` on the `[time]` grid (none for a free
-/// decay or a test machine), as a lab records it: its samples alone, no breakpoints
-/// between them, so that the synthetic run and its measured template (which reads these
-/// samples back) describe the same experiment, the one the fit's model assumes.
-pub(crate) fn synthetic_input(config: &Config, config_path: &Path) -> Result<Option<Excitation>> {
-    let (Some(section), Some(time)) = (&config.identification, config.time) else {
-        return Ok(None);
-    };
-    let signal = |e| ExperimentError::config(config_path, format!("identification.input: {e}"));
-    let x = Excitation::from_signal(section.input.clone(), time.start, time.dt, time.samples())
-        .map_err(signal)?;
-    Excitation::from_samples(x.t0(), x.dt(), x.samples().to_vec())
-        .map(Some)
-        .map_err(signal)
 }
 
 /// A noise-free record.

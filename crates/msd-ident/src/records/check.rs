@@ -38,7 +38,7 @@ pub(crate) fn check_records(
                 return Err(fail(None, format!("{n} samples: at least {MIN_SAMPLES} are needed")));
             }
             let drive = record.excitation.samples();
-            if options.drive != super::setup::Drive::None
+            if options.drive != crate::plant::Drive::None
                 && drive.iter().all(|v| *v == drive[0])
             {
                 return Err(fail(None, format!(

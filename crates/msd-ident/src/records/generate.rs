@@ -1,13 +1,14 @@
 //! Noise-free records of a lab setup on the physical plant (m, c, k): every channel of
 //! one exact simulation, for synthetic tests.
 
-use super::setup::{Drive, Frame};
+use super::setup::Frame;
+use crate::plant::{Drive, Plant};
 use crate::{
     data::Excitation,
     error::{IdentError, Result},
     params::{InitialState, Parameters},
 };
-use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector, SampledInput};
+use msd_ode::{ExactSimulator, Hold, SVector, SampledInput};
 use msd_signal::ResponseQuantity;
 
 /// The noise-free channels (`quantity`, `frame`) of `plant` under `drive`, released from
@@ -70,13 +71,12 @@ pub fn simulate_channels(
         None => (zeros.as_slice(), &[][..]),
     };
     let (m, c, k) = (plant.mass, plant.damping, plant.stiffness);
-    let a = SMatrix::<f64, 2, 2>::new(0.0, 1.0, -k / m, -c / m);
-    let b = match drive {
-        Drive::BaseAcceleration => SVector::<f64, 2>::new(0.0, -1.0),
-        Drive::BaseDisplacement => SVector::<f64, 2>::new(c / m, (k - c * c / m) / m),
-        Drive::Force | Drive::None => SVector::<f64, 2>::new(0.0, 1.0 / m),
-    };
-    let sim = ExactSimulator::new(&LtiModel { a, b }, dt, Hold::Cubic)?;
+    let model = Plant {
+        theta: [m, c, k],
+        drive,
+    }
+    .model();
+    let sim = ExactSimulator::new(&model, dt, Hold::Cubic)?;
     let x0 = match (drive, values.first()) {
         (Drive::BaseDisplacement, Some(&z0)) => {
             SVector::<f64, 2>::new(initial.displacement, initial.velocity - c / m * z0)

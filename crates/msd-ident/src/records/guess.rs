@@ -9,8 +9,9 @@
 //! at fixed ωn and ζ, so the mass of each candidate is a linear least-squares gain.
 
 use super::problem::Joint;
-use super::setup::{Drive, RecordsOptions};
+use super::setup::RecordsOptions;
 use crate::arx::arx_poles;
+use crate::plant::Drive;
 use crate::{
     error::{IdentError, Result},
     free_decay::ClassroomEstimates,

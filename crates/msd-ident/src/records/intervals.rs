@@ -8,8 +8,8 @@
 //! degrees of freedom.
 
 use super::problem::Joint;
-use super::setup::Drive;
 use crate::least_squares::SingularError;
+use crate::plant::Drive;
 use crate::uncertainty::t_975;
 use crate::{error::Result, params::KnownParameter};
 use msd_opt::statistics::Interval;

@@ -140,7 +140,8 @@ mod tests {
     use crate::{
         data::Excitation,
         params::{InitialState, Parameters},
-        records::{Channel, Drive, Frame},
+        plant::Drive,
+        records::{Channel, Frame},
     };
     use msd_signal::ResponseQuantity;
 

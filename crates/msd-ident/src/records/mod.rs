@@ -22,8 +22,9 @@ pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
-pub use setup::{Channel, Drive, Frame, Record, RecordsOptions};
+pub use setup::{Channel, Frame, Record, RecordsOptions};
 
+use crate::plant::{Drive, Plant};
 use crate::{
     error::{IdentError, Result},
     free_decay::ClassroomEstimates,
@@ -31,7 +32,6 @@ use crate::{
 };
 use check::check_records;
 use loo::leave_one_out;
-use model::Plant;
 use msd_opt::levenberg_marquardt;
 use noise::{initial_sigmas, noise_levels, residual_sigmas};
 use problem::{Joint, RecordRows};

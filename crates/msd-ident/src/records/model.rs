@@ -14,9 +14,7 @@
 //! form one 8-state linear system that msd-ode simulates exactly, and
 //! ∂y/∂θ_p = C·s_p + C_p·s + D_p·u.
 
-use super::setup::Drive;
-use crate::error::Result;
-use msd_ode::{ExactSimulator, Hold, LtiModel, SMatrix, SVector};
+use crate::plant::{Drive, Plant};
 
 /// What a channel reads off the state s and the input u.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,84 +60,7 @@ impl OutputMap {
     }
 }
 
-/// The plant under one drive at θ = (m, c, k).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Plant {
-    pub theta: [f64; 3],
-    pub drive: Drive,
-}
-
 impl Plant {
-    fn a(&self) -> [[f64; 2]; 2] {
-        let [m, c, k] = self.theta;
-        [[0.0, 1.0], [-k / m, -c / m]]
-    }
-
-    /// ∂A/∂m, ∂A/∂c, ∂A/∂k.
-    fn da(&self) -> [[[f64; 2]; 2]; 3] {
-        let [m, c, k] = self.theta;
-        let m2 = m * m;
-        [
-            [[0.0, 0.0], [k / m2, c / m2]],
-            [[0.0, 0.0], [0.0, -1.0 / m]],
-            [[0.0, 0.0], [-1.0 / m, 0.0]],
-        ]
-    }
-
-    fn b(&self) -> [f64; 2] {
-        let [m, c, k] = self.theta;
-        match self.drive {
-            Drive::Force => [0.0, 1.0 / m],
-            Drive::BaseAcceleration => [0.0, -1.0],
-            Drive::BaseDisplacement => [c / m, k / m - (c / m).powi(2)],
-            Drive::None => [0.0, 0.0],
-        }
-    }
-
-    /// ∂b/∂m, ∂b/∂c, ∂b/∂k.
-    fn db(&self) -> [[f64; 2]; 3] {
-        let [m, c, k] = self.theta;
-        let m2 = m * m;
-        match self.drive {
-            Drive::Force => [[0.0, -1.0 / m2], [0.0; 2], [0.0; 2]],
-            Drive::BaseDisplacement => [
-                [-c / m2, -k / m2 + 2.0 * c * c / (m2 * m)],
-                [1.0 / m, -2.0 * c / m2],
-                [0.0, 1.0 / m],
-            ],
-            Drive::BaseAcceleration | Drive::None => [[0.0; 2]; 3],
-        }
-    }
-
-    /// The response alone (2 states).
-    pub(crate) fn response(&self, dt: f64, hold: Hold) -> Result<ExactSimulator<2>> {
-        let (a, b) = (self.a(), self.b());
-        let model = LtiModel {
-            a: SMatrix::<f64, 2, 2>::new(a[0][0], a[0][1], a[1][0], a[1][1]),
-            b: SVector::<f64, 2>::new(b[0], b[1]),
-        };
-        Ok(ExactSimulator::new(&model, dt, hold)?)
-    }
-
-    /// The response and its sensitivities to m, c, k (8 states: s, s_m, s_c, s_k).
-    pub(crate) fn sensitivities(&self, dt: f64, hold: Hold) -> Result<ExactSimulator<8>> {
-        let (a, da, b, db) = (self.a(), self.da(), self.b(), self.db());
-        let mut a8 = SMatrix::<f64, 8, 8>::zeros();
-        let mut b8 = SVector::<f64, 8>::zeros();
-        for block in 0..4 {
-            for r in 0..2 {
-                for c in 0..2 {
-                    a8[(2 * block + r, 2 * block + c)] = a[r][c];
-                    if block > 0 {
-                        a8[(2 * block + r, c)] = da[block - 1][r][c];
-                    }
-                }
-                b8[2 * block + r] = if block == 0 { b[r] } else { db[block - 1][r] };
-            }
-        }
-        Ok(ExactSimulator::new(&LtiModel { a: a8, b: b8 }, dt, hold)?)
-    }
-
     /// The channel map of `kind` at θ.
     pub(crate) fn output(&self, kind: OutputKind) -> OutputMap {
         let (a, da, b, db) = (self.a(), self.da(), self.b(), self.db());

@@ -2,9 +2,10 @@
 //! of any channel under any drive.
 
 use super::intervals::{PlantIntervals, log_covariance, plant_intervals};
-use super::model::Plant;
 use super::problem::Joint;
-use super::setup::{Channel, Drive, Frame, Record, RecordsOptions};
+use super::setup::{Channel, Frame, Record, RecordsOptions};
+use crate::plant::Drive;
+use crate::plant::Plant;
 use crate::{
     data::Excitation,
     error::{IdentError, Result},

@@ -12,9 +12,11 @@
 //! full covariance of θ: the nuisance parameters are accounted for exactly.
 
 use super::linear::LinearSolve;
-use super::model::{OutputKind, OutputMap, Plant};
-use super::setup::{Drive, Record, RecordsOptions};
+use super::model::{OutputKind, OutputMap};
+use super::setup::{Record, RecordsOptions};
 use crate::error::Result;
+use crate::plant::Drive;
+use crate::plant::Plant;
 use msd_ode::{Hold, SVector, SampledInput};
 use msd_opt::LeastSquaresProblem;
 use nalgebra::DMatrix;

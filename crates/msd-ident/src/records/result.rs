@@ -1,7 +1,7 @@
 //! What a joint fit returns, and its table.
 
 use super::intervals::PlantIntervals;
-use super::setup::Drive;
+use crate::plant::Drive;
 use crate::{free_decay::ClassroomEstimates, metrics::FitMetrics, params::InitialState};
 use serde::Serialize;
 use std::time::Duration;

@@ -1,6 +1,7 @@
 //! What a joint fit is given: the drive, the records with their channels, the options.
 
 use super::model::OutputKind;
+use crate::plant::Drive;
 use crate::{
     data::Excitation,
     error::{IdentError, Result},
@@ -10,67 +11,6 @@ use msd_ode::Hold;
 use msd_opt::LevenbergMarquardtOptions;
 use msd_signal::ResponseQuantity;
 use serde::{Deserialize, Serialize};
-
-/// What drives the plant.
-///
-/// By default [`Drive::Force`].
-///
-/// ```
-/// use msd_ident::Drive;
-/// assert_eq!(serde_json::to_value(Drive::BaseAcceleration)?, "base_acceleration");
-/// assert_eq!(Drive::None.to_string(), "free decay");
-/// # Ok::<(), serde_json::Error>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Drive {
-    /// A measured force F on the mass: m·x″ + c·x′ + k·x = F (N). Identifies m, c and k.
-    #[default]
-    Force,
-    /// A measured base acceleration z″ (m/s²): the relative motion y = x − z obeys
-    /// y″ + 2ζωn·y′ + ωn²·y = −z″. Identifies ωn and ζ (m, c, k with a known mass or
-    /// stiffness).
-    BaseAcceleration,
-    /// A measured base displacement z (m): m·x″ + c·x′ + k·x = c·z′ + k·z, simulated with
-    /// the state w = x′ − (c/m)·z so that z′ is never needed. Identifies ωn and ζ.
-    BaseDisplacement,
-    /// Nothing: the mass rings down from its initial state (a free decay). The records'
-    /// excitation samples are ignored. Identifies ωn and ζ.
-    None,
-}
-
-impl std::fmt::Display for Drive {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.setup())
-    }
-}
-
-impl Drive {
-    /// The setup in words, for messages.
-    pub(crate) fn setup(self) -> &'static str {
-        match self {
-            Drive::Force => "force drive",
-            Drive::BaseAcceleration => "base acceleration",
-            Drive::BaseDisplacement => "base displacement",
-            Drive::None => "free decay",
-        }
-    }
-
-    /// The measured quantity that drives the plant, in words ("force", …).
-    pub(crate) fn quantity(self) -> &'static str {
-        match self {
-            Drive::Force => "force",
-            Drive::BaseAcceleration => "base acceleration",
-            Drive::BaseDisplacement => "base displacement",
-            Drive::None => "excitation",
-        }
-    }
-
-    /// Whether the mass is estimated (only a force on the mass fixes it).
-    pub(crate) fn estimates_mass(self) -> bool {
-        self == Drive::Force
-    }
-}
 
 /// Whether a channel measures the mass's motion itself or its motion relative to the
 /// base. With a fixed base ([`Drive::Force`], [`Drive::None`]) the two are the same.
