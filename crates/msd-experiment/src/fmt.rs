@@ -110,6 +110,16 @@ pub fn short(v: f64) -> String {
     format!("{}", (v * scale).round() / scale)
 }
 
+/// A count where there is one, "—" where there is none.
+///
+/// ```
+/// assert_eq!(msd_experiment::fmt::count(Some(7)), "7");
+/// assert_eq!(msd_experiment::fmt::count(None), "—");
+/// ```
+pub fn count(n: Option<usize>) -> String {
+    n.map_or("—".into(), |n| n.to_string())
+}
+
 /// The optimiser's proper name.
 pub fn method_name(method: msd_ident::Method) -> &'static str {
     match method {

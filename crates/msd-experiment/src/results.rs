@@ -14,6 +14,10 @@ use std::time::Duration;
 /// The version of the toolkit that wrote a results file.
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
+/// The layout of `results.json`: raised whenever a key is renamed or moved (the
+/// CHANGELOG lists each change). 2: one `Mode` for every kind (issue 41).
+pub const SCHEMA_VERSION: u32 = 2;
+
 /// A duration in milliseconds, rounded to the microsecond.
 pub(crate) fn ms(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e6).round() / 1e3
@@ -59,6 +63,14 @@ impl<'a> Experiment<'a> {
             toolkit: "msd-experiment (msd-toolkit)",
         }
     }
+}
+
+/// A kind's results document with its `schema_version` ([`SCHEMA_VERSION`]).
+pub(crate) fn versioned(mut json: serde_json::Value) -> serde_json::Value {
+    if let Some(object) = json.as_object_mut() {
+        object.insert("schema_version".into(), SCHEMA_VERSION.into());
+    }
+    json
 }
 
 /// Writes `json` as `results.json` (pretty, with a final newline) into `staging`.

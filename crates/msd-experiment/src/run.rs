@@ -122,7 +122,7 @@ pub(crate) fn write(
     extra.push(("report", t.elapsed()));
 
     let total = started.elapsed();
-    let json = run.results(&extra, total)?;
+    let json = crate::results::versioned(run.results(&extra, total)?);
     crate::results::write_json(&staging, &json)?;
     staging.commit()?;
     Ok(RunSummary {

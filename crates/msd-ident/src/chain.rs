@@ -16,7 +16,6 @@ mod simulate;
 mod uncertainty;
 
 pub use fit::{ChainFit, ChainOptions, fit_chain};
-pub use modes::ChainMode;
 pub use plan::predict_chain;
 pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};

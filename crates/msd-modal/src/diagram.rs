@@ -50,10 +50,11 @@ pub struct DiagramOrder {
     pub poles: Vec<DiagramPole>,
 }
 
-/// A mode the diagram found: poles stable at several orders, at nearly one frequency
+/// A column of the diagram: poles stable at several orders, at nearly one frequency (a
+/// candidate mode)
 /// (see [`DiagramPole`] for an example).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct StableMode {
+pub struct StableColumn {
     /// The median fn of its stable poles, Hz.
     pub natural_frequency_hz: f64,
     /// The median ζ of its stable poles.
@@ -87,9 +88,9 @@ pub struct StabilizationDiagram {
     /// Every order, lowest first.
     pub orders: Vec<DiagramOrder>,
     /// Every column of poles stable in frequency (the modes' candidates), by frequency.
-    pub candidates: Vec<StableMode>,
+    pub candidates: Vec<StableColumn>,
     /// The selected modes, by frequency.
-    pub modes: Vec<StableMode>,
+    pub modes: Vec<StableColumn>,
     /// The first and last line used, Hz.
     pub band_hz: [f64; 2],
 }

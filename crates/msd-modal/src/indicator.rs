@@ -2,7 +2,8 @@
 //! any model is fitted.
 
 use crate::error::{ModalError, Result};
-use crate::set::{Dof, SetMember};
+use crate::mode::Dof;
+use crate::set::SetMember;
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
 use serde::Serialize;

@@ -45,6 +45,7 @@ mod indicator;
 pub mod lines;
 mod lscf;
 mod modal;
+mod mode;
 mod modes;
 mod options;
 mod polish;
@@ -55,16 +56,17 @@ mod stabilization;
 mod synthetic;
 mod window;
 
-pub use diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableMode};
+pub use diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableColumn};
 pub use error::{ModalError, Result};
 pub use half_power::{HalfPower, half_power};
 pub use indicator::{ModeIndicator, mode_indicator};
 pub use lines::FrfWeighting;
 pub use modal::ModalParameters;
-pub use modes::{ModalFit, Mode, RefusedMode, fit_modes};
+pub use mode::{Dof, Mode, ShapeEntry};
+pub use modes::{ModalFit, RefusedMode, fit_modes};
 pub use msd_signal::FrequencyResponseEstimate;
 pub use options::ModalOptions;
-pub use set::{Dof, MemberFit, ModeSetFit, Roving, SetMember, SetMode, ShapeEntry, fit_mode_set};
+pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
 pub use shapes::{
     ShapeComparison, compare_shapes, mac, mac_matrix, mean_phase_deviation,
     modal_phase_collinearity, unit_normalised,

@@ -8,59 +8,17 @@ use msd_signal::{Complex64, FrequencyResponseEstimate};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use crate::diagram::{StabilizationDiagram, StableMode};
+use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::error::{ModalError, Result};
 use crate::lines::Lines;
 use crate::lines::{FrfWeighting, prepare};
-use crate::modal::ModalParameters;
+use crate::mode::{Dof, Mode, ShapeEntry};
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, Polished, lsfd, model, polish};
 use crate::stabilization::diagram_of;
 use crate::window::{WindowCorrection, unshift_pole};
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::t_975;
-
-/// One mode of a [`ModalFit`], every quantity with its 95 % interval.
-///
-/// ```
-/// use msd_modal::{fit_modes, ModalOptions, synthetic_frequency_response, ModalParameters};
-/// let truth = ModalParameters { natural_frequency_hz: 12.0, damping_ratio: 0.02,
-///     modal_constant: 0.5, modal_constant_imaginary: 0.0 };
-/// let f: Vec<f64> = (1..=400).map(|i| 0.05 * i as f64).collect();
-/// let frf = synthetic_frequency_response(&f, 0.01, 3, |f| truth.receptance(f))?;
-/// let options = ModalOptions { orders: [2, 20], ..ModalOptions::default() };
-/// let mode = fit_modes(&frf, &options)?.modes[0];
-/// assert!((mode.parameters().natural_frequency_hz / 12.0 - 1.0).abs() < 1e-3);
-/// assert!(mode.stable_orders >= 5);
-/// # Ok::<(), msd_modal::ModalError>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Mode {
-    /// Natural frequency, Hz (with an exponential window: corrected for it).
-    pub natural_frequency_hz: Interval,
-    /// Damping ratio (idem); its interval computed on ln ζ, so that it stays above zero.
-    pub damping_ratio: Interval,
-    /// The modal constant's real part A (see [`ModalParameters`]).
-    pub modal_constant: Interval,
-    /// The modal constant's imaginary part B (0 for a real mode).
-    pub modal_constant_imaginary: Interval,
-    /// At how many orders of the diagram it was stable.
-    pub stable_orders: usize,
-    /// What an exponential window added and how it was taken off, if there was one.
-    pub window_correction: Option<WindowCorrection>,
-}
-
-impl Mode {
-    /// The estimates without their intervals.
-    pub fn parameters(&self) -> ModalParameters {
-        ModalParameters {
-            natural_frequency_hz: self.natural_frequency_hz.value,
-            damping_ratio: self.damping_ratio.value,
-            modal_constant: self.modal_constant.value,
-            modal_constant_imaginary: self.modal_constant_imaginary.value,
-        }
-    }
-}
 
 /// The result of [`fit_modes`]: the modes, the residual terms, the diagram.
 ///
@@ -116,6 +74,26 @@ pub struct ModalFit {
 }
 
 impl ModalFit {
+    /// Mode `r`'s modal constant A + jB as two 95 % intervals (Student's t with the
+    /// fit's degrees of freedom); None past the last mode.
+    ///
+    /// ```
+    /// use msd_modal::{fit_modes, ModalOptions, synthetic_frequency_response, ModalParameters};
+    /// let truth = ModalParameters { natural_frequency_hz: 12.0, damping_ratio: 0.02,
+    ///     modal_constant: 0.5, modal_constant_imaginary: 0.0 };
+    /// let f: Vec<f64> = (1..=400).map(|i| 0.05 * i as f64).collect();
+    /// let frf = synthetic_frequency_response(&f, 0.01, 3, |f| truth.receptance(f))?;
+    /// let fit = fit_modes(&frf, &ModalOptions { orders: [2, 20], ..ModalOptions::default() })?;
+    /// let [a, b] = fit.modal_constant(0).expect("one mode");
+    /// assert!((a.value / 0.5 - 1.0).abs() < 1e-2 && b.value.abs() < 1e-2);
+    /// assert!(fit.modes[0].stable_orders >= Some(5));
+    /// # Ok::<(), msd_modal::ModalError>(())
+    /// ```
+    pub fn modal_constant(&self, r: usize) -> Option<[Interval; 2]> {
+        let t = t_975(self.degrees_of_freedom);
+        self.modes.get(r)?.modal_constants.first()?.intervals(t)
+    }
+
     /// The receptance of the model as fitted at `frequency_hz` (with an exponential
     /// window: the windowed response, which the data show).
     pub fn response(&self, frequency_hz: f64) -> Complex64 {
@@ -156,13 +134,13 @@ impl std::fmt::Display for ModalFit {
         for (i, m) in self.modes.iter().enumerate() {
             write!(
                 f,
-                "\nmode {}: fn = {:.6} Hz, ζ = {:.6}, A = {}, B = {}",
+                "\nmode {}: {}",
                 i + 1,
-                m.natural_frequency_hz,
-                m.damping_ratio,
-                scientific(&m.modal_constant),
-                scientific(&m.modal_constant_imaginary)
+                Mode::new(m.natural_frequency_hz, m.damping_ratio)
             )?;
+            if let Some([a, b]) = self.modal_constant(i) {
+                write!(f, ", A = {}, B = {}", scientific(&a), scientific(&b))?;
+            }
             if let Some(c) = &m.window_correction {
                 write!(f, "; {c}")?;
             }
@@ -216,7 +194,7 @@ fn scientific(i: &Interval) -> String {
 /// for (mode, truth) in fit.modes.iter().zip(&truth) {
 ///     assert!((mode.natural_frequency_hz.value / truth.natural_frequency_hz - 1.0).abs() < 1e-9);
 ///     assert!((mode.damping_ratio.value / truth.damping_ratio - 1.0).abs() < 1e-7);
-///     assert!((mode.modal_constant.value / truth.modal_constant - 1.0).abs() < 1e-7);
+///     assert!((mode.parameters().modal_constant / truth.modal_constant - 1.0).abs() < 1e-7);
 /// }
 /// println!("{fit}");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -285,7 +263,7 @@ pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Res
 fn polish_selected(
     lines: Lines,
     diagram: &StabilizationDiagram,
-) -> Result<(Polished, Lines, Vec<StableMode>, Vec<RefusedMode>)> {
+) -> Result<(Polished, Lines, Vec<StableColumn>, Vec<RefusedMode>)> {
     let mut selected = diagram.modes.clone();
     let mut refused = Vec::new();
     loop {
@@ -316,7 +294,7 @@ fn polish_selected(
 
 /// Takes the `moved` modes out of `selected` into `refused`; an error when none is left.
 pub(crate) fn drop_moved(
-    selected: &mut Vec<StableMode>,
+    selected: &mut Vec<StableColumn>,
     refused: &mut Vec<RefusedMode>,
     moved: Vec<RefusedMode>,
 ) -> Result<()> {
@@ -340,7 +318,7 @@ pub(crate) fn drop_moved(
 
 /// Mode `r` refused if the polish moved it out of its half-power band or nearer to
 /// another selected mode.
-fn moved(theta: &[f64], selected: &[StableMode], r: usize) -> Option<RefusedMode> {
+fn moved(theta: &[f64], selected: &[StableColumn], r: usize) -> Option<RefusedMode> {
     let j = PER_MODE * r;
     moved_from_column(theta[j] / TAU, theta[j + 1], selected, r)
 }
@@ -350,13 +328,13 @@ fn moved(theta: &[f64], selected: &[StableMode], r: usize) -> Option<RefusedMode
 pub(crate) fn moved_from_column(
     fitted_hz: f64,
     zeta: f64,
-    selected: &[StableMode],
+    selected: &[StableColumn],
     r: usize,
 ) -> Option<RefusedMode> {
     let column = selected[r];
     let bandwidth =
         (2.0 * zeta * fitted_hz).max(2.0 * column.damping_ratio * column.natural_frequency_hz);
-    let distance = |m: &StableMode| (m.natural_frequency_hz - fitted_hz).abs();
+    let distance = |m: &StableColumn| (m.natural_frequency_hz - fitted_hz).abs();
     let nearest = selected
         .iter()
         .min_by(|a, b| distance(a).total_cmp(&distance(b)))
@@ -428,13 +406,15 @@ fn mode(
         [covariance[(j + 1, j)], covariance[(j + 1, j + 1)]],
     ];
     let pole = pole_intervals(theta[j], theta[j + 1], block, t, decay);
+    let constant = ShapeEntry {
+        standard_error: Some([se(2), se(3)]),
+        ..ShapeEntry::new(Dof::default(), Complex64::new(theta[j + 2], theta[j + 3]))
+    };
     Mode {
-        natural_frequency_hz: pole.natural_frequency_hz,
-        damping_ratio: pole.damping_ratio,
-        modal_constant: Interval::new(theta[j + 2], se(2), t),
-        modal_constant_imaginary: Interval::new(theta[j + 3], se(3), t),
-        stable_orders,
+        modal_constants: vec![constant],
+        stable_orders: Some(stable_orders),
         window_correction: pole.window_correction,
+        ..Mode::new(pole.natural_frequency_hz, pole.damping_ratio)
     }
 }
 

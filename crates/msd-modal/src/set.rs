@@ -6,39 +6,17 @@ use std::f64::consts::TAU;
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 use serde::{Deserialize, Serialize};
 
-use crate::diagram::{StabilizationDiagram, StableMode};
+use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::error::{ModalError, Result};
 use crate::lines::{FrfWeighting, Lines, prepare};
+use crate::mode::{Dof, Mode, ShapeEntry};
 use crate::modes::{RefusedMode, drop_moved, moved_from_column, pole_intervals};
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, lsfd, model};
 use crate::set_poles::refine_poles;
 use crate::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
 use crate::stabilization::diagram_of_set;
-use crate::window::WindowCorrection;
-use msd_opt::statistics::Interval;
 use msd_opt::statistics::t_975;
-
-/// A measurement point and direction (as UFF numbers them: direction 1, 2, 3 = +X, +Y,
-/// +Z, negative for the opposite sense). Displays as `node:direction`, e.g. `3:+2`.
-///
-/// ```
-/// use msd_modal::Dof;
-/// assert_eq!(Dof { node: 3, direction: -2 }.to_string(), "3:-2");
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub struct Dof {
-    /// The node (point) number.
-    pub node: u32,
-    /// The direction: ±1, ±2, ±3 (translations), ±4, ±5, ±6 (rotations).
-    pub direction: i32,
-}
-
-impl std::fmt::Display for Dof {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}:{:+}", self.node, self.direction)
-    }
-}
 
 /// One frequency response of a set, with where it was measured and where the force was.
 #[derive(Debug, Clone, PartialEq)]
@@ -63,48 +41,6 @@ pub enum Roving {
     Reference,
 }
 
-/// One entry of a mode shape: a DOF and the complex value there.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ShapeEntry {
-    /// The node.
-    pub node: u32,
-    /// The direction.
-    pub direction: i32,
-    /// Real part.
-    pub re: f64,
-    /// Imaginary part.
-    pub im: f64,
-}
-
-/// One mode of a [`ModeSetFit`]: the common pole with its intervals, the shape over the
-/// roving DOFs and its complexity.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SetMode {
-    /// Natural frequency, Hz (with an exponential window: corrected for it).
-    pub natural_frequency_hz: Interval,
-    /// Damping ratio (idem); its interval on ln ζ.
-    pub damping_ratio: Interval,
-    /// At how many orders of the diagram its column has a pole.
-    pub stable_orders: usize,
-    /// The modal constant A + jB of every member (receptance, as in
-    /// [`ModalParameters`](crate::modal::ModalParameters)), over the roving DOFs.
-    pub modal_constants: Vec<ShapeEntry>,
-    /// The shape: the modal constants scaled so that the largest entry is 1.
-    pub shape: Vec<ShapeEntry>,
-    /// Modal phase collinearity of the shape (1 for a real mode).
-    pub mpc: f64,
-    /// Mean phase deviation of the shape, degrees (0 for a real mode).
-    pub mpd_deg: f64,
-    /// The modal mass of `shape` (with a driving point whose modal constant is positive;
-    /// in the units of the force and response): 1/ψ² at the shape's largest entry, ψ the
-    /// mass-normalised shape A_i/√A_dd.
-    pub modal_mass: Option<f64>,
-    /// The mass-normalised shape ψ (idem).
-    pub mass_normalised_shape: Option<Vec<ShapeEntry>>,
-    /// What an exponential window added and how it was taken off, if there was one.
-    pub window_correction: Option<WindowCorrection>,
-}
-
 /// How well the model reproduces one member of a set.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MemberFit {
@@ -125,7 +61,7 @@ pub struct MemberFit {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModeSetFit {
     /// The modes, by frequency.
-    pub modes: Vec<SetMode>,
+    pub modes: Vec<Mode>,
     /// MAC of every shape with every other (`mac[i][j]`).
     pub mac: Vec<Vec<f64>>,
     /// Each member's fit, in the order given.
@@ -201,8 +137,8 @@ impl std::fmt::Display for ModeSetFit {
                 i + 1,
                 m.natural_frequency_hz,
                 m.damping_ratio,
-                m.mpc,
-                m.mpd_deg
+                m.mpc.unwrap_or(f64::NAN),
+                m.mpd_deg.unwrap_or(f64::NAN)
             )?;
             if let Some(mass) = m.modal_mass {
                 write!(f, ", modal mass {mass:.4e}")?;
@@ -365,7 +301,7 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
 /// What [`assemble`] builds the result from.
 struct Parts {
     poles: crate::set_poles::RefinedPoles,
-    selected: Vec<StableMode>,
+    selected: Vec<StableColumn>,
     refused: Vec<RefusedMode>,
     diagram: StabilizationDiagram,
     roving: Roving,
@@ -394,7 +330,7 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
     };
     let driving = members.iter().position(|m| m.response == m.reference);
     let mut notes = Vec::new();
-    let modes: Vec<SetMode> = (0..poles.poles.len())
+    let modes: Vec<Mode> = (0..poles.poles.len())
         .map(|r| {
             let (wn, zeta) = poles.poles[r];
             let c = &poles.covariance;
@@ -411,37 +347,25 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
                 members
                     .iter()
                     .zip(values)
-                    .map(|(m, v)| {
-                        let d = dof(m);
-                        ShapeEntry {
-                            node: d.node,
-                            direction: d.direction,
-                            re: v.re,
-                            im: v.im,
-                        }
-                    })
+                    .map(|(m, &v)| ShapeEntry::new(dof(m), v))
                     .collect()
             };
             let shape = unit_normalised(&constants);
             let mass = driving.and_then(|d| modal_mass(&constants, &shape, d, r, &mut notes));
-            SetMode {
-                natural_frequency_hz: pole.natural_frequency_hz,
-                damping_ratio: pole.damping_ratio,
-                stable_orders: selected[r].stable_orders,
-                modal_constants: entries(&constants),
-                mpc: modal_phase_collinearity(&constants),
-                mpd_deg: mean_phase_deviation(&constants),
+            Mode {
                 shape: entries(&shape),
+                mpc: Some(modal_phase_collinearity(&constants)),
+                mpd_deg: Some(mean_phase_deviation(&constants)),
+                modal_constants: entries(&constants),
                 modal_mass: mass.as_ref().map(|m| m.0),
                 mass_normalised_shape: mass.map(|m| entries(&m.1)),
+                stable_orders: Some(selected[r].stable_orders),
                 window_correction: pole.window_correction,
+                ..Mode::new(pole.natural_frequency_hz, pole.damping_ratio)
             }
         })
         .collect();
-    let shapes: Vec<Vec<Complex64>> = modes
-        .iter()
-        .map(|m| m.shape.iter().map(|e| Complex64::new(e.re, e.im)).collect())
-        .collect();
+    let shapes: Vec<Vec<Complex64>> = modes.iter().map(Mode::shape_values).collect();
     let fits = members
         .iter()
         .zip(lines)

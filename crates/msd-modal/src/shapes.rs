@@ -2,7 +2,7 @@
 //! complexity of a shape (MPC, MPD).
 
 use crate::error::{ModalError, Result};
-use crate::set::{Dof, ShapeEntry};
+use crate::mode::{Dof, ShapeEntry};
 use msd_signal::Complex64;
 
 /// The modal assurance criterion of two shapes over the same DOFs:
@@ -171,9 +171,10 @@ impl ShapeComparison {
 /// one DOF is 1 for any pair of shapes).
 ///
 /// ```
-/// use msd_modal::{ShapeEntry, compare_shapes};
+/// use msd_modal::{Dof, ShapeEntry, compare_shapes};
+/// use msd_signal::Complex64;
 /// let shape = |values: &[(u32, i32, f64)]| -> Vec<ShapeEntry> {
-///     values.iter().map(|&(node, direction, re)| ShapeEntry { node, direction, re, im: 0.0 }).collect()
+///     values.iter().map(|&(node, direction, re)| ShapeEntry::new(Dof { node, direction }, Complex64::new(re, 0.0))).collect()
 /// };
 /// let test = vec![shape(&[(1, 3, 1.0), (2, 3, 0.5), (3, 3, -0.4)])];
 /// // The model: node 2 in the opposite sense, node 3 not given, node 9 not measured.

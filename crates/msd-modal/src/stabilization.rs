@@ -5,7 +5,7 @@ use std::f64::consts::TAU;
 
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 
-use crate::diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableMode};
+use crate::diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableColumn};
 use crate::error::{ModalError, Result};
 use crate::lines::{Lines, prepare};
 use crate::lscf::{Lscf, roots_of};
@@ -173,7 +173,7 @@ fn select(
     orders: &[DiagramOrder],
     lines: &Lines,
     options: &ModalOptions,
-) -> (Vec<StableMode>, Vec<StableMode>, Option<String>) {
+) -> (Vec<StableColumn>, Vec<StableColumn>, Option<String>) {
     let mut stable: Vec<(usize, DiagramPole)> = orders
         .iter()
         .flat_map(|o| {
@@ -188,11 +188,11 @@ fn select(
             .total_cmp(&b.1.natural_frequency_hz)
     });
     let groups = columns(&stable, options.frequency_tolerance);
-    let mut candidates: Vec<StableMode> = groups.iter().map(|g| summarise(g)).collect();
+    let mut candidates: Vec<StableColumn> = groups.iter().map(|g| summarise(g)).collect();
     for m in &mut candidates {
         m.at_peak = lines.has_peak(m.natural_frequency_hz, m.damping_ratio);
     }
-    let mut modes: Vec<StableMode> = candidates.iter().copied().filter(|m| m.at_peak).collect();
+    let mut modes: Vec<StableColumn> = candidates.iter().copied().filter(|m| m.at_peak).collect();
     let mut shortfall = None;
     match options.mode_count {
         Some(count) if modes.len() < count => {
@@ -281,11 +281,11 @@ fn columns(poles: &[(usize, DiagramPole)], tolerance: f64) -> Vec<Vec<(usize, Di
 
 /// Why a selection found too few modes: the candidate columns, where they are, and the
 /// keys that change the outcome.
-fn explain(candidates: &[StableMode], orders: usize, options: &ModalOptions) -> String {
-    let at_peaks: Vec<StableMode> = candidates.iter().copied().filter(|m| m.at_peak).collect();
+fn explain(candidates: &[StableColumn], orders: usize, options: &ModalOptions) -> String {
+    let at_peaks: Vec<StableColumn> = candidates.iter().copied().filter(|m| m.at_peak).collect();
     let needed = (options.min_stable_share * orders as f64).ceil() as usize;
-    let list = |modes: &[StableMode]| {
-        let mut v: Vec<&StableMode> = modes.iter().collect();
+    let list = |modes: &[StableColumn]| {
+        let mut v: Vec<&StableColumn> = modes.iter().collect();
         v.sort_by_key(|m| std::cmp::Reverse(m.stable_orders));
         v.iter()
             .take(8)
@@ -318,7 +318,7 @@ fn explain(candidates: &[StableMode], orders: usize, options: &ModalOptions) -> 
 }
 
 /// A group's median fn and ζ and its number of distinct orders.
-fn summarise(group: &[(usize, DiagramPole)]) -> StableMode {
+fn summarise(group: &[(usize, DiagramPole)]) -> StableColumn {
     let median = |mut v: Vec<f64>| {
         v.sort_by(f64::total_cmp);
         let n = v.len();
@@ -339,7 +339,7 @@ fn summarise(group: &[(usize, DiagramPole)]) -> StableMode {
     } else {
         both
     };
-    StableMode {
+    StableColumn {
         natural_frequency_hz: median(poles.iter().map(|p| p.natural_frequency_hz).collect()),
         damping_ratio: median(poles.iter().map(|p| p.damping_ratio).collect()),
         stable_orders: orders.len(),

@@ -214,7 +214,10 @@ fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
         let shape: Vec<String> = mode
             .shape
             .iter()
-            .map(|v| format!("{:.4} ± {}", v.value, sig(v.standard_error, 2)))
+            .map(|v| {
+                let se = v.standard_error.map_or(0.0, |[re, _]| re);
+                format!("{:.4} ± {}", v.re, sig(se, 2))
+            })
             .collect();
         writeln!(
             s,
@@ -339,7 +342,13 @@ fn truth_modes(o: &ChainOutcome) -> Vec<(f64, f64)> {
     o.config
         .chain
         .as_ref()
-        .map(|c| c.plant.modes())
+        .map(|c| {
+            let modes = c.plant.modes();
+            modes
+                .iter()
+                .map(|m| (m.natural_frequency_hz.value, m.damping_ratio.value))
+                .collect()
+        })
         .unwrap_or_default()
 }
 

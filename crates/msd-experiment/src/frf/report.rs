@@ -2,7 +2,7 @@
 //! beside the classroom estimates and the truth, the window correction, the figures.
 
 use super::{FrfFit, FrfOutcome, Truth};
-use crate::fmt::sig;
+use crate::fmt::{count, sig};
 use msd_ident::{Interval, OneModeFit};
 use msd_modal::{HalfPower, ModalFit, ModalParameters};
 use std::fmt::Write;
@@ -246,15 +246,16 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
     for (r, mode) in m.modes.iter().enumerate() {
         let classroom = o.classroom.get(r).copied().flatten();
         let t = truth.map(|t| t.modes[r]);
+        let constant = m.modal_constant(r);
         writeln!(
             w,
             "| {} | {} | {} | {} | {} | {} | {} | {} |",
             r + 1,
             interval(&mode.natural_frequency_hz),
             interval(&mode.damping_ratio),
-            interval(&mode.modal_constant),
-            interval(&mode.modal_constant_imaginary),
-            mode.stable_orders,
+            constant.map_or("—".into(), |[a, _]| interval(&a)),
+            constant.map_or("—".into(), |[_, b]| interval(&b)),
+            count(mode.stable_orders),
             classroom_cell(classroom.as_ref()),
             truth_cell(t.as_ref()),
         )?;

@@ -3,7 +3,7 @@
 
 use super::FrfOutcome;
 use super::report::{classroom_cell, interval, truth_cell, unreliable_note};
-use crate::fmt::sig;
+use crate::fmt::{count, sig};
 use msd_modal::{ModeSetFit, ShapeEntry};
 use std::fmt::Write;
 
@@ -24,14 +24,14 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
         let classroom = o.classroom.get(r).copied().flatten();
         writeln!(
             w,
-            "| {} | {} | {} | {:.3} | {:.1} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r + 1,
             interval(&mode.natural_frequency_hz),
             interval(&mode.damping_ratio),
-            mode.mpc,
-            mode.mpd_deg,
+            mode.mpc.map_or("—".into(), |x| format!("{x:.3}")),
+            mode.mpd_deg.map_or("—".into(), |x| format!("{x:.1}")),
             mode.modal_mass.map_or("—".into(), |x| sig(x, 4)),
-            mode.stable_orders,
+            count(mode.stable_orders),
             classroom_cell(classroom.as_ref()),
             truth_cell(truth.map(|t| &t.modes[r])),
         )?;

@@ -7,7 +7,7 @@ use crate::results::Experiment;
 use msd_ident::Interval;
 use msd_ident::LmExit;
 use msd_modal::{
-    Dof, HalfPower, MemberFit, ModalParameters, Mode, Roving, SetMode, StabilizationDiagram,
+    Dof, HalfPower, MemberFit, ModalParameters, Mode, Roving, StabilizationDiagram,
     WindowCorrection,
 };
 use serde::Serialize;
@@ -25,7 +25,7 @@ struct Results<'a> {
     estimate: Option<Estimate>,
     /// Several modes.
     #[serde(skip_serializing_if = "Option::is_none")]
-    modes: Option<Modes<'a>>,
+    modes: Option<&'a [Mode]>,
     /// A set's MAC matrix of the shapes.
     #[serde(skip_serializing_if = "Option::is_none")]
     mac: Option<&'a [Vec<f64>]>,
@@ -50,14 +50,6 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     time_domain: Option<&'a super::TimeDomain>,
     timings_ms: BTreeMap<String, f64>,
-}
-
-/// The modes of one FRF, or of a set (with their shapes).
-#[derive(Serialize)]
-#[serde(untagged)]
-enum Modes<'a> {
-    One(&'a [Mode]),
-    Set(&'a [SetMode]),
 }
 
 #[derive(Serialize)]
@@ -183,8 +175,8 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
         },
         estimate: one_mode(o),
         modes: match &o.fit {
-            FrfFit::Modes(m) => Some(Modes::One(&m.modes)),
-            FrfFit::Set(m) => Some(Modes::Set(&m.modes)),
+            FrfFit::Modes(m) => Some(&m.modes),
+            FrfFit::Set(m) => Some(&m.modes),
             FrfFit::OneMode(_) => None,
         },
         mac: set.map(|m| m.mac.as_slice()),

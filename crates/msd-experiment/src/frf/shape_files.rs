@@ -3,7 +3,8 @@
 //! 2411, `geometry`).
 
 use crate::error::{ExperimentError, Result};
-use msd_modal::{ModeSetFit, ShapeComparison, ShapeEntry, compare_shapes};
+use msd_modal::{Dof, ModeSetFit, ShapeComparison, ShapeEntry, compare_shapes};
+use msd_signal::Complex64;
 use serde::Serialize;
 use std::path::Path;
 
@@ -62,12 +63,11 @@ fn entries(data: &msd_uff::Data55) -> Vec<ShapeEntry> {
             continue;
         };
         for (d, &(re, im)) in values.iter().enumerate() {
-            out.push(ShapeEntry {
+            let dof = Dof {
                 node,
                 direction: d as i32 + 1,
-                re,
-                im,
-            });
+            };
+            out.push(ShapeEntry::new(dof, Complex64::new(re, im)));
         }
     }
     out

@@ -4,7 +4,7 @@
 
 use super::FrfOutcome;
 use crate::error::{ExperimentError, Result};
-use msd_modal::{ModeSetFit, SetMode};
+use msd_modal::{Mode, ModeSetFit};
 use msd_signal::FrfKind;
 use msd_uff::{Abscissa, Analysis55, Data55, Function58, FunctionType, Ordinate, UffFile};
 use std::f64::consts::TAU;
@@ -42,7 +42,7 @@ pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Ve
 
 /// Mode `r` as a dataset 55: a complex eigenvalue (first order) with the unit-normalised
 /// shape, each DOF's value in its direction's column (X, Y, Z), signed by the direction.
-fn shape_dataset(name: &str, r: usize, mode: &SetMode) -> Data55 {
+fn shape_dataset(name: &str, r: usize, mode: &Mode) -> Data55 {
     let (wn, zeta) = (
         TAU * mode.natural_frequency_hz.value,
         mode.damping_ratio.value,

@@ -476,8 +476,8 @@ fn mode_shapes_keep_their_sign_from_record_to_record() {
         let rec = record(&setup, &truth(), seed, &[0.02, 0.02]);
         let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap();
         for mode in &fit.uncertainty.modes {
-            assert!(mode.shape[0].value > 0.0, "seed {seed}: {mode}");
-            let largest = mode.shape.iter().map(|s| s.value.abs()).fold(0.0, f64::max);
+            assert!(mode.shape[0].re > 0.0, "seed {seed}: {mode}");
+            let largest = mode.shape.iter().map(|s| s.re.abs()).fold(0.0, f64::max);
             // Real parts of a complex shape: the largest is 1 to O(ζ²) ≈ 1e-4.
             assert!((largest - 1.0).abs() < 1e-3, "{largest}");
         }
@@ -555,7 +555,7 @@ fn extra_springs_and_dampers_to_the_ground_are_fitted() {
     let w2 = (-b - (b * b - 4.0 * a * c).sqrt()) / (2.0 * a);
     let f1 = w2.sqrt() / std::f64::consts::TAU;
     assert!(
-        (t.modes()[0].0 / f1 - 1.0).abs() < 1e-3,
+        (t.modes()[0].natural_frequency_hz.value / f1 - 1.0).abs() < 1e-3,
         "{:?} vs {f1}",
         t.modes()
     );

@@ -2,64 +2,60 @@
 
 use super::problem::Layout;
 use super::setup::ChainParameters;
+use msd_modal::{Dof, Mode, ShapeEntry};
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::delta_variance;
 use msd_signal::Complex64;
 use nalgebra::DMatrix;
-use serde::Serialize;
 use std::f64::consts::TAU;
 
-/// One mode of a chain: its natural frequency, damping ratio and shape (the masses'
-/// displacements, scaled so that the largest is 1), each with a 95 % interval.
-///
-/// ```
-/// use msd_ident::{chain::ChainMode, Interval};
-/// let fixed = |v| Interval { value: v, standard_error: 0.0, ci95: [v, v] };
-/// let mode = ChainMode { natural_frequency_hz: fixed(11.25), damping_ratio: fixed(0.01), shape: vec![fixed(1.0)] };
-/// assert!(mode.to_string().starts_with("fn = 11.25"));
-/// ```
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ChainMode {
-    /// fn = |λ|/2π, Hz.
-    pub natural_frequency_hz: Interval,
-    /// ζ = −Re λ/|λ|.
-    pub damping_ratio: Interval,
-    /// The real part of each mass's displacement, scaled so that the largest magnitude
-    /// is 1 and the first mass that moves at least half as much is positive.
-    pub shape: Vec<Interval>,
-}
-
-impl std::fmt::Display for ChainMode {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "fn = {:.6} Hz, ζ = {:.6}, shape [",
-            self.natural_frequency_hz, self.damping_ratio
-        )?;
-        for (i, s) in self.shape.iter().enumerate() {
-            let sep = if i == 0 { "" } else { ", " };
-            write!(f, "{sep}{:.4} ± {:.1e}", s.value, s.standard_error)?;
-        }
-        write!(f, "]")
-    }
-}
-
 impl ChainParameters {
-    /// (fn in Hz, ζ) of each underdamped mode, by frequency (ground connections included).
+    /// The underdamped modes of the parameters as given, by frequency (ground
+    /// connections included): fn, ζ and the shape over the masses (DOF `i:+1` for mass
+    /// i, the real part of each displacement, the largest 1), without uncertainty (a
+    /// fit's modes with their intervals are in its
+    /// [`ChainUncertainty`](super::ChainUncertainty)).
     ///
     /// ```
     /// use msd_ident::chain::ChainParameters;
     /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
-    /// let (f, zeta) = p.modes()[0];
-    /// assert!((f - 48f64.sqrt() / std::f64::consts::TAU).abs() < 1e-12);
-    /// assert!((zeta - 1.8 / (2.0 * 300f64.sqrt())).abs() < 1e-12);
+    /// let mode = &p.modes()[0];
+    /// assert!((mode.natural_frequency_hz.value - 48f64.sqrt() / std::f64::consts::TAU).abs() < 1e-12);
+    /// assert!((mode.damping_ratio.value - 1.8 / (2.0 * 300f64.sqrt())).abs() < 1e-12);
+    /// assert_eq!((mode.shape[0].re, mode.natural_frequency_hz.standard_error), (1.0, 0.0));
     /// ```
-    pub fn modes(&self) -> Vec<(f64, f64)> {
+    pub fn modes(&self) -> Vec<Mode> {
         modal_quantities(self)
             .iter()
-            .map(|q| (q[0], q[1]))
+            .map(|q| {
+                let exact = |v| Interval::new(v, 0.0, 0.0);
+                mode(q, exact(q[0]), exact(q[1]), |_| 0.0)
+            })
             .collect()
     }
+}
+
+/// The mode of the quantities `q` (fn, ζ, shape…) with the intervals of fn and ζ and
+/// the standard error `shape_se(i)` of each shape entry `q[i]`.
+fn mode(
+    q: &[f64],
+    natural_frequency_hz: Interval,
+    damping_ratio: Interval,
+    shape_se: impl Fn(usize) -> f64,
+) -> Mode {
+    let shape = (2..q.len())
+        .map(|i| {
+            let dof = Dof {
+                node: (i - 1) as u32,
+                direction: 1,
+            };
+            ShapeEntry {
+                standard_error: Some([shape_se(i), 0.0]),
+                ..ShapeEntry::new(dof, Complex64::new(q[i], 0.0))
+            }
+        })
+        .collect();
+    Mode::new(natural_frequency_hz, damping_ratio).with_shape(shape)
 }
 
 /// (fn, ζ, shape…) of each underdamped mode of the chain, by frequency.
@@ -113,7 +109,7 @@ pub(crate) fn modes_with_intervals(
     delays: &[f64],
     covariance: &DMatrix<f64>,
     t: f64,
-) -> Vec<ChainMode> {
+) -> Vec<Mode> {
     let at = |theta: &[f64]| modal_quantities(&layout.unpack(theta, base, delays).0);
     let centre = at(theta);
     const H: f64 = 1e-6;
@@ -144,11 +140,12 @@ pub(crate) fn modes_with_intervals(
             };
             let fnat = interval(0);
             let zeta = interval(1);
-            ChainMode {
-                natural_frequency_hz: Interval::positive(fnat.value, fnat.standard_error, t),
-                damping_ratio: Interval::positive(zeta.value, zeta.standard_error, t),
-                shape: (2..values.len()).map(interval).collect(),
-            }
+            mode(
+                values,
+                Interval::positive(fnat.value, fnat.standard_error, t),
+                Interval::positive(zeta.value, zeta.standard_error, t),
+                |i| interval(i).standard_error,
+            )
         })
         .collect()
 }

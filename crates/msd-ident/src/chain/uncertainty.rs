@@ -3,10 +3,11 @@
 //! apart. Shared by the fit (σ̂² from its residuals) and the plan (σ² = 1: the Jacobian is
 //! weighted by the true noise levels).
 
-use super::modes::{ChainMode, modes_with_intervals};
+use super::modes::modes_with_intervals;
 use super::problem::Layout;
 use super::setup::{ChainParameters, ChainSetup};
 use crate::uncertainty::t_975;
+use msd_modal::Mode;
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::{Linearization, SINGULAR_CONDITION, correlation};
 use nalgebra::{DMatrix, DVector};
@@ -44,7 +45,7 @@ pub struct ChainUncertainty {
     pub unidentifiable: Vec<String>,
     /// The modes, by frequency, with intervals (delta method). They are identified even
     /// where the physical parameters are not.
-    pub modes: Vec<ChainMode>,
+    pub modes: Vec<Mode>,
     /// Each sensor's estimated delay, s (`None` where it is not estimated).
     pub delays: Vec<Option<Interval>>,
     /// Each sensor's estimated filter cut-off, Hz (`None` where it is not estimated).

@@ -25,7 +25,6 @@ from ._msd import IdentificationError
 from ._results import (
     ChainFit,
     ChainIntervals,
-    ChainMode,
     ChainParameters,
     ChainUncertainty,
     Estimate,
@@ -49,7 +48,6 @@ __all__ = [
     "IdentificationError",
     "ChainFit",
     "ChainIntervals",
-    "ChainMode",
     "ChainParameters",
     "ChainUncertainty",
     "Estimate",

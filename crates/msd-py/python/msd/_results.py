@@ -338,18 +338,52 @@ class FrequencyResponse(Result):
         )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Mode:
-    """One mode: natural frequency and damping ratio with intervals; the modal constant
-    (one FRF) or the shape over the roving DOFs (a set)."""
+    """One mode, whatever found it (msd-modal's `Mode`): natural frequency and damping
+    ratio with intervals; the modal constant (one FRF), the shape over named DOFs (a set
+    of FRFs, a chain's masses) with its standard errors where known, MPC, MPD, the modal
+    mass; None where the method does not give it."""
 
     natural_frequency_hz: Interval
     damping_ratio: Interval
-    stable_orders: int
+    stable_orders: Optional[int] = None
     modal_constant: Optional[complex] = None
     shape: Optional[np.ndarray] = None
     shape_dofs: Optional[List[Tuple[int, int]]] = None
     modal_mass: Optional[float] = None
+    shape_standard_error: Optional[np.ndarray] = None
+    mpc: Optional[float] = None
+    mpd_deg: Optional[float] = None
+
+    @classmethod
+    def from_dict(cls, m: Dict[str, Any]) -> "Mode":
+        """The mode of a result dict's entry (every field of msd-modal's `Mode`)."""
+        shape = m.get("shape") or []
+        constants = m.get("modal_constants") or []
+        se = [e.get("standard_error") for e in shape]
+        return cls(
+            Interval.from_dict(m["natural_frequency_hz"]),
+            Interval.from_dict(m["damping_ratio"]),
+            m.get("stable_orders"),
+            complex(constants[0]["re"], constants[0]["im"]) if len(constants) == 1 and not shape else None,
+            np.array([e["re"] + 1j * e["im"] for e in shape]) if shape else None,
+            [(e["node"], e["direction"]) for e in shape] if shape else None,
+            m.get("modal_mass"),
+            np.array([s[0] + 1j * s[1] for s in se]) if shape and all(s is not None for s in se) else None,
+            m.get("mpc"),
+            m.get("mpd_deg"),
+        )
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Mode):
+            return NotImplemented
+        same = lambda a, b: (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
+        arrays = ("shape", "shape_standard_error")
+        return all(
+            same(getattr(self, k), getattr(other, k)) if k in arrays else getattr(self, k) == getattr(other, k)
+            for k in self.__dataclass_fields__
+        )
 
     def __repr__(self) -> str:
         return f"Mode(fn = {self.natural_frequency_hz!r} Hz, ζ = {self.damping_ratio!r})"
@@ -367,18 +401,7 @@ class ModalFit(Result):
     @property
     def modes(self) -> List[Mode]:
         """The modes, by frequency."""
-        out = []
-        for m in self.data["modes"]:
-            fn = Interval.from_dict(m["natural_frequency_hz"])
-            zeta = Interval.from_dict(m["damping_ratio"])
-            if self.is_set:
-                shape = np.array([e["re"] + 1j * e["im"] for e in m["shape"]])
-                dofs = [(e["node"], e["direction"]) for e in m["shape"]]
-                out.append(Mode(fn, zeta, m["stable_orders"], None, shape, dofs, m.get("modal_mass")))
-            else:
-                a = complex(m["modal_constant"]["value"], m["modal_constant_imaginary"]["value"])
-                out.append(Mode(fn, zeta, m["stable_orders"], a))
-        return out
+        return [Mode.from_dict(m) for m in self.data["modes"]]
 
     @property
     def mac(self) -> Optional[np.ndarray]:
@@ -492,19 +515,6 @@ class ChainIntervals:
     ground_springs: List[Interval] = field(default_factory=list)
 
 
-@dataclass(frozen=True)
-class ChainMode:
-    """One mode of a chain: fn (Hz) and ζ with intervals, and its shape (the real part of
-    each mass's displacement, the largest scaled to 1) with intervals."""
-
-    natural_frequency_hz: Interval
-    damping_ratio: Interval
-    shape: List[Interval]
-
-    def __repr__(self) -> str:
-        return f"ChainMode(fn = {self.natural_frequency_hz!r} Hz, ζ = {self.damping_ratio!r})"
-
-
 class ChainUncertainty(Result):
     """The uncertainty of a chain's parameters at one point: `msd.predict_chain`'s result
     (predicted before the test) and the statistics of a `ChainFit`: every m, c, k with
@@ -534,16 +544,11 @@ class ChainUncertainty(Result):
         return list(self.data["unidentifiable"])
 
     @property
-    def modes(self) -> List[ChainMode]:
-        """The chain's modes, by frequency, with intervals (delta method)."""
-        return [
-            ChainMode(
-                Interval.from_dict(m["natural_frequency_hz"]),
-                Interval.from_dict(m["damping_ratio"]),
-                [Interval.from_dict(s) for s in m["shape"]],
-            )
-            for m in self.data["modes"]
-        ]
+    def modes(self) -> List[Mode]:
+        """The chain's modes, by frequency, with intervals (delta method): the shape is
+        the real part of each mass's displacement (DOF (i, 1) for mass i), the largest
+        scaled to 1, with its standard errors in `shape_standard_error`."""
+        return [Mode.from_dict(m) for m in self.data["modes"]]
 
     @property
     def delays(self) -> List[Optional[Interval]]:
