@@ -36,6 +36,7 @@
 //! ```
 
 use crate::error::{ExperimentError, Result};
+use crate::sources::Sources;
 use msd_ident::{
     Backend, EstimationOptions, InitialState, Parameters, ResidualOptions, data::MIN_SAMPLES,
 };
@@ -124,6 +125,11 @@ pub struct Config {
     /// design's prior ([`crate::design::Pilot`]). Off unless given; only with `[design]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pilot: Option<PilotSection>,
+    /// Where the data files come from: the config file's folder, and any file given in
+    /// memory ([`Sources`]). Not a key of the file: set by [`Config::load`] and
+    /// [`Config::from_toml_str`], extended by a program that holds its data.
+    #[serde(skip)]
+    pub sources: Sources,
 }
 
 fn default_seed() -> u64 {
@@ -757,10 +763,40 @@ impl Config {
         Self::from_toml_str(&text, path)
     }
 
-    /// Parses and checks a config from its text; `file` names it in errors.
+    /// A config given as a tree of values (a dict from Python, JSON): written as TOML
+    /// and read as a file would be, so that the messages name keys and values the same
+    /// way; `file` names it and its folder resolves relative paths.
+    ///
+    /// ```
+    /// use msd_experiment::config::Config;
+    /// let data = serde_json::json!({"path": "run.csv", "input": "F", "output": "x", "time": "t"});
+    /// let value = serde_json::json!({"name": "dict", "data": data, "monte_carlo": {"samples": 20}});
+    /// let config = Config::from_value(value, "lab/config.toml")?;
+    /// assert_eq!(config.monte_carlo.samples, 20);
+    /// assert_eq!(config.sources.dir(), std::path::Path::new("lab"));
+    /// let bad = serde_json::json!({"name": "dict", "data": data, "monte_carlo": {"sampels": 20}});
+    /// assert!(Config::from_value(bad, "config.toml").unwrap_err().to_string().contains("sampels"));
+    /// # Ok::<(), msd_experiment::ExperimentError>(())
+    /// ```
+    pub fn from_value(value: serde_json::Value, file: impl AsRef<Path>) -> Result<Self> {
+        let file = file.as_ref();
+        let text = serde_json::from_value::<toml::Table>(value)
+            .map_err(|e| e.to_string())
+            .and_then(|t| toml::to_string(&t).map_err(|e| e.to_string()))
+            .map_err(|e| {
+                ExperimentError::config(
+                    file,
+                    format!("{e}: expected a table of keys (no null values)"),
+                )
+            })?;
+        Self::from_toml_str(&text, file)
+    }
+
+    /// Parses and checks a config from its text; `file` names it in errors and its
+    /// folder resolves relative paths ([`Config::sources`]).
     pub fn from_toml_str(text: &str, file: impl AsRef<Path>) -> Result<Self> {
         let file = file.as_ref();
-        let config: Config = toml::from_str(text).map_err(|e| {
+        let mut config: Config = toml::from_str(text).map_err(|e| {
             let location = e
                 .span()
                 .map(|s| {
@@ -812,6 +848,7 @@ impl Config {
                     message: format!("{field}{message}"),
                 }
             })?;
+        config.sources = Sources::new(file);
         Ok(config)
     }
 
@@ -847,6 +884,7 @@ impl Config {
             output: OutputSection::default(),
             design: None,
             pilot: None,
+            sources: Sources::default(),
         }
     }
 

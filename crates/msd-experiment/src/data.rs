@@ -8,13 +8,14 @@
 
 use crate::config::{Columns, Config, DataSection, Kind, Preprocess, Range};
 use crate::error::{ExperimentError, Result};
+use crate::sources::Sources;
 use msd_ident::{
     DataSet, Excitation, Parameters, SyntheticOptions, nonlinear::synthetic_nonlinear_data,
     synthetic_data,
 };
 use std::path::{Path, PathBuf};
 
-mod csv;
+pub(crate) mod csv;
 pub use csv::{ColumnSpec, LARGEST_VALUE, Table, read_columns, read_csv};
 
 /// Both records of an experiment and what is known about them.
@@ -102,7 +103,7 @@ pub enum Source {
 /// data file's relative path and names the config in errors.
 pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<ExperimentData> {
     match (&config.data, config.kind()) {
-        (Some(d), Kind::Measured) => load_measured(d, config_path),
+        (Some(d), Kind::Measured) => load_measured(d, &config.sources, config_path),
         _ => synthetic(config, config_path, seed),
     }
 }
@@ -228,10 +229,9 @@ pub struct Record {
     pub dt: f64,
 }
 
-fn load_measured(d: &DataSection, config_path: &Path) -> Result<ExperimentData> {
-    let base = config_path.parent().unwrap_or(Path::new(""));
-    let path = base.join(d.path.first());
-    let record = read_csv(d, &path)?;
+fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Result<ExperimentData> {
+    let path = sources.path(d.path.first());
+    let record = read_csv(d, sources, &path)?;
     let rows = record.input.len();
     let (record, factor) = preprocess(record, &d.preprocessing, &path)?;
     let n = record.input.len();

@@ -41,6 +41,7 @@ pub mod progress;
 pub mod results;
 pub mod run;
 pub mod setup;
+pub mod sources;
 mod table;
 
 pub use error::{ExperimentError, Result};
@@ -102,10 +103,30 @@ pub fn output_dir(config: &Config, config_path: &Path, options: &RunOptions) -> 
 /// selection fails writes the stabilization diagram it computed, with `failure.md`, into
 /// `<results>-failed` beside it ([`ExperimentError::Kept`]), for the user to look at.
 pub fn run_experiment(config_path: &Path, options: &RunOptions) -> Result<RunSummary> {
+    run_config(Config::load(config_path)?, options)
+}
+
+/// Runs `config` as [`run_experiment`] runs a file: its data come from
+/// `config.sources` ([`sources::Sources`]: the disk beside its config file, or files
+/// given in memory, as bytes or named columns), so that a program that holds its
+/// records runs any kind of experiment with no data file on disk.
+///
+/// ```no_run
+/// use msd_experiment::{RunOptions, config::Config, run_config};
+/// let mut config = Config::load("configs/templates/accelerometer.toml".as_ref())?;
+/// let (t, force, accel) = (vec![0.0, 0.001], vec![0.0, 1.0], vec![0.0, 0.5]); // … held by the program
+/// config.sources = config.sources.with_columns(
+///     "data/accelerometer.csv",
+///     vec![("t".into(), t), ("force".into(), force), ("accel".into(), accel)],
+/// );
+/// let run = run_config(config, &RunOptions::default())?;
+/// # Ok::<(), msd_experiment::ExperimentError>(())
+/// ```
+pub fn run_config(config: Config, options: &RunOptions) -> Result<RunSummary> {
     let started = Instant::now();
-    let config = Config::load(config_path)?;
+    let config_path = config.sources.config_file().to_path_buf();
     let progress = Progress::new(options.progress);
-    let result = run::run_and_write(config, config_path, options, &progress, started);
+    let result = run::run_and_write(config, &config_path, options, &progress, started);
     progress.finish();
     result
 }

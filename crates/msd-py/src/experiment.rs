@@ -1,27 +1,36 @@
 //! msd-experiment's commands: `run` (a config to its result folder), `plan`, `design`.
 
-use crate::convert::{result_dict, value_to_py};
+use crate::convert::{result_dict, value_to_py, vec_f64};
 use crate::errors;
 use msd_experiment::design::DesignRunOptions;
 use msd_experiment::plan::PlanOptions;
-use msd_experiment::{DEFAULT_RESULTS_ROOT, RunOptions};
+use msd_experiment::config::Config;
+use msd_experiment::{DEFAULT_RESULTS_ROOT, ExperimentError, RunOptions};
+use numpy::PyReadonlyArray1;
+use std::collections::BTreeMap;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 
-/// run(config, out, seed, threads)
+/// run(config, config_json, out, seed, threads, files, tables)
 /// --
 ///
-/// msd-experiment's `run_experiment`: the results.json content, the summary and the
-/// output folder.
+/// msd-experiment's `run_config`: the config from its file (`config`) or from its JSON
+/// text (`config_json`, a dict), the data files given in memory as bytes (`files`) or
+/// named columns (`tables`), by the path the config writes; the results.json content,
+/// the summary and the output folder.
 #[pyfunction]
-#[pyo3(signature = (config, out=None, seed=None, threads=None))]
+#[pyo3(signature = (config, config_json, out=None, seed=None, threads=None, files=None, tables=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn run<'py>(
     py: Python<'py>,
-    config: PathBuf,
+    config: Option<PathBuf>,
+    config_json: Option<String>,
     out: Option<PathBuf>,
     seed: Option<u64>,
     threads: Option<usize>,
+    files: Option<BTreeMap<String, Vec<u8>>>,
+    tables: Option<BTreeMap<String, Vec<(String, PyReadonlyArray1<'py, f64>)>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = RunOptions {
         out,
@@ -29,8 +38,25 @@ pub fn run<'py>(
         threads,
         ..RunOptions::default()
     };
+    let mut config = match (config, config_json) {
+        (Some(path), _) => Config::load(&path),
+        (None, Some(json)) => serde_json::from_str(&json)
+            .map_err(|e| ExperimentError::config("config", format!("{e}: expected a table of keys")))
+            .and_then(|v| Config::from_value(v, "config.toml")),
+        (None, None) => Err(ExperimentError::config("config", "missing: expected a file or a dict")),
+    }
+    .map_err(errors::experiment)?;
+    let mut sources = config.sources.clone();
+    for (path, bytes) in files.unwrap_or_default() {
+        sources = sources.with_bytes(path, bytes);
+    }
+    for (path, columns) in tables.unwrap_or_default() {
+        let columns = columns.iter().map(|(n, a)| (n.clone(), vec_f64(a))).collect();
+        sources = sources.with_columns(path, columns);
+    }
+    config.sources = sources;
     let summary = py
-        .detach(|| msd_experiment::run_experiment(&config, &options))
+        .detach(|| msd_experiment::run_config(config, &options))
         .map_err(errors::experiment)?;
     let d = PyDict::new(py);
     d.set_item("results", value_to_py(py, &summary.results)?)?;

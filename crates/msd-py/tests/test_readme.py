@@ -39,3 +39,4 @@ def test_the_python_section_of_the_root_readme(root, tmp_path):
     assert len(blocks) == 1
     run_in(tmp_path, root, blocks[0])
     assert (tmp_path / "results/paper/results.json").exists()
+    assert (tmp_path / "results/lab/results.json").exists()  # the dict config, data in memory

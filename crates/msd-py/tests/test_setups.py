@@ -40,7 +40,6 @@ def test_free_decay_equals_the_rust_setup_run(free_decay_run):
     results, record = free_decay_run
     fd = msd.free_decay(record["t"], record["displacement"], known_mass=2.5)
     assert fd.data["classroom"] == results["free_decay"]["classroom"]
-    assert fd.data["damping_ratio"] == results["free_decay"]["closed_form_damping_ratio"]
     assert abs(fd.data["damping_ratio"]["value"] / results["estimate"]["damping_ratio"]["value"] - 1) < 1e-9
     assert "classroom" in repr(fd) and "<pre>" in fd._repr_html_()
     with pytest.raises(ValueError, match="not both"):

@@ -496,3 +496,55 @@ fn an_overdamped_damper_runs_with_the_frequency_check_skipped() {
     assert!(files.iter().all(|f| !f.starts_with("frf")), "{files:?}");
     assert!(files.contains(&"fig4_monte_carlo.png".to_string()));
 }
+
+/// A measured record whose validation part is too short to resolve the mode (1.5 s of
+/// the paper's record, fn ≈ 1.1 Hz) runs from memory (`run_config`, the record given as
+/// columns, no data file on disk) with the frequency check skipped and the reason said,
+/// not refused: the estimate stands.
+#[test]
+fn a_validation_record_too_short_for_the_frequency_check_is_skipped_with_its_reason() {
+    let paper = msd_ident::PaperExperiment::generate(1).expect("the paper's records");
+    let record = &paper.identification;
+    let text = r#"
+name = "short-validation"
+[data]
+path = "in-memory.csv"
+input = "force"
+output = "displacement"
+time = "t"
+[data.estimation]
+time = [0.0, 10.0]
+[data.validation]
+time = [10.0, 11.5]
+[monte_carlo]
+samples = 50
+"#;
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut config = msd_experiment::config::Config::from_toml_str(text, "config.toml").unwrap();
+    config.sources = config.sources.clone().with_columns(
+        "in-memory.csv",
+        vec![
+            ("t".into(), record.excitation.times().to_vec()),
+            ("force".into(), record.excitation.samples().to_vec()),
+            ("displacement".into(), record.output.clone()),
+        ],
+    );
+    let options = msd_experiment::RunOptions {
+        out: Some(dir.path().join("out")),
+        ..msd_experiment::RunOptions::default()
+    };
+    let run = msd_experiment::run_config(config, &options).expect("runs");
+    let r = &run.results;
+    assert_eq!(r["frequency_check"]["skipped"], true);
+    let reason = r["frequency_check"]["reason"].as_str().expect("a reason");
+    assert!(
+        reason.contains("validation record (1.5") && reason.contains("too short"),
+        "{reason}"
+    );
+    let m = &r["estimate"]["mass"];
+    let (value, se) = (
+        m["value"].as_f64().unwrap(),
+        m["standard_error"].as_f64().unwrap(),
+    );
+    assert!((value - 2.5).abs() < 4.0 * se, "m = {value} ± {se}");
+}

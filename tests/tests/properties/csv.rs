@@ -401,13 +401,48 @@ fn a_scaled_value_that_overflows_is_refused_at_its_line() {
     std::fs::write(dir.path().join("lab.toml"), config_text(1e12)).unwrap();
     let config = msd_experiment::config::Config::load(&dir.path().join("lab.toml")).unwrap();
     let section = config.data.as_ref().unwrap();
-    match msd_experiment::data::read_csv(section, &path) {
+    match msd_experiment::data::read_csv(section, &config.sources, &path) {
         Ok(r) => panic!(
             "accepted; first output value {}",
             r.output.first().copied().unwrap_or(f64::NAN)
         ),
         Err(e) => assert!(e.to_string().contains("line 2"), "{e}"),
     }
+}
+
+/// The file's columns given in memory (as a notebook holds them) read as the file: the
+/// same record, bit for bit; a column missing from memory is named with its key.
+#[test]
+fn columns_given_in_memory_read_as_the_file() {
+    let (text, _) = build(&[]);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("data.csv");
+    std::fs::write(&path, &text).unwrap();
+    std::fs::write(dir.path().join("lab.toml"), config_text(1e-3)).unwrap();
+    let config = msd_experiment::config::Config::load(&dir.path().join("lab.toml")).unwrap();
+    let section = config.data.as_ref().unwrap();
+    let from_file = msd_experiment::data::read_csv(section, &config.sources, &path).unwrap();
+    let rows = good_rows();
+    let column = |j: usize| -> Vec<f64> { rows.iter().map(|r| r[j].parse().unwrap()).collect() };
+    let named = ["t", "force", "displacement"].map(String::from);
+    let columns: Vec<(String, Vec<f64>)> = named.iter().cloned().zip((0..3).map(column)).collect();
+    let sources = config
+        .sources
+        .clone()
+        .with_columns("data.csv", columns.clone());
+    let from_memory = msd_experiment::data::read_csv(section, &sources, &path).unwrap();
+    assert_eq!(from_memory, from_file);
+    assert_eq!(from_memory.output[7], column(2)[7] * 1e-3);
+    let without = config
+        .sources
+        .clone()
+        .with_columns("data.csv", columns[..2].to_vec());
+    let e = msd_experiment::data::read_csv(section, &without, &path).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("data.output = `displacement`: no such column"),
+        "{e}"
+    );
 }
 
 /// With CRLF line endings the reader names the line before the damaged one.

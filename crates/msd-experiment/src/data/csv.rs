@@ -5,6 +5,7 @@
 use super::Record;
 use crate::config::{Column, DataSection};
 use crate::error::{ExperimentError, Result};
+use crate::sources::Sources;
 use std::path::Path;
 
 /// One column to read: its role in messages (`input`, `output`, `acceleration`), the
@@ -40,7 +41,7 @@ pub struct Table {
 /// Errors name the file, the 1-based line and the column: a missing file, a missing
 /// column, an empty or non-numeric cell, NaN or infinity, time that does not increase
 /// or is not uniform (within 1 % of the mean step).
-pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
+pub fn read_csv(d: &DataSection, sources: &Sources, path: &Path) -> Result<Record> {
     let spec = |role: &str, column: &Option<Column>, scale: f64| -> Result<ColumnSpec> {
         let column = column.clone().ok_or_else(|| {
             ExperimentError::data(
@@ -60,7 +61,7 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
         spec("input", &d.input, d.input_scale)?,
         spec("output", &d.output, d.output_scale)?,
     ];
-    let mut table = read_columns(d, path, "data.path", &specs)?;
+    let mut table = read_columns(d, sources, path, "data.path", &specs)?;
     let output = table.columns.pop().unwrap_or_default();
     let input = table.columns.pop().unwrap_or_default();
     Ok(Record {
@@ -72,15 +73,20 @@ pub fn read_csv(d: &DataSection, path: &Path) -> Result<Record> {
 }
 
 /// Reads the time (`d.time` or `d.sample_rate`) and the `columns` of the CSV file `path`
-/// with the format of `d` (delimiter, header, lines to skip); `path_key` names the file
-/// in messages (`data.path`, `data.path[2]`).
+/// with the format of `d` (delimiter, header, lines to skip), from `sources` (the disk,
+/// or the file's bytes or columns given in memory); `path_key` names the file in
+/// messages (`data.path`, `data.path[2]`).
 pub fn read_columns(
     d: &DataSection,
+    sources: &Sources,
     path: &Path,
     path_key: &str,
     columns: &[ColumnSpec],
 ) -> Result<Table> {
-    let bytes = read_bytes(path, path_key)?;
+    if let Some(given) = sources.columns(path) {
+        return from_columns(d, path, given, columns);
+    }
+    let bytes = sources.bytes(path, path_key)?;
     let (newlines, start) = line_starts(&bytes, d.skip_lines);
     if !d.delimiter.is_ascii() {
         return Err(ExperimentError::data(
@@ -237,23 +243,60 @@ fn check_rows(path: &Path, rows: usize) -> Result<()> {
     Ok(())
 }
 
-/// The bytes of the data file `path` (`path_key` names it in messages).
-fn read_bytes(path: &Path, path_key: &str) -> Result<Vec<u8>> {
-    let file = std::fs::File::open(path).map_err(|e| {
-        ExperimentError::data(
+/// The table of the columns given in memory for `path`: each spec's column scaled, the
+/// time from `d.time` (increasing) or `d.sample_rate`, with the checks of a file.
+fn from_columns(
+    d: &DataSection,
+    path: &Path,
+    given: &[(String, Vec<f64>)],
+    specs: &[ColumnSpec],
+) -> Result<Table> {
+    let rows = given.first().map_or(0, |(_, v)| v.len());
+    let values = specs
+        .iter()
+        .map(|s| {
+            let column = pick(path, given, &s.column, &s.key)?;
+            let scaled: Vec<f64> = column.iter().map(|v| v * s.scale).collect();
+            match scaled.iter().position(|v| !v.is_finite()) {
+                Some(i) => Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "{} = {}, row {i}: {} × the scale {} ({}) overflows: expected a finite value",
+                        s.key, s.column, column[i], s.scale, s.scale_key
+                    ),
+                )),
+                None => Ok(scaled),
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    check_rows(path, rows)?;
+    let time = match &d.time {
+        Some(c) => pick(path, given, c, "data.time")?.to_vec(),
+        None => Vec::new(),
+    };
+    if let Some(i) = time.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(ExperimentError::data(
             path,
-            match crate::fetch::command_for(path) {
-                Some(command) => {
-                    format!("cannot open the data file ({path_key}): {e}; fetch it with {command}")
-                }
-                None => format!("cannot open the data file ({path_key}): {e}"),
-            },
-        )
-    })?;
-    let mut bytes = Vec::new();
-    std::io::Read::read_to_end(&mut std::io::BufReader::new(file), &mut bytes)
-        .map_err(|e| ExperimentError::data(path, format!("cannot read: {e}")))?;
-    Ok(bytes)
+            format!(
+                "data.time, row {}: {} s is not after the previous {} s: expected increasing time",
+                i + 1,
+                time[i + 1],
+                time[i]
+            ),
+        ));
+    }
+    if time.is_empty() && d.sample_rate.is_none() {
+        return Err(ExperimentError::data(
+            path,
+            "data.time or data.sample_rate: missing: expected one of them",
+        ));
+    }
+    let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
+    Ok(Table {
+        time,
+        columns: values,
+        dt,
+    })
 }
 
 /// The first line from `line` (1-based) on that is neither a `#` comment nor blank;
@@ -433,4 +476,48 @@ fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
         Ok(v) => Err(format!("{v}: expected a finite number")),
         Err(_) => Err(format!("`{cell}` is not a number")),
     }
+}
+
+/// The column `column` (config key `key`) of the in-memory table `columns` of `path`.
+pub(crate) fn pick<'a>(
+    path: &Path,
+    columns: &'a [(String, Vec<f64>)],
+    column: &Column,
+    key: &str,
+) -> Result<&'a [f64]> {
+    let found = match column {
+        Column::Name(name) => columns.iter().find(|(n, _)| n == name),
+        Column::Index(i) => columns.get(*i),
+    };
+    let names: Vec<String> = columns.iter().map(|(n, _)| format!("`{n}`")).collect();
+    let (_, values) = found.ok_or_else(|| {
+        ExperimentError::data(
+            path,
+            format!(
+                "{key} = {column}: no such column among the {} given in memory ({})",
+                columns.len(),
+                names.join(", ")
+            ),
+        )
+    })?;
+    let rows = columns[0].1.len();
+    if values.len() != rows {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "{key} = {column}: {} values where the first column has {rows}: expected columns of one length",
+                values.len()
+            ),
+        ));
+    }
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "{key} = {column}, row {i} (0-based): {}: expected a finite number",
+                values[i]
+            ),
+        ));
+    }
+    Ok(values)
 }

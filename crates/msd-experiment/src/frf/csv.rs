@@ -2,7 +2,9 @@
 //! records sources: errors name the file, the line, the column and the config key.
 
 use crate::config::Column;
+use crate::data::csv::pick;
 use crate::error::{ExperimentError, Result};
+use crate::sources::Sources;
 use msd_signal::Complex64;
 use std::path::Path;
 
@@ -17,6 +19,8 @@ pub(crate) struct Columns {
 /// Where to read: the file, its delimiter and header, and the columns as
 /// `(config key, column)`.
 pub(crate) struct Request<'a> {
+    /// Where the file comes from (the disk, or memory).
+    pub sources: &'a Sources,
     pub path: &'a Path,
     /// The key of the file in the config, for messages (`frequency_response.table.path`).
     pub path_key: &'a str,
@@ -31,7 +35,10 @@ pub(crate) struct Request<'a> {
 pub(crate) fn read(request: &Request<'_>) -> Result<Columns> {
     let path = request.path;
     let fail = |message: String| ExperimentError::data(path, message);
-    let bytes = std::fs::read(path).map_err(|e| {
+    if let Some(given) = request.sources.columns(path) {
+        return from_columns(request, given);
+    }
+    let bytes = request.sources.read(path).map_err(|e| {
         fail(format!(
             "cannot open the file ({} = {:?}): {e}",
             request.path_key,
@@ -204,6 +211,30 @@ fn parse_complex(cell: &str) -> std::result::Result<Complex64, String> {
         (Ok(re), Ok(im)) => Ok(Complex64::new(re, im)),
         _ => Err(bad()),
     }
+}
+
+/// The requested columns of a table given in memory (a complex column needs the text of
+/// a file: give the real and imaginary parts as columns instead).
+fn from_columns(request: &Request<'_>, given: &[(String, Vec<f64>)]) -> Result<Columns> {
+    if let Some((key, column)) = &request.complex {
+        return Err(ExperimentError::data(
+            request.path,
+            format!(
+                "{key} = {column}: a column of complex numbers as text cannot be given in memory: give the real and imaginary parts"
+            ),
+        ));
+    }
+    let values = request
+        .columns
+        .iter()
+        .map(|(key, column)| pick(request.path, given, column, key).map(<[f64]>::to_vec))
+        .collect::<Result<Vec<_>>>()?;
+    let rows = given.first().map_or(0, |(_, v)| v.len());
+    Ok(Columns {
+        values,
+        complex: Vec::new(),
+        lines: (1..=rows).collect(),
+    })
 }
 
 #[cfg(test)]

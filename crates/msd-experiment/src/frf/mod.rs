@@ -190,8 +190,8 @@ pub(crate) fn run_keeping(
     };
     let seed = options.seed.unwrap_or(config.seed);
     let t = Instant::now();
-    let dir = config_path.parent().unwrap_or(Path::new(""));
-    let loaded = source::load(&section, dir, seed)?;
+    let sources = &config.sources;
+    let loaded = source::load(&section, sources, seed)?;
     let mut timings = vec![("data", t.elapsed())];
     let t = Instant::now();
     let fail = |e: msd_ident::IdentError| {
@@ -259,9 +259,9 @@ pub(crate) fn run_keeping(
             section
                 .reference_shapes
                 .as_deref()
-                .map(|file| shape_files::reference_shapes(m, file, dir))
+                .map(|file| shape_files::reference_shapes(m, file, sources))
                 .transpose()?,
-            shape_files::geometry(section.geometry.as_deref(), loaded.nodes, dir)?,
+            shape_files::geometry(section.geometry.as_deref(), loaded.nodes, sources)?,
         ),
         _ => (None, Vec::new()),
     };

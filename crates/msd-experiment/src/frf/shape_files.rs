@@ -3,6 +3,7 @@
 //! 2411, `geometry`).
 
 use crate::error::{ExperimentError, Result};
+use crate::sources::Sources;
 use msd_modal::{Dof, ModeSetFit, ShapeComparison, ShapeEntry, compare_shapes};
 use msd_signal::Complex64;
 use serde::Serialize;
@@ -25,11 +26,11 @@ pub struct ReferenceShapes {
 pub(crate) fn reference_shapes(
     fit: &ModeSetFit,
     file: &Path,
-    dir: &Path,
+    sources: &Sources,
 ) -> Result<ReferenceShapes> {
-    let path = dir.join(file);
+    let path = sources.path(file);
     let key = "frequency_response.reference_shapes";
-    let uff = msd_uff::read(&path).map_err(|e| ExperimentError::data(&path, e.to_string()))?;
+    let uff = sources.uff(&path)?;
     if uff.data_at_nodes.is_empty() {
         return Err(ExperimentError::data(
             &path,
@@ -79,13 +80,13 @@ fn entries(data: &msd_uff::Data55) -> Vec<ShapeEntry> {
 pub(crate) fn geometry(
     geometry: Option<&Path>,
     own: Vec<msd_uff::Node>,
-    dir: &Path,
+    sources: &Sources,
 ) -> Result<Vec<msd_uff::Node>> {
     let Some(file) = geometry else {
         return Ok(own);
     };
-    let path = dir.join(file);
-    let uff = msd_uff::read(&path).map_err(|e| ExperimentError::data(&path, e.to_string()))?;
+    let path = sources.path(file);
+    let uff = sources.uff(&path)?;
     if uff.nodes.is_empty() {
         return Err(ExperimentError::data(
             &path,

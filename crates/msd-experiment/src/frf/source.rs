@@ -10,6 +10,7 @@ use crate::config::{
     UffSource,
 };
 use crate::error::{ExperimentError, Result};
+use crate::sources::Sources;
 use msd_ident::Hold;
 use msd_modal::{Dof, SetMember};
 use msd_signal::{FrequencyResponseEstimate, FrfOptions, Record, frf_estimate};
@@ -28,8 +29,12 @@ pub(crate) struct Loaded {
     pub nodes: Vec<msd_uff::Node>,
 }
 
-/// The section's frequency response; `dir` resolves relative paths, `seed` the noise.
-pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) -> Result<Loaded> {
+/// The section's frequency response; `sources` gives the files, `seed` the noise.
+pub(crate) fn load(
+    section: &FrequencyResponseSection,
+    sources: &Sources,
+    seed: u64,
+) -> Result<Loaded> {
     let plant = section.plant.as_ref();
     let plant_of =
         || plant.ok_or_else(|| ExperimentError::config("frequency_response", "plant: missing"));
@@ -43,19 +48,27 @@ pub(crate) fn load(section: &FrequencyResponseSection, dir: &Path, seed: u64) ->
         return simulate::shaker(s, plant_of()?, &section.estimator, seed);
     }
     if let Some(t) = &section.table {
-        return table(t, &dir.join(&t.path));
+        return table(t, sources, &sources.path(&t.path));
     }
     if let Some(set) = &section.set {
-        return members(set, dir);
+        return members(set, sources);
     }
     if let Some(u) = section.uff.as_ref().filter(|u| u.set) {
-        return uff_set(u, &dir.join(&u.path));
+        return uff_set(
+            u,
+            sources.uff(&sources.path(&u.path))?,
+            &sources.path(&u.path),
+        );
     }
     if let Some(u) = &section.uff {
-        return uff(u, &dir.join(&u.path));
+        return uff(
+            u,
+            sources.uff(&sources.path(&u.path))?,
+            &sources.path(&u.path),
+        );
     }
     if let Some(r) = &section.records {
-        return records(r, &dir.join(&r.path), &section.estimator);
+        return records(r, sources, &sources.path(&r.path), &section.estimator);
     }
     Err(ExperimentError::config("frequency_response", "no source"))
 }
@@ -94,7 +107,7 @@ fn sweep(s: &SweepSource, plant: &ChainPlant, seed: u64) -> Result<Loaded> {
     })
 }
 
-fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
+fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
     let key = |k: &str| format!("frequency_response.table.{k}");
     let mut columns = Vec::new();
     for (name, c) in [
@@ -109,6 +122,7 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
         }
     }
     let read = csv::read(&Request {
+        sources,
         path,
         path_key: "frequency_response.table.path",
         delimiter: t.delimiter,
@@ -169,11 +183,11 @@ fn table(t: &TableSource, path: &Path) -> Result<Loaded> {
 }
 
 /// The tables of a set, each with its DOFs; the files must share their lines.
-fn members(set: &[TableSource], dir: &Path) -> Result<Loaded> {
+fn members(set: &[TableSource], sources: &Sources) -> Result<Loaded> {
     let mut members = Vec::new();
     for (i, t) in set.iter().enumerate() {
-        let path = dir.join(&t.path);
-        let loaded = table(t, &path)?;
+        let path = sources.path(&t.path);
+        let loaded = table(t, sources, &path)?;
         let (Some(response), Some(reference)) = (t.response, t.reference) else {
             return Err(ExperimentError::config(
                 format!("frequency_response.set[{i}]"),
@@ -295,9 +309,8 @@ fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column) -> Resul
     }
 }
 
-fn uff(u: &UffSource, path: &Path) -> Result<Loaded> {
+fn uff(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
     let fail = |message: String| ExperimentError::data(path, message);
-    let file = msd_uff::read(path).map_err(|e| fail(e.to_string()))?;
     let (index, function) = super::uff::pick(&file, u.function).map_err(fail)?;
     let frf = uff_function(function, index, u, path)?;
     Ok(Loaded {
@@ -345,9 +358,8 @@ fn uff_function(
 }
 
 /// Every frequency response function of a UFF file as a set, each with its DOFs.
-fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
+fn uff_set(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
     let fail = |message: String| ExperimentError::data(path, message);
-    let file = msd_uff::read(path).map_err(|e| fail(e.to_string()))?;
     let mut members = Vec::new();
     for (index, function) in file.functions.iter().enumerate() {
         if function.function_type != msd_uff::FunctionType::FrequencyResponse {
@@ -417,7 +429,12 @@ fn uff_set(u: &UffSource, path: &Path) -> Result<Loaded> {
     })
 }
 
-fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loaded> {
+fn records(
+    r: &RecordsSource,
+    sources: &Sources,
+    path: &Path,
+    options: &FrfOptions,
+) -> Result<Loaded> {
     let key = |k: &str, i: usize| format!("frequency_response.records.{k}[{i}]");
     let mut columns = Vec::new();
     for (i, (f, x)) in r.force.iter().zip(&r.response).enumerate() {
@@ -425,6 +442,7 @@ fn records(r: &RecordsSource, path: &Path, options: &FrfOptions) -> Result<Loade
         columns.push((key("response", i), x));
     }
     let read = csv::read(&Request {
+        sources,
         path,
         path_key: "frequency_response.records.path",
         delimiter: r.delimiter,

@@ -323,6 +323,18 @@ fn frequency_stage(
         // critical damping, a mode the input misses — or no input power): the other
         // stages still stand, so the run goes on and says why.
         Err(IdentError::NotIdentifiable { reason }) => Ok(FrequencyStage::Skipped(reason)),
+        // A record too short to resolve the mode (a few seconds of validation data):
+        // the check cannot be made on it; the estimate stands.
+        Err(e @ IdentError::TooFewSamples { .. }) => {
+            let (record, other) = match config.frequency_check.data {
+                RecordChoice::Identification => ("identification", "validation"),
+                RecordChoice::Validation => ("validation", "identification"),
+            };
+            Ok(FrequencyStage::Skipped(format!(
+                "the {record} record ({:.4} s) is too short to resolve the mode: {e}; check on a longer record (frequency_check.data = \"{other}\")",
+                set.excitation.dt() * set.len() as f64
+            )))
+        }
         Err(e) => Err(ExperimentError::run("frequency check", e)),
     }
 }

@@ -67,7 +67,7 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData>
         .ok_or_else(|| ExperimentError::config(config_path, "setup: missing section"))?;
     let channels = setup.channels();
     let (records, files) = match &config.data {
-        Some(_) => measured(config, config_path, &setup, &channels)?,
+        Some(_) => measured(config, &setup, &channels)?,
         None => (
             synthetic(config, config_path, &setup, &channels, seed)?,
             Vec::new(),
@@ -84,14 +84,12 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData>
 
 fn measured(
     config: &Config,
-    config_path: &Path,
     setup: &SetupSection,
     channels: &[Response],
 ) -> Result<(Vec<SetupRecord>, Vec<PathBuf>)> {
     let Some(d) = &config.data else {
         return Ok((Vec::new(), Vec::new()));
     };
-    let base = config_path.parent().unwrap_or(Path::new(""));
     let mut specs: Vec<ColumnSpec> = Vec::new();
     if let Some(column) = &d.input {
         specs.push(ColumnSpec {
@@ -114,8 +112,8 @@ fn measured(
     let mut records = Vec::new();
     let mut files = Vec::new();
     for (i, file) in d.path.0.iter().enumerate() {
-        let path = base.join(file);
-        let mut table = read_columns(d, &path, &d.path.key(i), &specs)?;
+        let path = config.sources.path(file);
+        let mut table = read_columns(d, &config.sources, &path, &d.path.key(i), &specs)?;
         let input = match d.input {
             Some(_) => {
                 let samples = table.columns.remove(0);

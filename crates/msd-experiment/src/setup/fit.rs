@@ -9,7 +9,7 @@ use msd_ident::{
     Channel, Excitation, KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity,
     dynamometer::{Condition, Dynamometer, DynamometerOptions, dynamometer},
     fit_records,
-    free_decay::{FreeDecay, FreeDecayOptions, free_decay},
+    free_decay::ClassroomEstimates,
 };
 use std::path::Path;
 
@@ -20,9 +20,9 @@ pub enum SetupFit {
     Records {
         /// The joint fit.
         fit: Box<RecordsFit>,
-        /// A free decay's classroom estimates and closed-form fit on the first record's
-        /// first channel, for comparison.
-        classroom: Option<Box<FreeDecay>>,
+        /// A free decay's classroom estimates (logarithmic decrement, zero crossings) on
+        /// the first record's first channel, for comparison with the fit.
+        classroom: Option<Box<ClassroomEstimates>>,
     },
     /// A damper test machine's conditions and damping laws.
     Machine(Box<Dynamometer>),
@@ -48,16 +48,11 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
     let records = ident_records(data)?;
     let options = records_options(config);
     let fit = fit_records(&records, &options).map_err(refused)?;
+    // The classroom's reading of the decay beside the fit (not a second fit of it).
     let classroom = match (setup.excitation, data.records.first()) {
-        (ExcitationKind::None, Some(r)) => {
-            let options = FreeDecayOptions {
-                response: quantity(data.channels[0].quantity),
-                known: options.known,
-            };
-            free_decay(r.dt, &r.channels[0], &options)
-                .ok()
-                .map(Box::new)
-        }
+        (ExcitationKind::None, Some(r)) => ClassroomEstimates::from_record(r.dt, &r.channels[0])
+            .ok()
+            .map(Box::new),
         _ => None,
     };
     Ok(SetupFit::Records {

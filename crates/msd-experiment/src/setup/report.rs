@@ -130,7 +130,7 @@ fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result 
         SetupFit::Records { fit, classroom } => {
             records_section(s, fit)?;
             if let Some(c) = classroom {
-                classroom_section(s, c)?;
+                classroom_section(s, c, &fit.plant)?;
             }
         }
         SetupFit::Machine(m) => super::report_machine::section(s, m)?,
@@ -298,11 +298,15 @@ fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
     Ok(())
 }
 
-fn classroom_section(s: &mut String, c: &msd_ident::free_decay::FreeDecay) -> std::fmt::Result {
-    let k = &c.classroom;
+fn classroom_section(
+    s: &mut String,
+    k: &msd_ident::free_decay::ClassroomEstimates,
+    fit: &msd_ident::records::PlantIntervals,
+) -> std::fmt::Result {
+    let (zeta, fnat) = (fit.damping_ratio.value, fit.natural_frequency_hz.value);
     writeln!(
         s,
-        "## Free decay: the classroom estimates\n\nFrom the first record alone, for comparison with the fit.\n\n| | classroom | closed-form fit |\n|---|---|---|"
+        "## Free decay: the classroom estimates\n\nFrom the first record alone, for comparison with the fit.\n\n| | classroom | fit |\n|---|---|---|"
     )?;
     writeln!(
         s,
@@ -313,13 +317,13 @@ fn classroom_section(s: &mut String, c: &msd_ident::free_decay::FreeDecay) -> st
         s,
         "| ζ = δ/√(4π² + δ²) | {} | {} |",
         sig(k.damping_ratio, 5),
-        sig(c.damping_ratio.value, 5)
+        sig(zeta, 5)
     )?;
     writeln!(
         s,
         "| damped frequency fd [Hz] (zero crossings) | {} | {} |\n",
         sig(k.damped_frequency_hz, 6),
-        sig(c.damped_frequency_hz.value, 6)
+        sig(fnat * (1.0 - zeta * zeta).max(0.0).sqrt(), 6)
     )?;
     Ok(())
 }

@@ -58,7 +58,6 @@ struct Estimate {
 struct FreeDecaySection<'a> {
     log_decrement: f64,
     classroom: &'a msd_ident::free_decay::ClassroomEstimates,
-    closed_form_damping_ratio: Interval,
 }
 
 #[derive(Serialize)]
@@ -81,10 +80,9 @@ pub(crate) fn to_json(
             Some(fit.noise.as_slice()),
             Some(fit.records.as_slice()),
             fit.leave_one_out.as_deref(),
-            classroom.as_ref().map(|c| FreeDecaySection {
-                log_decrement: c.classroom.log_decrement,
-                classroom: &c.classroom,
-                closed_form_damping_ratio: c.damping_ratio,
+            classroom.as_deref().map(|c| FreeDecaySection {
+                log_decrement: c.log_decrement,
+                classroom: c,
             }),
             None,
             fit.plant.note.clone(),

@@ -684,21 +684,49 @@ def predict_chain(
 
 
 def run(
-    config: Union[str, "os.PathLike[str]"],
+    config: Union[str, "os.PathLike[str]", Mapping[str, Any]],
     out: Optional[Union[str, "os.PathLike[str]"]] = None,
     seed: Optional[int] = None,
     threads: Optional[int] = None,
+    data: Optional[Mapping[str, Any]] = None,
 ) -> RunResults:
-    """Run the experiment of a TOML config as ``msd run`` does: every stage, the result
-    folder written atomically (into `out`, else the config's ``output.dir``, else
+    """Run an experiment as ``msd run`` does: every stage, the result folder written
+    atomically (into `out`, else the config's ``output.dir``, else
     ``msd-results/<name>``), and the ``results.json`` content returned as a dict (with
     ``.summary`` and ``.out_dir``). `seed` and `threads` override the config's.
+
+    `config` is a TOML file's path or the config itself as a dict (as ``tomllib`` reads
+    one; its relative paths start from the working folder). `data` gives the config's
+    data files in memory, by the path the config writes (``data.path``,
+    ``frequency_response.uff.path``, …), each either as ``bytes`` (the file's content,
+    read as the file would be) or as a mapping of column name to 1-D array (the
+    config's columns found by name or 0-based position; the CSV format keys do not
+    apply). Every experiment kind runs so, with no data file on disk::
+
+        cfg = tomllib.load(open("configs/templates/accelerometer.toml", "rb"))
+        cfg["data"]["path"] = "shaker.csv"
+        msd.run(cfg, data={"shaker.csv": {"t": t, "force": f, "accel": a}})
 
     Raises ValueError for a bad config or data (the message names the file and key),
     IdentificationError when the data cannot identify, RuntimeError or OSError for a
     failure during the run.
     """
-    r = _msd.run(os.fspath(config), None if out is None else os.fspath(out), seed, threads)
+    if isinstance(config, Mapping):
+        path, text = None, options_json(dict(config))
+    else:
+        path, text = os.fspath(config), None
+    files: Dict[str, bytes] = {}
+    tables: Dict[str, List[Tuple[str, np.ndarray]]] = {}
+    for name, given in (data or {}).items():
+        if isinstance(given, (bytes, bytearray, memoryview)):
+            files[str(name)] = bytes(given)
+        elif isinstance(given, Mapping):
+            tables[str(name)] = [(str(c), vector(f"data[{name!r}][{c!r}]", v)) for c, v in given.items()]
+        else:
+            raise ValueError(
+                f"data[{name!r}]: expected the file's bytes or a mapping of column name to 1-D array, got {type(given).__name__}"
+            )
+    r = _msd.run(path, text, None if out is None else os.fspath(out), seed, threads, files, tables)
     return RunResults(r["results"], r["summary"], str(r["out_dir"]))
 
 
