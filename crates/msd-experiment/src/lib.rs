@@ -29,6 +29,7 @@ pub mod data;
 pub mod design;
 mod error;
 pub mod fetch;
+pub mod finished;
 pub mod fmt;
 pub mod frf;
 pub mod options;

@@ -3,18 +3,19 @@
 //! tables, `report.md` and `report.html`, `results.json`), atomically, and the summary.
 //!
 //! The kinds sit below this module and know nothing of each other: the paper workflow
-//! ([`paper`]), the lab setups ([`setup`]) and the
-//! frequency response ([`frf`]). `plan` and `design` are commands of their own.
+//! ([`paper`]), the lab setups ([`setup`]), the frequency response ([`frf`]) and the
+//! chain of masses ([`chain`]); each outcome implements [`Finished`], the writer's only
+//! view of it. `plan` and `design` are commands of their own.
 
 use crate::config::Config;
+use crate::finished::Finished;
 use crate::output::Staging;
 use crate::progress::Progress;
 use crate::{
     RunSummary, chain, error::Result, frf, options::RunOptions, paper, paper::Outcome, setup,
 };
-use serde_json::Value;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// What a config runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,19 +53,6 @@ impl ExperimentKind {
     }
 }
 
-/// A finished run of any kind, as the writer takes it.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum Finished<'a> {
-    /// The paper's workflow.
-    Paper(&'a Outcome),
-    /// A lab setup.
-    Setup(&'a setup::SetupOutcome),
-    /// A frequency response.
-    FrequencyResponse(&'a frf::FrfOutcome),
-    /// A chain of masses.
-    Chain(&'a chain::ChainOutcome),
-}
-
 /// Runs the config at `config_path` and writes its results (see [`write`]).
 pub(crate) fn run_and_write(
     config: Config,
@@ -78,21 +66,20 @@ pub(crate) fn run_and_write(
     match ExperimentKind::of(&config) {
         ExperimentKind::Paper => {
             let outcome = paper::run_stages(config, config_path, options, progress)?;
-            write(Finished::Paper(&outcome), &target, progress, started)
+            write(&outcome, &target, progress, started)
         }
         ExperimentKind::Setup => {
             let outcome = setup::run(config, config_path, options, progress)?;
-            write(Finished::Setup(&outcome), &target, progress, started)
+            write(&outcome, &target, progress, started)
         }
         ExperimentKind::FrequencyResponse => {
             let outcome = frf::run_keeping(config, config_path, options)
                 .map_err(|f| frf::write_failure(f, &target))?;
-            let finished = Finished::FrequencyResponse(&outcome);
-            write(finished, &target, progress, started)
+            write(&outcome, &target, progress, started)
         }
         ExperimentKind::Chain => {
             let outcome = chain::run(config, config_path, options, progress)?;
-            write(Finished::Chain(&outcome), &target, progress, started)
+            write(&outcome, &target, progress, started)
         }
     }
 }
@@ -101,7 +88,7 @@ pub(crate) fn run_and_write(
 /// figures (PNG and SVG), CSV tables, `report.md`, `report.html`, `results.json`; then
 /// the summary that the command prints. `started` is when the run began.
 pub(crate) fn write(
-    run: Finished<'_>,
+    run: &dyn Finished,
     target: &Path,
     progress: &Progress,
     started: Instant,
@@ -132,79 +119,6 @@ pub(crate) fn write(
     })
 }
 
-impl Finished<'_> {
-    fn config(&self) -> &Config {
-        match self {
-            Self::Paper(o) => &o.config,
-            Self::Setup(o) => &o.config,
-            Self::FrequencyResponse(o) => &o.config,
-            Self::Chain(o) => &o.config,
-        }
-    }
-
-    fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
-        match self {
-            Self::Paper(o) => crate::paper::figures::write_all(o, dir),
-            Self::Setup(o) => setup::figures(o, dir),
-            Self::FrequencyResponse(o) => frf::figures(o, dir),
-            Self::Chain(o) => chain::figures(o, dir),
-        }
-    }
-
-    fn tables(&self) -> Vec<(String, String)> {
-        match self {
-            Self::Paper(o) => crate::paper::tables::csv_files(o)
-                .into_iter()
-                .map(|(name, text)| (name.to_string(), text))
-                .collect(),
-            Self::Setup(o) => setup::tables(o),
-            Self::FrequencyResponse(_) => Vec::new(),
-            Self::Chain(o) => chain::tables(o),
-        }
-    }
-
-    fn report(
-        &self,
-        figures: &[&str],
-        extra: &[(&'static str, Duration)],
-        elapsed: Duration,
-    ) -> String {
-        match self {
-            Self::Paper(o) => crate::paper::report::markdown(o, figures, extra, elapsed),
-            Self::Setup(o) => setup::report(o, figures),
-            Self::FrequencyResponse(o) => frf::report(o, figures),
-            Self::Chain(o) => chain::report(o, figures),
-        }
-    }
-
-    fn results(&self, extra: &[(&'static str, Duration)], total: Duration) -> Result<Value> {
-        match self {
-            Self::Paper(o) => Ok(crate::paper::results::to_json(o, extra, total)),
-            Self::Setup(o) => setup::results(o, extra, total),
-            Self::FrequencyResponse(o) => Ok(frf::to_json(o, extra, total)),
-            Self::Chain(o) => chain::results(o, extra, total),
-        }
-    }
-
-    fn summary(
-        &self,
-        extra: &[(&'static str, Duration)],
-        total: Duration,
-        target: &Path,
-    ) -> String {
-        match self {
-            Self::Paper(o) => crate::paper::summary::text(o, extra, total, target),
-            Self::Setup(o) => {
-                format!("{}\nresults in {}\n", setup::summary(o), target.display())
-            }
-            Self::FrequencyResponse(o) => format!("{o}\nresults in {}\n", target.display()),
-            Self::Chain(o) => {
-                format!("{}results in {}\n", chain::summary(o), target.display())
-            }
-        }
-    }
-}
-
 /// Writes the paper workflow's `outcome` (see [`write`]); `started` is when its
 /// computing began.
 pub(crate) fn write_paper(
@@ -212,12 +126,7 @@ pub(crate) fn write_paper(
     target: &Path,
     started: Instant,
 ) -> Result<RunSummary> {
-    write(
-        Finished::Paper(outcome),
-        target,
-        &Progress::hidden(),
-        started,
-    )
+    write(outcome, target, &Progress::hidden(), started)
 }
 
 #[cfg(test)]

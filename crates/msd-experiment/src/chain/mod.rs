@@ -268,3 +268,43 @@ pub(crate) fn results(
 
 pub(crate) use plots::write_all as figures;
 pub(crate) use report::{markdown as report, summary};
+
+impl crate::finished::Finished for ChainOutcome {
+    fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
+        figures(self, dir)
+    }
+
+    fn tables(&self) -> Vec<(String, String)> {
+        tables(self)
+    }
+
+    fn report(
+        &self,
+        figures: &[&str],
+        _extra: &[(&'static str, Duration)],
+        _elapsed: Duration,
+    ) -> String {
+        report(self, figures)
+    }
+
+    fn results(
+        &self,
+        extra: &[(&'static str, Duration)],
+        total: Duration,
+    ) -> Result<serde_json::Value> {
+        results(self, extra, total)
+    }
+
+    fn summary(
+        &self,
+        _extra: &[(&'static str, Duration)],
+        _total: Duration,
+        target: &Path,
+    ) -> String {
+        format!("{}results in {}\n", summary(self), target.display())
+    }
+}

@@ -535,3 +535,39 @@ impl std::fmt::Display for FrfOutcome {
 // The parts the writer (`crate::run`) takes besides `to_json`: the figures and the report.
 pub(crate) use plots::write_all as figures;
 pub(crate) use report::markdown as report;
+
+impl crate::finished::Finished for FrfOutcome {
+    fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
+        figures(self, dir)
+    }
+
+    fn report(
+        &self,
+        figures: &[&str],
+        _extra: &[(&'static str, Duration)],
+        _elapsed: Duration,
+    ) -> String {
+        report(self, figures)
+    }
+
+    fn results(
+        &self,
+        extra: &[(&'static str, Duration)],
+        total: Duration,
+    ) -> Result<serde_json::Value> {
+        Ok(to_json(self, extra, total))
+    }
+
+    fn summary(
+        &self,
+        _extra: &[(&'static str, Duration)],
+        _total: Duration,
+        target: &Path,
+    ) -> String {
+        format!("{self}\nresults in {}\n", target.display())
+    }
+}

@@ -500,6 +500,49 @@ pub fn is_synthetic(outcome: &Outcome) -> bool {
     outcome.data.kind == Kind::Synthetic
 }
 
+impl crate::finished::Finished for Outcome {
+    fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
+        figures::write_all(self, dir)
+    }
+
+    fn tables(&self) -> Vec<(String, String)> {
+        tables::csv_files(self)
+            .into_iter()
+            .map(|(name, text)| (name.to_string(), text))
+            .collect()
+    }
+
+    fn report(
+        &self,
+        figures: &[&str],
+        extra: &[(&'static str, Duration)],
+        elapsed: Duration,
+    ) -> String {
+        report::markdown(self, figures, extra, elapsed)
+    }
+
+    fn results(
+        &self,
+        extra: &[(&'static str, Duration)],
+        total: Duration,
+    ) -> Result<serde_json::Value> {
+        Ok(results::to_json(self, extra, total))
+    }
+
+    fn summary(
+        &self,
+        extra: &[(&'static str, Duration)],
+        total: Duration,
+        target: &Path,
+    ) -> String {
+        summary::text(self, extra, total, target)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

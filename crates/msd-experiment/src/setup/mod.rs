@@ -81,3 +81,43 @@ pub(crate) use fit::record_files as tables;
 pub(crate) use plots::write_all as figures;
 pub(crate) use report::{markdown as report, summary};
 pub(crate) use results::to_json as results;
+
+impl crate::finished::Finished for SetupOutcome {
+    fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
+        figures(self, dir)
+    }
+
+    fn tables(&self) -> Vec<(String, String)> {
+        tables(self)
+    }
+
+    fn report(
+        &self,
+        figures: &[&str],
+        _extra: &[(&'static str, Duration)],
+        _elapsed: Duration,
+    ) -> String {
+        report(self, figures)
+    }
+
+    fn results(
+        &self,
+        extra: &[(&'static str, Duration)],
+        total: Duration,
+    ) -> Result<serde_json::Value> {
+        results(self, extra, total)
+    }
+
+    fn summary(
+        &self,
+        _extra: &[(&'static str, Duration)],
+        _total: Duration,
+        target: &Path,
+    ) -> String {
+        format!("{}\nresults in {}\n", summary(self), target.display())
+    }
+}
