@@ -7,7 +7,7 @@
 //!
 //! - the model: [`Parameters`] and derived quantities, [`Excitation`], [`DataSet`],
 //!   [`simulate`] by either [`Backend`] (the paper's ode45, or exact simulation), exact
-//!   [`sensitivities`];
+//!   [`sensitivities`](sensitivity::sensitivities);
 //! - estimation: [`estimate()`] by the paper's Nelder–Mead or by Levenberg–Marquardt with the
 //!   exact Jacobian, fixed parameters, bounds, initial state, offset, multistart and an
 //!   automatic ARX guess ([`arx_initial_guess`](arx::arx_initial_guess)); every [`Estimate`] carries an
@@ -72,6 +72,7 @@ mod fft;
 pub mod free_decay;
 pub mod frequency;
 pub mod frf;
+pub mod law;
 mod least_squares;
 mod local;
 mod metrics;
@@ -108,7 +109,6 @@ pub use params::{InitialState, KnownParameter, PARAMETER_NAMES, Parameters};
 pub use plant::Drive;
 pub use records::{Channel, Frame, Record, RecordsFit, RecordsOptions, fit_records};
 pub use residuals::{ResidualAnalysis, ResidualOptions, residual_analysis};
-pub use sensitivity::sensitivities;
 pub use simulate::{Backend, simulate, simulate_into};
 pub use stop::StopReason;
 pub use synthetic::{PaperExperiment, SyntheticOptions, synthetic_data};

@@ -35,7 +35,7 @@ pub struct SensitivitySample {
 /// `output(i, sample)`; allocates nothing per sample.
 ///
 /// ```
-/// use msd_ident::{sensitivities, Excitation, InitialState, Parameters};
+/// use msd_ident::{sensitivity::sensitivities, Excitation, InitialState, Parameters};
 /// use msd_ode::Hold;
 /// use msd_signal::paper_identification_input;
 /// let input = Excitation::from_signal(paper_identification_input(), 0.0, 0.002, 7501)?;

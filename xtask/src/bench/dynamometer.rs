@@ -8,7 +8,7 @@ use super::rows::fail;
 use crate::Result;
 use msd_ident::{
     dynamometer::{DynamometerOptions, SyntheticDynamometer, dynamometer, synthetic_dynamometer},
-    nonlinear::DampingLaw,
+    law::DampingLaw,
 };
 
 /// The dynamometer identification of the default synthetic record.

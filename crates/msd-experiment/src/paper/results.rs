@@ -410,7 +410,7 @@ struct NonlinearSection<'a> {
 struct CandidateSection<'a> {
     rank: usize,
     model: String,
-    damping: msd_ident::nonlinear::DampingLaw,
+    damping: msd_ident::law::DampingLaw,
     stiffness: msd_ident::nonlinear::StiffnessLaw,
     parameters: BTreeMap<&'a str, Interval>,
     estimated: usize,

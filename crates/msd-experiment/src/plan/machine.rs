@@ -13,7 +13,7 @@ use msd_ident::{
         Condition, DynamometerNoise, DynamometerOptions, PredictedLaw, dynamometer,
         predicted_dynamometer,
     },
-    nonlinear::DampingLaw,
+    law::DampingLaw,
 };
 use std::path::Path;
 

@@ -146,7 +146,7 @@ fn loops(o: &SetupOutcome) -> Option<Stack<'_>> {
     let panel = Panel {
         title: format!(
             "Force–stroke loops, last cycle; lines: {}",
-            super::report::law_name(best.law)
+            best.law.formula()
         ),
         x_desc: "stroke x [m]".into(),
         y_desc: "force F [N]".into(),
@@ -199,7 +199,7 @@ fn force_velocity(o: &SetupOutcome) -> Option<Stack<'_>> {
     let n = fastest.velocity.len();
     let cycle = &fastest.velocity[n.saturating_sub(n / fastest.cycles.max(1) + 1)..];
     curves.push(Curve {
-        label: format!("fitted law: {}", super::report::law_name(best.law)),
+        label: format!("fitted law: {}", best.law.formula()),
         x: cycle,
         y: cycle.iter().map(|v| best.damping_force(*v)).collect(),
         style: Style::Line(RED, 3),

@@ -2,17 +2,8 @@
 
 use super::{SetupFit, SetupOutcome};
 use crate::fmt::{millis, sig};
-use msd_ident::{Interval, RecordsFit, nonlinear::DampingLaw};
+use msd_ident::{Interval, RecordsFit};
 use std::fmt::Write;
-
-/// The name of a damping law in words.
-pub(crate) fn law_name(law: DampingLaw) -> &'static str {
-    match law {
-        DampingLaw::Viscous => "viscous c·x′",
-        DampingLaw::CoulombViscous => "Coulomb + viscous F_c·sign(x′) + c·x′",
-        DampingLaw::QuadraticViscous => "quadratic + viscous c₂·x′|x′| + c·x′",
-    }
-}
 
 /// The identified quantities with their units and the truth (synthetic only), in the
 /// order of the tables: (key, label, estimate, truth).

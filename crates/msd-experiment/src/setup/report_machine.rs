@@ -1,7 +1,6 @@
 //! The test machine's part of `report.md`: one row per condition, the damping laws
 //! ranked by BIC.
 
-use super::report::law_name;
 use crate::fmt::sig;
 use msd_ident::dynamometer::Dynamometer;
 use std::fmt::Write;
@@ -55,7 +54,7 @@ pub(crate) fn section(s: &mut String, m: &Dynamometer) -> std::fmt::Result {
             s,
             "| {} | {} | {} | {} | {} | {} |",
             law.rank,
-            law_name(law.law),
+            law.law.formula(),
             coefficients.join("; "),
             sig(law.force_sigma, 4),
             sig(law.fit.r_squared, 6),

@@ -6,12 +6,10 @@ use super::harmonics::derivative;
 use super::regression::{
     ACCELERATION, COULOMB, DISPLACEMENT, Normal, ONE, Prepared, QUADRATIC, VELOCITY, row, select,
 };
+use crate::error::{IdentError, Result};
+use crate::law::{DampingForce, DampingLaw};
+use crate::metrics::FitMetrics;
 use crate::uncertainty::t_975;
-use crate::{
-    error::{IdentError, Result},
-    metrics::FitMetrics,
-    nonlinear::DampingLaw,
-};
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::Linearization;
 use nalgebra::{DMatrix, DVector};
@@ -83,11 +81,13 @@ impl LawFit {
 
     /// The fitted damping force f_d(v), N, at velocity `v` (for the F–v curve).
     pub fn damping_force(&self, v: f64) -> f64 {
-        let coulomb = match self.smoothing_velocity {
-            Some(vs) => self.value("coulomb_force") * (v / vs).tanh(),
-            None => 0.0,
+        let law = DampingForce {
+            viscous: self.value("damping"),
+            quadratic: self.value("quadratic_damping"),
+            coulomb: self.value("coulomb_force"),
+            inverse_smoothing: self.smoothing_velocity.map_or(0.0, |vs| 1.0 / vs),
         };
-        self.value("damping") * v + self.value("quadratic_damping") * v * v.abs() + coulomb
+        law.force(v)
     }
 }
 
@@ -135,16 +135,12 @@ fn design(law: DampingLaw, options: &DynamometerOptions) -> (Vec<usize>, Vec<&'s
     }
     columns.extend([VELOCITY, DISPLACEMENT]);
     names.extend(["damping", "stiffness"]);
-    match law {
-        DampingLaw::Viscous => {}
-        DampingLaw::CoulombViscous => {
-            columns.push(COULOMB);
-            names.push("coulomb_force");
-        }
-        DampingLaw::QuadraticViscous => {
-            columns.push(QUADRATIC);
-            names.push("quadratic_damping");
-        }
+    if let Some(name) = law.coefficient() {
+        columns.push(match law {
+            DampingLaw::CoulombViscous => COULOMB,
+            _ => QUADRATIC,
+        });
+        names.push(name);
     }
     if options.force_offset {
         columns.push(ONE);

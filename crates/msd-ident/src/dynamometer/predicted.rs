@@ -1,7 +1,7 @@
 //! A damping law's coefficients as a planned test will give them.
 
 use super::LawFit;
-use crate::nonlinear::DampingLaw;
+use crate::law::DampingLaw;
 use msd_opt::statistics::Interval;
 use nalgebra::DMatrix;
 use serde::Serialize;

@@ -4,6 +4,7 @@
 //! coefficients' covariance).
 
 use super::harmonics::{Basis, HarmonicFit, derivative, from_sums};
+use crate::law::DampingLaw;
 use nalgebra::DMatrix;
 
 /// x̂″, the mass's column.
@@ -62,20 +63,16 @@ pub(crate) struct Normal {
 #[inline(always)]
 pub(crate) fn row(fit: &HarmonicFit, i: usize, inverse_smoothing: f64) -> [f64; COLUMNS] {
     let v = fit.velocity[i];
+    // Each law's regression term, as crate::law defines it.
+    let term = |law: DampingLaw| law.term(v, inverse_smoothing).unwrap_or(0.0);
     [
         fit.acceleration[i],
         v,
         fit.displacement[i],
         1.0,
-        v * v.abs(),
-        smoothed_sign(v * inverse_smoothing),
+        term(DampingLaw::QuadraticViscous),
+        term(DampingLaw::CoulombViscous),
     ]
-}
-
-/// tanh(z), as ±1 past |z| = 20 where tanh is 1 to 4e-18 (most samples: v_s is small).
-#[inline(always)]
-fn smoothed_sign(z: f64) -> f64 {
-    if z.abs() > 20.0 { z.signum() } else { z.tanh() }
 }
 
 /// Which slope projections the requested laws need.

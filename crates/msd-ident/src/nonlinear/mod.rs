@@ -92,6 +92,7 @@ mod problem;
 mod rk4;
 mod simulate;
 
+pub use crate::law::DampingLaw;
 pub use compare::{
     CandidateFailure, Comparison, ComparisonOptions, ComparisonRow, FixedModel, ValidationStart,
     assess_estimate, bic_evidence, compare_models, fit_initial_state,
@@ -100,7 +101,7 @@ pub use estimate::{
     NonlinearEstimate, NonlinearMethod, NonlinearMultistart, NonlinearOptions, estimate_nonlinear,
     synthetic_nonlinear_data,
 };
-pub use model::{DampingLaw, ModelStructure, NonlinearParameters, StiffnessLaw};
+pub use model::{ModelStructure, NonlinearParameters, StiffnessLaw};
 pub use simulate::{
     NonlinearSensitivities, NonlinearSimulation, NonlinearSolver, SimulationUsed,
     SmoothingVelocity, nonlinear_sensitivities, simulate_nonlinear,

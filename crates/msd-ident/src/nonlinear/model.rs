@@ -1,22 +1,9 @@
 //! The model structures (damping law × stiffness law) and their parameter vectors.
 
-use crate::{
-    error::{IdentError, Result},
-    params::Parameters,
-};
+use crate::error::{IdentError, Result};
+use crate::law::{DampingForce, DampingLaw};
+use crate::params::Parameters;
 use serde::{Deserialize, Serialize};
-
-/// The damping force f_d(x').
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DampingLaw {
-    /// c·x'.
-    Viscous,
-    /// F_c·sign(x') + c·x', the sign regularised as tanh(x'/v_s) (see the module doc).
-    CoulombViscous,
-    /// c₂·x'|x'| + c·x'.
-    QuadraticViscous,
-}
 
 /// The spring force f_s(x).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -71,11 +58,7 @@ impl ModelStructure {
     pub fn all() -> Vec<ModelStructure> {
         let mut v = Vec::with_capacity(6);
         for stiffness in [StiffnessLaw::Linear, StiffnessLaw::Cubic] {
-            for damping in [
-                DampingLaw::Viscous,
-                DampingLaw::CoulombViscous,
-                DampingLaw::QuadraticViscous,
-            ] {
+            for damping in DampingLaw::ALL {
                 v.push(ModelStructure { damping, stiffness });
             }
         }
@@ -84,11 +67,7 @@ impl ModelStructure {
 
     /// A short name, `damping+stiffness` in snake case (e.g. `viscous+linear`).
     pub fn name(&self) -> String {
-        let d = match self.damping {
-            DampingLaw::Viscous => "viscous",
-            DampingLaw::CoulombViscous => "coulomb_viscous",
-            DampingLaw::QuadraticViscous => "quadratic_viscous",
-        };
+        let d = self.damping.name();
         let s = match self.stiffness {
             StiffnessLaw::Linear => "linear",
             StiffnessLaw::Cubic => "cubic",
@@ -105,11 +84,7 @@ impl ModelStructure {
     /// `coulomb_force` or `quadratic_damping`, then `cubic_stiffness`.
     pub fn parameter_names(&self) -> Vec<&'static str> {
         let mut names = vec!["mass", "damping", "stiffness"];
-        match self.damping {
-            DampingLaw::Viscous => {}
-            DampingLaw::CoulombViscous => names.push("coulomb_force"),
-            DampingLaw::QuadraticViscous => names.push("quadratic_damping"),
-        }
+        names.extend(self.damping.coefficient());
         if self.stiffness == StiffnessLaw::Cubic {
             names.push("cubic_stiffness");
         }
@@ -247,16 +222,13 @@ impl std::fmt::Display for NonlinearParameters {
 /// linearisation (the sensitivity equations).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Forces {
-    pub damping: f64,
+    /// The damping law with its coefficients; its `inverse_smoothing` is 1/v_s for a
+    /// structure with a Coulomb term (also at F_c = 0, where ∂/∂F_c is not 0), else 0.
+    pub law: DampingForce,
     pub stiffness: f64,
-    pub coulomb: f64,
-    pub quadratic: f64,
     pub cubic: f64,
     /// 1/m.
     pub inverse_mass: f64,
-    /// 1/v_s for a structure with a Coulomb term (also at F_c = 0, where ∂/∂F_c is
-    /// not 0), else 0.
-    pub inverse_smoothing: f64,
     /// For each entry of the parameter vector, its index in [`Linearised::partials`].
     pub order: [usize; 5],
 }
@@ -297,17 +269,19 @@ impl Forces {
         }
         debug_assert_eq!(next, p.structure.parameter_count());
         Self {
-            damping: p.damping(),
+            law: DampingForce {
+                viscous: p.damping(),
+                quadratic: p.quadratic_damping(),
+                coulomb: p.coulomb_force(),
+                inverse_smoothing: if coulomb_law && valid {
+                    1.0 / smoothing_velocity
+                } else {
+                    0.0
+                },
+            },
             stiffness: p.stiffness(),
-            coulomb: p.coulomb_force(),
-            quadratic: p.quadratic_damping(),
             cubic: p.cubic_stiffness(),
             inverse_mass: 1.0 / p.mass(),
-            inverse_smoothing: if coulomb_law && valid {
-                1.0 / smoothing_velocity
-            } else {
-                0.0
-            },
             order,
         }
     }
@@ -315,7 +289,7 @@ impl Forces {
     /// x'' = (F − f_d(v) − f_s(x))/m.
     #[inline]
     pub fn acceleration(&self, force: f64, x: f64, v: f64) -> f64 {
-        let damping = self.damping * v + self.quadratic * v * v.abs() + self.coulomb_term(v);
+        let damping = self.law.force(v);
         let spring = self.stiffness * x + self.cubic * x * x * x;
         (force - damping - spring) * self.inverse_mass
     }
@@ -325,15 +299,11 @@ impl Forces {
     /// c₂·x'|x'| the slope 2c₂|x'| (continuous at 0).
     #[inline(always)]
     pub fn linearised(&self, force: f64, x: f64, v: f64) -> Linearised {
-        let tanh = self.tanh(v);
+        let (damping, slope, tanh) = self.law.force_and_slope(v);
         let (x2, speed) = (x * x, v.abs());
-        let damping = self.damping * v + self.quadratic * v * speed + self.coulomb * tanh;
         let spring = self.stiffness * x + self.cubic * x2 * x;
         let inverse_mass = self.inverse_mass;
         let acceleration = (force - damping - spring) * inverse_mass;
-        let slope = self.damping
-            + 2.0 * self.quadratic * speed
-            + self.coulomb * self.inverse_smoothing * (1.0 - tanh * tanh);
         Linearised {
             acceleration,
             stiffness: (self.stiffness + 3.0 * self.cubic * x2) * inverse_mass,
@@ -346,26 +316,6 @@ impl Forces {
                 -v * speed * inverse_mass,
                 -x2 * x * inverse_mass,
             ],
-        }
-    }
-
-    /// F_c·tanh(x'/v_s), skipped without a Coulomb law (tanh is the costliest term).
-    #[inline(always)]
-    fn coulomb_term(&self, v: f64) -> f64 {
-        if self.inverse_smoothing == 0.0 {
-            0.0
-        } else {
-            self.coulomb * (v * self.inverse_smoothing).tanh()
-        }
-    }
-
-    /// tanh(x'/v_s), 0 without a Coulomb law.
-    #[inline(always)]
-    fn tanh(&self, v: f64) -> f64 {
-        if self.inverse_smoothing == 0.0 {
-            0.0
-        } else {
-            (v * self.inverse_smoothing).tanh()
         }
     }
 

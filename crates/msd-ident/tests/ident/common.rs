@@ -1,7 +1,8 @@
 //! Shared helpers: the Cramér–Rao bound of the paper experiment.
 #![allow(dead_code)]
 
-use msd_ident::{DataSet, InitialState, Parameters, sensitivities};
+use msd_ident::sensitivity::sensitivities;
+use msd_ident::{DataSet, InitialState, Parameters};
 use msd_ode::Hold;
 use nalgebra::{DMatrix, Matrix3};
 

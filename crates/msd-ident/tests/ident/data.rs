@@ -1,8 +1,8 @@
 //! Data sets, excitations, derived quantities and the simulators.
 
+use msd_ident::sensitivity::sensitivities;
 use msd_ident::{
-    Backend, DataSet, Excitation, IdentError, InitialState, PaperExperiment, Parameters,
-    sensitivities, simulate,
+    Backend, DataSet, Excitation, IdentError, InitialState, PaperExperiment, Parameters, simulate,
 };
 use msd_ode::Hold;
 use msd_signal::{paper_identification_input, paper_validation_input};

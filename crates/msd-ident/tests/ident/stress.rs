@@ -13,7 +13,8 @@ use msd_ident::{
     Parameters, SyntheticOptions, ValidationOptions,
     estimate::MultistartSettings,
     frequency::{FrequencyCheckOptions, frequency_check},
-    sensitivities, simulate, simulate_into, synthetic_data, validate_model,
+    sensitivity::sensitivities,
+    simulate, simulate_into, synthetic_data, validate_model,
 };
 use msd_signal::{Signal, Sweep};
 
