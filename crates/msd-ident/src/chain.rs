@@ -22,7 +22,7 @@ pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetu
 pub use uncertainty::{ChainIntervals, ChainUncertainty};
 
 use msd_modal::ModalParameters;
-use msd_signal::{Complex64, FrfKind};
+use msd_signal::{Complex64, FrfKind, ResponseQuantity};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -128,16 +128,6 @@ impl ChainPlant {
             })
     }
 
-    /// The state matrix A of x′ = A·x + B·F, x = (displacements, velocities), and B.
-    fn state_space(&self) -> (DMatrix<f64>, DMatrix<f64>) {
-        let n = self.len();
-        let [m, c, k] = self.matrices();
-        let a = state_matrix(&m, &c, &k);
-        let mut b = DMatrix::zeros(2 * n, 1);
-        b[(n + self.force_at - 1, 0)] = 1.0 / m[(self.force_at - 1, self.force_at - 1)];
-        (a, b)
-    }
-
     /// The plant's modes, by frequency: each pole λ (Im λ > 0) among the eigenvalues of
     /// the state matrix, with fn = |λ|/2π, ζ = −Re λ/|λ| and the modal constant of the
     /// receptance from the residue R = adj Z(λ)[response, force] / (d det Z/ds)(λ) as
@@ -199,50 +189,54 @@ impl ChainPlant {
     /// The response to the force samples `force` (N, every `dt` s, the force linear
     /// between samples), from rest, as the quantity of `kind`: the displacement
     /// (receptance), velocity (mobility) or acceleration (accelerance) of the response
-    /// mass. Exact: the state equations augmented with the force and its slope are
-    /// advanced by one matrix exponential per step, and the acceleration is the state
-    /// equation's row, a = (A·x + B·F)[n + response].
+    /// mass. Exact for a force linear between samples (the state equations augmented
+    /// with the force and its slope, advanced by one matrix exponential per step; the
+    /// acceleration is the state equation's row, a = (A·x + B·F)[n + response]). It is [`simulate_chain`] with one
+    /// ideal sensor: the chain's one simulator. Errors: those of `simulate_chain` (a
+    /// non-finite force, a bad dt or plant).
     ///
     /// ```
     /// use msd_ident::chain::ChainPlant;
     /// use msd_signal::FrfKind;
     /// let plant = ChainPlant::one_mass(2.5, 1.8, 120.0);
     /// // A constant 1 N from rest: x ≈ 0, x″ = F/m at the first instant.
-    /// let a = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Accelerance);
+    /// let a = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Accelerance)?;
     /// assert!((a[0] - 1.0 / 2.5).abs() < 1e-15);
-    /// let x = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Receptance);
+    /// let x = plant.sampled_response(&[1.0; 3], 1e-3, FrfKind::Receptance)?;
     /// assert_eq!(x[0], 0.0);
     /// // ½·(F/m)·t², to a relative (c/m)·t/3 ≈ 2e-4 (the next term of the series).
     /// assert!((x[1] / (0.5 * 1e-6 / 2.5) - 1.0).abs() < 1e-3);
+    /// # Ok::<(), msd_ident::IdentError>(())
     /// ```
-    pub fn sampled_response(&self, force: &[f64], dt: f64, kind: FrfKind) -> Vec<f64> {
-        let (a, b) = self.state_space();
-        let n2 = a.nrows();
-        let mut augmented = DMatrix::zeros(n2 + 2, n2 + 2);
-        augmented.view_mut((0, 0), (n2, n2)).copy_from(&a);
-        augmented.view_mut((0, n2), (n2, 1)).copy_from(&b);
-        augmented[(n2, n2 + 1)] = 1.0;
-        let e = (augmented * dt).exp();
-        let phi = e.view((0, 0), (n2, n2)).clone_owned();
-        let (g1, g2) = (
-            e.column(n2).rows(0, n2).clone_owned(),
-            e.column(n2 + 1).rows(0, n2).clone_owned(),
-        );
-        let r = self.response_at - 1;
-        let velocity = n2 / 2 + r;
-        let (row, gain) = (a.row(velocity).transpose(), b[(velocity, 0)]);
-        let mut x = nalgebra::DVector::zeros(n2);
-        let mut out = Vec::with_capacity(force.len());
-        for (k, &u) in force.iter().enumerate() {
-            out.push(match kind {
-                FrfKind::Receptance => x[r],
-                FrfKind::Mobility => x[velocity],
-                FrfKind::Accelerance => row.dot(&x) + gain * u,
-            });
-            let next = force.get(k + 1).copied().unwrap_or(u);
-            x = &phi * &x + &g1 * u + &g2 * ((next - u) / dt);
-        }
-        out
+    pub fn sampled_response(
+        &self,
+        force: &[f64],
+        dt: f64,
+        kind: FrfKind,
+    ) -> crate::error::Result<Vec<f64>> {
+        let quantity = match kind {
+            FrfKind::Receptance => ResponseQuantity::Displacement,
+            FrfKind::Mobility => ResponseQuantity::Velocity,
+            FrfKind::Accelerance => ResponseQuantity::Acceleration,
+        };
+        let setup = ChainSetup {
+            masses: self.len(),
+            drive: ChainDrive::Force,
+            force_at: self.force_at,
+            sensors: vec![ChainSensor {
+                at: self.response_at,
+                quantity,
+                ..ChainSensor::default()
+            }],
+        };
+        let parameters = ChainParameters {
+            masses: self.masses.clone(),
+            dampers: self.dampers.clone(),
+            springs: self.springs.clone(),
+            ..ChainParameters::default()
+        };
+        let mut outputs = simulate_chain(&setup, &parameters, force, dt)?;
+        Ok(outputs.swap_remove(0))
     }
 }
 
@@ -383,7 +377,9 @@ mod tests {
     fn a_step_settles_at_the_static_deflection() {
         // 1 N on mass 2 for 60 s (the slow mode decays as e^(−0.5 t)): the springs in series, 1/20000 + 1/10000 m.
         let plant = two_masses(2, 2);
-        let y = plant.sampled_response(&vec![1.0; 60_000], 1e-3, FrfKind::Receptance);
+        let y = plant
+            .sampled_response(&vec![1.0; 60_000], 1e-3, FrfKind::Receptance)
+            .unwrap();
         let end = y[y.len() - 1];
         assert!(
             (end / (1.0 / 20_000.0 + 1.0 / 10_000.0) - 1.0).abs() < 1e-6,
@@ -400,7 +396,7 @@ mod tests {
         let (m, c, k, dt): (f64, f64, f64, f64) = (2.5, 1.8, 120.0, 1e-2);
         let force = vec![1.0; 500];
         let [x, v, a] = [FrfKind::Receptance, FrfKind::Mobility, FrfKind::Accelerance]
-            .map(|kind| plant.sampled_response(&force, dt, kind));
+            .map(|kind| plant.sampled_response(&force, dt, kind).unwrap());
         let (wn2, sigma) = (k / m, c / (2.0 * m));
         let wd = (wn2 - sigma * sigma).sqrt();
         for i in (0..500).step_by(37) {

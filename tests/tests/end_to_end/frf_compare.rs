@@ -271,7 +271,9 @@ fn measured_records_are_compared_with_a_cubic_hold() {
     let f: Vec<f64> = (0..skip + 2 * per)
         .map(|i| force.value(i as f64 / fs))
         .collect();
-    let x = plant.sampled_response(&f, 1.0 / fs, FrfKind::Receptance);
+    let x = plant
+        .sampled_response(&f, 1.0 / fs, FrfKind::Receptance)
+        .expect("a valid plant and force");
     let rms = (x[skip..].iter().map(|v| v * v).sum::<f64>() / (2 * per) as f64).sqrt();
     let noise = gaussian_noise(5, "laser", 0.01 * rms, 2 * per).expect("noise");
     let mut csv = String::from("f1,x1,f2,x2\n");

@@ -85,7 +85,9 @@ pub(super) fn hammer(
     let mut channels = Vec::with_capacity(h.hits);
     for (i, s) in spread.iter().enumerate() {
         let force = pulse(h, h.force_peak * (1.0 + s).max(0.1), n);
-        let response = plant.sampled_response(&force, 1.0 / h.sample_rate, options.kind);
+        let response = plant
+            .sampled_response(&force, 1.0 / h.sample_rate, options.kind)
+            .map_err(run_error)?;
         let peak = response.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         channels.push([
             noisy(&force, seed, &format!("hammer.force.{i}"), h.force_noise)?,
@@ -141,7 +143,11 @@ pub(super) fn shaker(
         .map(|i| s.force.value(i as f64 * dt))
         .collect();
     let sampled = |v: Vec<f64>| -> Vec<f64> { v.into_iter().step_by(SUBSTEPS).collect() };
-    let response = sampled(plant.sampled_response(&fine, dt, options.kind));
+    let response = sampled(
+        plant
+            .sampled_response(&fine, dt, options.kind)
+            .map_err(run_error)?,
+    );
     let force = sampled(fine);
     let sigma = [
         s.force_noise * rms(&force[skip..]),
