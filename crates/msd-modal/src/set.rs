@@ -133,13 +133,14 @@ impl std::fmt::Display for ModeSetFit {
         for (i, m) in self.modes.iter().enumerate() {
             write!(
                 f,
-                "\nmode {}: fn = {:.6} Hz, ζ = {:.6}, MPC = {:.3}, MPD = {:.1}°",
+                "\nmode {}: fn = {:.6} Hz, ζ = {:.6}",
                 i + 1,
                 m.natural_frequency_hz,
                 m.damping_ratio,
-                m.mpc.unwrap_or(f64::NAN),
-                m.mpd_deg.unwrap_or(f64::NAN)
             )?;
+            if let (Some(mpc), Some(mpd)) = (m.mpc, m.mpd_deg) {
+                write!(f, ", MPC = {mpc:.3}, MPD = {mpd:.1}°")?;
+            }
             if let Some(mass) = m.modal_mass {
                 write!(f, ", modal mass {mass:.4e}")?;
             }
