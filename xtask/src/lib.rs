@@ -1,6 +1,7 @@
 //! `cargo xtask`: the workspace's development tasks over the `msd-experiment` library:
 //! `experiment` (the library's run, writing into `target/experiments/<name>/`) and
-//! `bench` (one performance table, [`bench`](mod@bench)).
+//! `bench` (one performance table, [`bench`](mod@bench)) and `noise-study` (the
+//! intervals' coverage under a noisy drive, [`noise_study`]).
 //!
 //! ```no_run
 //! let root = xtask::project_root();
@@ -9,6 +10,7 @@
 
 pub mod bench;
 pub mod check_report;
+pub mod noise_study;
 
 use msd_experiment::{ExperimentError, Result, RunOptions, config, fmt, paper, progress};
 use std::path::{Path, PathBuf};

@@ -68,6 +68,15 @@ enum Command {
     /// state into a temporary folder, then `cargo xtask experiment configs/paper.toml`
     /// there with its own target folder (offline: the crates must be downloaded).
     BenchFirstRun,
+    /// Coverage of the 95 % intervals over seeds on simulated lab records whose drive is
+    /// measured with noise (0, 0.3, 1 and 3 % of its rms), for the accelerometer,
+    /// displacement + accelerometer, base-excitation and repeats setups, with the
+    /// default noise model and the white one; written to target/noise-study/. Runs in
+    /// release (the first build takes a few minutes).
+    NoiseStudy(StudyArgs),
+    /// The measuring half of `noise-study`, run in release by it.
+    #[command(hide = true)]
+    NoiseStudyRun(StudyArgs),
     /// The measuring half of `bench`, run in release by `bench` itself.
     #[command(hide = true)]
     BenchRun(BenchArgs),
@@ -84,6 +93,16 @@ struct BenchArgs {
     /// Fewer repetitions per row (about a third of the time).
     #[arg(long)]
     quick: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct StudyArgs {
+    /// Seeds per setup and noise level.
+    #[arg(long, default_value_t = 400)]
+    seeds: usize,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2)]
+    threads: usize,
 }
 
 fn main() -> ExitCode {
@@ -103,7 +122,18 @@ fn try_main() -> Result<(), ExperimentError> {
             msd_experiment::design::run_design(&args, Some(xtask::results_root()))
         }
         Some(Command::FetchData(args)) => fetch_data(&args),
-        Some(Command::Bench(args)) => bench_in_release(&args),
+        Some(Command::Bench(args)) => {
+            let quick = args.quick.then(|| "--quick".to_string());
+            in_release("bench-run", quick.as_slice())
+        }
+        Some(Command::NoiseStudy(args)) => in_release(
+            "noise-study-run",
+            &[
+                format!("--seeds={}", args.seeds),
+                format!("--threads={}", args.threads),
+            ],
+        ),
+        Some(Command::NoiseStudyRun(args)) => noise_study(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
         Some(Command::BenchFirstRun) => {
             println!("{}", xtask::bench::first_run::first_run()?);
@@ -199,35 +229,36 @@ fn fetch_with_msd(plan: &cli::FetchPlan, url: &str) -> Result<(), ExperimentErro
     }
 }
 
-/// `bench`: build xtask in release and run `bench-run` there (the dev profile would
-/// measure unoptimised code).
-fn bench_in_release(args: &BenchArgs) -> Result<(), ExperimentError> {
+/// Builds xtask in release and runs its hidden `task` there with `args` (the dev
+/// profile would measure unoptimised code).
+fn in_release(task: &'static str, args: &[String]) -> Result<(), ExperimentError> {
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     eprintln!("building xtask in release (thin LTO; the first build takes a few minutes) …");
-    let mut command = std::process::Command::new(cargo);
-    command.current_dir(xtask::project_root()).args([
-        "run",
-        "--release",
-        "--quiet",
-        "-p",
-        "xtask",
-        "--",
-        "bench-run",
-    ]);
-    if args.quick {
-        command.arg("--quick");
-    }
-    let status = command
+    let status = std::process::Command::new(cargo)
+        .current_dir(xtask::project_root())
+        .args(["run", "--release", "--quiet", "-p", "xtask", "--", task])
+        .args(args)
         .status()
-        .map_err(|e| ExperimentError::run("bench", format!("running cargo: {e}")))?;
+        .map_err(|e| ExperimentError::run(task, format!("running cargo: {e}")))?;
     if status.success() {
         Ok(())
     } else {
         Err(ExperimentError::run(
-            "bench",
+            task,
             format!("the release run failed ({status})"),
         ))
     }
+}
+
+/// `noise-study-run`: every setup and drive-noise level, both noise models.
+fn noise_study(args: &StudyArgs) -> Result<(), ExperimentError> {
+    let dir = xtask::project_root().join("target").join("noise-study");
+    let studies = xtask::noise_study::run(args.seeds, args.threads, |study| {
+        println!("{study}");
+    })?;
+    xtask::noise_study::write(&studies, &dir)?;
+    println!("written: {}", dir.display());
+    Ok(())
 }
 
 /// `bench-run`: measure, print the table, write target/bench/.

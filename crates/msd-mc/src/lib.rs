@@ -41,6 +41,7 @@ mod band;
 mod barrier;
 mod batch;
 mod chain;
+pub mod coverage;
 mod draw;
 mod engine;
 mod error;

@@ -236,6 +236,14 @@ pub struct SetupSection {
     /// motion, imposed stroke), in its SI unit. By default 0.
     #[serde(default)]
     pub input_sigma: f64,
+    /// What the intervals assume of the noise: `input_noise`, the measured drive's own
+    /// noise estimated with the sensors' and seen through the plant (a load cell's, a
+    /// base accelerometer's), or `white`, the drive taken as exact. By default
+    /// `input_noise` on measured data and on a synthetic drive with noise
+    /// (`input_sigma` > 0), `white` on a synthetic drive, exact by construction. A free
+    /// decay has no drive: white.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_model: Option<msd_ident::records::NoiseModel>,
     /// Damper test machine: the test conditions (synthetic data: the strokes to impose).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub conditions: Vec<StrokeCondition>,

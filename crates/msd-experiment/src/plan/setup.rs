@@ -303,7 +303,7 @@ impl Planned<'_> {
         }
         if self.setup.input_sigma > 0.0 {
             notes.push(format!(
-                "the drive's noise (setup.input_sigma = {}) is not in the prediction: the fit takes the measured drive as exact",
+                "the drive's noise (setup.input_sigma = {}) is not in the prediction, which takes the drive as exact: the fit estimates that noise and its intervals will be wider (`cargo xtask noise-study` shows by how much)",
                 self.setup.input_sigma
             ));
         }

@@ -5,6 +5,7 @@ use super::{SetupData, SetupOutcome};
 use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
 use crate::error::{ExperimentError, Result};
 use crate::table::Table;
+use msd_ident::records::NoiseModel;
 use msd_ident::{
     Channel, Excitation, KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity,
     dynamometer::{Condition, Dynamometer, DynamometerOptions, dynamometer},
@@ -78,7 +79,21 @@ pub(crate) fn records_options(config: &Config) -> RecordsOptions {
         estimate_initial_state: config.estimation.estimate_initial_state
             || excitation == ExcitationKind::None,
         estimate_offset: config.estimation.estimate_offset,
+        noise_model: noise_model(config),
         ..RecordsOptions::default()
+    }
+}
+
+/// `[setup] noise_model`, or by default the drive's noise model on measured data and on
+/// a synthetic drive with noise, white on a synthetic drive (exact by construction).
+fn noise_model(config: &Config) -> NoiseModel {
+    let setup = config.setup.as_ref();
+    match setup.and_then(|s| s.noise_model) {
+        Some(chosen) => chosen,
+        None if config.data.is_none() && setup.is_none_or(|s| s.input_sigma == 0.0) => {
+            NoiseModel::White
+        }
+        None => NoiseModel::InputNoise,
     }
 }
 

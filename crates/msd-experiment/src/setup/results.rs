@@ -1,6 +1,8 @@
 //! `results.json` of a setup run: `experiment` (as every run's), `setup` (excitation, responses), `estimate`
 //! (`identifiable` and `<name>.value` / `.ci95` of each identifiable quantity), and what
-//! each setup adds: `noise` (per channel), `records[]`, `leave_one_out`,
+//! each setup adds: `noise` (per channel), `noise_model` (the treatment behind the
+//! intervals), `white_noise_estimate` (the white-noise intervals, when they differ),
+//! `whiteness[]` (each channel's Ljung–Box tests), `records[]`, `leave_one_out`,
 //! `free_decay.log_decrement`, `dynamometer.conditions[]` and `.laws[]`; `truth` for
 //! synthetic data.
 
@@ -22,6 +24,12 @@ struct Results<'a> {
     estimate: Estimate,
     #[serde(skip_serializing_if = "Option::is_none")]
     noise: Option<&'a [msd_ident::records::ChannelNoise]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise_model: Option<&'a msd_ident::records::NoiseModelFit>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    white_noise_estimate: Option<&'a msd_ident::records::PlantIntervals>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    whiteness: Option<&'a [msd_ident::records::ResidualWhiteness]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     records: Option<&'a [msd_ident::records::RecordFit]>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -89,6 +97,10 @@ pub(crate) fn to_json(
         ),
         SetupFit::Machine(m) => (None, None, None, None, Some(m.as_ref()), None),
     };
+    let records_fit = match &o.fit {
+        SetupFit::Records { fit, .. } => Some(fit.as_ref()),
+        SetupFit::Machine(_) => None,
+    };
     let timings = crate::results::timings_ms(&o.timings, extra, total);
     let setup = &o.data.setup;
     let results = Results {
@@ -123,6 +135,9 @@ pub(crate) fn to_json(
             note,
         },
         noise,
+        noise_model: records_fit.map(|f| &f.noise_model),
+        white_noise_estimate: records_fit.and_then(|f| f.white_noise_plant.as_ref()),
+        whiteness: records_fit.map(|f| f.whiteness.as_slice()),
         records,
         leave_one_out,
         free_decay,

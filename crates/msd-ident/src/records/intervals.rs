@@ -84,12 +84,20 @@ impl std::fmt::Display for PlantIntervals {
     }
 }
 
-/// Cov(ln θ) (3×3, zero rows for fixed parameters) from the projected weighted
-/// Jacobian at θ (after `prepare`), refusing a singular one with the reason.
-pub(crate) fn log_covariance(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Matrix3<f64>> {
+/// The projected weighted Jacobian at θ and the inverse of its Gram matrix.
+pub(crate) struct Linearised {
+    /// P⊥·W·∂ŷ/∂ln θ, one column per free parameter.
+    pub jacobian: DMatrix<f64>,
+    /// (JᵀJ)⁻¹: the white-noise covariance of the free ln θ.
+    pub inverse: DMatrix<f64>,
+}
+
+/// The projected weighted Jacobian at θ (after `prepare`) and (JᵀJ)⁻¹, refusing a
+/// singular one with the reason.
+pub(crate) fn linearise(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Linearised> {
     let p = problem.free.len();
-    let mut j = DMatrix::<f64>::zeros(problem.rows, p);
-    problem.fill_jacobian(theta, &mut j)?;
+    let mut jacobian = DMatrix::<f64>::zeros(problem.rows, p);
+    problem.fill_jacobian(theta, &mut jacobian)?;
     let names: Vec<&str> = problem
         .free
         .iter()
@@ -98,7 +106,7 @@ pub(crate) fn log_covariance(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Mat
     // The Jacobian is weighted by 1/σ̂ per channel: the covariance is (JᵀJ)⁻¹.
     // JᵀJ by dot products: a joint Jacobian has tens of thousands of rows and three
     // columns, where the product through a transposed copy costs milliseconds.
-    let inverse = Linearization::from_normal_matrix(&j.tr_mul(&j))
+    let inverse = Linearization::from_normal_matrix(&jacobian.tr_mul(&jacobian))
         .map_err(|e| {
             e.error(
                 "the records (beyond their initial states and offsets)",
@@ -106,13 +114,24 @@ pub(crate) fn log_covariance(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Mat
             )
         })?
         .covariance(1.0);
+    Ok(Linearised { jacobian, inverse })
+}
+
+/// The white-noise Cov(ln θ) (3×3, zero rows for fixed parameters) at θ (after
+/// `prepare`).
+pub(crate) fn log_covariance(problem: &Joint<'_>, theta: [f64; 3]) -> Result<Matrix3<f64>> {
+    Ok(embed(problem, &linearise(problem, theta)?.inverse))
+}
+
+/// Cov(ln θ) (3×3, zero rows for fixed parameters) from the covariance of the free ones.
+pub(crate) fn embed(problem: &Joint<'_>, free: &DMatrix<f64>) -> Matrix3<f64> {
     let mut cov = Matrix3::zeros();
     for (a, &pa) in problem.free.iter().enumerate() {
         for (b, &pb) in problem.free.iter().enumerate() {
-            cov[(pa, pb)] = inverse[(a, b)];
+            cov[(pa, pb)] = free[(a, b)];
         }
     }
-    Ok(cov)
+    cov
 }
 
 /// The intervals of everything the setup identifies at the model's θ.

@@ -13,6 +13,7 @@ mod linear;
 mod loo;
 mod model;
 mod noise;
+mod noise_model;
 mod plan;
 mod problem;
 mod result;
@@ -20,9 +21,10 @@ mod setup;
 
 pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
+pub use noise_model::{NoiseModelFit, ResidualWhiteness};
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
-pub use setup::{Channel, Frame, Record, RecordsOptions};
+pub use setup::{Channel, Frame, NoiseModel, Record, RecordsOptions};
 
 use crate::plant::{Drive, Plant};
 use crate::{
@@ -97,8 +99,12 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
     let (x, passes, iterations) =
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
     let theta = problem.theta(&x);
-    let cov = intervals::log_covariance(&problem, theta)?;
-    let plant = intervals::plant_intervals(options.drive, options.known, theta, &cov, dof);
+    let treated = noise_model::covariance(&problem, theta, options.noise_model, dof)?;
+    let intervals_of =
+        |cov| intervals::plant_intervals(options.drive, options.known, theta, cov, dof);
+    let plant = intervals_of(&treated.reported);
+    let white_noise_plant =
+        (treated.fit.treatment != "white").then(|| intervals_of(&treated.white));
     if options.drive == Drive::None && plant.damping_ratio.ci95[0] <= 0.0 {
         return Err(IdentError::Setup {
             setup: options.drive.setup(),
@@ -114,6 +120,11 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         .map(|rec| record_fit(&problem, rec, theta))
         .collect();
     notes.extend(poor_fits(&records_fit));
+    notes.extend(noise_model::notes(
+        &treated.fit,
+        &treated.whiteness,
+        options.drive,
+    ));
     let names = problem.group_names.clone();
     let leave_one_out = (options.leave_one_out && records.len() >= 2).then(|| {
         let x = x.clone();
@@ -130,6 +141,9 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         drive: options.drive,
         plant,
         noise: noise_levels(&problem, &sigma),
+        noise_model: treated.fit,
+        white_noise_plant,
+        whiteness: treated.whiteness,
         records: records_fit,
         leave_one_out,
         passes,

@@ -1,6 +1,7 @@
 //! What a joint fit returns, and its table.
 
 use super::intervals::PlantIntervals;
+use super::noise_model::{NoiseModelFit, ResidualWhiteness};
 use crate::plant::Drive;
 use crate::{free_decay::ClassroomEstimates, metrics::FitMetrics, params::InitialState};
 use serde::Serialize;
@@ -129,6 +130,14 @@ pub struct RecordsFit {
     pub plant: PlantIntervals,
     /// σ̂ of each sensor, in order of first appearance.
     pub noise: Vec<ChannelNoise>,
+    /// The noise model behind the intervals: white, or the drive's noise seen through
+    /// the plant (errors-in-variables), with what it found.
+    pub noise_model: NoiseModelFit,
+    /// The intervals a white-noise fit would have reported, when the noise model changed
+    /// them.
+    pub white_noise_plant: Option<PlantIntervals>,
+    /// Each record's channels tested for whiteness, as fitted and under the noise model.
+    pub whiteness: Vec<ResidualWhiteness>,
     /// Each record's initial state and channel fits.
     pub records: Vec<RecordFit>,
     /// Each record predicted by the others (with two records or more, when asked).
@@ -161,6 +170,7 @@ impl std::fmt::Display for RecordsFit {
         )?;
         writeln!(f, "identifiable: {}", self.plant.identifiable.join(", "))?;
         writeln!(f, "{}", self.plant)?;
+        writeln!(f, "{}", self.noise_model)?;
         for noise in &self.noise {
             writeln!(
                 f,

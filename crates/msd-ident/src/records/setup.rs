@@ -33,6 +33,28 @@ pub enum Frame {
     Relative,
 }
 
+/// Which noise model sets a joint fit's intervals.
+///
+/// ```
+/// use msd_ident::records::NoiseModel;
+/// assert_eq!(NoiseModel::default(), NoiseModel::InputNoise);
+/// let read: NoiseModel = serde_json::from_value(serde_json::json!("white"))?;
+/// assert_eq!(read, NoiseModel::White);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoiseModel {
+    /// The drive's noise estimated with the sensors' and seen through the plant
+    /// (errors-in-variables); the intervals are the sandwich under that model. A
+    /// noise-free drive gets σ̂_u ≈ 0 and the white-noise intervals to within a per
+    /// cent. A free decay has no drive: white. The default.
+    #[default]
+    InputNoise,
+    /// White sensor noise only, the drive taken as exact (the paper's assumption).
+    White,
+}
+
 /// One sensor of a record: what it measures and its samples, at the record's instants.
 ///
 /// Each channel of each record has its own offset (the sensor's zero): a velocity or
@@ -118,6 +140,9 @@ pub struct RecordsOptions {
     /// How the drive is reconstructed between samples. By default cubic.
     #[serde(with = "crate::simulate::hold_serde")]
     pub hold: Hold,
+    /// Which noise model sets the intervals: by default `input_noise`, the drive's
+    /// noise estimated with the sensors' (see [`NoiseModel`]).
+    pub noise_model: NoiseModel,
     /// Most weighted least-squares passes (each re-estimates the channels' noise levels
     /// from the residuals); one suffices with a single sensor. By default 10.
     pub max_passes: usize,
@@ -137,6 +162,7 @@ impl Default for RecordsOptions {
             estimate_offset: true,
             leave_one_out: true,
             hold: Hold::Cubic,
+            noise_model: NoiseModel::InputNoise,
             max_passes: 10,
             levenberg_marquardt: LevenbergMarquardtOptions::default(),
         }

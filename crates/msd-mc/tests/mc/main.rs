@@ -2,6 +2,7 @@
 
 mod all_samples_failed;
 mod band;
+mod coverage;
 mod errors;
 mod paper;
 mod sobol;

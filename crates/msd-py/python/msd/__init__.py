@@ -386,7 +386,10 @@ def fit_records(
     "velocity" or "acceleration", absolute. `**options`: msd-ident's ``RecordsOptions``
     (``known`` e.g. ``{"mass": 2.5}``, ``require_physical``, ``initial_guess``,
     ``estimate_initial_state``, ``estimate_offset``, ``leave_one_out``, ``hold``,
-    ``max_passes``).
+    ``max_passes``, ``noise_model``: ``"input_noise"``, the default, estimates the
+    measured drive's own noise and widens the intervals by it; ``"white"`` takes the
+    drive as exact). The result's ``noise_model``, ``white_noise_plant`` and
+    ``whiteness`` say what was found.
     """
     if isinstance(records, Mapping):
         records = [records]

@@ -1,0 +1,210 @@
+//! The errors-in-variables noise model of the joint fit: a load cell's noise is found,
+//! widens the intervals as it should, and leaves an exact drive's intervals alone.
+
+use msd_ident::records::{NoiseModel, simulate_channels};
+use msd_ident::{
+    Channel, Drive, Excitation, Frame, InitialState, Parameters, Record, RecordsFit,
+    RecordsOptions, ResponseQuantity, fit_records,
+};
+use msd_signal::{Multisine, MultisineSpec, PhaseScheme, Signal, gaussian_noise};
+
+const PLANT: Parameters = Parameters {
+    mass: 1.7,
+    damping: 3.1,
+    stiffness: 950.0,
+};
+const FORCE_RMS: f64 = 5.0;
+
+/// 20 s at 1 kHz of a 0.2–15 Hz multisine force (5 N rms) whose load cell reads it with
+/// white noise of `fraction` × its rms; the sensors' white noise as given, plus offsets.
+fn load_cell_record(seed: u64, fraction: f64, sensors: &[(ResponseQuantity, f64)]) -> Record {
+    let (dt, n) = (1e-3, 20_000);
+    let spec = MultisineSpec {
+        base_frequency: 0.1,
+        f_min: 0.2,
+        f_max: 15.0,
+        rms: FORCE_RMS,
+        phases: PhaseScheme::Random,
+        seed,
+        ..MultisineSpec::default()
+    };
+    let force = Signal::Multisine(Multisine::new(spec).expect("valid")).sample(0.0, dt, n);
+    let exact = Excitation::from_samples(0.0, dt, force.clone()).expect("valid");
+    let kinds: Vec<_> = sensors.iter().map(|s| (s.0, Frame::Absolute)).collect();
+    let clean = simulate_channels(
+        &PLANT,
+        InitialState::REST,
+        Drive::Force,
+        Some(&exact),
+        n,
+        dt,
+        &kinds,
+    )
+    .expect("simulated");
+    let channels = sensors
+        .iter()
+        .zip(clean)
+        .enumerate()
+        .map(|(i, (&(quantity, sigma), clean))| {
+            let noise = gaussian_noise(seed, &format!("sensor {i}"), sigma, n).expect("noise");
+            Channel {
+                name: format!("sensor {i}"),
+                quantity,
+                frame: Frame::Absolute,
+                samples: clean
+                    .iter()
+                    .zip(&noise)
+                    .map(|(x, e)| x + e + 2.0 * sigma)
+                    .collect(),
+            }
+        })
+        .collect();
+    let drive_noise = gaussian_noise(seed, "load cell", fraction * FORCE_RMS, n).expect("noise");
+    let measured = force.iter().zip(&drive_noise).map(|(f, e)| f + e).collect();
+    Record {
+        name: "run".into(),
+        excitation: Excitation::from_samples(0.0, dt, measured).expect("valid"),
+        channels,
+    }
+}
+
+const ACCELEROMETER: (ResponseQuantity, f64) = (ResponseQuantity::Acceleration, 0.05);
+
+fn fit(record: Record, noise_model: NoiseModel) -> RecordsFit {
+    let options = RecordsOptions {
+        noise_model,
+        ..RecordsOptions::default()
+    };
+    fit_records(&[record], &options).expect("fitted")
+}
+
+/// The issue's promise: with an exact drive, today's intervals within 1 %.
+#[test]
+fn an_exact_drive_keeps_the_white_noise_intervals_within_one_per_cent() {
+    for seed in 1..=3 {
+        let f = fit(
+            load_cell_record(seed, 0.0, &[ACCELEROMETER]),
+            NoiseModel::InputNoise,
+        );
+        let m = &f.noise_model;
+        assert_eq!(m.treatment, "input_noise");
+        assert!((m.interval_ratio - 1.0).abs() < 0.01, "seed {seed}: {m}");
+        let white = f.white_noise_plant.as_ref().expect("both reported");
+        let (a, b) = (f.plant.damping.unwrap(), white.damping.unwrap());
+        assert_eq!(a.value, b.value, "the estimate is the same");
+        assert!(
+            (a.standard_error / b.standard_error - 1.0).abs() < 0.01,
+            "seed {seed}"
+        );
+        assert!(
+            f.whiteness.iter().all(|c| c.ljung_box.p_value > 1e-3),
+            "seed {seed}: white residuals"
+        );
+    }
+}
+
+/// 1 % force noise: the model finds it (σ̂_u near 1 % of the rms, the likelihood ratio
+/// far past its 1 % point) and the intervals widen several times, as the probe of the
+/// issue measured the spread (2–5× the white-noise SE).
+#[test]
+fn a_noisy_load_cell_is_found_and_widens_the_intervals() {
+    let f = fit(
+        load_cell_record(7, 0.01, &[ACCELEROMETER]),
+        NoiseModel::InputNoise,
+    );
+    let m = &f.noise_model;
+    let fraction = m.input_noise_fraction.expect("fitted");
+    assert!((fraction / 0.01 - 1.0).abs() < 0.3, "{m}");
+    assert!(m.p_value.expect("tested") < 1e-6, "{m}");
+    assert!(m.interval_ratio > 2.0, "{m}");
+    assert!(
+        f.whiteness.iter().all(|c| c.passed),
+        "the model explains the colour: {:?}",
+        f.whiteness
+    );
+    assert!(
+        f.whiteness[0].ljung_box.p_value < 1e-3,
+        "as fitted the residual is coloured"
+    );
+    assert!(
+        f.notes.iter().any(|n| n.contains("drive's own noise")),
+        "{:?}",
+        f.notes
+    );
+    assert!(f.to_string().contains("noise model: input_noise"), "{f}");
+}
+
+/// The white model says what it assumed, and the whiteness test flags the colour it
+/// leaves, with the hint to the model that explains it.
+#[test]
+fn the_white_model_flags_the_coloured_residual_it_leaves() {
+    let f = fit(
+        load_cell_record(7, 0.01, &[ACCELEROMETER]),
+        NoiseModel::White,
+    );
+    assert_eq!(f.noise_model.treatment, "white");
+    assert!(f.noise_model.input_noise_sigma.is_none() && f.white_noise_plant.is_none());
+    assert!(!f.whiteness[0].passed, "{:?}", f.whiteness);
+    assert!(
+        f.notes
+            .iter()
+            .any(|n| n.contains("noise_model = \"input_noise\"")),
+        "{:?}",
+        f.notes
+    );
+}
+
+/// Two sensors of one record see the same drive noise: each keeps its own white level
+/// (σ̂ within 10 %: 20 000 samples give σ̂ to 0.5 %, the drive's share near resonance
+/// moves it by a few per cent at most).
+#[test]
+fn two_sensors_keep_their_own_white_noise_levels() {
+    let displacement = (ResponseQuantity::Displacement, 1e-5);
+    let f = fit(
+        load_cell_record(3, 0.01, &[displacement, ACCELEROMETER]),
+        NoiseModel::InputNoise,
+    );
+    let sigmas = &f.noise_model.sensor_sigmas;
+    assert!((sigmas[0] / 1e-5 - 1.0).abs() < 0.1, "{sigmas:?}");
+    assert!((sigmas[1] / 0.05 - 1.0).abs() < 0.1, "{sigmas:?}");
+    assert!(f.noise_model.interval_ratio > 1.5, "{}", f.noise_model);
+}
+
+/// A free decay has no drive: white, said so.
+#[test]
+fn a_free_decay_is_white() {
+    let grid = Excitation::from_samples(0.0, 0.002, vec![0.0; 3000]).expect("valid");
+    let released = InitialState {
+        displacement: 0.01,
+        velocity: 0.0,
+    };
+    let x = simulate_channels(
+        &PLANT,
+        released,
+        Drive::None,
+        None,
+        3000,
+        0.002,
+        &[(ResponseQuantity::Displacement, Frame::Absolute)],
+    )
+    .expect("simulated");
+    let noise = gaussian_noise(1, "laser", 1e-5, 3000).expect("noise");
+    let samples = x[0].iter().zip(&noise).map(|(x, e)| x + e).collect();
+    let record = Record {
+        name: "pluck".into(),
+        excitation: grid,
+        channels: vec![Channel {
+            name: "laser".into(),
+            samples,
+            ..Default::default()
+        }],
+    };
+    let options = RecordsOptions {
+        drive: Drive::None,
+        ..RecordsOptions::default()
+    };
+    let f = fit_records(&[record], &options).expect("fitted");
+    assert_eq!(f.noise_model.treatment, "white");
+    assert!(f.noise_model.input_noise_sigma.is_none());
+    assert_eq!(f.whiteness.len(), 1);
+}
