@@ -103,6 +103,9 @@ struct StudyArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 2)]
     threads: usize,
+    /// The drive-noise levels, fractions of its rms (by default 0, 0.003, 0.01, 0.03).
+    #[arg(long, value_delimiter = ',')]
+    levels: Vec<f64>,
 }
 
 fn main() -> ExitCode {
@@ -126,13 +129,17 @@ fn try_main() -> Result<(), ExperimentError> {
             let quick = args.quick.then(|| "--quick".to_string());
             in_release("bench-run", quick.as_slice())
         }
-        Some(Command::NoiseStudy(args)) => in_release(
-            "noise-study-run",
-            &[
+        Some(Command::NoiseStudy(args)) => {
+            let mut forwarded = vec![
                 format!("--seeds={}", args.seeds),
                 format!("--threads={}", args.threads),
-            ],
-        ),
+            ];
+            if !args.levels.is_empty() {
+                let levels: Vec<String> = args.levels.iter().map(f64::to_string).collect();
+                forwarded.push(format!("--levels={}", levels.join(",")));
+            }
+            in_release("noise-study-run", &forwarded)
+        }
         Some(Command::NoiseStudyRun(args)) => noise_study(&args),
         Some(Command::BenchRun(args)) => bench_run(&args),
         Some(Command::BenchFirstRun) => {
@@ -253,7 +260,12 @@ fn in_release(task: &'static str, args: &[String]) -> Result<(), ExperimentError
 /// `noise-study-run`: every setup and drive-noise level, both noise models.
 fn noise_study(args: &StudyArgs) -> Result<(), ExperimentError> {
     let dir = xtask::project_root().join("target").join("noise-study");
-    let studies = xtask::noise_study::run(args.seeds, args.threads, |study| {
+    let levels = if args.levels.is_empty() {
+        xtask::noise_study::LEVELS.to_vec()
+    } else {
+        args.levels.clone()
+    };
+    let studies = xtask::noise_study::run(args.seeds, args.threads, &levels, |study| {
         println!("{study}");
     })?;
     xtask::noise_study::write(&studies, &dir)?;

@@ -10,16 +10,17 @@ use std::path::Path;
 /// The drive-noise levels of the study, fractions of the drive's rms.
 pub const LEVELS: [f64; 4] = [0.0, 0.003, 0.01, 0.03];
 
-/// Runs every setup × level × noise model with `seeds` seeds, calling `each` as each
+/// Runs every setup × level (of `levels`) × noise model with `seeds` seeds, calling `each` as each
 /// study ends.
 pub fn run(
     seeds: usize,
     threads: usize,
+    levels: &[f64],
     mut each: impl FnMut(&CoverageStudy),
 ) -> Result<Vec<CoverageStudy>> {
     let mut studies = Vec::new();
     for setup in Setup::ALL {
-        for drive_noise in LEVELS {
+        for &drive_noise in levels {
             for noise_model in [NoiseModel::InputNoise, NoiseModel::White] {
                 let options = CoverageOptions {
                     setup,

@@ -329,12 +329,15 @@ fn noise_section(s: &mut String, fit: &RecordsFit, unit: &str) -> std::fmt::Resu
     match (m.input_noise_sigma, m.input_noise_fraction, m.p_value) {
         (Some(sigma), Some(fraction), Some(p)) => writeln!(
             s,
-            "The intervals assume white noise on each sensor plus white noise on the measured drive, seen through the plant (errors-in-variables; msd-ident's `NoiseModel::InputNoise`): the drive's noise σ̂_u = {} {unit}, {} % of its rms (likelihood ratio against a noise-free drive {}, p = {}). They are {}× the intervals that take the drive as exact.\n",
+            "The intervals assume white noise on each sensor plus white noise on the measured drive, seen through the plant (errors-in-variables; msd-ident's `NoiseModel::InputNoise`): the drive's noise σ̂_u = {} {unit}, {} % of its rms (likelihood ratio against a noise-free drive {}, p = {}). They are {}× the intervals that take the drive as exact{}.\n",
             sig(sigma, 3),
             sig(100.0 * fraction, 2),
             sig(m.likelihood_ratio.unwrap_or(0.0), 3),
             sig(p, 2),
-            sig(m.interval_ratio, 3)
+            sig(m.interval_ratio, 3),
+            m.degrees_of_freedom
+                .filter(|nu| nu.is_finite())
+                .map_or(String::new(), |nu| format!(", with Student's t on {nu:.0} degrees of freedom (Satterthwaite: the noise levels behind them are estimated too)"))
         )?,
         _ => writeln!(
             s,

@@ -55,7 +55,9 @@ pub struct PlantIntervals {
     /// The estimates' correlation, rows and columns in the order of `identifiable`; a
     /// known quantity (no variance) has a row and column of zeros.
     pub correlation: Vec<Vec<f64>>,
-    /// Samples minus estimated quantities (all records and channels).
+    /// The degrees of freedom of the intervals' Student t: samples minus estimated
+    /// quantities (all records and channels), or fewer under the drive's noise model,
+    /// whose estimated variances make the standard errors uncertain (Satterthwaite).
     pub degrees_of_freedom: usize,
     /// Why m, c and k are not given, when they are not.
     pub note: Option<String>,

@@ -17,6 +17,7 @@ mod noise_model;
 mod plan;
 mod problem;
 mod result;
+mod satterthwaite;
 mod setup;
 
 pub use generate::simulate_channels;
@@ -100,11 +101,17 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
     let theta = problem.theta(&x);
     let treated = noise_model::covariance(&problem, theta, options.noise_model, dof)?;
+    // Under the drive's noise model the standard errors rest on estimated variances:
+    // Satterthwaite's degrees of freedom (never more than the samples').
+    let t_dof = match treated.fit.degrees_of_freedom {
+        Some(nu) if nu.is_finite() => (nu.floor() as usize).clamp(1, dof),
+        _ => dof,
+    };
     let intervals_of =
-        |cov| intervals::plant_intervals(options.drive, options.known, theta, cov, dof);
-    let plant = intervals_of(&treated.reported);
+        |cov, dof| intervals::plant_intervals(options.drive, options.known, theta, cov, dof);
+    let plant = intervals_of(&treated.reported, t_dof);
     let white_noise_plant =
-        (treated.fit.treatment != "white").then(|| intervals_of(&treated.white));
+        (treated.fit.treatment != "white").then(|| intervals_of(&treated.white, dof));
     if options.drive == Drive::None && plant.damping_ratio.ci95[0] <= 0.0 {
         return Err(IdentError::Setup {
             setup: options.drive.setup(),

@@ -31,6 +31,7 @@
 
 use super::intervals::{embed, linearise};
 use super::problem::{Joint, RecordRows};
+use super::satterthwaite::{fisher, satterthwaite};
 use super::setup::NoiseModel;
 use crate::correlation::autocorrelation;
 use crate::error::Result;
@@ -52,7 +53,8 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 /// use msd_ident::records::NoiseModelFit;
 /// let fit = NoiseModelFit { treatment: "input_noise".into(), input_noise_sigma: Some(0.02),
 ///     input_noise_fraction: Some(0.01), sensor_sigmas: vec![0.05],
-///     likelihood_ratio: Some(210.0), p_value: Some(1e-40), interval_ratio: 3.1 };
+///     likelihood_ratio: Some(210.0), p_value: Some(1e-40), interval_ratio: 3.1,
+///     degrees_of_freedom: Some(180.0) };
 /// assert!(fit.to_string().starts_with("noise model: input_noise"));
 /// assert_eq!(serde_json::to_value(&fit)?["input_noise_sigma"], 0.02);
 /// # Ok::<(), serde_json::Error>(())
@@ -76,6 +78,11 @@ pub struct NoiseModelFit {
     pub p_value: Option<f64>,
     /// The reported fn's standard error over the white-noise one (1 when white).
     pub interval_ratio: f64,
+    /// The Student-t degrees of freedom of the intervals when the drive's noise shows
+    /// (p < 0.01; Satterthwaite: the standard errors are estimated from σ̂_u and σ̂_a,
+    /// whose own uncertainty widens the intervals); `None` otherwise (the samples'
+    /// degrees of freedom).
+    pub degrees_of_freedom: Option<f64>,
 }
 
 impl std::fmt::Display for NoiseModelFit {
@@ -89,10 +96,14 @@ impl std::fmt::Display for NoiseModelFit {
         ) {
             write!(
                 f,
-                " (drive noise σ_u = {s:.3e}, {:.2} % of its rms; likelihood ratio {lr:.1}, p = {p:.2e}; intervals ×{:.2} the white-noise ones)",
+                " (drive noise σ_u = {s:.3e}, {:.2} % of its rms; likelihood ratio {lr:.1}, p = {p:.2e}; intervals ×{:.2} the white-noise ones",
                 100.0 * fr,
                 self.interval_ratio
             )?;
+            if let Some(nu) = self.degrees_of_freedom.filter(|nu| nu.is_finite()) {
+                write!(f, ", t with {nu:.0} degrees of freedom")?;
+            }
+            write!(f, ")")?;
         }
         Ok(())
     }
@@ -125,6 +136,7 @@ pub(super) fn covariance(
         likelihood_ratio: None,
         p_value: None,
         interval_ratio: 1.0,
+        degrees_of_freedom: None,
     };
     let model = match choice {
         NoiseModel::White => None,
@@ -152,8 +164,24 @@ pub(super) fn covariance(
     fit.likelihood_ratio = Some(model.likelihood_ratio);
     fit.p_value = Some(model.p_value);
     let inverse = &linearised.inverse;
-    let middle = middle_matrix(problem, theta, &linearised.jacobian, &model, inflation)?;
-    let reported = embed(problem, &(inverse * middle * inverse));
+    let middle = middle_matrix(problem, theta, &linearised.jacobian)?;
+    let reported = embed(
+        problem,
+        &(inverse * middle.total(&model, inflation) * inverse),
+    );
+    let parts: Vec<Matrix3<f64>> = std::iter::once(&middle.drive)
+        .chain(&middle.sensors)
+        .map(|b| embed(problem, &(inverse * b * inverse)) * inflation)
+        .collect();
+    // Where the drive's noise shows (p < 0.01), its estimate's own uncertainty widens
+    // the t; where it does not, σ̂_u sits at or near 0 and Satterthwaite's ν (which
+    // treats σ̂_u as symmetric about a value it cannot go below) would widen exact
+    // drives' intervals by up to a quarter: they keep the samples' degrees of freedom.
+    fit.degrees_of_freedom = model
+        .covariance
+        .as_ref()
+        .filter(|_| model.p_value < WHITENESS_LEVEL)
+        .map(|cov| satterthwaite(&reported, &parts, cov));
     let e = nalgebra::Vector3::new(-0.5, 0.0, 0.5);
     let variance = |c: &Matrix3<f64>| (e.transpose() * c * e)[(0, 0)].max(0.0);
     fit.interval_ratio = (variance(&reported) / variance(&white)).sqrt();
@@ -260,6 +288,9 @@ pub struct ResidualWhiteness {
 pub(super) struct SpectralModel {
     pub sensor_variance: Vec<f64>,
     pub input_variance: f64,
+    /// The covariance of (σ²_u, σ²_a…) from the Whittle likelihood's Fisher
+    /// information, `None` where it is singular.
+    pub covariance: Option<DMatrix<f64>>,
     pub likelihood_ratio: f64,
     pub p_value: f64,
 }
@@ -267,10 +298,10 @@ pub(super) struct SpectralModel {
 /// One record in the frequency domain: per channel the residual's DFT (scaled by 1/√N)
 /// and the impulse response's, at the record's own N lines (independent for white
 /// noise).
-struct Lines {
-    size: usize,
-    residual: Vec<Vec<Complex64>>,
-    transfer: Vec<Vec<Complex64>>,
+pub(super) struct Lines {
+    pub size: usize,
+    pub residual: Vec<Vec<Complex64>>,
+    pub transfer: Vec<Vec<Complex64>>,
 }
 
 /// Fits the spectral model to the residuals of the prepared problem at θ (None for a
@@ -365,7 +396,7 @@ fn impulse_responses(
 }
 
 /// The one-sided lines of an unpadded DFT used by the likelihood: no mean, no Nyquist.
-fn likelihood_lines(size: usize) -> std::ops::Range<usize> {
+pub(super) fn likelihood_lines(size: usize) -> std::ops::Range<usize> {
     1..size.div_ceil(2)
 }
 
@@ -409,9 +440,11 @@ fn maximise(problem: &Joint<'_>, lines: &[Lines]) -> SpectralModel {
         * ChiSquared::new(1.0)
             .map(|c| c.sf(likelihood_ratio))
             .unwrap_or(1.0);
+    let covariance = fisher(problem, lines, &d, s_u).try_inverse();
     SpectralModel {
         sensor_variance: d,
         input_variance: s_u,
+        covariance,
         likelihood_ratio,
         p_value,
     }
@@ -467,20 +500,17 @@ fn log_likelihood(problem: &Joint<'_>, lines: &[Lines], d: &[f64], s_u: f64) -> 
     total
 }
 
-/// B = Jᵀ·W·Σ·W·J (p×p) of the projected weighted Jacobian `jacobian` under the model
-/// (its variances scaled by `inflation`). The drive's noise starts with the record (the
+/// The parts of B = Jᵀ·W·Σ·W·J (p×p) of the projected weighted Jacobian `jacobian`,
+/// per unit variance of the drive and of each sensor group. The drive's noise starts with the record (the
 /// plant felt the true drive before it): Σ = σ²_u·Gₐ·G_bᵀ + δ_ab·σ²_a with Gₐ the
 /// record's lower-triangular convolution by gₐ, so B's drive part is σ²_u·HᵀH with
 /// H = Σₐ Gₐᵀ·Wₐ·Jₐ, each column one zero-padded FFT correlation.
-fn middle_matrix(
-    problem: &Joint<'_>,
-    theta: [f64; 3],
-    jacobian: &DMatrix<f64>,
-    model: &SpectralModel,
-    inflation: f64,
-) -> Result<DMatrix<f64>> {
+fn middle_matrix(problem: &Joint<'_>, theta: [f64; 3], jacobian: &DMatrix<f64>) -> Result<Middle> {
     let p = jacobian.ncols();
-    let mut b = DMatrix::<f64>::zeros(p, p);
+    let mut middle = Middle {
+        drive: DMatrix::zeros(p, p),
+        sensors: vec![DMatrix::zeros(p, p); problem.group_names.len()],
+    };
     for rec in &problem.records {
         let size = padded(rec.len);
         let transfer: Vec<Vec<Complex64>> = impulse_responses(problem, rec, theta)?
@@ -508,22 +538,33 @@ fn middle_matrix(
             .collect();
         for r in 0..p {
             for c in 0..p {
-                let drive: f64 = h[r].iter().zip(&h[c]).map(|(a, b)| a * b).sum();
-                let sensors: f64 = rec
-                    .groups
-                    .iter()
-                    .enumerate()
-                    .map(|(ch, &g)| {
-                        let (x, y) = (jacobian.column(r), jacobian.column(c));
-                        let dot: f64 = rows(ch).map(|i| x[i] * y[i]).sum();
-                        rec.weights[ch].powi(2) * model.sensor_variance[g] * dot
-                    })
-                    .sum();
-                b[(r, c)] += inflation * (model.input_variance * drive + sensors);
+                middle.drive[(r, c)] += h[r].iter().zip(&h[c]).map(|(a, b)| a * b).sum::<f64>();
+                for (ch, &g) in rec.groups.iter().enumerate() {
+                    let (x, y) = (jacobian.column(r), jacobian.column(c));
+                    let dot: f64 = rows(ch).map(|i| x[i] * y[i]).sum();
+                    middle.sensors[g][(r, c)] += rec.weights[ch].powi(2) * dot;
+                }
             }
         }
     }
-    Ok(b)
+    Ok(middle)
+}
+
+/// B's parts, each per unit variance: the drive's (σ²_u) and each sensor group's (σ²_a).
+struct Middle {
+    drive: DMatrix<f64>,
+    sensors: Vec<DMatrix<f64>>,
+}
+
+impl Middle {
+    /// B under `model`, its variances scaled by `inflation`.
+    fn total(&self, model: &SpectralModel, inflation: f64) -> DMatrix<f64> {
+        let mut b = &self.drive * model.input_variance;
+        for (part, d) in self.sensors.iter().zip(&model.sensor_variance) {
+            b += part * *d;
+        }
+        b * inflation
+    }
 }
 
 /// What the reader should know about the noise: the drive's noise when it shows, and
@@ -621,11 +662,13 @@ mod tests {
         let model = SpectralModel {
             sensor_variance: vec![0.05f64.powi(2), 1e-10],
             input_variance: 0.05f64.powi(2),
+            covariance: None,
             likelihood_ratio: 0.0,
             p_value: 1.0,
         };
-        let fast = middle_matrix(&problem, theta, &j, &model, 1.0).expect("middle");
-        // Σ_ab(l) = δ_ab·δ_l·σ²_a + σ²_u·Σ_i g_a(i)·g_b(i + l).
+        let fast = middle_matrix(&problem, theta, &j)
+            .expect("middle")
+            .total(&model, 1.0);
         let rec = &problem.records[0];
         let g = impulse_responses(&problem, rec, theta).expect("impulse");
         let w = &rec.weights;
