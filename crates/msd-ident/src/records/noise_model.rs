@@ -579,8 +579,13 @@ pub(super) fn notes(
         (fit.input_noise_sigma, fit.input_noise_fraction, fit.p_value)
         && p < WHITENESS_LEVEL
     {
+        let caveat = if whiteness.iter().any(|c| !c.passed) {
+            "; the residuals stay coloured under this model, so σ̂_u may stand for what the model misses (a nonlinearity, a missing mode) rather than the drive's noise"
+        } else {
+            ""
+        };
         notes.push(format!(
-            "the drive's own noise shows in the residuals (σ̂_u = {sigma:.3e}, {:.2} % of its rms, p = {p:.1e}): the intervals are the errors-in-variables ones, {:.2}× the white-noise ones (`white_noise_plant`)",
+            "the drive's own noise shows in the residuals (σ̂_u = {sigma:.3e}, {:.2} % of its rms, p = {p:.1e}): the intervals are the errors-in-variables ones, {:.2}× the white-noise ones (`white_noise_plant`){caveat}",
             100.0 * fraction,
             fit.interval_ratio
         ));
