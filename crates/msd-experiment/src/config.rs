@@ -443,6 +443,7 @@ fn unused_sections(text: &str, config: &Config) -> std::result::Result<(), (Stri
                 "identification",
                 "data",
                 "estimation",
+                "residuals",
             ],
         )
     } else {

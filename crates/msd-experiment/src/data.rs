@@ -235,10 +235,11 @@ fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Resu
     let rows = record.input.len();
     let (record, factor) = preprocess(record, &d.preprocessing, &path)?;
     let n = record.input.len();
-    let est = resolve_range(&d.estimation, &record, rows, factor, "data.estimation")
+    let grid = (record.input.len(), record.time[0], record.dt);
+    let est = resolve_range(&d.estimation, grid, rows, factor, "data.estimation")
         .map_err(|m| ExperimentError::config(config_path, m))?;
     let val_spec = d.validation.unwrap_or(d.estimation);
-    let val = resolve_range(&val_spec, &record, rows, factor, "data.validation")
+    let val = resolve_range(&val_spec, grid, rows, factor, "data.validation")
         .map_err(|m| ExperimentError::config(config_path, m))?;
     if d.estimation.initial_samples != 0 {
         return Err(ExperimentError::config(
@@ -294,7 +295,7 @@ fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Resu
 
 /// A note when the validation samples `[a, b)` overlap the estimation samples: the
 /// validation then scores data the model was fitted to, and says less than it seems.
-fn overlap_note(est: [usize; 2], val: [usize; 2]) -> Option<String> {
+pub(crate) fn overlap_note(est: [usize; 2], val: [usize; 2]) -> Option<String> {
     let shared = val[1].min(est[1]).saturating_sub(val[0].max(est[0]));
     (shared > 0).then(|| {
         format!(
@@ -348,14 +349,15 @@ fn preprocess(mut r: Record, steps: &[Preprocess], path: &Path) -> Result<(Recor
 }
 
 /// A [`Range`] as sample indices `[start, end)` of the preprocessed record.
-fn resolve_range(
+/// The samples `[start, end)` of a record of `n` samples from `t0` every `dt` (after
+/// decimation by `factor`, from `rows` rows in the file) that `range` names.
+pub(crate) fn resolve_range(
     range: &Range,
-    r: &Record,
+    (n, t0, dt): (usize, f64, f64),
     rows: usize,
     factor: usize,
     field: &str,
 ) -> std::result::Result<[usize; 2], String> {
-    let n = r.input.len();
     let [a, b] = match (range.range, range.time) {
         (Some([a, b]), _) => {
             if b > rows {
@@ -366,14 +368,13 @@ fn resolve_range(
             [a.div_ceil(factor), b.div_ceil(factor)]
         }
         (None, Some([ta, tb])) => {
-            let t0 = r.time[0];
-            let t_end = t0 + (n as f64) * r.dt;
-            if ta < t0 - 1e-9 * r.dt || tb > t_end + 1e-9 * r.dt {
+            let t_end = t0 + (n as f64) * dt;
+            if ta < t0 - 1e-9 * dt || tb > t_end + 1e-9 * dt {
                 return Err(format!(
                     "{field}.time = [{ta}, {tb}]: outside the data: expected {t0} <= start < end <= {t_end} s"
                 ));
             }
-            let index = |t: f64| (((t - t0) / r.dt) - 1e-9).ceil().max(0.0) as usize;
+            let index = |t: f64| (((t - t0) / dt) - 1e-9).ceil().max(0.0) as usize;
             [index(ta), index(tb).min(n)]
         }
         (None, None) => [0, n],

@@ -241,6 +241,7 @@ fn fit_seed(options: &CoverageOptions, seed: u64) -> Result<RecordsFit> {
         known,
         noise_model: options.noise_model,
         leave_one_out: false,
+        hold_out: 0.0,
         ..RecordsOptions::default()
     };
     Ok(fit_records(&records, &fit_options)?)

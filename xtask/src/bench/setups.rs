@@ -46,6 +46,7 @@ pub fn setups(budget: &Budget, experiment: &PaperExperiment) -> Result<Vec<Row>>
     let (one, ten) = accelerometer_records(experiment)?;
     let joint = RecordsOptions {
         leave_one_out: false,
+        hold_out: 0.0,
         ..RecordsOptions::default()
     };
     fit_records(&one, &joint).map_err(fail("bench: accelerometer"))?;

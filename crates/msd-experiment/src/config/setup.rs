@@ -539,10 +539,29 @@ impl SetupSection {
             }
             _ => {}
         }
-        if !d.preprocessing.is_empty() || d.validation.is_some() {
+        if !d.preprocessing.is_empty() {
             return Err((
                 "data.preprocessing".into(),
-                ": not with a [setup] (its records are fitted as read, and validated on each other): remove data.preprocessing and data.validation".into(),
+                ": not with a [setup] (its records are fitted as read; each channel's offset is estimated): remove data.preprocessing".into(),
+            ));
+        }
+        for (key, range) in [
+            ("data.estimation", Some(&d.estimation)),
+            ("data.validation", d.validation.as_ref()),
+        ] {
+            if let Some(n) = range.map(|r| r.initial_samples).filter(|&n| n != 0) {
+                return Err((
+                    format!("{key}.initial_samples"),
+                    format!(
+                        " = {n}: not with a [setup], which fits each record's initial state: remove it"
+                    ),
+                ));
+            }
+        }
+        if d.validation.is_some() && drive == ExcitationKind::ImposedDisplacement {
+            return Err((
+                "data.validation".into(),
+                ": a test machine's laws are judged on each stroke's own cycles: remove data.validation".into(),
             ));
         }
         if let Some(i) = self.channels().iter().position(|r| r.column.is_none()) {

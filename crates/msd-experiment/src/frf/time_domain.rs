@@ -190,6 +190,7 @@ fn fit_time(records: &TimeRecords, one: &OneModeFit) -> Result<msd_ident::Record
         drive: Drive::Force,
         initial_guess: one.parameters.validate().is_ok().then_some(one.parameters),
         leave_one_out: false,
+        hold_out: 0.0,
         hold: records.hold,
         ..RecordsOptions::default()
     };

@@ -218,10 +218,12 @@ fn verify(p: &Planned<'_>, names: &[&str], plan: &PlanOptions) -> Result<Option<
     }
     let options = RecordsOptions {
         leave_one_out: false,
+        hold_out: 0.0,
         ..p.options.clone()
     };
     let draws = draws(plan.verify, "plan --verify", plan.progress, |seed| {
-        let records = fit::ident_records(&data::load(p.config, p.path, seed)?)?;
+        let loaded = data::load(p.config, p.path, seed)?;
+        let records = fit::ident_records(&loaded.records, &loaded.channels)?;
         let fit = fit_records(&records, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
         let values = names

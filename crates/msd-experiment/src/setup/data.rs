@@ -2,8 +2,9 @@
 //! from the exact simulation, each with its own noise stream) or read from the measured
 //! files (one record per file).
 
+use crate::config::DataSection;
 use crate::config::{Config, ExcitationKind, Plant, Response, SetupSection};
-use crate::data::{ColumnSpec, read_columns};
+use crate::data::{ColumnSpec, overlap_note, read_columns, resolve_range};
 use crate::error::{ExperimentError, Result};
 use msd_ident::Excitation;
 use msd_signal::gaussian_noise;
@@ -33,6 +34,24 @@ pub struct SetupRecord {
 }
 
 impl SetupRecord {
+    /// Samples `[a, b)` of the record, named `name`.
+    fn part(&self, name: String, [a, b]: [usize; 2]) -> std::result::Result<Self, String> {
+        let input = match &self.input {
+            Some(x) => Some(x.slice(a, b).map_err(|e| e.to_string())?),
+            None => None,
+        };
+        Ok(SetupRecord {
+            name,
+            input,
+            time: self.time[a..b].to_vec(),
+            t0: self.time[a],
+            dt: self.dt,
+            channels: self.channels.iter().map(|c| c[a..b].to_vec()).collect(),
+            truth: (self.truth.as_ref()).map(|t| t.iter().map(|c| c[a..b].to_vec()).collect()),
+            frequency: self.frequency,
+        })
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.channels.first().map_or(0, Vec::len)
@@ -51,8 +70,14 @@ pub struct SetupData {
     pub setup: SetupSection,
     /// The channels' descriptions, in order.
     pub channels: Vec<Response>,
-    /// The records.
+    /// The records (each cut to `data.estimation` when given).
     pub records: Vec<SetupRecord>,
+    /// Each record's `data.validation` part, fresh data for the fitted plant to
+    /// predict (measured only; empty when not given).
+    pub validation: Vec<SetupRecord>,
+    /// What the reader should know about the parts (a validation part that overlaps
+    /// the estimation part).
+    pub notes: Vec<String>,
     /// The true plant (synthetic only).
     pub truth: Option<Plant>,
     /// The files read (measured only).
@@ -73,13 +98,50 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData>
             Vec::new(),
         ),
     };
-    Ok(SetupData {
+    let mut data = SetupData {
         truth: config.data.is_none().then_some(config.plant).flatten(),
         setup,
         channels,
         records,
+        validation: Vec::new(),
+        notes: Vec::new(),
         files,
-    })
+    };
+    if let Some(d) = &config.data {
+        split(&mut data, d, config_path)?;
+    }
+    Ok(data)
+}
+
+/// Cuts each measured record to `data.estimation` and takes its `data.validation`
+/// part aside, with a note where the two overlap.
+fn split(data: &mut SetupData, d: &DataSection, config_path: &Path) -> Result<()> {
+    let whole = crate::config::Range::default();
+    if d.estimation == whole && d.validation.is_none() {
+        return Ok(());
+    }
+    let mut records = Vec::with_capacity(data.records.len());
+    for (i, r) in data.records.iter().enumerate() {
+        let grid = (r.len(), r.t0, r.dt);
+        let range = |spec, key| {
+            resolve_range(spec, grid, r.len(), 1, key).map_err(|m| {
+                ExperimentError::config(config_path, format!("{m} (record `{}`)", r.name))
+            })
+        };
+        let est = range(&d.estimation, "data.estimation")?;
+        let failed = |e: String| ExperimentError::data(&data.files[i], e);
+        records.push(r.part(r.name.clone(), est).map_err(failed)?);
+        if let Some(spec) = &d.validation {
+            let val = range(spec, "data.validation")?;
+            let name = format!("{} (validation)", r.name);
+            data.validation.push(r.part(name, val).map_err(failed)?);
+            if let Some(note) = overlap_note(est, val) {
+                data.notes.push(format!("record `{}`: {note}", r.name));
+            }
+        }
+    }
+    data.records = records;
+    Ok(())
 }
 
 fn measured(

@@ -1,7 +1,7 @@
 //! The fit of a setup's records: msd-ident's joint fit of records and channels, or the
 //! test machine's analysis.
 
-use super::{SetupData, SetupOutcome};
+use super::{SetupData, SetupOutcome, SetupRecord};
 use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
 use crate::error::{ExperimentError, Result};
 use crate::table::Table;
@@ -11,6 +11,7 @@ use msd_ident::{
     dynamometer::{Condition, Dynamometer, DynamometerOptions, dynamometer},
     fit_records,
     free_decay::ClassroomEstimates,
+    records::validate_records,
 };
 use std::path::Path;
 
@@ -46,9 +47,18 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
             dynamometer(&machine_conditions(data), &machine_options(setup)).map_err(refused)?;
         return Ok(SetupFit::Machine(Box::new(result)));
     }
-    let records = ident_records(data)?;
-    let options = records_options(config);
-    let fit = fit_records(&records, &options).map_err(refused)?;
+    let records = ident_records(&data.records, &data.channels)?;
+    let mut options = records_options(config);
+    if !data.validation.is_empty() {
+        options.hold_out = 0.0;
+    }
+    let mut fit = fit_records(&records, &options).map_err(refused)?;
+    if !data.validation.is_empty() {
+        let fresh = ident_records(&data.validation, &data.channels)?;
+        let validation = validate_records(&fit, &fresh, &options).map_err(refused)?;
+        fit.notes.extend(data.notes.iter().cloned());
+        fit.validation = Some(validation);
+    }
     // The classroom's reading of the decay beside the fit (not a second fit of it).
     let classroom = match (setup.excitation, data.records.first()) {
         (ExcitationKind::None, Some(r)) => ClassroomEstimates::from_record(r.dt, &r.channels[0])
@@ -80,6 +90,7 @@ pub(crate) fn records_options(config: &Config) -> RecordsOptions {
             || excitation == ExcitationKind::None,
         estimate_offset: config.estimation.estimate_offset,
         noise_model: noise_model(config),
+        residuals: config.residuals,
         ..RecordsOptions::default()
     }
 }
@@ -160,8 +171,8 @@ pub(crate) fn channel(c: &Response) -> Channel {
 }
 
 /// The records as msd-ident takes them (a free decay's excitation is zero).
-pub(crate) fn ident_records(data: &SetupData) -> Result<Vec<Record>> {
-    data.records
+pub(crate) fn ident_records(records: &[SetupRecord], sensors: &[Response]) -> Result<Vec<Record>> {
+    records
         .iter()
         .map(|r| {
             let excitation = match &r.input {
@@ -172,7 +183,7 @@ pub(crate) fn ident_records(data: &SetupData) -> Result<Vec<Record>> {
             let channels = r
                 .channels
                 .iter()
-                .zip(&data.channels)
+                .zip(sensors)
                 .map(|(samples, c)| Channel {
                     samples: samples.clone(),
                     ..channel(c)

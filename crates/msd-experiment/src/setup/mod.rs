@@ -14,6 +14,7 @@ pub(crate) mod machine;
 mod plots;
 mod report;
 mod report_machine;
+mod report_validation;
 mod results;
 
 pub use data::{SetupData, SetupRecord};

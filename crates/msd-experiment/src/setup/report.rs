@@ -93,6 +93,7 @@ pub(crate) fn summary(o: &SetupOutcome) -> String {
     }
     if let SetupFit::Records { fit, .. } = &o.fit {
         noise_summary(&mut s, fit, o.data.setup.excitation.unit());
+        super::report_validation::summary(&mut s, fit);
     }
     s.trim_end().to_string()
 }
@@ -149,6 +150,7 @@ fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result 
         SetupFit::Records { fit, classroom } => {
             records_section(s, fit)?;
             noise_section(s, fit, o.data.setup.excitation.unit())?;
+            super::report_validation::section(s, fit, &o.data.channels)?;
             if let Some(c) = classroom {
                 classroom_section(s, c, &fit.plant)?;
             }
@@ -286,26 +288,6 @@ fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
                 sig(r.initial_state.displacement, 4),
                 sig(r.initial_state.velocity, 4)
             )?;
-        }
-    }
-    if let Some(loo) = &fit.leave_one_out {
-        writeln!(
-            s,
-            "\n## Leave one record out\n\nEach record predicted by the parameters fitted to the others.\n\n| record left out | fn [Hz] | ζ | channel | R² | fit % |\n|---|---|---|---|---|---|"
-        )?;
-        for l in loo {
-            for c in &l.channels {
-                writeln!(
-                    s,
-                    "| {} | {} | {} | {} | {} | {} |",
-                    l.record,
-                    sig(l.natural_frequency_hz, 6),
-                    sig(l.damping_ratio, 5),
-                    c.channel,
-                    sig(c.fit.r_squared, 6),
-                    sig(c.fit.fit_percent, 4)
-                )?;
-            }
         }
     }
     if !fit.notes.is_empty() {

@@ -2,7 +2,8 @@
 //! (`identifiable` and `<name>.value` / `.ci95` of each identifiable quantity), and what
 //! each setup adds: `noise` (per channel), `noise_model` (the treatment behind the
 //! intervals), `white_noise_estimate` (the white-noise intervals, when they differ),
-//! `whiteness[]` (each channel's Ljung–Box tests), `records[]`, `leave_one_out`,
+//! `whiteness[]` (each channel's Ljung–Box and drive-correlation tests), `records[]`,
+//! `leave_one_out` and `validation` (predictions of fresh data with their residual tests),
 //! `free_decay.log_decrement`, `dynamometer.conditions[]` and `.laws[]`; `truth` for
 //! synthetic data.
 
@@ -34,6 +35,8 @@ struct Results<'a> {
     records: Option<&'a [msd_ident::records::RecordFit]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     leave_one_out: Option<&'a [msd_ident::records::LeftOut]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    validation: Option<&'a msd_ident::records::RecordsValidation>,
     #[serde(skip_serializing_if = "Option::is_none")]
     free_decay: Option<FreeDecaySection<'a>>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -140,6 +143,7 @@ pub(crate) fn to_json(
         whiteness: records_fit.map(|f| f.whiteness.as_slice()),
         records,
         leave_one_out,
+        validation: records_fit.and_then(|f| f.validation.as_ref()),
         free_decay,
         dynamometer,
         truth: o.data.truth.as_ref().map(|p| Truth {

@@ -317,3 +317,58 @@ fn bad_records_are_refused_with_their_names() {
     assert_eq!(e.exit_code(), 2, "{message}");
     assert!(message.contains("decay"), "{message}");
 }
+
+/// The measured accelerometer template validates on fresh data by default (its one
+/// record's held-out end), and on the part `[data.validation]` names when given, fitted
+/// on `[data.estimation]` only; `[residuals]` sets the tests' lags.
+#[test]
+fn a_measured_setup_validates_on_fresh_data() {
+    let (_, held) = synthetic_then_measured("accelerometer");
+    let v = &held["validation"];
+    assert!(v["source"].as_str().unwrap().contains("last 20 %"), "{v}");
+    let p = &v["predictions"][0];
+    // The laser's σ is 2.5 mm: R² of the prediction about 1 − σ²/var(x).
+    assert!(
+        p["channels"][0]["fit"]["r2"].as_f64().unwrap() > 0.98,
+        "{p}"
+    );
+    assert_eq!(p["channels"][0]["fit"]["samples"], 1500);
+    assert_eq!(p["residual_analysis"][1]["cross_correlation_passed"], true);
+
+    let dir = tempfile::tempdir().unwrap();
+    let synthetic_out = dir.path().join("target/experiments/accelerometer");
+    run(&config("accelerometer.toml"), &synthetic_out).unwrap();
+    let templates = dir.path().join("configs/templates");
+    std::fs::create_dir_all(&templates).unwrap();
+    let text = std::fs::read_to_string(config("templates/accelerometer.toml")).unwrap();
+    let parts = "\n[data.estimation]\ntime = [0.0, 10.0]\n[data.validation]\ntime = [10.0, 15.0]\n[residuals]\nmax_lag = 30\n";
+    let template = templates.join("accelerometer.toml");
+    std::fs::write(&template, format!("{text}{parts}")).unwrap();
+    let out = dir.path().join("measured");
+    let r = run(&template, &out).unwrap();
+    let v = &r["validation"];
+    assert!(
+        v["source"]
+            .as_str()
+            .unwrap()
+            .contains("given for validation"),
+        "{v}"
+    );
+    let p = &v["predictions"][0];
+    assert_eq!(p["record"], "record-1 (validation)");
+    assert_eq!(p["channels"][0]["fit"]["samples"], 2500);
+    assert_eq!(r["records"][0]["channels"][0]["fit"]["samples"], 5000);
+    assert_eq!(r["whiteness"][0]["ljung_box"]["degrees_of_freedom"], 30);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## Validation on fresh data"), "{report}");
+
+    // A validation part that overlaps the estimation part is said to.
+    let overlap = "\n[data.validation]\ntime = [8.0, 15.0]\n";
+    std::fs::write(&template, format!("{text}{overlap}")).unwrap();
+    run(&template, &out).unwrap();
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("scores data the model was fitted to"),
+        "{report}"
+    );
+}

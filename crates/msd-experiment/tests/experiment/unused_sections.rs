@@ -123,6 +123,7 @@ fn reads(config: &Config) -> &'static [&'static str] {
             "identification",
             "data",
             "estimation",
+            "residuals",
         ]
     } else {
         &[

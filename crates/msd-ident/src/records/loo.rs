@@ -11,7 +11,7 @@
 use super::model::OutputKind;
 use super::problem::Joint;
 use super::setup::{Record, RecordsOptions};
-use super::{LeftOut, channel_fits, fixed_parameters};
+use super::{LeftOut, fixed_parameters};
 use msd_opt::{LeastSquaresProblem, levenberg_marquardt};
 use nalgebra::{DMatrix, DVector};
 
@@ -29,7 +29,6 @@ pub(super) fn leave_one_out(
     notes: &mut Vec<String>,
 ) -> Vec<LeftOut> {
     let steps = (records.len() > REFIT_UP_TO).then(|| influence(records, kinds, options, x, sigma));
-    let fixed = fixed_parameters(options);
     let mut out = Vec::with_capacity(records.len());
     for (r, left) in records.iter().enumerate() {
         let others = match &steps {
@@ -46,24 +45,13 @@ pub(super) fn leave_one_out(
                 continue;
             }
         };
-        let mut one = Joint::new(&[left], std::slice::from_ref(&kinds[r]), options, fixed);
-        one.set_sigmas(sigma);
-        let theta = one.theta(&x_others);
-        if !one.prepare(theta) {
-            notes.push(format!(
-                "leave-one-out: record `{}` cannot be predicted by the others' plant",
+        match super::validate::predict(left, &kinds[r], options, &x_others, sigma) {
+            Ok(prediction) => out.push(prediction),
+            Err(e) => notes.push(format!(
+                "leave-one-out: record `{}` cannot be predicted by the others' plant: {e}",
                 left.name
-            ));
-            continue;
+            )),
         }
-        one.solve_linear();
-        let [m, c, k] = theta;
-        out.push(LeftOut {
-            record: left.name.clone(),
-            natural_frequency_hz: (k / m).sqrt() / (2.0 * std::f64::consts::PI),
-            damping_ratio: c / (2.0 * (k * m).sqrt()),
-            channels: channel_fits(&one, &one.records[0]),
-        });
     }
     if matches!(steps, Some(Some(_))) {
         notes.push(format!(
@@ -136,6 +124,7 @@ pub(super) fn influence(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::records::channel_fits;
     use crate::records::simulate_response;
     use crate::{
         data::Excitation,

@@ -19,6 +19,7 @@ mod problem;
 mod result;
 mod satterthwaite;
 mod setup;
+mod validate;
 
 pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
@@ -26,6 +27,7 @@ pub use noise_model::{NoiseModelFit, ResidualWhiteness};
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
 pub use setup::{Channel, Frame, NoiseModel, Record, RecordsOptions};
+pub use validate::{RecordsValidation, validate_records};
 
 use crate::plant::{Drive, Plant};
 use crate::{
@@ -100,7 +102,13 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
     let (x, passes, iterations) =
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
     let theta = problem.theta(&x);
-    let treated = noise_model::covariance(&problem, theta, options.noise_model, dof)?;
+    let treated = noise_model::covariance(
+        &problem,
+        theta,
+        options.noise_model,
+        &options.residuals,
+        dof,
+    )?;
     // Under the drive's noise model the standard errors rest on estimated variances:
     // Satterthwaite's degrees of freedom (never more than the samples').
     let t_dof = match treated.fit.degrees_of_freedom {
@@ -144,6 +152,21 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
             &mut notes,
         )
     });
+    let validation = (records.len() == 1 && options.hold_out > 0.0)
+        .then(|| {
+            let held =
+                validate::hold_out(&records[0], &kinds[0], options, &x, by_name(&names, &sigma));
+            held.map_err(|e| notes.push(format!("no validation on held-out data: {e}")))
+                .ok()
+        })
+        .flatten();
+    notes.extend(validation.iter().flat_map(validate::notes));
+    notes.extend(leave_one_out.iter().flat_map(|l| {
+        validate::notes(&RecordsValidation {
+            source: String::new(),
+            predictions: l.clone(),
+        })
+    }));
     Ok(RecordsFit {
         drive: options.drive,
         plant,
@@ -153,11 +176,13 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         whiteness: treated.whiteness,
         records: records_fit,
         leave_one_out,
+        validation,
         passes,
         iterations,
         evaluations: problem.evaluations,
         notes,
         wall_time: started.elapsed(),
+        theta,
     })
 }
 

@@ -37,7 +37,7 @@ use crate::correlation::autocorrelation;
 use crate::error::Result;
 use crate::fft;
 use crate::plant::{Drive, Plant};
-use crate::residuals::{LjungBox, ljung_box};
+use crate::residuals::{CorrelationTest, LjungBox, ResidualOptions, ljung_box, residual_analysis};
 use msd_ode::{SVector, SampledInput};
 use msd_opt::{NelderMeadOptions, nelder_mead};
 use nalgebra::{DMatrix, Matrix3};
@@ -124,6 +124,7 @@ pub(super) fn covariance(
     problem: &Joint<'_>,
     theta: [f64; 3],
     choice: NoiseModel,
+    tests: &ResidualOptions,
     dof: usize,
 ) -> Result<Treated> {
     let linearised = linearise(problem, theta)?;
@@ -142,7 +143,7 @@ pub(super) fn covariance(
         NoiseModel::White => None,
         NoiseModel::InputNoise => fit_spectral_model(problem, theta)?,
     };
-    let whiteness = whiteness(problem, theta, model.as_ref())?;
+    let whiteness = whiteness(problem, theta, model.as_ref(), tests)?;
     let Some(model) = model else {
         return Ok(Treated {
             reported: white,
@@ -200,7 +201,9 @@ fn whiteness(
     problem: &Joint<'_>,
     theta: [f64; 3],
     model: Option<&SpectralModel>,
+    tests: &ResidualOptions,
 ) -> Result<Vec<ResidualWhiteness>> {
+    let lags = tests.max_lag;
     let mut checks = Vec::new();
     for rec in &problem.records {
         let lines = record_lines(problem, rec, theta, model.is_some())?;
@@ -208,7 +211,7 @@ fn whiteness(
             let raw: Vec<f64> = (0..rec.len)
                 .map(|i| rec.record.channels[ch].samples[i] - problem.model(rec, ch, i))
                 .collect();
-            let raw_test = ljung_box(&autocorrelation(&raw, WHITENESS_LAGS), rec.len);
+            let raw_test = ljung_box(&autocorrelation(&raw, lags), rec.len);
             let whitened = model.map(|m| {
                 let mut z: Vec<Complex64> = (0..lines.size)
                     .map(|k| {
@@ -220,24 +223,30 @@ fn whiteness(
                 z[0] = Complex64::new(0.0, 0.0);
                 fft::inverse(lines.size).process(&mut z);
                 let series: Vec<f64> = z.iter().map(|v| v.re).collect();
-                ljung_box(&autocorrelation(&series, WHITENESS_LAGS), rec.len)
+                ljung_box(&autocorrelation(&series, lags), rec.len)
             });
             let judged = whitened.unwrap_or(raw_test);
+            let input_correlation = (problem.drive != Drive::None)
+                .then(|| {
+                    let u = rec.record.excitation.samples();
+                    residual_analysis(&raw, u, tests).ok()
+                })
+                .flatten()
+                .map(|a| a.cross_correlation);
             checks.push(ResidualWhiteness {
                 record: rec.record.name.clone(),
                 channel: rec.record.channels[ch].name.clone(),
                 ljung_box: raw_test,
                 ljung_box_under_noise_model: whitened,
-                passed: judged.p_value >= WHITENESS_LEVEL,
+                input_correlation,
+                passed: judged.p_value >= 1.0 - tests.confidence,
             });
         }
     }
     Ok(checks)
 }
 
-/// Lags of the whiteness test, as MATLAB's `resid`.
-const WHITENESS_LAGS: usize = 25;
-/// The whiteness test's level.
+/// The level of the test for the drive's noise (and of the whiteness tests by default).
 const WHITENESS_LEVEL: f64 = 0.01;
 
 /// The rms of every record's drive samples.
@@ -262,7 +271,7 @@ fn drive_rms(problem: &Joint<'_>) -> f64 {
 /// use msd_ident::{records::ResidualWhiteness, residuals::ljung_box};
 /// let lb = ljung_box(&[1.0, 0.01, -0.02], 10_000);
 /// let check = ResidualWhiteness { record: "run 1".into(), channel: "acc".into(),
-///     ljung_box: lb, ljung_box_under_noise_model: Some(lb), passed: true };
+///     ljung_box: lb, ljung_box_under_noise_model: Some(lb), input_correlation: None, passed: true };
 /// assert_eq!(serde_json::to_value(&check)?["passed"], true);
 /// # Ok::<(), serde_json::Error>(())
 /// ```
@@ -278,6 +287,12 @@ pub struct ResidualWhiteness {
     /// Ljung–Box on the residual whitened by the noise model (its spectrum
     /// σ²_a + σ²_u·|G_a|²); `None` under the white model.
     pub ljung_box_under_noise_model: Option<LjungBox>,
+    /// The residual's cross-correlation with the measured drive at lags −25…25, with the
+    /// 99 % band (Bonferroni over the lags for the verdict); `None` for a free decay. A
+    /// failure means part of the drive's effect is not explained (a missing mode, a
+    /// delay, a nonlinearity); the drive's own noise adds a correlation of about
+    /// −σ²_u·g(τ) that is small unless that noise is large.
+    pub input_correlation: Option<CorrelationTest>,
     /// The residual is white under the model the intervals assume (p ≥ 0.01): when
     /// false, the model leaves colour unexplained (a missing dynamic, a nonlinearity, a
     /// coloured sensor noise) and the intervals may be too narrow.
@@ -588,6 +603,15 @@ pub(super) fn notes(
             "the drive's own noise shows in the residuals (σ̂_u = {sigma:.3e}, {:.2} % of its rms, p = {p:.1e}): the intervals are the errors-in-variables ones, {:.2}× the white-noise ones (`white_noise_plant`){caveat}",
             100.0 * fraction,
             fit.interval_ratio
+        ));
+    }
+    for check in whiteness.iter() {
+        let Some(test) = check.input_correlation.as_ref().filter(|t| !t.passed) else {
+            continue;
+        };
+        notes.push(format!(
+            "record `{}`, channel `{}`: the residual correlates with the drive ({test}): part of the drive's effect is not explained (a missing mode, a delay, a nonlinearity, a wrong drive or unit)",
+            check.record, check.channel
         ));
     }
     for check in whiteness.iter().filter(|c| !c.passed) {

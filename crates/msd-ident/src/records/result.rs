@@ -2,7 +2,9 @@
 
 use super::intervals::PlantIntervals;
 use super::noise_model::{NoiseModelFit, ResidualWhiteness};
+use super::validate::RecordsValidation;
 use crate::plant::Drive;
+use crate::residuals::ResidualAnalysis;
 use crate::{free_decay::ClassroomEstimates, metrics::FitMetrics, params::InitialState};
 use serde::Serialize;
 use std::time::Duration;
@@ -76,7 +78,8 @@ pub struct ChannelNoise {
 ///
 /// ```
 /// use msd_ident::records::LeftOut;
-/// let left = LeftOut { record: "run 3".into(), natural_frequency_hz: 1.1, damping_ratio: 0.05, channels: vec![] };
+/// let left = LeftOut { record: "run 3".into(), natural_frequency_hz: 1.1, damping_ratio: 0.05,
+///     channels: vec![], residual_analysis: vec![] };
 /// assert_eq!(serde_json::to_value(&left)?["record"], "run 3");
 /// # Ok::<(), serde_json::Error>(())
 /// ```
@@ -90,6 +93,9 @@ pub struct LeftOut {
     pub damping_ratio: f64,
     /// The prediction of each channel.
     pub channels: Vec<ChannelFit>,
+    /// Each channel's prediction residuals tested for whiteness and for correlation with
+    /// the drive (25 lags, 99 %); `None` where the record is too short for the tests.
+    pub residual_analysis: Vec<Option<ResidualAnalysis>>,
 }
 
 /// The result of [`fit_records`](crate::records::fit_records).
@@ -142,6 +148,10 @@ pub struct RecordsFit {
     pub records: Vec<RecordFit>,
     /// Each record predicted by the others (with two records or more, when asked).
     pub leave_one_out: Option<Vec<LeftOut>>,
+    /// A single record's held-out end predicted by the plant fitted to the rest (see
+    /// [`RecordsOptions::hold_out`](super::RecordsOptions::hold_out)), or records given
+    /// for validation ([`validate_records`](super::validate_records)).
+    pub validation: Option<RecordsValidation>,
     /// Weighted least-squares passes (noise levels re-estimated between them).
     pub passes: usize,
     /// Levenberg–Marquardt iterations over all passes.
@@ -153,6 +163,10 @@ pub struct RecordsFit {
     /// Wall-clock time (serialized as `wall_time_s`, in seconds).
     #[serde(rename = "wall_time_s", serialize_with = "crate::ser::seconds")]
     pub wall_time: Duration,
+    /// The model's θ = (m, c, k) (m = 1 and c, k per unit mass where the drive cannot
+    /// fix the mass), to predict fresh records.
+    #[serde(skip)]
+    pub(crate) theta: [f64; 3],
 }
 
 impl std::fmt::Display for RecordsFit {
@@ -199,6 +213,14 @@ impl std::fmt::Display for RecordsFit {
                 )?;
                 if let Some(prediction) = left_out.and_then(|l| l.channels.get(c)) {
                     write!(f, " {:>12.5}", prediction.fit.r_squared)?;
+                }
+            }
+        }
+        if let Some(v) = &self.validation {
+            write!(f, "\nvalidation on {}:", v.source)?;
+            for p in &v.predictions {
+                for c in &p.channels {
+                    write!(f, "\n  {} {}: {}", p.record, c.channel, c.fit)?;
                 }
             }
         }

@@ -2,6 +2,7 @@
 
 use super::model::OutputKind;
 use crate::plant::Drive;
+use crate::residuals::ResidualOptions;
 use crate::{
     data::Excitation,
     error::{IdentError, Result},
@@ -137,6 +138,13 @@ pub struct RecordsOptions {
     /// With two records or more, predict each record by the parameters fitted to the
     /// others. By default true.
     pub leave_one_out: bool,
+    /// With a single record, the share of its samples at the end held out and predicted
+    /// by the plant refitted to the rest, a check on fresh data (the estimates still use
+    /// every sample). 0 for none; by default 0.2.
+    pub hold_out: f64,
+    /// The residual tests (whiteness, correlation with the drive) of the fit and of
+    /// the validation. By default 25 lags at 99 %, as MATLAB's `resid`.
+    pub residuals: ResidualOptions,
     /// How the drive is reconstructed between samples. By default cubic.
     #[serde(with = "crate::simulate::hold_serde")]
     pub hold: Hold,
@@ -161,6 +169,8 @@ impl Default for RecordsOptions {
             estimate_initial_state: true,
             estimate_offset: true,
             leave_one_out: true,
+            hold_out: 0.2,
+            residuals: ResidualOptions::default(),
             hold: Hold::Cubic,
             noise_model: NoiseModel::InputNoise,
             max_passes: 10,
@@ -177,6 +187,14 @@ impl RecordsOptions {
         if let Some(guess) = &self.initial_guess {
             guess.validate()?;
         }
+        if !(0.0..=0.5).contains(&self.hold_out) {
+            return Err(IdentError::InvalidParameter {
+                name: "hold_out",
+                value: self.hold_out,
+                expected: "a share of the record from 0 (none) to 0.5",
+            });
+        }
+        self.residuals.validate()?;
         if self.max_passes == 0 {
             return Err(IdentError::InvalidParameter {
                 name: "max_passes",

@@ -16,3 +16,4 @@ mod plan;
 mod records;
 mod serialize;
 mod stress;
+mod validation;

@@ -386,10 +386,14 @@ def fit_records(
     "velocity" or "acceleration", absolute. `**options`: msd-ident's ``RecordsOptions``
     (``known`` e.g. ``{"mass": 2.5}``, ``require_physical``, ``initial_guess``,
     ``estimate_initial_state``, ``estimate_offset``, ``leave_one_out``, ``hold``,
-    ``max_passes``, ``noise_model``: ``"input_noise"``, the default, estimates the
-    measured drive's own noise and widens the intervals by it; ``"white"`` takes the
-    drive as exact). The result's ``noise_model``, ``white_noise_plant`` and
-    ``whiteness`` say what was found.
+    ``hold_out`` (with one record, the share at its end predicted by the plant fitted
+    to the rest; 0.2 by default, 0 for none), ``residuals`` (``{"max_lag": 25,
+    "confidence": 0.99}``), ``max_passes``, ``noise_model``: ``"input_noise"``, the
+    default, estimates the measured drive's own noise and widens the intervals by it;
+    ``"white"`` takes the drive as exact). The result's ``noise_model``,
+    ``white_noise_plant`` and ``whiteness`` (each channel's Ljung–Box and
+    residual–drive correlation tests) say what was found; ``validation`` (one record)
+    or ``leave_one_out`` (several) the predictions of fresh data, with their tests.
     """
     if isinstance(records, Mapping):
         records = [records]
