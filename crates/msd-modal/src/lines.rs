@@ -242,6 +242,38 @@ impl Lines {
         }
     }
 
+    /// Coherence weights from a noise model instead of each line's own coherence: the
+    /// variance of an H1 line is (σ²_in·|H|² + σ²_out)/(K·S_xx) for white noise on the
+    /// input and the output, so q_k = (1 − γ̂²)/(K·γ̂²)·|Ĥ|² (what each line's coherence
+    /// says of it) is fitted by a·|H(ω_k)|² + b·ω_k^(−2p) over the band (the output's
+    /// noise flat in the measured quantity, (jω)^p·H) (a, b ≥ 0, each line
+    /// weighted by its predicted variance: q_k scatters in proportion to it), |H| from
+    /// `model`, and σ_k² = a·|H(ω_k)|² + b·ω_k^(−2p). With few averages each line's coherence is
+    /// a noisy estimate (2K − 2 degrees of freedom): weights taken from it line by line
+    /// favour the lines whose noise came out small and make the covariance too small;
+    /// two numbers fitted to every line are not. Falls back to
+    /// [`reweight`](Self::reweight) where the model cannot be fitted (no coherence
+    /// weighting, too few lines). Assumes the input's power varies slowly over the band.
+    pub fn smooth_coherence_weights(&mut self, model: impl Fn(f64) -> Complex64) {
+        if self.weighting != FrfWeighting::Coherence || self.relative_sigma.len() != self.h.len() {
+            return self.reweight(model);
+        }
+        let m: Vec<f64> = self.omega.iter().map(|&w| model(w).norm_sqr()).collect();
+        let q: Vec<f64> = (self.relative_sigma.iter().zip(&self.h))
+            .map(|(r, h)| r * r * h.norm_sqr())
+            .collect();
+        // The output's white noise is flat in the measured quantity, (jω)^p·H.
+        let u: Vec<f64> = (self.omega.iter())
+            .map(|&w| w.powi(-2 * self.measured_power))
+            .collect();
+        let Some([a, b]) = noise_model(&m, &u, &q) else {
+            return self.reweight(model);
+        };
+        for ((s, &m), &u) in self.sigma.iter_mut().zip(&m).zip(&u) {
+            *s = (a * m + b * u).sqrt();
+        }
+    }
+
     /// The weighted residuals (model − H)/σ of every line: real parts in the first half
     /// of `out`, imaginary parts in the second (the layout of both fits' Jacobians).
     pub fn weighted_residuals(&self, model: impl Fn(f64) -> Complex64, out: &mut [f64]) {
@@ -367,4 +399,76 @@ pub fn fit_line(
         band_hz[1],
         100.0 * relative_error
     )
+}
+
+/// a, b ≥ 0 of q ≈ a·m + b·u, in relative terms (each q_k weighted by
+/// 1/(a·m_k + b·u_k)², four passes from an unweighted start); `None` when nothing
+/// positive fits.
+fn noise_model(m: &[f64], u: &[f64], q: &[f64]) -> Option<[f64; 2]> {
+    let mut weight = vec![1.0; m.len()];
+    let mut ab = None;
+    let rows = || m.iter().zip(u).zip(q).map(|((&m, &u), &q)| (m, u, q));
+    for _ in 0..4 {
+        let [mut smm, mut smu, mut suu, mut smq, mut suq] = [0.0; 5];
+        for ((m, u, q), &w) in rows().zip(&weight) {
+            smm += w * m * m;
+            smu += w * m * u;
+            suu += w * u * u;
+            smq += w * m * q;
+            suq += w * u * q;
+        }
+        let det = smm * suu - smu * smu;
+        let (a, b) = ((smq * suu - smu * suq) / det, (smm * suq - smu * smq) / det);
+        // On the boundary when the free solution is not ≥ 0: the better of b alone and
+        // a alone (weighted squared error).
+        let [a, b] = if det > 0.0 && a >= 0.0 && b >= 0.0 {
+            [a, b]
+        } else {
+            let sse = |[a, b]: [f64; 2]| -> f64 {
+                (rows().zip(&weight))
+                    .map(|((m, u, q), &w)| w * (q - a * m - b * u).powi(2))
+                    .sum()
+            };
+            let (only_b, only_a) = ([0.0, suq / suu], [smq / smm, 0.0]);
+            if sse(only_b) <= sse(only_a) {
+                only_b
+            } else {
+                only_a
+            }
+        };
+        if !(a.is_finite() && b.is_finite() && a + b > 0.0) {
+            return ab;
+        }
+        ab = Some([a, b]);
+        for (w, (m, u, _)) in weight.iter_mut().zip(rows()) {
+            let p = a * m + b * u;
+            *w = if p > 0.0 { 1.0 / (p * p) } else { 0.0 };
+        }
+    }
+    ab
+}
+
+#[cfg(test)]
+mod tests {
+    use super::noise_model;
+
+    /// Exact q = a·m + b·u gives a and b back; a q that needs a negative a gives the
+    /// best b alone.
+    #[test]
+    fn the_noise_model_is_recovered_and_kept_non_negative() {
+        let m: Vec<f64> = (1..=40)
+            .map(|k| 1.0 / (1.0 + (k as f64 - 20.0).powi(2)))
+            .collect();
+        let u: Vec<f64> = (1..=40).map(|k| (k as f64).powi(-4)).collect();
+        let q: Vec<f64> = m.iter().zip(&u).map(|(m, u)| 3e-4 * m + 2e-2 * u).collect();
+        let [a, b] = noise_model(&m, &u, &q).expect("fits");
+        assert!(
+            (a / 3e-4 - 1.0).abs() < 1e-9 && (b / 2e-2 - 1.0).abs() < 1e-9,
+            "{a} {b}"
+        );
+        let q: Vec<f64> = m.iter().zip(&u).map(|(m, u)| 2e-2 * u - 1e-6 * m).collect();
+        let [a, b] = noise_model(&m, &u, &q).expect("fits");
+        assert_eq!(a, 0.0);
+        assert!(b > 0.0);
+    }
 }

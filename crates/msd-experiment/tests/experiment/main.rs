@@ -6,6 +6,7 @@ mod design;
 mod download;
 mod fetch;
 mod frf_beam;
+mod frf_coverage;
 mod frf_set;
 mod frf_table;
 mod frf_uff;
