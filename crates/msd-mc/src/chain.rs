@@ -27,7 +27,8 @@ pub struct ChainBandOptions {
     /// Half-width p of each parameter's uniform range, percent (0 < p < 100). By default
     /// 10, the paper's.
     pub percent: f64,
-    /// The band's lower and upper percentiles. By default [2.5, 97.5].
+    /// The band's lower and upper percentiles. By default [5, 95], the paper's 90 % band
+    /// (one convention for every Monte Carlo band of the toolkit).
     pub percentiles: [f64; 2],
     /// Seed of the draws (draw i uses [`sample_rng`](seed, i)).
     pub seed: u64,
@@ -40,7 +41,7 @@ impl Default for ChainBandOptions {
         Self {
             samples: 200,
             percent: 10.0,
-            percentiles: [2.5, 97.5],
+            percentiles: [5.0, 95.0],
             seed: 1,
             threads: 2,
         }

@@ -128,7 +128,7 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     writeln!(s, "\n## Monte Carlo band\n")?;
     writeln!(
         s,
-        "Every m, c and k drawn uniform within ±{} % of the estimate, {} draws; the band is the {}–{} percentile of each sensor's response (drawn in the figure).\n",
+        "Every m, c and k drawn uniform within ±{} % of the estimate, {} draws; the band is the {}–{} percentile of each sensor's response, the paper's 90 % band (drawn in the figure).\n",
         msd_mc::ChainBandOptions::default().percent,
         o.band.samples,
         o.band.percentiles[0],
