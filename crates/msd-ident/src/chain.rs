@@ -14,12 +14,14 @@ mod problem;
 mod setup;
 mod simulate;
 mod uncertainty;
+mod validate;
 
 pub use fit::{ChainFit, ChainOptions, fit_chain};
 pub use plan::predict_chain;
 pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};
 pub use uncertainty::{ChainIntervals, ChainUncertainty};
+pub use validate::{ChainPrediction, ChainValidation, hold_out_chain};
 
 use msd_modal::ModalParameters;
 use msd_signal::{Complex64, FrfKind, ResponseQuantity};

@@ -6,6 +6,7 @@
 
 mod plots;
 mod report;
+mod validation;
 
 use crate::config::{ChainSection, Config};
 use crate::progress::Progress;
@@ -14,7 +15,9 @@ use crate::{
     error::{ExperimentError, Result},
     options::RunOptions,
 };
-use msd_ident::chain::{ChainFit, ChainOptions, ChainRecord, fit_chain, simulate_chain};
+use msd_ident::chain::{
+    ChainFit, ChainOptions, ChainRecord, ChainValidation, fit_chain, hold_out_chain, simulate_chain,
+};
 use msd_mc::{ChainBand, ChainBandOptions, chain_band};
 use msd_signal::gaussian_noise;
 use serde::Serialize;
@@ -43,6 +46,9 @@ pub struct ChainOutcome {
     pub ideal: Option<ChainFit>,
     /// The paper's robustness band around the fit: every m, c, k within ±10 %.
     pub band: ChainBand,
+    /// The record's last fifth predicted by the chain fitted to the rest, or why it
+    /// could not be.
+    pub validation: std::result::Result<ChainValidation, String>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
 }
@@ -96,6 +102,10 @@ pub fn run(
     )
     .map_err(|e| ExperimentError::run("monte carlo", e))?;
     timings.push(("monte carlo", t.elapsed()));
+    let t = Instant::now();
+    let validation = hold_out_chain(&fitted_setup, &record, &chain.guess, &fit_options, HOLD_OUT)
+        .map_err(|e| e.to_string());
+    timings.push(("validation", t.elapsed()));
     let has_dynamics = chain
         .sensors
         .iter()
@@ -127,6 +137,7 @@ pub fn run(
         fitted,
         ideal,
         band,
+        validation,
         timings,
     })
 }
@@ -155,6 +166,9 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
         outputs,
     })
 }
+
+/// The share of the record held out to check the fit on fresh data.
+const HOLD_OUT: f64 = 0.2;
 
 /// The fit options of `chain`: its known masses.
 pub(crate) fn fit_options(chain: &ChainSection) -> ChainOptions {
@@ -224,6 +238,8 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     ideal_sensors: Option<&'a ChainFit>,
     monte_carlo: BandSummary<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    validation: Option<&'a ChainValidation>,
     timings_ms: BTreeMap<&'static str, f64>,
 }
 
@@ -261,6 +277,7 @@ pub(crate) fn results(
             percentiles: o.band.percentiles,
             coverage: o.band.coverage.as_deref(),
         },
+        validation: o.validation.as_ref().ok(),
         timings_ms: timings,
     };
     serde_json::to_value(&results).map_err(|e| ExperimentError::run("write", e))

@@ -143,7 +143,9 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
             writeln!(s, "| {name} | {:.1} % |", 100.0 * c)?;
         }
     }
-    writeln!(s, "\n## Fit\n")?;
+    writeln!(s)?;
+    super::validation::section(s, o)?;
+    writeln!(s, "## Fit\n")?;
     writeln!(s, "```text\n{}\n```\n", o.fit)?;
     writeln!(
         s,
@@ -322,6 +324,7 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             );
         }
     }
+    super::validation::summary(&mut s, o);
     if let Some(ideal) = &o.ideal {
         for (i, (p, n)) in damping_pairs(o, ideal) {
             let _ = writeln!(

@@ -167,3 +167,54 @@ fn a_held_out_end_gets_its_own_initial_state() {
     let rms = p.channels[0].fit.residual_rms;
     assert!((rms / 1e-4 - 1.0).abs() < 0.1, "rms {rms:.3e}");
 }
+
+/// A chain's held-out end: predicted to the noise by the chain fitted to the rest; a
+/// sensor that lags by 20 ms, fitted as if it did not, fails the cross-correlation test
+/// there.
+#[test]
+fn a_chain_is_checked_on_its_held_out_end() {
+    use msd_ident::chain::{
+        ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, hold_out_chain,
+        simulate_chain,
+    };
+    let p = ChainParameters {
+        masses: vec![2.5],
+        dampers: vec![1.8],
+        springs: vec![120.0],
+        ..ChainParameters::default()
+    };
+    let input = paper_identification_input().sample(0.0, 0.002, 7501);
+    let lagging = ChainSetup {
+        sensors: vec![ChainSensor {
+            delay: Some(0.02),
+            ..ChainSensor::default()
+        }],
+        ..ChainSetup::default()
+    };
+    let record = |setup: &ChainSetup| {
+        let clean = simulate_chain(setup, &p, &input, 0.002).expect("simulated");
+        let noise = gaussian_noise(9, "chain", 1e-4, input.len()).expect("noise");
+        let y = clean[0].iter().zip(&noise).map(|(y, n)| y + n).collect();
+        ChainRecord {
+            dt: 0.002,
+            input: input.clone(),
+            outputs: vec![y],
+        }
+    };
+    let plain = ChainSetup::default();
+    let options = ChainOptions::default();
+    let good = hold_out_chain(&plain, &record(&plain), &p, &options, 0.2).expect("fits");
+    let tests = good.sensors[0]
+        .residual_analysis
+        .as_ref()
+        .expect("long enough");
+    assert!(tests.cross_correlation_passed, "{tests}");
+    assert!((good.sensors[0].fit.residual_rms / 1e-4 - 1.0).abs() < 0.1);
+    let bad = hold_out_chain(&plain, &record(&lagging), &p, &options, 0.2).expect("fits");
+    let tests = bad.sensors[0]
+        .residual_analysis
+        .as_ref()
+        .expect("long enough");
+    assert!(!tests.cross_correlation_passed, "{tests}");
+    assert!(hold_out_chain(&plain, &record(&plain), &p, &options, 0.9).is_err());
+}

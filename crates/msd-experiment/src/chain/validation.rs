@@ -1,0 +1,94 @@
+//! The chain report's and summary's check on fresh data: the record's last fifth
+//! predicted by the chain fitted to the rest.
+
+use super::{ChainOutcome, channel_names};
+use crate::fmt::sig;
+use std::fmt::Write;
+
+/// `## Validation on fresh data`: one row per sensor (R², fit %, RMS error, the residual
+/// tests), or why there is none.
+pub(super) fn section(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
+    writeln!(s, "## Validation on fresh data\n")?;
+    let v = match &o.validation {
+        Ok(v) => v,
+        Err(reason) => return writeln!(s, "No check on fresh data: {reason}.\n"),
+    };
+    writeln!(
+        s,
+        "Held out: {}. Its residuals are tested as the paper's are (Ljung–Box whiteness, and the largest residual–drive cross-correlation against its 99 % band).\n",
+        v.source
+    )?;
+    writeln!(
+        s,
+        "| sensor | R² | fit % | RMS error | whiteness p | max \\|ρ\\| with the drive |\n|---|---|---|---|---|---|"
+    )?;
+    let mut failed = false;
+    for (name, p) in channel_names(o).iter().zip(&v.sensors) {
+        let (white, cross) =
+            p.residual_analysis
+                .as_ref()
+                .map_or(("—".into(), "—".into()), |a| {
+                    failed |= !a.cross_correlation_passed;
+                    let mark = if a.cross_correlation_passed {
+                        ""
+                    } else {
+                        " ✗"
+                    };
+                    (
+                        sig(a.ljung_box.p_value, 2),
+                        format!("{}{mark}", sig(a.cross_correlation.max_abs, 2)),
+                    )
+                });
+        writeln!(
+            s,
+            "| {name} | {} | {} | {} | {white} | {cross} |",
+            sig(p.fit.r_squared, 6),
+            sig(p.fit.fit_percent, 4),
+            sig(p.fit.residual_rms, 3)
+        )?;
+    }
+    if failed {
+        writeln!(
+            s,
+            "\n✗: the residual correlates with the drive on samples the chain was not fitted to: part of the drive's effect is not explained (a missing mass or connection, a sensor delay or filter, a nonlinearity)."
+        )?;
+    }
+    writeln!(s)
+}
+
+/// The summary's validation line, and a warning per sensor whose fresh residual
+/// correlates with the drive.
+pub(super) fn summary(s: &mut String, o: &ChainOutcome) {
+    let v = match &o.validation {
+        Ok(v) => v,
+        Err(reason) => {
+            let _ = writeln!(s, "  no check on fresh data: {reason}");
+            return;
+        }
+    };
+    if let Some(worst) = v
+        .sensors
+        .iter()
+        .min_by(|a, b| a.fit.r_squared.total_cmp(&b.fit.r_squared))
+    {
+        let _ = writeln!(
+            s,
+            "  validation on fresh data (held-out end): worst R² {}, fit {} %",
+            sig(worst.fit.r_squared, 5),
+            sig(worst.fit.fit_percent, 4)
+        );
+    }
+    for (name, p) in channel_names(o).iter().zip(&v.sensors) {
+        if let Some(a) = p
+            .residual_analysis
+            .as_ref()
+            .filter(|a| !a.cross_correlation_passed)
+        {
+            let _ = writeln!(
+                s,
+                "  warning: validation: sensor `{name}`: the residual correlates with the drive on fresh data (max |ρ| = {}): part of its effect is not explained (report.md, Validation)",
+                sig(a.cross_correlation.max_abs, 2)
+            );
+        }
+    }
+}
