@@ -150,3 +150,18 @@ pub fn solver_start(e: &msd_ident::Estimate) -> String {
         sig(g.stiffness, 4)
     )
 }
+
+/// The residual tests' two table cells — the Ljung–Box p and the largest residual–drive
+/// correlation, marked ✗ beyond its band — and whether that correlation failed; "—"
+/// without tests.
+pub fn residual_cells(tests: Option<&msd_ident::ResidualAnalysis>) -> (String, String, bool) {
+    match tests {
+        None => ("—".into(), "—".into(), false),
+        Some(a) => {
+            let failed = !a.cross_correlation_passed;
+            let mark = if failed { " ✗" } else { "" };
+            let cross = format!("{}{mark}", sig(a.cross_correlation.max_abs, 2));
+            (sig(a.ljung_box.p_value, 2), cross, failed)
+        }
+    }
+}

@@ -24,21 +24,8 @@ pub(super) fn section(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
     )?;
     let mut failed = false;
     for (name, p) in channel_names(o).iter().zip(&v.sensors) {
-        let (white, cross) =
-            p.residual_analysis
-                .as_ref()
-                .map_or(("—".into(), "—".into()), |a| {
-                    failed |= !a.cross_correlation_passed;
-                    let mark = if a.cross_correlation_passed {
-                        ""
-                    } else {
-                        " ✗"
-                    };
-                    (
-                        sig(a.ljung_box.p_value, 2),
-                        format!("{}{mark}", sig(a.cross_correlation.max_abs, 2)),
-                    )
-                });
+        let (white, cross, bad) = crate::fmt::residual_cells(p.residual_analysis.as_ref());
+        failed |= bad;
         writeln!(
             s,
             "| {name} | {} | {} | {} | {white} | {cross} |",

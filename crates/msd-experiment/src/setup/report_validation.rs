@@ -49,18 +49,8 @@ pub(super) fn section(s: &mut String, fit: &RecordsFit, sensors: &[Response]) ->
                 .iter()
                 .find(|r| r.channel_name() == c.channel)
                 .map_or("", |r| r.quantity.unit());
-            let (white, cross) = tests.as_ref().map_or(("—".into(), "—".into()), |a| {
-                failed |= !a.cross_correlation_passed;
-                let mark = if a.cross_correlation_passed {
-                    ""
-                } else {
-                    " ✗"
-                };
-                (
-                    sig(a.ljung_box.p_value, 2),
-                    format!("{}{mark}", sig(a.cross_correlation.max_abs, 2)),
-                )
-            });
+            let (white, cross, bad) = crate::fmt::residual_cells(tests.as_ref());
+            failed |= bad;
             writeln!(
                 s,
                 "| {} | {} | {} | {} | {} | {} | {} {unit} | {white} | {cross} |",
