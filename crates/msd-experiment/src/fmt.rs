@@ -165,3 +165,14 @@ pub fn residual_cells(tests: Option<&msd_ident::ResidualAnalysis>) -> (String, S
         }
     }
 }
+
+/// `s` with its first letter upper-case, to open a sentence with a library's phrase.
+///
+/// ```
+/// assert_eq!(msd_experiment::fmt::capitalised("the last 20 %"), "The last 20 %");
+/// ```
+pub fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map_or_else(String::new, |f| f.to_uppercase().chain(c).collect())
+}

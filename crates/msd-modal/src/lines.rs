@@ -84,6 +84,8 @@ pub struct Lines {
     /// p of the measured quantity, (jω)^p × receptance: 0 receptance, 1 mobility,
     /// 2 accelerance. The fit error is reported on the measured quantity.
     pub measured_power: i32,
+    /// Segments K averaged into the estimate (1 for a table).
+    pub averages: usize,
 }
 
 /// Checks that the estimate's arrays have one entry per line.
@@ -171,6 +173,7 @@ pub fn prepare(
             1.0
         },
         measured_power,
+        averages: frf.averages.max(1),
     };
     for (k, &f) in receptance.frequency.iter().enumerate() {
         if !inside(f) {
@@ -254,9 +257,18 @@ impl Lines {
     /// two numbers fitted to every line are not. Falls back to
     /// [`reweight`](Self::reweight) where the model cannot be fitted (no coherence
     /// weighting, too few lines). Assumes the input's power varies slowly over the band.
-    pub fn smooth_coherence_weights(&mut self, model: impl Fn(f64) -> Complex64) {
-        if self.weighting != FrfWeighting::Coherence || self.relative_sigma.len() != self.h.len() {
-            return self.reweight(model);
+    ///
+    /// Returns whether the noise model was applied: σ_k are then each line's own
+    /// standard deviation (per real and imaginary part), the coherence's residual power
+    /// corrected by K/(K − 1) for the one complex response it was taken about, so that
+    /// a fit's weighted SSE/(2L − p) is about 1 when its model leaves only noise.
+    pub fn smooth_coherence_weights(&mut self, model: impl Fn(f64) -> Complex64) -> bool {
+        if self.weighting != FrfWeighting::Coherence
+            || self.relative_sigma.len() != self.h.len()
+            || self.averages < 2
+        {
+            self.reweight(model);
+            return false;
         }
         let m: Vec<f64> = self.omega.iter().map(|&w| model(w).norm_sqr()).collect();
         let q: Vec<f64> = (self.relative_sigma.iter().zip(&self.h))
@@ -267,11 +279,14 @@ impl Lines {
             .map(|&w| w.powi(-2 * self.measured_power))
             .collect();
         let Some([a, b]) = noise_model(&m, &u, &q) else {
-            return self.reweight(model);
+            self.reweight(model);
+            return false;
         };
+        let k = self.averages as f64;
         for ((s, &m), &u) in self.sigma.iter_mut().zip(&m).zip(&u) {
-            *s = (a * m + b * u).sqrt();
+            *s = ((a * m + b * u) * k / (k - 1.0)).sqrt();
         }
+        true
     }
 
     /// The weighted residuals (model − H)/σ of every line: real parts in the first half
@@ -377,6 +392,7 @@ impl Lines {
             exponential_decay: None,
             correlated_lines: 1.0,
             measured_power: 0,
+            averages: 1,
         }
     }
 }

@@ -231,6 +231,18 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
     }
     unreliable_note(w, classroom.iter())?;
     writeln!(w)?;
+    if let Some(check) = &f.noise_check {
+        writeln!(
+            w,
+            "Each line is weighted by its own standard deviation, from a noise model fitted to every line's coherence (white noise on the force and on the response). {}{}.\n",
+            crate::fmt::capitalised(&check.to_string()),
+            if check.passed {
+                ": the one-mode model leaves only the noise the coherence shows"
+            } else {
+                ""
+            }
+        )?;
+    }
     window_note(w, f.window_correction.as_ref(), classroom.as_ref())?;
     Ok(())
 }

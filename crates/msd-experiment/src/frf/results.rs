@@ -104,6 +104,8 @@ struct Estimate {
     noise_sigma: f64,
     degrees_of_freedom: usize,
     relative_error: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise_check: Option<msd_ident::frf::NoiseCheck>,
     iterations: usize,
     evaluations: usize,
     exit: LmExit,
@@ -242,6 +244,7 @@ fn one_mode(o: &FrfOutcome) -> Option<Estimate> {
         noise_sigma: u.sigma,
         degrees_of_freedom: u.degrees_of_freedom,
         relative_error: f.relative_error,
+        noise_check: f.noise_check,
         iterations: f.iterations,
         evaluations: f.evaluations,
         exit: f.exit,

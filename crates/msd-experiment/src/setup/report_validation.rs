@@ -10,7 +10,10 @@ use std::fmt::Write;
 /// What was predicted and by which plant, with its predictions; `None` without fresh data.
 fn fresh(fit: &RecordsFit) -> Option<(String, &[LeftOut])> {
     if let Some(v) = &fit.validation {
-        return Some((format!("{}.", capitalise(&v.source)), &v.predictions));
+        return Some((
+            format!("{}.", crate::fmt::capitalised(&v.source)),
+            &v.predictions,
+        ));
     }
     fit.leave_one_out.as_deref().map(|l| {
         (
@@ -19,12 +22,6 @@ fn fresh(fit: &RecordsFit) -> Option<(String, &[LeftOut])> {
             l,
         )
     })
-}
-
-fn capitalise(s: &str) -> String {
-    let mut c = s.chars();
-    c.next()
-        .map_or_else(String::new, |f| f.to_uppercase().chain(c).collect())
 }
 
 /// `## Validation on fresh data`: the source, one row per record and channel (the

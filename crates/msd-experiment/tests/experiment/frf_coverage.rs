@@ -28,6 +28,7 @@ fn one_mode_intervals_from_a_noisy_shaker_hold_their_coverage() {
     ];
     let mut z: Vec<[f64; 3]> = Vec::new();
     let mut inside = [0usize; 3];
+    let (mut ratios, mut rejected) = (Vec::new(), 0usize);
     for seed in 1..=SEEDS {
         let options = RunOptions {
             seed: Some(seed),
@@ -37,6 +38,9 @@ fn one_mode_intervals_from_a_noisy_shaker_hold_their_coverage() {
         let FrfFit::OneMode(fit) = &outcome.fit else {
             panic!("one mode")
         };
+        let check = fit.noise_check.expect("a coherence from four averages");
+        ratios.push(check.variance_ratio);
+        rejected += usize::from(!check.passed);
         let u = &fit.uncertainty;
         let intervals = [u.mass, u.stiffness, u.damping_ratio];
         z.push(std::array::from_fn(|j| {
@@ -47,6 +51,17 @@ fn one_mode_intervals_from_a_noisy_shaker_hold_their_coverage() {
         }
     }
     let n = SEEDS as f64;
+    // The residuals against the FRF's own noise: SSE/dof about 1 (each ratio's standard
+    // deviation is √(2/195) ≈ 0.1, 0.008 for the mean of 150; 0.05 leaves room for the
+    // noise model's own two estimates), and the test at 1 % rejects about 1 % of these
+    // correct fits (within 3 binomial standard errors).
+    let mean = ratios.iter().sum::<f64>() / n;
+    eprintln!("noise check: mean SSE/dof {mean:.4}, {rejected} of {SEEDS} rejected");
+    assert!((mean - 1.0).abs() < 0.05, "mean SSE/dof {mean:.3}");
+    assert!(
+        rejected as f64 <= 0.01 * n + 3.0 * (0.01 * 0.99 * n).sqrt(),
+        "{rejected} rejected"
+    );
     for j in 0..3 {
         // The spread of z about the truth is 1 for honest standard errors; its own
         // standard error over n seeds is 1/√(2n) = 0.058: 3 of them.
@@ -65,4 +80,28 @@ fn one_mode_intervals_from_a_noisy_shaker_hold_their_coverage() {
             truth[j].0
         );
     }
+}
+
+/// A second, small mode in the band (a 50 g absorber at 4.5 Hz) that the one-mode model
+/// cannot follow: the fit still runs, and its residuals against the FRF's own noise
+/// say that the data contradict the model.
+#[test]
+fn a_mode_the_model_lacks_fails_the_noise_check() {
+    let mut config = Config::load(CONFIG.as_ref()).expect("valid");
+    let plant = (config.frequency_response.as_mut())
+        .and_then(|f| f.plant.as_mut())
+        .expect("a plant");
+    plant.masses = vec![2.5, 0.05];
+    plant.springs = vec![120.0, 40.0];
+    plant.dampers = vec![1.8, 0.05];
+    let outcome = frf::run(config, CONFIG.as_ref(), &RunOptions::default()).expect("fits");
+    let FrfFit::OneMode(fit) = &outcome.fit else {
+        panic!("one mode")
+    };
+    let check = fit.noise_check.expect("a coherence from four averages");
+    assert!(!check.passed && check.variance_ratio > 10.0, "{check}");
+    assert!(
+        fit.to_string()
+            .contains("warning: the one-mode model leaves more than the noise")
+    );
 }

@@ -92,6 +92,9 @@ pub struct OneModeFit {
     pub weighting: FrfWeighting,
     /// ‖H_model − H‖/‖H‖ over the lines (unweighted).
     pub relative_error: f64,
+    /// The residuals against the frequency response's own noise, where the coherence
+    /// gives it (records averaged over K ≥ 2 segments).
+    pub noise_check: Option<NoiseCheck>,
     /// Levenberg–Marquardt iterations.
     pub iterations: usize,
     /// Residual evaluations.
@@ -137,6 +140,9 @@ impl std::fmt::Display for OneModeFit {
         )?;
         writeln!(f)?;
         writeln!(f, "{}", self.uncertainty)?;
+        if let Some(check) = &self.noise_check {
+            writeln!(f, "{check}")?;
+        }
         write!(f, "gain 1/m = {}", self.gain)?;
         if let Some(c) = &self.window_correction {
             write!(f, "\n{c}")?;
@@ -198,8 +204,9 @@ pub fn fit_one_mode(
     let first = least_squares(&lines, start)?;
     // Once more with |H| from the model, coherence weights from the noise model fitted
     // to every line's coherence (see Lines::smooth_coherence_weights).
-    lines.smooth_coherence_weights(|w| receptance(&first.0, w));
+    let own_noise = lines.smooth_coherence_weights(|w| receptance(&first.0, w));
     let (fitted, fit) = least_squares(&lines, first.0)?;
+    let noise_check = own_noise.then(|| NoiseCheck::of(&lines, &fitted));
     let a = lines.exponential_decay.map_or(0.0, |tau| 1.0 / tau);
     // A negative modal constant: m, c, k all negative, the mode of −H. J is the same at
     // ±θ (H² is), so the covariance of |θ| is that of θ.
@@ -274,6 +281,7 @@ pub fn fit_one_mode(
     }
     Ok(OneModeFit {
         relative_error,
+        noise_check,
         half_power: half_power(frf, Some(lines.band_hz)).ok(),
         parameters,
         uncertainty,
@@ -287,6 +295,65 @@ pub fn fit_one_mode(
         evaluations: fit.evaluations,
         exit: fit.exit,
     })
+}
+
+/// A one-mode fit's residuals against the frequency response's own noise: each line
+/// weighted by its standard deviation from the coherence's noise model
+/// ([`Lines::smooth_coherence_weights`]), the SSE is χ² on 2L − 3 degrees of freedom
+/// when the model leaves only noise (approximately where a window correlates
+/// neighbouring lines). A small p says the data hold more than one mode and noise:
+/// another mode in the band, a nonlinearity, leakage.
+///
+/// ```
+/// use msd_ident::frf::NoiseCheck;
+/// let check = NoiseCheck { variance_ratio: 1.02, degrees_of_freedom: 195, p_value: 0.41, passed: true };
+/// assert!(check.to_string().starts_with("residuals against the FRF's own noise"));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct NoiseCheck {
+    /// SSE/(2L − 3): about 1 when the model leaves only the noise the coherence shows.
+    pub variance_ratio: f64,
+    /// 2L − 3.
+    pub degrees_of_freedom: usize,
+    /// P(χ² ≥ SSE).
+    pub p_value: f64,
+    /// p ≥ 0.01.
+    pub passed: bool,
+}
+
+impl NoiseCheck {
+    fn of(lines: &Lines, theta: &[f64; 3]) -> Self {
+        let mut r = vec![0.0; 2 * lines.omega.len()];
+        lines.weighted_residuals(|w| receptance(theta, w), &mut r);
+        let sse: f64 = r.iter().map(|v| v * v).sum();
+        let dof = r.len().saturating_sub(3).max(1);
+        let p_value = statrs::distribution::ChiSquared::new(dof as f64).map_or(f64::NAN, |d| {
+            statrs::distribution::ContinuousCDF::sf(&d, sse)
+        });
+        NoiseCheck {
+            variance_ratio: sse / dof as f64,
+            degrees_of_freedom: dof,
+            p_value,
+            passed: p_value >= 0.01,
+        }
+    }
+}
+
+impl std::fmt::Display for NoiseCheck {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "residuals against the FRF's own noise (coherence): SSE/dof = {:.3} on {} dof, p = {:.3}",
+            self.variance_ratio, self.degrees_of_freedom, self.p_value
+        )?;
+        if !self.passed {
+            write!(
+                f,
+                "; warning: the one-mode model leaves more than the noise (another mode in the band, a nonlinearity, leakage): the intervals rest on a model the data contradict"
+            )?;
+        }
+        Ok(())
+    }
 }
 
 /// A fit whose relative error on the measured quantity reaches this (the model's
