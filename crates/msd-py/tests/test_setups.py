@@ -36,6 +36,24 @@ def test_fit_records_equals_the_rust_setup_run(free_decay_run):
     assert json.loads(json.dumps(fit.to_dict()))["damping"]["value"] == fit.damping.value
 
 
+def test_fit_records_validates_a_single_record_on_its_held_out_end(free_decay_run):
+    results, record = free_decay_run
+    fit = msd.fit_records(
+        {"t": record["t"], "displacement": record["displacement"]}, drive="none", known={"mass": 2.5}
+    )
+    held = fit.validation
+    assert "last 20 %" in held["source"]
+    channel = held["predictions"][0]["channels"][0]
+    assert channel["fit"]["samples"] == round(0.2 * len(record["t"]))
+    # The same numbers as the Rust run of the same config.
+    rust = results["validation"]["predictions"][0]["channels"][0]["fit"]
+    assert channel["fit"]["r2"] == rust["r2"]
+    off = msd.fit_records(
+        {"t": record["t"], "displacement": record["displacement"]}, drive="none", known={"mass": 2.5}, hold_out=0
+    )
+    assert off.validation is None
+
+
 def test_free_decay_equals_the_rust_setup_run(free_decay_run):
     results, record = free_decay_run
     fd = msd.free_decay(record["t"], record["displacement"], known_mass=2.5)

@@ -456,6 +456,15 @@ class RecordsFit(SetupFit):
         """Damping ratio."""
         return self._interval("damping_ratio")
 
+    @property
+    def validation(self) -> Optional[Dict[str, Any]]:
+        """The check on fresh data: with one record its held-out end (``hold_out``, a
+        fifth by default) predicted by the plant fitted to the rest, as
+        ``{"source", "predictions": [{"record", "channels": [{"channel", "fit": {"r2",
+        "fit_percent", "residual_rms", …}}], "residual_analysis": [...]}]}``; None with
+        several records (see ``data["leave_one_out"]``) or ``hold_out=0``."""
+        return self.data.get("validation")
+
     def _repr_html_(self) -> str:
         rows: List[Tuple[str, Any]] = []
         for label, name in (
