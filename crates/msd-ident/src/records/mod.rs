@@ -160,13 +160,10 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
                 .ok()
         })
         .flatten();
-    notes.extend(validation.iter().flat_map(validate::notes));
-    notes.extend(leave_one_out.iter().flat_map(|l| {
-        validate::notes(&RecordsValidation {
-            source: String::new(),
-            predictions: l.clone(),
-        })
-    }));
+    let sigma_of = by_name(&names, &sigma);
+    let predictions =
+        (validation.iter().flat_map(|v| &v.predictions)).chain(leave_one_out.iter().flatten());
+    notes.extend(validate::notes(predictions, sigma_of));
     Ok(RecordsFit {
         drive: options.drive,
         plant,

@@ -213,16 +213,25 @@ pub fn validate_records(
     })
 }
 
-/// What the reader should know about a validation: each channel the plant does not
-/// predict (R² < 0.5) and each whose residuals correlate with the drive.
-pub(super) fn notes(v: &RecordsValidation) -> Vec<String> {
+/// What the reader should know about predictions of fresh data: each channel the plant
+/// does not predict (R² < 0.5 with an error above 1.5 σ̂ of the channel's noise — the
+/// quiet end of a free decay has a low R² because there is little left to predict, not
+/// because the plant is wrong) and each whose residual correlates with the drive.
+pub(super) fn notes<'a>(
+    predictions: impl Iterator<Item = &'a LeftOut>,
+    sigma: impl Fn(&str) -> f64,
+) -> Vec<String> {
     let mut notes = Vec::new();
-    for p in &v.predictions {
+    for p in predictions {
         for (c, a) in p.channels.iter().zip(&p.residual_analysis) {
-            if c.fit.r_squared < 0.5 {
+            if c.fit.r_squared < 0.5 && c.fit.residual_rms > 1.5 * sigma(&c.channel) {
                 notes.push(format!(
-                    "validation: record `{}`, channel `{}`: R² = {:.3} on fresh data: the plant does not predict it",
-                    p.record, c.channel, c.fit.r_squared
+                    "validation: record `{}`, channel `{}`: R² = {:.3} on fresh data, its error {:.3e} well above the channel's noise {:.3e}: the plant does not predict it",
+                    p.record,
+                    c.channel,
+                    c.fit.r_squared,
+                    c.fit.residual_rms,
+                    sigma(&c.channel)
                 ));
             }
             if let Some(a) = a.as_ref().filter(|a| !a.cross_correlation_passed) {

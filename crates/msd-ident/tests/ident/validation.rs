@@ -218,3 +218,48 @@ fn a_chain_is_checked_on_its_held_out_end() {
     assert!(!tests.cross_correlation_passed, "{tests}");
     assert!(hold_out_chain(&plain, &record(&plain), &p, &options, 0.9).is_err());
 }
+
+/// A free decay recorded until it has rung down: its held-out end is noise, its R² near
+/// 0, and the prediction's error is the noise's — no note that the plant fails there.
+#[test]
+fn the_quiet_end_of_a_free_decay_is_not_a_failed_prediction() {
+    let grid = Excitation::from_samples(0.0, 0.005, vec![0.0; 12_001]).expect("valid");
+    let start = InitialState {
+        displacement: 0.01,
+        velocity: 0.0,
+    };
+    let x = simulate_response(
+        &Parameters::PAPER,
+        Drive::None,
+        &grid,
+        start,
+        ResponseQuantity::Displacement,
+        Frame::Absolute,
+    )
+    .expect("simulated");
+    let noise = gaussian_noise(4, "laser", 1e-5, x.len()).expect("noise");
+    let record = Record {
+        name: "pluck".into(),
+        excitation: grid,
+        channels: vec![Channel {
+            name: "laser".into(),
+            samples: x.iter().zip(&noise).map(|(x, n)| x + n).collect(),
+            ..Default::default()
+        }],
+    };
+    let options = RecordsOptions {
+        drive: Drive::None,
+        known: msd_ident::KnownParameter::Mass(2.5),
+        ..RecordsOptions::default()
+    };
+    let fit = fit_records(&[record], &options).expect("fitted");
+    let c = &fit.validation.as_ref().expect("held out").predictions[0].channels[0];
+    // 48–60 s: the decay is e^(−ζωn·48 s) ≈ 5e-8 of 1 cm, far below the 10 µm noise.
+    assert!(c.fit.r_squared < 0.5, "{}", c.fit);
+    assert!((c.fit.residual_rms / 1e-5 - 1.0).abs() < 0.1, "{}", c.fit);
+    assert!(
+        !fit.notes.iter().any(|n| n.contains("does not predict")),
+        "{:?}",
+        fit.notes
+    );
+}
