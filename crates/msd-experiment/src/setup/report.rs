@@ -91,9 +91,12 @@ pub(crate) fn summary(o: &SetupOutcome) -> String {
     if let Some(note) = identifiability_note(o) {
         let _ = writeln!(s, "  note: {note}");
     }
-    if let SetupFit::Records { fit, .. } = &o.fit {
-        noise_summary(&mut s, fit, o.data.setup.excitation.unit());
-        super::report_validation::summary(&mut s, fit);
+    match &o.fit {
+        SetupFit::Records { fit, .. } => {
+            noise_summary(&mut s, fit, o.data.setup.excitation.unit());
+            super::report_validation::summary(&mut s, fit);
+        }
+        SetupFit::Machine(m) => super::report_machine::summary(&mut s, m),
     }
     s.trim_end().to_string()
 }

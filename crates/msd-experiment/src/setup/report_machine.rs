@@ -62,5 +62,38 @@ pub(crate) fn section(s: &mut String, m: &Dynamometer) -> std::fmt::Result {
         )?;
     }
     writeln!(s, "\n{}\n", m.verdict)?;
+    if let Some(predictions) = &m.leave_one_out {
+        writeln!(
+            s,
+            "## Validation on fresh data\n\nEach condition's force predicted by the best law ({}) fitted to the other conditions (leave one condition out).\n\n| condition left out | R² | fit % | RMS error [N] |\n|---|---|---|---|",
+            m.best_law().law.formula()
+        )?;
+        for p in predictions {
+            writeln!(
+                s,
+                "| {} | {} | {} | {} |",
+                p.condition,
+                sig(p.fit.r_squared, 6),
+                sig(p.fit.fit_percent, 4),
+                sig(p.fit.residual_rms, 3)
+            )?;
+        }
+        writeln!(s)?;
+    }
     Ok(())
+}
+
+/// The summary's validation line: the worst condition predicted by the others.
+pub(crate) fn summary(s: &mut String, m: &Dynamometer) {
+    let worst = (m.leave_one_out.iter().flatten())
+        .min_by(|a, b| a.fit.r_squared.total_cmp(&b.fit.r_squared));
+    if let Some(p) = worst {
+        let _ = writeln!(
+            s,
+            "  validation on fresh data (leave one condition out): worst R² {} ({}), fit {} %",
+            sig(p.fit.r_squared, 5),
+            p.condition,
+            sig(p.fit.fit_percent, 4)
+        );
+    }
 }

@@ -275,6 +275,29 @@ pub(crate) fn fit_law(
 }
 
 /// The model force at every sample of every condition, and the SSE.
+/// `law` fitted to `normal` and evaluated on `condition` (smoothing velocity
+/// `smoothing_velocity`): its model force over the analysed samples, or `None` where the
+/// law's regressors are collinear in `normal`.
+pub(crate) fn fitted_force(
+    law: DampingLaw,
+    normal: &Normal,
+    condition: &Prepared,
+    smoothing_velocity: f64,
+    options: &DynamometerOptions,
+) -> Option<Vec<f64>> {
+    let (columns, _) = design(law, options);
+    let solved = solve(normal, &columns, options.known_mass)?;
+    let condition = std::slice::from_ref(condition);
+    let (mut forces, _) = model_forces(
+        condition,
+        &columns,
+        &solved.beta,
+        options,
+        1.0 / smoothing_velocity,
+    );
+    forces.pop()
+}
+
 fn model_forces(
     prepared: &[Prepared],
     columns: &[usize],

@@ -8,6 +8,7 @@
 mod condition;
 mod harmonics;
 mod law_fit;
+mod left_out;
 mod predicted;
 mod regression;
 mod summary;
@@ -15,6 +16,7 @@ mod synthetic;
 
 pub use condition::{Condition, MIN_CYCLES};
 pub use law_fit::LawFit;
+pub use left_out::ConditionPrediction;
 pub use predicted::PredictedLaw;
 pub use summary::ConditionSummary;
 pub use synthetic::{Stroke, SyntheticDynamometer, synthetic_dynamometer};
@@ -134,6 +136,9 @@ pub struct Dynamometer {
     pub harmonics: usize,
     /// Which law the evidence supports and how strongly.
     pub verdict: String,
+    /// Validation on fresh data: each condition's force predicted by the best law fitted
+    /// to the other conditions (three conditions or more; `None` with fewer).
+    pub leave_one_out: Option<Vec<ConditionPrediction>>,
 }
 
 impl Dynamometer {
@@ -179,7 +184,14 @@ impl std::fmt::Display for Dynamometer {
         for l in order {
             writeln!(f, "{l}")?;
         }
-        write!(f, "\n{}", self.verdict)
+        write!(f, "\n{}", self.verdict)?;
+        if let Some(predictions) = &self.leave_one_out {
+            write!(f, "\nthe best law fitted to the other conditions predicts:")?;
+            for p in predictions {
+                write!(f, "\n  {}: {}", p.condition, p.fit)?;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -237,12 +249,16 @@ pub fn dynamometer(conditions: &[Condition], options: &DynamometerOptions) -> Re
     let (summaries, laws) = fit_laws(conditions, options, None)?;
     let mut laws = laws;
     let (best, verdict) = rank(&mut laws);
+    let leave_one_out = (conditions.len() >= left_out::FEWEST)
+        .then(|| left_out::leave_one_condition_out(conditions, options, laws[best].law))
+        .transpose()?;
     Ok(Dynamometer {
         conditions: summaries,
         laws,
         best,
         harmonics: options.harmonics,
         verdict,
+        leave_one_out,
     })
 }
 

@@ -453,3 +453,38 @@ fn the_coulomb_force_is_unbiased_over_200_seeds() {
     assert!(bias.abs() < 0.25, "mean error {bias} SE");
     assert!((coverage - 0.95).abs() <= 0.035, "coverage {coverage}");
 }
+
+/// Validation on fresh data: each condition predicted by the best law fitted to the
+/// other nine, to the load cell's noise (its RMS error within 15 % of σ_F: about 4000
+/// samples each, so σ̂ is good to ~2 %, plus the other conditions' estimation error); a
+/// viscous law alone, on the same quadratic damper, predicts some conditions far worse.
+#[test]
+fn each_condition_is_predicted_by_the_law_fitted_to_the_others() {
+    let spec = SyntheticDynamometer::default();
+    let conditions = synthetic_dynamometer(&spec).unwrap();
+    let result = dynamometer(&conditions, &DynamometerOptions::default()).unwrap();
+    let predictions = result.leave_one_out.as_ref().expect("ten conditions");
+    assert_eq!(predictions.len(), 10);
+    for p in predictions {
+        let ratio = p.fit.residual_rms / spec.force_noise;
+        assert!((ratio - 1.0).abs() < 0.15, "{}: {}", p.condition, p.fit);
+    }
+    assert!(
+        result
+            .to_string()
+            .contains("fitted to the other conditions predicts")
+    );
+    let viscous = DynamometerOptions {
+        laws: vec![DampingLaw::Viscous],
+        ..DynamometerOptions::default()
+    };
+    let wrong = dynamometer(&conditions, &viscous).unwrap();
+    let worst = (wrong.leave_one_out.as_ref().expect("ten conditions").iter())
+        .map(|p| p.fit.residual_rms / spec.force_noise)
+        .fold(0.0, f64::max);
+    assert!(worst > 3.0, "worst RMS error {worst:.2} σ_F");
+    // Fewer than three conditions: no prediction by the others.
+    let two = [conditions[0].clone(), conditions[2].clone()]; // two frequencies
+    let two = dynamometer(&two, &DynamometerOptions::default()).unwrap();
+    assert!(two.leave_one_out.is_none());
+}
