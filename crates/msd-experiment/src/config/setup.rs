@@ -244,6 +244,11 @@ pub struct SetupSection {
     /// decay has no drive: white.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise_model: Option<msd_ident::records::NoiseModel>,
+    /// With a single record and no `[data.validation]`: the share of its samples at the
+    /// end predicted by the plant fitted to the rest, a check on fresh data (the
+    /// estimates use every sample). 0 for none. By default 0.2.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hold_out: Option<f64>,
     /// Damper test machine: the test conditions (synthetic data: the strokes to impose).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub conditions: Vec<StrokeCondition>,
@@ -301,6 +306,12 @@ impl SetupSection {
             ));
         }
         check_non_negative("setup.input_sigma", self.input_sigma)?;
+        if let Some(h) = self.hold_out.filter(|h| !(0.0..=0.5).contains(h)) {
+            return Err((
+                "setup.hold_out".into(),
+                format!(" = {h}: expected a share of the record from 0 (none) to 0.5"),
+            ));
+        }
         self.validate_channels()?;
         if self.excitation == ExcitationKind::ImposedDisplacement {
             if self.cycles < 2 {

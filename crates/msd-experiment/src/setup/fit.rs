@@ -91,6 +91,9 @@ pub(crate) fn records_options(config: &Config) -> RecordsOptions {
         estimate_offset: config.estimation.estimate_offset,
         noise_model: noise_model(config),
         residuals: config.residuals,
+        hold_out: setup
+            .and_then(|s| s.hold_out)
+            .unwrap_or(RecordsOptions::default().hold_out),
         ..RecordsOptions::default()
     }
 }

@@ -362,6 +362,15 @@ fn a_measured_setup_validates_on_fresh_data() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## Validation on fresh data"), "{report}");
 
+    // `[setup] hold_out = 0` turns the single record's check off; out of range, refused.
+    let off = text.replace("[setup]\n", "[setup]\nhold_out = 0.0\n");
+    std::fs::write(&template, &off).unwrap();
+    assert!(run(&template, &out).unwrap().get("validation").is_none());
+    let bad = text.replace("[setup]\n", "[setup]\nhold_out = 0.8\n");
+    std::fs::write(&template, &bad).unwrap();
+    let e = run(&template, &out).expect_err("refused");
+    assert!(e.to_string().contains("setup.hold_out = 0.8"), "{e}");
+
     // A validation part that overlaps the estimation part is said to.
     let overlap = "\n[data.validation]\ntime = [8.0, 15.0]\n";
     std::fs::write(&template, format!("{text}{overlap}")).unwrap();
