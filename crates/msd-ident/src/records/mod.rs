@@ -17,16 +17,15 @@ mod noise_model;
 mod plan;
 mod problem;
 mod result;
-mod satterthwaite;
 mod setup;
 mod validate;
 
+pub use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness};
 pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
-pub use noise_model::{NoiseModelFit, ResidualWhiteness};
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
-pub use setup::{Channel, Frame, NoiseModel, Record, RecordsOptions};
+pub use setup::{Channel, Frame, Record, RecordsOptions};
 pub use validate::{RecordsValidation, validate_records};
 
 use crate::plant::{Drive, Plant};

@@ -1,8 +1,8 @@
 //! What a joint fit returns, and its table.
 
 use super::intervals::PlantIntervals;
-use super::noise_model::{NoiseModelFit, ResidualWhiteness};
 use super::validate::RecordsValidation;
+use crate::input_noise::{NoiseModelFit, ResidualWhiteness};
 use crate::plant::Drive;
 use crate::residuals::ResidualAnalysis;
 use crate::{free_decay::ClassroomEstimates, metrics::FitMetrics, params::InitialState};

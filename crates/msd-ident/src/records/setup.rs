@@ -1,6 +1,7 @@
 //! What a joint fit is given: the drive, the records with their channels, the options.
 
 use super::model::OutputKind;
+use crate::input_noise::NoiseModel;
 use crate::plant::Drive;
 use crate::residuals::ResidualOptions;
 use crate::{
@@ -32,28 +33,6 @@ pub enum Frame {
     Absolute,
     /// The motion relative to the base, y = x − z (an LVDT between base and mass).
     Relative,
-}
-
-/// Which noise model sets a joint fit's intervals.
-///
-/// ```
-/// use msd_ident::records::NoiseModel;
-/// assert_eq!(NoiseModel::default(), NoiseModel::InputNoise);
-/// let read: NoiseModel = serde_json::from_value(serde_json::json!("white"))?;
-/// assert_eq!(read, NoiseModel::White);
-/// # Ok::<(), serde_json::Error>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum NoiseModel {
-    /// The drive's noise estimated with the sensors' and seen through the plant
-    /// (errors-in-variables); the intervals are the sandwich under that model. A
-    /// noise-free drive gets σ̂_u ≈ 0 and the white-noise intervals to within a per
-    /// cent. A free decay has no drive: white. The default.
-    #[default]
-    InputNoise,
-    /// White sensor noise only, the drive taken as exact (the paper's assumption).
-    White,
 }
 
 /// One sensor of a record: what it measures and its samples, at the record's instants.
