@@ -106,6 +106,10 @@ struct StudyArgs {
     /// The drive-noise levels, fractions of its rms (by default 0, 0.003, 0.01, 0.03).
     #[arg(long, value_delimiter = ',')]
     levels: Vec<f64>,
+    /// The setups (by default all): accelerometer, displacement_and_accelerometer,
+    /// base_excitation, repeats, two_storey.
+    #[arg(long, value_delimiter = ',')]
+    setups: Vec<String>,
 }
 
 fn main() -> ExitCode {
@@ -265,7 +269,8 @@ fn noise_study(args: &StudyArgs) -> Result<(), ExperimentError> {
     } else {
         args.levels.clone()
     };
-    let studies = xtask::noise_study::run(args.seeds, args.threads, &levels, |study| {
+    let setups = xtask::noise_study::setups(&args.setups)?;
+    let studies = xtask::noise_study::run(args.seeds, args.threads, &levels, &setups, |study| {
         println!("{study}");
     })?;
     xtask::noise_study::write(&studies, &dir)?;

@@ -10,16 +10,17 @@ use std::path::Path;
 /// The drive-noise levels of the study, fractions of the drive's rms.
 pub const LEVELS: [f64; 4] = [0.0, 0.003, 0.01, 0.03];
 
-/// Runs every setup × level (of `levels`) × noise model with `seeds` seeds, calling `each` as each
+/// Runs every setup (of `setups`) × level (of `levels`) × noise model with `seeds` seeds, calling `each` as each
 /// study ends.
 pub fn run(
     seeds: usize,
     threads: usize,
     levels: &[f64],
+    setups: &[Setup],
     mut each: impl FnMut(&CoverageStudy),
 ) -> Result<Vec<CoverageStudy>> {
     let mut studies = Vec::new();
-    for setup in Setup::ALL {
+    for &setup in setups {
         for &drive_noise in levels {
             for noise_model in [NoiseModel::InputNoise, NoiseModel::White] {
                 let options = CoverageOptions {
@@ -38,6 +39,33 @@ pub fn run(
         }
     }
     Ok(studies)
+}
+
+/// The setups named (snake_case, as in `study.json`), or all of them when none is.
+pub fn setups(names: &[String]) -> Result<Vec<Setup>> {
+    if names.is_empty() {
+        return Ok(Setup::ALL.to_vec());
+    }
+    let name_of = |s: &Setup| {
+        serde_json::to_value(s)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from))
+    };
+    names
+        .iter()
+        .map(|name| {
+            Setup::ALL
+                .into_iter()
+                .find(|s| name_of(s).as_deref() == Some(name.as_str()))
+                .ok_or_else(|| {
+                    let known: Vec<String> = Setup::ALL.iter().filter_map(name_of).collect();
+                    ExperimentError::run(
+                        "noise-study",
+                        format!("--setups {name}: expected one of {}", known.join(", ")),
+                    )
+                })
+        })
+        .collect()
 }
 
 /// The studies as a Markdown table: one row per study, coverage and rms z per quantity.

@@ -32,6 +32,7 @@ pub mod fetch;
 pub mod finished;
 pub mod fmt;
 pub mod frf;
+mod noise_report;
 pub mod options;
 pub mod output;
 pub mod page;

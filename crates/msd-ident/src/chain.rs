@@ -9,6 +9,7 @@
 mod fit;
 mod model;
 mod modes;
+mod noise;
 mod plan;
 mod problem;
 mod setup;

@@ -72,7 +72,7 @@ mod fft;
 pub mod free_decay;
 pub mod frequency;
 pub mod frf;
-pub mod input_noise;
+mod input_noise;
 pub mod law;
 mod least_squares;
 mod local;

@@ -9,9 +9,11 @@
 //! local rayon pool and are reduced in seed order: the same options give the same
 //! numbers for any thread count.
 
+mod two_storey;
+
 use crate::error::Result;
 use crate::pool;
-use msd_ident::records::{NoiseModel, simulate_channels};
+use msd_ident::records::{NoiseModel, NoiseModelFit, ResidualWhiteness, simulate_channels};
 use msd_ident::{
     Channel, Drive, Excitation, Frame, InitialState, Interval, KnownParameter, Parameters, Record,
     RecordsFit, RecordsOptions, ResponseQuantity, fit_records,
@@ -33,15 +35,20 @@ pub enum Setup {
     BaseExcitation,
     /// Three 10 s load-cell runs with an accelerometer, fitted jointly.
     Repeats,
+    /// The two-storey chain of `configs/two-storey.toml` (2.0 and 1.5 kg on 8 and 6 kN/m,
+    /// 3 and 2 N·s/m): a load cell's force (a 0.1–40 Hz multisine, 2 N rms) on the top
+    /// floor, an accelerometer on each floor (σ 0.02 m/s²), 10 s at 500 Hz.
+    TwoStorey,
 }
 
 impl Setup {
     /// Every setup, in the study's order.
-    pub const ALL: [Setup; 4] = [
+    pub const ALL: [Setup; 5] = [
         Setup::Accelerometer,
         Setup::DisplacementAndAccelerometer,
         Setup::BaseExcitation,
         Setup::Repeats,
+        Setup::TwoStorey,
     ];
 
     /// The setup's name in tables.
@@ -51,6 +58,7 @@ impl Setup {
             Setup::DisplacementAndAccelerometer => "displacement + accelerometer",
             Setup::BaseExcitation => "base excitation",
             Setup::Repeats => "repeats (3 runs)",
+            Setup::TwoStorey => "two-storey chain",
         }
     }
 }
@@ -91,8 +99,9 @@ impl Default for CoverageOptions {
 /// One quantity's coverage over the seeds.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct QuantityCoverage {
-    /// `mass`, `damping`, `stiffness`, `natural_frequency_hz` or `damping_ratio`.
-    pub name: &'static str,
+    /// `mass`, `damping`, `stiffness`, `natural_frequency_hz` or `damping_ratio`; for a
+    /// chain `m1`, `c1`, `k1`, …, `fn1`, `zeta1`, ….
+    pub name: String,
     /// Share of the seeds whose 95 % interval holds the truth.
     pub coverage: f64,
     /// √(mean z²), z = (estimate − truth)/SE: 1 when the SEs are right.
@@ -159,29 +168,25 @@ pub const STUDY_PLANT: Parameters = Parameters {
 /// # Ok::<(), msd_mc::McError>(())
 /// ```
 pub fn coverage_study(options: &CoverageOptions) -> Result<CoverageStudy> {
-    let fits: Vec<RecordsFit> = pool(options.threads)?.install(|| {
+    let fits: Vec<SeedFit> = pool(options.threads)?.install(|| {
         (0..options.seeds as u64)
             .into_par_iter()
             .map(|i| fit_seed(options, options.first_seed + i))
             .collect::<Result<Vec<_>>>()
     })?;
-    let truth = STUDY_PLANT;
-    let values = [
-        ("mass", truth.mass),
-        ("damping", truth.damping),
-        ("stiffness", truth.stiffness),
-        ("natural_frequency_hz", truth.natural_frequency_hz()),
-        ("damping_ratio", truth.damping_ratio()),
-    ];
-    let quantities = values
+    let names = fits.first().map(|f| f.names()).unwrap_or_default();
+    let quantities = names
         .iter()
-        .filter_map(|&(name, t)| {
-            let ivs: Option<Vec<Interval>> = fits.iter().map(|f| interval(f, name)).collect();
-            ivs.filter(|v| v.iter().all(|iv| iv.standard_error > 0.0))
-                .map(|ivs| coverage_of(name, t, &ivs))
+        .enumerate()
+        .filter_map(|(q, name)| {
+            let truth = fits[0].quantities[q].1;
+            let ivs: Vec<Interval> = fits.iter().map(|f| f.quantities[q].2).collect();
+            ivs.iter()
+                .all(|iv| iv.standard_error > 0.0)
+                .then(|| coverage_of(name, truth, &ivs))
         })
         .collect();
-    let share = |f: &dyn Fn(&RecordsFit) -> bool| {
+    let share = |f: &dyn Fn(&SeedFit) -> bool| {
         fits.iter().filter(|x| f(x)).count() as f64 / fits.len().max(1) as f64
     };
     Ok(CoverageStudy {
@@ -197,18 +202,49 @@ pub fn coverage_study(options: &CoverageOptions) -> Result<CoverageStudy> {
     })
 }
 
-fn interval(fit: &RecordsFit, name: &str) -> Option<Interval> {
-    let p = &fit.plant;
-    match name {
-        "mass" => p.mass,
-        "damping" => p.damping,
-        "stiffness" => p.stiffness,
-        "natural_frequency_hz" => Some(p.natural_frequency_hz),
-        _ => Some(p.damping_ratio),
+/// One seed's fit as the study reads it: each quantity's name, truth and interval, and
+/// what the noise model found.
+struct SeedFit {
+    quantities: Vec<(String, f64, Interval)>,
+    noise_model: NoiseModelFit,
+    whiteness: Vec<ResidualWhiteness>,
+}
+
+impl SeedFit {
+    fn names(&self) -> Vec<String> {
+        self.quantities.iter().map(|q| q.0.clone()).collect()
+    }
+
+    fn of_records(fit: RecordsFit) -> Self {
+        let p = &fit.plant;
+        let truth = STUDY_PLANT;
+        let quantities = [
+            ("mass", truth.mass, p.mass),
+            ("damping", truth.damping, p.damping),
+            ("stiffness", truth.stiffness, p.stiffness),
+            (
+                "natural_frequency_hz",
+                truth.natural_frequency_hz(),
+                Some(p.natural_frequency_hz),
+            ),
+            (
+                "damping_ratio",
+                truth.damping_ratio(),
+                Some(p.damping_ratio),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(name, t, iv)| iv.map(|iv| (name.to_string(), t, iv)))
+        .collect();
+        Self {
+            quantities,
+            noise_model: fit.noise_model,
+            whiteness: fit.whiteness,
+        }
     }
 }
 
-fn coverage_of(name: &'static str, truth: f64, ivs: &[Interval]) -> QuantityCoverage {
+fn coverage_of(name: &str, truth: f64, ivs: &[Interval]) -> QuantityCoverage {
     let n = ivs.len() as f64;
     let covered = ivs.iter().filter(|iv| iv.contains(truth)).count() as f64;
     let z2: f64 = ivs
@@ -219,7 +255,7 @@ fn coverage_of(name: &'static str, truth: f64, ivs: &[Interval]) -> QuantityCove
     let variance = ivs.iter().map(|iv| (iv.value - mean).powi(2)).sum::<f64>() / (n - 1.0);
     let mean_se = ivs.iter().map(|iv| iv.standard_error).sum::<f64>() / n;
     QuantityCoverage {
-        name,
+        name: name.to_string(),
         coverage: covered / n,
         rms_z: (z2 / n).sqrt(),
         spread_over_se: variance.sqrt() / mean_se,
@@ -227,8 +263,9 @@ fn coverage_of(name: &'static str, truth: f64, ivs: &[Interval]) -> QuantityCove
 }
 
 /// One seed's records fitted.
-fn fit_seed(options: &CoverageOptions, seed: u64) -> Result<RecordsFit> {
+fn fit_seed(options: &CoverageOptions, seed: u64) -> Result<SeedFit> {
     let (drive, known, runs, seconds) = match options.setup {
+        Setup::TwoStorey => return two_storey::fit_seed(options, seed),
         Setup::BaseExcitation => (Drive::BaseAcceleration, KnownParameter::Mass(1.7), 1, 20.0),
         Setup::Repeats => (Drive::Force, KnownParameter::None, 3, 10.0),
         _ => (Drive::Force, KnownParameter::None, 1, 20.0),
@@ -244,7 +281,7 @@ fn fit_seed(options: &CoverageOptions, seed: u64) -> Result<RecordsFit> {
         hold_out: 0.0,
         ..RecordsOptions::default()
     };
-    Ok(fit_records(&records, &fit_options)?)
+    Ok(SeedFit::of_records(fit_records(&records, &fit_options)?))
 }
 
 /// One run: the drive as measured and the sensors' records.

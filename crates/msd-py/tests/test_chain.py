@@ -93,6 +93,26 @@ def test_records_where_the_fit_stalled_before_the_prefix_stages(seed):
     np.testing.assert_allclose(fit.noise, 0.02, rtol=0.05)
 
 
+def test_a_noisy_load_cell_widens_the_chains_intervals():
+    """The rig's force read by a load cell with 3 % noise (the chain felt the exact one):
+    the default noise model finds it (σ̂_u within 25 % of 0.03 N) and widens the
+    intervals; ``noise_model="white"`` keeps the narrow ones and leaves the residuals
+    coloured."""
+    rng = np.random.default_rng(1005)  # not the record's own stream
+    force, outputs = rig_record(5)
+    measured = force + 0.03 * rng.normal(size=force.shape)
+    fit = msd.fit_chain(measured, outputs, DT, GUESS, force_at=2, sensors=SENSORS)
+    model = fit.noise_model
+    assert model["treatment"] == "input_noise" and model["p_value"] < 1e-6
+    assert model["input_noise_sigma"] == pytest.approx(0.03, rel=0.25)
+    assert any("drive's own noise" in note for note in fit.notes)
+    white = msd.fit_chain(measured, outputs, DT, GUESS, force_at=2, sensors=SENSORS, noise_model="white")
+    assert white.noise_model["treatment"] == "white"
+    assert fit.intervals.dampers[0].standard_error > 2 * white.intervals.dampers[0].standard_error
+    with pytest.raises(ValueError, match="noise_model"):
+        msd.fit_chain(measured, outputs, DT, GUESS, force_at=2, sensors=SENSORS, noise_model="pink")
+
+
 def test_mode_shapes_keep_their_sign(rig):
     """Each shape is scaled so that its largest magnitude is 1 and the first mass moving at
     least half as much is positive: the same signs on every record (mode 1: both floors

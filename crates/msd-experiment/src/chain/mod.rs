@@ -160,9 +160,17 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
             .map_err(|e| ExperimentError::run("data", e))?;
         outputs.push(y.iter().zip(noise).map(|(a, b)| a + b).collect());
     }
+    // The drive as its sensor reads it: the chain felt the exact one.
+    let drive_noise = gaussian_noise(seed, "chain/drive", chain.drive_sigma, input.len())
+        .map_err(|e| ExperimentError::run("data", e))?;
     Ok(ChainRecord {
         dt: input.dt(),
-        input: input.samples().to_vec(),
+        input: input
+            .samples()
+            .iter()
+            .zip(drive_noise)
+            .map(|(u, e)| u + e)
+            .collect(),
         outputs,
     })
 }
@@ -170,10 +178,11 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
 /// The share of the record held out to check the fit on fresh data.
 const HOLD_OUT: f64 = 0.2;
 
-/// The fit options of `chain`: its known masses.
+/// The fit options of `chain`: its known masses and noise model.
 pub(crate) fn fit_options(chain: &ChainSection) -> ChainOptions {
     ChainOptions {
         known_masses: chain.known_masses.clone(),
+        noise_model: chain.noise_model(),
         ..ChainOptions::default()
     }
 }

@@ -2,7 +2,11 @@
 
 use super::{ChainOutcome, channel_names};
 use crate::fmt::{millis, sig};
-use msd_ident::{Interval, chain::ChainFit};
+use crate::noise_report;
+use msd_ident::{
+    Interval,
+    chain::{ChainFit, ChainUncertainty},
+};
 use std::fmt::Write;
 
 /// `report.md` of `o`, with `figures` embedded.
@@ -14,12 +18,12 @@ pub(crate) fn markdown(o: &ChainOutcome, figures: &[&str]) -> String {
 }
 
 /// The rows (name, truth, estimate) of every physical parameter.
-fn rows<'a>(o: &'a ChainOutcome, fit: &'a ChainFit) -> Vec<(String, f64, Option<Interval>)> {
+fn rows(o: &ChainOutcome, u: &ChainUncertainty) -> Vec<(String, f64, Option<Interval>)> {
     let Some(chain) = o.config.chain.as_ref() else {
         return Vec::new();
     };
     let truth = &chain.plant;
-    let iv = fit.uncertainty.intervals.as_ref();
+    let iv = u.intervals.as_ref();
     let mut out = Vec::new();
     for i in 0..truth.masses.len() {
         out.push((
@@ -125,7 +129,9 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     if let Some(ideal) = &o.ideal {
         ignoring(s, o, ideal)?;
     }
-    writeln!(s, "\n## Monte Carlo band\n")?;
+    writeln!(s)?;
+    noise(s, o)?;
+    writeln!(s, "## Monte Carlo band\n")?;
     writeln!(
         s,
         "Every m, c and k drawn uniform within ±{} % of the estimate, {} draws; the band is the {}–{} percentile of each sensor's response, the paper's 90 % band (drawn in the figure).\n",
@@ -186,7 +192,7 @@ fn estimates(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Resu
         s,
         "| parameter | truth | estimate ± SE (95 % CI) | (estimate − truth)/SE |\n|---|---|---|---|"
     )?;
-    for (name, truth, iv) in rows(o, fit) {
+    for (name, truth, iv) in rows(o, &fit.uncertainty) {
         let Some(iv) = iv else { continue };
         let z = if iv.standard_error > 0.0 {
             format!("{:+.2}", (iv.value - truth) / iv.standard_error)
@@ -233,6 +239,39 @@ fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
     Ok(())
 }
 
+/// The drive's unit.
+fn drive_unit(o: &ChainOutcome) -> &'static str {
+    match o.config.chain.as_ref().map(|c| c.drive) {
+        Some(msd_ident::chain::ChainDrive::BaseAcceleration) => "m/s²",
+        _ => "N",
+    }
+}
+
+/// The noise model, each sensor's whiteness, and the white-noise intervals it replaced.
+fn noise(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
+    let fit = &o.fit;
+    let unit = drive_unit(o);
+    noise_report::section(s, &fit.noise_model, &fit.whiteness, unit, "[chain]")?;
+    let Some(white) = &fit.white_noise_uncertainty else {
+        return Ok(());
+    };
+    writeln!(
+        s,
+        "The intervals a white-noise fit would have reported:\n\n| quantity | estimate | 95 % interval |\n|---|---|---|"
+    )?;
+    let physical = rows(o, white);
+    for (label, _, iv) in physical {
+        if let Some(iv) = iv.filter(|iv| iv.standard_error > 0.0) {
+            noise_report::white_row(s, &label, &iv)?;
+        }
+    }
+    for (i, mode) in white.modes.iter().enumerate() {
+        noise_report::white_row(s, &format!("fn{} [Hz]", i + 1), &mode.natural_frequency_hz)?;
+        noise_report::white_row(s, &format!("ζ{}", i + 1), &mode.damping_ratio)?;
+    }
+    writeln!(s)
+}
+
 /// What the fit with ideal sensors found, against the fit with the sensors' model.
 fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Result {
     writeln!(
@@ -247,7 +286,9 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
         s,
         "| quantity | truth | with the sensor model | ideal sensors assumed | shift [SE] |\n|---|---|---|---|---|"
     )?;
-    let pairs = rows(o, &o.fit).into_iter().zip(rows(o, ideal));
+    let pairs = rows(o, &o.fit.uncertainty)
+        .into_iter()
+        .zip(rows(o, &ideal.uncertainty));
     for ((name, truth, proper), (_, _, naive)) in pairs {
         if let (Some(p), Some(n)) = (proper, naive)
             && p.standard_error > 0.0
@@ -282,7 +323,7 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
     let mut s = format!("{}\n", o.config.name);
     match &o.fit.uncertainty.intervals {
         Some(_) => {
-            for (name, truth, iv) in rows(o, &o.fit) {
+            for (name, truth, iv) in rows(o, &o.fit.uncertainty) {
                 if let Some(iv) = iv {
                     let _ = writeln!(
                         s,
@@ -324,6 +365,7 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             );
         }
     }
+    noise_report::summary(&mut s, &o.fit.noise_model, &o.fit.whiteness, drive_unit(o));
     super::validation::summary(&mut s, o);
     if let Some(ideal) = &o.ideal {
         for (i, (p, n)) in damping_pairs(o, ideal) {

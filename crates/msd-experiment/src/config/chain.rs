@@ -3,6 +3,7 @@
 use msd_ident::{
     ResponseQuantity,
     chain::{ChainDrive, ChainParameters, ChainSensor, ChainSetup, LowPass},
+    records::NoiseModel,
 };
 use serde::{Deserialize, Serialize};
 
@@ -32,6 +33,16 @@ pub struct ChainSection {
     pub known_masses: Vec<usize>,
     /// The response channels.
     pub sensors: Vec<ChainSensorSection>,
+    /// The drive sensor's white noise (a load cell's, N; a base accelerometer's, m/s²)
+    /// added to the drive the fit is given; the chain feels the exact drive. By default 0.
+    #[serde(default)]
+    pub drive_sigma: f64,
+    /// Which noise model sets the intervals: `"input_noise"` (the drive's noise
+    /// estimated with the sensors') or `"white"` (the drive taken as exact). By default
+    /// `"input_noise"` when `drive_sigma` > 0, `"white"` when the drive is exact by
+    /// construction.
+    #[serde(default)]
+    pub noise_model: Option<NoiseModel>,
 }
 
 fn first() -> usize {
@@ -65,6 +76,16 @@ pub struct ChainSensorSection {
 }
 
 impl ChainSection {
+    /// The noise model of the fit: as chosen, or by default the drive's noise model
+    /// when the drive has noise, white when it is exact.
+    pub fn noise_model(&self) -> NoiseModel {
+        match self.noise_model {
+            Some(chosen) => chosen,
+            None if self.drive_sigma == 0.0 => NoiseModel::White,
+            None => NoiseModel::InputNoise,
+        }
+    }
+
     /// The chain as tested: the records are simulated through these sensors.
     pub fn tested(&self, masses: usize) -> ChainSetup {
         ChainSetup {
@@ -140,6 +161,12 @@ impl ChainSection {
             return Err((
                 "chain.known_masses".into(),
                 format!(" contains {m}: expected masses from 1 to {n}"),
+            ));
+        }
+        if !(self.drive_sigma.is_finite() && self.drive_sigma >= 0.0) {
+            return Err((
+                "chain.drive_sigma".into(),
+                format!(" = {}: expected a finite number ≥ 0", self.drive_sigma),
             ));
         }
         for (i, s) in self.sensors.iter().enumerate() {

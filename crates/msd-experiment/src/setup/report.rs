@@ -2,6 +2,7 @@
 
 use super::{SetupFit, SetupOutcome};
 use crate::fmt::{millis, sig};
+use crate::noise_report;
 use msd_ident::{Interval, RecordsFit};
 use std::fmt::Write;
 
@@ -93,37 +94,17 @@ pub(crate) fn summary(o: &SetupOutcome) -> String {
     }
     match &o.fit {
         SetupFit::Records { fit, .. } => {
-            noise_summary(&mut s, fit, o.data.setup.excitation.unit());
+            noise_report::summary(
+                &mut s,
+                &fit.noise_model,
+                &fit.whiteness,
+                o.data.setup.excitation.unit(),
+            );
             super::report_validation::summary(&mut s, fit);
         }
         SetupFit::Machine(m) => super::report_machine::summary(&mut s, m),
     }
     s.trim_end().to_string()
-}
-
-/// The noise model's line and a warning per channel left coloured, for the summary.
-fn noise_summary(s: &mut String, fit: &RecordsFit, unit: &str) {
-    let m = &fit.noise_model;
-    if let (Some(sigma), Some(fraction)) = (m.input_noise_sigma, m.input_noise_fraction) {
-        let _ = writeln!(
-            s,
-            "  noise model: {}: the drive's noise σ̂_u = {} {unit} ({} % of its rms); intervals ×{} the white-noise ones",
-            m.treatment,
-            sig(sigma, 3),
-            sig(100.0 * fraction, 2),
-            sig(m.interval_ratio, 3)
-        );
-    }
-    for c in fit.whiteness.iter().filter(|c| !c.passed) {
-        let test = c.ljung_box_under_noise_model.unwrap_or(c.ljung_box);
-        let _ = writeln!(
-            s,
-            "  warning: record `{}`, channel `{}`: the residual is not white under the noise model (Ljung–Box p = {}): the model leaves structure unexplained; the intervals may be too narrow (report.md, Noise)",
-            c.record,
-            c.channel,
-            sig(test.p_value, 2)
-        );
-    }
 }
 
 fn channel_names(o: &SetupOutcome) -> Vec<String> {
@@ -305,50 +286,11 @@ fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
 
 /// The noise model, the residuals' whiteness and the white-noise intervals it replaced.
 fn noise_section(s: &mut String, fit: &RecordsFit, unit: &str) -> std::fmt::Result {
-    let m = &fit.noise_model;
-    writeln!(
-        s,
-        "## Noise
-"
-    )?;
-    match (m.input_noise_sigma, m.input_noise_fraction, m.p_value) {
-        (Some(sigma), Some(fraction), Some(p)) => writeln!(
-            s,
-            "The intervals assume white noise on each sensor plus white noise on the measured drive, seen through the plant (errors-in-variables; msd-ident's `NoiseModel::InputNoise`): the drive's noise σ̂_u = {} {unit}, {} % of its rms (likelihood ratio against a noise-free drive {}, p = {}). They are {}× the intervals that take the drive as exact{}.\n",
-            sig(sigma, 3),
-            sig(100.0 * fraction, 2),
-            sig(m.likelihood_ratio.unwrap_or(0.0), 3),
-            sig(p, 2),
-            sig(m.interval_ratio, 3),
-            m.degrees_of_freedom
-                .filter(|nu| nu.is_finite())
-                .map_or(String::new(), |nu| format!(", with Student's t on {nu:.0} degrees of freedom (Satterthwaite: the noise levels behind them are estimated too)"))
-        )?,
-        _ => writeln!(
-            s,
-            "The intervals assume white noise on each sensor and take the drive (if any) as exact: `[setup] noise_model = \"white\"`, the default for a synthetic drive without noise (exact by construction) and the only model of a free decay.\n"
-        )?,
-    }
-    writeln!(
-        s,
-        "Each channel's residual tested for whiteness (Ljung–Box, 25 lags, level 1 %): as fitted, and whitened by the noise model. A residual that stays coloured under the model means structure the model does not explain.\n\n| record | channel | p as fitted | p under the noise model | white |\n|---|---|---|---|---|"
-    )?;
-    for c in &fit.whiteness {
-        writeln!(
-            s,
-            "| {} | {} | {} | {} | {} |",
-            c.record,
-            c.channel,
-            sig(c.ljung_box.p_value, 3),
-            c.ljung_box_under_noise_model
-                .map_or("—".into(), |l| sig(l.p_value, 3)),
-            if c.passed { "yes" } else { "**no**" }
-        )?;
-    }
+    noise_report::section(s, &fit.noise_model, &fit.whiteness, unit, "[setup]")?;
     if let Some(white) = &fit.white_noise_plant {
         writeln!(
             s,
-            "\nThe intervals a white-noise fit would have reported:\n\n| quantity | estimate | 95 % interval |\n|---|---|---|"
+            "The intervals a white-noise fit would have reported:\n\n| quantity | estimate | 95 % interval |\n|---|---|---|"
         )?;
         let rows = [
             ("m [kg]", white.mass),
@@ -359,17 +301,11 @@ fn noise_section(s: &mut String, fit: &RecordsFit, unit: &str) -> std::fmt::Resu
         ];
         for (label, iv) in rows {
             if let Some(iv) = iv.filter(|iv| iv.standard_error > 0.0) {
-                writeln!(
-                    s,
-                    "| {label} | {} | [{}, {}] |",
-                    sig(iv.value, 6),
-                    sig(iv.ci95[0], 6),
-                    sig(iv.ci95[1], 6)
-                )?;
+                noise_report::white_row(s, label, &iv)?;
             }
         }
+        s.push('\n');
     }
-    s.push('\n');
     Ok(())
 }
 

@@ -1,9 +1,12 @@
 //! `fit_chain`: every mass, damper and spring of a chain, with intervals, from one record.
 
+use super::noise::treat;
 use super::problem::{ChainProblem, Layout, enough_rows};
 use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
 use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
 use crate::error::{IdentError, Result};
+use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness, notes};
+use crate::residuals::ResidualOptions;
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -22,6 +25,12 @@ pub struct ChainOptions {
     /// At most this many fits, each re-estimating every channel's noise level from the
     /// last one's residuals. By default 4.
     pub passes: usize,
+    /// Which noise model sets the intervals: by default the drive's own noise estimated
+    /// with the sensors' and seen through the chain (errors-in-variables, see
+    /// [`NoiseModel`]); `White` takes the drive as exact.
+    pub noise_model: NoiseModel,
+    /// The residual tests' lags and confidence.
+    pub residuals: ResidualOptions,
 }
 
 impl Default for ChainOptions {
@@ -29,6 +38,8 @@ impl Default for ChainOptions {
         Self {
             known_masses: Vec::new(),
             passes: 4,
+            noise_model: NoiseModel::InputNoise,
+            residuals: ResidualOptions::default(),
         }
     }
 }
@@ -46,6 +57,18 @@ pub struct ChainFit {
     pub uncertainty: ChainUncertainty,
     /// σ̂ of each channel, in its own unit.
     pub noise: Vec<f64>,
+    /// Which noise model the intervals come from and what it found.
+    pub noise_model: NoiseModelFit,
+    /// The intervals and modes under white noise (the drive taken as exact), when the
+    /// reported ones come from another noise model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub white_noise_uncertainty: Option<ChainUncertainty>,
+    /// Each sensor's residual: white (Ljung–Box) as fitted and under the noise model,
+    /// and its correlation with the drive.
+    pub whiteness: Vec<ResidualWhiteness>,
+    /// What the reader should know: the drive's noise when it shows, residuals that are
+    /// not white or that correlate with the drive.
+    pub notes: Vec<String>,
     /// The solver's exit on the last pass.
     pub exit: LmExit,
     /// Model evaluations over all passes.
@@ -58,6 +81,10 @@ impl std::fmt::Display for ChainFit {
         write!(f, "σ̂ per channel")?;
         for (i, sigma) in self.noise.iter().enumerate() {
             write!(f, "{}{sigma:.3e}", if i == 0 { " " } else { ", " })?;
+        }
+        write!(f, "\n{}", self.noise_model)?;
+        for note in &self.notes {
+            write!(f, "\nnote: {note}")?;
         }
         Ok(())
     }
@@ -115,7 +142,7 @@ pub fn fit_chain(
         delays: &delays,
     };
     let solved = solve(&start, record, options.passes)?;
-    statistics(&start, record, solved)
+    statistics(&start, record, solved, options)
 }
 
 /// Checks the inputs; the errors name the key.
@@ -328,7 +355,12 @@ fn runaway(start: &Start<'_>, theta: &[f64]) -> Result<()> {
 const RUNAWAY: f64 = 1e4;
 
 /// The intervals, the modes and what is lost, at the solution.
-fn statistics(start: &Start<'_>, record: &ChainRecord, solved: Solved) -> Result<ChainFit> {
+fn statistics(
+    start: &Start<'_>,
+    record: &ChainRecord,
+    solved: Solved,
+    options: &ChainOptions,
+) -> Result<ChainFit> {
     let layout = start.layout;
     let theta = &solved.theta;
     let rows = solved.residuals.len();
@@ -350,11 +382,35 @@ fn statistics(start: &Start<'_>, record: &ChainRecord, solved: Solved) -> Result
         });
     }
     let (parameters, _) = layout.unpack(theta, start.guess, start.delays);
-    let uncertainty = uncertainty_at(&start.at(theta), &jacobian, s2, dof);
+    let mut problem = start.problem(record);
+    problem.noise.clone_from(&solved.noise);
+    let treated = treat(
+        &problem,
+        theta,
+        &jacobian,
+        &residuals,
+        dof,
+        options.noise_model,
+        &options.residuals,
+    );
+    let at = start.at(theta);
+    let reported = treated.covariance.as_ref().map(|c| (c, treated.t_dof));
+    let uncertainty = uncertainty_at(&at, &jacobian, s2, dof, reported);
+    let white_noise_uncertainty = reported.map(|_| uncertainty_at(&at, &jacobian, s2, dof, None));
+    let notes = notes(
+        &treated.fit,
+        &treated.whiteness,
+        "white_noise_uncertainty",
+        true,
+    );
     Ok(ChainFit {
         parameters,
         uncertainty,
         noise: solved.noise,
+        noise_model: treated.fit,
+        white_noise_uncertainty,
+        whiteness: treated.whiteness,
+        notes,
         exit: solved.exit,
         evaluations: solved.evaluations,
     })

@@ -412,6 +412,7 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
         );
         let c = iv.dampers[0];
         assert!((c.value - 1.8).abs() < 4.0 * c.standard_error, "{c}");
+        let precision = c.standard_error;
         let zeta = fit.uncertainty.modes[0].damping_ratio;
         let true_zeta = 1.8 / (2.0 * (2.5f64 * 120.0).sqrt());
         assert!(
@@ -419,7 +420,9 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
             "{zeta}"
         );
         // Ideal sensors assumed: the lag of 6 ms plus the filter's 3.2 ms reads as extra
-        // damping, more than 3 standard errors of c.
+        // damping, more than 3 standard errors of the right fit's c. (Its own intervals
+        // widen: the noise model takes the unexplained lag for the drive's noise, and
+        // says that its residuals stay coloured.)
         let ideal = fit_chain(
             &setup.with_ideal_sensors(),
             &rec,
@@ -429,9 +432,10 @@ fn a_delayed_sensor_is_fitted_with_its_delay_and_biases_c_without_it() {
         .unwrap();
         let c = ideal.uncertainty.intervals.unwrap().dampers[0];
         assert!(
-            (c.value - 1.8).abs() > 3.0 * c.standard_error,
-            "seed {seed}: {c}"
+            (c.value - 1.8).abs() > 3.0 * precision,
+            "seed {seed}: {c} against ± {precision}"
         );
+        assert!(!ideal.notes.is_empty(), "seed {seed}: no note on the lag");
     }
 }
 

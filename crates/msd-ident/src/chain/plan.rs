@@ -96,5 +96,11 @@ pub fn predict_chain(
         delays: &delays,
     };
     // Weighted by the true σ: the residuals have unit variance.
-    Ok(uncertainty_at(&at, &jacobian, 1.0, rows - layout.len()))
+    Ok(uncertainty_at(
+        &at,
+        &jacobian,
+        1.0,
+        rows - layout.len(),
+        None,
+    ))
 }

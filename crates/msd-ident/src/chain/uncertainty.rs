@@ -122,18 +122,25 @@ pub(crate) struct Point<'a> {
     pub delays: &'a [f64],
 }
 
-/// The uncertainty at `at` from the weighted `jacobian` there, σ² = `s2` and `dof`.
+/// The uncertainty at `at` from the weighted `jacobian` there, σ² = `s2` and `dof`; or,
+/// where the records identify every quantity and `reported` is given, from that
+/// covariance of θ with a t of its degrees of freedom (a noise model's sandwich).
 pub(crate) fn uncertainty_at(
     at: &Point<'_>,
     jacobian: &DMatrix<f64>,
     s2: f64,
     dof: usize,
+    reported: Option<(&DMatrix<f64>, usize)>,
 ) -> ChainUncertainty {
     let layout = at.layout;
     let (parameters, delays) = layout.unpack(at.theta, at.base, at.delays);
-    let t = t_975(dof);
+    let t = t_975(reported.map_or(dof, |(_, nu)| nu));
     let (covariance, condition_number, unidentifiable) = match Linearization::new(jacobian) {
-        Ok(lin) => (lin.covariance(s2), lin.condition_number, Vec::new()),
+        Ok(lin) => (
+            reported.map_or_else(|| lin.covariance(s2), |(c, _)| c.clone()),
+            lin.condition_number,
+            Vec::new(),
+        ),
         Err(_) => pseudo_covariance(jacobian, s2, layout),
     };
     let se = |j: usize| covariance[(j, j)].max(0.0).sqrt();

@@ -138,3 +138,53 @@ impl NoiseModelFit {
         }
     }
 }
+
+/// What the reader should know about the noise: the drive's noise when it shows, and
+/// each channel whose residual is not white under the model the intervals assume.
+/// `white_key` names where the white-noise intervals are; `measured_drive` whether there
+/// is a drive whose noise the model could account for.
+pub(crate) fn notes(
+    fit: &NoiseModelFit,
+    whiteness: &[ResidualWhiteness],
+    white_key: &str,
+    measured_drive: bool,
+) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let (Some(sigma), Some(fraction), Some(p)) =
+        (fit.input_noise_sigma, fit.input_noise_fraction, fit.p_value)
+        && p < super::WHITENESS_LEVEL
+    {
+        let caveat = if whiteness.iter().any(|c| !c.passed) {
+            "; the residuals stay coloured under this model, so σ̂_u may stand for what the model misses (a nonlinearity, a missing mode) rather than the drive's noise"
+        } else {
+            ""
+        };
+        notes.push(format!(
+            "the drive's own noise shows in the residuals (σ̂_u = {sigma:.3e}, {:.2} % of its rms, p = {p:.1e}): the intervals are the errors-in-variables ones, {:.2}× the white-noise ones (`{white_key}`){caveat}",
+            100.0 * fraction,
+            fit.interval_ratio
+        ));
+    }
+    for check in whiteness.iter() {
+        let Some(test) = check.input_correlation.as_ref().filter(|t| !t.passed) else {
+            continue;
+        };
+        notes.push(format!(
+            "record `{}`, channel `{}`: the residual correlates with the drive ({test}): part of the drive's effect is not explained (a missing mode, a delay, a nonlinearity, a wrong drive or unit)",
+            check.record, check.channel
+        ));
+    }
+    for check in whiteness.iter().filter(|c| !c.passed) {
+        let test = check.ljung_box_under_noise_model.unwrap_or(check.ljung_box);
+        let hint = if measured_drive && check.ljung_box_under_noise_model.is_none() {
+            "; with a measured drive, `noise_model = \"input_noise\"` accounts for its noise"
+        } else {
+            ""
+        };
+        notes.push(format!(
+            "record `{}`, channel `{}`: the residual is not white under the noise model ({test}): the model leaves structure unexplained (a missing dynamic, a nonlinearity, a coloured sensor noise, a delay), so the intervals may be too narrow; look at the residuals and validate on another record{hint}",
+            check.record, check.channel
+        ));
+    }
+    notes
+}

@@ -39,6 +39,7 @@ mod middle;
 mod satterthwaite;
 mod spectral;
 
+pub(crate) use fit::notes;
 pub use fit::{NoiseModel, NoiseModelFit, ResidualWhiteness};
 pub(crate) use middle::{MiddleRecord, middle_matrix};
 pub(crate) use satterthwaite::satterthwaite;

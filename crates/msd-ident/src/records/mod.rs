@@ -134,10 +134,11 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         .map(|rec| record_fit(&problem, rec, theta))
         .collect();
     notes.extend(poor_fits(&records_fit));
-    notes.extend(noise_model::notes(
+    notes.extend(crate::input_noise::notes(
         &treated.fit,
         &treated.whiteness,
-        options.drive,
+        "white_noise_plant",
+        options.drive != Drive::None,
     ));
     let names = problem.group_names.clone();
     let leave_one_out = (options.leave_one_out && records.len() >= 2).then(|| {

@@ -583,6 +583,7 @@ def fit_chain(
     sensors: Optional[Sequence[Mapping[str, Any]]] = None,
     known_masses: Sequence[int] = (),
     passes: int = 4,
+    noise_model: str = "input_noise",
 ) -> ChainFit:
     """Every m, c and k of a chain of masses (and the sensor delays asked for) from one
     record, with 95 % intervals and the modes: msd-ident's `fit_chain` (weighted output
@@ -599,9 +600,14 @@ def fit_chain(
     ``delay`` or 0, its ``estimate_cutoff`` its filter's cut-off from ``low_pass``'s).
     `known_masses`: masses (numbered from 1) held at the guess's value (under a base
     acceleration one must be known to set the scale); `passes`: at most this many fits,
-    each re-estimating the channels' noise levels (default 4).
+    each re-estimating the channels' noise levels (default 4). `noise_model`: which
+    noise the intervals assume — ``"input_noise"`` (the default: white noise on every
+    sensor plus the drive's own noise, a load cell's, seen through the chain and
+    estimated with the sensors'; errors-in-variables) or ``"white"`` (the drive taken
+    as exact).
 
-    Returns a `ChainFit` (the estimates, σ̂ per channel, and as a `ChainUncertainty` the
+    Returns a `ChainFit` (the estimates, σ̂ per channel, the noise model found and its
+    notes, and as a `ChainUncertainty` the
     intervals, modes, delays, cut-offs and the correlation of the estimated quantities
     in the order of its ``names``); when the record cannot separate the parameters its
     ``intervals`` is None and ``unidentifiable`` says which combinations are lost (the
@@ -617,7 +623,9 @@ def fit_chain(
     setup_json = _chain_setup(
         setup, {"masses": masses, "drive": drive, "force_at": force_at, "sensors": sensors}, g
     )
-    opts = {"known_masses": _known_masses(known_masses), "passes": passes}
+    if noise_model not in ("input_noise", "white"):
+        raise ValueError(f"noise_model = {noise_model!r}: expected \"input_noise\" or \"white\"")
+    opts = {"known_masses": _known_masses(known_masses), "passes": passes, "noise_model": noise_model}
     return ChainFit(
         _msd.fit_chain(
             setup_json,

@@ -652,9 +652,23 @@ class ChainFit(ChainUncertainty):
         """Model evaluations over all passes."""
         return int(self.data["evaluations"])
 
+    @property
+    def noise_model(self) -> Dict[str, Any]:
+        """Which noise model the intervals come from ("input_noise": the drive's own
+        noise estimated with the sensors'; "white") and what it found (σ̂_u, its test,
+        the intervals' ratio to the white-noise ones)."""
+        return dict(self.data["noise_model"])
+
+    @property
+    def notes(self) -> List[str]:
+        """What the reader should know: the drive's noise when it shows, residuals that
+        are not white or that correlate with the drive."""
+        return list(self.data["notes"])
+
     def _repr_html_(self) -> str:
         rows = self._rows()
         rows.append(("σ̂ per channel", ", ".join(f"{s:.3e}" for s in self.noise)))
+        rows.append(("noise model", str(self.data["noise_model"]["treatment"])))
         return _table("msd.fit_chain", rows)
 
 

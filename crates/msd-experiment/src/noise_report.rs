@@ -1,0 +1,98 @@
+//! The noise model's part of a report and a summary, for every kind whose fit carries
+//! an [`NoiseModelFit`] (one-mass setups, chains): the treatment, the drive's noise
+//! found, each channel's whiteness, and the warnings.
+
+use crate::fmt::sig;
+use msd_ident::Interval;
+use msd_ident::records::{NoiseModelFit, ResidualWhiteness};
+use std::fmt::Write;
+
+/// The noise model's line and a warning per channel left coloured, for the summary;
+/// `unit` is the drive's.
+pub(crate) fn summary(
+    s: &mut String,
+    m: &NoiseModelFit,
+    whiteness: &[ResidualWhiteness],
+    unit: &str,
+) {
+    if let (Some(sigma), Some(fraction)) = (m.input_noise_sigma, m.input_noise_fraction) {
+        let _ = writeln!(
+            s,
+            "  noise model: {}: the drive's noise σ̂_u = {} {unit} ({} % of its rms); intervals ×{} the white-noise ones",
+            m.treatment,
+            sig(sigma, 3),
+            sig(100.0 * fraction, 2),
+            sig(m.interval_ratio, 3)
+        );
+    }
+    for c in whiteness.iter().filter(|c| !c.passed) {
+        let test = c.ljung_box_under_noise_model.unwrap_or(c.ljung_box);
+        let _ = writeln!(
+            s,
+            "  warning: record `{}`, channel `{}`: the residual is not white under the noise model (Ljung–Box p = {}): the model leaves structure unexplained; the intervals may be too narrow (report.md, Noise)",
+            c.record,
+            c.channel,
+            sig(test.p_value, 2)
+        );
+    }
+}
+
+/// The "Noise" section's heading, the treatment in words and the whiteness table;
+/// `unit` is the drive's, `section` the config section whose `noise_model` key chose
+/// the treatment.
+pub(crate) fn section(
+    s: &mut String,
+    m: &NoiseModelFit,
+    whiteness: &[ResidualWhiteness],
+    unit: &str,
+    section: &str,
+) -> std::fmt::Result {
+    writeln!(s, "## Noise\n")?;
+    match (m.input_noise_sigma, m.input_noise_fraction, m.p_value) {
+        (Some(sigma), Some(fraction), Some(p)) => writeln!(
+            s,
+            "The intervals assume white noise on each sensor plus white noise on the measured drive, seen through the plant (errors-in-variables; msd-ident's `NoiseModel::InputNoise`): the drive's noise σ̂_u = {} {unit}, {} % of its rms (likelihood ratio against a noise-free drive {}, p = {}). They are {}× the intervals that take the drive as exact{}.\n",
+            sig(sigma, 3),
+            sig(100.0 * fraction, 2),
+            sig(m.likelihood_ratio.unwrap_or(0.0), 3),
+            sig(p, 2),
+            sig(m.interval_ratio, 3),
+            m.degrees_of_freedom
+                .filter(|nu| nu.is_finite())
+                .map_or(String::new(), |nu| format!(", with Student's t on {nu:.0} degrees of freedom (Satterthwaite: the noise levels behind them are estimated too)"))
+        )?,
+        _ => writeln!(
+            s,
+            "The intervals assume white noise on each sensor and take the drive (if any) as exact: `{section} noise_model = \"white\"`, the default for a synthetic drive without noise (exact by construction) and the only model of a free decay.\n"
+        )?,
+    }
+    writeln!(
+        s,
+        "Each channel's residual tested for whiteness (Ljung–Box, 25 lags, level 1 %): as fitted, and whitened by the noise model. A residual that stays coloured under the model means structure the model does not explain.\n\n| record | channel | p as fitted | p under the noise model | white |\n|---|---|---|---|---|"
+    )?;
+    for c in whiteness {
+        writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            c.record,
+            c.channel,
+            sig(c.ljung_box.p_value, 3),
+            c.ljung_box_under_noise_model
+                .map_or("—".into(), |l| sig(l.p_value, 3)),
+            if c.passed { "yes" } else { "**no**" }
+        )?;
+    }
+    s.push('\n');
+    Ok(())
+}
+
+/// One row of the white-noise intervals' table: label, estimate, interval.
+pub(crate) fn white_row(s: &mut String, label: &str, iv: &Interval) -> std::fmt::Result {
+    writeln!(
+        s,
+        "| {label} | {} | [{}, {}] |",
+        sig(iv.value, 6),
+        sig(iv.ci95[0], 6),
+        sig(iv.ci95[1], 6)
+    )
+}

@@ -1,0 +1,273 @@
+//! A chain's residuals under the errors-in-variables noise model ([`crate::input_noise`]):
+//! the drive (a load cell's force, a base accelerometer's acceleration) measured with
+//! white noise that reaches every sensor through the chain, its delay and its filter.
+//! Everything here is in the fit's weighted units (each channel divided by its σ̂), so
+//! each sensor is its own group and the Jacobian is the solver's.
+
+use super::problem::ChainProblem;
+use super::setup::ChainRecord;
+use crate::correlation::autocorrelation;
+use crate::input_noise::{
+    Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, WHITENESS_LEVEL,
+    impulse_spectrum, maximise, middle_matrix, residual_spectrum, satterthwaite,
+    whitened_ljung_box,
+};
+use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
+use msd_opt::statistics::Linearization;
+use nalgebra::{DMatrix, DVector};
+
+/// What [`treat`] gives: the covariance of θ to report (`None`: the white one), what
+/// the noise model found, each sensor's whiteness, and the t's degrees of freedom.
+pub(super) struct Treated {
+    pub covariance: Option<DMatrix<f64>>,
+    pub fit: NoiseModelFit,
+    pub whiteness: Vec<ResidualWhiteness>,
+    pub t_dof: usize,
+}
+
+/// The noise treatment of a chain fit at θ: `jacobian` and `residuals` weighted by the
+/// final noise levels (`problem.noise`), `dof` the samples' degrees of freedom.
+pub(super) fn treat(
+    problem: &ChainProblem<'_>,
+    theta: &[f64],
+    jacobian: &DMatrix<f64>,
+    residuals: &[f64],
+    dof: usize,
+    choice: NoiseModel,
+    tests: &ResidualOptions,
+) -> Treated {
+    let record = problem.record;
+    let len = record.len();
+    let channels = record.outputs.len();
+    let rows = |ch: usize| ch * len..(ch + 1) * len;
+    let lags = tests.max_lag;
+    let mut whiteness = as_fitted(record, residuals, tests);
+    let white = Treated {
+        covariance: None,
+        fit: NoiseModelFit::white(),
+        whiteness: whiteness.clone(),
+        t_dof: dof,
+    };
+    let inverse = match Linearization::new(jacobian) {
+        Ok(lin) => lin.covariance(1.0),
+        Err(_) => return white,
+    };
+    let Some(impulse) = (choice == NoiseModel::InputNoise)
+        .then(|| impulse_responses(problem, theta))
+        .flatten()
+    else {
+        return white;
+    };
+    let lines = Lines {
+        size: len,
+        groups: (0..channels).collect(),
+        residual: (0..channels)
+            .map(|ch| residual_spectrum(residuals[rows(ch)].iter().copied(), len))
+            .collect(),
+        transfer: impulse
+            .iter()
+            .map(|g| impulse_spectrum(g.iter().copied(), len))
+            .collect(),
+    };
+    let model = maximise(std::slice::from_ref(&lines), channels);
+    let inflation = residuals.len() as f64 / dof as f64;
+    let middle = middle_matrix(
+        &[MiddleRecord {
+            len,
+            impulse,
+            rows: (0..channels).map(rows).collect(),
+            weights: vec![1.0; channels],
+            groups: (0..channels).collect(),
+        }],
+        jacobian,
+        channels,
+    );
+    let reported = &inverse * middle.total(&model, inflation) * &inverse;
+    let parts: Vec<DMatrix<f64>> = std::iter::once(&middle.drive)
+        .chain(&middle.sensors)
+        .map(|b| &inverse * b * &inverse * inflation)
+        .collect();
+    let p = jacobian.ncols();
+    let directions: Vec<DVector<f64>> = (0..p)
+        .map(|j| DVector::from_fn(p, |i, _| if i == j { 1.0 } else { 0.0 }))
+        .collect();
+    // As the joint fit's: Satterthwaite only where the drive's noise shows.
+    let nu = model
+        .covariance
+        .as_ref()
+        .filter(|_| model.p_value < WHITENESS_LEVEL)
+        .map(|cov| satterthwaite(&reported, &parts, cov, &directions));
+    let s2 = residuals.iter().map(|r| r * r).sum::<f64>() / dof as f64;
+    let ratio = (0..p)
+        .map(|j| (reported[(j, j)] / (s2 * inverse[(j, j)])).max(0.0).sqrt())
+        .fold(0.0, f64::max);
+    let sigma_u = (model.input_variance * inflation).sqrt();
+    for (check, ch) in whiteness.iter_mut().zip(0..channels) {
+        let test = whitened_ljung_box(&lines, ch, &model, lags, len);
+        check.ljung_box_under_noise_model = Some(test);
+        check.passed = test.p_value >= 1.0 - tests.confidence;
+    }
+    let fit = NoiseModelFit {
+        treatment: "input_noise".into(),
+        input_noise_sigma: Some(sigma_u),
+        input_noise_fraction: Some(sigma_u / rms(&record.input)),
+        sensor_sigmas: model
+            .sensor_variance
+            .iter()
+            .zip(&problem.noise)
+            .map(|(d, sigma)| (d * inflation).sqrt() * sigma)
+            .collect(),
+        likelihood_ratio: Some(model.likelihood_ratio),
+        p_value: Some(model.p_value),
+        interval_ratio: ratio,
+        degrees_of_freedom: nu,
+    };
+    let t_dof = match nu {
+        Some(nu) if nu.is_finite() => (nu.floor() as usize).clamp(1, dof),
+        _ => dof,
+    };
+    Treated {
+        covariance: Some(reported),
+        fit,
+        whiteness,
+        t_dof,
+    }
+}
+
+/// Each sensor's residual tested as fitted: Ljung–Box and the correlation with the drive.
+fn as_fitted(
+    record: &ChainRecord,
+    residuals: &[f64],
+    tests: &ResidualOptions,
+) -> Vec<ResidualWhiteness> {
+    let len = record.len();
+    (0..record.outputs.len())
+        .map(|ch| {
+            let r = &residuals[ch * len..(ch + 1) * len];
+            let ljung = ljung_box(&autocorrelation(r, tests.max_lag), len);
+            ResidualWhiteness {
+                record: "record".into(),
+                channel: format!("sensor {}", ch + 1),
+                ljung_box: ljung,
+                ljung_box_under_noise_model: None,
+                input_correlation: residual_analysis(r, &record.input, tests)
+                    .ok()
+                    .map(|a| a.cross_correlation),
+                passed: ljung.p_value >= 1.0 - tests.confidence,
+            }
+        })
+        .collect()
+}
+
+/// Each sensor's response to one unit drive sample, from rest, divided by its noise
+/// level (the fit's weighted units); `None` where the chain cannot be simulated. The
+/// drive is linear between samples, so one sample's drive is a triangle over two
+/// intervals: the unit sample stands at the second instant, and the response is read
+/// from there.
+fn impulse_responses(problem: &ChainProblem<'_>, theta: &[f64]) -> Option<Vec<Vec<f64>>> {
+    let len = problem.record.len();
+    let mut input = vec![0.0; len + 1];
+    input[1] = 1.0;
+    let record = ChainRecord {
+        dt: problem.record.dt,
+        input,
+        outputs: Vec::new(),
+    };
+    let impulse = ChainProblem {
+        record: &record,
+        noise: problem.noise.clone(),
+        ..*problem
+    };
+    let sim = impulse.simulate(theta, None)?;
+    Some(
+        problem
+            .noise
+            .iter()
+            .enumerate()
+            .map(|(ch, sigma)| {
+                sim.outputs[ch * (len + 1) + 1..(ch + 1) * (len + 1)]
+                    .iter()
+                    .map(|g| g / sigma)
+                    .collect()
+            })
+            .collect(),
+    )
+}
+
+fn rms(values: &[f64]) -> f64 {
+    (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::chain::problem::Layout;
+    use crate::chain::{ChainParameters, ChainSensor, ChainSetup, simulate_chain};
+    use msd_signal::{ResponseQuantity, gaussian_noise};
+
+    /// The model driven by a noisy drive differs from the model driven by the exact one
+    /// by the drive's noise convolved with the impulse responses the treatment uses (a
+    /// delayed accelerometer and a displacement sensor, weighted).
+    #[test]
+    fn a_drive_noise_reaches_each_sensor_through_its_impulse_response() {
+        let setup = ChainSetup {
+            masses: 2,
+            force_at: 2,
+            sensors: vec![
+                ChainSensor {
+                    at: 1,
+                    quantity: ResponseQuantity::Acceleration,
+                    delay: Some(0.004),
+                    ..ChainSensor::default()
+                },
+                ChainSensor {
+                    at: 2,
+                    quantity: ResponseQuantity::Displacement,
+                    ..ChainSensor::default()
+                },
+            ],
+            ..ChainSetup::default()
+        };
+        let truth = ChainParameters {
+            masses: vec![2.0, 1.5],
+            dampers: vec![3.0, 2.0],
+            springs: vec![8000.0, 6000.0],
+            ..ChainParameters::default()
+        };
+        let (n, dt) = (600, 2e-3);
+        // The record's first sample drives only the half triangle after it: the
+        // convolution holds from a first sample of 0 (an edge effect of one sample).
+        let mut noise = gaussian_noise(3, "drive", 1.0, n).expect("noise");
+        noise[0] = 0.0;
+        let quiet = vec![0.0; n];
+        let response = simulate_chain(&setup, &truth, &noise, dt).expect("simulated");
+        let record = ChainRecord {
+            dt,
+            input: quiet,
+            outputs: response.clone(),
+        };
+        let layout = Layout::new(&setup, &[], &truth);
+        let delays = [0.004, 0.0];
+        let theta = layout.theta(&truth, &delays);
+        let problem = ChainProblem {
+            setup: &setup,
+            record: &record,
+            layout: &layout,
+            base: &truth,
+            delays: &delays,
+            noise: vec![0.5, 2.0],
+        };
+        let g = impulse_responses(&problem, &theta).expect("impulse responses");
+        for (ch, sigma) in [0.5, 2.0].iter().enumerate() {
+            let scale = response[ch].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for t in 0..n {
+                let conv: f64 = (0..=t).map(|i| g[ch][t - i] * sigma * noise[i]).sum();
+                assert!(
+                    (conv - response[ch][t]).abs() < 1e-9 * scale,
+                    "sensor {ch}, sample {t}: {conv} vs {}",
+                    response[ch][t]
+                );
+            }
+        }
+    }
+}
