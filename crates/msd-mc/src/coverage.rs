@@ -125,6 +125,8 @@ pub struct CoverageStudy {
     pub whiteness_flagged: f64,
     /// The mean σ̂_u over the drive's rms.
     pub mean_drive_noise_estimate: f64,
+    /// The standard deviation of σ̂_u over the drive's rms across the seeds.
+    pub sd_drive_noise_estimate: f64,
 }
 
 impl std::fmt::Display for CoverageStudy {
@@ -186,6 +188,14 @@ pub fn coverage_study(options: &CoverageOptions) -> Result<CoverageStudy> {
                 .then(|| coverage_of(name, truth, &ivs))
         })
         .collect();
+    let fractions: Vec<f64> = fits
+        .iter()
+        .map(|f| f.noise_model.input_noise_fraction.unwrap_or(0.0))
+        .collect();
+    let n = fractions.len().max(1) as f64;
+    let mean = fractions.iter().sum::<f64>() / n;
+    let sd =
+        (fractions.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
     let share = |f: &dyn Fn(&SeedFit) -> bool| {
         fits.iter().filter(|x| f(x)).count() as f64 / fits.len().max(1) as f64
     };
@@ -194,11 +204,8 @@ pub fn coverage_study(options: &CoverageOptions) -> Result<CoverageStudy> {
         quantities,
         drive_noise_detected: share(&|f| f.noise_model.p_value.is_some_and(|p| p < 0.01)),
         whiteness_flagged: share(&|f| f.whiteness.iter().any(|c| !c.passed)),
-        mean_drive_noise_estimate: fits
-            .iter()
-            .map(|f| f.noise_model.input_noise_fraction.unwrap_or(0.0))
-            .sum::<f64>()
-            / fits.len().max(1) as f64,
+        mean_drive_noise_estimate: mean,
+        sd_drive_noise_estimate: sd,
     })
 }
 

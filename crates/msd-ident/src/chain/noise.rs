@@ -8,9 +8,9 @@ use super::problem::ChainProblem;
 use super::setup::ChainRecord;
 use crate::correlation::autocorrelation;
 use crate::input_noise::{
-    Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, WHITENESS_LEVEL,
-    impulse_spectrum, maximise, middle_matrix, residual_spectrum, satterthwaite,
-    whitened_ljung_box,
+    Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
+    WHITENESS_LEVEL, expected, impulse_spectrum, maximise, middle_matrix, residual_spectrum,
+    satterthwaite, whitened_ljung_box,
 };
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_opt::statistics::Linearization;
@@ -69,8 +69,6 @@ pub(super) fn treat(
             .map(|g| impulse_spectrum(g.iter().copied(), len))
             .collect(),
     };
-    let model = maximise(std::slice::from_ref(&lines), channels);
-    let inflation = residuals.len() as f64 / dof as f64;
     let middle = middle_matrix(
         &[MiddleRecord {
             len,
@@ -82,11 +80,15 @@ pub(super) fn treat(
         jacobian,
         channels,
     );
-    let reported = &inverse * middle.total(&model, inflation) * &inverse;
     let parts: Vec<DMatrix<f64>> = std::iter::once(&middle.drive)
         .chain(&middle.sensors)
-        .map(|b| &inverse * b * &inverse * inflation)
+        .map(|b| &inverse * b * &inverse)
         .collect();
+    // The restricted likelihood: the variances of the noise the fit left (unbiased for
+    // the degrees of freedom it took, so no N/(N − p) inflation after it).
+    let model = restricted_fit(&lines, jacobian, &inverse);
+    let inflation = 1.0;
+    let reported = &inverse * middle.total(&model, inflation) * &inverse;
     let p = jacobian.ncols();
     let directions: Vec<DVector<f64>> = (0..p)
         .map(|j| DVector::from_fn(p, |i, _| if i == j { 1.0 } else { 0.0 }))
@@ -132,6 +134,37 @@ pub(super) fn treat(
         whiteness,
         t_dof,
     }
+}
+
+/// The spectral model fitted by the restricted likelihood to the record `lines` of a fit
+/// with the weighted `jacobian` (each sensor its own group) and normal-matrix inverse
+/// `inverse`.
+fn restricted_fit(lines: &Lines, jacobian: &DMatrix<f64>, inverse: &DMatrix<f64>) -> SpectralModel {
+    let (channels, len) = (lines.groups.len(), lines.size);
+    let sensitivity = Sensitivity {
+        columns: (0..channels)
+            .map(|ch| {
+                (0..jacobian.ncols())
+                    .map(|j| {
+                        jacobian
+                            .column(j)
+                            .rows(ch * len, len)
+                            .iter()
+                            .copied()
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect(),
+        weights: vec![1.0; channels],
+    };
+    let restricted = expected(
+        std::slice::from_ref(lines),
+        std::slice::from_ref(&sensitivity),
+        inverse,
+        channels,
+    );
+    maximise(std::slice::from_ref(lines), channels, Some(&restricted))
 }
 
 /// Each sensor's residual tested as fitted: Ljung–Box and the correlation with the drive.

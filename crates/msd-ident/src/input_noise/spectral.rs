@@ -1,6 +1,7 @@
 //! The residuals and impulse responses in the frequency domain, and the Whittle
 //! likelihood of the spectral model S = D + σ²_u·G·Gᴴ fitted to them.
 
+use super::restricted::{Expected, line_log_likelihood};
 use crate::correlation::autocorrelation;
 use crate::fft;
 use crate::residuals::{LjungBox, ljung_box};
@@ -46,7 +47,7 @@ pub(super) fn padded(len: usize) -> usize {
 }
 
 /// The DFT of `x` zero-padded to `size`, times `scale`.
-pub(super) fn spectrum(x: impl Iterator<Item = f64>, size: usize, scale: f64) -> Vec<Complex64> {
+pub(crate) fn spectrum(x: impl Iterator<Item = f64>, size: usize, scale: f64) -> Vec<Complex64> {
     let mut buffer = vec![Complex64::new(0.0, 0.0); size];
     for (b, v) in buffer.iter_mut().zip(x) {
         b.re = v * scale;
@@ -56,7 +57,7 @@ pub(super) fn spectrum(x: impl Iterator<Item = f64>, size: usize, scale: f64) ->
 }
 
 /// The one-sided lines of an unpadded DFT used by the likelihood: no mean, no Nyquist.
-pub(super) fn likelihood_lines(size: usize) -> std::ops::Range<usize> {
+pub(crate) fn likelihood_lines(size: usize) -> std::ops::Range<usize> {
     1..size.div_ceil(2)
 }
 
@@ -87,7 +88,14 @@ pub(crate) fn whitened_ljung_box(
 /// (Nelder–Mead in ln σ²_a and ψ = σ_u/σ_ref, σ²_ref the drive noise that matches the
 /// first group's at the first record's largest gain), then the likelihood ratio against
 /// σ_u = 0.
-pub(crate) fn maximise(lines: &[Lines], groups: usize) -> SpectralModel {
+///
+/// With `expected` (one per record), the likelihood is the restricted one: each line's
+/// residual cross-spectrum as the fit left it ([`super::restricted`]).
+pub(crate) fn maximise(
+    lines: &[Lines],
+    groups: usize,
+    expected: Option<&[Expected]>,
+) -> SpectralModel {
     let white = white_variances(lines, groups);
     let peak = likelihood_lines(lines[0].size)
         .map(|k| lines[0].transfer[0][k].norm_sqr())
@@ -99,7 +107,7 @@ pub(crate) fn maximise(lines: &[Lines], groups: usize) -> SpectralModel {
     };
     let cost = |x: &[f64]| {
         let (d, s_u) = unpack(x);
-        -log_likelihood(lines, &d, s_u)
+        -log_likelihood(lines, &d, s_u, expected)
     };
     let mut x0: Vec<f64> = white.iter().map(|d| d.ln()).collect();
     x0.push(0.5);
@@ -110,7 +118,7 @@ pub(crate) fn maximise(lines: &[Lines], groups: usize) -> SpectralModel {
         max_iterations: Some(1000 * (groups + 1)),
         ..NelderMeadOptions::default()
     };
-    let white_cost = -log_likelihood(lines, &white, 0.0);
+    let white_cost = -log_likelihood(lines, &white, 0.0, expected);
     let (d, s_u, best) = match nelder_mead(cost, &x0, &options) {
         Ok(fit) if fit.cost < white_cost => {
             let (d, s_u) = unpack(&fit.x);
@@ -162,12 +170,27 @@ fn projections(l: &Lines, k: usize, d: &[f64]) -> (f64, Complex64) {
     (a, b)
 }
 
-/// The Whittle log-likelihood −Σ (ln det S + Rᴴ·S⁻¹·R), S = D + σ²_u·G·Gᴴ.
-fn log_likelihood(lines: &[Lines], d: &[f64], s_u: f64) -> f64 {
+/// The Whittle log-likelihood −Σ (ln det S + Rᴴ·S⁻¹·R), S = D + σ²_u·G·Gᴴ; with
+/// `expected`, S is each line's expected residual cross-spectrum (where that is not
+/// positive definite, the line keeps S).
+fn log_likelihood(lines: &[Lines], d: &[f64], s_u: f64, expected: Option<&[Expected]>) -> f64 {
     let mut total = 0.0;
-    for l in lines {
+    let variances: Vec<f64> = std::iter::once(s_u).chain(d.iter().copied()).collect();
+    let mut work = Vec::new();
+    let mut residual = Vec::new();
+    for (r, l) in lines.iter().enumerate() {
         let log_det_d: f64 = l.groups.iter().map(|&g| d[g].ln()).sum();
-        for k in likelihood_lines(l.size) {
+        for (i, k) in likelihood_lines(l.size).enumerate() {
+            if let Some(e) = expected {
+                residual.clear();
+                residual.extend((0..e[r].channels).map(|ch| l.residual[ch][k]));
+                if let Some(v) =
+                    line_log_likelihood(&e[r].lines[i], &variances, &residual, &mut work)
+                {
+                    total += v;
+                    continue;
+                }
+            }
             let (a, b) = projections(l, k, d);
             let quadratic: f64 = l
                 .groups

@@ -101,13 +101,8 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
     let (x, passes, iterations) =
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
     let theta = problem.theta(&x);
-    let treated = noise_model::covariance(
-        &problem,
-        theta,
-        options.noise_model,
-        &options.residuals,
-        dof,
-    )?;
+    let treated =
+        noise_model::covariance(&problem, theta, options.noise_model, &options.residuals)?;
     // Under the drive's noise model the standard errors rest on estimated variances:
     // Satterthwaite's degrees of freedom (never more than the samples').
     let t_dof = match treated.fit.degrees_of_freedom {

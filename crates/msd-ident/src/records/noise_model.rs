@@ -2,14 +2,14 @@
 //! records' residuals and impulse responses handed to the shared spectral model, the
 //! sandwich covariance of ln θ, and each channel's whiteness under the model.
 
-use super::intervals::{embed, linearise};
+use super::intervals::{Linearised, embed, linearise};
 use super::problem::{Joint, RecordRows};
 use crate::correlation::autocorrelation;
 use crate::error::Result;
 use crate::input_noise::{
-    Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, SpectralModel,
-    WHITENESS_LEVEL, impulse_spectrum, maximise, middle_matrix, residual_spectrum, satterthwaite,
-    whitened_ljung_box,
+    Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
+    WHITENESS_LEVEL, expected, impulse_spectrum, maximise, middle_matrix, residual_spectrum,
+    satterthwaite, whitened_ljung_box,
 };
 use crate::plant::{Drive, Plant};
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
@@ -32,14 +32,13 @@ pub(super) fn covariance(
     theta: [f64; 3],
     choice: NoiseModel,
     tests: &ResidualOptions,
-    dof: usize,
 ) -> Result<Treated> {
     let linearised = linearise(problem, theta)?;
     let white = embed(problem, &linearised.inverse);
     let mut fit = NoiseModelFit::white();
     let model = match choice {
         NoiseModel::White => None,
-        NoiseModel::InputNoise => fit_spectral_model(problem, theta)?,
+        NoiseModel::InputNoise => fit_spectral_model(problem, theta, &linearised)?,
     };
     let whiteness = whiteness(problem, theta, model.as_ref(), tests)?;
     let Some(model) = model else {
@@ -50,8 +49,9 @@ pub(super) fn covariance(
             whiteness,
         });
     };
-    // The white-noise covariance divides by N − p, not N: the same correction here.
-    let inflation = problem.rows as f64 / dof as f64;
+    // The restricted likelihood's variances are those of the noise before the fit took
+    // its degrees of freedom: no N/(N − p) inflation after it.
+    let inflation = 1.0;
     let sigma_u = (model.input_variance * inflation).sqrt();
     fit.input_noise_sigma = Some(sigma_u);
     fit.input_noise_fraction = Some(sigma_u / drive_rms(problem));
@@ -155,9 +155,12 @@ fn drive_rms(problem: &Joint<'_>) -> f64 {
 
 /// Fits the spectral model to the residuals of the prepared problem at θ (None for a
 /// free decay: no drive, no drive noise).
-pub(super) fn fit_spectral_model(
+/// The likelihood is the restricted one: each line's residual as the fit at
+/// `linearised` left it.
+fn fit_spectral_model(
     problem: &Joint<'_>,
     theta: [f64; 3],
+    linearised: &Linearised,
 ) -> Result<Option<SpectralModel>> {
     if problem.drive == Drive::None {
         return Ok(None);
@@ -167,7 +170,27 @@ pub(super) fn fit_spectral_model(
         .iter()
         .map(|rec| record_lines(problem, rec, theta, true))
         .collect::<Result<Vec<_>>>()?;
-    Ok(Some(maximise(&lines, problem.group_names.len())))
+    let j = &linearised.jacobian;
+    // The residual's sensitivities in the channels' own units: the fit's weighted,
+    // projected Jacobian over each channel's weight.
+    let fits: Vec<Sensitivity> = problem
+        .records
+        .iter()
+        .map(|rec| Sensitivity {
+            columns: (0..rec.maps.len())
+                .map(|ch| {
+                    let rows = rec.start + ch * rec.len..rec.start + (ch + 1) * rec.len;
+                    (0..j.ncols())
+                        .map(|c| rows.clone().map(|i| j[(i, c)] / rec.weights[ch]).collect())
+                        .collect()
+                })
+                .collect(),
+            weights: rec.weights.clone(),
+        })
+        .collect();
+    let groups = problem.group_names.len();
+    let restricted = expected(&lines, &fits, &linearised.inverse, groups);
+    Ok(Some(maximise(&lines, groups, Some(&restricted))))
 }
 
 fn record_lines(
