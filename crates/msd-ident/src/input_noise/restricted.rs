@@ -16,11 +16,16 @@ use nalgebra::DMatrix;
 use rustfft::num_complex::Complex64;
 
 /// One record's expected residual cross-spectrum per unit variance: for each likelihood
-/// line, for the drive (q = 0) then each sensor group, a c×c matrix (row-major).
+/// line, for the drive (q = 0) then each sensor group, a c×c matrix (row-major); `None`
+/// at a line where the fit absorbed less than [`NEGLIGIBLE`] of each part (most lines:
+/// the sensitivities gather at the resonances), which keeps the noise's own spectrum.
 pub(crate) struct Expected {
-    pub channels: usize,
-    pub lines: Vec<Vec<Vec<Complex64>>>,
+    pub lines: Vec<Option<Vec<Vec<Complex64>>>>,
 }
+
+/// The relative correction below which a line keeps the noise's spectrum: it moves the
+/// variances by less than 1e-4 of themselves, far inside their standard errors.
+pub(crate) const NEGLIGIBLE: f64 = 1e-4;
 
 /// One record's sensitivities for [`expected`]: per channel, per estimated quantity, the
 /// residual's derivative in the likelihood's units (the record's samples), and each
@@ -43,58 +48,113 @@ pub(crate) fn expected(
     groups: usize,
 ) -> Vec<Expected> {
     let p = a_inverse.nrows();
-    let hats: Vec<Vec<DMatrix<Complex64>>> = lines
+    let hats: Vec<Vec<Complex64>> = lines
         .iter()
         .zip(fits)
         .map(|(l, fit)| line_sensitivities(l, fit, p))
         .collect();
-    // B_q per unit variance, summed over every line of every record.
+    // B_q per unit variance, summed over every line of every record: Jᴴ·W²·S_q·W²·J.
     let mut middle = vec![DMatrix::<f64>::zeros(p, p); groups + 1];
     for ((l, fit), hat) in lines.iter().zip(fits).zip(&hats) {
-        for (k, j) in hat.iter().enumerate() {
-            for (q, b) in middle.iter_mut().enumerate() {
-                let s = unit_spectrum(l, k, q);
-                let w = weights_squared(fit);
-                let term = j.adjoint() * &w * s * &w * j;
-                *b += term.map(|v| v.re);
+        let c = l.groups.len();
+        let w2: Vec<f64> = fit.weights.iter().map(|w| w * w).collect();
+        for k in 0..l.size {
+            let j = &hat[k * c * p..(k + 1) * c * p];
+            // The drive: u·uᴴ, u = Jᴴ·W²·g.
+            let u: Vec<Complex64> = (0..p)
+                .map(|r| {
+                    (0..c)
+                        .map(|a| j[a * p + r].conj() * w2[a] * l.transfer[a][k])
+                        .sum()
+                })
+                .collect();
+            for r in 0..p {
+                for t in 0..p {
+                    middle[0][(r, t)] += (u[r] * u[t].conj()).re;
+                    for a in 0..c {
+                        let x = (j[a * p + r].conj() * j[a * p + t]).re * w2[a] * w2[a];
+                        middle[1 + l.groups[a]][(r, t)] += x;
+                    }
+                }
             }
         }
     }
-    let parts: Vec<DMatrix<Complex64>> = middle
-        .iter()
-        .map(|b| complex(&(a_inverse * b * a_inverse)))
-        .collect();
-    let a_inverse = complex(a_inverse);
+    let parts: Vec<DMatrix<f64>> = middle.iter().map(|b| a_inverse * b * a_inverse).collect();
     lines
         .iter()
         .zip(fits)
         .zip(&hats)
         .map(|((l, fit), hat)| {
-            let w = weights_squared(fit);
+            let c = l.groups.len();
+            let w2: Vec<f64> = fit.weights.iter().map(|w| w * w).collect();
             let out = likelihood_lines(l.size)
                 .map(|k| {
-                    let j = &hat[k];
-                    let h = j * &a_inverse * j.adjoint();
-                    (0..=groups)
+                    let j = &hat[k * c * p..(k + 1) * c * p];
+                    let h = sandwich(j, a_inverse, c, p);
+                    let g: Vec<Complex64> = (0..c).map(|a| l.transfer[a][k]).collect();
+                    let mut largest = 0.0f64;
+                    let matrices: Vec<Vec<Complex64>> = (0..=groups)
                         .map(|q| {
-                            let s = unit_spectrum(l, k, q);
-                            let hws = &h * &w * &s;
-                            let m = &s - &hws - hws.adjoint() + j * &parts[q] * j.adjoint();
-                            m.transpose().iter().copied().collect()
+                            let mut m = sandwich(j, &parts[q], c, p);
+                            let unit = |a: usize, b: usize| {
+                                if q == 0 {
+                                    g[a] * g[b].conj()
+                                } else if a == b && l.groups[a] == q - 1 {
+                                    Complex64::new(1.0, 0.0)
+                                } else {
+                                    Complex64::new(0.0, 0.0)
+                                }
+                            };
+                            // (H·W²·S)[a][b], then M = S − H·W²·S − (H·W²·S)ᴴ + J·C_q·Jᴴ.
+                            let hws: Vec<Complex64> = (0..c * c)
+                                .map(|i| {
+                                    let (a, b) = (i / c, i % c);
+                                    (0..c).map(|e| h[a * c + e] * w2[e] * unit(e, b)).sum()
+                                })
+                                .collect();
+                            let (mut change, mut size) = (0.0, 0.0);
+                            for a in 0..c {
+                                for b in 0..c {
+                                    let s = unit(a, b);
+                                    m[a * c + b] -= hws[a * c + b] + hws[b * c + a].conj();
+                                    change += m[a * c + b].norm_sqr();
+                                    size += s.norm_sqr();
+                                    m[a * c + b] += s;
+                                }
+                            }
+                            if size > 0.0 {
+                                largest = largest.max((change / size).sqrt());
+                            }
+                            m
                         })
-                        .collect()
+                        .collect();
+                    (largest >= NEGLIGIBLE).then_some(matrices)
                 })
                 .collect();
-            Expected {
-                channels: l.groups.len(),
-                lines: out,
-            }
+            Expected { lines: out }
         })
         .collect()
 }
 
-/// Ĵ_k (c×p) at every line k of the record, unitary scaling.
-fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<DMatrix<Complex64>> {
+/// J·M·Jᴴ (c×c, row-major) of the line's Ĵ (c×p, row-major) and a real p×p `m`.
+fn sandwich(j: &[Complex64], m: &DMatrix<f64>, c: usize, p: usize) -> Vec<Complex64> {
+    let jm: Vec<Complex64> = (0..c * p)
+        .map(|i| {
+            let (a, t) = (i / p, i % p);
+            (0..p).map(|r| j[a * p + r] * m[(r, t)]).sum()
+        })
+        .collect();
+    (0..c * c)
+        .map(|i| {
+            let (a, b) = (i / c, i % c);
+            (0..p).map(|t| jm[a * p + t] * j[b * p + t].conj()).sum()
+        })
+        .collect()
+}
+
+/// Ĵ_k (c×p, row-major) at every line k of the record, one after another; unitary
+/// scaling.
+fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<Complex64> {
     let c = l.groups.len();
     let scale = 1.0 / (l.size as f64).sqrt();
     let hat: Vec<Vec<Vec<Complex64>>> = fit
@@ -106,35 +166,13 @@ fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<DMatrix<Com
                 .collect()
         })
         .collect();
-    (0..l.size)
-        .map(|k| DMatrix::from_fn(c, p, |a, col| hat[a][col][k]))
-        .collect()
-}
-
-/// S_q at line k per unit variance: G·Gᴴ for the drive (q = 0), the indicator of group
-/// q − 1 on the diagonal otherwise.
-fn unit_spectrum(l: &Lines, k: usize, q: usize) -> DMatrix<Complex64> {
-    let c = l.groups.len();
-    if q == 0 {
-        let g = DMatrix::from_fn(c, 1, |a, _| l.transfer[a][k]);
-        &g * g.adjoint()
-    } else {
-        DMatrix::from_fn(c, c, |a, b| {
-            let on = a == b && l.groups[a] == q - 1;
-            Complex64::new(if on { 1.0 } else { 0.0 }, 0.0)
-        })
+    let mut out = Vec::with_capacity(l.size * c * p);
+    for k in 0..l.size {
+        for channel in &hat {
+            out.extend(channel.iter().map(|col| col[k]));
+        }
     }
-}
-
-fn weights_squared(fit: &Sensitivity) -> DMatrix<Complex64> {
-    let c = fit.weights.len();
-    DMatrix::from_fn(c, c, |a, b| {
-        Complex64::new(if a == b { fit.weights[a].powi(2) } else { 0.0 }, 0.0)
-    })
-}
-
-fn complex(m: &DMatrix<f64>) -> DMatrix<Complex64> {
-    m.map(|v| Complex64::new(v, 0.0))
+    out
 }
 
 /// −(ln det Σ + Rᴴ·Σ⁻¹·R) at one line, Σ = Σ_q v_q·M_q; `None` where Σ is not
@@ -147,7 +185,8 @@ pub(crate) fn line_log_likelihood(
 ) -> Option<f64> {
     let c = residual.len();
     work.clear();
-    work.resize(c * c, Complex64::new(0.0, 0.0));
+    // Σ (then its Cholesky factor) and z = L⁻¹·R, in one buffer.
+    work.resize(c * c + c, Complex64::new(0.0, 0.0));
     for (m, v) in matrices.iter().zip(variances) {
         for (w, x) in work.iter_mut().zip(m) {
             *w += x * v;
@@ -174,14 +213,14 @@ pub(crate) fn line_log_likelihood(
         }
     }
     // Rᴴ·Σ⁻¹·R = |L⁻¹·R|².
-    let mut z = vec![Complex64::new(0.0, 0.0); c];
+    let (l, z) = work.split_at_mut(c * c);
     let mut quadratic = 0.0;
     for i in 0..c {
         let mut sum = residual[i];
         for k in 0..i {
-            sum -= work[i * c + k] * z[k];
+            sum -= l[i * c + k] * z[k];
         }
-        z[i] = sum / work[i * c + i].re;
+        z[i] = sum / l[i * c + i].re;
         quadratic += z[i].norm_sqr();
     }
     Some(-(log_det + quadratic))
@@ -246,7 +285,9 @@ mod tests {
                     })
                     .sum::<f64>()
                     / n as f64;
-                let m = got[0].lines[i][q][0];
+                let m = got[0].lines[i]
+                    .as_ref()
+                    .map_or_else(|| if q == 0 { power[k] } else { 1.0 }.into(), |m| m[q][0]);
                 assert!(
                     (m.re - diagonal).abs() < 1e-9 * diagonal.abs().max(1.0) && m.im.abs() < 1e-9,
                     "q {q}, line {k}: {m} against {diagonal}"

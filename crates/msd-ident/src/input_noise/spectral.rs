@@ -181,12 +181,10 @@ fn log_likelihood(lines: &[Lines], d: &[f64], s_u: f64, expected: Option<&[Expec
     for (r, l) in lines.iter().enumerate() {
         let log_det_d: f64 = l.groups.iter().map(|&g| d[g].ln()).sum();
         for (i, k) in likelihood_lines(l.size).enumerate() {
-            if let Some(e) = expected {
+            if let Some(matrices) = expected.and_then(|e| e[r].lines[i].as_ref()) {
                 residual.clear();
-                residual.extend((0..e[r].channels).map(|ch| l.residual[ch][k]));
-                if let Some(v) =
-                    line_log_likelihood(&e[r].lines[i], &variances, &residual, &mut work)
-                {
+                residual.extend((0..l.groups.len()).map(|ch| l.residual[ch][k]));
+                if let Some(v) = line_log_likelihood(matrices, &variances, &residual, &mut work) {
                     total += v;
                     continue;
                 }
