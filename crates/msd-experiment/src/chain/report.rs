@@ -6,6 +6,7 @@ use crate::noise_report;
 use msd_ident::{
     Interval,
     chain::{ChainFit, ChainUncertainty},
+    records::ResidualWhiteness,
 };
 use std::fmt::Write;
 
@@ -239,6 +240,20 @@ fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
     Ok(())
 }
 
+/// Each sensor's whiteness under the report's name for its channel.
+fn named_whiteness(o: &ChainOutcome) -> Vec<ResidualWhiteness> {
+    o.fit
+        .whiteness
+        .iter()
+        .zip(channel_names(o))
+        .map(|(c, channel)| ResidualWhiteness {
+            record: "the record".into(),
+            channel,
+            ..c.clone()
+        })
+        .collect()
+}
+
 /// The drive's unit.
 fn drive_unit(o: &ChainOutcome) -> &'static str {
     match o.config.chain.as_ref().map(|c| c.drive) {
@@ -251,7 +266,7 @@ fn drive_unit(o: &ChainOutcome) -> &'static str {
 fn noise(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
     let fit = &o.fit;
     let unit = drive_unit(o);
-    noise_report::section(s, &fit.noise_model, &fit.whiteness, unit, "[chain]")?;
+    noise_report::section(s, &fit.noise_model, &named_whiteness(o), unit, "[chain]")?;
     let Some(white) = &fit.white_noise_uncertainty else {
         return Ok(());
     };
@@ -365,7 +380,12 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             );
         }
     }
-    noise_report::summary(&mut s, &o.fit.noise_model, &o.fit.whiteness, drive_unit(o));
+    noise_report::summary(
+        &mut s,
+        &o.fit.noise_model,
+        &named_whiteness(o),
+        drive_unit(o),
+    );
     super::validation::summary(&mut s, o);
     if let Some(ideal) = &o.ideal {
         for (i, (p, n)) in damping_pairs(o, ideal) {

@@ -416,7 +416,8 @@ fn statistics(
     })
 }
 
-fn rms(values: &[f64]) -> f64 {
+/// The root mean square of `values`.
+pub(super) fn rms(values: &[f64]) -> f64 {
     (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
 }
 

@@ -4,6 +4,7 @@
 //! Everything here is in the fit's weighted units (each channel divided by its σ̂), so
 //! each sensor is its own group and the Jacobian is the solver's.
 
+use super::fit::rms;
 use super::problem::ChainProblem;
 use super::setup::ChainRecord;
 use crate::correlation::autocorrelation;
@@ -225,10 +226,6 @@ fn impulse_responses(problem: &ChainProblem<'_>, theta: &[f64]) -> Option<Vec<Ve
             })
             .collect(),
     )
-}
-
-fn rms(values: &[f64]) -> f64 {
-    (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
 }
 
 #[cfg(test)]
