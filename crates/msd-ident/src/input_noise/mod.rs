@@ -17,7 +17,7 @@
 //! S_ab(ω) = δ_ab·σ²_a + σ²_u·G_a(ω)·G_b(ω)*, one σ_a per sensor group and one σ_u for the
 //! drive. σ²_a and σ²_u maximise the Whittle likelihood of the residuals' DFTs at the
 //! record's own lines (independent for stationary noise; a one-factor model per line,
-//! [`maximise`]), each line's spectrum taken as the fit left it: the residual is the
+//! [`maximise`], by Fisher scoring), each line's spectrum taken as the fit left it: the residual is the
 //! noise less what the fit absorbed, most at the resonance lines where the drive's noise
 //! is largest, and the restricted likelihood ([`restricted`]) accounts for that (σ̂_u
 //! 0.30 % for 0.30 % instead of 0.23–0.25 %; 3.00 % for 3 % on a chain instead of 2.86 %).
@@ -42,6 +42,7 @@ mod fit;
 mod middle;
 mod restricted;
 mod satterthwaite;
+mod scoring;
 mod spectral;
 
 pub(crate) use fit::notes;
@@ -49,8 +50,9 @@ pub use fit::{NoiseModel, NoiseModelFit, ResidualWhiteness};
 pub(crate) use middle::{MiddleRecord, middle_matrix};
 pub(crate) use restricted::{Sensitivity, expected};
 pub(crate) use satterthwaite::satterthwaite;
+pub(crate) use scoring::maximise;
 pub(crate) use spectral::{
-    Lines, SpectralModel, impulse_spectrum, maximise, residual_spectrum, whitened_ljung_box,
+    Lines, SpectralModel, impulse_spectrum, residual_spectrum, whitened_ljung_box,
 };
 
 /// The level of the test for the drive's noise (and of the whiteness tests by default).

@@ -175,57 +175,6 @@ fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<Complex64> 
     out
 }
 
-/// −(ln det Σ + Rᴴ·Σ⁻¹·R) at one line, Σ = Σ_q v_q·M_q; `None` where Σ is not
-/// positive definite (the first-order correction failed there).
-pub(crate) fn line_log_likelihood(
-    matrices: &[Vec<Complex64>],
-    variances: &[f64],
-    residual: &[Complex64],
-    work: &mut Vec<Complex64>,
-) -> Option<f64> {
-    let c = residual.len();
-    work.clear();
-    // Σ (then its Cholesky factor) and z = L⁻¹·R, in one buffer.
-    work.resize(c * c + c, Complex64::new(0.0, 0.0));
-    for (m, v) in matrices.iter().zip(variances) {
-        for (w, x) in work.iter_mut().zip(m) {
-            *w += x * v;
-        }
-    }
-    // Cholesky Σ = L·Lᴴ in place (lower triangle).
-    let mut log_det = 0.0;
-    for i in 0..c {
-        for j in 0..=i {
-            let mut sum = work[i * c + j];
-            for k in 0..j {
-                sum -= work[i * c + k] * work[j * c + k].conj();
-            }
-            if i == j {
-                if sum.re.is_nan() || sum.re <= 0.0 {
-                    return None;
-                }
-                let d = sum.re.sqrt();
-                work[i * c + i] = Complex64::new(d, 0.0);
-                log_det += 2.0 * d.ln();
-            } else {
-                work[i * c + j] = sum / work[j * c + j].re;
-            }
-        }
-    }
-    // Rᴴ·Σ⁻¹·R = |L⁻¹·R|².
-    let (l, z) = work.split_at_mut(c * c);
-    let mut quadratic = 0.0;
-    for i in 0..c {
-        let mut sum = residual[i];
-        for k in 0..i {
-            sum -= l[i * c + k] * z[k];
-        }
-        z[i] = sum / l[i * c + i].re;
-        quadratic += z[i].norm_sqr();
-    }
-    Some(-(log_det + quadratic))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

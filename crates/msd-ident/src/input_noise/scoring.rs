@@ -1,0 +1,370 @@
+//! Fisher scoring of the spectral model's variances: the usual iteration for variance
+//! components (restricted likelihood included), a few passes over the lines.
+//!
+//! Each line's covariance is linear in the variances v = (σ²_u, σ²_a…):
+//! Σ_k = Σ_q v_q·M_{k,q}. The Whittle log-likelihood −Σ_k (ln det Σ_k + R_kᴴ·Σ_k⁻¹·R_k)
+//! has the score s_q = Σ_k (R_kᴴ·Σ_k⁻¹·M_q·Σ_k⁻¹·R_k − tr Σ_k⁻¹·M_q) and the expected
+//! information F_qr = Σ_k tr(Σ_k⁻¹·M_q·Σ_k⁻¹·M_r); each step is v + F⁻¹·s, halved
+//! until the likelihood does not fall, with σ²_u held at 0 where its score points below.
+
+use super::restricted::Expected;
+use super::spectral::{Lines, SpectralModel, likelihood_lines};
+use nalgebra::DMatrix;
+use rustfft::num_complex::Complex64;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// The likelihood at v, its score and Fisher information in v.
+struct Evaluation {
+    pub log_likelihood: f64,
+    pub score: Vec<f64>,
+    pub fisher: DMatrix<f64>,
+}
+
+/// The most steps taken; scoring converges in far fewer (5–20 on the shipped rigs).
+const MAX_STEPS: usize = 200;
+/// A step below this fraction of every variance (or of its scale, for σ²_u near 0) has
+/// converged: far inside the variances' standard errors.
+const STEP_TOLERANCE: f64 = 1e-8;
+
+/// σ²_a (one per group, `groups` of them) and σ²_u maximising the Whittle likelihood
+/// (Fisher scoring), then the likelihood ratio against the best fit
+/// with σ_u = 0.
+///
+/// With `expected` (one per record), the likelihood is the restricted one: each line's
+/// residual cross-spectrum as the fit left it ([`super::restricted`]).
+pub(crate) fn maximise(
+    lines: &[Lines],
+    groups: usize,
+    expected: Option<&[Expected]>,
+) -> SpectralModel {
+    let white = white_variances(lines, groups);
+    // σ²_u's scale: the drive noise that matches the first group's at the first
+    // record's largest gain.
+    let peak = likelihood_lines(lines[0].size)
+        .map(|k| lines[0].transfer[0][k].norm_sqr())
+        .fold(0.0, f64::max);
+    let reference = white[0] / peak.max(f64::MIN_POSITIVE);
+    let scale: Vec<f64> = std::iter::once(reference)
+        .chain(white.iter().copied())
+        .collect();
+    let start: Vec<f64> = std::iter::once(0.0).chain(white.iter().copied()).collect();
+    let (boundary, white_likelihood) = maximise_from(lines, expected, start, &scale, false);
+    let mut start = boundary.clone();
+    start[0] = 0.25 * reference;
+    let (fitted, likelihood) = maximise_from(lines, expected, start, &scale, true);
+    let (v, best) = if likelihood > white_likelihood && fitted[0] > 0.0 {
+        (fitted, likelihood)
+    } else {
+        (boundary, white_likelihood)
+    };
+    let likelihood_ratio = 2.0 * (best - white_likelihood);
+    let p_value = 0.5
+        * ChiSquared::new(1.0)
+            .map(|c| c.sf(likelihood_ratio))
+            .unwrap_or(1.0);
+    // The unrestricted model's information, as the sandwich's middle matrix uses.
+    let covariance = evaluate(lines, None, &v).fisher.try_inverse();
+    let (s_u, d) = (v[0], v[1..].to_vec());
+    SpectralModel {
+        sensor_variance: d,
+        input_variance: s_u,
+        covariance,
+        likelihood_ratio,
+        p_value,
+    }
+}
+
+/// Each group's mean line power: the white model's variances.
+fn white_variances(lines: &[Lines], groups: usize) -> Vec<f64> {
+    let (mut power, mut members) = (vec![0.0; groups], vec![0.0; groups]);
+    for l in lines {
+        for (ch, &g) in l.groups.iter().enumerate() {
+            for k in likelihood_lines(l.size) {
+                power[g] += l.residual[ch][k].norm_sqr();
+                members[g] += 1.0;
+            }
+        }
+    }
+    power
+        .iter()
+        .zip(&members)
+        .map(|(p, m)| (p / m).max(f64::MIN_POSITIVE))
+        .collect()
+}
+
+/// The variances maximising the likelihood from `start`; σ²_u (`v[0]`) held at its
+/// start when `drive_free` is false. `scale` sets each variance's convergence size.
+/// Returns the variances and the likelihood there.
+fn maximise_from(
+    lines: &[Lines],
+    expected: Option<&[Expected]>,
+    start: Vec<f64>,
+    scale: &[f64],
+    drive_free: bool,
+) -> (Vec<f64>, f64) {
+    let mut v = start;
+    let mut at = evaluate(lines, expected, &v);
+    for _ in 0..MAX_STEPS {
+        let free: Vec<usize> = (0..v.len())
+            .filter(|&q| q > 0 || (drive_free && (v[0] > 0.0 || at.score[0] > 0.0)))
+            .collect();
+        let f = DMatrix::from_fn(free.len(), free.len(), |i, j| at.fisher[(free[i], free[j])]);
+        let s = nalgebra::DVector::from_iterator(free.len(), free.iter().map(|&q| at.score[q]));
+        let Some(delta) = f.cholesky().map(|c| c.solve(&s)) else {
+            break;
+        };
+        let small = free
+            .iter()
+            .zip(delta.iter())
+            .all(|(&q, d)| d.abs() <= STEP_TOLERANCE * v[q].abs().max(scale[q]));
+        if small {
+            break;
+        }
+        let mut step = 1.0;
+        let accepted = loop {
+            let mut trial = v.clone();
+            for (i, &q) in free.iter().enumerate() {
+                // A variance may fall by at most nine tenths in one step (σ²_u to 0).
+                let floor = if q == 0 { 0.0 } else { 0.1 * v[q] };
+                trial[q] = (v[q] + step * delta[i]).max(floor);
+            }
+            let next = evaluate(lines, expected, &trial);
+            // Rounding in a sum over thousands of lines: a step that loses less than
+            // 1e-12 of the likelihood has not gone downhill.
+            if next.log_likelihood >= at.log_likelihood - 1e-12 * at.log_likelihood.abs() {
+                break Some((trial, next));
+            }
+            step *= 0.5;
+            if step < 1e-6 {
+                break None;
+            }
+        };
+        let Some((trial, next)) = accepted else {
+            break;
+        };
+        (v, at) = (trial, next);
+    }
+    (v, at.log_likelihood)
+}
+
+/// Reused per-line buffers (c channels, q variances).
+struct Work {
+    matrices: Vec<Vec<Complex64>>,
+    factor: Vec<Complex64>,
+    inverse: Vec<Complex64>,
+    parts: Vec<Vec<Complex64>>,
+    y: Vec<Complex64>,
+    residual: Vec<Complex64>,
+}
+
+/// The likelihood, score and Fisher information at `v` over every line of every record.
+fn evaluate(lines: &[Lines], expected: Option<&[Expected]>, v: &[f64]) -> Evaluation {
+    let q = v.len();
+    let mut out = Evaluation {
+        log_likelihood: 0.0,
+        score: vec![0.0; q],
+        fisher: DMatrix::zeros(q, q),
+    };
+    let mut work = Work {
+        matrices: vec![Vec::new(); q],
+        factor: Vec::new(),
+        inverse: Vec::new(),
+        parts: vec![Vec::new(); q],
+        y: Vec::new(),
+        residual: Vec::new(),
+    };
+    for (r, l) in lines.iter().enumerate() {
+        for (i, k) in likelihood_lines(l.size).enumerate() {
+            work.residual.clear();
+            work.residual
+                .extend((0..l.groups.len()).map(|ch| l.residual[ch][k]));
+            if let Some(m) = expected.and_then(|e| e[r].lines[i].as_ref()) {
+                for (to, from) in work.matrices.iter_mut().zip(m) {
+                    to.clone_from(from);
+                }
+                if accumulate(v, &mut work, &mut out) {
+                    continue;
+                }
+            }
+            // The noise's own spectrum: G·Gᴴ for the drive, each group's diagonal.
+            noise_matrices(l, k, &mut work.matrices);
+            accumulate(v, &mut work, &mut out);
+        }
+    }
+    out
+}
+
+/// The unrestricted line matrices at line `k`: M_0 = G·Gᴴ, M_{1+g} = the diagonal of
+/// group g's channels.
+fn noise_matrices(l: &Lines, k: usize, matrices: &mut [Vec<Complex64>]) {
+    let c = l.groups.len();
+    for (q, m) in matrices.iter_mut().enumerate() {
+        m.clear();
+        m.extend((0..c * c).map(|i| {
+            let (a, b) = (i / c, i % c);
+            if q == 0 {
+                l.transfer[a][k] * l.transfer[b][k].conj()
+            } else if a == b && l.groups[a] == q - 1 {
+                Complex64::new(1.0, 0.0)
+            } else {
+                Complex64::new(0.0, 0.0)
+            }
+        }));
+    }
+}
+
+/// Adds one line's terms (Σ = Σ_q v_q·M_q from `work.matrices`, the residual in
+/// `work.residual`); false, adding nothing, where Σ is not positive definite.
+fn accumulate(v: &[f64], work: &mut Work, out: &mut Evaluation) -> bool {
+    let c = work.residual.len();
+    let zero = Complex64::new(0.0, 0.0);
+    work.factor.clear();
+    work.factor.resize(c * c, zero);
+    for (m, x) in work.matrices.iter().zip(v) {
+        for (f, e) in work.factor.iter_mut().zip(m) {
+            *f += e * x;
+        }
+    }
+    let Some(log_det) = cholesky(&mut work.factor, c) else {
+        return false;
+    };
+    invert(&work.factor, c, &mut work.inverse);
+    let inverse = &work.inverse;
+    work.y.clear();
+    work.y.extend((0..c).map(|a| {
+        (0..c)
+            .map(|b| inverse[a * c + b] * work.residual[b])
+            .sum::<Complex64>()
+    }));
+    let quadratic: f64 = (0..c)
+        .map(|a| (work.residual[a].conj() * work.y[a]).re)
+        .sum();
+    out.log_likelihood -= log_det + quadratic;
+    for (part, m) in work.parts.iter_mut().zip(&work.matrices) {
+        part.clear();
+        part.extend((0..c * c).map(|i| {
+            let (a, b) = (i / c, i % c);
+            (0..c)
+                .map(|e| inverse[a * c + e] * m[e * c + b])
+                .sum::<Complex64>()
+        }));
+    }
+    for (qi, (m, part)) in work.matrices.iter().zip(&work.parts).enumerate() {
+        let trace: f64 = (0..c).map(|a| part[a * c + a].re).sum();
+        let form: f64 = (0..c * c)
+            .map(|i| (work.y[i / c].conj() * m[i] * work.y[i % c]).re)
+            .sum();
+        out.score[qi] += form - trace;
+        for (qj, other) in work.parts.iter().enumerate().skip(qi) {
+            let t: f64 = (0..c * c)
+                .map(|i| (part[i] * other[(i % c) * c + i / c]).re)
+                .sum();
+            out.fisher[(qi, qj)] += t;
+            if qi != qj {
+                out.fisher[(qj, qi)] += t;
+            }
+        }
+    }
+    true
+}
+
+/// The Cholesky factor L (Σ = L·Lᴴ) in place in the lower triangle of the row-major
+/// c×c `a`; returns ln det Σ, `None` where Σ is not positive definite.
+fn cholesky(a: &mut [Complex64], c: usize) -> Option<f64> {
+    let mut log_det = 0.0;
+    for i in 0..c {
+        for j in 0..=i {
+            let mut sum = a[i * c + j];
+            for k in 0..j {
+                sum -= a[i * c + k] * a[j * c + k].conj();
+            }
+            if i == j {
+                if sum.re.is_nan() || sum.re <= 0.0 {
+                    return None;
+                }
+                let d = sum.re.sqrt();
+                a[i * c + i] = Complex64::new(d, 0.0);
+                log_det += 2.0 * d.ln();
+            } else {
+                a[i * c + j] = sum / a[j * c + j].re;
+            }
+        }
+    }
+    Some(log_det)
+}
+
+/// Σ⁻¹ = L⁻ᴴ·L⁻¹ from the Cholesky factor in the lower triangle of `l`.
+fn invert(l: &[Complex64], c: usize, inverse: &mut Vec<Complex64>) {
+    let zero = Complex64::new(0.0, 0.0);
+    // L⁻¹ by forward substitution, column by column (lower triangular).
+    let mut li = vec![zero; c * c];
+    for col in 0..c {
+        for i in col..c {
+            let mut sum = if i == col {
+                Complex64::new(1.0, 0.0)
+            } else {
+                zero
+            };
+            for k in col..i {
+                sum -= l[i * c + k] * li[k * c + col];
+            }
+            li[i * c + col] = sum / l[i * c + i].re;
+        }
+    }
+    inverse.clear();
+    inverse.extend((0..c * c).map(|i| {
+        let (a, b) = (i / c, i % c);
+        (a.max(b)..c)
+            .map(|k| li[k * c + a].conj() * li[k * c + b])
+            .sum::<Complex64>()
+    }));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The score is the likelihood's gradient (central differences), on two channels in
+    /// two groups, and the Fisher information is positive definite there.
+    #[test]
+    fn the_score_is_the_likelihoods_gradient() {
+        let size = 64;
+        let transfer: Vec<Vec<Complex64>> = (0..2)
+            .map(|ch| {
+                (0..size)
+                    .map(|k| Complex64::new(1.0 + 0.1 * ch as f64, 0.02 * k as f64).inv())
+                    .collect()
+            })
+            .collect();
+        let residual: Vec<Vec<Complex64>> = (0..2)
+            .map(|ch| {
+                (0..size)
+                    .map(|k| Complex64::new(((k * (ch + 3)) as f64).sin(), (k as f64).cos()))
+                    .collect()
+            })
+            .collect();
+        let lines = [Lines {
+            size,
+            groups: vec![0, 1],
+            residual,
+            transfer,
+        }];
+        let v = [0.3, 0.8, 1.4];
+        let at = evaluate(&lines, None, &v);
+        for q in 0..3 {
+            let h = 1e-6;
+            let (mut up, mut down) = (v, v);
+            up[q] += h;
+            down[q] -= h;
+            let slope = (evaluate(&lines, None, &up).log_likelihood
+                - evaluate(&lines, None, &down).log_likelihood)
+                / (2.0 * h);
+            assert!(
+                (slope - at.score[q]).abs() < 1e-5 * slope.abs().max(1.0),
+                "q {q}: {slope} against {}",
+                at.score[q]
+            );
+        }
+        assert!(at.fisher.clone().cholesky().is_some());
+    }
+}
