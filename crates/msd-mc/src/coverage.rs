@@ -108,6 +108,10 @@ pub struct QuantityCoverage {
     pub rms_z: f64,
     /// The estimates' standard deviation over the mean reported SE.
     pub spread_over_se: f64,
+    /// The mean over the seeds of the fit's efficiency against the Cramér–Rao bound of
+    /// the errors-in-variables model (`NoiseModelFit::efficiency`); `None` where the fit
+    /// does not report it (the white model, a chain's modes).
+    pub efficiency: Option<f64>,
 }
 
 /// What a study found.
@@ -149,6 +153,9 @@ impl std::fmt::Display for CoverageStudy {
                 "\n  {:<22} coverage {:.3}  rms z {:.2}  spread/SE {:.2}",
                 q.name, q.coverage, q.rms_z, q.spread_over_se
             )?;
+            if let Some(e) = q.efficiency {
+                write!(f, "  efficiency {e:.3}")?;
+            }
         }
         Ok(())
     }
@@ -183,9 +190,18 @@ pub fn coverage_study(options: &CoverageOptions) -> Result<CoverageStudy> {
         .filter_map(|(q, name)| {
             let truth = fits[0].quantities[q].1;
             let ivs: Vec<Interval> = fits.iter().map(|f| f.quantities[q].2).collect();
+            let efficiencies: Vec<f64> = fits
+                .iter()
+                .filter_map(|f| f.noise_model.efficiency.get(name).copied())
+                .collect();
+            let efficiency = (efficiencies.len() == fits.len())
+                .then(|| efficiencies.iter().sum::<f64>() / efficiencies.len().max(1) as f64);
             ivs.iter()
                 .all(|iv| iv.standard_error > 0.0)
-                .then(|| coverage_of(name, truth, &ivs))
+                .then(|| QuantityCoverage {
+                    efficiency,
+                    ..coverage_of(name, truth, &ivs)
+                })
         })
         .collect();
     let fractions: Vec<f64> = fits
@@ -266,6 +282,7 @@ fn coverage_of(name: &str, truth: f64, ivs: &[Interval]) -> QuantityCoverage {
         coverage: covered / n,
         rms_z: (z2 / n).sqrt(),
         spread_over_se: variance.sqrt() / mean_se,
+        efficiency: None,
     }
 }
 

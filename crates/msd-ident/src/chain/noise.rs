@@ -10,8 +10,8 @@ use super::setup::ChainRecord;
 use crate::correlation::autocorrelation;
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
-    WHITENESS_LEVEL, expected, impulse_spectrum, maximise, middle_matrix, residual_spectrum,
-    satterthwaite, whitened_ljung_box,
+    WHITENESS_LEVEL, efficiency, impulse_spectrum, middle_matrix, residual_spectrum,
+    restricted_fit, satterthwaite, whitened_ljung_box,
 };
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_opt::statistics::Linearization;
@@ -87,7 +87,7 @@ pub(super) fn treat(
         .collect();
     // The restricted likelihood: the variances of the noise the fit left (unbiased for
     // the degrees of freedom it took, so no N/(N − p) inflation after it).
-    let model = restricted_fit(&lines, jacobian, &inverse);
+    let (model, information) = noise_fit(&lines, jacobian, &inverse);
     let inflation = 1.0;
     let reported = &inverse * middle.total(&model, inflation) * &inverse;
     let p = jacobian.ncols();
@@ -124,6 +124,17 @@ pub(super) fn treat(
         p_value: Some(model.p_value),
         interval_ratio: ratio,
         degrees_of_freedom: nu,
+        efficiency: information
+            .try_inverse()
+            .map(|bound| {
+                (0..p)
+                    .filter_map(|j| {
+                        efficiency(&bound, &reported, &directions[j])
+                            .map(|r| (problem.layout.name(j), r))
+                    })
+                    .collect()
+            })
+            .unwrap_or_default(),
     };
     let t_dof = match nu {
         Some(nu) if nu.is_finite() => (nu.floor() as usize).clamp(1, dof),
@@ -139,8 +150,12 @@ pub(super) fn treat(
 
 /// The spectral model fitted by the restricted likelihood to the record `lines` of a fit
 /// with the weighted `jacobian` (each sensor its own group) and normal-matrix inverse
-/// `inverse`.
-fn restricted_fit(lines: &Lines, jacobian: &DMatrix<f64>, inverse: &DMatrix<f64>) -> SpectralModel {
+/// `inverse`, with the Fisher information of θ under it.
+fn noise_fit(
+    lines: &Lines,
+    jacobian: &DMatrix<f64>,
+    inverse: &DMatrix<f64>,
+) -> (SpectralModel, DMatrix<f64>) {
     let (channels, len) = (lines.groups.len(), lines.size);
     let sensitivity = Sensitivity {
         columns: (0..channels)
@@ -159,13 +174,12 @@ fn restricted_fit(lines: &Lines, jacobian: &DMatrix<f64>, inverse: &DMatrix<f64>
             .collect(),
         weights: vec![1.0; channels],
     };
-    let restricted = expected(
+    restricted_fit(
         std::slice::from_ref(lines),
         std::slice::from_ref(&sensitivity),
         inverse,
         channels,
-    );
-    maximise(std::slice::from_ref(lines), channels, Some(&restricted))
+    )
 }
 
 /// Each sensor's residual tested as fitted: Ljung–Box and the correlation with the drive.

@@ -34,7 +34,8 @@ pub enum NoiseModel {
 /// let fit = NoiseModelFit { treatment: "input_noise".into(), input_noise_sigma: Some(0.02),
 ///     input_noise_fraction: Some(0.01), sensor_sigmas: vec![0.05],
 ///     likelihood_ratio: Some(210.0), p_value: Some(1e-40), interval_ratio: 3.1,
-///     degrees_of_freedom: Some(180.0) };
+///     degrees_of_freedom: Some(180.0),
+///     efficiency: [("damping".to_string(), 0.8)].into_iter().collect() };
 /// assert!(fit.to_string().starts_with("noise model: input_noise"));
 /// assert_eq!(serde_json::to_value(&fit)?["input_noise_sigma"], 0.02);
 /// # Ok::<(), serde_json::Error>(())
@@ -63,6 +64,14 @@ pub struct NoiseModelFit {
     /// whose own uncertainty widens the intervals); `None` otherwise (the samples'
     /// degrees of freedom).
     pub degrees_of_freedom: Option<f64>,
+    /// Each estimated quantity's efficiency against the Cramér–Rao bound of the
+    /// errors-in-variables model as fitted: the variance an estimator weighting each
+    /// DFT line by its noise spectrum would reach (Pintelon and Schoukens' frequency-
+    /// domain maximum likelihood) over the reported one, in (0, 1]. 1 under white
+    /// noise (the output-error fit is then efficient); lower where the drive's noise
+    /// makes the resonance's lines worth less than the fit counts them. Empty when
+    /// the model was not fitted.
+    pub efficiency: std::collections::BTreeMap<String, f64>,
 }
 
 impl std::fmt::Display for NoiseModelFit {
@@ -82,6 +91,9 @@ impl std::fmt::Display for NoiseModelFit {
             )?;
             if let Some(nu) = self.degrees_of_freedom.filter(|nu| nu.is_finite()) {
                 write!(f, ", t with {nu:.0} degrees of freedom")?;
+            }
+            if let Some(low) = self.efficiency.values().copied().reduce(f64::min) {
+                write!(f, "; efficiency against the Cramér–Rao bound ≥ {low:.2}")?;
             }
             write!(f, ")")?;
         }
@@ -135,6 +147,7 @@ impl NoiseModelFit {
             p_value: None,
             interval_ratio: 1.0,
             degrees_of_freedom: None,
+            efficiency: Default::default(),
         }
     }
 }

@@ -38,6 +38,7 @@
 //! 0.23–0.48 (`cargo xtask noise-study` repeats this over 400 seeds and more setups,
 //! the two-storey chain among them).
 
+mod bound;
 mod fit;
 mod middle;
 mod restricted;
@@ -45,12 +46,12 @@ mod satterthwaite;
 mod scoring;
 mod spectral;
 
+pub(crate) use bound::{efficiency, restricted_fit};
 pub(crate) use fit::notes;
 pub use fit::{NoiseModel, NoiseModelFit, ResidualWhiteness};
 pub(crate) use middle::{MiddleRecord, middle_matrix};
-pub(crate) use restricted::{Sensitivity, expected};
+pub(crate) use restricted::Sensitivity;
 pub(crate) use satterthwaite::satterthwaite;
-pub(crate) use scoring::maximise;
 pub(crate) use spectral::{
     Lines, SpectralModel, impulse_spectrum, residual_spectrum, whitened_ljung_box,
 };

@@ -154,7 +154,7 @@ fn sandwich(j: &[Complex64], m: &DMatrix<f64>, c: usize, p: usize) -> Vec<Comple
 
 /// Ĵ_k (c×p, row-major) at every line k of the record, one after another; unitary
 /// scaling.
-fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<Complex64> {
+pub(super) fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<Complex64> {
     let c = l.groups.len();
     let scale = 1.0 / (l.size as f64).sqrt();
     let hat: Vec<Vec<Vec<Complex64>>> = fit

@@ -8,8 +8,8 @@ use crate::correlation::autocorrelation;
 use crate::error::Result;
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
-    WHITENESS_LEVEL, expected, impulse_spectrum, maximise, middle_matrix, residual_spectrum,
-    satterthwaite, whitened_ljung_box,
+    WHITENESS_LEVEL, efficiency, impulse_spectrum, middle_matrix, residual_spectrum,
+    restricted_fit, satterthwaite, whitened_ljung_box,
 };
 use crate::plant::{Drive, Plant};
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
@@ -40,8 +40,8 @@ pub(super) fn covariance(
         NoiseModel::White => None,
         NoiseModel::InputNoise => fit_spectral_model(problem, theta, &linearised)?,
     };
-    let whiteness = whiteness(problem, theta, model.as_ref(), tests)?;
-    let Some(model) = model else {
+    let whiteness = whiteness(problem, theta, model.as_ref().map(|(m, _)| m), tests)?;
+    let Some((model, information)) = model else {
         return Ok(Treated {
             reported: white,
             white,
@@ -89,6 +89,23 @@ pub(super) fn covariance(
     let e = nalgebra::Vector3::new(-0.5, 0.0, 0.5);
     let variance = |c: &Matrix3<f64>| (e.transpose() * c * e)[(0, 0)].max(0.0);
     fit.interval_ratio = (variance(&reported) / variance(&white)).sqrt();
+    if let Some(bound) = information.try_inverse() {
+        let bound = dynamic(&embed(problem, &bound));
+        let names = [
+            "natural_frequency_hz",
+            "damping_ratio",
+            "mass",
+            "damping",
+            "stiffness",
+        ];
+        fit.efficiency = names
+            .iter()
+            .zip(directions())
+            .filter_map(|(name, e)| {
+                efficiency(&bound, &dynamic(&reported), &e).map(|r| (name.to_string(), r))
+            })
+            .collect();
+    }
     fit.treatment = "input_noise".into();
     Ok(Treated {
         reported,
@@ -153,15 +170,16 @@ fn drive_rms(problem: &Joint<'_>) -> f64 {
     (sum / count.max(1) as f64).sqrt()
 }
 
-/// Fits the spectral model to the residuals of the prepared problem at θ (None for a
-/// free decay: no drive, no drive noise).
+/// Fits the spectral model to the residuals of the prepared problem at θ, with the
+/// Fisher information of ln θ under it (None for a free decay: no drive, no drive
+/// noise).
 /// The likelihood is the restricted one: each line's residual as the fit at
 /// `linearised` left it.
 fn fit_spectral_model(
     problem: &Joint<'_>,
     theta: [f64; 3],
     linearised: &Linearised,
-) -> Result<Option<SpectralModel>> {
+) -> Result<Option<(SpectralModel, DMatrix<f64>)>> {
     if problem.drive == Drive::None {
         return Ok(None);
     }
@@ -189,8 +207,12 @@ fn fit_spectral_model(
         })
         .collect();
     let groups = problem.group_names.len();
-    let restricted = expected(&lines, &fits, &linearised.inverse, groups);
-    Ok(Some(maximise(&lines, groups, Some(&restricted))))
+    Ok(Some(restricted_fit(
+        &lines,
+        &fits,
+        &linearised.inverse,
+        groups,
+    )))
 }
 
 fn record_lines(
