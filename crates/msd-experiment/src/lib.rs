@@ -45,6 +45,7 @@ pub mod run;
 pub mod setup;
 pub mod sources;
 mod table;
+pub mod verdict;
 
 pub use error::{ExperimentError, Result};
 pub use options::RunOptions;

@@ -199,6 +199,15 @@ fn a_noisy_load_cell_on_a_chain_widens_the_intervals_and_says_why() {
         "{}",
         treated.summary
     );
+    // The verdict comes first and says the drive's noise was accounted for.
+    assert_eq!(r["verdict"]["trustworthy"], true, "{}", r["verdict"]);
+    assert!(
+        treated.summary.contains("verdict: trustworthy")
+            && treated.summary.contains("the drive's own noise shows"),
+        "{}",
+        treated.summary
+    );
+    assert!(report.find("## In short").unwrap() < report.find("## Chain").unwrap());
     // The white fit: narrow intervals, and residuals flagged as coloured.
     let white_run = run("drive_sigma = 0.04\nnoise_model = \"white\"", "white");
     let w = &white_run.results["fit"];
@@ -212,6 +221,15 @@ fn a_noisy_load_cell_on_a_chain_widens_the_intervals_and_says_why() {
             .any(|c| c["passed"] == false),
         "{}",
         w["whiteness"]
+    );
+    // Its verdict says the residuals are coloured and the intervals may be too narrow.
+    let verdict = &white_run.results["verdict"];
+    assert_eq!(verdict["trustworthy"], false, "{verdict}");
+    assert!(
+        white_run.summary.contains("verdict: use with care")
+            && white_run.summary.contains("intervals may be too narrow"),
+        "{}",
+        white_run.summary
     );
 }
 

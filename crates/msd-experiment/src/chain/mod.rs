@@ -51,6 +51,8 @@ pub struct ChainOutcome {
     pub validation: std::result::Result<ChainValidation, String>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
+    /// Whether the estimates can be trusted, and why.
+    pub verdict: crate::verdict::Verdict,
 }
 
 /// Runs the `[chain]` experiment of `config`.
@@ -124,7 +126,7 @@ pub fn run(
     } else {
         None
     };
-    Ok(ChainOutcome {
+    let mut outcome = ChainOutcome {
         command: options
             .command
             .clone()
@@ -139,7 +141,13 @@ pub fn run(
         band,
         validation,
         timings,
-    })
+        verdict: crate::verdict::Verdict {
+            trustworthy: false,
+            findings: Vec::new(),
+        },
+    };
+    outcome.verdict = validation::verdict(&outcome);
+    Ok(outcome)
 }
 
 /// The synthetic record of `config` for `seed`: the drive from `[identification.input]`
@@ -242,6 +250,7 @@ pub(crate) fn channel_names(o: &ChainOutcome) -> Vec<String> {
 struct Results<'a> {
     experiment: Experiment<'a>,
     command: &'a str,
+    verdict: &'a crate::verdict::Verdict,
     chain: &'a crate::config::ChainSection,
     fit: &'a ChainFit,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -277,6 +286,7 @@ pub(crate) fn results(
     let results = Results {
         experiment: Experiment::new(&o.config, &o.config_path, "synthetic", o.seed, None),
         command: &o.command,
+        verdict: &o.verdict,
         chain,
         fit: &o.fit,
         ideal_sensors: o.ideal.as_ref(),

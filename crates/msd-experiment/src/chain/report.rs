@@ -71,6 +71,7 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
         return Ok(());
     };
     crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
+    crate::verdict::section(s, &o.verdict)?;
     writeln!(s, "## Chain\n")?;
     writeln!(
         s,
@@ -241,7 +242,7 @@ fn modes(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
 }
 
 /// Each sensor's whiteness under the report's name for its channel.
-fn named_whiteness(o: &ChainOutcome) -> Vec<ResidualWhiteness> {
+pub(super) fn named_whiteness(o: &ChainOutcome) -> Vec<ResidualWhiteness> {
     o.fit
         .whiteness
         .iter()
@@ -336,6 +337,7 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
 /// The summary the command prints.
 pub(crate) fn summary(o: &ChainOutcome) -> String {
     let mut s = format!("{}\n", o.config.name);
+    crate::verdict::summary(&mut s, &o.verdict);
     match &o.fit.uncertainty.intervals {
         Some(_) => {
             for (name, truth, iv) in rows(o, &o.fit.uncertainty) {

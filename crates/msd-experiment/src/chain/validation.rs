@@ -3,6 +3,7 @@
 
 use super::{ChainOutcome, channel_names};
 use crate::fmt::sig;
+use crate::verdict::{self, Evidence, Fresh, Verdict};
 use std::fmt::Write;
 
 /// `## Validation on fresh data`: one row per sensor (R², fit %, RMS error, the residual
@@ -78,4 +79,37 @@ pub(super) fn summary(s: &mut String, o: &ChainOutcome) {
             );
         }
     }
+}
+
+/// The verdict on a chain fit: identifiability, each sensor's whiteness under the noise
+/// model, the held-out end, the drive's noise.
+pub(super) fn verdict(o: &ChainOutcome) -> Verdict {
+    let names = channel_names(o);
+    let fresh = o.validation.as_ref().map_err(Clone::clone).map(|v| {
+        let rows: Vec<_> = names.iter().zip(&v.sensors).zip(&o.fit.noise).collect();
+        Fresh {
+            what: "the held-out end".into(),
+            worst: (v.sensors.iter())
+                .map(|p| (p.fit.r_squared, p.fit.fit_percent))
+                .min_by(|a, b| a.0.total_cmp(&b.0)),
+            unpredicted: (rows.iter())
+                .filter(|((_, p), sigma)| {
+                    p.fit.r_squared < 0.5 && p.fit.residual_rms > 1.5 * **sigma
+                })
+                .map(|((name, _), _)| format!("`{name}`"))
+                .collect(),
+            correlated: (rows.iter())
+                .filter(|((_, p), _)| {
+                    (p.residual_analysis.as_ref()).is_some_and(|a| !a.cross_correlation_passed)
+                })
+                .map(|((name, _), _)| format!("`{name}`"))
+                .collect(),
+        }
+    });
+    verdict::verdict(&Evidence {
+        unidentified: o.fit.uncertainty.unidentifiable.clone(),
+        whiteness: &super::report::named_whiteness(o),
+        noise_model: &o.fit.noise_model,
+        fresh,
+    })
 }

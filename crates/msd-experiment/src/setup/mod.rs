@@ -43,6 +43,8 @@ pub struct SetupOutcome {
     pub fit: SetupFit,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
+    /// Whether the estimates can be trusted, and why (`None` for the test machine).
+    pub verdict: Option<crate::verdict::Verdict>,
 }
 
 /// Runs the setup experiment of `config` (which has a `[setup]` section).
@@ -61,6 +63,7 @@ pub fn run(
     let t = Instant::now();
     let fit = fit::fit(&config, config_path, &data)?;
     timings.push(("estimation", t.elapsed()));
+    let verdict = report_validation::verdict(&fit);
     Ok(SetupOutcome {
         command: options
             .command
@@ -72,6 +75,7 @@ pub fn run(
         data,
         fit,
         timings,
+        verdict,
     })
 }
 

@@ -3,6 +3,7 @@
 
 use crate::config::Response;
 use crate::fmt::sig;
+use crate::verdict::{self, Evidence, Fresh, Verdict};
 use msd_ident::RecordsFit;
 use msd_ident::records::LeftOut;
 use std::fmt::Write;
@@ -111,4 +112,56 @@ pub(super) fn summary(s: &mut String, fit: &RecordsFit) {
             );
         }
     }
+}
+
+/// The verdict on a records fit: identifiability, whiteness under the noise model,
+/// fresh data, the drive's noise (`None` for the test machine, which has its own checks).
+pub(super) fn verdict(fit: &super::SetupFit) -> Option<Verdict> {
+    let super::SetupFit::Records { fit, .. } = fit else {
+        return None;
+    };
+    let sigma = |channel: &str| {
+        (fit.noise.iter())
+            .find(|n| n.channel == channel)
+            .map_or(0.0, |n| n.sigma)
+    };
+    let fresh = match fresh(fit) {
+        None => Err("one record and no part held out (`[setup] hold_out = 0`)".to_string()),
+        Some((_, predictions)) => {
+            let rows: Vec<_> = (predictions.iter())
+                .flat_map(|p| {
+                    p.channels
+                        .iter()
+                        .zip(&p.residual_analysis)
+                        .map(move |c| (p, c))
+                })
+                .collect();
+            Ok(Fresh {
+                what: match &fit.validation {
+                    Some(v) if v.source.starts_with("the last") => "the held-out end".into(),
+                    Some(_) => "the validation records".into(),
+                    None => "each record predicted by the others".into(),
+                },
+                worst: (rows.iter())
+                    .map(|(_, (c, _))| (c.fit.r_squared, c.fit.fit_percent))
+                    .min_by(|a, b| a.0.total_cmp(&b.0)),
+                unpredicted: (rows.iter())
+                    .filter(|(_, (c, _))| {
+                        c.fit.r_squared < 0.5 && c.fit.residual_rms > 1.5 * sigma(&c.channel)
+                    })
+                    .map(|(p, (c, _))| format!("`{}` of `{}`", c.channel, p.record))
+                    .collect(),
+                correlated: (rows.iter())
+                    .filter(|(_, (_, a))| a.as_ref().is_some_and(|a| !a.cross_correlation_passed))
+                    .map(|(p, (c, _))| format!("`{}` of `{}`", c.channel, p.record))
+                    .collect(),
+            })
+        }
+    };
+    Some(verdict::verdict(&Evidence {
+        unidentified: fit.plant.note.iter().cloned().collect(),
+        whiteness: &fit.whiteness,
+        noise_model: &fit.noise_model,
+        fresh,
+    }))
 }

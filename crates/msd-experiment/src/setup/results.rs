@@ -1,4 +1,5 @@
-//! `results.json` of a setup run: `experiment` (as every run's), `setup` (excitation, responses), `estimate`
+//! `results.json` of a setup run: `experiment` (as every run's), `verdict` (whether the
+//! estimates can be trusted, and why), `setup` (excitation, responses), `estimate`
 //! (`identifiable` and `<name>.value` / `.ci95` of each identifiable quantity), and what
 //! each setup adds: `noise` (per channel), `noise_model` (the treatment behind the
 //! intervals), `white_noise_estimate` (the white-noise intervals, when they differ),
@@ -21,6 +22,8 @@ use std::time::Duration;
 struct Results<'a> {
     experiment: Experiment<'a>,
     command: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    verdict: Option<&'a crate::verdict::Verdict>,
     setup: SetupInfo<'a>,
     estimate: Estimate,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -119,6 +122,7 @@ pub(crate) fn to_json(
             None,
         ),
         command: &o.command,
+        verdict: o.verdict.as_ref(),
         setup: SetupInfo {
             excitation: setup.excitation.name(),
             responses: &o.data.channels,
