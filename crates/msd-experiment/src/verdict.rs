@@ -104,6 +104,11 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
     if let Some(finding) = drive_noise(e.noise_model) {
         findings.push(finding);
     }
+    from_findings(findings)
+}
+
+/// The verdict of `findings`: trustworthy when every one passed; the failed ones first.
+pub(crate) fn from_findings(mut findings: Vec<Finding>) -> Verdict {
     findings.sort_by_key(|f| f.passed);
     Verdict {
         trustworthy: findings.iter().all(|f| f.passed),
@@ -111,11 +116,13 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
     }
 }
 
-fn pass(text: String) -> Finding {
+/// A check that passed (or only informs).
+pub(crate) fn pass(text: String) -> Finding {
     Finding { passed: true, text }
 }
 
-fn fail(text: String) -> Finding {
+/// A check that failed.
+pub(crate) fn fail(text: String) -> Finding {
     Finding {
         passed: false,
         text,

@@ -153,6 +153,9 @@ pub struct FrfOutcome {
     pub time_domain: Option<TimeDomain>,
     /// Wall time of each stage.
     pub timings: Vec<(&'static str, Duration)>,
+    /// Whether the estimates can be trusted, and why (a one-mode fit weighted by the
+    /// FRF's own noise; `None` for the others).
+    pub verdict: Option<crate::verdict::Verdict>,
 }
 
 /// Reads or simulates the frequency response of `config`'s `[frequency_response]`
@@ -276,7 +279,7 @@ pub(crate) fn run_keeping(
     if time_domain.is_some() {
         timings.push(("time-domain fit", t.elapsed()));
     }
-    Ok(FrfOutcome {
+    let mut outcome = FrfOutcome {
         command: options.command.clone().unwrap_or_else(|| "msd run".into()),
         config_path: config_path.to_path_buf(),
         config,
@@ -292,7 +295,10 @@ pub(crate) fn run_keeping(
         truth,
         time_domain,
         timings,
-    })
+        verdict: None,
+    };
+    outcome.verdict = report::verdict(&outcome);
+    Ok(outcome)
 }
 
 /// Writes what a failed mode selection keeps (its stabilization diagram, PNG and SVG,
@@ -516,10 +522,19 @@ fn power(kind: msd_signal::FrfKind) -> i32 {
 impl std::fmt::Display for FrfOutcome {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let name = &self.config.name;
-        match &self.fit {
-            FrfFit::OneMode(fit) => write!(f, "{name}: {fit}")?,
-            FrfFit::Modes(fit) => write!(f, "{name}: {fit}")?,
-            FrfFit::Set(fit) => write!(f, "{name}: {fit}")?,
+        let fit = match &self.fit {
+            FrfFit::OneMode(fit) => fit.to_string(),
+            FrfFit::Modes(fit) => fit.to_string(),
+            FrfFit::Set(fit) => fit.to_string(),
+        };
+        // The fit's headline, the verdict, then the fit's details.
+        let (headline, details) = fit.split_once('\n').unwrap_or((&fit, ""));
+        write!(f, "{name}: {headline}")?;
+        if let Some(v) = &self.verdict {
+            write!(f, "\nverdict: {v}")?;
+        }
+        if !details.is_empty() {
+            write!(f, "\n{details}")?;
         }
         if let Some(t) = &self.truth {
             let covered = report::covered(self, t);

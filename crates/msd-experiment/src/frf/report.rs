@@ -3,6 +3,7 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::fmt::{count, sig};
+use crate::verdict::{self, Verdict};
 use msd_ident::{Interval, OneModeFit};
 use msd_modal::{HalfPower, ModalFit, ModalParameters};
 use std::fmt::Write;
@@ -91,6 +92,9 @@ fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
         "| toolkit version | {} |\n",
         crate::results::CRATE_VERSION
     )?;
+    if let Some(v) = &o.verdict {
+        verdict::section(w, v)?;
+    }
     data_section(w, o)?;
     match &o.fit {
         FrfFit::OneMode(f) => one_mode_section(w, o, f)?,
@@ -412,4 +416,38 @@ pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
         .filter(|&k| (from..=to).contains(&d.frequency[k]) && !unexcited(k))
         .fold(1.0, |low, k| d.coherence[k].min(low));
     ([from, to], low)
+}
+
+/// The verdict on a one-mode fit whose lines are weighted by the FRF's own noise: its
+/// residuals against that noise (the χ² check) and the coherence it rests on; `None` for
+/// the other fits (their checks are in their sections).
+pub(crate) fn verdict(o: &FrfOutcome) -> Option<Verdict> {
+    let FrfFit::OneMode(f) = &o.fit else {
+        return None;
+    };
+    let check = f.noise_check.as_ref()?;
+    let numbers = format!(
+        "SSE/dof {}, p = {}",
+        sig(check.variance_ratio, 3),
+        sig(check.p_value, 2)
+    );
+    let mut findings = vec![if check.passed {
+        verdict::pass(format!(
+            "the one-mode model leaves only the noise the FRF's coherence shows ({numbers})"
+        ))
+    } else {
+        verdict::fail(format!(
+            "the residual exceeds the FRF's own noise ({numbers}): another mode, a nonlinearity or leakage in the band, and the intervals may be too narrow"
+        ))
+    }];
+    let ([from, to], low) = fitted_band_coherence(o);
+    if low < 0.5 {
+        findings.push(verdict::pass(format!(
+            "the coherence falls to {} between {} and {} Hz: each line is weighted by what it is worth",
+            sig(low, 2),
+            sig(from, 4),
+            sig(to, 4)
+        )));
+    }
+    Some(verdict::from_findings(findings))
 }

@@ -18,6 +18,8 @@ use std::time::Duration;
 #[derive(Serialize)]
 struct Results<'a> {
     experiment: Experiment<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    verdict: Option<&'a crate::verdict::Verdict>,
     config: &'a Config,
     data: Data<'a>,
     /// One mode.
@@ -160,6 +162,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             o.seed,
             None,
         ),
+        verdict: o.verdict.as_ref(),
         config: &o.config,
         data: Data {
             source: &o.source,

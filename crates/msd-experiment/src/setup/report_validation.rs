@@ -126,7 +126,10 @@ pub(super) fn verdict(fit: &super::SetupFit) -> Option<Verdict> {
             .map_or(0.0, |n| n.sigma)
     };
     let fresh = match fresh(fit) {
-        None => Err("one record and no part held out (`[setup] hold_out = 0`)".to_string()),
+        None => Err(
+            "one record and nothing held out (`setup.hold_out = 0`), or too short to hold a part out (the notes say which)"
+                .to_string(),
+        ),
         Some((_, predictions)) => {
             let rows: Vec<_> = (predictions.iter())
                 .flat_map(|p| {

@@ -104,4 +104,14 @@ fn a_mode_the_model_lacks_fails_the_noise_check() {
         fit.to_string()
             .contains("warning: the one-mode model leaves more than the noise")
     );
+    // The run's verdict comes first and says so.
+    let verdict = outcome.verdict.as_ref().expect("a verdict");
+    assert!(!verdict.trustworthy, "{verdict}");
+    assert!(
+        verdict
+            .to_string()
+            .starts_with("use with care: the residual exceeds the FRF's own noise"),
+        "{verdict}"
+    );
+    assert!(outcome.to_string().contains("\nverdict: use with care"));
 }
