@@ -208,6 +208,8 @@ fn a_noisy_load_cell_on_a_chain_widens_the_intervals_and_says_why() {
         treated.summary
     );
     assert!(report.find("## In short").unwrap() < report.find("## Chain").unwrap());
+    // The held-out residual is coloured by the drive's noise, and the report says so.
+    assert!(report.contains("says nothing against the chain"));
     // The white fit: narrow intervals, and residuals flagged as coloured.
     let white_run = run("drive_sigma = 0.04\nnoise_model = \"white\"", "white");
     let w = &white_run.results["fit"];

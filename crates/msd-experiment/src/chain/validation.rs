@@ -41,6 +41,12 @@ pub(super) fn section(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
             "\n✗: the residual correlates with the drive on samples the chain was not fitted to: part of the drive's effect is not explained (a missing mass or connection, a sensor delay or filter, a nonlinearity)."
         )?;
     }
+    if o.fit.noise_model.p_value.is_some_and(|p| p < 0.01) {
+        writeln!(
+            s,
+            "\nThe whiteness p is of the residual as it is: the drive's own noise, seen through the chain, colours it (the Noise section), so a small p here is expected and says nothing against the chain."
+        )?;
+    }
     writeln!(s)
 }
 
