@@ -43,8 +43,8 @@ pub struct SetupOutcome {
     pub fit: SetupFit,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
-    /// Whether the estimates can be trusted, and why (`None` for the test machine).
-    pub verdict: Option<crate::verdict::Verdict>,
+    /// Whether the estimates can be trusted, and why.
+    pub verdict: crate::verdict::Verdict,
 }
 
 /// Runs the setup experiment of `config` (which has a `[setup]` section).

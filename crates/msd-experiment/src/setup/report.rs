@@ -77,9 +77,7 @@ pub(crate) fn summary(o: &SetupOutcome) -> String {
         o.data.setup.excitation.name(),
         channel_names(o).join(", ")
     );
-    if let Some(v) = &o.verdict {
-        crate::verdict::summary(&mut s, v);
-    }
+    crate::verdict::summary(&mut s, &o.verdict);
     for (_, label, iv, truth) in estimates(o) {
         let _ = write!(s, "  {label:<22} {}  ", sig(iv.value, 6));
         if iv.standard_error == 0.0 {
@@ -131,9 +129,7 @@ pub(crate) fn markdown(o: &SetupOutcome, figures: &[&str]) -> String {
 
 fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result {
     crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
-    if let Some(v) = &o.verdict {
-        crate::verdict::section(s, v)?;
-    }
+    crate::verdict::section(s, &o.verdict)?;
     setup_section(s, o)?;
     estimate_section(s, o)?;
     match &o.fit {

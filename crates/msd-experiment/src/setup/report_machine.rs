@@ -2,6 +2,7 @@
 //! ranked by BIC.
 
 use crate::fmt::sig;
+use crate::verdict::{self, Verdict};
 use msd_ident::dynamometer::Dynamometer;
 use std::fmt::Write;
 
@@ -96,4 +97,42 @@ pub(crate) fn summary(s: &mut String, m: &Dynamometer) {
             sig(p.fit.fit_percent, 4)
         );
     }
+}
+
+/// The test machine's verdict: the best law's standing against the runner-up (BIC), and
+/// each condition predicted by the law fitted to the others.
+pub(crate) fn verdict(m: &Dynamometer) -> Verdict {
+    let best = m.best_law();
+    let mut findings = Vec::new();
+    let runner = m.laws.iter().find(|l| l.rank == 2);
+    findings.push(verdict::pass(match runner {
+        Some(r) => format!(
+            "the law {} ranks first, ΔBIC {} over {} (on Kass & Raftery's scale, > 10 is very strong evidence)",
+            best.law.formula(),
+            sig(r.delta_bic, 3),
+            r.law.formula()
+        ),
+        None => format!("one law fitted: {}", best.law.formula()),
+    }));
+    if let Some(predictions) = &m.leave_one_out {
+        let worst = (predictions.iter()).min_by(|a, b| a.fit.r_squared.total_cmp(&b.fit.r_squared));
+        if let Some(p) = worst {
+            findings.push(verdict::pass(format!(
+                "each condition predicted by the law fitted to the others: worst R² {} ({})",
+                sig(p.fit.r_squared, 4),
+                p.condition
+            )));
+        }
+        let missed: Vec<String> = (predictions.iter())
+            .filter(|p| p.fit.r_squared < 0.5 && p.fit.residual_rms > 1.5 * best.force_sigma)
+            .map(|p| format!("`{}`", p.condition))
+            .collect();
+        if !missed.is_empty() {
+            findings.push(verdict::fail(format!(
+                "the law fitted to the other conditions does not predict {}: its force error is well above the fit's noise",
+                missed.join(", ")
+            )));
+        }
+    }
+    verdict::from_findings(findings)
 }

@@ -114,11 +114,13 @@ pub(super) fn summary(s: &mut String, fit: &RecordsFit) {
     }
 }
 
-/// The verdict on a records fit: identifiability, whiteness under the noise model,
-/// fresh data, the drive's noise (`None` for the test machine, which has its own checks).
-pub(super) fn verdict(fit: &super::SetupFit) -> Option<Verdict> {
-    let super::SetupFit::Records { fit, .. } = fit else {
-        return None;
+/// The verdict on a setup's fit: for records, identifiability, whiteness under the noise
+/// model, fresh data and the drive's noise; for the test machine, its laws' ranking and
+/// each condition predicted by the others.
+pub(super) fn verdict(fit: &super::SetupFit) -> Verdict {
+    let fit = match fit {
+        super::SetupFit::Records { fit, .. } => fit,
+        super::SetupFit::Machine(m) => return super::report_machine::verdict(m),
     };
     let sigma = |channel: &str| {
         (fit.noise.iter())
@@ -161,10 +163,10 @@ pub(super) fn verdict(fit: &super::SetupFit) -> Option<Verdict> {
             })
         }
     };
-    Some(verdict::verdict(&Evidence {
+    verdict::verdict(&Evidence {
         unidentified: fit.plant.note.iter().cloned().collect(),
         whiteness: &fit.whiteness,
         noise_model: &fit.noise_model,
         fresh,
-    }))
+    })
 }

@@ -22,8 +22,7 @@ use std::time::Duration;
 struct Results<'a> {
     experiment: Experiment<'a>,
     command: &'a str,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    verdict: Option<&'a crate::verdict::Verdict>,
+    verdict: &'a crate::verdict::Verdict,
     setup: SetupInfo<'a>,
     estimate: Estimate,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -122,7 +121,7 @@ pub(crate) fn to_json(
             None,
         ),
         command: &o.command,
-        verdict: o.verdict.as_ref(),
+        verdict: &o.verdict,
         setup: SetupInfo {
             excitation: setup.excitation.name(),
             responses: &o.data.channels,

@@ -186,6 +186,13 @@ fn the_test_machine_ranks_the_quadratic_law_first() {
         );
     }
     assert_eq!(s["dynamometer"]["conditions"].as_array().unwrap().len(), 10);
+    // The verdict: the ranking and the conditions predicted by the others.
+    assert_eq!(s["verdict"]["trustworthy"], true, "{}", s["verdict"]);
+    let findings = s["verdict"]["findings"].to_string();
+    assert!(
+        findings.contains("ranks first") && findings.contains("worst R²"),
+        "{findings}"
+    );
     let first = m["dynamometer"]["laws"]
         .as_array()
         .unwrap()
