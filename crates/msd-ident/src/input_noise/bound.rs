@@ -11,7 +11,7 @@
 //! Under white noise (σ_u = 0) F is the white-noise fit's own normal matrix (Parseval):
 //! the output-error estimate is efficient there.
 
-use super::restricted::{Sensitivity, expected, line_sensitivities};
+use super::restricted::{Sensitivity, all_line_sensitivities, expected};
 use super::scoring::maximise;
 use super::spectral::{Lines, SpectralModel, likelihood_lines};
 use nalgebra::DMatrix;
@@ -26,24 +26,25 @@ pub(crate) fn restricted_fit(
     a_inverse: &DMatrix<f64>,
     groups: usize,
 ) -> (SpectralModel, DMatrix<f64>) {
-    let restricted = expected(lines, fits, a_inverse, groups);
+    // Each line's Ĵ_k, taken once for the restricted spectrum and the information.
+    let hats = all_line_sensitivities(lines, fits, a_inverse.nrows());
+    let restricted = expected(lines, fits, &hats, a_inverse, groups);
     let model = maximise(lines, groups, Some(&restricted));
-    let f = information(lines, fits, &model, a_inverse.nrows());
+    let f = information(lines, &hats, &model, a_inverse.nrows());
     (model, f)
 }
 
 /// F = Σ_k 2·Re(Ĵ_kᴴ·S_k⁻¹·Ĵ_k) over every record's likelihood lines (p parameters).
 fn information(
     lines: &[Lines],
-    fits: &[Sensitivity],
+    hats: &[Vec<Complex64>],
     model: &SpectralModel,
     p: usize,
 ) -> DMatrix<f64> {
     let mut f = DMatrix::<f64>::zeros(p, p);
     let d = &model.sensor_variance;
-    for (l, fit) in lines.iter().zip(fits) {
+    for (l, hat) in lines.iter().zip(hats) {
         let c = l.groups.len();
-        let hat = line_sensitivities(l, fit, p);
         for k in likelihood_lines(l.size) {
             let j = &hat[k * c * p..(k + 1) * c * p];
             // S⁻¹ = D⁻¹ − σ²_u·D⁻¹·g·gᴴ·D⁻¹ / (1 + σ²_u·gᴴ·D⁻¹·g) (Woodbury).
@@ -117,7 +118,8 @@ mod tests {
             likelihood_ratio: 0.0,
             p_value: 1.0,
         };
-        let f = information(&[lines], &[fit], &model, p);
+        let hats = all_line_sensitivities(std::slice::from_ref(&lines), &[fit], p);
+        let f = information(&[lines], &hats, &model, p);
         let sum = |x: &[f64], y: &[f64], sign: bool| {
             (0..n)
                 .map(|t| if sign && t % 2 == 1 { -1.0 } else { 1.0 } * x[t] * y[t])

@@ -44,18 +44,14 @@ pub(crate) struct Sensitivity {
 pub(crate) fn expected(
     lines: &[Lines],
     fits: &[Sensitivity],
+    hats: &[Vec<Complex64>],
     a_inverse: &DMatrix<f64>,
     groups: usize,
 ) -> Vec<Expected> {
     let p = a_inverse.nrows();
-    let hats: Vec<Vec<Complex64>> = lines
-        .iter()
-        .zip(fits)
-        .map(|(l, fit)| line_sensitivities(l, fit, p))
-        .collect();
     // B_q per unit variance, summed over every line of every record: Jᴴ·W²·S_q·W²·J.
     let mut middle = vec![DMatrix::<f64>::zeros(p, p); groups + 1];
-    for ((l, fit), hat) in lines.iter().zip(fits).zip(&hats) {
+    for ((l, fit), hat) in lines.iter().zip(fits).zip(hats) {
         let c = l.groups.len();
         let w2: Vec<f64> = fit.weights.iter().map(|w| w * w).collect();
         for k in 0..l.size {
@@ -83,7 +79,7 @@ pub(crate) fn expected(
     lines
         .iter()
         .zip(fits)
-        .zip(&hats)
+        .zip(hats)
         .map(|((l, fit), hat)| {
             let c = l.groups.len();
             let w2: Vec<f64> = fit.weights.iter().map(|w| w * w).collect();
@@ -152,9 +148,20 @@ fn sandwich(j: &[Complex64], m: &DMatrix<f64>, c: usize, p: usize) -> Vec<Comple
         .collect()
 }
 
+/// Each record's [`line_sensitivities`] (`p` parameters).
+pub(super) fn all_line_sensitivities(
+    lines: &[Lines],
+    fits: &[Sensitivity],
+    p: usize,
+) -> Vec<Vec<Complex64>> {
+    (lines.iter().zip(fits))
+        .map(|(l, fit)| line_sensitivities(l, fit, p))
+        .collect()
+}
+
 /// Ĵ_k (c×p, row-major) at every line k of the record, one after another; unitary
 /// scaling.
-pub(super) fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<Complex64> {
+fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Vec<Complex64> {
     let c = l.groups.len();
     let scale = 1.0 / (l.size as f64).sqrt();
     let hat: Vec<Vec<Vec<Complex64>>> = fit
@@ -209,9 +216,12 @@ mod tests {
             ],
             weights: vec![w],
         };
+        let hats =
+            all_line_sensitivities(std::slice::from_ref(&lines), std::slice::from_ref(&fit), p);
         let got = expected(
             std::slice::from_ref(&lines),
             std::slice::from_ref(&fit),
+            &hats,
             &a_inverse,
             1,
         );
