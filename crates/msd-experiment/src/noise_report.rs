@@ -24,7 +24,13 @@ pub(crate) fn summary(
             sig(100.0 * fraction, 2),
             sig(m.interval_ratio, 3)
         );
-        if let Some(low) = m.efficiency.values().copied().reduce(f64::min) {
+        if let Some(low) = m.output_error_efficiency.values().copied().reduce(f64::min) {
+            let _ = writeln!(
+                s,
+                "  estimate weighted by each frequency line's noise (frequency-domain maximum likelihood): the output-error fit's intervals were up to ×{} wider (report.md, Noise)",
+                sig((1.0 / low).sqrt(), 2)
+            );
+        } else if let Some(low) = m.efficiency.values().copied().reduce(f64::min) {
             let _ = writeln!(
                 s,
                 "  efficiency against the Cramér–Rao bound of this noise model: ≥ {low:.2} (report.md, Noise)"
@@ -115,17 +121,28 @@ fn efficiency(s: &mut String, m: &NoiseModelFit) -> std::fmt::Result {
             other.into(),
         ),
     };
-    let mut rows: Vec<((usize, String), f64)> =
-        m.efficiency.iter().map(|(n, e)| (symbol(n), *e)).collect();
-    rows.sort_by(|a, b| a.0.cmp(&b.0));
-    let list: Vec<String> = rows
-        .iter()
-        .map(|((_, name), e)| format!("{name} {e:.2}"))
-        .collect();
+    let list = |efficiency: &std::collections::BTreeMap<String, f64>| {
+        let mut rows: Vec<((usize, String), f64)> =
+            efficiency.iter().map(|(n, e)| (symbol(n), *e)).collect();
+        rows.sort_by(|a, b| a.0.cmp(&b.0));
+        let rows: Vec<String> = (rows.iter())
+            .map(|((_, name), e)| format!("{name} {e:.2}"))
+            .collect();
+        rows.join(", ")
+    };
+    if m.estimator == "weighted" {
+        return writeln!(
+            s,
+            "The estimate weights each frequency line by its noise: the frequency-domain maximum-likelihood estimator of this errors-in-variables model (Pintelon and Schoukens' SML), started from the output-error fit, the noise levels as found. Its cost over its expectation is {} (near 1: the noise model describes the residuals); its intervals are the sandwich of its estimating equations under the noise model, against the Cramér–Rao bound: {}. The output-error estimate, which weights every line alike, reached only {} of the bound (its intervals are in `output_error_estimate` and below).\n",
+            sig(m.cost_ratio.unwrap_or(f64::NAN), 3),
+            list(&m.efficiency),
+            list(&m.output_error_efficiency)
+        );
+    }
     writeln!(
         s,
-        "Efficiency against the Cramér–Rao bound of this noise model (the bound's variance over the reported one; 1: nothing to gain): {}. The fit weights every frequency line alike; where the drive's noise makes the resonance's lines worth less, an estimator that weighted each line by its noise (frequency-domain maximum likelihood) could narrow an interval by up to √(1/efficiency). The reported intervals hold either way: they are those of the estimate that was made.\n",
-        list.join(", ")
+        "Efficiency against the Cramér–Rao bound of this noise model (the bound's variance over the reported one; 1: nothing to gain): {}. The fit weights every frequency line alike; where the drive's noise shows (p < 0.01) and the residuals are white under the noise model, a fit of records is replaced by the estimate that weights each line by its noise; here it is not. The reported intervals hold either way: they are those of the estimate that was made.\n",
+        list(&m.efficiency)
     )
 }
 

@@ -172,7 +172,12 @@ fn drive_noise(m: &NoiseModelFit) -> Option<Finding> {
         sig(100.0 * fraction, 2),
         sig(m.interval_ratio, 3)
     );
-    if let Some(low) = (m.efficiency.values().copied())
+    if let Some(low) = m.output_error_efficiency.values().copied().reduce(f64::min) {
+        text += &format!(
+            "; the estimate weights each frequency line by that noise, with intervals up to {}× narrower than the output-error fit's",
+            sig((1.0 / low).sqrt(), 2)
+        );
+    } else if let Some(low) = (m.efficiency.values().copied())
         .reduce(f64::min)
         .filter(|low| *low < 0.5)
     {

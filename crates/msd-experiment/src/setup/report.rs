@@ -286,20 +286,33 @@ fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
     Ok(())
 }
 
-/// The noise model, the residuals' whiteness and the white-noise intervals it replaced.
+/// The noise model, the residuals' whiteness, and the output-error estimate's
+/// intervals it replaced (under the noise model when the weighted estimate replaced it,
+/// and as a white-noise fit would have reported them).
 fn noise_section(s: &mut String, fit: &RecordsFit, unit: &str) -> std::fmt::Result {
     noise_report::section(s, &fit.noise_model, &fit.whiteness, unit, "[setup]")?;
-    if let Some(white) = &fit.white_noise_plant {
+    let tables = [
+        (
+            &fit.output_error_plant,
+            "The output-error estimate (every sample weighted alike) with its intervals under the noise model (`output_error_estimate`):",
+        ),
+        (
+            &fit.white_noise_plant,
+            "The output-error estimate with the intervals a white-noise fit would have reported (`white_noise_estimate`):",
+        ),
+    ];
+    for (plant, caption) in tables {
+        let Some(plant) = plant else { continue };
         writeln!(
             s,
-            "The intervals a white-noise fit would have reported:\n\n| quantity | estimate | 95 % interval |\n|---|---|---|"
+            "{caption}\n\n| quantity | estimate | 95 % interval |\n|---|---|---|"
         )?;
         let rows = [
-            ("m [kg]", white.mass),
-            ("c [N·s/m]", white.damping),
-            ("k [N/m]", white.stiffness),
-            ("fn [Hz]", Some(white.natural_frequency_hz)),
-            ("ζ", Some(white.damping_ratio)),
+            ("m [kg]", plant.mass),
+            ("c [N·s/m]", plant.damping),
+            ("k [N/m]", plant.stiffness),
+            ("fn [Hz]", Some(plant.natural_frequency_hz)),
+            ("ζ", Some(plant.damping_ratio)),
         ];
         for (label, iv) in rows {
             if let Some(iv) = iv.filter(|iv| iv.standard_error > 0.0) {

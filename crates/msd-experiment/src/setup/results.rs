@@ -32,6 +32,8 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     white_noise_estimate: Option<&'a msd_ident::records::PlantIntervals>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    output_error_estimate: Option<&'a msd_ident::records::PlantIntervals>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     whiteness: Option<&'a [msd_ident::records::ResidualWhiteness]>,
     #[serde(skip_serializing_if = "Option::is_none")]
     records: Option<&'a [msd_ident::records::RecordFit]>,
@@ -143,6 +145,7 @@ pub(crate) fn to_json(
         noise,
         noise_model: records_fit.map(|f| &f.noise_model),
         white_noise_estimate: records_fit.and_then(|f| f.white_noise_plant.as_ref()),
+        output_error_estimate: records_fit.and_then(|f| f.output_error_plant.as_ref()),
         whiteness: records_fit.map(|f| f.whiteness.as_slice()),
         records,
         leave_one_out,

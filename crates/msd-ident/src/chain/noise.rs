@@ -135,6 +135,7 @@ pub(super) fn treat(
                     .collect()
             })
             .unwrap_or_default(),
+        ..NoiseModelFit::white()
     };
     let t_dof = match nu {
         Some(nu) if nu.is_finite() => (nu.floor() as usize).clamp(1, dof),

@@ -35,7 +35,9 @@ pub enum NoiseModel {
 ///     input_noise_fraction: Some(0.01), sensor_sigmas: vec![0.05],
 ///     likelihood_ratio: Some(210.0), p_value: Some(1e-40), interval_ratio: 3.1,
 ///     degrees_of_freedom: Some(180.0),
-///     efficiency: [("damping".to_string(), 0.8)].into_iter().collect() };
+///     efficiency: [("damping".to_string(), 0.8)].into_iter().collect(),
+///     estimator: "output_error".into(), cost_ratio: None,
+///     output_error_efficiency: Default::default() };
 /// assert!(fit.to_string().starts_with("noise model: input_noise"));
 /// assert_eq!(serde_json::to_value(&fit)?["input_noise_sigma"], 0.02);
 /// # Ok::<(), serde_json::Error>(())
@@ -72,6 +74,15 @@ pub struct NoiseModelFit {
     /// makes the resonance's lines worth less than the fit counts them. Empty when
     /// the model was not fitted.
     pub efficiency: std::collections::BTreeMap<String, f64>,
+    /// `output_error` (the fit weighting every sample alike, as the paper's) or
+    /// `weighted` (where the drive's noise shows: the frequency-domain maximum-likelihood
+    /// estimate, each line weighted by its noise spectrum; see `records::weighted`).
+    pub estimator: String,
+    /// The weighted estimate's cost over its expectation (near 1 when the noise model
+    /// describes the residuals); `None` for the output-error estimate.
+    pub cost_ratio: Option<f64>,
+    /// The output-error estimate's efficiency, when the weighted one replaced it.
+    pub output_error_efficiency: std::collections::BTreeMap<String, f64>,
 }
 
 impl std::fmt::Display for NoiseModelFit {
@@ -148,6 +159,9 @@ impl NoiseModelFit {
             interval_ratio: 1.0,
             degrees_of_freedom: None,
             efficiency: Default::default(),
+            estimator: "output_error".into(),
+            cost_ratio: None,
+            output_error_efficiency: Default::default(),
         }
     }
 }

@@ -19,6 +19,7 @@ mod problem;
 mod result;
 mod setup;
 mod validate;
+mod weighted;
 
 pub use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness};
 pub use generate::simulate_channels;
@@ -100,20 +101,37 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
     let mut notes = Vec::new();
     let (x, passes, iterations) =
         solve(&mut problem, theta0, options, dof, &mut sigma, &mut notes)?;
-    let theta = problem.theta(&x);
-    let treated =
-        noise_model::covariance(&problem, theta, options.noise_model, &options.residuals)?;
+    let output_error = problem.theta(&x);
+    let treated = noise_model::covariance(
+        &mut problem,
+        output_error,
+        options.noise_model,
+        &options.residuals,
+    )?;
+    let theta = treated.theta;
+    // The validation's starting point: the weighted estimate when it replaced x̂.
+    let x = if theta == output_error {
+        x
+    } else {
+        problem.pack(theta)
+    };
     // Under the drive's noise model the standard errors rest on estimated variances:
     // Satterthwaite's degrees of freedom (never more than the samples').
-    let t_dof = match treated.fit.degrees_of_freedom {
+    let t_dof = |nu: Option<f64>| match nu {
         Some(nu) if nu.is_finite() => (nu.floor() as usize).clamp(1, dof),
         _ => dof,
     };
-    let intervals_of =
-        |cov, dof| intervals::plant_intervals(options.drive, options.known, theta, cov, dof);
-    let plant = intervals_of(&treated.reported, t_dof);
+    let intervals_at =
+        |theta, cov, dof| intervals::plant_intervals(options.drive, options.known, theta, cov, dof);
+    let plant = intervals_at(
+        theta,
+        &treated.reported,
+        t_dof(treated.fit.degrees_of_freedom),
+    );
+    let output_error_plant = (treated.output_error.as_ref())
+        .map(|(cov, nu)| intervals_at(output_error, cov, t_dof(*nu)));
     let white_noise_plant =
-        (treated.fit.treatment != "white").then(|| intervals_of(&treated.white, dof));
+        (treated.fit.treatment != "white").then(|| intervals_at(output_error, &treated.white, dof));
     if options.drive == Drive::None && plant.damping_ratio.ci95[0] <= 0.0 {
         return Err(IdentError::Setup {
             setup: options.drive.setup(),
@@ -135,6 +153,10 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         "white_noise_plant",
         options.drive != Drive::None,
     ));
+    let shows = (treated.fit.p_value).is_some_and(|p| p < crate::input_noise::WHITENESS_LEVEL);
+    if shows && treated.output_error.is_none() && treated.whiteness.iter().any(|c| !c.passed) {
+        notes.push("the estimate is the output-error one, not weighted by the drive's noise: the residuals are not white under the noise model, so it cannot be trusted to weigh the frequency lines".into());
+    }
     let names = problem.group_names.clone();
     let leave_one_out = (options.leave_one_out && records.len() >= 2).then(|| {
         let x = x.clone();
@@ -165,6 +187,7 @@ pub fn fit_records(records: &[Record], options: &RecordsOptions) -> Result<Recor
         noise: noise_levels(&problem, &sigma),
         noise_model: treated.fit,
         white_noise_plant,
+        output_error_plant,
         whiteness: treated.whiteness,
         records: records_fit,
         leave_one_out,

@@ -4,6 +4,7 @@
 
 use super::intervals::{Linearised, embed, linearise};
 use super::problem::{Joint, RecordRows};
+use super::weighted::{Weighted, refit};
 use crate::correlation::autocorrelation;
 use crate::error::Result;
 use crate::input_noise::{
@@ -15,20 +16,27 @@ use crate::plant::{Drive, Plant};
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_ode::{SVector, SampledInput};
 use nalgebra::{DMatrix, DVector, Matrix3};
+use std::collections::BTreeMap;
 
-/// What [`covariance`] gives: the reported and the white-noise Cov(ln θ), the noise
-/// model and each channel's whiteness check.
+/// What [`covariance`] gives: the estimate reported with its Cov(ln θ), the output-error
+/// estimate's white-noise Cov(ln θ) (and its sandwich one when the weighted estimate
+/// replaced it), the noise model and each channel's whiteness check.
 pub(super) struct Treated {
+    pub theta: [f64; 3],
     pub reported: Matrix3<f64>,
     pub white: Matrix3<f64>,
+    /// The output-error estimate's sandwich Cov(ln θ) and its degrees of freedom.
+    pub output_error: Option<(Matrix3<f64>, Option<f64>)>,
     pub fit: NoiseModelFit,
     pub whiteness: Vec<ResidualWhiteness>,
 }
 
-/// The covariance of ln θ the fit reports at θ (the problem prepared), with what the
-/// noise model found and the residuals' whiteness under it.
+/// The estimate and covariance of ln θ the fit reports from the output-error estimate θ
+/// (the problem prepared there), with what the noise model found and the residuals'
+/// whiteness under it. Where the drive's noise shows (p < 0.01) the estimate is the
+/// weighted one ([`refit`]); the problem is left prepared at the reported estimate.
 pub(super) fn covariance(
-    problem: &Joint<'_>,
+    problem: &mut Joint<'_>,
     theta: [f64; 3],
     choice: NoiseModel,
     tests: &ResidualOptions,
@@ -40,79 +48,163 @@ pub(super) fn covariance(
         NoiseModel::White => None,
         NoiseModel::InputNoise => fit_spectral_model(problem, theta, &linearised)?,
     };
-    let whiteness = whiteness(problem, theta, model.as_ref().map(|(m, _)| m), tests)?;
     let Some((model, information)) = model else {
         return Ok(Treated {
+            theta,
             reported: white,
             white,
+            output_error: None,
             fit,
-            whiteness,
+            whiteness: whiteness(problem, theta, None, tests)?,
         });
     };
-    // The restricted likelihood's variances are those of the noise before the fit took
-    // its degrees of freedom: no N/(N − p) inflation after it.
-    let inflation = 1.0;
-    let sigma_u = (model.input_variance * inflation).sqrt();
-    fit.input_noise_sigma = Some(sigma_u);
-    fit.input_noise_fraction = Some(sigma_u / drive_rms(problem));
-    fit.sensor_sigmas = model
-        .sensor_variance
-        .iter()
-        .map(|d| (d * inflation).sqrt())
-        .collect();
-    fit.likelihood_ratio = Some(model.likelihood_ratio);
-    fit.p_value = Some(model.p_value);
-    let inverse = &linearised.inverse;
-    let middle = middle_matrix(
-        &middle_records(problem, theta)?,
-        &linearised.jacobian,
-        problem.group_names.len(),
-    );
-    let reported = embed(
+    describe(&mut fit, problem, &model);
+    let (reported, parts) = sandwich(
         problem,
-        &(inverse * middle.total(&model, inflation) * inverse),
-    );
-    let dynamic = |m: &Matrix3<f64>| DMatrix::from_column_slice(3, 3, m.as_slice());
-    let parts: Vec<DMatrix<f64>> = std::iter::once(&middle.drive)
-        .chain(&middle.sensors)
-        .map(|b| dynamic(&(embed(problem, &(inverse * b * inverse)) * inflation)))
-        .collect();
+        theta,
+        &linearised.jacobian,
+        &linearised.inverse,
+        &model,
+        false,
+    )?;
     // Where the drive's noise shows (p < 0.01), its estimate's own uncertainty widens
     // the t; where it does not, σ̂_u sits at or near 0 and Satterthwaite's ν (which
     // treats σ̂_u as symmetric about a value it cannot go below) would widen exact
     // drives' intervals by up to a quarter: they keep the samples' degrees of freedom.
-    fit.degrees_of_freedom = model
-        .covariance
-        .as_ref()
-        .filter(|_| model.p_value < WHITENESS_LEVEL)
+    let shows = model.p_value < WHITENESS_LEVEL;
+    fit.degrees_of_freedom = (model.covariance.as_ref())
+        .filter(|_| shows)
         .map(|cov| satterthwaite(&dynamic(&reported), &parts, cov, &directions()));
-    let e = nalgebra::Vector3::new(-0.5, 0.0, 0.5);
-    let variance = |c: &Matrix3<f64>| (e.transpose() * c * e)[(0, 0)].max(0.0);
-    fit.interval_ratio = (variance(&reported) / variance(&white)).sqrt();
+    fit.interval_ratio = fn_ratio(&reported, &white);
     if let Some(bound) = information.try_inverse() {
         let bound = dynamic(&embed(problem, &bound));
-        let names = [
-            "natural_frequency_hz",
-            "damping_ratio",
-            "mass",
-            "damping",
-            "stiffness",
-        ];
-        fit.efficiency = names
-            .iter()
-            .zip(directions())
-            .filter_map(|(name, e)| {
-                efficiency(&bound, &dynamic(&reported), &e).map(|r| (name.to_string(), r))
-            })
-            .collect();
+        fit.efficiency = efficiencies(&bound, &dynamic(&reported));
     }
-    fit.treatment = "input_noise".into();
-    Ok(Treated {
+    // The weighted estimate trusts the noise model to weigh each line: only where the
+    // residuals are white under it (a model that leaves colour, a nonlinearity, keeps
+    // the output-error estimate, the best prediction in the time domain).
+    let as_fitted = whiteness(problem, theta, Some(&model), tests)?;
+    let trusted = shows && as_fitted.iter().all(|c| c.passed);
+    let Some(weighted) = trusted.then(|| refit(problem, theta, &model)).flatten() else {
+        // Left where the output-error fit put it (a failed refit may have moved it).
+        problem.prepare(theta);
+        problem.solve_linear();
+        return Ok(Treated {
+            theta,
+            reported,
+            white,
+            output_error: None,
+            whiteness: as_fitted,
+            fit,
+        });
+    };
+    let whiteness = whiteness(problem, weighted.theta, Some(&model), tests)?;
+    let treated = Treated {
+        theta: weighted.theta,
         reported,
         white,
-        fit,
+        output_error: None,
         whiteness,
-    })
+        fit,
+    };
+    weighted_treatment(problem, treated, &weighted, &model)
+}
+
+/// The fit's noise levels and test from `model`.
+fn describe(fit: &mut NoiseModelFit, problem: &Joint<'_>, model: &SpectralModel) {
+    // The restricted likelihood's variances are those of the noise before the fit took
+    // its degrees of freedom: no N/(N − p) inflation after it.
+    let sigma_u = model.input_variance.sqrt();
+    fit.treatment = "input_noise".into();
+    fit.input_noise_sigma = Some(sigma_u);
+    fit.input_noise_fraction = Some(sigma_u / drive_rms(problem));
+    fit.sensor_sigmas = model.sensor_variance.iter().map(|d| d.sqrt()).collect();
+    fit.likelihood_ratio = Some(model.likelihood_ratio);
+    fit.p_value = Some(model.p_value);
+}
+
+/// The weighted estimate's covariance in place of the output-error one (`treated`
+/// holds the latter): the sandwich of its estimating equations, with the efficiencies
+/// against its bound and the degrees of freedom.
+fn weighted_treatment(
+    problem: &Joint<'_>,
+    mut treated: Treated,
+    weighted: &Weighted,
+    model: &SpectralModel,
+) -> Result<Treated> {
+    let (reported, parts) = sandwich(
+        problem,
+        weighted.theta,
+        &weighted.weights,
+        &weighted.inverse,
+        model,
+        true,
+    )?;
+    let fit = &mut treated.fit;
+    fit.estimator = "weighted".into();
+    fit.cost_ratio = Some(weighted.cost_ratio);
+    fit.interval_ratio = fn_ratio(&reported, &treated.white);
+    let bound = dynamic(&embed(problem, &weighted.inverse));
+    fit.output_error_efficiency = efficiencies(&bound, &dynamic(&treated.reported));
+    fit.efficiency = efficiencies(&bound, &dynamic(&reported));
+    let nu = (model.covariance.as_ref())
+        .map(|cov| satterthwaite(&dynamic(&reported), &parts, cov, &directions()));
+    let output_error_nu = std::mem::replace(&mut fit.degrees_of_freedom, nu);
+    let output_error = std::mem::replace(&mut treated.reported, reported);
+    treated.output_error = Some((output_error, output_error_nu));
+    Ok(treated)
+}
+
+/// The sandwich A⁻¹·B·A⁻¹ (3×3, embedded) of an estimate whose first-order error is
+/// A⁻¹·Jᵀ·W·r (`inverse` = A⁻¹; `jacobian`'s rows weighted by the channels' weights
+/// unless `unweighted`), B under `model`; with its derivative in each variance (the
+/// drive's first) for Satterthwaite.
+fn sandwich(
+    problem: &Joint<'_>,
+    theta: [f64; 3],
+    jacobian: &DMatrix<f64>,
+    inverse: &DMatrix<f64>,
+    model: &SpectralModel,
+    unweighted: bool,
+) -> Result<(Matrix3<f64>, Vec<DMatrix<f64>>)> {
+    let mut records = middle_records(problem, theta)?;
+    if unweighted {
+        records.iter_mut().for_each(|r| r.weights.fill(1.0));
+    }
+    let middle = middle_matrix(&records, jacobian, problem.group_names.len());
+    let reported = embed(problem, &(inverse * middle.total(model, 1.0) * inverse));
+    let parts = std::iter::once(&middle.drive)
+        .chain(&middle.sensors)
+        .map(|b| dynamic(&embed(problem, &(inverse * b * inverse))))
+        .collect();
+    Ok((reported, parts))
+}
+
+fn dynamic(m: &Matrix3<f64>) -> DMatrix<f64> {
+    DMatrix::from_column_slice(3, 3, m.as_slice())
+}
+
+/// The reported fn's standard error over the white-noise one.
+fn fn_ratio(reported: &Matrix3<f64>, white: &Matrix3<f64>) -> f64 {
+    let e = nalgebra::Vector3::new(-0.5, 0.0, 0.5);
+    let variance = |c: &Matrix3<f64>| (e.transpose() * c * e)[(0, 0)].max(0.0);
+    (variance(reported) / variance(white)).sqrt()
+}
+
+/// Each reported quantity's efficiency: the bound's variance over the reported one.
+fn efficiencies(bound: &DMatrix<f64>, reported: &DMatrix<f64>) -> BTreeMap<String, f64> {
+    let names = [
+        "natural_frequency_hz",
+        "damping_ratio",
+        "mass",
+        "damping",
+        "stiffness",
+    ];
+    names
+        .iter()
+        .zip(directions())
+        .filter_map(|(name, e)| efficiency(bound, reported, &e).map(|r| (name.to_string(), r)))
+        .collect()
 }
 
 /// Each channel's residual tested for whiteness (Ljung–Box, 25 lags) as it is and
@@ -283,7 +375,7 @@ fn directions() -> Vec<DVector<f64>> {
 
 /// Each channel's response to one unit drive sample (at sample 3, so that a cubic hold's
 /// reach back is kept), `rec.len` samples from rest.
-fn impulse_responses(
+pub(super) fn impulse_responses(
     problem: &Joint<'_>,
     rec: &RecordRows<'_>,
     theta: [f64; 3],

@@ -142,6 +142,9 @@ pub struct RecordsFit {
     /// The intervals a white-noise fit would have reported, when the noise model changed
     /// them.
     pub white_noise_plant: Option<PlantIntervals>,
+    /// The output-error estimate with its intervals under the noise model (the
+    /// sandwich), when the weighted estimate replaced it (`noise_model.estimator`).
+    pub output_error_plant: Option<PlantIntervals>,
     /// Each record's channels tested for whiteness, as fitted and under the noise model.
     pub whiteness: Vec<ResidualWhiteness>,
     /// Each record's initial state and channel fits.

@@ -390,9 +390,12 @@ def fit_records(
     to the rest; 0.2 by default, 0 for none), ``residuals`` (``{"max_lag": 25,
     "confidence": 0.99}``), ``max_passes``, ``noise_model``: ``"input_noise"``, the
     default, estimates the measured drive's own noise and widens the intervals by it;
-    ``"white"`` takes the drive as exact). The result's ``noise_model``,
-    ``white_noise_plant`` and ``whiteness`` (each channel's Ljung–Box and
-    residual–drive correlation tests) say what was found; ``validation`` (one record)
+    ``"white"`` takes the drive as exact; where that noise shows, the estimate is
+    the one weighting each frequency line by its noise, ``noise_model["estimator"]``
+    says ``"weighted"``). The result's ``noise_model``, ``output_error_plant`` (the
+    output-error estimate the weighted one replaced), ``white_noise_plant`` and
+    ``whiteness`` (each channel's Ljung–Box and residual–drive correlation tests) say
+    what was found; ``validation`` (one record)
     or ``leave_one_out`` (several) the predictions of fresh data, with their tests.
     """
     if isinstance(records, Mapping):

@@ -1,0 +1,478 @@
+//! The efficient estimate under a noisy drive: the frequency-domain maximum-likelihood
+//! estimator of the errors-in-variables model (Pintelon and Schoukens' SML), run after
+//! the output-error fit has found θ and the noise model its variances.
+//!
+//! ## The method
+//! Each line k of a record's residual R_k(θ) = DFT(y − f(θ) − G(θ)·x₀) (unitary
+//! scaling, the mean and Nyquist lines left out: the offsets live on the mean line) is a
+//! complex Gaussian with covariance S_k(θ) = D + σ²_u·G_k(θ)·G_k(θ)ᴴ: the sensors' noise
+//! and the drive's, seen through the plant at θ. With the variances held at the noise
+//! model's, the estimate minimises V(θ) = Σ_k R_kᴴ·S_k(θ)⁻¹·R_k, the true drive
+//! eliminated (the SML cost); the initial states x₀ are concentrated out by weighted
+//! least squares at each θ. S_k's θ-dependence is kept: with it the drive's noise no
+//! longer biases the estimate (at a line the drive does not excite, E[V_k] = 1 at every
+//! θ), where the output-error fit's equations carry a bias of σ²_u·Σ Re(∂G·Ḡ) — the
+//! errors-in-variables bias of least squares.
+//!
+//! Gauss–Newton on the whitened lines ε_k = S_k^(−1/2)·R_k (Woodbury: S is diagonal
+//! plus rank one), the Jacobian by central differences in ln θ, each step halved until
+//! V falls. Its information is F = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·∂R_k) over the lines, each
+//! record's initial state concentrated out in S's metric (a Schur complement): F⁻¹ is
+//! the Cramér–Rao bound of the model as fitted. The covariance reported is the
+//! sandwich F⁻¹·B·F⁻¹ of the estimating equations s = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·R_k):
+//! s is a fixed linear function of the residual's samples, s_p = Σ_t w_p(t)·r(t), and
+//! B = Var(s) = wᵀ·Σ·w is taken under the time-domain noise covariance Σ as the
+//! output-error sandwich takes it ([`crate::input_noise`]'s middle matrix), exact
+//! where the Whittle lines are an approximation (a record's ends, the lines'
+//! leakage). Under the Whittle model B = F and the sandwich is the bound; over 100
+//! simulated load-cell records with a displacement sensor beside the accelerometer,
+//! F⁻¹ alone overstated the spread of m and k by 1.6× in variance.
+
+use super::noise_model::impulse_responses;
+use super::problem::Joint;
+use crate::input_noise::{
+    SpectralModel, impulse_spectrum, likelihood_lines, residual_spectrum, spectrum,
+};
+use nalgebra::{DMatrix, DVector};
+use rustfft::num_complex::Complex64;
+
+/// The weighted estimate.
+pub(super) struct Weighted {
+    /// θ̂ (m, c, k in the model's units).
+    pub theta: [f64; 3],
+    /// F⁻¹: the Cramér–Rao bound of the free ln θ.
+    pub inverse: DMatrix<f64>,
+    /// The estimating equations' weights w_p(t), one column per free parameter, in the
+    /// problem's rows (record, channel, sample).
+    pub weights: DMatrix<f64>,
+    /// V(θ̂) over its expectation (the real parts less the estimated quantities):
+    /// near 1 when the noise model describes the residuals.
+    pub cost_ratio: f64,
+}
+
+/// The relative change of V below which the steps stop, and the most steps.
+const TOLERANCE: f64 = 1e-12;
+const MAX_STEPS: usize = 30;
+/// The central-difference step in ln θ.
+const STEP: f64 = 1e-4;
+
+/// The weighted estimate from `theta0` under the noise variances of `model`; `None`
+/// where the model cannot be simulated or the normal matrix is singular (the caller
+/// keeps the output-error estimate). Leaves `problem` prepared at θ̂ with its
+/// least-squares initial states and offsets.
+pub(super) fn refit(
+    problem: &mut Joint<'_>,
+    theta0: [f64; 3],
+    model: &SpectralModel,
+) -> Option<Weighted> {
+    let variances = Variances::of(model);
+    let mut x = problem.pack(theta0);
+    let (mut e, mut states) = whitened(problem, &x, &variances)?;
+    let mut cost = e.norm_squared();
+    for _ in 0..MAX_STEPS {
+        let j = jacobian(problem, &x, &variances)?;
+        let step = (j.tr_mul(&j)).cholesky()?.solve(&(-j.tr_mul(&e)));
+        let (mut scale, mut accepted) = (1.0, None);
+        for _ in 0..12 {
+            let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + scale * d).collect();
+            if let Some((t, s)) = whitened(problem, &trial, &variances) {
+                let c = t.norm_squared();
+                if c <= cost {
+                    accepted = Some((trial, t, s, c));
+                    break;
+                }
+            }
+            scale *= 0.5;
+        }
+        let Some((trial, t, s, c)) = accepted else {
+            break;
+        };
+        let change = (cost - c) / cost;
+        (x, e, states, cost) = (trial, t, s, c);
+        if change < TOLERANCE || step.norm() * scale < 1e-10 {
+            break;
+        }
+    }
+    let sensitivities = sensitivities(problem, &x, &states)?;
+    let (f, columns) = information(&sensitivities, &variances);
+    let inverse = f.try_inverse()?;
+    let weights = score_weights(problem, &sensitivities, &columns, &variances);
+    let theta = problem.theta(&x);
+    if !problem.prepare(theta) {
+        return None;
+    }
+    problem.solve_linear();
+    let expected = e
+        .len()
+        .saturating_sub(x.len() + 2 * problem.records.len())
+        .max(1);
+    Some(Weighted {
+        theta,
+        inverse,
+        weights,
+        cost_ratio: cost / expected as f64,
+    })
+}
+
+/// The noise variances of the model: the drive's and each sensor group's.
+struct Variances {
+    input: f64,
+    sensors: Vec<f64>,
+}
+
+impl Variances {
+    fn of(model: &SpectralModel) -> Self {
+        Self {
+            input: model.input_variance,
+            sensors: model.sensor_variance.clone(),
+        }
+    }
+}
+
+/// One record in the frequency domain at θ, at its likelihood lines, per channel: the
+/// residual from rest, the two initial-state responses (when estimated) and the
+/// transfer spectrum (unitary scaling but for the transfer's).
+struct RecordSpectra {
+    groups: Vec<usize>,
+    residual: Vec<Vec<Complex64>>,
+    basis: [Vec<Vec<Complex64>>; 2],
+    transfer: Vec<Vec<Complex64>>,
+}
+
+/// Every record's spectra at ln θ = `x` (`prepare`s the problem there).
+fn spectra(problem: &mut Joint<'_>, x: &[f64]) -> Option<Vec<RecordSpectra>> {
+    let theta = problem.theta(x);
+    if !theta.iter().all(|v| v.is_finite() && *v > 0.0) || !problem.prepare(theta) {
+        return None;
+    }
+    (0..problem.records.len())
+        .map(|r| record_spectra(problem, r, theta))
+        .collect()
+}
+
+fn record_spectra(problem: &Joint<'_>, r: usize, theta: [f64; 3]) -> Option<RecordSpectra> {
+    let rec = &problem.records[r];
+    let n = rec.len;
+    let lines = |v: Vec<Complex64>| v[likelihood_lines(n)].to_vec();
+    let scale = 1.0 / (n as f64).sqrt();
+    let mut out = RecordSpectra {
+        groups: rec.groups.clone(),
+        residual: Vec::new(),
+        basis: [Vec::new(), Vec::new()],
+        transfer: Vec::new(),
+    };
+    for (ch, channel) in rec.record.channels.iter().enumerate() {
+        let rows = Joint::rows_of(rec, ch);
+        let from_rest = channel.samples.iter().zip(&problem.forced[rows.clone()]);
+        out.residual
+            .push(lines(residual_spectrum(from_rest.map(|(y, f)| y - f), n)));
+        if problem.state {
+            for (i, b) in out.basis.iter_mut().enumerate() {
+                let column = problem.basis[rows.clone()].iter().map(|g| g[i]);
+                b.push(lines(spectrum(column, n, scale)));
+            }
+        }
+    }
+    let impulse = impulse_responses(problem, rec, theta).ok()?;
+    out.transfer = (impulse.into_iter())
+        .map(|g| lines(impulse_spectrum(g.into_iter(), n)))
+        .collect();
+    Some(out)
+}
+
+/// ε at ln θ = `x`: every record's lines whitened by S_k(θ), √2·Re then √2·Im of each
+/// channel's line, each record's initial state concentrated out; with each record's
+/// initial state.
+fn whitened(
+    problem: &mut Joint<'_>,
+    x: &[f64],
+    variances: &Variances,
+) -> Option<(DVector<f64>, Vec<[f64; 2]>)> {
+    let mut out = Vec::new();
+    let mut states = Vec::new();
+    for record in spectra(problem, x)? {
+        let metric = |k: usize, v: &mut [Complex64]| whiten(&record, k, variances, v);
+        let residual = columns(&record.residual, metric);
+        let (e, state) = if problem.state {
+            let basis = record.basis.each_ref().map(|b| columns(b, metric));
+            concentrate(residual, &basis)
+        } else {
+            (residual, [0.0; 2])
+        };
+        let root2 = std::f64::consts::SQRT_2;
+        out.extend(e.iter().flat_map(|v| [root2 * v.re, root2 * v.im]));
+        states.push(state);
+    }
+    out.iter()
+        .all(|v| v.is_finite())
+        .then(|| (DVector::from_vec(out), states))
+}
+
+/// ∂ε/∂ln θ by central differences.
+fn jacobian(problem: &mut Joint<'_>, x: &[f64], variances: &Variances) -> Option<DMatrix<f64>> {
+    let mut columns = Vec::with_capacity(x.len());
+    for p in 0..x.len() {
+        let mut shifted = x.to_vec();
+        shifted[p] = x[p] + STEP;
+        let (up, _) = whitened(problem, &shifted, variances)?;
+        shifted[p] = x[p] - STEP;
+        let (down, _) = whitened(problem, &shifted, variances)?;
+        columns.push((up - down) / (2.0 * STEP));
+    }
+    Some(DMatrix::from_columns(&columns))
+}
+
+/// A record at θ̂ for the information: its spectra and ∂R/∂ln θ at its initial state.
+struct Sensitivities {
+    at: RecordSpectra,
+    derivatives: Vec<Vec<Vec<Complex64>>>,
+}
+
+/// Each record's spectra at ln θ = `x` and the derivatives of its residual
+/// R = y − f(θ) − B(θ)·x₀ at the initial states `states`, by central differences.
+fn sensitivities(
+    problem: &mut Joint<'_>,
+    x: &[f64],
+    states: &[[f64; 2]],
+) -> Option<Vec<Sensitivities>> {
+    let total = |s: &RecordSpectra, state: &[f64; 2]| -> Vec<Vec<Complex64>> {
+        let mut r = s.residual.clone();
+        if !s.basis[0].is_empty() {
+            for (ch, r) in r.iter_mut().enumerate() {
+                for (k, v) in r.iter_mut().enumerate() {
+                    *v -= s.basis[0][ch][k] * state[0] + s.basis[1][ch][k] * state[1];
+                }
+            }
+        }
+        r
+    };
+    let mut derivatives = vec![Vec::new(); states.len()];
+    for p in 0..x.len() {
+        let mut shifted = x.to_vec();
+        shifted[p] = x[p] + STEP;
+        let up = spectra(problem, &shifted)?;
+        shifted[p] = x[p] - STEP;
+        let down = spectra(problem, &shifted)?;
+        for (r, (u, d)) in up.iter().zip(&down).enumerate() {
+            let (u, d) = (total(u, &states[r]), total(d, &states[r]));
+            let column = u.iter().zip(&d).map(|(u, d)| {
+                (u.iter().zip(d))
+                    .map(|(u, d)| (u - d) / (2.0 * STEP))
+                    .collect()
+            });
+            derivatives[r].push(column.collect());
+        }
+    }
+    let at = spectra(problem, x)?;
+    Some(
+        at.into_iter()
+            .zip(derivatives)
+            .map(|(at, derivatives)| Sensitivities { at, derivatives })
+            .collect(),
+    )
+}
+
+/// F = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·∂R_k) under `variances`, each record's initial state
+/// concentrated out (the Schur complement of its block); with each record's whitened
+/// sensitivities so concentrated (per parameter, line-major channel values).
+fn information(
+    records: &[Sensitivities],
+    variances: &Variances,
+) -> (DMatrix<f64>, Vec<Vec<Vec<Complex64>>>) {
+    let p = records.first().map_or(0, |r| r.derivatives.len());
+    let mut f = DMatrix::<f64>::zeros(p, p);
+    let mut concentrated = Vec::with_capacity(records.len());
+    for record in records {
+        let metric = |k: usize, v: &mut [Complex64]| whiten(&record.at, k, variances, v);
+        let mut all: Vec<Vec<Complex64>> = (record.derivatives.iter())
+            .map(|d| columns(d, metric))
+            .collect();
+        if !record.at.basis[0].is_empty() {
+            all.extend(record.at.basis.iter().map(|b| columns(b, metric)));
+        }
+        let q = all.len();
+        let gram = DMatrix::from_fn(q, q, |a, b| {
+            2.0 * all[a]
+                .iter()
+                .zip(&all[b])
+                .map(|(x, y)| (x.conj() * y).re)
+                .sum::<f64>()
+        });
+        let block = gram.view((0, 0), (p, p)).into_owned();
+        let state = (q > p).then(|| gram.view((p, p), (2, 2)).into_owned().try_inverse());
+        if let Some(Some(inverse)) = state {
+            let cross = gram.view((0, p), (p, 2)).into_owned();
+            // ∂R̃ = ∂R − B·β, β = (BᴴS⁻¹B)⁻¹·BᴴS⁻¹·∂R, per parameter.
+            let beta = &inverse * cross.transpose();
+            let (b0, b1) = (all[p].clone(), all[p + 1].clone());
+            for c in 0..p {
+                for ((v, x), y) in all[c].iter_mut().zip(&b0).zip(&b1) {
+                    *v -= x * beta[(0, c)] + y * beta[(1, c)];
+                }
+            }
+            f += block - &cross * inverse * cross.transpose();
+        } else {
+            f += block;
+        }
+        all.truncate(p);
+        concentrated.push(all);
+    }
+    (f, concentrated)
+}
+
+/// The weights w_p(t) of the estimating equations s_p = Σ_k 2·Re(q_kᴴ·R_k),
+/// q_k = S_k⁻¹·∂R̃_k (the whitened concentrated sensitivities `columns` whitened once
+/// more, by the adjoint), as functions of the residual's samples:
+/// w_p(t) = (2/√N)·Re Σ_k q_k·e^(2πikt/N), one inverse FFT per channel.
+fn score_weights(
+    problem: &Joint<'_>,
+    records: &[Sensitivities],
+    columns: &[Vec<Vec<Complex64>>],
+    variances: &Variances,
+) -> DMatrix<f64> {
+    let p = columns.first().map_or(0, Vec::len);
+    let mut w = DMatrix::<f64>::zeros(problem.rows, p);
+    for ((rec, record), columns) in problem.records.iter().zip(records).zip(columns) {
+        let (n, c) = (rec.len, rec.maps.len());
+        let first = likelihood_lines(n).start;
+        let inverse = crate::fft::inverse(n);
+        for (col, values) in columns.iter().enumerate() {
+            let mut per_channel = vec![vec![Complex64::new(0.0, 0.0); n]; c];
+            let mut z = vec![Complex64::new(0.0, 0.0); c];
+            for (j, line) in values.chunks(c).enumerate() {
+                z.copy_from_slice(line);
+                whiten_adjoint(&record.at, j, variances, &mut z);
+                for (buffer, v) in per_channel.iter_mut().zip(&z) {
+                    buffer[first + j] = *v;
+                }
+            }
+            let scale = 2.0 / (n as f64).sqrt();
+            for (ch, mut buffer) in per_channel.into_iter().enumerate() {
+                inverse.process(&mut buffer);
+                for (t, v) in buffer.iter().enumerate() {
+                    w[(rec.start + ch * n + t, col)] = scale * v.re;
+                }
+            }
+        }
+    }
+    w
+}
+
+/// A per-channel spectrum whitened line by line, flattened line-major.
+fn columns(spectra: &[Vec<Complex64>], metric: impl Fn(usize, &mut [Complex64])) -> Vec<Complex64> {
+    let lines = spectra.first().map_or(0, Vec::len);
+    let mut out = Vec::with_capacity(lines * spectra.len());
+    let mut z = vec![Complex64::new(0.0, 0.0); spectra.len()];
+    for k in 0..lines {
+        for (z, s) in z.iter_mut().zip(spectra) {
+            *z = s[k];
+        }
+        metric(k, &mut z);
+        out.extend_from_slice(&z);
+    }
+    out
+}
+
+/// ε_R − ε_B·x̂₀ with x̂₀ real, by least squares on the whitened lines, and x̂₀.
+fn concentrate(
+    mut e: Vec<Complex64>,
+    [b0, b1]: &[Vec<Complex64>; 2],
+) -> (Vec<Complex64>, [f64; 2]) {
+    let dot = |a: &[Complex64], b: &[Complex64]| -> f64 {
+        a.iter().zip(b).map(|(x, y)| (x.conj() * y).re).sum()
+    };
+    let (a00, a01, a11) = (dot(b0, b0), dot(b0, b1), dot(b1, b1));
+    let (r0, r1) = (dot(b0, &e), dot(b1, &e));
+    let det = a00 * a11 - a01 * a01;
+    if det <= 0.0 {
+        return (e, [0.0; 2]);
+    }
+    let x0 = (a11 * r0 - a01 * r1) / det;
+    let x1 = (a00 * r1 - a01 * r0) / det;
+    for ((v, p), q) in e.iter_mut().zip(b0).zip(b1) {
+        *v -= p * x0 + q * x1;
+    }
+    (e, [x0, x1])
+}
+
+/// Whitens the channels' values `z` at line k of `record`: S_k^(−1/2)·z with
+/// S_k = D + σ²_u·g·gᴴ, as (I − α·v·vᴴ)·D^(−1/2)·z, v = h/‖h‖ for h = D^(−1/2)·g,
+/// α = 1 − 1/√(1 + σ²_u·‖h‖²) (then (I − α·v·vᴴ)² = (I + σ²_u·h·hᴴ)⁻¹).
+fn whiten(record: &RecordSpectra, k: usize, variances: &Variances, z: &mut [Complex64]) {
+    let mut norm2 = 0.0;
+    let mut dot = Complex64::new(0.0, 0.0);
+    for (a, z) in z.iter_mut().enumerate() {
+        let root = variances.sensors[record.groups[a]].sqrt();
+        *z /= root;
+        let h = record.transfer[a][k] / root;
+        norm2 += h.norm_sqr();
+        dot += h.conj() * *z;
+    }
+    let s = variances.input * norm2;
+    if norm2 <= 0.0 || s <= 0.0 {
+        return;
+    }
+    let coefficient = (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2 * dot;
+    for (a, z) in z.iter_mut().enumerate() {
+        let h = record.transfer[a][k] / variances.sensors[record.groups[a]].sqrt();
+        *z -= h * coefficient;
+    }
+}
+
+/// The adjoint of [`whiten`]: D^(−1/2)·(I − α·v·vᴴ)·z, so that whitening then this
+/// gives S_k⁻¹.
+fn whiten_adjoint(record: &RecordSpectra, k: usize, variances: &Variances, z: &mut [Complex64]) {
+    let roots: Vec<f64> = (record.groups.iter())
+        .map(|&g| variances.sensors[g].sqrt())
+        .collect();
+    let h: Vec<Complex64> = (0..z.len())
+        .map(|a| record.transfer[a][k] / roots[a])
+        .collect();
+    let norm2: f64 = h.iter().map(|v| v.norm_sqr()).sum();
+    let s = variances.input * norm2;
+    if norm2 > 0.0 && s > 0.0 {
+        let dot: Complex64 = h.iter().zip(z.iter()).map(|(h, z)| h.conj() * z).sum();
+        let coefficient = (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2 * dot;
+        for (z, h) in z.iter_mut().zip(&h) {
+            *z -= h * coefficient;
+        }
+    }
+    for (z, root) in z.iter_mut().zip(&roots) {
+        *z /= root;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The whitening is S^(−1/2): ‖whiten(z)‖² = zᴴ·S⁻¹·z, by Sherman–Morrison
+    /// zᴴD⁻¹z − σ²_u·|gᴴD⁻¹z|² / (1 + σ²_u·gᴴD⁻¹g).
+    #[test]
+    fn the_whitening_squares_to_the_inverse_spectrum() {
+        let g = [Complex64::new(0.3, -1.2), Complex64::new(2.0, 0.5)];
+        let z0 = [Complex64::new(1.0, 0.4), Complex64::new(-0.7, 2.2)];
+        let (d, input) = ([0.5, 2.0], 0.8);
+        let record = RecordSpectra {
+            groups: vec![0, 1],
+            residual: Vec::new(),
+            basis: [Vec::new(), Vec::new()],
+            transfer: vec![vec![g[0]], vec![g[1]]],
+        };
+        let variances = Variances {
+            input,
+            sensors: d.to_vec(),
+        };
+        let mut z = z0;
+        whiten(&record, 0, &variances, &mut z);
+        let whitened: f64 = z.iter().map(|v| v.norm_sqr()).sum();
+        let plain: f64 = (0..2).map(|a| z0[a].norm_sqr() / d[a]).sum();
+        let dot: Complex64 = (0..2).map(|a| g[a].conj() * z0[a] / d[a]).sum();
+        let gdg: f64 = (0..2).map(|a| g[a].norm_sqr() / d[a]).sum();
+        let expected = plain - input * dot.norm_sqr() / (1.0 + input * gdg);
+        assert!(
+            (whitened - expected).abs() < 1e-12 * expected,
+            "{whitened} {expected}"
+        );
+    }
+}
