@@ -24,9 +24,9 @@
 //! B = Var(s) = wᵀ·Σ·w is taken under the time-domain noise covariance Σ as the
 //! output-error sandwich takes it ([`crate::input_noise`]'s middle matrix), exact
 //! where the Whittle lines are an approximation (a record's ends, the lines'
-//! leakage). Under the Whittle model B = F and the sandwich is the bound; over 100
-//! simulated load-cell records with a displacement sensor beside the accelerometer,
-//! F⁻¹ alone overstated the spread of m and k by 1.6× in variance.
+//! leakage). Under the Whittle model B = F and the sandwich is the bound (on the
+//! simulated load-cell records of `cargo xtask noise-study` they agree to three
+//! digits), and the estimate's spread over 400 seeds is 0.91–1.13 of it.
 
 use super::noise_model::impulse_responses;
 use super::problem::Joint;
