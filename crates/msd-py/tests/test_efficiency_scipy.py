@@ -98,15 +98,20 @@ def test_the_weighted_estimator_reaches_the_bound_msd_reports():
         t, force, acc = steady_record(seed)
         fit = msd_fit(t, force, acc)
         model = fit.data["noise_model"]
-        assert model["estimator"] == "weighted", model
-        # The output-error estimate and its intervals, against the bound msd reports
-        # (its weighted estimate's: efficiency 1 there to the Whittle approximation).
+        # The output-error estimate and its intervals, against the bound msd reports:
+        # beside the weighted estimate (whose efficiency is 1 to the Whittle lines'
+        # approximation), or as the estimate itself on a record whose residuals the
+        # whiteness test flags under the noise model (about 1 in 100 at its 1 % level),
+        # which keeps it.
         efficiency = model["efficiency"]
-        ivs = [fit.data["output_error_plant"][n] for n in names]
+        if model["estimator"] == "weighted":
+            ivs = [fit.data["output_error_plant"][n] for n in names]
+        else:
+            ivs = [fit.data["plant"][n] for n in names]
         ours.append([iv["value"] for iv in ivs])
         reported.append([iv["standard_error"] for iv in ivs])
-        weighted = [fit.mass, fit.damping, fit.stiffness]
-        bound.append([iv.standard_error * math.sqrt(efficiency[n]) for iv, n in zip(weighted, names)])
+        reported_now = [fit.mass, fit.damping, fit.stiffness]
+        bound.append([iv.standard_error * math.sqrt(efficiency[n]) for iv, n in zip(reported_now, names)])
         theirs.append(sml(force, acc))
     n = len(seeds)
     spread = np.std(theirs, axis=0, ddof=1)
@@ -160,15 +165,21 @@ def test_msds_weighted_estimate_is_the_sml_with_its_noise_levels():
     minimise the same cost to their optimisers' tolerances (relative 1e-12), so they
     agree far inside the criterion: within 1e-3 of msd's standard error."""
     names = ["mass", "damping", "stiffness"]
+    weighted = 0
     for seed in range(1, 11):
         t, force, acc = steady_record(seed)
         fit = msd_fit(t, force, acc)
         model = fit.data["noise_model"]
+        if model["estimator"] != "weighted":
+            continue  # flagged by the whiteness test under the noise model (level 1 %)
+        weighted += 1
         s_a, s_u = model["sensor_sigmas"][0] ** 2, model["input_noise_sigma"] ** 2
         theirs = sml_with_transient(force, acc, s_a, s_u)
         for name, value in zip(names, theirs):
             iv = getattr(fit, name)
             assert abs(value - iv.value) < 1e-3 * iv.standard_error, (seed, name, value, iv.value, iv.standard_error)
+    # P(more than two of ten flagged) at a 1 % false-alarm rate is 1e-4.
+    assert weighted >= 8, weighted
 
 
 def arma_log_spectrum(params, f, q):
