@@ -107,7 +107,7 @@ def test_the_weighted_estimator_reaches_the_bound_msd_reports():
         if model["estimator"] == "weighted":
             ivs = [fit.data["output_error_plant"][n] for n in names]
         else:
-            ivs = [fit.data["plant"][n] for n in names]
+            ivs = [fit.data[n] for n in names]
         ours.append([iv["value"] for iv in ivs])
         reported.append([iv["standard_error"] for iv in ivs])
         reported_now = [fit.mass, fit.damping, fit.stiffness]
