@@ -162,8 +162,11 @@ def sml_with_transient(force, acc, s_a, s_u):
 def test_msds_weighted_estimate_is_the_sml_with_its_noise_levels():
     """The issue's criterion (within 0.1 SE): refitted here with the noise model msd
     found (σ̂_a, σ̂_u), the SML gives msd's weighted estimate record by record. Both
-    minimise the same cost to their optimisers' tolerances (relative 1e-12), so they
-    agree far inside the criterion: within 1e-3 of msd's standard error."""
+    minimise the same cost; scipy to its tolerance (relative 1e-12), msd by the chord
+    method (the Jacobian of its start kept), whose fixed point lies off the optimum by
+    about the Jacobian's relative change over the few standard errors it moves (measured
+    up to 6e-4 of the SE over 20 records): within 1e-2 of msd's standard error, ten
+    times inside the criterion."""
     names = ["mass", "damping", "stiffness"]
     weighted = 0
     for seed in range(1, 11):
@@ -177,7 +180,7 @@ def test_msds_weighted_estimate_is_the_sml_with_its_noise_levels():
         theirs = sml_with_transient(force, acc, s_a, s_u)
         for name, value in zip(names, theirs):
             iv = getattr(fit, name)
-            assert abs(value - iv.value) < 1e-3 * iv.standard_error, (seed, name, value, iv.value, iv.standard_error)
+            assert abs(value - iv.value) < 1e-2 * iv.standard_error, (seed, name, value, iv.value, iv.standard_error)
     # P(more than two of ten flagged) at a 1 % false-alarm rate is 1e-4.
     assert weighted >= 8, weighted
 
