@@ -413,46 +413,49 @@ fn concentrate(
 /// S_k = D + σ²_u·g·gᴴ, as (I − α·v·vᴴ)·D^(−1/2)·z, v = h/‖h‖ for h = D^(−1/2)·g,
 /// α = 1 − 1/√(1 + σ²_u·‖h‖²) (then (I − α·v·vᴴ)² = (I + σ²_u·h·hᴴ)⁻¹).
 fn whiten(record: &RecordSpectra, k: usize, variances: &Variances, z: &mut [Complex64]) {
-    let mut norm2 = 0.0;
-    let mut dot = Complex64::new(0.0, 0.0);
-    for (a, z) in z.iter_mut().enumerate() {
-        let root = variances.sensors[record.groups[a]].sqrt();
+    let (roots, h) = scaled_transfer(record, k, variances);
+    for (z, root) in z.iter_mut().zip(&roots) {
         *z /= root;
-        let h = record.transfer[a][k] / root;
-        norm2 += h.norm_sqr();
-        dot += h.conj() * *z;
     }
-    let s = variances.input * norm2;
-    if norm2 <= 0.0 || s <= 0.0 {
-        return;
-    }
-    let coefficient = (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2 * dot;
-    for (a, z) in z.iter_mut().enumerate() {
-        let h = record.transfer[a][k] / variances.sensors[record.groups[a]].sqrt();
-        *z -= h * coefficient;
-    }
+    shrink(&h, variances.input, z);
 }
 
 /// The adjoint of [`whiten`]: D^(−1/2)·(I − α·v·vᴴ)·z, so that whitening then this
 /// gives S_k⁻¹.
 fn whiten_adjoint(record: &RecordSpectra, k: usize, variances: &Variances, z: &mut [Complex64]) {
+    let (roots, h) = scaled_transfer(record, k, variances);
+    shrink(&h, variances.input, z);
+    for (z, root) in z.iter_mut().zip(&roots) {
+        *z /= root;
+    }
+}
+
+/// Each channel's √σ²_a and h = D^(−1/2)·g at line k.
+fn scaled_transfer(
+    record: &RecordSpectra,
+    k: usize,
+    variances: &Variances,
+) -> (Vec<f64>, Vec<Complex64>) {
     let roots: Vec<f64> = (record.groups.iter())
         .map(|&g| variances.sensors[g].sqrt())
         .collect();
-    let h: Vec<Complex64> = (0..z.len())
-        .map(|a| record.transfer[a][k] / roots[a])
+    let h = (roots.iter().enumerate())
+        .map(|(a, root)| record.transfer[a][k] / root)
         .collect();
+    (roots, h)
+}
+
+/// z ← (I − α·v·vᴴ)·z, v = h/‖h‖, α = 1 − 1/√(1 + σ²_u·‖h‖²).
+fn shrink(h: &[Complex64], input_variance: f64, z: &mut [Complex64]) {
     let norm2: f64 = h.iter().map(|v| v.norm_sqr()).sum();
-    let s = variances.input * norm2;
-    if norm2 > 0.0 && s > 0.0 {
-        let dot: Complex64 = h.iter().zip(z.iter()).map(|(h, z)| h.conj() * z).sum();
-        let coefficient = (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2 * dot;
-        for (z, h) in z.iter_mut().zip(&h) {
-            *z -= h * coefficient;
-        }
+    let s = input_variance * norm2;
+    if norm2 <= 0.0 || s <= 0.0 {
+        return;
     }
-    for (z, root) in z.iter_mut().zip(&roots) {
-        *z /= root;
+    let dot: Complex64 = h.iter().zip(z.iter()).map(|(h, z)| h.conj() * z).sum();
+    let coefficient = (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2 * dot;
+    for (z, h) in z.iter_mut().zip(h) {
+        *z -= h * coefficient;
     }
 }
 
@@ -488,5 +491,13 @@ mod tests {
             (whitened - expected).abs() < 1e-12 * expected,
             "{whitened} {expected}"
         );
+        // The adjoint after the whitening is S⁻¹: z₀ᴴ·S⁻¹·z₀ again.
+        whiten_adjoint(&record, 0, &variances, &mut z);
+        let quadratic: Complex64 = z0.iter().zip(&z).map(|(a, b)| a.conj() * b).sum();
+        assert!(
+            (quadratic.re - expected).abs() < 1e-12 * expected,
+            "{quadratic}"
+        );
+        assert!(quadratic.im.abs() < 1e-12 * expected, "{quadratic}");
     }
 }
