@@ -38,6 +38,10 @@ pub struct DiagramPole {
     pub stable_damping: bool,
     /// Both: a stable pole.
     pub stable: bool,
+    /// Which selected mode (index into the fit's modes) it is a pole of, where the
+    /// selection clusters poles (output-only analysis); `None` elsewhere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mode: Option<usize>,
 }
 
 /// The physical poles of one model order (Im λ > 0, Re λ < 0, fn in the band,

@@ -52,6 +52,15 @@ pub enum ModalError {
         /// Why that many are needed.
         why: &'static str,
     },
+    /// A channel of a record that cannot be used: NaN or infinite samples, or constant
+    /// throughout (a dead sensor).
+    #[error("channel {channel} cannot be used: {reason}")]
+    BadChannel {
+        /// The channel's name.
+        channel: String,
+        /// Why, in words.
+        reason: String,
+    },
     /// The data cannot determine what was asked.
     #[error("parameters are not identifiable from these data: {reason}")]
     NotIdentifiable {

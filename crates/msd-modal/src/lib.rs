@@ -1,4 +1,4 @@
-//! Experimental modal analysis of frequency responses: which modes a structure has, their
+//! Experimental and operational modal analysis: which modes a structure has, their
 //! natural frequencies, damping ratios and shapes, and how sure we are.
 //!
 //! This crate builds on `msd-signal` (the [`FrequencyResponseEstimate`] it fits, from time
@@ -20,7 +20,11 @@
 //! - the classroom [`half_power`] estimate, the exponential window's correction
 //!   ([`WindowCorrection`]) and [`synthetic_frequency_response`] for tests and teaching;
 //! - [`lines`]: a frequency response's lines prepared for any fit, weighted by
-//!   [`FrfWeighting`] (coherence, variance, relative, uniform).
+//!   [`FrfWeighting`] (coherence, variance, relative, uniform);
+//! - output-only (operational) analysis of records with no measured input
+//!   ([`OutputRecord`]): [`ssi_cov`], covariance-driven stochastic subspace identification
+//!   with references, its diagram, the automatic selection by clustering and jackknife
+//!   intervals ([`OmaOptions`], [`OmaFit`]); [`ShearBuilding`] simulates a known truth.
 //!
 //! Receptance, mobility and accelerance are all fitted as receptance.
 //!
@@ -47,6 +51,7 @@ mod lscf;
 mod modal;
 mod mode;
 mod modes;
+mod oma;
 mod options;
 mod polish;
 mod set;
@@ -65,6 +70,10 @@ pub use modal::ModalParameters;
 pub use mode::{Dof, Mode, ShapeEntry};
 pub use modes::{ModalFit, RefusedMode, fit_modes};
 pub use msd_signal::FrequencyResponseEstimate;
+pub use oma::{
+    OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, ShearBuilding,
+    direction_from_angles, ssi_cov,
+};
 pub use options::ModalOptions;
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
 pub use shapes::{

@@ -142,6 +142,11 @@ pub struct Mode {
     pub stable_orders: Option<usize>,
     /// What an exponential window added and how it was taken off, if there was one.
     pub window_correction: Option<WindowCorrection>,
+    /// The standard deviations of fn (Hz) and ζ over the poles of the diagram's cluster
+    /// that formed the mode (output-only analysis), a measure of how much the model order
+    /// moves it; `None` elsewhere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cluster_spread: Option<[f64; 2]>,
 }
 
 impl Mode {
@@ -158,6 +163,7 @@ impl Mode {
             mass_normalised_shape: None,
             stable_orders: None,
             window_correction: None,
+            cluster_spread: None,
         }
     }
 

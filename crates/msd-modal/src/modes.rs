@@ -414,6 +414,7 @@ fn mode(
         modal_constants: vec![constant],
         stable_orders: Some(stable_orders),
         window_correction: pole.window_correction,
+        cluster_spread: None,
         ..Mode::new(pole.natural_frequency_hz, pole.damping_ratio)
     }
 }

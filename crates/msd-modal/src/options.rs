@@ -71,6 +71,13 @@ impl ModalOptions {
     /// ```
     pub fn validate(&self) -> Result<()> {
         check_band(self.band_hz)?;
+        check_orders(self.orders, self.order_step)?;
+        check_fractions(&[
+            ("frequency_tolerance", self.frequency_tolerance),
+            ("damping_tolerance", self.damping_tolerance),
+            ("max_damping_ratio", self.max_damping_ratio),
+            ("min_stable_share", self.min_stable_share),
+        ])?;
         let invalid = |name, value: f64, expected| {
             Err(ModalError::InvalidParameter {
                 name,
@@ -78,29 +85,42 @@ impl ModalOptions {
                 expected,
             })
         };
-        let [low, high] = self.orders;
-        if low < 1 {
-            return invalid("orders[0]", low as f64, "an order >= 1");
-        }
-        if !(low..=400).contains(&high) {
-            return invalid("orders[1]", high as f64, "an order from orders[0] to 400");
-        }
-        if self.order_step < 1 {
-            return invalid("order_step", 0.0, "a step >= 1");
-        }
-        for (name, value) in [
-            ("frequency_tolerance", self.frequency_tolerance),
-            ("damping_tolerance", self.damping_tolerance),
-            ("max_damping_ratio", self.max_damping_ratio),
-            ("min_stable_share", self.min_stable_share),
-        ] {
-            if !(value > 0.0 && value <= 1.0) {
-                return invalid(name, value, "a number in (0, 1]");
-            }
-        }
         if self.mode_count == Some(0) {
             return invalid("mode_count", 0.0, "at least 1 mode");
         }
         Ok(())
+    }
+}
+
+/// A diagram's lowest and highest order (1 ≤ low ≤ high ≤ 400) and its step (≥ 1).
+pub(crate) fn check_orders([low, high]: [usize; 2], step: usize) -> Result<()> {
+    let invalid = |name, value: usize, expected| {
+        Err(ModalError::InvalidParameter {
+            name,
+            value: value as f64,
+            expected,
+        })
+    };
+    if low < 1 {
+        return invalid("orders[0]", low, "an order >= 1");
+    }
+    if !(low..=400).contains(&high) {
+        return invalid("orders[1]", high, "an order from orders[0] to 400");
+    }
+    if step < 1 {
+        return invalid("order_step", step, "a step >= 1");
+    }
+    Ok(())
+}
+
+/// Tolerances and shares, each in (0, 1], the first outside named.
+pub(crate) fn check_fractions(values: &[(&'static str, f64)]) -> Result<()> {
+    match values.iter().find(|(_, v)| !(*v > 0.0 && *v <= 1.0)) {
+        Some(&(name, value)) => Err(ModalError::InvalidParameter {
+            name,
+            value,
+            expected: "a number in (0, 1]",
+        }),
+        None => Ok(()),
     }
 }

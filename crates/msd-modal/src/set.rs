@@ -362,6 +362,7 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
                 mass_normalised_shape: mass.map(|m| entries(&m.1)),
                 stable_orders: Some(selected[r].stable_orders),
                 window_correction: pole.window_correction,
+                cluster_spread: None,
                 ..Mode::new(pole.natural_frequency_hz, pole.damping_ratio)
             }
         })

@@ -146,6 +146,7 @@ fn physical(lambda: Complex64, band_hz: [f64; 2], max_damping: f64) -> Option<Di
         stable_frequency: false,
         stable_damping: false,
         stable: false,
+        mode: None,
     })
 }
 

@@ -4,4 +4,5 @@
 
 mod beam;
 mod modes;
+mod oma;
 mod real_hammer;

@@ -1,0 +1,107 @@
+//! Output-only (operational) modal analysis: the modes of a structure from records of its
+//! response alone, excited by wind, traffic, a fan or its own operation.
+//!
+//! - [`OutputRecord`]: channels sampled together, each with its DOF, measuring direction
+//!   and quantity, and the reference channels;
+//! - [`ssi_cov`]: covariance-driven stochastic subspace identification with references,
+//!   its stabilization diagram, automatic selection by clustering, and intervals;
+//! - [`OmaFit`]: the modes (the crate's one [`Mode`](crate::Mode)), the diagram with
+//!   which poles formed which mode, and what the method used.
+
+mod building;
+mod covariance;
+mod eigen;
+mod horizon;
+mod options;
+mod record;
+mod select;
+mod ssi;
+mod subspace;
+mod uncertainty;
+
+use serde::Serialize;
+
+pub use building::ShearBuilding;
+pub use options::OmaOptions;
+pub use record::{OutputChannel, OutputRecord, Quantity, direction_from_angles};
+pub use ssi::ssi_cov;
+
+use crate::diagram::{StabilizationDiagram, StableColumn};
+use crate::mode::Mode;
+
+/// The method that found an [`OmaFit`]'s modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OmaMethod {
+    /// Covariance-driven SSI with reference channels.
+    SsiCov,
+}
+
+impl std::fmt::Display for OmaMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::SsiCov => "SSI-cov/ref",
+        })
+    }
+}
+
+/// The modes of an output-only record, the diagram they came from and the settings that
+/// mattered (see [`ssi_cov`] for an example).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OmaFit {
+    /// The method.
+    pub method: OmaMethod,
+    /// The selected modes, by frequency, with 95 % intervals on fn, ζ and the shape.
+    pub modes: Vec<Mode>,
+    /// The stabilization diagram: every order's physical poles with their stability
+    /// flags and the mode each formed, the clusters (candidates) and the selected ones.
+    pub diagram: StabilizationDiagram,
+    /// The block rows of the Toeplitz matrix.
+    pub block_rows: usize,
+    /// The reference channels' names.
+    pub references: Vec<String>,
+    /// The singular values of the Toeplitz matrix, largest first (their drop suggests the
+    /// order).
+    pub singular_values: Vec<f64>,
+    /// Columns the automatic selection chose that a jackknife replicate lost (the record
+    /// less one block has no pole within `cluster_distance` of them): too weak or too
+    /// fragile to be reported as modes, listed so that nothing is hidden.
+    pub unconfirmed: Vec<StableColumn>,
+}
+
+impl std::fmt::Display for OmaFit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let [first, last] = [
+            self.diagram.orders.first().map_or(0, |o| o.order),
+            self.diagram.orders.last().map_or(0, |o| o.order),
+        ];
+        write!(
+            f,
+            "{}: {} modes (orders {first}–{last}, {} block rows, references {})",
+            self.method,
+            self.modes.len(),
+            self.block_rows,
+            self.references.join(", ")
+        )?;
+        for (k, m) in self.modes.iter().enumerate() {
+            write!(
+                f,
+                "\n  mode {}: fn = {:.5} Hz, ζ = {:.5}",
+                k + 1,
+                m.natural_frequency_hz,
+                m.damping_ratio
+            )?;
+            if let Some(n) = m.stable_orders {
+                write!(f, ", {n} orders")?;
+            }
+        }
+        for c in &self.unconfirmed {
+            write!(
+                f,
+                "\n  unconfirmed: fn = {:.5} Hz, ζ = {:.5}, {} orders (lost when a block of the record is left out)",
+                c.natural_frequency_hz, c.damping_ratio, c.stable_orders
+            )?;
+        }
+        Ok(())
+    }
+}

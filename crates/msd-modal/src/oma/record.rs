@@ -1,0 +1,182 @@
+//! An output-only record: channels sampled together, each with what it measures and
+//! where, and the reference channels.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{ModalError, Result};
+use crate::mode::Dof;
+
+/// What a channel measures. Shapes are reported as displacement shapes: a velocity
+/// channel's entry divided by the pole λ, an acceleration's by λ².
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Displacement.
+    Displacement,
+    /// Velocity.
+    Velocity,
+    /// Acceleration (the default: most ambient records are accelerometers').
+    #[default]
+    Acceleration,
+}
+
+impl Quantity {
+    /// The power of λ that turns a displacement into this quantity (0, 1, 2).
+    pub fn order(self) -> i32 {
+        match self {
+            Self::Displacement => 0,
+            Self::Velocity => 1,
+            Self::Acceleration => 2,
+        }
+    }
+}
+
+/// One channel of an output-only record.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OutputChannel {
+    /// Its name (a column name, or `channel <i>`).
+    pub name: String,
+    /// Where it measures: the node and direction its shape entry is reported at.
+    pub dof: Dof,
+    /// Its measuring direction as a unit vector in the geometry's axes (x, y, z), where
+    /// it is oblique; `None` means along `dof`'s direction.
+    pub direction: Option<[f64; 3]>,
+    /// What it measures.
+    pub quantity: Quantity,
+    /// The samples.
+    pub samples: Vec<f64>,
+}
+
+impl OutputChannel {
+    /// A channel measuring `quantity` at `dof`, along it.
+    pub fn new(name: impl Into<String>, dof: Dof, quantity: Quantity, samples: Vec<f64>) -> Self {
+        Self {
+            name: name.into(),
+            dof,
+            direction: None,
+            quantity,
+            samples,
+        }
+    }
+}
+
+/// The unit vector of a measuring direction given as azimuth and elevation in degrees
+/// (azimuth from +x towards +y in the horizontal plane, elevation up from it).
+///
+/// ```
+/// let [x, y, z] = msd_modal::direction_from_angles(90.0, 0.0);
+/// assert!(x.abs() < 1e-12 && (y - 1.0).abs() < 1e-12 && z.abs() < 1e-12);
+/// ```
+pub fn direction_from_angles(azimuth_deg: f64, elevation_deg: f64) -> [f64; 3] {
+    let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+    [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
+}
+
+/// Channels sampled together at one rate with no measured input (an ambient or
+/// operational record), and which of them are the references.
+///
+/// ```
+/// use msd_modal::{Dof, OutputChannel, OutputRecord, Quantity};
+/// let channel = |i: u32| OutputChannel::new(format!("a{i}"), Dof { node: i, direction: 1 },
+///     Quantity::Acceleration, (0..100).map(|t| ((t * (i as usize + 3)) as f64).sin()).collect());
+/// let record = OutputRecord { sample_rate_hz: 100.0, channels: vec![channel(1), channel(2)], references: vec![1] };
+/// assert!(record.check().is_ok());
+/// let bad = OutputRecord { references: vec![2], ..record };
+/// assert!(bad.check().unwrap_err().to_string().contains("references"));
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OutputRecord {
+    /// Samples per second, Hz.
+    pub sample_rate_hz: f64,
+    /// The channels, each with as many samples.
+    pub channels: Vec<OutputChannel>,
+    /// The reference channels' indices into `channels`; empty = every channel.
+    pub references: Vec<usize>,
+}
+
+impl OutputRecord {
+    /// Samples per channel.
+    pub fn len(&self) -> usize {
+        self.channels.first().map_or(0, |c| c.samples.len())
+    }
+
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The references' indices (every channel where none are named).
+    pub fn reference_indices(&self) -> Vec<usize> {
+        if self.references.is_empty() {
+            (0..self.channels.len()).collect()
+        } else {
+            self.references.clone()
+        }
+    }
+
+    /// Checks the rate, the channels' lengths and values and the references, naming the
+    /// first channel or value that is wrong.
+    pub fn check(&self) -> Result<()> {
+        if !(self.sample_rate_hz.is_finite() && self.sample_rate_hz > 0.0) {
+            return Err(invalid(
+                "sample_rate_hz",
+                self.sample_rate_hz,
+                "a positive rate",
+            ));
+        }
+        if self.channels.len() < 2 {
+            return Err(invalid(
+                "channels",
+                self.channels.len() as f64,
+                "at least two channels (one channel has no shape and no references to spare)",
+            ));
+        }
+        let n = self.len();
+        for c in &self.channels {
+            if c.samples.len() != n {
+                return Err(ModalError::LengthMismatch {
+                    what: "a channel of the record",
+                    expected: n,
+                    got: c.samples.len(),
+                });
+            }
+            check_channel(c)?;
+        }
+        for &r in &self.references {
+            if r >= self.channels.len() {
+                return Err(invalid(
+                    "references",
+                    r as f64,
+                    "the index of a channel of the record",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A channel whose values are all finite and not all equal.
+fn check_channel(c: &OutputChannel) -> Result<()> {
+    if let Some(t) = c.samples.iter().position(|v| !v.is_finite()) {
+        return Err(ModalError::BadChannel {
+            channel: c.name.clone(),
+            reason: format!("sample {t} is {}", c.samples[t]),
+        });
+    }
+    let first = c.samples.first().copied().unwrap_or(0.0);
+    if c.samples.iter().all(|&v| v == first) {
+        return Err(ModalError::BadChannel {
+            channel: c.name.clone(),
+            reason: format!("it is constant ({first}) throughout: a dead sensor"),
+        });
+    }
+    Ok(())
+}
+
+fn invalid(name: &'static str, value: f64, expected: &'static str) -> ModalError {
+    ModalError::InvalidParameter {
+        name,
+        value,
+        expected,
+    }
+}

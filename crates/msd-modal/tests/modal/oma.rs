@@ -1,0 +1,188 @@
+//! Output-only analysis (SSI-cov/ref) of a simulated five-storey shear building — pyOMA2's
+//! example: 25.91 kg floors on 10 kN/m storeys, ζ = 2 % in every mode, white-noise forces,
+//! accelerations at 100 Hz with 10 % noise, 30,001 samples — at default settings, and bad
+//! records refused by name.
+
+use msd_modal::{ModalError, OmaOptions, OutputRecord, ShearBuilding, mac, ssi_cov};
+use msd_signal::Complex64;
+use rand::SeedableRng;
+use rand_distr::{Distribution, StandardNormal};
+
+fn building() -> ShearBuilding {
+    ShearBuilding {
+        masses: vec![25.91; 5],
+        stiffnesses: vec![10_000.0; 5],
+        damping_ratio: 0.02,
+    }
+}
+
+fn record(seed: u64) -> OutputRecord {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    building()
+        .ambient_record(100.0, 30_001, 0.1, || StandardNormal.sample(&mut rng))
+        .expect("a valid building")
+}
+
+#[test]
+fn every_mode_of_the_building_is_found_at_defaults_within_half_a_percent() {
+    let truth = building().modes().expect("valid");
+    let fit = ssi_cov(&record(1), &OmaOptions::default()).expect("fits");
+    assert_eq!(fit.modes.len(), 5, "{fit}");
+    for (mode, (f, shape)) in fit.modes.iter().zip(&truth) {
+        let fn_hz = &mode.natural_frequency_hz;
+        // The criterion, and the estimate within four standard errors (t with 7
+        // degrees of freedom: p ≈ 0.005 for each of the ten).
+        assert!((fn_hz.value / f - 1.0).abs() < 0.005, "{fn_hz} against {f}");
+        assert!(
+            (fn_hz.value - f).abs() < 4.0 * fn_hz.standard_error,
+            "{fn_hz} against {f}"
+        );
+        let zeta = &mode.damping_ratio;
+        assert!(
+            (zeta.value - 0.02).abs() < 4.0 * zeta.standard_error,
+            "{zeta}"
+        );
+        let truth: Vec<Complex64> = shape.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+        assert!(mac(&mode.shape_values(), &truth) > 0.99, "{mode}");
+        assert!(mode.shape.iter().all(|e| e.standard_error.is_some()));
+    }
+    // Every selected pole is marked with its mode in the diagram.
+    let marked = fit
+        .diagram
+        .orders
+        .iter()
+        .flat_map(|o| &o.poles)
+        .filter(|p| p.mode.is_some())
+        .count();
+    let members: usize = fit.modes.iter().filter_map(|m| m.stable_orders).sum();
+    assert_eq!(marked, members);
+}
+
+/// Coverage of the 95 % intervals of fn and ζ over 24 records (240 intervals): within
+/// three binomial standard errors of 0.95 (0.91–0.99; the records' ten intervals are
+/// nearly independent: the modes are well apart).
+#[test]
+fn the_intervals_cover_the_truth_about_95_percent_of_the_time() {
+    let truth = building().modes().expect("valid");
+    let (mut inside, mut total) = (0, 0);
+    for seed in 100..124 {
+        let fit = ssi_cov(&record(seed), &OmaOptions::default()).expect("fits");
+        for (f, _) in &truth {
+            let Some(mode) = fit
+                .modes
+                .iter()
+                .find(|m| (m.natural_frequency_hz.value / f - 1.0).abs() < 0.02)
+            else {
+                total += 2;
+                continue;
+            };
+            inside += usize::from(mode.natural_frequency_hz.contains(*f));
+            inside += usize::from(mode.damping_ratio.contains(0.02));
+            total += 2;
+        }
+    }
+    let coverage = inside as f64 / total as f64;
+    let se = (0.95 * 0.05 / total as f64).sqrt();
+    assert!(
+        (coverage - 0.95).abs() < 3.0 * se,
+        "coverage {coverage} of {total}"
+    );
+}
+
+#[test]
+fn bad_records_are_refused_by_name() {
+    let good = record(2);
+    let mut nan = good.clone();
+    nan.channels[2].samples[17] = f64::NAN;
+    let err = ssi_cov(&nan, &OmaOptions::default()).unwrap_err();
+    assert!(
+        matches!(&err, ModalError::BadChannel { channel, .. } if channel == "a3"),
+        "{err}"
+    );
+    assert!(err.to_string().contains("sample 17 is NaN"), "{err}");
+
+    let mut dead = good.clone();
+    dead.channels[4].samples.iter_mut().for_each(|v| *v = 0.25);
+    let err = ssi_cov(&dead, &OmaOptions::default()).unwrap_err();
+    assert!(
+        err.to_string().contains("channel a5") && err.to_string().contains("constant"),
+        "{err}"
+    );
+
+    let mut one = good.clone();
+    one.channels.truncate(1);
+    let err = ssi_cov(&one, &OmaOptions::default()).unwrap_err();
+    assert!(err.to_string().contains("channels"), "{err}");
+
+    let bad_ref = OutputRecord {
+        references: vec![0, 7],
+        ..good.clone()
+    };
+    let err = ssi_cov(&bad_ref, &OmaOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, ModalError::InvalidParameter { name: "references", value, .. } if value == 7.0)
+    );
+
+    let mut short = good.clone();
+    short.channels[1].samples.pop();
+    let err = ssi_cov(&short, &OmaOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ModalError::LengthMismatch {
+                got: 30_000,
+                expected: 30_001,
+                ..
+            }
+        ),
+        "{err}"
+    );
+
+    let above = OmaOptions {
+        band_hz: Some([60.0, 80.0]),
+        ..OmaOptions::default()
+    };
+    let err = ssi_cov(&good, &above).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ModalError::InvalidParameter {
+                name: "band_hz[0]",
+                ..
+            }
+        ),
+        "{err}"
+    );
+
+    let too_high = OmaOptions {
+        block_rows: Some(10),
+        orders: [2, 60],
+        ..OmaOptions::default()
+    };
+    let err = ssi_cov(
+        &OutputRecord {
+            references: vec![0, 1],
+            ..good.clone()
+        },
+        &too_high,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ModalError::InvalidParameter {
+                name: "orders[1]",
+                ..
+            }
+        ),
+        "{err}"
+    );
+
+    let tiny = OmaOptions {
+        block_rows: Some(2000),
+        orders: [2, 20],
+        ..OmaOptions::default()
+    };
+    let err = ssi_cov(&good, &tiny).unwrap_err();
+    assert!(matches!(err, ModalError::TooFewSamples { .. }), "{err}");
+}
