@@ -231,7 +231,7 @@ pub fn fetch_plan(
             format!(
                 "no local copy of the {} files here: give --from DIR with {}, or leave --from out to download the official archive",
                 set.name,
-                set.files.map(|f| f.name).join(" and ")
+                files_named(set.files)
             ),
         ));
     }
@@ -330,5 +330,14 @@ pub fn exit(result: Result<(), ExperimentError>) -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::from(e.exit_code())
         }
+    }
+}
+
+/// The files of a set in words: both names for two, the first and a count for more.
+fn files_named(files: &[crate::fetch::DataFile]) -> String {
+    match files {
+        [a, b] => format!("{} and {}", a.name, b.name),
+        [first, rest @ ..] => format!("{} and {} more files", first.name, rest.len()),
+        [] => "no files".to_string(),
     }
 }

@@ -48,6 +48,7 @@ use std::path::{Path, PathBuf};
 mod chain;
 mod frf;
 mod nonlinear;
+mod operational;
 mod pilot;
 mod setup;
 pub use chain::{ChainSection, ChainSensorSection};
@@ -56,6 +57,9 @@ pub use frf::{
     Spacing, SweepSource, TableSource, UffSource,
 };
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
+pub use operational::{
+    DeadChannels, OperationalSection, OutputChannelSection, RecordSource, SimulatedBuilding,
+};
 pub use pilot::PilotSection;
 pub use setup::{ExcitationKind, Frame, Quantity, Response, SetupSection, StrokeCondition};
 
@@ -114,6 +118,10 @@ pub struct Config {
     /// A frequency response and the modes fitted to it (`crate::frf`; off unless given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frequency_response: Option<FrequencyResponseSection>,
+    /// Output-only modal analysis of a record with no measured input
+    /// (`crate::operational`; off unless given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub operational: Option<OperationalSection>,
     /// What is written.
     #[serde(default)]
     pub output: OutputSection,
@@ -425,7 +433,12 @@ pub struct OutputSection {
 /// user believe it was applied).
 fn unused_sections(text: &str, config: &Config) -> std::result::Result<(), (String, String)> {
     const COMMON: [&str; 4] = ["name", "description", "seed", "output"];
-    let (kind, reads): (&str, &[&str]) = if config.frequency_only() {
+    let (kind, reads): (&str, &[&str]) = if config.operational.is_some() {
+        (
+            "an [operational] config (output-only modal analysis)",
+            &["operational"],
+        )
+    } else if config.frequency_only() {
         ("a frequency-response config", &["frequency_response"])
     } else if config.chain.is_some() {
         (
@@ -882,6 +895,7 @@ impl Config {
             monte_carlo: MonteCarloSection::default(),
             nonlinear: None,
             frequency_response: None,
+            operational: None,
             output: OutputSection::default(),
             design: None,
             pilot: None,
@@ -928,6 +942,9 @@ impl Config {
                     self.name
                 ),
             );
+        }
+        if let Some(section) = &self.operational {
+            return section.validate();
         }
         if let Some(section) = &self.frequency_response {
             section.validate()?;

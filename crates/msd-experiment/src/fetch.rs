@@ -1,9 +1,10 @@
 //! Real measured records, fetched into one place and checked: `data/<set>/` in the
 //! workspace (git-ignored), where the shipped configs look for them.
 //!
-//! The only set today is the Silverbox benchmark (Wigren & Schoukens, ECC 2013): the two
-//! CSV members of its official archive, each checked against its published size and
-//! SHA-256 before it is put in place. [`fetch`] copies them from a local mirror (CI keeps
+//! The sets: the Silverbox benchmark (Wigren & Schoukens, ECC 2013: the two CSV members
+//! of its official archive), a real hammer test's two FRFs and a real steel frame's ten
+//! ambient setups, each file checked against its published size and SHA-256 before it
+//! is put in place. [`fetch`] copies them from a local mirror (CI keeps
 //! one beside the checkout); [`download`] takes them from the official archive (or a
 //! copy of it: a URL, a `file://` URL or the path of a zip). Every file is checked before
 //! any is written, and each is put in place by a rename: a file that fails its check, a
@@ -14,7 +15,7 @@
 //! let mirror = tempfile::tempdir().unwrap();
 //! let into = tempfile::tempdir().unwrap();
 //! // A mirror with a damaged file is refused, and nothing is written.
-//! for file in &SILVERBOX.files {
+//! for file in SILVERBOX.files {
 //!     std::fs::write(mirror.path().join(file.name), b"not the data").unwrap();
 //! }
 //! let err = fetch(&SILVERBOX, mirror.path(), into.path()).unwrap_err();
@@ -123,8 +124,8 @@ impl Archive {
 pub struct DataSetFiles {
     /// The name `fetch-data` takes, and the folder under `data/`.
     pub name: &'static str,
-    /// Its files.
-    pub files: [DataFile; 2],
+    /// Its files (a name may hold a sub-folder: `measurement_1/measurement_1.npy`).
+    pub files: &'static [DataFile],
     /// Its official archive.
     pub archive: Archive,
 }
@@ -150,7 +151,7 @@ pub struct DataSetFiles {
 /// ```
 pub const SILVERBOX: DataSetFiles = DataSetFiles {
     name: "silverbox",
-    files: [
+    files: &[
         DataFile {
             name: "SNLS80mV.csv",
             bytes: 2_649_634,
@@ -185,7 +186,7 @@ pub const SILVERBOX: DataSetFiles = DataSetFiles {
 /// ```
 pub const IMPACT_FRF: DataSetFiles = DataSetFiles {
     name: "impact-frf",
-    files: [
+    files: &[
         DataFile {
             name: "meas_point_1.txt",
             bytes: 43_464,
@@ -204,18 +205,215 @@ pub const IMPACT_FRF: DataSetFiles = DataSetFiles {
     },
 };
 
+/// A real five-floor steel frame under a fan (no measured input), ten setups of 240 s at
+/// 256 Hz for output-only analysis: each `measurement_<n>/` holds the record
+/// (`measurement_<n>.npy`, 61,440 samples × 6 channels), its channels' nodes and measuring
+/// directions (`channel_dofs.txt`) and its rate, references and quantities
+/// (`setup_info.txt`); beside them the geometry (`grid.txt`, `lines.txt`) and the origin's
+/// own merged SSI result (`merged_setups_poser.npz`). Byte-for-byte copies of
+/// `tests/files/` of the public repository pyOMA-dev/pyOMA at commit
+/// c0e17452b284f7ed7ae7321189f3b907666e0207 (data by S. Marwitz, V. Zabel, A. Udrea,
+/// Bauhaus-Universität Weimar; GPL-3.0: fetched, never copied into this repository).
+///
+/// ```
+/// use msd_experiment::fetch::{STEEL_FRAME, set_named};
+/// assert_eq!(set_named("steel-frame").unwrap(), STEEL_FRAME);
+/// assert_eq!(STEEL_FRAME.files.len(), 33);
+/// assert_eq!(
+///     STEEL_FRAME.archive.file_url("measurement_3/setup_info.txt"),
+///     "https://raw.githubusercontent.com/pyOMA-dev/pyOMA/c0e17452b284f7ed7ae7321189f3b907666e0207/tests/files/measurement_3/setup_info.txt"
+/// );
+/// ```
+pub const STEEL_FRAME: DataSetFiles = DataSetFiles {
+    name: "steel-frame",
+    files: &STEEL_FRAME_FILES,
+    archive: Archive {
+        url: "https://raw.githubusercontent.com/pyOMA-dev/pyOMA/c0e17452b284f7ed7ae7321189f3b907666e0207/",
+        folder: "tests/files",
+        zipped: false,
+    },
+};
+
+const STEEL_FRAME_FILES: [DataFile; 33] = [
+    DataFile {
+        name: "grid.txt",
+        bytes: 1_334,
+        sha256: "be1e89fbaca1deb0ff36b5c555c17dd7c7a752ab07924a252d61e8926a4e9f91",
+    },
+    DataFile {
+        name: "lines.txt",
+        bytes: 480,
+        sha256: "c49ee2f6593579ab16bf6eeda6e6635bf2e1eb99c78ec8529659244981925842",
+    },
+    DataFile {
+        name: "merged_setups_poser.npz",
+        bytes: 33_965,
+        sha256: "24845a04ac0a5defab5394812eb4fa964baa53a91a53ebadb898d3dfc64148cd",
+    },
+    DataFile {
+        name: "measurement_1/measurement_1.npy",
+        bytes: 2_949_248,
+        sha256: "ab728cf6e8136b89574bbd4216714a38678c75b6806d8af0d9fe7b628c5a45bc",
+    },
+    DataFile {
+        name: "measurement_1/channel_dofs.txt",
+        bytes: 251,
+        sha256: "16e38300cff8f8a8e593764a825d1a3946760d1b3b63132067f7f76a79b4680b",
+    },
+    DataFile {
+        name: "measurement_1/setup_info.txt",
+        bytes: 351,
+        sha256: "f9b4187a94235aef5a6a5fa67bb58a04d4619c8a6c4b7083f038ddc9c8a72846",
+    },
+    DataFile {
+        name: "measurement_2/measurement_2.npy",
+        bytes: 2_949_248,
+        sha256: "a82de90ef33dc5ad587bab46dc900ec78ce5da0f6366002b29c97789e49f92ce",
+    },
+    DataFile {
+        name: "measurement_2/channel_dofs.txt",
+        bytes: 250,
+        sha256: "4e7fad34b5db61c26a229a79106b57bb5e19b4c893173b20ffd0bd17e40ca3f1",
+    },
+    DataFile {
+        name: "measurement_2/setup_info.txt",
+        bytes: 351,
+        sha256: "c5d15d9bc3603c359de6bba4eafa61a7734910a7a003a335d37e55885b97e889",
+    },
+    DataFile {
+        name: "measurement_3/measurement_3.npy",
+        bytes: 2_949_248,
+        sha256: "906ea326c49b7696ab1194141d599c1828d5673c4d084c801742be2f112f82bb",
+    },
+    DataFile {
+        name: "measurement_3/channel_dofs.txt",
+        bytes: 250,
+        sha256: "2a39e266755a9bde4d9d1f148183feacb94d3b80c8664dbe0ba7d9774c69b908",
+    },
+    DataFile {
+        name: "measurement_3/setup_info.txt",
+        bytes: 351,
+        sha256: "c84f7d503abe3e98c79c8dbe75f3c8060a1940d095e4c4b45efbc2645b2c1726",
+    },
+    DataFile {
+        name: "measurement_4/measurement_4.npy",
+        bytes: 2_949_248,
+        sha256: "8d9ea239f6c4771ef9adfa963d7b278d1fea8910ef78a7342a6885e8476a9c50",
+    },
+    DataFile {
+        name: "measurement_4/channel_dofs.txt",
+        bytes: 253,
+        sha256: "ce312624bf9980c0e9d4aaa6068235e42432e66ffd300d412767156236c01e76",
+    },
+    DataFile {
+        name: "measurement_4/setup_info.txt",
+        bytes: 351,
+        sha256: "dfaa93f88554209078a47038a8bfc98f385a794237256ff80645cbc9a8c26b48",
+    },
+    DataFile {
+        name: "measurement_5/measurement_5.npy",
+        bytes: 2_949_248,
+        sha256: "f3685a2d2565c014c9992ccfb4b1aa5ebea3e27992947e4e21a5fff60f87fd49",
+    },
+    DataFile {
+        name: "measurement_5/channel_dofs.txt",
+        bytes: 256,
+        sha256: "e87103e3ecd9aa6188f488f17728a1b19c3c6779d161ad063c41ca373a3a9bbd",
+    },
+    DataFile {
+        name: "measurement_5/setup_info.txt",
+        bytes: 351,
+        sha256: "09acd0df74617a8f338c32e9591e96e20fc1cc66d13bb6d7b140dd6975c4b2e3",
+    },
+    DataFile {
+        name: "measurement_6/measurement_6.npy",
+        bytes: 2_949_248,
+        sha256: "1d4dfabe4b480feae8c9339fb0203fed37e4907ea6832e8d404af5fe38fc2b4f",
+    },
+    DataFile {
+        name: "measurement_6/channel_dofs.txt",
+        bytes: 255,
+        sha256: "27fe10cb43af1da4f495003cbd39b56f24cf2713b103394b6da0b2aa6b75167c",
+    },
+    DataFile {
+        name: "measurement_6/setup_info.txt",
+        bytes: 351,
+        sha256: "e9ac28ffe590cb5ec298220d4fcc9024fcfc1f157dfe0d01f6281017282abff2",
+    },
+    DataFile {
+        name: "measurement_7/measurement_7.npy",
+        bytes: 2_949_248,
+        sha256: "5b9b59e1f7c2f1cb84366636ae21f0259ef4cfe5e0a5fc11cc11b3697a5a155a",
+    },
+    DataFile {
+        name: "measurement_7/channel_dofs.txt",
+        bytes: 256,
+        sha256: "1db001af1562f7bd4467bba8fb3c8988c4701d079f1c18069372899a433bc72a",
+    },
+    DataFile {
+        name: "measurement_7/setup_info.txt",
+        bytes: 351,
+        sha256: "67143b8f11d4b7d44403d0af823be728a358615cbe095cd50d31ae8cd665b4ca",
+    },
+    DataFile {
+        name: "measurement_8/measurement_8.npy",
+        bytes: 2_949_248,
+        sha256: "da40277b161dc49b39f51307776bc1e52961ccb6737215734ee759fb63d79670",
+    },
+    DataFile {
+        name: "measurement_8/channel_dofs.txt",
+        bytes: 256,
+        sha256: "a80af65ff63424d32d093a67f2bff90fbff5dd452751819a3c8a9c8345b0819b",
+    },
+    DataFile {
+        name: "measurement_8/setup_info.txt",
+        bytes: 351,
+        sha256: "c341d9da8b48a5bf8b11ed1eea99702e93f3fef90d97ecb2ce935f734b0ba62d",
+    },
+    DataFile {
+        name: "measurement_9/measurement_9.npy",
+        bytes: 2_949_248,
+        sha256: "26b6a8969e2d3456c46e2005fdc9b978d722257bd9e9b8c14d29e871e404652e",
+    },
+    DataFile {
+        name: "measurement_9/channel_dofs.txt",
+        bytes: 255,
+        sha256: "06c0216ce8427f1262b34f63ee5730886c37fac19121c2d4a849581edbc3856d",
+    },
+    DataFile {
+        name: "measurement_9/setup_info.txt",
+        bytes: 351,
+        sha256: "07df15619e2da936a4d685b4839d50b32c086fdc8e515264a9a3bd7916b31013",
+    },
+    DataFile {
+        name: "measurement_10/measurement_10.npy",
+        bytes: 2_949_248,
+        sha256: "46d9cbb632867ed95568f3b066ac7e920836e30d955dbfc99871e6afdde6ca35",
+    },
+    DataFile {
+        name: "measurement_10/channel_dofs.txt",
+        bytes: 254,
+        sha256: "7c3b127c61b38a6289199485f32eb0f8a1ecfa04b95dcd256dcd8c3b6542abd9",
+    },
+    DataFile {
+        name: "measurement_10/setup_info.txt",
+        bytes: 352,
+        sha256: "c66ef970bc8de2d7e753856de3588d0b6b77bf5b2b8f7802d10718003fcba259",
+    },
+];
+
 /// The known sets, by name.
 ///
 /// ```
-/// assert_eq!(msd_experiment::fetch::SETS.map(|s| s.name), ["silverbox", "impact-frf"]);
+/// assert_eq!(msd_experiment::fetch::SETS.map(|s| s.name), ["silverbox", "impact-frf", "steel-frame"]);
 /// ```
-pub const SETS: [DataSetFiles; 2] = [SILVERBOX, IMPACT_FRF];
+pub const SETS: [DataSetFiles; 3] = [SILVERBOX, IMPACT_FRF, STEEL_FRAME];
 
 /// The set called `name`, or a config error listing the known ones.
 ///
 /// ```
 /// let err = msd_experiment::fetch::set_named("goldbox").unwrap_err();
-/// assert!(err.to_string().contains("expected one of silverbox, impact-frf"), "{err}");
+/// assert!(err.to_string().contains("expected one of silverbox, impact-frf, steel-frame"), "{err}");
 /// ```
 pub fn set_named(name: &str) -> Result<DataSetFiles> {
     SETS.iter()
@@ -238,19 +436,24 @@ pub fn set_named(name: &str) -> Result<DataSetFiles> {
 /// let command = command_for("data/silverbox/SNLS80mV.csv".as_ref()).unwrap();
 /// assert!(command.starts_with("`cargo xtask fetch-data silverbox`"));
 /// assert_eq!(command_for("data/mine/run1.csv".as_ref()), None);
+/// let npy = "data/steel-frame/measurement_4/measurement_4.npy";
+/// assert!(command_for(npy.as_ref()).unwrap().contains("fetch-data steel-frame"));
 /// ```
 pub fn command_for(missing: &Path) -> Option<String> {
-    let folder = missing.parent()?.file_name()?.to_str()?;
-    let set = SETS.iter().find(|s| s.name == folder)?;
-    set.files
-        .iter()
-        .any(|f| missing.file_name().is_some_and(|n| n == f.name))
-        .then(|| {
-            format!(
-                "`cargo xtask fetch-data {0}` (or `msd fetch-data {0}`)",
-                set.name
-            )
-        })
+    // The nearest folder named after a set, and the file's path below it.
+    let set = missing.ancestors().skip(1).find_map(|folder| {
+        let name = folder.file_name()?.to_str()?;
+        let set = SETS.iter().find(|s| s.name == name)?;
+        let below = missing.strip_prefix(folder).ok()?;
+        set.files
+            .iter()
+            .any(|f| Path::new(f.name) == below)
+            .then_some(set)
+    })?;
+    Some(format!(
+        "`cargo xtask fetch-data {0}` (or `msd fetch-data {0}`)",
+        set.name
+    ))
 }
 
 /// Copies every file of `set` from the folder `mirror` into `into` (created if needed),
@@ -314,7 +517,15 @@ fn place(set: &DataSetFiles, into: &Path, files: &[(&DataFile, Vec<u8>)]) -> Res
     }
     for (file, bytes) in files {
         let target = into.join(file.name);
-        let partial = into.join(format!(".{}.partial-{}", file.name, std::process::id()));
+        let folder = target.parent().unwrap_or(into);
+        std::fs::create_dir_all(folder).map_err(|e| {
+            ExperimentError::data(folder, format!("cannot create the data folder: {e}"))
+        })?;
+        let base = target
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or("file");
+        let partial = folder.join(format!(".{base}.partial-{}", std::process::id()));
         let written =
             std::fs::write(&partial, bytes).and_then(|()| std::fs::rename(&partial, &target));
         if let Err(e) = written {

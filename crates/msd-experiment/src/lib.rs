@@ -33,6 +33,7 @@ pub mod finished;
 pub mod fmt;
 pub mod frf;
 mod noise_report;
+pub mod operational;
 pub mod options;
 pub mod output;
 pub mod page;

@@ -29,6 +29,8 @@ pub enum ExperimentKind {
     FrequencyResponse,
     /// A chain of masses in the time domain (`[chain]`).
     Chain,
+    /// Output-only modal analysis (`[operational]`).
+    Operational,
 }
 
 impl ExperimentKind {
@@ -41,7 +43,9 @@ impl ExperimentKind {
     /// # Ok::<(), msd_experiment::ExperimentError>(())
     /// ```
     pub fn of(config: &Config) -> Self {
-        if config.frequency_only() {
+        if config.operational.is_some() {
+            Self::Operational
+        } else if config.frequency_only() {
             Self::FrequencyResponse
         } else if config.chain.is_some() {
             Self::Chain
@@ -79,6 +83,10 @@ pub(crate) fn run_and_write(
         }
         ExperimentKind::Chain => {
             let outcome = chain::run(config, config_path, options, progress)?;
+            write(&outcome, &target, progress, started)
+        }
+        ExperimentKind::Operational => {
+            let outcome = crate::operational::run(config, config_path, options, progress)?;
             write(&outcome, &target, progress, started)
         }
     }

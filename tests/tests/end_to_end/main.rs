@@ -10,3 +10,4 @@ mod frf_compare;
 mod frf_experiment;
 mod golden;
 mod nonlinear_experiment;
+mod oma_experiment;

@@ -4,9 +4,10 @@
 
 use super::{FrfFit, FrfOutcome};
 use crate::error::Result;
+use crate::plots::diagram::Stabilization;
 use crate::plots::{
-    BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, limits, phase_panel, save,
-    suptitle, text, tick, title_style,
+    BLUE, DARK, Draw, Figure, RED, draw_legend, house_mesh, limits, phase_panel, save, suptitle,
+    text, tick, title_style,
 };
 use msd_signal::Complex64;
 use plotters::coord::Shift;
@@ -48,7 +49,17 @@ pub(crate) fn save_diagram(
     dir: &Path,
 ) -> Result<()> {
     crate::plots::register_fonts();
-    save(&Stabilization(diagram, magnitude), dir)
+    save(
+        &Stabilization {
+            diagram,
+            behind: magnitude,
+            name: "frf_stabilization",
+            title: "Stabilization diagram (LSCF poles by model order)",
+            behind_label: "the data's magnitude (log scale, summed over the FRFs)",
+            view_hz: None,
+        },
+        dir,
+    )
 }
 
 /// The data in the fitted band beside the model on a dense logarithmic grid.
@@ -296,108 +307,4 @@ pub(crate) fn summed_magnitude(
         .filter(|&k| data.frequency[k] > 0.0)
         .map(|k| (data.frequency[k], sets.iter().map(|s| s.h[k].norm()).sum()))
         .collect()
-}
-
-/// The diagram, with the data's (summed) magnitude drawn behind it on a logarithmic
-/// scale spanning the orders' axis.
-struct Stabilization<'a>(&'a msd_modal::StabilizationDiagram, Vec<(f64, f64)>);
-
-impl Figure for Stabilization<'_> {
-    fn name(&self) -> &'static str {
-        "frf_stabilization"
-    }
-    fn size(&self) -> (u32, u32) {
-        (1400, 900)
-    }
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
-        let d = self.0;
-        let area = suptitle(root, "Stabilization diagram (LSCF poles by model order)")?;
-        let [f0, f1] = d.band_hz;
-        let top = d.orders.last().map_or(2, |o| o.order) as f64 + 2.0;
-        let mut chart = ChartBuilder::on(&area)
-            .margin(14)
-            .margin_right(28)
-            .x_label_area_size(52)
-            .y_label_area_size(80)
-            .build_cartesian_2d(f0..f1, 0.0..top)
-            .map_err(text)?;
-        house_mesh(&mut chart.configure_mesh())
-            .x_desc("frequency f [Hz]")
-            .y_desc("model order")
-            .x_label_formatter(&tick)
-            .y_label_formatter(&tick)
-            .draw()
-            .map_err(text)?;
-        let pick = |keep: fn(&msd_modal::DiagramPole) -> bool| -> Vec<(f64, f64)> {
-            d.orders
-                .iter()
-                .flat_map(|o| {
-                    o.poles
-                        .iter()
-                        .filter(|p| keep(p))
-                        .map(move |p| (p.natural_frequency_hz, o.order as f64))
-                })
-                .collect()
-        };
-        let unstable = pick(|p| !p.stable_frequency);
-        let frequency_only = pick(|p| p.stable_frequency && !p.stable);
-        let stable = pick(|p| p.stable);
-        chart
-            .draw_series(
-                unstable
-                    .into_iter()
-                    .map(|p| Cross::new(p, 4, GRAY.stroke_width(1))),
-            )
-            .map_err(text)?
-            .label("new pole")
-            .legend(|(x, y)| Cross::new((x + 12, y), 4, GRAY.stroke_width(1)));
-        chart
-            .draw_series(
-                frequency_only
-                    .into_iter()
-                    .map(|p| Circle::new(p, 4, BLUE.stroke_width(2))),
-            )
-            .map_err(text)?
-            .label("stable in frequency")
-            .legend(|(x, y)| Circle::new((x + 12, y), 4, BLUE.stroke_width(2)));
-        chart
-            .draw_series(stable.into_iter().map(|p| Circle::new(p, 5, RED.filled())))
-            .map_err(text)?
-            .label("stable in frequency and damping")
-            .legend(|(x, y)| Circle::new((x + 12, y), 5, RED.filled()));
-        let behind: Vec<(f64, f64)> = self
-            .1
-            .iter()
-            .copied()
-            .filter(|&(f, h)| (f0..=f1).contains(&f) && h > 0.0)
-            .collect();
-        let (lo, hi) = behind.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-            (a.min(p.1), b.max(p.1))
-        });
-        if behind.len() > 1 && hi > lo {
-            let y = |h: f64| top * (h / lo).ln() / (hi / lo).ln();
-            chart
-                .draw_series(LineSeries::new(
-                    behind.iter().map(|&(f, h)| (f, y(h))),
-                    GRAY.mix(0.6).stroke_width(1),
-                ))
-                .map_err(text)?
-                .label("the data's magnitude (log scale, summed over the FRFs)")
-                .legend(|(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], GRAY.mix(0.6).stroke_width(2))
-                });
-        }
-        for m in &d.modes {
-            let fm = m.natural_frequency_hz;
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(fm, 0.0), (fm, top)],
-                    8,
-                    5,
-                    DARK.stroke_width(2),
-                ))
-                .map_err(text)?;
-        }
-        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)
-    }
 }

@@ -1,7 +1,8 @@
 //! The house style of every figure, written as PNG and SVG by plotters with the bundled
 //! DejaVu Sans font (no system fonts or libraries needed): colours, text styles, the
 //! mesh, the legend box and the figure title (`house_mesh`, `draw_legend`, `suptitle`),
-//! the Bode phase panel, panels of time series (`panel`), and `save` in both
+//! the Bode phase panel, panels of time series (`panel`), the stabilization diagram
+//! (`diagram`), and `save` in both
 //! formats. Each kind of experiment draws its own figures with them (the paper's in
 //! `crate::paper`); the design figure is `design`.
 //!
@@ -9,6 +10,7 @@
 //! and maximum (so no peak is lost), markers are subsampled evenly.
 
 pub(crate) mod design;
+pub(crate) mod diagram;
 pub(crate) mod panel;
 
 use crate::error::{ExperimentError, Result};

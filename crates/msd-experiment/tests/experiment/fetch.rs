@@ -10,7 +10,7 @@ use std::path::Path;
 /// their archive (the download tests serve it; these never read the URL).
 pub(crate) const SET: DataSetFiles = DataSetFiles {
     name: "tiny",
-    files: [
+    files: &[
         DataFile {
             name: "a.csv",
             bytes: 4,
@@ -92,7 +92,7 @@ fn the_published_silverbox_checksums_are_the_shared_copy_s() {
         );
         return;
     };
-    for file in &msd_experiment::fetch::SILVERBOX.files {
+    for file in msd_experiment::fetch::SILVERBOX.files {
         assert!(
             source.contains(file.sha256),
             "{} not in SOURCE.md",

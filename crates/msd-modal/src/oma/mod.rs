@@ -58,6 +58,8 @@ pub struct OmaFit {
     pub diagram: StabilizationDiagram,
     /// The block rows of the Toeplitz matrix.
     pub block_rows: usize,
+    /// The blocks of the record the jackknife left out one at a time.
+    pub blocks: usize,
     /// The reference channels' names.
     pub references: Vec<String>,
     /// The singular values of the Toeplitz matrix, largest first (their drop suggests the

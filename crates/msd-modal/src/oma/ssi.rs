@@ -153,6 +153,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
         modes,
         diagram,
         block_rows: i,
+        blocks: options.blocks,
         references: references
             .iter()
             .map(|&r| record.channels[r].name.clone())

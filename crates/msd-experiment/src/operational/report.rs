@@ -1,0 +1,202 @@
+//! The report of an operational run, and the summary the command prints.
+
+use super::OperationalOutcome;
+use crate::fmt::sig;
+use msd_modal::{Mode, Quantity};
+use std::fmt::Write;
+
+/// `report.md` of `o`, with `figures` embedded.
+pub(crate) fn markdown(o: &OperationalOutcome, figures: &[&str]) -> String {
+    let mut s = String::new();
+    // Writing into a String cannot fail.
+    let _ = page(&mut s, o, figures);
+    s
+}
+
+fn page(s: &mut String, o: &OperationalOutcome, figures: &[&str]) -> std::fmt::Result {
+    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
+    crate::verdict::section(s, &o.verdict)?;
+    record(s, o)?;
+    modes(s, o)?;
+    for f in figures {
+        writeln!(s, "![{f}]({f}.png)\n")?;
+    }
+    method(s, o)?;
+    writeln!(s, "## Files\n")?;
+    writeln!(
+        s,
+        "`results.json` (every mode with its intervals and shape, the diagram's poles), `modes.csv`, `shapes.csv`, the figures as PNG and SVG.\n"
+    )
+}
+
+fn record(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
+    let r = &o.record;
+    let what = if o.truth.is_some() {
+        "simulated (a shear building, the truth known)"
+    } else {
+        "measured"
+    };
+    writeln!(s, "## Record\n")?;
+    writeln!(
+        s,
+        "{} channels, {} samples at {} Hz ({} s), {what}.\n",
+        r.channels.len(),
+        r.len(),
+        sig(r.sample_rate_hz, 6),
+        sig(r.len() as f64 / r.sample_rate_hz, 4)
+    )?;
+    writeln!(
+        s,
+        "| channel | DOF | direction | quantity | reference |\n|---|---|---|---|---|"
+    )?;
+    let refs = r.reference_indices();
+    for (i, c) in r.channels.iter().enumerate() {
+        let direction = c.direction.map_or_else(
+            || format!("{:+}", c.dof.direction),
+            |[x, y, z]| format!("oblique ({x:.3}, {y:.3}, {z:.3})"),
+        );
+        let quantity = match c.quantity {
+            Quantity::Displacement => "displacement",
+            Quantity::Velocity => "velocity",
+            Quantity::Acceleration => "acceleration",
+        };
+        let reference = if refs.contains(&i) { "yes" } else { "" };
+        writeln!(
+            s,
+            "| {} | {} | {direction} | {quantity} | {reference} |",
+            c.name, c.dof.node
+        )?;
+    }
+    writeln!(s)?;
+    for (name, why) in &o.left_out {
+        writeln!(s, "Left out: **{name}** — {why}.\n")?;
+    }
+    Ok(())
+}
+
+fn modes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
+    writeln!(s, "## Modes\n")?;
+    let truth = o.truth.as_deref();
+    let true_col = if truth.is_some() {
+        " true fn [Hz] |"
+    } else {
+        ""
+    };
+    writeln!(
+        s,
+        "| mode | fn [Hz] (95 % interval) | ζ [%] (95 % interval) | MPC | orders | spread of fn over its poles [Hz] |{true_col}\n|---|---|---|---|---|---|{}",
+        if truth.is_some() { "---|" } else { "" }
+    )?;
+    for (k, m) in o.fit.modes.iter().enumerate() {
+        let f = &m.natural_frequency_hz;
+        let z = &m.damping_ratio;
+        let spread = m
+            .cluster_spread
+            .map_or("—".to_string(), |[sf, _]| sig(sf, 2));
+        let [fv, f0, f1] = digits(f, 1.0, 6);
+        let [zv, z0, z1] = digits(z, 100.0, 3);
+        write!(
+            s,
+            "| {} | {fv} ({f0} … {f1}) | {zv} ({z0} … {z1}) | {} | {} | {spread} |",
+            k + 1,
+            m.mpc.map_or("—".into(), |v| format!("{v:.3}")),
+            m.stable_orders.map_or("—".into(), |n| n.to_string()),
+        )?;
+        if let Some(truth) = truth {
+            let nearest = truth
+                .iter()
+                .map(|(t, _)| *t)
+                .min_by(|a, b| (a - f.value).abs().total_cmp(&(b - f.value).abs()));
+            write!(s, " {} |", nearest.map_or("—".into(), |t| sig(t, 6)))?;
+        }
+        writeln!(s)?;
+    }
+    writeln!(s)?;
+    if !o.fit.unconfirmed.is_empty() {
+        writeln!(
+            s,
+            "Not reported as modes (the record less one block lost them): {}.\n",
+            o.fit
+                .unconfirmed
+                .iter()
+                .map(|c| format!(
+                    "{} Hz (ζ {} %, {} orders)",
+                    sig(c.natural_frequency_hz, 5),
+                    sig(100.0 * c.damping_ratio, 2),
+                    c.stable_orders
+                ))
+                .collect::<Vec<_>>()
+                .join("; ")
+        )?;
+    }
+    shapes(s, &o.fit.modes)
+}
+
+fn shapes(s: &mut String, modes: &[Mode]) -> std::fmt::Result {
+    let Some(first) = modes.first() else {
+        return Ok(());
+    };
+    writeln!(
+        s,
+        "### Shapes (displacement, largest entry 1; real part ± its standard error)\n"
+    )?;
+    write!(s, "| DOF |")?;
+    for k in 0..modes.len() {
+        write!(s, " mode {} |", k + 1)?;
+    }
+    writeln!(s, "\n|---|{}", "---|".repeat(modes.len()))?;
+    for (i, e) in first.shape.iter().enumerate() {
+        write!(s, "| {} |", e.dof())?;
+        for m in modes {
+            let entry = &m.shape[i];
+            let se = entry
+                .standard_error
+                .map_or(String::new(), |[re, _]| format!(" ± {}", sig(re, 2)));
+            write!(s, " {}{se} |", sig(entry.re, 3))?;
+        }
+        writeln!(s)?;
+    }
+    writeln!(s)
+}
+
+fn method(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
+    let f = &o.fit;
+    let orders = [
+        f.diagram.orders.first().map_or(0, |o| o.order),
+        f.diagram.orders.last().map_or(0, |o| o.order),
+    ];
+    writeln!(s, "## Method\n")?;
+    writeln!(
+        s,
+        "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {} block rows; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles. Each interval comes from the same analysis of the record less one of its {} blocks in turn (the jackknife), with Student's t on {} degrees of freedom. Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
+        f.method,
+        f.references.join(", "),
+        2 * f.block_rows - 1,
+        f.block_rows,
+        orders[0],
+        orders[1],
+        f.blocks,
+        f.blocks.saturating_sub(1)
+    )
+}
+
+/// What the command prints: the verdict, then one line per mode.
+pub(crate) fn summary(o: &OperationalOutcome) -> String {
+    let mut s = format!("{}: {}\n", o.config.name, o.verdict);
+    for (k, m) in o.fit.modes.iter().enumerate() {
+        let f = &m.natural_frequency_hz;
+        let z = &m.damping_ratio;
+        let [fv, f0, f1] = digits(f, 1.0, 6);
+        let [zv, z0, z1] = digits(z, 100.0, 3);
+        s += &format!(
+            "  mode {}: fn = {fv} Hz [{f0} … {f1}], ζ = {zv} % [{z0} … {z1}]\n",
+            k + 1
+        );
+    }
+    s
+}
+
+/// An estimate and its interval's ends, times `scale`, to `digits` significant digits.
+fn digits(i: &msd_ident::Interval, scale: f64, digits: usize) -> [String; 3] {
+    [i.value, i.ci95[0], i.ci95[1]].map(|v| sig(scale * v, digits))
+}
