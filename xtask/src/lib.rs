@@ -11,6 +11,7 @@
 pub mod bench;
 pub mod check_report;
 pub mod noise_study;
+pub mod oma_study;
 
 use msd_experiment::{ExperimentError, Result, RunOptions, config, fmt, paper, progress};
 use std::path::{Path, PathBuf};

@@ -77,6 +77,13 @@ enum Command {
     /// The measuring half of `noise-study`, run in release by it.
     #[command(hide = true)]
     NoiseStudyRun(StudyArgs),
+    /// Coverage of output-only analysis's 95 % intervals over seeds: a simulated
+    /// five-storey shear building analysed by SSI-cov at default settings, each true
+    /// mode's coverage of fn and ζ; written to target/oma-study/. Runs in release.
+    OmaStudy(OmaStudyArgs),
+    /// The measuring half of `oma-study`, run in release by it.
+    #[command(hide = true)]
+    OmaStudyRun(OmaStudyArgs),
     /// The measuring half of `bench`, run in release by `bench` itself.
     #[command(hide = true)]
     BenchRun(BenchArgs),
@@ -93,6 +100,16 @@ struct BenchArgs {
     /// Fewer repetitions per row (about a third of the time).
     #[arg(long)]
     quick: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct OmaStudyArgs {
+    /// Simulated records.
+    #[arg(long, default_value_t = 200)]
+    seeds: usize,
+    /// Worker threads.
+    #[arg(long, default_value_t = 2)]
+    threads: usize,
 }
 
 #[derive(Debug, clap::Args)]
@@ -145,6 +162,21 @@ fn try_main() -> Result<(), ExperimentError> {
             in_release("noise-study-run", &forwarded)
         }
         Some(Command::NoiseStudyRun(args)) => noise_study(&args),
+        Some(Command::OmaStudy(args)) => in_release(
+            "oma-study-run",
+            &[
+                format!("--seeds={}", args.seeds),
+                format!("--threads={}", args.threads),
+            ],
+        ),
+        Some(Command::OmaStudyRun(args)) => {
+            let study = xtask::oma_study::run(args.seeds, args.threads)?;
+            println!("{study}");
+            let dir = xtask::project_root().join("target").join("oma-study");
+            xtask::oma_study::write(&study, &dir)?;
+            println!("written: {}", dir.display());
+            Ok(())
+        }
         Some(Command::BenchRun(args)) => bench_run(&args),
         Some(Command::BenchFirstRun) => {
             println!("{}", xtask::bench::first_run::first_run()?);

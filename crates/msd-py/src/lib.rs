@@ -12,6 +12,7 @@ mod errors;
 mod experiment;
 mod fit;
 mod frf;
+mod oma;
 mod uff;
 
 use pyo3::prelude::*;
@@ -38,6 +39,7 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frf::frf, m)?)?;
     m.add_function(wrap_pyfunction!(frf::modal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(frf::one_mode_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(oma::oma, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_read, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_write, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::run, m)?)?;

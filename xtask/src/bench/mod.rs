@@ -32,6 +32,7 @@ pub mod first_run;
 mod frequency;
 mod growth;
 pub mod harness;
+mod oma;
 pub mod report;
 mod rows;
 mod setups;
@@ -115,6 +116,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         rows.extend(silverbox);
         derived.extend(silverbox_derived);
         rows.extend(frequency::frequency_domain(budget)?);
+        rows.extend(oma::oma_rows(budget)?);
         rows.extend(design::design_rows(budget)?);
         rows.extend(design::design_scaling(budget, &out_dir())?);
         rows.extend(growth::growth_rows(budget, &out_dir().join("growth"))?);

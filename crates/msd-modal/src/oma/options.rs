@@ -53,10 +53,11 @@ pub struct OmaOptions {
     /// 0.3.
     pub min_stable_share: f64,
     /// Blocks the record is cut into for the uncertainty (leave-one-block-out
-    /// jackknife). By default 8: over 100 simulated records, 8 blocks covered fn and ζ
-    /// of every mode 0.93–0.99 of the time, 16 blocks 0.90–1.00 (the jackknife's upward
-    /// bias, which grows with the number of blocks, made the strongest modes' intervals
-    /// 1.4× too wide).
+    /// jackknife). By default 8: over 200 simulated buildings (`cargo xtask oma-study`), 8
+    /// blocks covered fn and ζ of every mode 0.94–0.99 of the time, 16 blocks 0.90–1.00
+    /// (the jackknife's upward bias, which grows with the number of blocks, makes the
+    /// strongest modes' intervals too wide; fewer blocks leave too few degrees of
+    /// freedom).
     pub blocks: usize,
     /// Frequencies the user names, Hz: the mode nearest each is reported instead of the
     /// automatic selection. By default none.

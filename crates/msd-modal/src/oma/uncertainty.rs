@@ -8,6 +8,7 @@
 //! B − 1 degrees of freedom.
 
 use msd_signal::Complex64;
+use rayon::prelude::*;
 
 use super::covariance::{BlockCovariances, block_toeplitz};
 use super::select::{Physical, aligned, distance, mean_pole};
@@ -44,7 +45,7 @@ pub(crate) fn jackknife(
     sample_rate_hz: f64,
     targets: &[Target<'_>],
     cut: f64,
-    physical: impl Fn(&Pole) -> Option<Physical>,
+    physical: impl Fn(&Pole) -> Option<Physical> + Sync,
 ) -> Vec<Option<StandardErrors>> {
     let n_max = targets
         .iter()
@@ -52,38 +53,28 @@ pub(crate) fn jackknife(
         .max()
         .unwrap_or(0);
     let b = covariances.blocks();
+    // The replicates are independent: computed side by side, gathered in block order.
+    let estimates: Vec<Option<Vec<Option<Physical>>>> = (0..b)
+        .into_par_iter()
+        .map(|left_out| {
+            let cov = covariances.covariances(Some(left_out));
+            let subspace = Subspace::new(block_toeplitz(&cov, block_rows), cov[0].nrows(), n_max)?;
+            Some(replicate(
+                &subspace,
+                sample_rate_hz,
+                targets,
+                cut,
+                &physical,
+            ))
+        })
+        .collect();
     let mut replicates: Vec<Vec<Option<Physical>>> = vec![Vec::with_capacity(b); targets.len()];
-    for left_out in 0..b {
-        let cov = covariances.covariances(Some(left_out));
-        let t = block_toeplitz(&cov, block_rows);
-        let Some(subspace) = Subspace::new(t, cov[0].nrows(), n_max) else {
+    for estimate in estimates {
+        let Some(estimate) = estimate else {
             return vec![None; targets.len()];
         };
-        let mut at_order: std::collections::BTreeMap<usize, Vec<Physical>> = Default::default();
-        for (k, target) in targets.iter().enumerate() {
-            let mut matched: Vec<Physical> = Vec::new();
-            for &(order, member) in &target.members {
-                let poles = at_order.entry(order).or_insert_with(|| {
-                    subspace
-                        .poles(order, sample_rate_hz)
-                        .iter()
-                        .filter_map(&physical)
-                        .collect()
-                });
-                let d = |q: &Physical| {
-                    distance(member.frequency_hz, &member.shape, q.frequency_hz, &q.shape)
-                };
-                if let Some(q) = poles
-                    .iter()
-                    .filter(|q| d(q) <= cut)
-                    .min_by(|a, c| d(a).total_cmp(&d(c)))
-                {
-                    matched.push(q.clone());
-                }
-            }
-            let enough = 2 * matched.len() >= target.members.len() && !matched.is_empty();
-            let refs: Vec<&Physical> = matched.iter().collect();
-            replicates[k].push(enough.then(|| mean_pole(&refs, &target.pole.shape)));
+        for (k, e) in estimate.into_iter().enumerate() {
+            replicates[k].push(e);
         }
     }
     targets
@@ -94,6 +85,45 @@ pub(crate) fn jackknife(
             reps.map(|reps| standard_errors(target.pole, &reps))
         })
         .collect()
+}
+
+/// Each target's estimate from one replicate's subspace: each cluster pole's nearest pole
+/// at its order (within `cut`), then their mean (`None` where fewer than half matched).
+fn replicate(
+    subspace: &Subspace,
+    sample_rate_hz: f64,
+    targets: &[Target<'_>],
+    cut: f64,
+    physical: &(impl Fn(&Pole) -> Option<Physical> + Sync),
+) -> Vec<Option<Physical>> {
+    let mut at_order: std::collections::BTreeMap<usize, Vec<Physical>> = Default::default();
+    let mut out = Vec::with_capacity(targets.len());
+    for target in targets {
+        let mut matched: Vec<Physical> = Vec::new();
+        for &(order, member) in &target.members {
+            let poles = at_order.entry(order).or_insert_with(|| {
+                subspace
+                    .poles(order, sample_rate_hz)
+                    .iter()
+                    .filter_map(physical)
+                    .collect()
+            });
+            let d = |q: &Physical| {
+                distance(member.frequency_hz, &member.shape, q.frequency_hz, &q.shape)
+            };
+            if let Some(q) = poles
+                .iter()
+                .filter(|q| d(q) <= cut)
+                .min_by(|a, c| d(a).total_cmp(&d(c)))
+            {
+                matched.push(q.clone());
+            }
+        }
+        let enough = 2 * matched.len() >= target.members.len() && !matched.is_empty();
+        let refs: Vec<&Physical> = matched.iter().collect();
+        out.push(enough.then(|| mean_pole(&refs, &target.pole.shape)));
+    }
+    out
 }
 
 /// The jackknife standard errors from the replicates, shapes aligned in scale and phase to

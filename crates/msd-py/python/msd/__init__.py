@@ -32,6 +32,7 @@ from ._results import (
     Interval,
     ModalFit,
     Mode,
+    OmaFit,
     OneModeFit,
     Plant,
     RecordsFit,
@@ -55,6 +56,7 @@ __all__ = [
     "Interval",
     "ModalFit",
     "Mode",
+    "OmaFit",
     "OneModeFit",
     "Plant",
     "RecordsFit",
@@ -68,6 +70,7 @@ __all__ = [
     "frf",
     "modal_fit",
     "one_mode_fit",
+    "oma",
     "fit_records",
     "free_decay",
     "dynamometer",
@@ -323,6 +326,49 @@ def modal_fit(
             options_json(options),
         )
     )
+
+
+def oma(
+    data: Any,
+    sample_rate_hz: float,
+    *,
+    references: Optional[Sequence[int]] = None,
+    dofs: Optional[Sequence[Tuple[int, int]]] = None,
+    quantities: Union[str, Sequence[str]] = "acceleration",
+    names: Optional[Sequence[str]] = None,
+    **options: Any,
+) -> OmaFit:
+    """Output-only modal analysis: the modes of a structure from its response alone
+    (msd-modal's SSI-cov/ref with automatic selection and jackknife intervals).
+
+    `data`: samples × channels (a 2-D array, as pyOMA takes it); `sample_rate_hz`;
+    `references`: the reference channels' indices (default: every channel); `dofs`: one
+    (node, direction) per channel (default: node i + 1, direction 1); `quantities`:
+    "acceleration" (default), "velocity" or "displacement", one for all or one per
+    channel (shapes are reported as displacement shapes); `names`: the channels' names.
+    `**options`: msd-modal's ``OmaOptions`` (``orders``, ``order_step``, ``block_rows``,
+    ``band_hz``, ``max_damping_ratio``, ``min_mpc``, ``frequency_tolerance``,
+    ``damping_tolerance``, ``mac_tolerance``, ``cluster_distance``,
+    ``min_stable_share``, ``blocks``, ``frequencies_hz``).
+
+    Raises `ValueError` on a bad record (NaN, a constant channel, one channel, a
+    reference that is not a channel) and `IdentificationError` when no mode is found.
+    """
+    try:
+        a = np.asarray(data)
+    except Exception as e:
+        raise ValueError(f"data: expected a 2-D array of numbers ({e})") from None
+    if a.dtype.kind not in "iuf" or a.ndim != 2:
+        raise ValueError(f"data: expected a 2-D array of real numbers (samples × channels), got shape {a.shape} and dtype {a.dtype}")
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    channels = a.shape[1]
+    pairs = [(i + 1, 1) for i in range(channels)] if dofs is None else [(int(n), int(d)) for n, d in dofs]
+    kinds = [quantities] * channels if isinstance(quantities, str) else [str(q) for q in quantities]
+    labels = [f"channel {i}" for i in range(channels)] if names is None else [str(n) for n in names]
+    refs = None if references is None else [int(r) for r in references]
+    if refs is not None and any(r < 0 for r in refs):
+        raise ValueError(f"references = {refs}: expected channel indices from 0")
+    return OmaFit(_msd.oma(a, float(sample_rate_hz), refs, pairs, kinds, labels, options_json(options)))
 
 
 def one_mode_fit(

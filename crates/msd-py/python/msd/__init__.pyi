@@ -12,9 +12,9 @@ __version__: str
 
 __all__ = [
     "IdentificationError", "ChainFit", "ChainIntervals", "ChainParameters", "ChainUncertainty", "Estimate",
-    "FrequencyResponse", "Interval", "ModalFit", "Mode",
+    "FrequencyResponse", "Interval", "ModalFit", "Mode", "OmaFit",
     "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
-    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "fit_records", "free_decay", "dynamometer",
+    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "oma", "fit_records", "free_decay", "dynamometer",
     "simulate_chain", "fit_chain", "predict_chain", "run", "plan", "design", "paper_data", "uff",
 ]
 
@@ -151,6 +151,13 @@ class ModalFit(Result):
     def mac(self) -> Optional[_F64]: ...
     def _repr_html_(self) -> str: ...
 
+class OmaFit(Result):
+    @property
+    def modes(self) -> List[Mode]: ...
+    @property
+    def unconfirmed(self) -> List[Tuple[float, float]]: ...
+    def _repr_html_(self) -> str: ...
+
 class SetupFit(Result):
     def _repr_html_(self) -> str: ...
 
@@ -267,6 +274,16 @@ def modal_fit(
     dofs: Optional[Sequence[Any]] = ...,
     **options: Any,
 ) -> ModalFit: ...
+def oma(
+    data: Any,
+    sample_rate_hz: float,
+    *,
+    references: Optional[Sequence[int]] = ...,
+    dofs: Optional[Sequence[Tuple[int, int]]] = ...,
+    quantities: Union[str, Sequence[str]] = ...,
+    names: Optional[Sequence[str]] = ...,
+    **options: Any,
+) -> OmaFit: ...
 def one_mode_fit(
     frequencies: Union[_ArrayLike, FrequencyResponse],
     frf: Any = ...,

@@ -8,7 +8,7 @@ import numpy.typing as npt
 __version__: str
 __all__ = [
     "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_chain", "fit_records",
-    "free_decay", "frf", "modal_fit", "one_mode_fit", "paper_data", "plan", "predict_chain", "run", "simulate",
+    "free_decay", "frf", "modal_fit", "oma", "one_mode_fit", "paper_data", "plan", "predict_chain", "run", "simulate",
     "simulate_chain", "uff_read", "uff_write", "validate",
 ]
 
@@ -49,6 +49,15 @@ def modal_fit(
     kind: str,
     exponential_decay: Optional[float],
     dofs: Optional[Sequence[Tuple[Tuple[int, int], Tuple[int, int]]]],
+    options_json: str,
+) -> Dict[str, Any]: ...
+def oma(
+    data: npt.NDArray[np.float64],
+    sample_rate_hz: float,
+    references: Optional[Sequence[int]],
+    dofs: Sequence[Tuple[int, int]],
+    quantities: Sequence[str],
+    names: Sequence[str],
     options_json: str,
 ) -> Dict[str, Any]: ...
 def one_mode_fit(

@@ -389,6 +389,15 @@ class Mode:
         return f"Mode(fn = {self.natural_frequency_hz!r} Hz, ζ = {self.damping_ratio!r})"
 
 
+def _modes_table(title: str, modes: List[Mode]) -> str:
+    """An HTML table of the modes' fn and ζ with their intervals."""
+    rows: List[Tuple[str, Any]] = []
+    for i, m in enumerate(modes):
+        rows.append((f"mode {i + 1} fn [Hz]", m.natural_frequency_hz))
+        rows.append((f"mode {i + 1} ζ [-]", m.damping_ratio))
+    return _table(title, rows)
+
+
 class ModalFit(Result):
     """`msd.modal_fit`'s result: the modes with intervals (and shapes for a set), every
     field of msd-ident's `ModalFit` or `ModeSetFit` in `data`."""
@@ -409,11 +418,26 @@ class ModalFit(Result):
         return np.array(self.data["mac"]) if self.is_set else None
 
     def _repr_html_(self) -> str:
-        rows: List[Tuple[str, Any]] = []
-        for i, m in enumerate(self.modes):
-            rows.append((f"mode {i + 1} fn [Hz]", m.natural_frequency_hz))
-            rows.append((f"mode {i + 1} ζ [-]", m.damping_ratio))
-        return _table("msd.modal_fit", rows)
+        return _modes_table("msd.modal_fit", self.modes)
+
+
+class OmaFit(Result):
+    """`msd.oma`'s result: the modes of an output-only record (fn, ζ and every shape
+    entry with 95 % intervals), the diagram's columns the jackknife did not confirm, and
+    every field of msd-modal's `OmaFit` in `data` (the diagram's poles by order)."""
+
+    @property
+    def modes(self) -> List[Mode]:
+        """The modes, by frequency."""
+        return [Mode.from_dict(m) for m in self.data["modes"]]
+
+    @property
+    def unconfirmed(self) -> List[Tuple[float, float]]:
+        """(fn [Hz], ζ) of the columns the record less one block lost: not modes."""
+        return [(c["natural_frequency_hz"], c["damping_ratio"]) for c in self.data["unconfirmed"]]
+
+    def _repr_html_(self) -> str:
+        return _modes_table("msd.oma", self.modes)
 
 
 class SetupFit(Result):

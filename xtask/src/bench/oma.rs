@@ -1,0 +1,77 @@
+//! Output-only modal analysis (issue 43): SSI-cov/ref with automatic selection and
+//! jackknife intervals on a simulated five-storey building at 10⁴, 10⁵ and 10⁶ samples
+//! (the cost should grow linearly with the record: only the covariances see every
+//! sample), and on the real steel frame's setup 1 where it is fetched (pyOMA2's SSI-cov
+//! on the same array is timed by `examples/python/oma_steel_frame.py`).
+
+use super::growth::few;
+use super::harness::{Budget, measure};
+use super::report::Row;
+use super::rows::fail;
+use crate::Result;
+use msd_modal::{OmaOptions, OutputRecord, ShearBuilding, ssi_cov};
+use msd_signal::gaussian_noise;
+
+/// The building's rows and, with the data fetched, the steel frame's.
+pub fn oma_rows(budget: &Budget) -> Result<Vec<Row>> {
+    let building = ShearBuilding {
+        masses: vec![25.91; 5],
+        stiffnesses: vec![10_000.0; 5],
+        damping_ratio: 0.02,
+    };
+    let mut rows = Vec::new();
+    let mut per_sample = Vec::new();
+    for samples in [10_000usize, 100_000, 1_000_000] {
+        let mut draws = gaussian_noise(1, "bench/oma", 1.0, samples * 10)
+            .map_err(fail("bench: oma noise"))?
+            .into_iter();
+        let record = building
+            .ambient_record(100.0, samples, 0.1, || draws.next().unwrap_or(0.0))
+            .map_err(fail("bench: oma record"))?;
+        // One block-row setting for all three: the cost differs by the record alone.
+        let options = OmaOptions {
+            block_rows: Some(57),
+            ..OmaOptions::default()
+        };
+        let fit = ssi_cov(&record, &options).map_err(fail("bench: ssi_cov"))?;
+        let timed = measure(&few(budget), || ssi_cov(&record, &options).ok());
+        per_sample.push(timed.median() / samples as f64);
+        rows.push(
+            Row::new(
+                "oma",
+                format!("SSI-cov/ref, automatic selection and jackknife intervals: 5 channels × {samples} samples (57 block rows, orders 2–80)"),
+                timed,
+            )
+            .note(format!("{} modes", fit.modes.len())),
+        );
+    }
+    if let Some(last) = rows.last_mut() {
+        let ratio = per_sample[2] / per_sample[1];
+        last.note += &format!("; cost per sample {ratio:.2}× that at 10⁵ (linear: 1)");
+    }
+    if let Some(record) = steel_frame()? {
+        let fit = ssi_cov(&record, &OmaOptions::default()).map_err(fail("bench: steel frame"))?;
+        rows.push(
+            Row::new(
+                "oma",
+                "SSI-cov/ref at default settings on the steel frame's setup 1 (5 channels × 61,440 samples, 106 block rows)",
+                measure(budget, || ssi_cov(&record, &OmaOptions::default()).ok()),
+            )
+            .note(format!("{} modes; pyOMA2: examples/python/oma_steel_frame.py", fit.modes.len())),
+        );
+    }
+    Ok(rows)
+}
+
+/// Setup 1 of the steel frame as the `[operational]` kind reads it, if fetched.
+fn steel_frame() -> Result<Option<OutputRecord>> {
+    let path = crate::project_root().join("configs/steel-frame.toml");
+    let data = crate::project_root().join("data/steel-frame/measurement_1/measurement_1.npy");
+    if !data.exists() {
+        return Ok(None);
+    }
+    let config = msd_experiment::config::Config::load(&path)?;
+    let progress = msd_experiment::progress::Progress::new(false);
+    let outcome = msd_experiment::operational::run(config, &path, &Default::default(), &progress)?;
+    Ok(Some(outcome.record))
+}
