@@ -186,3 +186,16 @@ fn bad_records_are_refused_by_name() {
     let err = ssi_cov(&good, &tiny).unwrap_err();
     assert!(matches!(err, ModalError::TooFewSamples { .. }), "{err}");
 }
+
+#[test]
+fn the_numbers_do_not_depend_on_the_thread_count() {
+    let record = record(3);
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool")
+            .install(|| ssi_cov(&record, &OmaOptions::default()).expect("fits"))
+    };
+    assert_eq!(on(1), on(2));
+}
