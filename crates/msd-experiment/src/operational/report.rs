@@ -129,10 +129,11 @@ fn modes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
                 .join("; ")
         )?;
     }
-    shapes(s, &o.fit.modes)
+    shapes(s, o)
 }
 
-fn shapes(s: &mut String, modes: &[Mode]) -> std::fmt::Result {
+fn shapes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
+    let modes: &[Mode] = &o.fit.modes;
     let Some(first) = modes.first() else {
         return Ok(());
     };
@@ -140,13 +141,17 @@ fn shapes(s: &mut String, modes: &[Mode]) -> std::fmt::Result {
         s,
         "### Shapes (displacement, largest entry 1; real part ± its standard error)\n"
     )?;
-    write!(s, "| DOF |")?;
+    write!(s, "| channel (DOF) |")?;
     for k in 0..modes.len() {
         write!(s, " mode {} |", k + 1)?;
     }
     writeln!(s, "\n|---|{}", "---|".repeat(modes.len()))?;
-    for (i, e) in first.shape.iter().enumerate() {
-        write!(s, "| {} |", e.dof())?;
+    for (i, (e, channel)) in first.shape.iter().zip(&o.record.channels).enumerate() {
+        // An oblique channel's DOF has direction 0: its name tells the three apart.
+        match channel.direction {
+            Some(_) => write!(s, "| {} ({}, oblique) |", channel.name, e.node)?,
+            None => write!(s, "| {} ({}) |", channel.name, e.dof())?,
+        }
         for m in modes {
             let entry = &m.shape[i];
             let se = entry
@@ -168,7 +173,7 @@ fn method(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     writeln!(s, "## Method\n")?;
     writeln!(
         s,
-        "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {} block rows; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles. Each interval comes from the same analysis of the record less one of its {} blocks in turn (the jackknife), with Student's t on {} degrees of freedom. Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
+        "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {} block rows; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles at every fourth order. Each interval comes from the same analysis of the record less one of its {} blocks in turn (the jackknife), with Student's t on {} degrees of freedom. Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
         f.method,
         f.references.join(", "),
         2 * f.block_rows - 1,
