@@ -71,8 +71,8 @@ pub use mode::{Dof, Mode, ShapeEntry};
 pub use modes::{ModalFit, RefusedMode, fit_modes};
 pub use msd_signal::FrequencyResponseEstimate;
 pub use oma::{
-    OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, ShearBuilding,
-    direction_from_angles, ssi_cov,
+    MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup,
+    ShearBuilding, direction_from_angles, merge_setups, node_components, ssi_cov,
 };
 pub use options::ModalOptions;
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};

@@ -40,6 +40,7 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frf::modal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(frf::one_mode_fit, m)?)?;
     m.add_function(wrap_pyfunction!(oma::oma, m)?)?;
+    m.add_function(wrap_pyfunction!(oma::oma_setups, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_read, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_write, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::run, m)?)?;

@@ -2,17 +2,32 @@
 
 use crate::convert::{options, result_dict};
 use crate::errors;
-use msd_modal::{Dof, OmaOptions, OutputChannel, OutputRecord, Quantity, ssi_cov};
+use msd_modal::{
+    Dof, OmaFit, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, merge_setups, ssi_cov,
+};
 use numpy::PyReadonlyArray2;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// oma(data, sample_rate_hz, references, dofs, quantities, names, options_json)
+/// One setup as Python gives it: the array (samples × channels), the rate, the
+/// references, and per channel its DOF, oblique direction, quantity and name.
+type PySetup<'py> = (
+    PyReadonlyArray2<'py, f64>,
+    f64,
+    Option<Vec<usize>>,
+    Vec<(u32, i32)>,
+    Vec<Option<[f64; 3]>>,
+    Vec<String>,
+    Vec<String>,
+);
+
+/// oma(data, sample_rate_hz, references, dofs, directions, quantities, names, options_json)
 /// --
 ///
 /// msd-modal's `ssi_cov` on `data` (samples × channels): every channel's DOF
-/// (node, direction), quantity and name; the reference channels' indices (None: all).
+/// (node, direction), oblique direction (a unit vector or None), quantity and name; the
+/// reference channels' indices (None: all).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn oma<'py>(
@@ -21,17 +36,56 @@ pub fn oma<'py>(
     sample_rate_hz: f64,
     references: Option<Vec<usize>>,
     dofs: Vec<(u32, i32)>,
+    directions: Vec<Option<[f64; 3]>>,
     quantities: Vec<String>,
     names: Vec<String>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: OmaOptions = options("oma options", options_json)?;
+    let record = record_of((data, sample_rate_hz, references, dofs, directions, quantities, names))?;
+    let fit = py.detach(|| ssi_cov(&record, &opts)).map_err(errors::ident)?;
+    let dict = result_dict(py, &fit, &["singular_values"])?;
+    dict.set_item("summary", fit.to_string())?;
+    Ok(dict)
+}
+
+/// oma_setups(setups, tolerance, options_json)
+/// --
+///
+/// `ssi_cov` on each setup, then msd-modal's `merge_setups` (PoSER): a dict with `setups`
+/// (each setup's fit) and `merged`.
+#[pyfunction]
+pub fn oma_setups<'py>(py: Python<'py>, setups: Vec<PySetup<'py>>, tolerance: f64, options_json: &str) -> PyResult<Bound<'py, PyDict>> {
+    let opts: OmaOptions = options("oma options", options_json)?;
+    let records: Vec<OutputRecord> = setups.into_iter().map(record_of).collect::<PyResult<_>>()?;
+    let (fits, merged) = py
+        .detach(|| -> Result<_, msd_modal::ModalError> {
+            let fits: Vec<OmaFit> = records.iter().map(|r| ssi_cov(r, &opts)).collect::<Result<_, _>>()?;
+            let views: Vec<Setup<'_>> = records.iter().zip(&fits).map(|(record, fit)| Setup { record, fit }).collect();
+            let merged = merge_setups(&views, tolerance)?;
+            Ok((fits, merged))
+        })
+        .map_err(errors::ident)?;
+    let dict = PyDict::new(py);
+    let list = pyo3::types::PyList::empty(py);
+    for fit in &fits {
+        list.append(result_dict(py, fit, &["singular_values"])?)?;
+    }
+    dict.set_item("setups", list)?;
+    dict.set_item("merged", result_dict(py, &merged, &[])?)?;
+    Ok(dict)
+}
+
+/// A setup's record, its lengths checked.
+fn record_of(setup: PySetup<'_>) -> PyResult<OutputRecord> {
+    let (data, sample_rate_hz, references, dofs, directions, quantities, names) = setup;
     let array = data.as_array();
     let channels = array.ncols();
-    if [dofs.len(), quantities.len(), names.len()] != [channels; 3] {
+    if [dofs.len(), directions.len(), quantities.len(), names.len()] != [channels; 4] {
         return Err(PyValueError::new_err(format!(
-            "{} DOFs, {} quantities and {} names for {channels} channels",
+            "{} DOFs, {} directions, {} quantities and {} names for {channels} channels",
             dofs.len(),
+            directions.len(),
             quantities.len(),
             names.len()
         )));
@@ -41,16 +95,16 @@ pub fn oma<'py>(
         channels: Vec::with_capacity(channels),
         references: references.unwrap_or_default(),
     };
-    for (c, ((&(node, direction), quantity), name)) in dofs.iter().zip(&quantities).zip(&names).enumerate() {
+    for (c, (((&(node, direction), oblique), quantity), name)) in dofs.iter().zip(&directions).zip(&quantities).zip(&names).enumerate() {
         let quantity: Quantity = options(
             &format!("quantities[{c}]"),
             &serde_json::Value::from(quantity.as_str()).to_string(),
         )?;
         let samples = array.column(c).iter().copied().collect();
-        record.channels.push(OutputChannel::new(name.clone(), Dof { node, direction }, quantity, samples));
+        record.channels.push(OutputChannel {
+            direction: *oblique,
+            ..OutputChannel::new(name.clone(), Dof { node, direction }, quantity, samples)
+        });
     }
-    let fit = py.detach(|| ssi_cov(&record, &opts)).map_err(errors::ident)?;
-    let dict = result_dict(py, &fit, &["singular_values"])?;
-    dict.set_item("summary", fit.to_string())?;
-    Ok(dict)
+    Ok(record)
 }

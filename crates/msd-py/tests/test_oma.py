@@ -109,3 +109,64 @@ def test_pyoma2_finds_the_same_frequencies_on_the_same_array(root):
     setup.mpe("SSIcov", sel_freq=mine, order_in=80)
     theirs = np.ravel(ssi.result.Fn)
     np.testing.assert_allclose(theirs, mine, rtol=0.005)
+
+
+def test_the_ten_steel_frame_setups_merge_into_pyomas_merged_shapes(root):
+    """The ten shared setups, each read as pyOMA ships it (oblique beams by azimuth and
+    elevation, references at node 24), merged by msd.oma_setups: every one of the
+    origin's eleven merged modes within 0.5 %, and its shape within MAC 0.9 of the origin's
+    (`merged_setups_poser.npz`, fourteen setups) on the DOFs both have — each node's
+    oblique beams turned into x, y, z components the same way on both sides."""
+    folder = root / "data/steel-frame"
+    require(folder, "cargo xtask fetch-data steel-frame", "MSD_REQUIRE_REAL_DATA")
+
+    def unit(az, el):
+        az, el = np.radians(az), np.radians(el)
+        return (np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el))
+
+    setups = []
+    for k in range(1, 11):
+        rows = [l.split() for l in (folder / f"measurement_{k}/channel_dofs.txt").read_text().splitlines()[1:] if l.strip()][:5]
+        dofs, directions = [], []
+        for r in rows:
+            if r[4] in ("ref_x", "ref_y"):  # along −x and −y (azimuth 0 with elevation 180, azimuth −90)
+                dofs.append((24, -1 if r[4] == "ref_x" else -2))
+                directions.append(None)
+            else:
+                dofs.append((int(r[1]), 0))
+                directions.append(unit(float(r[2]), float(r[3])))
+        data = np.load(folder / f"measurement_{k}/measurement_{k}.npy")[:, :5]
+        setups.append(dict(data=data, sample_rate_hz=256.0, references=[3, 4], dofs=dofs, directions=directions,
+                           quantities=["velocity"] * 3 + ["acceleration"] * 2))
+    merged = msd.oma_setups(setups)
+    assert len(merged.setups) == 10
+    ref = np.load(folder / "merged_setups_poser.npz", allow_pickle=True)
+    frequencies = np.ravel(ref["self.mean_frequencies"])
+    shapes = ref["self.merged_mode_shapes"][:, 0, :]
+    channels = {}
+    for j, d in enumerate(ref["self.merged_chan_dofs"]):
+        channels.setdefault(int(d[1]), []).append((j, unit(float(d[2]), float(d[3]))))
+
+    def xyz(column):
+        out = {}
+        for node, beams in channels.items():
+            if len(beams) >= 3:
+                a = np.array([u for _, u in beams])
+                x = np.linalg.lstsq(a, np.array([shapes[j, column] for j, _ in beams]), rcond=None)[0]
+                out.update({(node, axis + 1): x[axis] for axis in range(3)})
+            else:
+                for j, u in beams:
+                    axis = int(np.argmax(np.abs(u)))
+                    out[(node, axis + 1)] = shapes[j, column] * np.sign(u[axis])
+        return out
+
+    for column, f in enumerate(frequencies):
+        mine = min(merged.modes, key=lambda m: abs(m.natural_frequency_hz.value - f))
+        assert abs(mine.natural_frequency_hz.value / f - 1) < 0.005, (f, mine.natural_frequency_hz)
+        ours = {(node, abs(d)): v * np.sign(d) for (node, d), v in zip(mine.shape_dofs, mine.shape) if d != 0}
+        theirs = xyz(column)
+        shared = [k for k in ours if k in theirs]
+        assert len(shared) >= 30
+        a, b = np.array([ours[k] for k in shared]), np.array([theirs[k] for k in shared])
+        mac = abs(np.vdot(a, b)) ** 2 / (np.vdot(a, a).real * np.vdot(b, b).real)
+        assert mac >= 0.9, (f, mac)

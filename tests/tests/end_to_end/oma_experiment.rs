@@ -296,3 +296,68 @@ fn every_steel_frame_setup_finds_ten_of_the_eleven_reference_modes_at_defaults()
         }
     }
 }
+
+#[test]
+fn the_ten_steel_frame_setups_merge_into_global_shapes() {
+    let Some(_) = real_data("steel-frame", "oma: the steel frame's setups merged") else {
+        return;
+    };
+    let text = std::fs::read_to_string(config("steel-frame.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let data = format!("{}/", msd_tests::root().join("data").display());
+    let progress = msd_experiment::progress::Progress::new(false);
+    let outcomes: Vec<_> = (1..=10)
+        .map(|setup| {
+            let path = dir.path().join(format!("steel-frame-{setup}.toml"));
+            std::fs::write(
+                &path,
+                text.replace("measurement_1", &format!("measurement_{setup}"))
+                    .replace("../data/", &data),
+            )
+            .unwrap();
+            let config = msd_experiment::config::Config::load(&path).unwrap();
+            msd_experiment::operational::run(config, &path, &Default::default(), &progress)
+                .expect("runs")
+        })
+        .collect();
+    let setups: Vec<msd_modal::Setup<'_>> = outcomes
+        .iter()
+        .map(|o| msd_modal::Setup {
+            record: &o.record,
+            fit: &o.fit,
+        })
+        .collect();
+    let merged = msd_modal::merge_setups(&setups, 0.01).expect("merges");
+    // The references: node 24 in x and y, measured in every setup.
+    assert_eq!(
+        merged.reference_dofs.len(),
+        2,
+        "{:?}",
+        merged.reference_dofs
+    );
+    let global: Vec<f64> = merged
+        .modes
+        .iter()
+        .map(|m| m.natural_frequency_hz.value)
+        .collect();
+    for (f, _) in REFERENCE {
+        let mode = merged
+            .modes
+            .iter()
+            .find(|m| (m.natural_frequency_hz.value / f - 1.0).abs() < 0.005);
+        let Some(mode) = mode else {
+            panic!("{f} Hz not among {global:?}")
+        };
+        // Found in most setups, the roving nodes as x, y, z components.
+        assert!(
+            mode.stable_orders.unwrap() >= 8,
+            "{f} Hz in {} setups",
+            mode.stable_orders.unwrap()
+        );
+        assert!(
+            mode.shape.len() >= 2 + 3 * 8,
+            "{f} Hz: {} DOFs",
+            mode.shape.len()
+        );
+    }
+}

@@ -12,6 +12,7 @@ mod building;
 mod covariance;
 mod eigen;
 mod horizon;
+mod merge;
 mod options;
 mod record;
 mod select;
@@ -22,6 +23,7 @@ mod uncertainty;
 use serde::Serialize;
 
 pub use building::ShearBuilding;
+pub use merge::{MergedFit, Setup, merge_setups, node_components};
 pub use options::OmaOptions;
 pub use record::{OutputChannel, OutputRecord, Quantity, direction_from_angles};
 pub use ssi::ssi_cov;

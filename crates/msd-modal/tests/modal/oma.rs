@@ -199,3 +199,71 @@ fn the_numbers_do_not_depend_on_the_thread_count() {
     };
     assert_eq!(on(1), on(2));
 }
+
+/// Two setups of the building: floors 1, 2 and 5, then floors 3, 4 and 5 (floor 5 the
+/// reference, measured in both), each its own record; merged, every mode's shape over the
+/// five floors as close to the truth as its standard errors allow, and fn within 0.5 %.
+#[test]
+fn two_setups_with_a_shared_reference_merge_into_the_whole_shape() {
+    let truth = building().modes().expect("valid");
+    let pick = |seed: u64, floors: [usize; 3]| {
+        let full = record(seed);
+        OutputRecord {
+            channels: floors.iter().map(|&f| full.channels[f].clone()).collect(),
+            references: vec![2],
+            ..full
+        }
+    };
+    let records = [pick(11, [0, 1, 4]), pick(12, [2, 3, 4])];
+    let fits: Vec<_> = records
+        .iter()
+        .map(|r| ssi_cov(r, &OmaOptions::default()).expect("fits"))
+        .collect();
+    let setups: Vec<msd_modal::Setup<'_>> = records
+        .iter()
+        .zip(&fits)
+        .map(|(record, fit)| msd_modal::Setup { record, fit })
+        .collect();
+    let merged = msd_modal::merge_setups(&setups, 0.01).expect("merges");
+    assert_eq!(
+        merged.reference_dofs,
+        [msd_modal::Dof {
+            node: 5,
+            direction: 1
+        }]
+    );
+    for (f, shape) in &truth {
+        let mode = merged
+            .modes
+            .iter()
+            .find(|m| (m.natural_frequency_hz.value / f - 1.0).abs() < 0.005)
+            .unwrap_or_else(|| panic!("{f} Hz not merged"));
+        let mut by_floor = mode.shape.clone();
+        by_floor.sort_by_key(|e| e.node);
+        assert_eq!(by_floor.len(), 5, "{mode}");
+        let true_shape: Vec<Complex64> = shape.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+        let values: Vec<Complex64> = by_floor.iter().map(|e| e.value()).collect();
+        // The MAC's deficit from noise: each entry off by up to 3 of its standard errors,
+        // and the second setup's half scaled through the reference entry, off by 3 of its
+        // relative standard errors δ (a half scaled by 1 + 3δ loses (3δ)²/4).
+        let energy: f64 = values.iter().map(|v| v.norm_sqr()).sum();
+        let noise: f64 = by_floor
+            .iter()
+            .filter_map(|e| e.standard_error)
+            .map(|[a, b]| 9.0 * (a * a + b * b))
+            .sum();
+        let reference = by_floor
+            .iter()
+            .find(|e| e.node == 5)
+            .expect("the reference");
+        let delta = reference
+            .standard_error
+            .map_or(0.0, |[a, _]| a / reference.value().norm());
+        let bound = noise / energy + (3.0 * delta).powi(2) / 4.0;
+        assert!(
+            1.0 - mac(&values, &true_shape) < bound,
+            "{f} Hz: 1 − MAC = {} ≥ {bound}: {mode}",
+            1.0 - mac(&values, &true_shape)
+        );
+    }
+}

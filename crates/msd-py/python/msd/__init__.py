@@ -32,6 +32,7 @@ from ._results import (
     Interval,
     ModalFit,
     Mode,
+    MergedOma,
     OmaFit,
     OneModeFit,
     Plant,
@@ -56,6 +57,7 @@ __all__ = [
     "Interval",
     "ModalFit",
     "Mode",
+    "MergedOma",
     "OmaFit",
     "OneModeFit",
     "Plant",
@@ -71,6 +73,7 @@ __all__ = [
     "modal_fit",
     "one_mode_fit",
     "oma",
+    "oma_setups",
     "fit_records",
     "free_decay",
     "dynamometer",
@@ -336,6 +339,7 @@ def oma(
     dofs: Optional[Sequence[Tuple[int, int]]] = None,
     quantities: Union[str, Sequence[str]] = "acceleration",
     names: Optional[Sequence[str]] = None,
+    directions: Optional[Sequence[Optional[Sequence[float]]]] = None,
     **options: Any,
 ) -> OmaFit:
     """Output-only modal analysis: the modes of a structure from its response alone
@@ -345,7 +349,9 @@ def oma(
     `references`: the reference channels' indices (default: every channel); `dofs`: one
     (node, direction) per channel (default: node i + 1, direction 1); `quantities`:
     "acceleration" (default), "velocity" or "displacement", one for all or one per
-    channel (shapes are reported as displacement shapes); `names`: the channels' names.
+    channel (shapes are reported as displacement shapes); `names`: the channels' names;
+    `directions`: per channel None (along its DOF's direction) or the unit vector (x, y,
+    z) of an oblique measuring direction.
     `**options`: msd-modal's ``OmaOptions`` (``orders``, ``order_step``, ``block_rows``,
     ``band_hz``, ``max_damping_ratio``, ``min_mpc``, ``frequency_tolerance``,
     ``damping_tolerance``, ``mac_tolerance``, ``cluster_distance``,
@@ -354,6 +360,11 @@ def oma(
     Raises `ValueError` on a bad record (NaN, a constant channel, one channel, a
     reference that is not a channel) and `IdentificationError` when no mode is found.
     """
+    return OmaFit(_msd.oma(*_setup(data, sample_rate_hz, references, dofs, quantities, names, directions), options_json(options)))
+
+
+def _setup(data: Any, sample_rate_hz: float, references: Any, dofs: Any, quantities: Any, names: Any, directions: Any) -> tuple:
+    """One record's arguments for the core: the array and every channel's description."""
     try:
         a = np.asarray(data)
     except Exception as e:
@@ -368,7 +379,30 @@ def oma(
     refs = None if references is None else [int(r) for r in references]
     if refs is not None and any(r < 0 for r in refs):
         raise ValueError(f"references = {refs}: expected channel indices from 0")
-    return OmaFit(_msd.oma(a, float(sample_rate_hz), refs, pairs, kinds, labels, options_json(options)))
+    units = [None] * channels if directions is None else [None if d is None else tuple(float(x) for x in d) for d in directions]
+    if any(u is not None and len(u) != 3 for u in units):
+        raise ValueError("directions: expected per channel None or a unit vector (x, y, z)")
+    return a, float(sample_rate_hz), refs, pairs, units, kinds, labels
+
+
+def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, **options: Any) -> MergedOma:
+    """Several setups of one structure (a roving sensor and fixed references) analysed one
+    by one with `msd.oma` and merged into global modes (PoSER: each setup's shapes scaled
+    onto the DOFs every setup measures; a node with three or more independent directions
+    given as its x, y, z components).
+
+    `setups`: dicts with `data` and `sample_rate_hz`, and `references`, `dofs`,
+    `quantities`, `names`, `directions` as `msd.oma` takes them; `tolerance`: how close
+    (relative) two setups' frequencies must be to be one mode. `**options`: as `msd.oma`.
+    """
+    args = []
+    for i, s in enumerate(setups):
+        try:
+            args.append(_setup(s["data"], s["sample_rate_hz"], s.get("references"), s.get("dofs"),
+                               s.get("quantities", "acceleration"), s.get("names"), s.get("directions")))
+        except KeyError as e:
+            raise ValueError(f"setups[{i}]: missing {e.args[0]!r} (expected data and sample_rate_hz)") from None
+    return MergedOma(_msd.oma_setups(args, float(tolerance), options_json(options)))
 
 
 def one_mode_fit(

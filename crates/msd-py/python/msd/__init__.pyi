@@ -12,9 +12,9 @@ __version__: str
 
 __all__ = [
     "IdentificationError", "ChainFit", "ChainIntervals", "ChainParameters", "ChainUncertainty", "Estimate",
-    "FrequencyResponse", "Interval", "ModalFit", "Mode", "OmaFit",
+    "FrequencyResponse", "Interval", "ModalFit", "Mode", "MergedOma", "OmaFit",
     "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
-    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "oma", "fit_records", "free_decay", "dynamometer",
+    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "oma", "oma_setups", "fit_records", "free_decay", "dynamometer",
     "simulate_chain", "fit_chain", "predict_chain", "run", "plan", "design", "paper_data", "uff",
 ]
 
@@ -158,6 +158,13 @@ class OmaFit(Result):
     def unconfirmed(self) -> List[Tuple[float, float]]: ...
     def _repr_html_(self) -> str: ...
 
+class MergedOma(Result):
+    @property
+    def setups(self) -> List[OmaFit]: ...
+    @property
+    def modes(self) -> List[Mode]: ...
+    def _repr_html_(self) -> str: ...
+
 class SetupFit(Result):
     def _repr_html_(self) -> str: ...
 
@@ -282,8 +289,10 @@ def oma(
     dofs: Optional[Sequence[Tuple[int, int]]] = ...,
     quantities: Union[str, Sequence[str]] = ...,
     names: Optional[Sequence[str]] = ...,
+    directions: Optional[Sequence[Optional[Sequence[float]]]] = ...,
     **options: Any,
 ) -> OmaFit: ...
+def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = ..., **options: Any) -> MergedOma: ...
 def one_mode_fit(
     frequencies: Union[_ArrayLike, FrequencyResponse],
     frf: Any = ...,

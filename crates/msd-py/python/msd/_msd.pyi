@@ -8,7 +8,7 @@ import numpy.typing as npt
 __version__: str
 __all__ = [
     "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_chain", "fit_records",
-    "free_decay", "frf", "modal_fit", "oma", "one_mode_fit", "paper_data", "plan", "predict_chain", "run", "simulate",
+    "free_decay", "frf", "modal_fit", "oma", "oma_setups", "one_mode_fit", "paper_data", "plan", "predict_chain", "run", "simulate",
     "simulate_chain", "uff_read", "uff_write", "validate",
 ]
 
@@ -56,10 +56,12 @@ def oma(
     sample_rate_hz: float,
     references: Optional[Sequence[int]],
     dofs: Sequence[Tuple[int, int]],
+    directions: Sequence[Optional[Tuple[float, float, float]]],
     quantities: Sequence[str],
     names: Sequence[str],
     options_json: str,
 ) -> Dict[str, Any]: ...
+def oma_setups(setups: Sequence[Tuple[Any, ...]], tolerance: float, options_json: str) -> Dict[str, Any]: ...
 def one_mode_fit(
     frequency: _F64,
     h: _C128,

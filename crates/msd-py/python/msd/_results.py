@@ -440,6 +440,23 @@ class OmaFit(Result):
         return _modes_table("msd.oma", self.modes)
 
 
+class MergedOma(Result):
+    """`msd.oma_setups`'s result: every setup's `OmaFit` and the merged global modes."""
+
+    @property
+    def setups(self) -> List[OmaFit]:
+        """Each setup's own fit."""
+        return [OmaFit(s) for s in self.data["setups"]]
+
+    @property
+    def modes(self) -> List[Mode]:
+        """The global modes, by frequency, shapes over every setup's DOFs."""
+        return [Mode.from_dict(m) for m in self.data["merged"]["modes"]]
+
+    def _repr_html_(self) -> str:
+        return _modes_table("msd.oma_setups", self.modes)
+
+
 class SetupFit(Result):
     """A setup fit (`fit_records`, `free_decay`, `dynamometer`): every field of the Rust
     result in `data`; `repr` is its display."""
