@@ -253,21 +253,27 @@ const REFERENCE: [(f64, f64); 11] = [
     (13.8545, 0.223),
 ];
 
+/// The shipped steel-frame config for another setup (its number in the path, and
+/// nothing else changed), written into `dir` with the data folder's absolute path.
+fn setup_config(dir: &Path, setup: usize) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(config("steel-frame.toml")).unwrap();
+    let data = format!("{}/", msd_tests::root().join("data").display());
+    let path = dir.join(format!("steel-frame-{setup}.toml"));
+    let text = text
+        .replace("measurement_1", &format!("measurement_{setup}"))
+        .replace("../data/", &data);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 #[test]
 fn every_steel_frame_setup_finds_ten_of_the_eleven_reference_modes_at_defaults() {
     let Some(_) = real_data("steel-frame", "oma: the steel frame") else {
         return;
     };
-    let text = std::fs::read_to_string(config("steel-frame.toml")).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let data = format!("{}/", msd_tests::root().join("data").display());
     for setup in 1..=10 {
-        // Another setup: its number in the path, and nothing else changed.
-        let path = dir.path().join(format!("steel-frame-{setup}.toml"));
-        let text = text
-            .replace("measurement_1", &format!("measurement_{setup}"))
-            .replace("../data/", &data);
-        std::fs::write(&path, text).unwrap();
+        let path = setup_config(dir.path(), setup);
         let options = msd_experiment::RunOptions {
             out: Some(dir.path().join(setup.to_string())),
             ..Default::default()
@@ -302,19 +308,11 @@ fn the_ten_steel_frame_setups_merge_into_global_shapes() {
     let Some(_) = real_data("steel-frame", "oma: the steel frame's setups merged") else {
         return;
     };
-    let text = std::fs::read_to_string(config("steel-frame.toml")).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let data = format!("{}/", msd_tests::root().join("data").display());
     let progress = msd_experiment::progress::Progress::new(false);
     let outcomes: Vec<_> = (1..=10)
         .map(|setup| {
-            let path = dir.path().join(format!("steel-frame-{setup}.toml"));
-            std::fs::write(
-                &path,
-                text.replace("measurement_1", &format!("measurement_{setup}"))
-                    .replace("../data/", &data),
-            )
-            .unwrap();
+            let path = setup_config(dir.path(), setup);
             let config = msd_experiment::config::Config::load(&path).unwrap();
             msd_experiment::operational::run(config, &path, &Default::default(), &progress)
                 .expect("runs")
