@@ -32,3 +32,17 @@ def test_impact_frf_example(root, tmp_path):
     require(root / "data/impact-frf/meas_point_1.txt", "cargo xtask fetch-data impact-frf", "MSD_REQUIRE_REAL_DATA")
     out = run_example(root, "impact_frf", tmp_path)
     assert "mode 6" in out
+
+
+def test_a_fleet_on_dask_equals_the_serial_loop(root):
+    """examples/python/oma_fleet_dask.py: six records on a two-worker local Dask cluster,
+    the results equal to the serial loop's (the script asserts it)."""
+    pytest.importorskip("dask.distributed")
+    pytest.importorskip("scipy")
+    done = subprocess.run(
+        [sys.executable, str(root / "examples/python/oma_fleet_dask.py")],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "the cluster's results equal the serial loop's" in done.stdout
+    assert done.stdout.count(" Hz") >= 6 * 5
