@@ -24,7 +24,9 @@
 //! - output-only (operational) analysis of records with no measured input
 //!   ([`OutputRecord`]): [`ssi_cov`], covariance-driven stochastic subspace identification
 //!   with references, its diagram, the automatic selection by clustering and jackknife
-//!   intervals ([`OmaOptions`], [`OmaFit`]); [`ShearBuilding`] simulates a known truth.
+//!   intervals ([`OmaOptions`], [`OmaFit`]); [`merge_setups`] merges several setups
+//!   with shared references into global modes (PoSER), [`node_components`] turns a node's
+//!   oblique channels into x, y, z; [`ShearBuilding`] simulates a known truth.
 //!
 //! Receptance, mobility and accelerance are all fitted as receptance.
 //!
