@@ -20,7 +20,7 @@ pub fn oma_rows(budget: &Budget) -> Result<Vec<Row>> {
         damping_ratio: 0.02,
     };
     let mut rows = Vec::new();
-    let mut per_sample = Vec::new();
+    let mut times = Vec::new();
     for samples in [10_000usize, 100_000, 1_000_000] {
         let mut draws = gaussian_noise(1, "bench/oma", 1.0, samples * 10)
             .map_err(fail("bench: oma noise"))?
@@ -35,7 +35,7 @@ pub fn oma_rows(budget: &Budget) -> Result<Vec<Row>> {
         };
         let fit = ssi_cov(&record, &options).map_err(fail("bench: ssi_cov"))?;
         let timed = measure(&few(budget), || ssi_cov(&record, &options).ok());
-        per_sample.push(timed.median() / samples as f64);
+        times.push((samples as f64, timed.median()));
         rows.push(
             Row::new(
                 "oma",
@@ -45,9 +45,15 @@ pub fn oma_rows(budget: &Budget) -> Result<Vec<Row>> {
             .note(format!("{} modes", fit.modes.len())),
         );
     }
-    if let Some(last) = rows.last_mut() {
-        let ratio = per_sample[2] / per_sample[1];
-        last.note += &format!("; cost per sample {ratio:.2}× that at 10⁵ (linear: 1)");
+    if let (Some(last), &[(n1, t1), (n2, t2), (n3, t3)]) = (rows.last_mut(), &times[..]) {
+        // A fixed part (the SVDs and the eigenproblems) and a part per sample (the
+        // covariances): the marginal cost per sample from 10⁴ to 10⁵ and from 10⁵ to 10⁶.
+        let (low, high) = ((t2 - t1) / (n2 - n1), (t3 - t2) / (n3 - n2));
+        last.note += &format!(
+            "; per added sample {:.2} µs (10⁴→10⁵) and {:.2} µs (10⁵→10⁶): linear when equal",
+            1e6 * low,
+            1e6 * high
+        );
     }
     if let Some(record) = steel_frame()? {
         let fit = ssi_cov(&record, &OmaOptions::default()).map_err(fail("bench: steel frame"))?;
