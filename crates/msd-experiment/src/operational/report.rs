@@ -134,26 +134,28 @@ fn modes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
 
 fn shapes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     let modes: &[Mode] = &o.fit.modes;
-    let Some(first) = modes.first() else {
+    if modes.is_empty() {
         return Ok(());
-    };
+    }
     writeln!(
         s,
         "### Shapes (displacement, largest entry 1; real part ± its standard error)\n"
     )?;
-    write!(s, "| channel (DOF) |")?;
-    for k in 0..modes.len() {
-        write!(s, " mode {} |", k + 1)?;
-    }
-    writeln!(s, "\n|---|{}", "---|".repeat(modes.len()))?;
-    for (i, (e, channel)) in first.shape.iter().zip(&o.record.channels).enumerate() {
+    // One row per mode, one column per channel: the table stays narrow.
+    write!(s, "| mode |")?;
+    for (c, channel) in o.record.channels.iter().enumerate() {
         // An oblique channel's DOF has direction 0: its name tells the three apart.
-        match channel.direction {
-            Some(_) => write!(s, "| {} ({}, oblique) |", channel.name, e.node)?,
-            None => write!(s, "| {} ({}) |", channel.name, e.dof())?,
+        let dof = modes[0].shape.get(c).map(|e| e.dof());
+        match (channel.direction, dof) {
+            (Some(_), Some(d)) => write!(s, " {} ({}, oblique) |", channel.name, d.node)?,
+            (_, Some(d)) => write!(s, " {} ({d}) |", channel.name)?,
+            (_, None) => write!(s, " {} |", channel.name)?,
         }
-        for m in modes {
-            let entry = &m.shape[i];
+    }
+    writeln!(s, "\n|---|{}", "---|".repeat(o.record.channels.len()))?;
+    for (k, m) in modes.iter().enumerate() {
+        write!(s, "| {} |", k + 1)?;
+        for entry in &m.shape {
             let se = entry
                 .standard_error
                 .map_or(String::new(), |[re, _]| format!(" ± {}", sig(re, 2)));
