@@ -24,7 +24,9 @@
 //! - output-only (operational) analysis of records with no measured input
 //!   ([`OutputRecord`]): [`ssi_cov`], covariance-driven stochastic subspace identification
 //!   with references, its diagram, the automatic selection by clustering and jackknife
-//!   intervals ([`OmaOptions`], [`OmaFit`]); [`merge_setups`] merges several setups
+//!   intervals ([`OmaOptions`], [`OmaFit`]); [`efdd`], frequency domain decomposition
+//!   with EFDD's damping, the quick look ([`FddOptions`], [`SingularSpectrum`], and
+//!   [`singular_spectrum`], the CMIF behind any diagram); [`merge_setups`] merges several setups
 //!   with shared references into global modes (PoSER), [`node_components`] turns a node's
 //!   oblique channels into x, y, z; [`ShearBuilding`] simulates a known truth.
 //!
@@ -73,8 +75,9 @@ pub use mode::{Dof, Mode, ShapeEntry};
 pub use modes::{ModalFit, RefusedMode, fit_modes};
 pub use msd_signal::FrequencyResponseEstimate;
 pub use oma::{
-    MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup,
-    ShearBuilding, direction_from_angles, merge_setups, node_components, ssi_cov,
+    FddOptions, MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity,
+    Setup, ShearBuilding, SingularSpectrum, direction_from_angles, efdd, merge_setups,
+    node_components, singular_spectrum, ssi_cov,
 };
 pub use options::ModalOptions;
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};

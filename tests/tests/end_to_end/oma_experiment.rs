@@ -26,16 +26,21 @@ fn modes(results: &Value) -> Vec<(f64, [f64; 2], f64, [f64; 2])> {
         .collect()
 }
 
+/// A simulated run's true natural frequencies, Hz.
+fn true_frequencies(results: &Value) -> Vec<f64> {
+    results["truth"]
+        .as_array()
+        .expect("truth[]")
+        .iter()
+        .map(|t| t["natural_frequency_hz"].as_f64().unwrap())
+        .collect()
+}
+
 #[test]
 fn the_shear_building_is_found_at_defaults_with_intervals_on_every_mode() {
     let run = run_in_temp(&config("shear-building.toml"), None, None).expect("runs");
     let r = &run.summary.results;
-    let truth: Vec<f64> = r["truth"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|t| t["natural_frequency_hz"].as_f64().unwrap())
-        .collect();
+    let truth = true_frequencies(r);
     let found = modes(r);
     assert_eq!(found.len(), 5, "{found:?}");
     for ((f, _, z, [z0, z1]), t) in found.iter().zip(&truth) {
@@ -65,6 +70,33 @@ fn the_shear_building_is_found_at_defaults_with_intervals_on_every_mode() {
     assert!(run.out().join("oma_stabilization.svg").exists());
     let csv = std::fs::read_to_string(run.out().join("modes.csv")).unwrap();
     assert_eq!(csv.lines().count(), 6);
+}
+
+/// The quick look: `method = "efdd"` on the shipped building, every mode within 1 % (the
+/// close upper pair pulls each other by up to 0.4 %: msd-modal's tests/modal/efdd.rs), the
+/// singular values drawn, EFDD's lags in results.json.
+#[test]
+fn efdd_finds_the_shear_building_from_the_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(config("shear-building.toml")).unwrap();
+    let text = text.replace("method = \"ssi-cov\"", "method = \"efdd\"");
+    assert!(text.contains("method = \"efdd\""));
+    let path = dir.path().join("building-efdd.toml");
+    std::fs::write(&path, text).unwrap();
+    let run = run_in_temp(&path, None, None).expect("runs");
+    let r = &run.summary.results;
+    assert_eq!(r["method"], "EFDD");
+    assert!(r["lags"].as_u64().is_some() && r["block_rows"].is_null());
+    let truth = true_frequencies(r);
+    let found = modes(r);
+    assert_eq!(found.len(), 5, "{found:?}");
+    for ((f, _, z, [z0, z1]), t) in found.iter().zip(&truth) {
+        assert!((f / t - 1.0).abs() < 0.01, "{f} against {t}");
+        assert!(z0 < z && z < z1);
+    }
+    assert!(run.out().join("oma_singular_values.png").exists());
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(report.contains("EFDD: the spectral matrix"), "{report}");
 }
 
 /// Three floors of a simulated building as a CSV file (time, a1, a2, a3 in m/s²), with
@@ -266,6 +298,37 @@ fn setup_config(dir: &Path, setup: usize) -> std::path::PathBuf {
     path
 }
 
+/// The modes of one steel-frame setup by `method` at defaults, each checked to be a
+/// reference mode (nothing reported that the reference does not have: the unconfirmed
+/// columns are listed apart).
+fn steel_setup_modes(
+    dir: &Path,
+    setup: usize,
+    method: &str,
+) -> Vec<(f64, [f64; 2], f64, [f64; 2])> {
+    let path = setup_config(dir, setup);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text.replace("method = \"ssi-cov\"", &format!("method = \"{method}\""));
+    assert!(text.contains(&format!("method = \"{method}\"")));
+    std::fs::write(&path, text).unwrap();
+    let options = msd_experiment::RunOptions {
+        out: Some(dir.join(setup.to_string())),
+        ..Default::default()
+    };
+    let found = modes(
+        &msd_experiment::run_experiment(&path, &options)
+            .expect("runs")
+            .results,
+    );
+    for (g, ..) in &found {
+        assert!(
+            REFERENCE.iter().any(|(f, _)| (g / f - 1.0).abs() < 0.005),
+            "setup {setup}: {g} Hz is not a reference mode"
+        );
+    }
+    found
+}
+
 #[test]
 fn every_steel_frame_setup_finds_ten_of_the_eleven_reference_modes_at_defaults() {
     let Some(_) = real_data("steel-frame", "oma: the steel frame") else {
@@ -273,16 +336,7 @@ fn every_steel_frame_setup_finds_ten_of_the_eleven_reference_modes_at_defaults()
     };
     let dir = tempfile::tempdir().unwrap();
     for setup in 1..=10 {
-        let path = setup_config(dir.path(), setup);
-        let options = msd_experiment::RunOptions {
-            out: Some(dir.path().join(setup.to_string())),
-            ..Default::default()
-        };
-        let found = modes(
-            &msd_experiment::run_experiment(&path, &options)
-                .expect("runs")
-                .results,
-        );
+        let found = steel_setup_modes(dir.path(), setup, "ssi-cov");
         let matched = REFERENCE
             .iter()
             .filter(|(f, z)| {
@@ -292,14 +346,26 @@ fn every_steel_frame_setup_finds_ten_of_the_eleven_reference_modes_at_defaults()
             })
             .count();
         assert!(matched >= 10, "setup {setup}: {matched} of 11 in {found:?}");
-        // Nothing reported that the reference does not have (the unconfirmed columns are
-        // listed apart).
-        for (g, ..) in &found {
-            assert!(
-                REFERENCE.iter().any(|(f, _)| (g / f - 1.0).abs() < 0.005),
-                "setup {setup}: {g} Hz is not a reference mode"
-            );
-        }
+    }
+}
+
+/// EFDD at defaults on every setup (measured: 9–10 of the 11 reference modes within 0.5 %
+/// per setup, 7–10 with ζ within 0.5–2×; the 1.43 Hz mode, 17 % above the first, is
+/// lost in two setups and 13.85 Hz, under the others' flanks, in all): at least nine,
+/// nothing the reference lacks.
+#[test]
+fn efdd_finds_nine_of_the_eleven_modes_on_every_steel_frame_setup() {
+    let Some(_) = real_data("steel-frame", "oma: EFDD on the steel frame") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    for setup in 1..=10 {
+        let found = steel_setup_modes(dir.path(), setup, "efdd");
+        let matched = REFERENCE
+            .iter()
+            .filter(|(f, _)| found.iter().any(|(g, ..)| (g / f - 1.0).abs() < 0.005))
+            .count();
+        assert!(matched >= 9, "setup {setup}: {matched} of 11 in {found:?}");
     }
 }
 

@@ -3,7 +3,8 @@
 //! source: `record` (a file: a NumPy `.npy` array as pyOMA ships its setups, with its
 //! `channel_dofs.txt` and `setup_info.txt`, or a CSV file with `[[operational.channels]]`)
 //! or `[operational.simulate]` (a shear building with a known truth). The analysis:
-//! `[operational.ssi]`, msd-modal's [`OmaOptions`] as they are.
+//! `method` (`"ssi-cov"`, the default, or `"efdd"`) with its options, `[operational.ssi]`
+//! (msd-modal's [`OmaOptions`]) or `[operational.efdd]` ([`FddOptions`]) as they are.
 //!
 //! ```
 //! use msd_experiment::config::Config;
@@ -29,7 +30,7 @@
 //! ```
 
 use super::{Column, default_true};
-use msd_modal::{OmaOptions, Quantity};
+use msd_modal::{FddOptions, OmaMethod, OmaOptions, Quantity};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -53,9 +54,16 @@ pub struct OperationalSection {
     /// default: named in the report) or `"refuse"`.
     #[serde(default)]
     pub dead_channels: DeadChannels,
+    /// The method: `"ssi-cov"` (the default: SSI-cov/ref with automatic selection) or
+    /// `"efdd"` (frequency domain decomposition with EFDD's damping: the quick look).
+    #[serde(default)]
+    pub method: OmaMethod,
     /// SSI-cov/ref's options (msd-modal's `OmaOptions`, as they are).
     #[serde(default)]
     pub ssi: OmaOptions,
+    /// EFDD's options (msd-modal's `FddOptions`, as they are).
+    #[serde(default)]
+    pub efdd: FddOptions,
 }
 
 /// What is done with a dead channel.
@@ -181,17 +189,30 @@ impl OperationalSection {
             (Some(r), None) => validate_record(r, &self.channels)?,
             (None, Some(b)) => validate_building(b)?,
         }
-        self.ssi.validate().map_err(|e| match e {
+        let table = self.options_table();
+        let checked = match self.method {
+            OmaMethod::SsiCov => self.ssi.validate(),
+            OmaMethod::Efdd => self.efdd.validate(),
+        };
+        checked.map_err(|e| match e {
             msd_modal::ModalError::InvalidParameter {
                 name,
                 value,
                 expected,
             } => (
-                format!("operational.ssi.{name}"),
+                format!("operational.{table}.{name}"),
                 format!(" = {value}: expected {expected}"),
             ),
-            other => ("operational.ssi".into(), format!(": {other}")),
+            other => (format!("operational.{table}"), format!(": {other}")),
         })
+    }
+
+    /// The table holding the chosen method's options: `ssi` or `efdd`.
+    pub fn options_table(&self) -> &'static str {
+        match self.method {
+            OmaMethod::SsiCov => "ssi",
+            OmaMethod::Efdd => "efdd",
+        }
     }
 }
 

@@ -15,7 +15,7 @@ use crate::options::RunOptions;
 use crate::progress::Progress;
 use crate::results::Experiment;
 use crate::verdict::{Finding, Verdict};
-use msd_modal::{OmaFit, OutputRecord, ssi_cov};
+use msd_modal::{OmaFit, OmaMethod, OutputRecord, efdd, ssi_cov};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -72,8 +72,11 @@ pub fn run(
         || config_path.to_path_buf(),
         |r| config.sources.path(&r.path),
     );
-    let fit = ssi_cov(&loaded.record, &section.ssi)
-        .map_err(|e| oma_error(e, config_path, &record_path))?;
+    let fit = match section.method {
+        OmaMethod::SsiCov => ssi_cov(&loaded.record, &section.ssi),
+        OmaMethod::Efdd => efdd(&loaded.record, &section.efdd),
+    }
+    .map_err(|e| oma_error(e, section.options_table(), config_path, &record_path))?;
     timings.push(("estimation", t.elapsed()));
     let verdict = verdict(&fit, &loaded.left_out, loaded.truth.as_deref());
     Ok(OperationalOutcome {
@@ -95,9 +98,14 @@ pub fn run(
 }
 
 /// msd-modal's refusal as the run's error: a bad option names its key under
-/// `operational.ssi.`, a record too short or with a bad channel is the record's (exit 2);
-/// what the analysis could not find is the run's (exit 1).
-fn oma_error(e: msd_modal::ModalError, config_path: &Path, record: &Path) -> ExperimentError {
+/// `operational.<table>.`, a record too short or with a bad channel is the record's
+/// (exit 2); what the analysis could not find is the run's (exit 1).
+fn oma_error(
+    e: msd_modal::ModalError,
+    table: &str,
+    config_path: &Path,
+    record: &Path,
+) -> ExperimentError {
     use msd_modal::ModalError as E;
     match e {
         E::InvalidParameter {
@@ -106,7 +114,7 @@ fn oma_error(e: msd_modal::ModalError, config_path: &Path, record: &Path) -> Exp
             expected,
         } => ExperimentError::config(
             config_path,
-            format!("operational.ssi.{name} = {value}: expected {expected}"),
+            format!("operational.{table}.{name} = {value}: expected {expected}"),
         ),
         E::BadChannel { .. } | E::LengthMismatch { .. } | E::TooFewSamples { .. } => {
             ExperimentError::data(record, e.to_string())
@@ -126,10 +134,11 @@ fn verdict(
     let found = !fit.modes.is_empty();
     findings.push(Finding {
         passed: found,
-        text: if found {
-            format!("{} modes stable across the model orders, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks)
-        } else {
-            "no mode is stable across the model orders: widen operational.ssi.orders, or check the record (a band with no mode, or noise alone)".into()
+        text: match (found, fit.method) {
+            (true, OmaMethod::SsiCov) => format!("{} modes stable across the model orders, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks),
+            (true, OmaMethod::Efdd) => format!("{} modes at peaks of the first singular value, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks),
+            (false, OmaMethod::SsiCov) => "no mode is stable across the model orders: widen operational.ssi.orders, or check the record (a band with no mode, or noise alone)".into(),
+            (false, OmaMethod::Efdd) => "no peak of the first singular value gave a decaying correlation function: lower operational.efdd.min_correlation, or try method = \"ssi-cov\"".into(),
         },
     });
     if !fit.unconfirmed.is_empty() {
@@ -224,16 +233,27 @@ struct Results<'a> {
     verdict: &'a Verdict,
     record: RecordSummary<'a>,
     method: String,
-    block_rows: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    block_rows: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lags: Option<usize>,
     blocks: usize,
     references: &'a [String],
     modes: &'a [msd_modal::Mode],
     unconfirmed: &'a [msd_modal::StableColumn],
     #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<Vec<TrueMode<'a>>>,
-    options: &'a msd_modal::OmaOptions,
+    options: Options<'a>,
     diagram: &'a msd_modal::StabilizationDiagram,
     timings_ms: BTreeMap<&'static str, f64>,
+}
+
+/// The chosen method's options.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Options<'a> {
+    Ssi(&'a msd_modal::OmaOptions),
+    Efdd(&'a msd_modal::FddOptions),
 }
 
 /// The `results.json` value of `o`.
@@ -289,6 +309,7 @@ pub(crate) fn results(
         },
         method: o.fit.method.to_string(),
         block_rows: o.fit.block_rows,
+        lags: o.fit.spectrum.as_ref().map(|s| s.lags),
         blocks: o.fit.blocks,
         references: &o.fit.references,
         modes: &o.fit.modes,
@@ -302,7 +323,10 @@ pub(crate) fn results(
                 })
                 .collect()
         }),
-        options: &section.ssi,
+        options: match section.method {
+            OmaMethod::SsiCov => Options::Ssi(&section.ssi),
+            OmaMethod::Efdd => Options::Efdd(&section.efdd),
+        },
         diagram: &o.fit.diagram,
         timings_ms: crate::results::timings_ms(&o.timings, extra, total),
     };

@@ -1,24 +1,47 @@
-//! The figure of an operational run, PNG and SVG in the house style: `oma_stabilization`
-//! (SSI's poles by model order, the poles that formed each mode marked, the modes'
-//! frequencies dashed, the record's spectrum behind).
+//! The figure of an operational run, PNG and SVG in the house style: for SSI,
+//! `oma_stabilization` (the poles by model order, the poles that formed each mode marked,
+//! the modes' frequencies dashed, the first singular value of the output spectral matrix
+//! behind); for EFDD, `oma_singular_values` (the first singular values in dB, the picked
+//! peaks and the modes).
 
 use super::OperationalOutcome;
 use crate::error::Result;
 use crate::plots::diagram::Stabilization;
-use crate::plots::{register_fonts, save};
-use msd_signal::{WelchOptions, welch_psd};
+use crate::plots::panel::{Curve, Panel, PanelFigure, Style};
+use crate::plots::{BLUE, DARK, GRAY, ORANGE, RED, register_fonts, save};
+use msd_modal::{SingularSpectrum, singular_spectrum};
+use plotters::prelude::SeriesLabelPosition;
 use std::path::Path;
 
 /// Writes the figure; returns its base name.
 pub(crate) fn write_all(o: &OperationalOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
+    if let Some(spectrum) = &o.fit.spectrum {
+        let lines: Vec<[f64; 2]> = o
+            .fit
+            .modes
+            .iter()
+            .map(|m| [m.natural_frequency_hz.value; 2])
+            .collect();
+        save(&singular_values(o, spectrum, &lines), dir)?;
+        return Ok(vec!["oma_singular_values"]);
+    }
+    let behind = singular_spectrum(&o.record, None, Some(o.fit.diagram.band_hz))
+        .map(|s| {
+            s.frequency_hz
+                .iter()
+                .copied()
+                .zip(s.singular_values[0].iter().copied())
+                .collect()
+        })
+        .unwrap_or_default();
     save(
         &Stabilization {
             diagram: &o.fit.diagram,
-            behind: summed_spectrum(o),
+            behind,
             name: "oma_stabilization",
             title: "Stabilization diagram (SSI-cov poles by model order)",
-            behind_label: "the record's spectrum (log scale, unit-variance channels summed)",
+            behind_label: "first singular value of the output spectral matrix (CMIF, log scale)",
             view_hz: view(o),
         },
         dir,
@@ -26,30 +49,95 @@ pub(crate) fn write_all(o: &OperationalOutcome, dir: &Path) -> Result<Vec<&'stat
     Ok(vec!["oma_stabilization"])
 }
 
-/// The Welch spectra of the channels, each scaled to unit variance, summed (segments of
-/// about an eighth of the record, as the block rows' rule reads it).
-pub(crate) fn summed_spectrum(o: &OperationalOutcome) -> Vec<(f64, f64)> {
-    let n = o.record.len();
-    let segment = (n / 8).max(64).next_power_of_two().min(n);
-    let options = WelchOptions {
-        segment_length: Some(segment),
-        ..WelchOptions::default()
+/// EFDD's figure: the singular values in dB over the band shown, the peaks picked
+/// (markers) and each mode's fn (a dashed line).
+fn singular_values<'a>(
+    o: &OperationalOutcome,
+    spectrum: &'a SingularSpectrum,
+    mode_lines: &'a [[f64; 2]],
+) -> PanelFigure<'a> {
+    let [low, high] = view(o).unwrap_or(o.fit.diagram.band_hz);
+    // dB, no lower than 80 dB under the first singular value's highest line in view.
+    let in_view = |f: &f64| (low..=high).contains(f);
+    let top = spectrum
+        .frequency_hz
+        .iter()
+        .zip(&spectrum.singular_values[0])
+        .filter(|(f, _)| in_view(f))
+        .map(|(_, v)| 10.0 * v.max(1e-300).log10())
+        .fold(f64::MIN, f64::max);
+    let db = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .map(|x| (10.0 * x.max(1e-300).log10()).max(top - 80.0))
+            .collect()
     };
-    let mut sum: Vec<(f64, f64)> = Vec::new();
-    for c in &o.record.channels {
-        let mean = c.samples.iter().sum::<f64>() / n as f64;
-        let var = c.samples.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n as f64;
-        let Ok(psd) = welch_psd(&c.samples, o.record.sample_rate_hz, &options) else {
-            continue;
-        };
-        if sum.is_empty() {
-            sum = psd.frequency.iter().map(|&f| (f, 0.0)).collect();
-        }
-        for (s, v) in sum.iter_mut().zip(&psd.values) {
-            s.1 += v / var.max(f64::MIN_POSITIVE);
-        }
+    let colours = [BLUE, ORANGE, GRAY];
+    let mut curves: Vec<Curve<'a>> = spectrum
+        .singular_values
+        .iter()
+        .zip(colours)
+        .enumerate()
+        .map(|(k, (values, colour))| Curve {
+            label: format!("singular value {}", k + 1),
+            x: &spectrum.frequency_hz,
+            y: db(values),
+            style: Style::Line(colour, if k == 0 { 2 } else { 1 }),
+        })
+        .collect();
+    let visible = |y: &[f64]| -> Vec<f64> {
+        spectrum
+            .frequency_hz
+            .iter()
+            .zip(y)
+            .filter(|(f, _)| (low..=high).contains(*f))
+            .map(|(_, v)| *v)
+            .collect()
+    };
+    let first = curves[0].y.clone();
+    let bottom = curves
+        .iter()
+        .flat_map(|c| visible(&c.y))
+        .fold(f64::MAX, f64::min);
+    let at_peaks: Vec<f64> = spectrum
+        .peaks_hz
+        .iter()
+        .map(|f| {
+            let j = spectrum.frequency_hz.partition_point(|x| x < f);
+            first.get(j).copied().unwrap_or(top)
+        })
+        .collect();
+    curves.push(Curve {
+        label: "peaks picked".into(),
+        x: &spectrum.peaks_hz,
+        y: at_peaks,
+        style: Style::Points(DARK, 5),
+    });
+    for (k, x) in mode_lines.iter().enumerate() {
+        curves.push(Curve {
+            label: if k == 0 {
+                "modes (EFDD fn)".into()
+            } else {
+                String::new()
+            },
+            x,
+            y: vec![bottom, top + 3.0],
+            style: Style::Dashed(RED, 1),
+        });
     }
-    sum
+    PanelFigure {
+        name: "oma_singular_values",
+        title: "Singular values of the output spectral matrix (FDD), peaks and EFDD modes".into(),
+        panel: Panel {
+            title: String::new(),
+            x_desc: "frequency f [Hz]".into(),
+            y_desc: "singular value [dB re 1/Hz, unit-variance channels]".into(),
+            x_range: (low, high),
+            curves,
+            band: None,
+            legend: Some(SeriesLabelPosition::LowerRight),
+        },
+        zoom: None,
+    }
 }
 
 /// The band the figure shows: up to a third above the highest mode (the whole band

@@ -119,12 +119,18 @@ fn modes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
             o.fit
                 .unconfirmed
                 .iter()
-                .map(|c| format!(
-                    "{} Hz (ζ {} %, {} orders)",
-                    sig(c.natural_frequency_hz, 5),
-                    sig(100.0 * c.damping_ratio, 2),
-                    c.stable_orders
-                ))
+                .map(|c| match c.stable_orders {
+                    0 => format!(
+                        "{} Hz (ζ {} %)",
+                        sig(c.natural_frequency_hz, 5),
+                        sig(100.0 * c.damping_ratio, 2)
+                    ),
+                    n => format!(
+                        "{} Hz (ζ {} %, {n} orders)",
+                        sig(c.natural_frequency_hz, 5),
+                        sig(100.0 * c.damping_ratio, 2)
+                    ),
+                })
                 .collect::<Vec<_>>()
                 .join("; ")
         )?;
@@ -168,23 +174,31 @@ fn shapes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
 
 fn method(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     let f = &o.fit;
-    let orders = [
-        f.diagram.orders.first().map_or(0, |o| o.order),
-        f.diagram.orders.last().map_or(0, |o| o.order),
-    ];
     writeln!(s, "## Method\n")?;
-    writeln!(
-        s,
-        "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {} block rows; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles at every fourth order. Each interval comes from the same analysis of the record less one of its {} blocks in turn (the jackknife), with Student's t on {} degrees of freedom. Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
-        f.method,
-        f.references.join(", "),
-        2 * f.block_rows - 1,
-        f.block_rows,
-        orders[0],
-        orders[1],
+    let jackknife = format!(
+        "Each interval comes from the same analysis of the record less one of its {} blocks in turn (the jackknife), with Student's t on {} degrees of freedom.",
         f.blocks,
         f.blocks.saturating_sub(1)
-    )
+    );
+    match (f.block_rows, &f.spectrum) {
+        (Some(i), _) => writeln!(
+            s,
+            "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {i} block rows; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles at every fourth order. {jackknife} Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
+            f.method,
+            f.references.join(", "),
+            2 * i - 1,
+            f.diagram.orders.first().map_or(0, |o| o.order),
+            f.diagram.orders.last().map_or(0, |o| o.order),
+        ),
+        (None, Some(spectrum)) => writeln!(
+            s,
+            "{}: the spectral matrix of the channels (each quantity scaled to unit variance) from their covariances at lags 0 … {} under an exponential window, its singular values line by line ({} Hz apart). Each clear peak of the first singular value is a mode, its shape the first singular vector there; the lines around it whose vectors keep MAC ≥ 0.85 form its SDOF bell, whose inverse transform (the window divided out) is the mode's correlation function: fn from its zero crossings, ζ from the logarithmic decrement of its extremes. EFDD is the quick look: modes closer than a few half-power bandwidths pull each other's fn and ζ (SSI-cov, the default method, does not). {jackknife} Every threshold is an option of `[operational.efdd]` (configs/README.md).\n",
+            f.method,
+            spectrum.lags - 1,
+            sig(spectrum.frequency_hz.get(1).copied().unwrap_or(0.0), 3),
+        ),
+        (None, None) => Ok(()),
+    }
 }
 
 /// What the command prints: the verdict, then one line per mode.

@@ -8,10 +8,21 @@ use nalgebra::DMatrix;
 /// The lagged products of a record, kept per block of samples.
 #[derive(Debug, Clone)]
 pub(crate) struct BlockCovariances {
-    /// `sums[b][k - 1]`: Σ y(t+k)·y_ref(t)ᵀ over the t of block b (channels × references).
+    /// `sums[b][k - first]`: Σ y(t+k)·y_ref(t)ᵀ over the t of block b (channels ×
+    /// references).
     sums: Vec<Vec<DMatrix<f64>>>,
-    /// `counts[b][k - 1]`: how many t of block b have t + k inside the record.
+    /// `counts[b][k - first]`: how many t of block b have t + k inside the record.
     counts: Vec<Vec<usize>>,
+}
+
+/// The lags a [`BlockCovariances`] holds: 1..=max (SSI's Toeplitz matrix) or 0..=max (a
+/// spectral matrix).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Lags {
+    /// The first lag, 0 or 1.
+    pub first: usize,
+    /// The last lag.
+    pub last: usize,
 }
 
 impl BlockCovariances {
@@ -27,6 +38,24 @@ impl BlockCovariances {
         max_lag: usize,
         blocks: usize,
     ) -> Self {
+        let lags = Lags {
+            first: 1,
+            last: max_lag,
+        };
+        Self::with_lags(channels, references, lags, blocks)
+    }
+
+    /// As [`new`](Self::new), at the lags `lags`.
+    pub(crate) fn with_lags(
+        channels: &[Vec<f64>],
+        references: &[usize],
+        lags: Lags,
+        blocks: usize,
+    ) -> Self {
+        let Lags {
+            first,
+            last: max_lag,
+        } = lags;
         let n = channels[0].len();
         let bounds: Vec<usize> = (0..=blocks).map(|b| b * n / blocks).collect();
         let longest = (0..blocks)
@@ -49,7 +78,8 @@ impl BlockCovariances {
                 .iter()
                 .map(|&q| transformed(&channels[q][t0..t1], size, &*forward))
                 .collect();
-            let mut block_sums = vec![DMatrix::zeros(channels.len(), references.len()); max_lag];
+            let mut block_sums =
+                vec![DMatrix::zeros(channels.len(), references.len()); max_lag + 1 - first];
             for (c, z) in lagged.iter().enumerate() {
                 for (q, x) in plain.iter().enumerate() {
                     // Σ_s z[s + k]·x[s] = IFFT(Z·conj(X))[k] / size.
@@ -57,13 +87,13 @@ impl BlockCovariances {
                         z.iter().zip(x).map(|(a, b)| a * b.conj()).collect();
                     inverse.process(&mut product);
                     for (k, sum) in block_sums.iter_mut().enumerate() {
-                        sum[(c, q)] = product[k + 1].re / size as f64;
+                        sum[(c, q)] = product[k + first].re / size as f64;
                     }
                 }
             }
             sums.push(block_sums);
             counts.push(
-                (1..=max_lag)
+                (first..=max_lag)
                     .map(|k| t1.min(n.saturating_sub(k)).max(t0) - t0)
                     .collect(),
             );
@@ -76,7 +106,7 @@ impl BlockCovariances {
         self.sums.len()
     }
 
-    /// The covariances R_1 … R_max_lag of the whole record less block `left_out` (of the
+    /// The covariances R_first … R_last of the whole record less block `left_out` (of the
     /// whole record where it is `None`).
     pub(crate) fn covariances(&self, left_out: Option<usize>) -> Vec<DMatrix<f64>> {
         let lags = self.sums[0].len();

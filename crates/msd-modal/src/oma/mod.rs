@@ -10,39 +10,48 @@
 
 mod building;
 mod covariance;
+mod decay;
+mod efdd;
 mod eigen;
 mod horizon;
 mod merge;
 mod options;
 mod record;
 mod select;
+mod spectrum;
 mod ssi;
 mod subspace;
 mod uncertainty;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 pub use building::ShearBuilding;
+pub use efdd::efdd;
 pub use merge::{MergedFit, Setup, merge_setups, node_components};
-pub use options::OmaOptions;
+pub use options::{FddOptions, OmaOptions};
 pub use record::{OutputChannel, OutputRecord, Quantity, direction_from_angles};
+pub use spectrum::{SingularSpectrum, singular_spectrum};
 pub use ssi::ssi_cov;
 
 use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::mode::Mode;
 
 /// The method that found an [`OmaFit`]'s modes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum OmaMethod {
-    /// Covariance-driven SSI with reference channels.
+    /// Covariance-driven SSI with reference channels (the default).
+    #[default]
     SsiCov,
+    /// Frequency domain decomposition with EFDD's damping.
+    Efdd,
 }
 
 impl std::fmt::Display for OmaMethod {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             Self::SsiCov => "SSI-cov/ref",
+            Self::Efdd => "EFDD",
         })
     }
 }
@@ -58,8 +67,8 @@ pub struct OmaFit {
     /// The stabilization diagram: every order's physical poles with their stability
     /// flags and the mode each formed, the clusters (candidates) and the selected ones.
     pub diagram: StabilizationDiagram,
-    /// The block rows of the Toeplitz matrix.
-    pub block_rows: usize,
+    /// The block rows of SSI's Toeplitz matrix (`None` for EFDD).
+    pub block_rows: Option<usize>,
     /// The blocks of the record the jackknife left out one at a time.
     pub blocks: usize,
     /// The reference channels' names.
@@ -71,21 +80,19 @@ pub struct OmaFit {
     /// less one block has no pole within `cluster_distance` of them): too weak or too
     /// fragile to be reported as modes, listed so that nothing is hidden.
     pub unconfirmed: Vec<StableColumn>,
+    /// EFDD's singular value spectrum with the peaks it picked (`None` for SSI: see
+    /// [`singular_spectrum`] for its overlay).
+    pub spectrum: Option<SingularSpectrum>,
 }
 
 impl std::fmt::Display for OmaFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let [first, last] = [
-            self.diagram.orders.first().map_or(0, |o| o.order),
-            self.diagram.orders.last().map_or(0, |o| o.order),
-        ];
         write!(
             f,
-            "{}: {} modes (orders {first}–{last}, {} block rows, references {})",
+            "{}: {} modes ({})",
             self.method,
             self.modes.len(),
-            self.block_rows,
-            self.references.join(", ")
+            self.settings()
         )?;
         for (k, m) in self.modes.iter().enumerate() {
             write!(
@@ -102,10 +109,32 @@ impl std::fmt::Display for OmaFit {
         for c in &self.unconfirmed {
             write!(
                 f,
-                "\n  unconfirmed: fn = {:.5} Hz, ζ = {:.5}, {} orders (lost when a block of the record is left out)",
-                c.natural_frequency_hz, c.damping_ratio, c.stable_orders
+                "\n  unconfirmed: fn = {:.5} Hz, ζ = {:.5} (lost when a block of the record is left out)",
+                c.natural_frequency_hz, c.damping_ratio
             )?;
         }
         Ok(())
+    }
+}
+
+impl OmaFit {
+    /// The settings that mattered, in words: SSI's orders, block rows and references, or
+    /// EFDD's lags.
+    pub fn settings(&self) -> String {
+        match (self.block_rows, &self.spectrum) {
+            (Some(i), _) => format!(
+                "orders {}–{}, {i} block rows, references {}",
+                self.diagram.orders.first().map_or(0, |o| o.order),
+                self.diagram.orders.last().map_or(0, |o| o.order),
+                self.references.join(", ")
+            ),
+            (None, Some(s)) => format!(
+                "spectral matrix from {} lags, lines {:.4} Hz apart, {} peaks",
+                s.lags,
+                s.frequency_hz.get(1).copied().unwrap_or(0.0),
+                s.peaks_hz.len()
+            ),
+            (None, None) => String::new(),
+        }
     }
 }

@@ -121,3 +121,116 @@ impl OmaOptions {
         Ok(())
     }
 }
+
+/// Options of [`efdd`](crate::efdd) (in TOML: a table with any of these fields): the
+/// spectral matrix, the peak picking, the bell and the decay fit.
+///
+/// ```
+/// use msd_modal::FddOptions;
+/// let options: FddOptions = toml::from_str("lags = 4096\nbell_mac = 0.8")?;
+/// assert_eq!((options.lags, options.bell_mac), (Some(4096), 0.8));
+/// assert_eq!(options.min_correlation, 0.3);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FddOptions {
+    /// Covariance lags N of the spectral matrix (lines fs/2N apart). By default 40
+    /// periods of the lowest mode (the band's lower edge, else the record's lowest clear
+    /// spectral peak) as a power of two, 256 to a quarter of the record.
+    pub lags: Option<usize>,
+    /// Only modes in this band, Hz; by default `None` (0 to Nyquist).
+    #[serde(default, deserialize_with = "msd_signal::pair::optional")]
+    pub band_hz: Option<[f64; 2]>,
+    /// A peak of the first singular value must stand this many times above its median
+    /// over ±50 % of its frequency. By default 4.
+    pub min_peak_ratio: f64,
+    /// And this many times above the higher of the troughs that separate it from higher
+    /// lines on either side (its prominence; ripples on a mode's flank have little). By
+    /// default 2.
+    pub min_prominence: f64,
+    /// The SDOF bell: the lines around a peak whose first singular vector has at least
+    /// this MAC with the peak's. By default 0.85 (pyOMA2's; Brincker suggests 0.8).
+    pub bell_mac: f64,
+    /// Extremes of the bell's correlation function left out before the decay fit (the
+    /// first holds the noise in the bell). By default 1.
+    pub skip_extremes: usize,
+    /// At most this many extremes in the fit. By default 100 (the early extremes alone
+    /// understate the decay: the bell's truncation flattens the correlation near lag 0).
+    pub max_extremes: usize,
+    /// The fit stops at the first extreme below this share of the correlation at lag 0
+    /// (where the noise takes over). By default 0.3.
+    pub min_correlation: f64,
+    /// Modes more damped than this are not reported. By default 0.2.
+    pub max_damping_ratio: f64,
+    /// Blocks the record is cut into for the leave-one-block-out jackknife. By default 8
+    /// (as SSI's).
+    pub blocks: usize,
+    /// Frequencies the user names, Hz: the peak nearest each is analysed instead of every
+    /// peak. By default none.
+    pub frequencies_hz: Vec<f64>,
+}
+
+impl Default for FddOptions {
+    fn default() -> Self {
+        Self {
+            lags: None,
+            band_hz: None,
+            min_peak_ratio: 4.0,
+            min_prominence: 2.0,
+            bell_mac: 0.85,
+            skip_extremes: 1,
+            max_extremes: 100,
+            min_correlation: 0.3,
+            max_damping_ratio: 0.2,
+            blocks: 8,
+            frequencies_hz: Vec::new(),
+        }
+    }
+}
+
+impl FddOptions {
+    /// Checks every option, naming the first out of range.
+    pub fn validate(&self) -> Result<()> {
+        crate::lines::check_band(self.band_hz)?;
+        check_fractions(&[
+            ("bell_mac", self.bell_mac),
+            ("min_correlation", self.min_correlation),
+            ("max_damping_ratio", self.max_damping_ratio),
+        ])?;
+        let invalid = |name, value: f64, expected| {
+            Err(ModalError::InvalidParameter {
+                name,
+                value,
+                expected,
+            })
+        };
+        if self.lags.is_some_and(|n| n < 16) {
+            return invalid("lags", self.lags.unwrap_or(0) as f64, "at least 16 lags");
+        }
+        for (name, v) in [
+            ("min_peak_ratio", self.min_peak_ratio),
+            ("min_prominence", self.min_prominence),
+        ] {
+            if !(v.is_finite() && v >= 1.0) {
+                return invalid(name, v, "a ratio of at least 1");
+            }
+        }
+        if self.max_extremes < 4 {
+            return invalid(
+                "max_extremes",
+                self.max_extremes as f64,
+                "at least 4 extremes",
+            );
+        }
+        if !(2..=1000).contains(&self.blocks) {
+            return invalid("blocks", self.blocks as f64, "2 to 1000 blocks");
+        }
+        for &f in &self.frequencies_hz {
+            if !(f.is_finite() && f > 0.0) {
+                return invalid("frequencies_hz", f, "positive frequencies");
+            }
+        }
+        Ok(())
+    }
+}

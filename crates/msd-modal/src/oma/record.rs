@@ -95,6 +95,61 @@ pub struct OutputRecord {
 }
 
 impl OutputRecord {
+    /// A band's lower edge below the record's Nyquist frequency.
+    pub(crate) fn check_band(&self, band_hz: Option<[f64; 2]>) -> Result<()> {
+        match band_hz {
+            Some([low, _]) if low >= 0.5 * self.sample_rate_hz => {
+                Err(ModalError::InvalidParameter {
+                    name: "band_hz[0]",
+                    value: low,
+                    expected: "a frequency below the Nyquist frequency (half the sample rate)",
+                })
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Each channel less its mean, divided by the root mean square deviation of the
+    /// channels of its quantity (channels of one quantity keep their relative sizes, so
+    /// that a structure's modes stay orthogonal; quantities of different units become
+    /// comparable); and those divisors.
+    pub(crate) fn standardised_by_quantity(&self) -> (Vec<Vec<f64>>, Vec<f64>) {
+        let (centred, sds) = self.standardised();
+        let common: Vec<f64> = self
+            .channels
+            .iter()
+            .map(|c| {
+                let (sum, count) = self
+                    .channels
+                    .iter()
+                    .zip(&sds)
+                    .filter(|(d, _)| d.quantity == c.quantity)
+                    .fold((0.0, 0.0), |(s, n), (_, sd)| (s + sd * sd, n + 1.0));
+                (sum / count).sqrt()
+            })
+            .collect();
+        let scaled = centred
+            .iter()
+            .zip(sds.iter().zip(&common))
+            .map(|(x, (sd, c))| x.iter().map(|v| v * sd / c).collect())
+            .collect();
+        (scaled, common)
+    }
+
+    /// Each channel less its mean, divided by its standard deviation; and those
+    /// deviations.
+    pub(crate) fn standardised(&self) -> (Vec<Vec<f64>>, Vec<f64>) {
+        self.channels
+            .iter()
+            .map(|c| {
+                let n = c.samples.len() as f64;
+                let mean = c.samples.iter().sum::<f64>() / n;
+                let sd = (c.samples.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+                (c.samples.iter().map(|v| (v - mean) / sd).collect(), sd)
+            })
+            .unzip()
+    }
+
     /// Samples per channel.
     pub fn len(&self) -> usize {
         self.channels.first().map_or(0, |c| c.samples.len())

@@ -1,7 +1,7 @@
 //! Covariance-driven stochastic subspace identification with reference channels
 //! (SSI-cov/ref), its stabilization diagram, the automatic selection and the intervals.
 
-use msd_opt::statistics::{Interval, t_975};
+use msd_opt::statistics::t_975;
 use msd_signal::Complex64;
 
 use super::covariance::{BlockCovariances, block_toeplitz};
@@ -10,11 +10,11 @@ use super::options::OmaOptions;
 use super::record::OutputRecord;
 use super::select::{Physical, clusters, column, flag_stability, mean_pole, selected};
 use super::subspace::{Pole, Subspace};
-use super::uncertainty::{StandardErrors, Target, jackknife};
+use super::uncertainty::{StandardErrors, Target, jackknife, mode_with_errors};
 use super::{OmaFit, OmaMethod};
 use crate::diagram::StabilizationDiagram;
 use crate::error::{ModalError, Result};
-use crate::mode::{Mode, ShapeEntry};
+use crate::mode::Mode;
 use crate::shapes::modal_phase_collinearity;
 
 /// The modes of an output-only record by SSI-cov/ref, selected automatically (or at the
@@ -67,7 +67,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
     let fs = record.sample_rate_hz;
     let references = record.reference_indices();
     let (l, r) = (record.channels.len(), references.len());
-    let (scaled, scales) = standardised(record);
+    let (scaled, scales) = record.standardised();
     let i = block_rows(options, &scaled, fs, r);
     check_sizes(record, options, i, l, r)?;
     let covariances = BlockCovariances::new(&scaled, &references, 2 * i - 1, options.blocks);
@@ -160,7 +160,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
         method: OmaMethod::SsiCov,
         modes,
         diagram,
-        block_rows: i,
+        block_rows: Some(i),
         blocks: options.blocks,
         references: references
             .iter()
@@ -168,6 +168,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
             .collect(),
         singular_values: subspace.singular_values,
         unconfirmed,
+        spectrum: None,
     })
 }
 
@@ -195,30 +196,7 @@ fn check_sizes(
             why: "each of the blocks must hold at least four times the lags (blocks × 4 × block_rows)",
         });
     }
-    if let Some([low, _]) = options.band_hz
-        && low >= 0.5 * record.sample_rate_hz
-    {
-        return Err(ModalError::InvalidParameter {
-            name: "band_hz[0]",
-            value: low,
-            expected: "a frequency below the Nyquist frequency (half the sample rate)",
-        });
-    }
-    Ok(())
-}
-
-/// Each channel less its mean, divided by its standard deviation; and those deviations.
-fn standardised(record: &OutputRecord) -> (Vec<Vec<f64>>, Vec<f64>) {
-    record
-        .channels
-        .iter()
-        .map(|c| {
-            let n = c.samples.len() as f64;
-            let mean = c.samples.iter().sum::<f64>() / n;
-            let sd = (c.samples.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
-            (c.samples.iter().map(|v| (v - mean) / sd).collect(), sd)
-        })
-        .unzip()
+    record.check_band(options.band_hz)
 }
 
 /// A pole as a physical one (inside the band, 0 < ζ ≤ the largest, MPC high enough),
@@ -268,25 +246,12 @@ fn mode_of(
     se: &StandardErrors,
     t: f64,
 ) -> Mode {
-    let shape = record
-        .channels
-        .iter()
-        .enumerate()
-        .map(|(c, ch)| ShapeEntry {
-            standard_error: se.shape.get(c).copied(),
-            ..ShapeEntry::new(ch.dof, p.shape[c])
-        })
-        .collect();
     let sd = |v: Vec<f64>| {
         let n = v.len() as f64;
         let mean = v.iter().sum::<f64>() / n;
         (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt()
     };
-    let mut mode = Mode::new(
-        Interval::new(p.frequency_hz, se.frequency_hz, t),
-        Interval::positive(p.damping_ratio, se.damping_ratio, t),
-    )
-    .with_shape(shape);
+    let mut mode = mode_with_errors(p, record, se, t);
     mode.stable_orders = Some(members.len());
     mode.cluster_spread = Some([
         sd(members.iter().map(|&m| poles[m].frequency_hz).collect()),

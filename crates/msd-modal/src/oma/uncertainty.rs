@@ -7,12 +7,15 @@
 //! numerically, so it needs no sensitivity of the SVD; the intervals use Student's t with
 //! B − 1 degrees of freedom.
 
+use msd_opt::statistics::Interval;
 use msd_signal::Complex64;
 use rayon::prelude::*;
 
 use super::covariance::{BlockCovariances, block_toeplitz};
+use super::record::OutputRecord;
 use super::select::{Physical, aligned, distance, mean_pole};
 use super::subspace::{Pole, Subspace};
+use crate::mode::{Mode, ShapeEntry};
 
 /// The standard errors of one mode.
 #[derive(Debug, Clone, PartialEq)]
@@ -128,7 +131,7 @@ fn replicate(
 
 /// The jackknife standard errors from the replicates, shapes aligned in scale and phase to
 /// the full record's.
-fn standard_errors(full: &Physical, reps: &[Physical]) -> StandardErrors {
+pub(crate) fn standard_errors(full: &Physical, reps: &[Physical]) -> StandardErrors {
     let b = reps.len() as f64;
     let se = |values: &[f64]| {
         let mean = values.iter().sum::<f64>() / b;
@@ -152,4 +155,28 @@ fn standard_errors(full: &Physical, reps: &[Physical]) -> StandardErrors {
         damping_ratio: se(&z),
         shape,
     }
+}
+
+/// A mode from its estimate and standard errors: fn, ζ (kept positive) and every shape
+/// entry (on the record's DOFs) with 95 % intervals by Student's `t`.
+pub(crate) fn mode_with_errors(
+    p: &Physical,
+    record: &OutputRecord,
+    se: &StandardErrors,
+    t: f64,
+) -> Mode {
+    let shape = record
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(c, ch)| ShapeEntry {
+            standard_error: se.shape.get(c).copied(),
+            ..ShapeEntry::new(ch.dof, p.shape[c])
+        })
+        .collect();
+    Mode::new(
+        Interval::new(p.frequency_hz, se.frequency_hz, t),
+        Interval::positive(p.damping_ratio, se.damping_ratio, t),
+    )
+    .with_shape(shape)
 }

@@ -3,6 +3,8 @@
 //! hammer on a beam (a set with common poles and shapes), the real hammer test.
 
 mod beam;
+mod building;
+mod efdd;
 mod modes;
 mod oma;
 mod real_hammer;

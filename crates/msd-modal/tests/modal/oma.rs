@@ -3,25 +3,9 @@
 //! accelerations at 100 Hz with 10 % noise, 30,001 samples — at default settings, and bad
 //! records refused by name.
 
-use msd_modal::{ModalError, OmaOptions, OutputRecord, ShearBuilding, mac, ssi_cov};
+use crate::building::{building, record};
+use msd_modal::{ModalError, OmaOptions, OutputRecord, mac, ssi_cov};
 use msd_signal::Complex64;
-use rand::SeedableRng;
-use rand_distr::{Distribution, StandardNormal};
-
-fn building() -> ShearBuilding {
-    ShearBuilding {
-        masses: vec![25.91; 5],
-        stiffnesses: vec![10_000.0; 5],
-        damping_ratio: 0.02,
-    }
-}
-
-fn record(seed: u64) -> OutputRecord {
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    building()
-        .ambient_record(100.0, 30_001, 0.1, || StandardNormal.sample(&mut rng))
-        .expect("a valid building")
-}
 
 #[test]
 fn every_mode_of_the_building_is_found_at_defaults_within_half_a_percent() {
