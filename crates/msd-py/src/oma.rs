@@ -1,9 +1,10 @@
-//! Output-only modal analysis: msd-modal's `ssi_cov` on a NumPy array of channels.
+//! Output-only modal analysis: msd-modal's `ssi_cov` or `efdd` on a NumPy array of
+//! channels.
 
 use crate::convert::{options, result_dict};
 use crate::errors;
 use msd_modal::{
-    Dof, OmaFit, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, merge_setups, ssi_cov,
+    Dof, FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, efdd, merge_setups, ssi_cov,
 };
 use numpy::PyReadonlyArray2;
 use pyo3::exceptions::PyValueError;
@@ -22,12 +23,27 @@ type PySetup<'py> = (
     Vec<String>,
 );
 
-/// oma(data, sample_rate_hz, references, dofs, directions, quantities, names, options_json)
+/// The method named (`"ssi-cov"` or `"efdd"`) with its options parsed: a closure
+/// analysing one record.
+fn analysis(method: &str, options_json: &str) -> PyResult<impl Fn(&OutputRecord) -> Result<OmaFit, msd_modal::ModalError> + Send + Sync> {
+    let method: OmaMethod = options("method", &serde_json::to_string(method).unwrap_or_default())?;
+    let (ssi, fdd): (Option<OmaOptions>, Option<FddOptions>) = match method {
+        OmaMethod::SsiCov => (Some(options("oma options", options_json)?), None),
+        OmaMethod::Efdd => (None, Some(options("efdd options", options_json)?)),
+    };
+    Ok(move |record: &OutputRecord| match (&ssi, &fdd) {
+        (Some(o), _) => ssi_cov(record, o),
+        (_, Some(o)) => efdd(record, o),
+        (None, None) => unreachable!("one method's options are parsed"),
+    })
+}
+
+/// oma(data, sample_rate_hz, references, dofs, directions, quantities, names, method, options_json)
 /// --
 ///
-/// msd-modal's `ssi_cov` on `data` (samples × channels): every channel's DOF
-/// (node, direction), oblique direction (a unit vector or None), quantity and name; the
-/// reference channels' indices (None: all).
+/// msd-modal's `ssi_cov` (method "ssi-cov") or `efdd` ("efdd") on `data` (samples ×
+/// channels): every channel's DOF (node, direction), oblique direction (a unit vector or
+/// None), quantity and name; the reference channels' indices (None: all).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 pub fn oma<'py>(
@@ -39,28 +55,29 @@ pub fn oma<'py>(
     directions: Vec<Option<[f64; 3]>>,
     quantities: Vec<String>,
     names: Vec<String>,
+    method: &str,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts: OmaOptions = options("oma options", options_json)?;
+    let analyse = analysis(method, options_json)?;
     let record = record_of((data, sample_rate_hz, references, dofs, directions, quantities, names))?;
-    let fit = py.detach(|| ssi_cov(&record, &opts)).map_err(errors::ident)?;
+    let fit = py.detach(|| analyse(&record)).map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &["singular_values"])?;
     dict.set_item("summary", fit.to_string())?;
     Ok(dict)
 }
 
-/// oma_setups(setups, tolerance, options_json)
+/// oma_setups(setups, tolerance, method, options_json)
 /// --
 ///
-/// `ssi_cov` on each setup, then msd-modal's `merge_setups` (PoSER): a dict with `setups`
+/// `ssi_cov` or `efdd` on each setup, then msd-modal's `merge_setups` (PoSER): a dict with `setups`
 /// (each setup's fit) and `merged`.
 #[pyfunction]
-pub fn oma_setups<'py>(py: Python<'py>, setups: Vec<PySetup<'py>>, tolerance: f64, options_json: &str) -> PyResult<Bound<'py, PyDict>> {
-    let opts: OmaOptions = options("oma options", options_json)?;
+pub fn oma_setups<'py>(py: Python<'py>, setups: Vec<PySetup<'py>>, tolerance: f64, method: &str, options_json: &str) -> PyResult<Bound<'py, PyDict>> {
+    let analyse = analysis(method, options_json)?;
     let records: Vec<OutputRecord> = setups.into_iter().map(record_of).collect::<PyResult<_>>()?;
     let (fits, merged) = py
         .detach(|| -> Result<_, msd_modal::ModalError> {
-            let fits: Vec<OmaFit> = records.iter().map(|r| ssi_cov(r, &opts)).collect::<Result<_, _>>()?;
+            let fits: Vec<OmaFit> = records.iter().map(&analyse).collect::<Result<_, _>>()?;
             let views: Vec<Setup<'_>> = records.iter().zip(&fits).map(|(record, fit)| Setup { record, fit }).collect();
             let merged = merge_setups(&views, tolerance)?;
             Ok((fits, merged))

@@ -258,17 +258,18 @@ fn pick_peaks(
         if !(s[k] > s[k - 1] && s[k] >= s[k + 1]) {
             continue;
         }
-        let half = ((0.5 * k as f64).round() as usize).max(16);
-        let neighbourhood: Vec<f64> =
-            s[k.saturating_sub(half)..=(k + half).min(s.len() - 1)].to_vec();
         let coherent = |j: usize| mac(&lines[j].first, &lines[k].first) >= options.bell_mac;
         let left = trough(s[first..=k].iter().rev(), s[k]);
         let right = trough(s[k..=last].iter(), s[k]);
-        if s[k] >= options.min_peak_ratio * median(neighbourhood)
-            && s[k] >= options.min_prominence * left.max(right)
-            && coherent(k - 1)
-            && coherent(k + 1)
+        if !(s[k] >= options.min_prominence * left.max(right) && coherent(k - 1) && coherent(k + 1))
         {
+            continue;
+        }
+        // The median last: only the few prominent maxima pay for its sort.
+        let half = ((0.5 * k as f64).round() as usize).max(16);
+        let neighbourhood: Vec<f64> =
+            s[k.saturating_sub(half)..=(k + half).min(s.len() - 1)].to_vec();
+        if s[k] >= options.min_peak_ratio * median(neighbourhood) {
             peaks.push(k);
         }
     }

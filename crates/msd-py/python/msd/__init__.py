@@ -340,10 +340,12 @@ def oma(
     quantities: Union[str, Sequence[str]] = "acceleration",
     names: Optional[Sequence[str]] = None,
     directions: Optional[Sequence[Optional[Sequence[float]]]] = None,
+    method: str = "ssi-cov",
     **options: Any,
 ) -> OmaFit:
     """Output-only modal analysis: the modes of a structure from its response alone
-    (msd-modal's SSI-cov/ref with automatic selection and jackknife intervals).
+    (msd-modal's SSI-cov/ref with automatic selection, or with ``method="efdd"`` frequency
+    domain decomposition with EFDD's damping, the quick look; jackknife intervals).
 
     `data`: samples × channels (a 2-D array, as pyOMA takes it); `sample_rate_hz`;
     `references`: the reference channels' indices (default: every channel); `dofs`: one
@@ -355,12 +357,16 @@ def oma(
     `**options`: msd-modal's ``OmaOptions`` (``orders``, ``order_step``, ``block_rows``,
     ``band_hz``, ``max_damping_ratio``, ``min_mpc``, ``frequency_tolerance``,
     ``damping_tolerance``, ``mac_tolerance``, ``cluster_distance``,
-    ``min_stable_share``, ``blocks``, ``frequencies_hz``).
+    ``min_stable_share``, ``blocks``, ``frequencies_hz``); for EFDD its ``FddOptions``
+    (``lags``, ``band_hz``, ``min_peak_ratio``, ``min_prominence``, ``bell_mac``,
+    ``skip_extremes``, ``max_extremes``, ``min_correlation``, ``max_damping_ratio``,
+    ``blocks``, ``frequencies_hz``). EFDD's result holds ``data["spectrum"]``: the
+    singular values line by line and the peaks picked.
 
     Raises `ValueError` on a bad record (NaN, a constant channel, one channel, a
     reference that is not a channel) and `IdentificationError` when no mode is found.
     """
-    return OmaFit(_msd.oma(*_setup(data, sample_rate_hz, references, dofs, quantities, names, directions), options_json(options)))
+    return OmaFit(_msd.oma(*_setup(data, sample_rate_hz, references, dofs, quantities, names, directions), str(method), options_json(options)))
 
 
 def _setup(data: Any, sample_rate_hz: float, references: Any, dofs: Any, quantities: Any, names: Any, directions: Any) -> tuple:
@@ -385,7 +391,7 @@ def _setup(data: Any, sample_rate_hz: float, references: Any, dofs: Any, quantit
     return a, float(sample_rate_hz), refs, pairs, units, kinds, labels
 
 
-def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, **options: Any) -> MergedOma:
+def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, method: str = "ssi-cov", **options: Any) -> MergedOma:
     """Several setups of one structure (a roving sensor and fixed references) analysed one
     by one with `msd.oma` and merged into global modes (PoSER: each setup's shapes scaled
     onto the DOFs every setup measures; a node with three or more independent directions
@@ -393,7 +399,8 @@ def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, 
 
     `setups`: dicts with `data` and `sample_rate_hz`, and `references`, `dofs`,
     `quantities`, `names`, `directions` as `msd.oma` takes them; `tolerance`: how close
-    (relative) two setups' frequencies must be to be one mode. `**options`: as `msd.oma`.
+    (relative) two setups' frequencies must be to be one mode. `method` and `**options`: as
+    `msd.oma`.
     """
     args = []
     for i, s in enumerate(setups):
@@ -402,7 +409,7 @@ def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, 
                                s.get("quantities", "acceleration"), s.get("names"), s.get("directions")))
         except KeyError as e:
             raise ValueError(f"setups[{i}]: missing {e.args[0]!r} (expected data and sample_rate_hz)") from None
-    return MergedOma(_msd.oma_setups(args, float(tolerance), options_json(options)))
+    return MergedOma(_msd.oma_setups(args, float(tolerance), str(method), options_json(options)))
 
 
 def one_mode_fit(

@@ -290,9 +290,10 @@ def oma(
     quantities: Union[str, Sequence[str]] = ...,
     names: Optional[Sequence[str]] = ...,
     directions: Optional[Sequence[Optional[Sequence[float]]]] = ...,
+    method: str = ...,
     **options: Any,
 ) -> OmaFit: ...
-def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = ..., **options: Any) -> MergedOma: ...
+def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = ..., method: str = ..., **options: Any) -> MergedOma: ...
 def one_mode_fit(
     frequencies: Union[_ArrayLike, FrequencyResponse],
     frf: Any = ...,

@@ -59,9 +59,10 @@ def oma(
     directions: Sequence[Optional[Tuple[float, float, float]]],
     quantities: Sequence[str],
     names: Sequence[str],
+    method: str,
     options_json: str,
 ) -> Dict[str, Any]: ...
-def oma_setups(setups: Sequence[Tuple[Any, ...]], tolerance: float, options_json: str) -> Dict[str, Any]: ...
+def oma_setups(setups: Sequence[Tuple[Any, ...]], tolerance: float, method: str, options_json: str) -> Dict[str, Any]: ...
 def one_mode_fit(
     frequency: _F64,
     h: _C128,
