@@ -85,6 +85,15 @@ pub(crate) fn run_and_write(
             let outcome = chain::run(config, config_path, options, progress)?;
             write(&outcome, &target, progress, started)
         }
+        ExperimentKind::Operational
+            if config
+                .operational
+                .as_ref()
+                .is_some_and(|o| !o.records.is_empty()) =>
+        {
+            let outcome = crate::operational::run_records(config, config_path, options, progress)?;
+            write(&outcome, &target, progress, started)
+        }
         ExperimentKind::Operational => {
             let outcome = crate::operational::run(config, config_path, options, progress)?;
             write(&outcome, &target, progress, started)

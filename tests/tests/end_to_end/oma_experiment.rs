@@ -102,31 +102,21 @@ fn efdd_finds_the_shear_building_from_the_command() {
 /// Three floors of a simulated building as a CSV file (time, a1, a2, a3 in m/s²), with
 /// `edit` applied to each data row's cells, and a config reading it.
 fn csv_case(dir: &Path, edit: impl Fn(usize, &mut Vec<String>), extra: &str) -> std::path::PathBuf {
-    let building = msd_modal::ShearBuilding {
-        masses: vec![30.0; 3],
-        stiffnesses: vec![12_000.0; 3],
-        damping_ratio: 0.02,
-    };
-    let mut draws = msd_signal::gaussian_noise(7, "test", 1.0, 20_000 * 8)
-        .unwrap()
-        .into_iter();
-    let record = building
-        .ambient_record(50.0, 20_000, 0.05, || draws.next().unwrap())
-        .unwrap();
-    let mut text = String::from("t,a1,a2,a3\n");
-    for t in 0..record.len() {
-        let mut cells = vec![format!("{}", t as f64 / 50.0)];
-        cells.extend(record.channels.iter().map(|c| format!("{}", c.samples[t])));
-        edit(t, &mut cells);
-        text += &(cells.join(",") + "\n");
-    }
-    std::fs::write(dir.join("ambient.csv"), text).unwrap();
+    write_building_csv(&dir.join("ambient.csv"), 7, edit);
     let config = format!(
         r#"name = "ambient"
 [operational.record]
 path = "ambient.csv"
 time = "t"
-[[operational.channels]]
+{CHANNELS}{extra}"#
+    );
+    let path = dir.join("ambient.toml");
+    std::fs::write(&path, config).unwrap();
+    path
+}
+
+/// The three channels of [`write_building_csv`]'s files, floors 1 and 3 the references.
+const CHANNELS: &str = r#"[[operational.channels]]
 column = "a1"
 node = 1
 direction = 1
@@ -140,11 +130,83 @@ column = "a3"
 node = 3
 direction = 1
 reference = true
-{extra}"#
-    );
-    let path = dir.join("ambient.toml");
-    std::fs::write(&path, config).unwrap();
-    path
+"#;
+
+/// A three-floor building's accelerations (noise stream `seed`) as a CSV file, `edit`
+/// applied to each data row's cells.
+fn write_building_csv(path: &Path, seed: u64, edit: impl Fn(usize, &mut Vec<String>)) {
+    let building = msd_modal::ShearBuilding {
+        masses: vec![30.0; 3],
+        stiffnesses: vec![12_000.0; 3],
+        damping_ratio: 0.02,
+    };
+    let mut draws = msd_signal::gaussian_noise(seed, "test", 1.0, 20_000 * 8)
+        .unwrap()
+        .into_iter();
+    let record = building
+        .ambient_record(50.0, 20_000, 0.05, || draws.next().unwrap())
+        .unwrap();
+    let mut text = String::from("t,a1,a2,a3\n");
+    for t in 0..record.len() {
+        let mut cells = vec![format!("{}", t as f64 / 50.0)];
+        cells.extend(record.channels.iter().map(|c| format!("{}", c.samples[t])));
+        edit(t, &mut cells);
+        text += &(cells.join(",") + "\n");
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+/// Hourly records of a monitored structure (here two of the same building, different
+/// ambient noise; fn within 1 % as for one such record above): each analysed alone, every mode tracked from record to record, the
+/// combined modes, `tracks.csv`, the figure and `modes.uff`; one record, or a missing
+/// file, refused naming the key or the file.
+#[test]
+fn several_records_are_tracked_and_combined() {
+    let dir = tempfile::tempdir().unwrap();
+    write_building_csv(&dir.path().join("hour1.csv"), 7, |_, _| {});
+    write_building_csv(&dir.path().join("hour2.csv"), 8, |_, _| {});
+    let write = |files: &[&str]| {
+        let records: String = files
+            .iter()
+            .map(|f| format!("[[operational.records]]\npath = \"{f}\"\ntime = \"t\"\n"))
+            .collect();
+        let path = dir.path().join("monitor.toml");
+        std::fs::write(&path, format!("name = \"monitor\"\n{records}{CHANNELS}")).unwrap();
+        path
+    };
+    let summary = run(&write(&["hour1.csv", "hour2.csv"])).expect("runs");
+    let r = &summary.results;
+    let truth = msd_modal::ShearBuilding {
+        masses: vec![30.0; 3],
+        stiffnesses: vec![12_000.0; 3],
+        damping_ratio: 0.02,
+    }
+    .modes()
+    .unwrap();
+    let found = modes(r);
+    assert_eq!(found.len(), 3, "{found:?}");
+    for ((f, [f0, f1], ..), (t, _)) in found.iter().zip(&truth) {
+        assert!(
+            (f / t - 1.0).abs() < 0.01 && f0 < f && f < f1,
+            "{f} against {t}"
+        );
+    }
+    assert_eq!(r["records"].as_array().unwrap().len(), 2);
+    let out = dir.path().join("out");
+    let tracks = std::fs::read_to_string(out.join("tracks.csv")).unwrap();
+    assert_eq!(tracks.lines().count(), 1 + 3 * 2, "{tracks}");
+    let uff = msd_uff::read(out.join("modes.uff")).expect("modes.uff reads back");
+    assert_eq!(uff.data_at_nodes.len(), 3);
+    assert!(out.join("oma_tracks.png").exists());
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## Modes over the records"), "{report}");
+
+    let err = run(&write(&["hour1.csv"])).expect_err("one record");
+    assert_eq!(err.exit_code(), 2);
+    assert!(err.to_string().contains("operational.records"), "{err}");
+    let err = run(&write(&["hour1.csv", "hour9.csv"])).expect_err("a missing file");
+    assert_eq!(err.exit_code(), 2);
+    assert!(err.to_string().contains("hour9.csv"), "{err}");
 }
 
 fn run(path: &Path) -> Result<msd_experiment::RunSummary, msd_experiment::ExperimentError> {
@@ -367,6 +429,27 @@ fn efdd_finds_nine_of_the_eleven_modes_on_every_steel_frame_setup() {
             .count();
         assert!(matched >= 9, "setup {setup}: {matched} of 11 in {found:?}");
     }
+}
+
+/// The shipped ten-setup config: every reference mode found in every setup and merged
+/// within 0.5 % of the origin's merged fn, the merged shapes written as UFF 55.
+#[test]
+fn the_shipped_ten_setup_config_merges_every_reference_mode() {
+    let Some(_) = real_data("steel-frame", "oma: the ten setups in one config") else {
+        return;
+    };
+    let run = run_in_temp(&config("steel-frame-setups.toml"), None, None).expect("runs");
+    let r = &run.summary.results;
+    let found = modes(r);
+    assert_eq!(found.len(), REFERENCE.len(), "{found:?}");
+    for ((g, ..), (f, _)) in found.iter().zip(&REFERENCE) {
+        assert!((g / f - 1.0).abs() < 0.005, "{g} against {f}");
+    }
+    for found_in in r["merged"]["found"].as_array().unwrap() {
+        assert!(found_in.as_array().unwrap().iter().all(|i| i.is_u64()));
+    }
+    let uff = msd_uff::read(run.out().join("modes.uff")).expect("modes.uff reads back");
+    assert_eq!(uff.data_at_nodes.len(), REFERENCE.len());
 }
 
 #[test]

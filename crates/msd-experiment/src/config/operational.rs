@@ -25,7 +25,7 @@
 //! assert_eq!(section.simulate.as_ref().map(|s| s.noise), Some(0.1));
 //! let both = format!("{text}\n[operational.record]\npath = \"x.npy\"");
 //! let err = Config::from_toml_str(&both, "building.toml").unwrap_err();
-//! assert!(err.to_string().contains("exactly one of record, simulate"), "{err}");
+//! assert!(err.to_string().contains("exactly one of record, records, simulate"), "{err}");
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 
@@ -43,6 +43,16 @@ pub struct OperationalSection {
     /// A measured record.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub record: Option<RecordSource>,
+    /// Several records of one structure, each analysed alone and then combined
+    /// (`[[operational.records]]`, each as `record`): setups with a roving sensor and
+    /// shared references merged into global shapes, or the hourly records of a monitored
+    /// structure tracked from record to record.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub records: Vec<RecordSource>,
+    /// How close (relative) two records' frequencies must be to be one mode. By default
+    /// 0.01.
+    #[serde(default = "hundredth")]
+    pub merge_tolerance: f64,
     /// A simulated shear building (the truth known).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub simulate: Option<SimulatedBuilding>,
@@ -171,23 +181,60 @@ fn tenth() -> f64 {
     0.1
 }
 
+fn hundredth() -> f64 {
+    0.01
+}
+
 impl OperationalSection {
     /// Checks the section; errors name the key under `operational.`.
     pub(crate) fn validate(&self) -> Check {
         let err = |key: &str, message: String| Err((format!("operational.{key}"), message));
-        match (&self.record, &self.simulate) {
-            (Some(_), Some(_)) | (None, None) => {
-                return err(
-                    if self.record.is_some() {
-                        "simulate"
-                    } else {
-                        "record"
-                    },
-                    ": expected exactly one of record, simulate".into(),
-                );
-            }
-            (Some(r), None) => validate_record(r, &self.channels)?,
-            (None, Some(b)) => validate_building(b)?,
+        let given = [
+            self.record.is_some(),
+            !self.records.is_empty(),
+            self.simulate.is_some(),
+        ];
+        if given.iter().filter(|&&g| g).count() != 1 {
+            let key = ["record", "records", "simulate"]
+                .iter()
+                .zip(given)
+                .filter(|(_, g)| *g)
+                .map(|(k, _)| *k)
+                .nth(1)
+                .unwrap_or("record");
+            return err(
+                key,
+                ": expected exactly one of record, records, simulate".into(),
+            );
+        }
+        if let Some(r) = &self.record {
+            validate_record(r, &self.channels)?;
+        }
+        if self.records.len() == 1 {
+            return err(
+                "records",
+                ": one record: expected two or more [[operational.records]] (or [operational.record] for one)".into(),
+            );
+        }
+        for (i, r) in self.records.iter().enumerate() {
+            validate_record(r, &self.channels).map_err(|(key, message)| {
+                (
+                    key.replace("operational.record", &format!("operational.records[{i}]")),
+                    message,
+                )
+            })?;
+        }
+        if !(self.merge_tolerance > 0.0 && self.merge_tolerance < 0.5) {
+            return err(
+                "merge_tolerance",
+                format!(
+                    " = {}: expected a relative tolerance in (0, 0.5)",
+                    self.merge_tolerance
+                ),
+            );
+        }
+        if let Some(b) = &self.simulate {
+            validate_building(b)?;
         }
         let table = self.options_table();
         let checked = match self.method {

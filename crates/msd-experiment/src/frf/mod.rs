@@ -44,7 +44,7 @@ mod simulate;
 mod source;
 mod time_domain;
 mod uff;
-mod uff_out;
+pub(crate) mod uff_out;
 
 use crate::config::{ChainPlant, Config};
 use crate::{

@@ -42,7 +42,7 @@ pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Ve
 
 /// Mode `r` as a dataset 55: a complex eigenvalue (first order) with the unit-normalised
 /// shape, each DOF's value in its direction's column (X, Y, Z), signed by the direction.
-fn shape_dataset(name: &str, r: usize, mode: &Mode) -> Data55 {
+pub(crate) fn shape_dataset(name: &str, r: usize, mode: &Mode) -> Data55 {
     let (wn, zeta) = (
         TAU * mode.natural_frequency_hz.value,
         mode.damping_ratio.value,

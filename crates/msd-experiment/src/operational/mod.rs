@@ -8,8 +8,12 @@ mod plots;
 mod pyoma;
 mod read;
 mod report;
+mod series;
+mod series_report;
 
-use crate::config::Config;
+pub use series::{AnalysedRecord, SeriesOutcome, run as run_records};
+
+use crate::config::{Config, OperationalSection};
 use crate::error::{ExperimentError, Result};
 use crate::options::RunOptions;
 use crate::progress::Progress;
@@ -72,11 +76,8 @@ pub fn run(
         || config_path.to_path_buf(),
         |r| config.sources.path(&r.path),
     );
-    let fit = match section.method {
-        OmaMethod::SsiCov => ssi_cov(&loaded.record, &section.ssi),
-        OmaMethod::Efdd => efdd(&loaded.record, &section.efdd),
-    }
-    .map_err(|e| oma_error(e, section.options_table(), config_path, &record_path))?;
+    let fit = analyse(&section, &loaded.record)
+        .map_err(|e| oma_error(e, section.options_table(), config_path, &record_path))?;
     timings.push(("estimation", t.elapsed()));
     let verdict = verdict(&fit, &loaded.left_out, loaded.truth.as_deref());
     Ok(OperationalOutcome {
@@ -97,10 +98,21 @@ pub fn run(
     })
 }
 
+/// The section's method on one record.
+pub(crate) fn analyse(
+    section: &OperationalSection,
+    record: &OutputRecord,
+) -> std::result::Result<OmaFit, msd_modal::ModalError> {
+    match section.method {
+        OmaMethod::SsiCov => ssi_cov(record, &section.ssi),
+        OmaMethod::Efdd => efdd(record, &section.efdd),
+    }
+}
+
 /// msd-modal's refusal as the run's error: a bad option names its key under
 /// `operational.<table>.`, a record too short or with a bad channel is the record's
 /// (exit 2); what the analysis could not find is the run's (exit 1).
-fn oma_error(
+pub(crate) fn oma_error(
     e: msd_modal::ModalError,
     table: &str,
     config_path: &Path,
@@ -336,14 +348,19 @@ pub(crate) fn results(
 /// `modes.csv` (one line per mode: fn and ζ with standard errors and intervals) and
 /// `shapes.csv` (one line per mode and DOF).
 pub(crate) fn tables(o: &OperationalOutcome) -> Vec<(String, String)> {
-    let mut modes = String::from(
+    mode_tables(&o.fit.modes)
+}
+
+/// `modes.csv` and `shapes.csv` of `modes`.
+pub(crate) fn mode_tables(modes: &[msd_modal::Mode]) -> Vec<(String, String)> {
+    let mut table = String::from(
         "mode,natural_frequency_hz,standard_error_hz,ci95_low_hz,ci95_high_hz,damping_ratio,damping_standard_error,damping_ci95_low,damping_ci95_high,mpc,stable_orders\n",
     );
     let mut shapes =
         String::from("mode,node,direction,re,im,standard_error_re,standard_error_im\n");
-    for (k, m) in o.fit.modes.iter().enumerate() {
+    for (k, m) in modes.iter().enumerate() {
         let (f, z) = (&m.natural_frequency_hz, &m.damping_ratio);
-        modes += &format!(
+        table += &format!(
             "{},{},{},{},{},{},{},{},{},{},{}\n",
             k + 1,
             f.value,
@@ -369,7 +386,7 @@ pub(crate) fn tables(o: &OperationalOutcome) -> Vec<(String, String)> {
             );
         }
     }
-    vec![("modes.csv".into(), modes), ("shapes.csv".into(), shapes)]
+    vec![("modes.csv".into(), table), ("shapes.csv".into(), shapes)]
 }
 
 impl crate::finished::Finished for OperationalOutcome {

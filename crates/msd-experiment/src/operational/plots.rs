@@ -4,13 +4,17 @@
 //! behind); for EFDD, `oma_singular_values` (the first singular values in dB, the picked
 //! peaks and the modes).
 
-use super::OperationalOutcome;
+use super::{OperationalOutcome, SeriesOutcome};
 use crate::error::Result;
+use crate::fmt::sig;
 use crate::plots::diagram::Stabilization;
 use crate::plots::panel::{Curve, Panel, PanelFigure, Style};
-use crate::plots::{BLUE, DARK, GRAY, ORANGE, RED, register_fonts, save};
+use crate::plots::{
+    BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, house_mesh, legend_style, limits, register_fonts,
+    save, suptitle, text, tick,
+};
 use msd_modal::{SingularSpectrum, singular_spectrum};
-use plotters::prelude::SeriesLabelPosition;
+use plotters::prelude::*;
 use std::path::Path;
 
 /// Writes the figure; returns its base name.
@@ -151,4 +155,167 @@ fn view(o: &OperationalOutcome) -> Option<[f64; 2]> {
         .map(|m| m.natural_frequency_hz.value)
         .fold(0.0, f64::max);
     (top > 0.0 && 1.33 * top < high).then_some([low, 1.33 * top])
+}
+
+/// Writes `oma_tracks` for a run over several records; returns the names written
+/// (`modes.uff` is written beside it by the caller).
+pub(crate) fn write_tracks(o: &SeriesOutcome, dir: &Path) -> Result<Vec<&'static str>> {
+    register_fonts();
+    save(&Tracks { o }, dir)?;
+    Ok(vec!["oma_tracks"])
+}
+
+/// Each mode's fn (as its deviation from the combined fn, %) and ζ (%) record by record,
+/// with the records' own 95 % intervals; the key beside the panels.
+struct Tracks<'a> {
+    o: &'a SeriesOutcome,
+}
+
+/// A mode's colour and marker: ten colours, then the same with triangles.
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+impl Tracks<'_> {
+    /// Per mode, (record, value, low, high) of fn's deviation in % or of ζ in %.
+    fn points(&self, damping: bool) -> Vec<Vec<(f64, f64, f64, f64)>> {
+        let o = self.o;
+        o.merged
+            .found
+            .iter()
+            .zip(&o.merged.modes)
+            .map(|(found, combined)| {
+                let f0 = combined.natural_frequency_hz.value;
+                found
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(r, i)| {
+                        let m = &o.records[r].fit.modes[(*i)?];
+                        let (i, scale, offset) = if damping {
+                            (&m.damping_ratio, 100.0, 0.0)
+                        } else {
+                            (&m.natural_frequency_hz, 100.0 / f0, 100.0)
+                        };
+                        let v = |x: f64| x * scale - offset;
+                        Some(((r + 1) as f64, v(i.value), v(i.ci95[0]), v(i.ci95[1])))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, plotters::coord::Shift>,
+        damping: bool,
+    ) -> Draw {
+        let points = self.points(damping);
+        // The axis holds every estimate and the intervals up to twice the estimates'
+        // spread beyond them; a longer bar is cut at the axis (its end in tracks.csv).
+        let values: Vec<f64> = points.iter().flatten().map(|p| p.1).collect();
+        let (v0, v1) = limits([values.as_slice()]);
+        let reach = 2.0 * (v1 - v0);
+        let ends: Vec<f64> = points
+            .iter()
+            .flatten()
+            .flat_map(|p| [p.2.max(v0 - reach), p.3.min(v1 + reach)])
+            .filter(|v| v.is_finite())
+            .chain(values.iter().copied())
+            .collect();
+        let (lo, hi) = limits([ends.as_slice()]);
+        let n = self.o.records.len() as f64;
+        let mut chart = ChartBuilder::on(area)
+            .margin(14)
+            .x_label_area_size(50)
+            .y_label_area_size(90)
+            .build_cartesian_2d(0.5..n + 0.5, lo..hi)
+            .map_err(text)?;
+        house_mesh(&mut chart.configure_mesh())
+            .x_desc("record")
+            .y_desc(if damping {
+                "damping ratio ζ [%]"
+            } else {
+                "fn − combined fn [% of fn]"
+            })
+            .x_labels(self.o.records.len().min(20))
+            .x_label_formatter(&|x| format!("{x:.0}"))
+            .y_label_formatter(&tick)
+            .draw()
+            .map_err(text)?;
+        for (k, series) in points.iter().enumerate() {
+            let colour = PALETTE[k % PALETTE.len()];
+            // Modes side by side within a record: the bars do not hide each other.
+            let shift = (k as f64 - 0.5 * points.len() as f64) * 0.6 / points.len() as f64;
+            for &(x, _, a, b) in series {
+                chart
+                    .draw_series(LineSeries::new(
+                        [(x + shift, a.max(lo)), (x + shift, b.min(hi))],
+                        colour.stroke_width(2),
+                    ))
+                    .map_err(text)?;
+            }
+            let marker = |p: (f64, f64)| -> DynElement<'static, DB, (f64, f64)> {
+                if k < PALETTE.len() {
+                    Circle::new(p, 4, colour.filled()).into_dyn()
+                } else {
+                    TriangleMarker::new(p, 5, colour.filled()).into_dyn()
+                }
+            };
+            chart
+                .draw_series(series.iter().map(|&(x, v, ..)| marker((x + shift, v))))
+                .map_err(text)?;
+        }
+        Ok(())
+    }
+}
+
+impl Figure for Tracks<'_> {
+    fn name(&self) -> &'static str {
+        "oma_tracks"
+    }
+    fn size(&self) -> (u32, u32) {
+        (1400, 1000)
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, plotters::coord::Shift>) -> Draw {
+        let area = suptitle(
+            root,
+            "Each mode record by record (95 % intervals of each record's own fit)",
+        )?;
+        let width = area.dim_in_pixel().0 as i32;
+        let (panels, key) = area.split_horizontally(width - 240);
+        let h = panels.dim_in_pixel().1 as i32;
+        let (top, bottom) = panels.split_vertically(h / 2);
+        self.panel(&top, false)?;
+        self.panel(&bottom, true)?;
+        for (k, m) in self.o.merged.modes.iter().enumerate() {
+            let colour = PALETTE[k % PALETTE.len()];
+            let y = 60 + 30 * k as i32;
+            let marker: DynElement<'static, DB, (i32, i32)> = if k < PALETTE.len() {
+                Circle::new((20, y), 5, colour.filled()).into_dyn()
+            } else {
+                TriangleMarker::new((20, y), 6, colour.filled()).into_dyn()
+            };
+            key.draw(&marker).map_err(text)?;
+            key.draw(&Text::new(
+                format!(
+                    "mode {} ({} Hz)",
+                    k + 1,
+                    sig(m.natural_frequency_hz.value, 4)
+                ),
+                (36, y - 9),
+                legend_style(),
+            ))
+            .map_err(text)?;
+        }
+        Ok(())
+    }
 }

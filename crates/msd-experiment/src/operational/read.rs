@@ -32,6 +32,24 @@ pub(crate) fn load(section: &OperationalSection, sources: &Sources, seed: u64) -
             "operational: no record and no simulate",
         ));
     };
+    load_source(source, section, sources)
+}
+
+/// Loads every `[[operational.records]]` entry, in order.
+pub(crate) fn load_records(section: &OperationalSection, sources: &Sources) -> Result<Vec<Loaded>> {
+    section
+        .records
+        .iter()
+        .map(|source| load_source(source, section, sources))
+        .collect()
+}
+
+/// One record file with the section's channels, dead channels handled.
+fn load_source(
+    source: &RecordSource,
+    section: &OperationalSection,
+    sources: &Sources,
+) -> Result<Loaded> {
     let csv = source
         .path
         .extension()
