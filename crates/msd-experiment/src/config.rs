@@ -58,7 +58,8 @@ pub use frf::{
 };
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
 pub use operational::{
-    DeadChannels, OperationalSection, OutputChannelSection, RecordSource, SimulatedBuilding,
+    DeadChannels, GeometrySection, OperationalSection, OutputChannelSection, RecordSource,
+    SimulatedBuilding,
 };
 pub use pilot::PilotSection;
 pub use setup::{ExcitationKind, Frame, Quantity, Response, SetupSection, StrokeCondition};

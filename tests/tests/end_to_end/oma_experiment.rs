@@ -165,13 +165,25 @@ fn several_records_are_tracked_and_combined() {
     let dir = tempfile::tempdir().unwrap();
     write_building_csv(&dir.path().join("hour1.csv"), 7, |_, _| {});
     write_building_csv(&dir.path().join("hour2.csv"), 8, |_, _| {});
+    // The floors on a line up the z axis, drawn from the ground (node 0).
+    std::fs::write(
+        dir.path().join("nodes.txt"),
+        "node x y z\n0 0 0 0\n1 0 0 3\n2 0 0 6\n3 0 0 9\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("lines.txt"), "0 1\n1 2\n2 3\n").unwrap();
     let write = |files: &[&str]| {
         let records: String = files
             .iter()
             .map(|f| format!("[[operational.records]]\npath = \"{f}\"\ntime = \"t\"\n"))
             .collect();
         let path = dir.path().join("monitor.toml");
-        std::fs::write(&path, format!("name = \"monitor\"\n{records}{CHANNELS}")).unwrap();
+        let geometry = "[operational.geometry]\nnodes = \"nodes.txt\"\nlines = \"lines.txt\"\n";
+        std::fs::write(
+            &path,
+            format!("name = \"monitor\"\n{records}{CHANNELS}{geometry}"),
+        )
+        .unwrap();
         path
     };
     let summary = run(&write(&["hour1.csv", "hour2.csv"])).expect("runs");
@@ -197,7 +209,7 @@ fn several_records_are_tracked_and_combined() {
     assert_eq!(tracks.lines().count(), 1 + 3 * 2, "{tracks}");
     let uff = msd_uff::read(out.join("modes.uff")).expect("modes.uff reads back");
     assert_eq!(uff.data_at_nodes.len(), 3);
-    assert!(out.join("oma_tracks.png").exists());
+    assert!(out.join("oma_tracks.png").exists() && out.join("oma_shapes.svg").exists());
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## Modes over the records"), "{report}");
 
@@ -207,6 +219,13 @@ fn several_records_are_tracked_and_combined() {
     let err = run(&write(&["hour1.csv", "hour9.csv"])).expect_err("a missing file");
     assert_eq!(err.exit_code(), 2);
     assert!(err.to_string().contains("hour9.csv"), "{err}");
+    std::fs::write(dir.path().join("lines.txt"), "0 1\n1 2\n2 7\n").unwrap();
+    let err = run(&write(&["hour1.csv", "hour2.csv"])).expect_err("an unknown node");
+    assert_eq!(err.exit_code(), 2);
+    assert!(
+        err.to_string().contains("lines.txt") && err.to_string().contains("line 3: node 7"),
+        "{err}"
+    );
 }
 
 fn run(path: &Path) -> Result<msd_experiment::RunSummary, msd_experiment::ExperimentError> {

@@ -56,6 +56,9 @@ pub struct OperationalSection {
     /// A simulated shear building (the truth known).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub simulate: Option<SimulatedBuilding>,
+    /// The structure's nodes and lines, to draw the shapes on (`oma_shapes`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<GeometrySection>,
     /// The channels of a CSV record (for a `.npy` record: read from its
     /// `channel_dofs.txt` and `setup_info.txt` unless given here).
     #[serde(default)]
@@ -74,6 +77,26 @@ pub struct OperationalSection {
     /// EFDD's options (msd-modal's `FddOptions`, as they are).
     #[serde(default)]
     pub efdd: FddOptions,
+}
+
+/// The files of a structure's geometry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometrySection {
+    /// Nodes: a node number and its x, y, z per line (z up; any length unit), an optional
+    /// header line (pyOMA's `grid.txt`).
+    pub nodes: PathBuf,
+    /// Lines: two node numbers per line (pyOMA's `lines.txt`). By default none (the nodes
+    /// alone are drawn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lines: Option<PathBuf>,
+    /// The coordinates' unit, for the figure. By default `"m"`.
+    #[serde(default = "metre")]
+    pub unit: String,
+}
+
+fn metre() -> String {
+    "m".into()
 }
 
 /// What is done with a dead channel.

@@ -4,13 +4,16 @@
 //! truth), dead channels are left out or refused, and msd-modal's [`ssi_cov`] finds the
 //! modes with their intervals and the stabilization diagram.
 
+mod geometry;
 mod plots;
 mod pyoma;
 mod read;
 mod report;
 mod series;
 mod series_report;
+mod shapes_plot;
 
+pub use geometry::Geometry;
 pub use series::{AnalysedRecord, SeriesOutcome, run as run_records};
 
 use crate::config::{Config, OperationalSection};
@@ -46,6 +49,8 @@ pub struct OperationalOutcome {
     pub files: Vec<PathBuf>,
     /// The modes, the diagram and the settings.
     pub fit: OmaFit,
+    /// The structure's geometry, where the config gives it.
+    pub geometry: Option<Geometry>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
     /// Whether the modes can be trusted, and why.
@@ -69,6 +74,11 @@ pub fn run(
     progress.stage("data");
     let t = Instant::now();
     let loaded = read::load(&section, &config.sources, seed)?;
+    let geometry = section
+        .geometry
+        .as_ref()
+        .map(|g| geometry::read(g, &config.sources))
+        .transpose()?;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
     let t = Instant::now();
@@ -93,6 +103,7 @@ pub fn run(
         truth: loaded.truth,
         files: loaded.files,
         fit,
+        geometry,
         timings,
         verdict,
     })

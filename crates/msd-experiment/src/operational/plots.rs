@@ -4,6 +4,7 @@
 //! behind); for EFDD, `oma_singular_values` (the first singular values in dB, the picked
 //! peaks and the modes).
 
+use super::shapes_plot::ShapesFigure;
 use super::{OperationalOutcome, SeriesOutcome};
 use crate::error::Result;
 use crate::fmt::sig;
@@ -13,7 +14,7 @@ use crate::plots::{
     BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, house_mesh, legend_style, limits, register_fonts,
     save, suptitle, text, tick,
 };
-use msd_modal::{SingularSpectrum, singular_spectrum};
+use msd_modal::{SingularSpectrum, node_components, singular_spectrum};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -21,6 +22,7 @@ use std::path::Path;
 pub(crate) fn write_all(o: &OperationalOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
     if let Some(spectrum) = &o.fit.spectrum {
+        let mut names = vec!["oma_singular_values"];
         let lines: Vec<[f64; 2]> = o
             .fit
             .modes
@@ -28,7 +30,8 @@ pub(crate) fn write_all(o: &OperationalOutcome, dir: &Path) -> Result<Vec<&'stat
             .map(|m| [m.natural_frequency_hz.value; 2])
             .collect();
         save(&singular_values(o, spectrum, &lines), dir)?;
-        return Ok(vec!["oma_singular_values"]);
+        names.extend(shapes(o, dir)?);
+        return Ok(names);
     }
     let behind = singular_spectrum(&o.record, None, Some(o.fit.diagram.band_hz))
         .map(|s| {
@@ -50,7 +53,29 @@ pub(crate) fn write_all(o: &OperationalOutcome, dir: &Path) -> Result<Vec<&'stat
         },
         dir,
     )?;
-    Ok(vec!["oma_stabilization"])
+    let mut names = vec!["oma_stabilization"];
+    names.extend(shapes(o, dir)?);
+    Ok(names)
+}
+
+/// `oma_shapes` where the config gives a geometry: each mode's oblique channels
+/// resolved into x, y, z at their node.
+fn shapes(o: &OperationalOutcome, dir: &Path) -> Result<Option<&'static str>> {
+    let (Some(geometry), Some(section)) = (&o.geometry, geometry_section(&o.config)) else {
+        return Ok(None);
+    };
+    let modes: Vec<_> = o
+        .fit
+        .modes
+        .iter()
+        .map(|m| (m.clone(), node_components(&o.record, &m.shape)))
+        .collect();
+    save(&ShapesFigure::new(geometry, &section.unit, &modes), dir)?;
+    Ok(Some("oma_shapes"))
+}
+
+fn geometry_section(config: &crate::config::Config) -> Option<&crate::config::GeometrySection> {
+    config.operational.as_ref()?.geometry.as_ref()
 }
 
 /// EFDD's figure: the singular values in dB over the band shown, the peaks picked
@@ -162,7 +187,18 @@ fn view(o: &OperationalOutcome) -> Option<[f64; 2]> {
 pub(crate) fn write_tracks(o: &SeriesOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
     save(&Tracks { o }, dir)?;
-    Ok(vec!["oma_tracks"])
+    let mut names = vec!["oma_tracks"];
+    if let (Some(geometry), Some(section)) = (&o.geometry, geometry_section(&o.config)) {
+        let modes: Vec<_> = o
+            .merged
+            .modes
+            .iter()
+            .map(|m| (m.clone(), m.shape.clone()))
+            .collect();
+        save(&ShapesFigure::new(geometry, &section.unit, &modes), dir)?;
+        names.push("oma_shapes");
+    }
+    Ok(names)
 }
 
 /// Each mode's fn (as its deviation from the combined fn, %) and ζ (%) record by record,

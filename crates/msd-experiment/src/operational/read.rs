@@ -244,7 +244,7 @@ fn read_npy(
     ))
 }
 
-fn text(sources: &Sources, path: &Path, key: &str) -> Result<String> {
+pub(crate) fn text(sources: &Sources, path: &Path, key: &str) -> Result<String> {
     let resolved = sources.path(path);
     let bytes = sources.bytes(&resolved, key)?;
     String::from_utf8(bytes)

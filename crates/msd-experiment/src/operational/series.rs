@@ -44,6 +44,8 @@ pub struct SeriesOutcome {
     /// The modes over the records: fn and ζ from the records that found each, shapes over
     /// every DOF, which record found which mode and how well its references agree.
     pub merged: MergedFit,
+    /// The structure's geometry, where the config gives it.
+    pub geometry: Option<super::Geometry>,
     /// Wall time of each stage, in order.
     pub timings: Vec<(&'static str, Duration)>,
     /// Whether the modes can be trusted, and why.
@@ -66,6 +68,11 @@ pub fn run(
     progress.stage("data");
     let t = Instant::now();
     let loaded = load_records(&section, &config.sources)?;
+    let geometry = section
+        .geometry
+        .as_ref()
+        .map(|g| super::geometry::read(g, &config.sources))
+        .transpose()?;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
     let t = Instant::now();
@@ -115,6 +122,7 @@ pub fn run(
         config_path: config_path.to_path_buf(),
         records,
         merged,
+        geometry,
         timings,
         verdict,
     })
