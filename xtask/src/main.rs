@@ -110,6 +110,9 @@ struct OmaStudyArgs {
     /// Worker threads.
     #[arg(long, default_value_t = 2)]
     threads: usize,
+    /// The method: ssi-cov, ssi-dat or efdd.
+    #[arg(long, default_value = "ssi-cov")]
+    method: String,
 }
 
 #[derive(Debug, clap::Args)]
@@ -167,10 +170,23 @@ fn try_main() -> Result<(), ExperimentError> {
             &[
                 format!("--seeds={}", args.seeds),
                 format!("--threads={}", args.threads),
+                format!("--method={}", args.method),
             ],
         ),
         Some(Command::OmaStudyRun(args)) => {
-            let study = xtask::oma_study::run(args.seeds, args.threads)?;
+            let method: msd_modal::OmaMethod = serde_json::from_value(serde_json::Value::String(
+                args.method.clone(),
+            ))
+            .map_err(|_| {
+                msd_experiment::ExperimentError::run(
+                    "oma-study",
+                    format!(
+                        "--method {}: expected ssi-cov, ssi-dat or efdd",
+                        args.method
+                    ),
+                )
+            })?;
+            let study = xtask::oma_study::run(args.seeds, args.threads, method)?;
             println!("{study}");
             let dir = xtask::project_root().join("target").join("oma-study");
             xtask::oma_study::write(&study, &dir)?;

@@ -1,12 +1,12 @@
 //! Coverage of output-only analysis's intervals over seeds (issue 43): pyOMA2's
 //! five-storey shear building (25.91 kg floors on 10 kN/m storeys, ζ = 2 % in every mode,
 //! white-noise forces, accelerations at 100 Hz with 10 % noise, 30,001 samples), analysed
-//! by `ssi_cov` at default settings; for each true mode, how often it is found (within
+//! by `ssi_cov` (or `--method ssi-dat` / `efdd`) at default settings; for each true mode, how often it is found (within
 //! 2 %), how often the 95 % intervals of fn and ζ hold the truth, and the spread of the
 //! estimates over their reported standard errors.
 
 use msd_experiment::ExperimentError;
-use msd_modal::{OmaOptions, ShearBuilding, ssi_cov};
+use msd_modal::{FddOptions, OmaMethod, OmaOptions, ShearBuilding, efdd, ssi_cov, ssi_dat};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
@@ -34,14 +34,16 @@ pub struct ModeCoverage {
 pub struct OmaStudy {
     /// Records analysed.
     pub seeds: usize,
+    /// The method studied.
+    pub method: String,
     /// Per true mode.
     pub modes: Vec<ModeCoverage>,
     /// Seeds whose fit reported a mode that is not a true one.
     pub seeds_with_extra_modes: usize,
 }
 
-/// Runs `seeds` records on `threads` workers.
-pub fn run(seeds: usize, threads: usize) -> Result<OmaStudy, ExperimentError> {
+/// Runs `seeds` records through `method` at default settings on `threads` workers.
+pub fn run(seeds: usize, threads: usize, method: OmaMethod) -> Result<OmaStudy, ExperimentError> {
     let building = ShearBuilding {
         masses: vec![25.91; 5],
         stiffnesses: vec![10_000.0; 5],
@@ -71,7 +73,12 @@ pub fn run(seeds: usize, threads: usize) -> Result<OmaStudy, ExperimentError> {
                 let record = building
                     .ambient_record(100.0, 30_001, 0.1, || draws.next().unwrap_or(0.0))
                     .map_err(fail)?;
-                let fit = ssi_cov(&record, &OmaOptions::default()).map_err(fail)?;
+                let fit = match method {
+                    OmaMethod::SsiCov => ssi_cov(&record, &OmaOptions::default()),
+                    OmaMethod::SsiDat => ssi_dat(&record, &OmaOptions::default()),
+                    OmaMethod::Efdd => efdd(&record, &FddOptions::default()),
+                }
+                .map_err(fail)?;
                 let found = truth
                     .iter()
                     .map(|&f| {
@@ -125,6 +132,7 @@ pub fn run(seeds: usize, threads: usize) -> Result<OmaStudy, ExperimentError> {
         })
         .collect();
     Ok(OmaStudy {
+        method: method.to_string(),
         seeds,
         modes,
         seeds_with_extra_modes: per_seed.iter().filter(|s| s.1).count(),
@@ -133,6 +141,7 @@ pub fn run(seeds: usize, threads: usize) -> Result<OmaStudy, ExperimentError> {
 
 impl std::fmt::Display for OmaStudy {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "{}, {} seeds", self.method, self.seeds)?;
         writeln!(
             f,
             "| true fn [Hz] | found | coverage fn | coverage ζ | sd of z, fn | sd of z, ζ |\n|---|---|---|---|---|---|"

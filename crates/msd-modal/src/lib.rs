@@ -23,7 +23,7 @@
 //!   [`FrfWeighting`] (coherence, variance, relative, uniform);
 //! - output-only (operational) analysis of records with no measured input
 //!   ([`OutputRecord`]): [`ssi_cov`], covariance-driven stochastic subspace identification
-//!   with references, its diagram, the automatic selection by clustering and jackknife
+//!   with references (and [`ssi_dat`], its data-driven form), its diagram, the automatic selection by clustering and jackknife
 //!   intervals ([`OmaOptions`], [`OmaFit`]); [`efdd`], frequency domain decomposition
 //!   with EFDD's damping, the quick look ([`FddOptions`], [`SingularSpectrum`], and
 //!   [`singular_spectrum`], the CMIF behind any diagram); [`merge_setups`] merges several setups
@@ -77,7 +77,7 @@ pub use msd_signal::FrequencyResponseEstimate;
 pub use oma::{
     FddOptions, MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity,
     Setup, ShearBuilding, SingularSpectrum, direction_from_angles, efdd, merge_setups,
-    node_components, singular_spectrum, ssi_cov,
+    node_components, singular_spectrum, ssi_cov, ssi_dat,
 };
 pub use options::ModalOptions;
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};

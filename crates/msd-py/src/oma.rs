@@ -4,7 +4,7 @@
 use crate::convert::{options, result_dict};
 use crate::errors;
 use msd_modal::{
-    Dof, FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, efdd, merge_setups, ssi_cov,
+    Dof, FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, efdd, merge_setups, ssi_cov, ssi_dat,
 };
 use numpy::PyReadonlyArray2;
 use pyo3::exceptions::PyValueError;
@@ -23,15 +23,16 @@ type PySetup<'py> = (
     Vec<String>,
 );
 
-/// The method named (`"ssi-cov"` or `"efdd"`) with its options parsed: a closure
+/// The method named (`"ssi-cov"`, `"ssi-dat"` or `"efdd"`) with its options parsed: a closure
 /// analysing one record.
 fn analysis(method: &str, options_json: &str) -> PyResult<impl Fn(&OutputRecord) -> Result<OmaFit, msd_modal::ModalError> + Send + Sync> {
     let method: OmaMethod = options("method", &serde_json::to_string(method).unwrap_or_default())?;
     let (ssi, fdd): (Option<OmaOptions>, Option<FddOptions>) = match method {
-        OmaMethod::SsiCov => (Some(options("oma options", options_json)?), None),
+        OmaMethod::SsiCov | OmaMethod::SsiDat => (Some(options("oma options", options_json)?), None),
         OmaMethod::Efdd => (None, Some(options("efdd options", options_json)?)),
     };
     Ok(move |record: &OutputRecord| match (&ssi, &fdd) {
+        (Some(o), _) if method == OmaMethod::SsiDat => ssi_dat(record, o),
         (Some(o), _) => ssi_cov(record, o),
         (_, Some(o)) => efdd(record, o),
         (None, None) => unreachable!("one method's options are parsed"),
@@ -41,7 +42,7 @@ fn analysis(method: &str, options_json: &str) -> PyResult<impl Fn(&OutputRecord)
 /// oma(data, sample_rate_hz, references, dofs, directions, quantities, names, method, options_json)
 /// --
 ///
-/// msd-modal's `ssi_cov` (method "ssi-cov") or `efdd` ("efdd") on `data` (samples ×
+/// msd-modal's `ssi_cov` (method "ssi-cov"), `ssi_dat` ("ssi-dat") or `efdd` ("efdd") on `data` (samples ×
 /// channels): every channel's DOF (node, direction), oblique direction (a unit vector or
 /// None), quantity and name; the reference channels' indices (None: all).
 #[pyfunction]

@@ -46,6 +46,16 @@ def test_every_mode_of_an_independently_simulated_building_is_found():
     assert "SSI-cov/ref" in repr(fit)
 
 
+def test_data_driven_ssi_finds_the_independently_simulated_building():
+    pytest.importorskip("scipy")
+    y, fs, truth = shear_building()
+    fit = msd.oma(y, fs, method="ssi-dat")
+    assert len(fit.modes) == 5, fit
+    for mode, f in zip(fit.modes, truth):
+        assert abs(mode.natural_frequency_hz.value / f - 1) < 0.005
+    assert "SSI-dat/ref" in repr(fit)
+
+
 def test_efdd_finds_the_independently_simulated_building():
     # EFDD, the quick look: every mode within 1 % (the upper pair, 13 % apart, pull each
     # other by up to 0.4 %: msd-modal's tests/modal/efdd.rs); the singular values and the

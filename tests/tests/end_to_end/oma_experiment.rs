@@ -416,17 +416,24 @@ fn every_steel_frame_setup_finds_ten_of_the_eleven_reference_modes_at_defaults()
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    for setup in 1..=10 {
-        let found = steel_setup_modes(dir.path(), setup, "ssi-cov");
-        let matched = REFERENCE
-            .iter()
-            .filter(|(f, z)| {
-                found.iter().any(|(g, _, w, _)| {
-                    (g / f - 1.0).abs() < 0.005 && (0.5..=2.0).contains(&(100.0 * w / z))
+    // Data-driven SSI, measured: 9–11 per setup (two setups lose ζ of two modes
+    // beyond 2×), nothing the reference lacks.
+    for (method, least) in [("ssi-cov", 10), ("ssi-dat", 9)] {
+        for setup in 1..=10 {
+            let found = steel_setup_modes(dir.path(), setup, method);
+            let matched = REFERENCE
+                .iter()
+                .filter(|(f, z)| {
+                    found.iter().any(|(g, _, w, _)| {
+                        (g / f - 1.0).abs() < 0.005 && (0.5..=2.0).contains(&(100.0 * w / z))
+                    })
                 })
-            })
-            .count();
-        assert!(matched >= 10, "setup {setup}: {matched} of 11 in {found:?}");
+                .count();
+            assert!(
+                matched >= least,
+                "{method}, setup {setup}: {matched} of 11 in {found:?}"
+            );
+        }
     }
 }
 

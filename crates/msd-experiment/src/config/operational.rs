@@ -67,8 +67,9 @@ pub struct OperationalSection {
     /// default: named in the report) or `"refuse"`.
     #[serde(default)]
     pub dead_channels: DeadChannels,
-    /// The method: `"ssi-cov"` (the default: SSI-cov/ref with automatic selection) or
-    /// `"efdd"` (frequency domain decomposition with EFDD's damping: the quick look).
+    /// The method: `"ssi-cov"` (the default: SSI-cov/ref with automatic selection),
+    /// `"ssi-dat"` (data-driven SSI/ref, the same options) or `"efdd"` (frequency domain
+    /// decomposition with EFDD's damping: the quick look).
     #[serde(default)]
     pub method: OmaMethod,
     /// SSI-cov/ref's options (msd-modal's `OmaOptions`, as they are).
@@ -261,7 +262,7 @@ impl OperationalSection {
         }
         let table = self.options_table();
         let checked = match self.method {
-            OmaMethod::SsiCov => self.ssi.validate(),
+            OmaMethod::SsiCov | OmaMethod::SsiDat => self.ssi.validate(),
             OmaMethod::Efdd => self.efdd.validate(),
         };
         checked.map_err(|e| match e {
@@ -280,7 +281,7 @@ impl OperationalSection {
     /// The table holding the chosen method's options: `ssi` or `efdd`.
     pub fn options_table(&self) -> &'static str {
         match self.method {
-            OmaMethod::SsiCov => "ssi",
+            OmaMethod::SsiCov | OmaMethod::SsiDat => "ssi",
             OmaMethod::Efdd => "efdd",
         }
     }

@@ -22,7 +22,7 @@ use crate::options::RunOptions;
 use crate::progress::Progress;
 use crate::results::Experiment;
 use crate::verdict::{Finding, Verdict};
-use msd_modal::{OmaFit, OmaMethod, OutputRecord, efdd, ssi_cov};
+use msd_modal::{OmaFit, OmaMethod, OutputRecord, efdd, ssi_cov, ssi_dat};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -116,6 +116,7 @@ pub(crate) fn analyse(
 ) -> std::result::Result<OmaFit, msd_modal::ModalError> {
     match section.method {
         OmaMethod::SsiCov => ssi_cov(record, &section.ssi),
+        OmaMethod::SsiDat => ssi_dat(record, &section.ssi),
         OmaMethod::Efdd => efdd(record, &section.efdd),
     }
 }
@@ -158,9 +159,9 @@ fn verdict(
     findings.push(Finding {
         passed: found,
         text: match (found, fit.method) {
-            (true, OmaMethod::SsiCov) => format!("{} modes stable across the model orders, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks),
+            (true, OmaMethod::SsiCov | OmaMethod::SsiDat) => format!("{} modes stable across the model orders, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks),
             (true, OmaMethod::Efdd) => format!("{} modes at peaks of the first singular value, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks),
-            (false, OmaMethod::SsiCov) => "no mode is stable across the model orders: widen operational.ssi.orders, or check the record (a band with no mode, or noise alone)".into(),
+            (false, OmaMethod::SsiCov | OmaMethod::SsiDat) => "no mode is stable across the model orders: widen operational.ssi.orders, or check the record (a band with no mode, or noise alone)".into(),
             (false, OmaMethod::Efdd) => "no peak of the first singular value gave a decaying correlation function: lower operational.efdd.min_correlation, or try method = \"ssi-cov\"".into(),
         },
     });
@@ -172,7 +173,7 @@ fn verdict(
             .collect();
         findings.push(Finding {
             passed: true,
-            text: format!("{} more columns of the diagram ({}) are not reported as modes: the record less one block lost them", list.len(), list.join(", ")),
+            text: format!("{} more columns of the diagram ({}) are not reported as modes: the record less one block lost them, or they split a reported mode (within 1 % and MAC ≥ 0.9 of it)", list.len(), list.join(", ")),
         });
     }
     if !left_out.is_empty() {
@@ -347,7 +348,7 @@ pub(crate) fn results(
                 .collect()
         }),
         options: match section.method {
-            OmaMethod::SsiCov => Options::Ssi(&section.ssi),
+            OmaMethod::SsiCov | OmaMethod::SsiDat => Options::Ssi(&section.ssi),
             OmaMethod::Efdd => Options::Efdd(&section.efdd),
         },
         diagram: &o.fit.diagram,

@@ -47,7 +47,11 @@ pub(crate) fn write_all(o: &OperationalOutcome, dir: &Path) -> Result<Vec<&'stat
             diagram: &o.fit.diagram,
             behind,
             name: "oma_stabilization",
-            title: "Stabilization diagram (SSI-cov poles by model order)",
+            title: if o.fit.method == msd_modal::OmaMethod::SsiDat {
+                "Stabilization diagram (SSI-dat poles by model order)"
+            } else {
+                "Stabilization diagram (SSI-cov poles by model order)"
+            },
             behind_label: "first singular value of the output spectral matrix (CMIF, log scale)",
             view_hz: view(o),
         },

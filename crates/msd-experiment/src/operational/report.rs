@@ -115,7 +115,7 @@ fn modes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     if !o.fit.unconfirmed.is_empty() {
         writeln!(
             s,
-            "Not reported as modes (the record less one block lost them): {}.\n",
+            "Not reported as modes (the record less one block lost them, or they split a reported mode: within 1 % and MAC ≥ 0.9 of it): {}.\n",
             o.fit
                 .unconfirmed
                 .iter()
@@ -183,10 +183,15 @@ fn method(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     match (f.block_rows, &f.spectrum) {
         (Some(i), _) => writeln!(
             s,
-            "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {i} block rows; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles at every fourth order. {jackknife} Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
+            "{}: the covariances of every channel with the references ({}) at lags 1 … {} fill a block Toeplitz matrix of {i} block rows{}; its SVD gives the poles and shapes at model orders {}–{}. A pole is stable when the order before has one within 1 % in fn and MAC ≥ 0.98; the stable poles are clustered (average linkage on |Δf|/f + 1 − MAC) and a cluster with poles at enough orders is a mode, its estimate the mean of its poles at every fourth order. {jackknife} Every threshold is an option of `[operational.ssi]` (configs/README.md).\n",
             f.method,
             f.references.join(", "),
             2 * i - 1,
+            if f.method == msd_modal::OmaMethod::SsiDat {
+                ", weighted on the right by the inverse Cholesky factor of the past references' covariance matrix (the data-driven algorithm's projection of the future outputs on the past references)"
+            } else {
+                ""
+            },
             f.diagram.orders.first().map_or(0, |o| o.order),
             f.diagram.orders.last().map_or(0, |o| o.order),
         ),

@@ -26,26 +26,12 @@ pub(crate) struct Lags {
 }
 
 impl BlockCovariances {
-    /// The products at lags 1..=`max_lag` of `channels` (each centred and scaled, of one
+    /// The products at the lags `lags` of `channels` (each centred and scaled, of one
     /// length) against the channels `references`, in `blocks` blocks of nearly equal
     /// length. Each block's lagged products come from one FFT per channel (its samples,
     /// and the next `max_lag` for the lagged side, zero-padded) and one inverse FFT per
     /// channel and reference: the cost is linear in the record's length. FFTs by
     /// rustfft's scalar planner: the same numbers on every machine.
-    pub(crate) fn new(
-        channels: &[Vec<f64>],
-        references: &[usize],
-        max_lag: usize,
-        blocks: usize,
-    ) -> Self {
-        let lags = Lags {
-            first: 1,
-            last: max_lag,
-        };
-        Self::with_lags(channels, references, lags, blocks)
-    }
-
-    /// As [`new`](Self::new), at the lags `lags`.
     pub(crate) fn with_lags(
         channels: &[Vec<f64>],
         references: &[usize],
@@ -136,6 +122,54 @@ pub(crate) fn block_toeplitz(covariances: &[DMatrix<f64>], i: usize) -> DMatrix<
     })
 }
 
+/// The matrix whose left singular vectors span the observability matrix: SSI-cov's
+/// block Toeplitz matrix T of `i` block rows, or SSI-dat's T·L⁻ᵀ with L the Cholesky
+/// factor of the past references' covariance matrix G (computed as T·G^{-1/2}) (the projection of the future outputs
+/// on the past references, Y_f/Y_p^ref = L21·Q1ᵀ, has the left singular vectors of
+/// L21 = T·L⁻ᵀ: the data-driven algorithm's QR done on the covariances; Peeters & De
+/// Roeck 1999, Van Overschee & De Moor 1996 § 3.3). `covariances[k]` is R_k from lag 0;
+/// `references` index the channels (the rows of R_k) that are references. `None` where
+/// G's eigenvalues do not converge.
+pub(crate) fn subspace_matrix(
+    covariances: &[DMatrix<f64>],
+    i: usize,
+    references: &[usize],
+    data_driven: bool,
+) -> Option<DMatrix<f64>> {
+    let t = block_toeplitz(&covariances[1..], i);
+    if !data_driven {
+        return Some(t);
+    }
+    let r = references.len();
+    // Past block b holds y_ref(t + b): block (b, c) is E[y_ref(t+b)·y_ref(t+c)ᵀ] =
+    // R_ref(b − c), R_ref(−k) = R_ref(k)ᵀ.
+    let past = DMatrix::from_fn(i * r, i * r, |row, col| {
+        let (b, p) = (row / r, row % r);
+        let (c, q) = (col / r, col % r);
+        if b >= c {
+            covariances[b - c][(references[p], q)]
+        } else {
+            covariances[c - b][(references[q], p)]
+        }
+    });
+    // T·L⁻ᵀ and T·G^{-1/2} (G = L·Lᵀ) differ by an orthogonal factor on the right: the
+    // same left singular vectors. The symmetric root, as a pseudo-inverse, also holds
+    // where G is singular to rounding (a reference's spectrum empty above the
+    // anti-aliasing filter makes the long Toeplitz matrix so): directions below 1e-10 of
+    // its largest eigenvalue carry no past to project on and are left out, as the QR of
+    // the data would leave them.
+    let eig = nalgebra::SymmetricEigen::try_new(past, 1e-14, 10_000)?;
+    let largest = eig.eigenvalues.iter().copied().fold(0.0, f64::max);
+    let root = DMatrix::from_diagonal(&eig.eigenvalues.map(|v| {
+        if v > 1e-10 * largest {
+            1.0 / v.sqrt()
+        } else {
+            0.0
+        }
+    }));
+    Some(t * (&eig.eigenvectors * root * eig.eigenvectors.transpose()))
+}
+
 /// The FFT of `x` zero-padded to `size`.
 fn transformed(x: &[f64], size: usize, fft: &dyn rustfft::Fft<f64>) -> Vec<Complex64> {
     let mut buffer: Vec<Complex64> = x.iter().map(|&v| Complex64::new(v, 0.0)).collect();
@@ -153,8 +187,9 @@ mod tests {
         let x: Vec<f64> = (0..103).map(|t| (0.37 * t as f64).sin()).collect();
         let y: Vec<f64> = (0..103).map(|t| (0.11 * t as f64).cos()).collect();
         let channels = vec![x.clone(), y.clone()];
-        let one = BlockCovariances::new(&channels, &[1], 3, 1);
-        let five = BlockCovariances::new(&channels, &[1], 3, 5);
+        let lags = Lags { first: 1, last: 3 };
+        let one = BlockCovariances::with_lags(&channels, &[1], lags, 1);
+        let five = BlockCovariances::with_lags(&channels, &[1], lags, 5);
         let direct: f64 = (0..103 - 2).map(|t| x[t + 2] * y[t]).sum::<f64>() / 101.0;
         for cov in [one.covariances(None), five.covariances(None)] {
             assert!((cov[1][(0, 0)] - direct).abs() < 1e-13); // FFT rounding: ε·log₂(size)·Σ|x||y|

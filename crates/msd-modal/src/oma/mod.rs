@@ -31,7 +31,7 @@ pub use merge::{MergedFit, Setup, merge_setups, node_components};
 pub use options::{FddOptions, OmaOptions};
 pub use record::{OutputChannel, OutputRecord, Quantity, direction_from_angles};
 pub use spectrum::{SingularSpectrum, singular_spectrum};
-pub use ssi::ssi_cov;
+pub use ssi::{ssi_cov, ssi_dat};
 
 use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::mode::Mode;
@@ -43,6 +43,8 @@ pub enum OmaMethod {
     /// Covariance-driven SSI with reference channels (the default).
     #[default]
     SsiCov,
+    /// Data-driven SSI with reference channels.
+    SsiDat,
     /// Frequency domain decomposition with EFDD's damping.
     Efdd,
 }
@@ -51,6 +53,7 @@ impl std::fmt::Display for OmaMethod {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             Self::SsiCov => "SSI-cov/ref",
+            Self::SsiDat => "SSI-dat/ref",
             Self::Efdd => "EFDD",
         })
     }
@@ -77,8 +80,9 @@ pub struct OmaFit {
     /// order).
     pub singular_values: Vec<f64>,
     /// Columns the automatic selection chose that a jackknife replicate lost (the record
-    /// less one block has no pole within `cluster_distance` of them): too weak or too
-    /// fragile to be reported as modes, listed so that nothing is hidden.
+    /// less one block has no pole within `cluster_distance` of them), or that split a
+    /// larger column's mode (within `frequency_tolerance` of it, MAC ≥ 0.9): too weak,
+    /// too fragile or doubled to be reported as modes, listed so that nothing is hidden.
     pub unconfirmed: Vec<StableColumn>,
     /// EFDD's singular value spectrum with the peaks it picked (`None` for SSI: see
     /// [`singular_spectrum`] for its overlay).
@@ -109,7 +113,7 @@ impl std::fmt::Display for OmaFit {
         for c in &self.unconfirmed {
             write!(
                 f,
-                "\n  unconfirmed: fn = {:.5} Hz, ζ = {:.5} (lost when a block of the record is left out)",
+                "\n  unconfirmed: fn = {:.5} Hz, ζ = {:.5} (lost when a block of the record is left out, or a split of a reported mode)",
                 c.natural_frequency_hz, c.damping_ratio
             )?;
         }

@@ -294,3 +294,30 @@ pub(crate) fn column(cluster: &Cluster, poles: &[Physical]) -> StableColumn {
         at_peak: true,
     }
 }
+
+/// The automatic selection less the splits of a mode: a chosen cluster within
+/// `frequency_tolerance` (relative) of a larger chosen one, with MAC ≥ 0.9 between their
+/// representatives, is the same mode identified twice at high orders (one physical mode
+/// has one pole per order; its split copies share orders with it). Returns the kept
+/// clusters and the splits.
+pub(crate) fn without_splits(
+    chosen: Vec<usize>,
+    clusters: &[Cluster],
+    poles: &[Physical],
+    options: &OmaOptions,
+) -> (Vec<usize>, Vec<usize>) {
+    if !options.frequencies_hz.is_empty() {
+        return (chosen, Vec::new());
+    }
+    let rep = |c: usize| &poles[clusters[c].representative];
+    let split = |c: usize| {
+        chosen.iter().any(|&d| {
+            let (a, b) = (rep(c), rep(d));
+            d != c
+                && clusters[d].members.len() > clusters[c].members.len()
+                && (a.frequency_hz / b.frequency_hz - 1.0).abs() <= options.frequency_tolerance
+                && mac(&a.shape, &b.shape) >= 0.9
+        })
+    };
+    chosen.iter().copied().partition(|&c| !split(c))
+}

@@ -4,11 +4,13 @@
 use msd_opt::statistics::t_975;
 use msd_signal::Complex64;
 
-use super::covariance::{BlockCovariances, block_toeplitz};
+use super::covariance::{BlockCovariances, Lags, subspace_matrix};
 use super::horizon::block_rows;
 use super::options::OmaOptions;
 use super::record::OutputRecord;
-use super::select::{Physical, clusters, column, flag_stability, mean_pole, selected};
+use super::select::{
+    Physical, clusters, column, flag_stability, mean_pole, selected, without_splits,
+};
 use super::subspace::{Pole, Subspace};
 use super::uncertainty::{StandardErrors, Target, jackknife, mode_with_errors};
 use super::{OmaFit, OmaMethod};
@@ -16,6 +18,7 @@ use crate::diagram::StabilizationDiagram;
 use crate::error::{ModalError, Result};
 use crate::mode::Mode;
 use crate::shapes::modal_phase_collinearity;
+use nalgebra::DMatrix;
 
 /// The modes of an output-only record by SSI-cov/ref, selected automatically (or at the
 /// named frequencies), with 95 % intervals on fn, ζ and every shape entry.
@@ -62,6 +65,43 @@ use crate::shapes::modal_phase_collinearity;
 /// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
+    subspace_identification(record, options, OmaMethod::SsiCov)
+}
+
+/// The modes of an output-only record by data-driven SSI with references (SSI-dat/ref,
+/// the unweighted principal component algorithm): as [`ssi_cov`] in everything but the
+/// matrix whose SVD gives the observability matrix — the projection of the future
+/// outputs on the past references, whose left singular vectors are those of T·L⁻ᵀ (L the
+/// Cholesky factor of the past references' covariance), computed from the same block
+/// covariances rather than by a QR of the data's block Hankel matrix (the same numbers up
+/// to the record's end effects, at the cost of SSI-cov). Same options, selection and
+/// jackknife intervals.
+///
+/// ```
+/// use msd_modal::{OmaOptions, ShearBuilding, ssi_dat};
+/// use rand::SeedableRng;
+/// use rand_distr::{Distribution, StandardNormal};
+/// let building = ShearBuilding { masses: vec![20.0; 2], stiffnesses: vec![8000.0; 2], damping_ratio: 0.02 };
+/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+/// let record = building.ambient_record(50.0, 20_000, 0.1, || StandardNormal.sample(&mut rng))?;
+/// let fit = ssi_dat(&record, &OmaOptions { orders: [2, 20], ..OmaOptions::default() })?;
+/// let truth = building.modes()?;
+/// assert_eq!(fit.modes.len(), 2);
+/// for (mode, (f, _)) in fit.modes.iter().zip(&truth) {
+///     assert!((mode.natural_frequency_hz.value / f - 1.0).abs() < 0.01);
+/// }
+/// # Ok::<(), msd_modal::ModalError>(())
+/// ```
+pub fn ssi_dat(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
+    subspace_identification(record, options, OmaMethod::SsiDat)
+}
+
+/// SSI-cov or SSI-dat (`method`), everything else shared.
+fn subspace_identification(
+    record: &OutputRecord,
+    options: &OmaOptions,
+    method: OmaMethod,
+) -> Result<OmaFit> {
     record.check()?;
     options.validate()?;
     let fs = record.sample_rate_hz;
@@ -70,8 +110,14 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
     let (scaled, scales) = record.standardised();
     let i = block_rows(options, &scaled, fs, r);
     check_sizes(record, options, i, l, r)?;
-    let covariances = BlockCovariances::new(&scaled, &references, 2 * i - 1, options.blocks);
-    let t = block_toeplitz(&covariances.covariances(None), i);
+    let lags = Lags {
+        first: 0,
+        last: 2 * i - 1,
+    };
+    let covariances = BlockCovariances::with_lags(&scaled, &references, lags, options.blocks);
+    let data_driven = method == OmaMethod::SsiDat;
+    let matrix = |cov: &[DMatrix<f64>]| subspace_matrix(cov, i, &references, data_driven);
+    let t = matrix(&covariances.covariances(None)).ok_or_else(not_converged)?;
     let subspace = Subspace::new(t, l, options.orders[1]).ok_or_else(not_converged)?;
     let orders: Vec<usize> = (options.orders[0]..=options.orders[1])
         .step_by(options.order_step)
@@ -89,7 +135,12 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
     }
     let mut diagram_orders = flag_stability(&orders, &mut poles, options);
     let found = clusters(&poles, options);
-    let chosen = selected(&found, &poles, orders.len(), options)?;
+    let (chosen, splits) = without_splits(
+        selected(&found, &poles, orders.len(), options)?,
+        &found,
+        &poles,
+        options,
+    );
     for (m, &c) in chosen.iter().enumerate() {
         for &p in &found[c].members {
             let order_index = poles[p].order_index;
@@ -127,7 +178,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
         .collect();
     let errors = jackknife(
         &covariances,
-        i,
+        &matrix,
         fs,
         &targets,
         options.cluster_distance,
@@ -135,7 +186,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
     );
     let t975 = t_975(options.blocks - 1);
     let mut modes = Vec::new();
-    let mut unconfirmed = Vec::new();
+    let mut unconfirmed: Vec<_> = splits.iter().map(|&c| column(&found[c], &poles)).collect();
     for ((&c, se), estimate) in chosen.iter().zip(&errors).zip(&estimates) {
         let cluster = &found[c];
         match se {
@@ -157,7 +208,7 @@ pub fn ssi_cov(record: &OutputRecord, options: &OmaOptions) -> Result<OmaFit> {
         band_hz: band,
     };
     Ok(OmaFit {
-        method: OmaMethod::SsiCov,
+        method,
         modes,
         diagram,
         block_rows: Some(i),

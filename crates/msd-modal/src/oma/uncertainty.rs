@@ -11,11 +11,16 @@ use msd_opt::statistics::Interval;
 use msd_signal::Complex64;
 use rayon::prelude::*;
 
-use super::covariance::{BlockCovariances, block_toeplitz};
+use super::covariance::BlockCovariances;
 use super::record::OutputRecord;
 use super::select::{Physical, aligned, distance, mean_pole};
 use super::subspace::{Pole, Subspace};
 use crate::mode::{Mode, ShapeEntry};
+use nalgebra::DMatrix;
+
+/// The covariances (from lag 0) to the matrix whose SVD gives the observability matrix
+/// (SSI-cov's or SSI-dat's: [`subspace_matrix`](super::covariance::subspace_matrix)).
+pub(crate) type SubspaceMatrix<'a> = dyn Fn(&[DMatrix<f64>]) -> Option<DMatrix<f64>> + Sync + 'a;
 
 /// The standard errors of one mode.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,7 +49,7 @@ pub(crate) struct Target<'a> {
 /// fewer than half the cluster's poles within the clustering distance).
 pub(crate) fn jackknife(
     covariances: &BlockCovariances,
-    block_rows: usize,
+    matrix: &SubspaceMatrix<'_>,
     sample_rate_hz: f64,
     targets: &[Target<'_>],
     cut: f64,
@@ -61,7 +66,7 @@ pub(crate) fn jackknife(
         .into_par_iter()
         .map(|left_out| {
             let cov = covariances.covariances(Some(left_out));
-            let subspace = Subspace::new(block_toeplitz(&cov, block_rows), cov[0].nrows(), n_max)?;
+            let subspace = Subspace::new(matrix(&cov)?, cov[0].nrows(), n_max)?;
             Some(replicate(
                 &subspace,
                 sample_rate_hz,

@@ -344,8 +344,9 @@ def oma(
     **options: Any,
 ) -> OmaFit:
     """Output-only modal analysis: the modes of a structure from its response alone
-    (msd-modal's SSI-cov/ref with automatic selection, or with ``method="efdd"`` frequency
-    domain decomposition with EFDD's damping, the quick look; jackknife intervals).
+    (msd-modal's SSI-cov/ref with automatic selection; ``method="ssi-dat"``: data-driven
+    SSI/ref, the same options; ``method="efdd"``: frequency domain decomposition with
+    EFDD's damping, the quick look; jackknife intervals).
 
     `data`: samples × channels (a 2-D array, as pyOMA takes it); `sample_rate_hz`;
     `references`: the reference channels' indices (default: every channel); `dofs`: one
