@@ -70,6 +70,8 @@ fn the_shear_building_is_found_at_defaults_with_intervals_on_every_mode() {
     assert!(run.out().join("oma_stabilization.svg").exists());
     let csv = std::fs::read_to_string(run.out().join("modes.csv")).unwrap();
     assert_eq!(csv.lines().count(), 6);
+    let uff = msd_uff::read(run.out().join("modes.uff")).expect("modes.uff reads back");
+    assert_eq!(uff.data_at_nodes.len(), 5);
 }
 
 /// The quick look: `method = "efdd"` on the shipped building, every mode within 1 % (the

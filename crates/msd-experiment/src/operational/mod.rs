@@ -401,12 +401,38 @@ pub(crate) fn mode_tables(modes: &[msd_modal::Mode]) -> Vec<(String, String)> {
     vec![("modes.csv".into(), table), ("shapes.csv".into(), shapes)]
 }
 
+/// Writes `modes` as `modes.uff` (datasets 55; x, y, z entries only: a node's oblique
+/// channels resolved first).
+pub(crate) fn write_uff(name: &str, modes: &[msd_modal::Mode], dir: &Path) -> Result<()> {
+    let file = msd_uff::UffFile {
+        data_at_nodes: modes
+            .iter()
+            .enumerate()
+            .map(|(r, mode)| crate::frf::uff_out::shape_dataset(name, r, mode))
+            .collect(),
+        ..msd_uff::UffFile::default()
+    };
+    let path = dir.join("modes.uff");
+    msd_uff::write(&path, &file, &Default::default())
+        .map_err(|e| ExperimentError::data(&path, e.to_string()))
+}
+
 impl crate::finished::Finished for OperationalOutcome {
     fn config(&self) -> &Config {
         &self.config
     }
 
     fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
+        let xyz: Vec<msd_modal::Mode> = self
+            .fit
+            .modes
+            .iter()
+            .map(|m| msd_modal::Mode {
+                shape: msd_modal::node_components(&self.record, &m.shape),
+                ..m.clone()
+            })
+            .collect();
+        write_uff(&self.config.name, &xyz, dir)?;
         plots::write_all(self, dir)
     }
 

@@ -25,7 +25,7 @@ fn page(s: &mut String, o: &OperationalOutcome, figures: &[&str]) -> std::fmt::R
     writeln!(s, "## Files\n")?;
     writeln!(
         s,
-        "`results.json` (every mode with its intervals and shape, the diagram's poles), `modes.csv`, `shapes.csv`, the figures as PNG and SVG.\n"
+        "`results.json` (every mode with its intervals and shape, the diagram's poles), `modes.csv`, `shapes.csv`, `modes.uff` (the shapes as UFF datasets 55, a node's oblique channels resolved into x, y, z), the figures as PNG and SVG.\n"
     )
 }
 

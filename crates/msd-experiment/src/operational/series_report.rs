@@ -219,30 +219,13 @@ fn results(
     serde_json::to_value(&results).map_err(|e| ExperimentError::run("write", e))
 }
 
-/// Writes the combined shapes as `modes.uff` (datasets 55).
-fn write_uff(o: &SeriesOutcome, dir: &Path) -> Result<()> {
-    let file = msd_uff::UffFile {
-        data_at_nodes: o
-            .merged
-            .modes
-            .iter()
-            .enumerate()
-            .map(|(r, mode)| crate::frf::uff_out::shape_dataset(&o.config.name, r, mode))
-            .collect(),
-        ..msd_uff::UffFile::default()
-    };
-    let path = dir.join("modes.uff");
-    msd_uff::write(&path, &file, &Default::default())
-        .map_err(|e| ExperimentError::data(&path, e.to_string()))
-}
-
 impl crate::finished::Finished for SeriesOutcome {
     fn config(&self) -> &Config {
         &self.config
     }
 
     fn figures(&self, dir: &Path) -> Result<Vec<&'static str>> {
-        write_uff(self, dir)?;
+        super::write_uff(&self.config.name, &self.merged.modes, dir)?;
         plots::write_tracks(self, dir)
     }
 
