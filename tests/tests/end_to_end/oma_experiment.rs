@@ -177,7 +177,12 @@ fn several_records_are_tracked_and_combined() {
     let write = |files: &[&str]| {
         let records: String = files
             .iter()
-            .map(|f| format!("[[operational.records]]\npath = \"{f}\"\ntime = \"t\"\n"))
+            .map(|f| {
+                let label = f.trim_end_matches(".csv");
+                format!(
+                    "[[operational.records]]\npath = \"{f}\"\ntime = \"t\"\nlabel = \"{label}\"\n"
+                )
+            })
             .collect();
         let path = dir.path().join("monitor.toml");
         let geometry = "[operational.geometry]\nnodes = \"nodes.txt\"\nlines = \"lines.txt\"\n";
@@ -209,6 +214,7 @@ fn several_records_are_tracked_and_combined() {
     let out = dir.path().join("out");
     let tracks = std::fs::read_to_string(out.join("tracks.csv")).unwrap();
     assert_eq!(tracks.lines().count(), 1 + 3 * 2, "{tracks}");
+    assert!(tracks.contains("\"hour2\""), "{tracks}");
     let uff = msd_uff::read(out.join("modes.uff")).expect("modes.uff reads back");
     assert_eq!(uff.data_at_nodes.len(), 3);
     assert!(out.join("oma_tracks.png").exists() && out.join("oma_shapes.svg").exists());

@@ -141,6 +141,10 @@ pub struct RecordSource {
     /// Lines to skip at the top of a CSV record. By default 0.
     #[serde(default)]
     pub skip_lines: usize,
+    /// How the report and figure name this record among several (e.g. when it was
+    /// taken: "11-28 14:00"). By default its number.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label: Option<String>,
 }
 
 fn comma() -> char {

@@ -287,7 +287,13 @@ impl Tracks<'_> {
                 "fn − combined fn [% of fn]"
             })
             .x_labels(self.o.records.len().min(20))
-            .x_label_formatter(&|x| format!("{x:.0}"))
+            .x_label_formatter(&|x| {
+                let k = x.round() as usize;
+                match self.o.records.get(k.wrapping_sub(1)) {
+                    Some(r) if (x - k as f64).abs() < 1e-9 => r.label.clone(),
+                    _ => String::new(),
+                }
+            })
             .y_label_formatter(&tick)
             .draw()
             .map_err(text)?;

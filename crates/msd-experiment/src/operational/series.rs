@@ -20,6 +20,8 @@ use std::time::{Duration, Instant};
 pub struct AnalysedRecord {
     /// The record file as the config names it.
     pub path: PathBuf,
+    /// Its label: the config's, or its number from 1.
+    pub label: String,
     /// The record analysed (dead channels left out).
     pub record: OutputRecord,
     /// The channels left out, each with why.
@@ -77,21 +79,19 @@ pub fn run(
     progress.stage("estimation");
     let t = Instant::now();
     let mut records = Vec::with_capacity(loaded.len());
-    for (
-        source,
-        Loaded {
+    for (k, (source, loaded)) in section.records.iter().zip(loaded).enumerate() {
+        let Loaded {
             record,
             left_out,
             files,
             ..
-        },
-    ) in section.records.iter().zip(loaded)
-    {
+        } = loaded;
         let path = config.sources.path(&source.path);
         let fit = analyse(&section, &record)
             .map_err(|e| oma_error(e, section.options_table(), config_path, &path))?;
         records.push(AnalysedRecord {
             path: source.path.clone(),
+            label: source.label.clone().unwrap_or_else(|| (k + 1).to_string()),
             record,
             left_out,
             files,
@@ -190,11 +190,10 @@ fn verdict(records: &[AnalysedRecord], merged: &MergedFit) -> Verdict {
     });
     let dead: Vec<String> = records
         .iter()
-        .enumerate()
-        .flat_map(|(k, r)| {
+        .flat_map(|r| {
             r.left_out
                 .iter()
-                .map(move |(name, _)| format!("{name} (record {})", k + 1))
+                .map(move |(name, _)| format!("{name} (record {})", r.label))
         })
         .collect();
     if !dead.is_empty() {

@@ -23,11 +23,11 @@ fn page(s: &mut String, o: &SeriesOutcome, figures: &[&str]) -> std::fmt::Result
         s,
         "| record | file | channels | samples | modes | left out |\n|---|---|---|---|---|---|"
     )?;
-    for (k, r) in o.records.iter().enumerate() {
+    for r in &o.records {
         writeln!(
             s,
             "| {} | `{}` | {} | {} | {} | {} |",
-            k + 1,
+            r.label,
             r.path.display(),
             r.record.channels.len(),
             r.record.len(),
@@ -118,8 +118,8 @@ fn tracks(s: &mut String, o: &SeriesOutcome) -> std::fmt::Result {
         "### fn [Hz] record by record (— where a record did not find the mode)\n"
     )?;
     write!(s, "| mode |")?;
-    for k in 0..o.records.len() {
-        write!(s, " {} |", k + 1)?;
+    for r in &o.records {
+        write!(s, " {} |", r.label)?;
     }
     writeln!(s, "\n|---|{}", "---|".repeat(o.records.len()))?;
     for (k, found) in o.merged.found.iter().enumerate() {
@@ -142,7 +142,7 @@ fn tracks(s: &mut String, o: &SeriesOutcome) -> std::fmt::Result {
 /// `tracks.csv`: one line per mode and record that found it.
 fn tracks_csv(o: &SeriesOutcome) -> String {
     let mut t = String::from(
-        "mode,record,natural_frequency_hz,ci95_low_hz,ci95_high_hz,damping_ratio,damping_ci95_low,damping_ci95_high,reference_mac\n",
+        "mode,record,label,natural_frequency_hz,ci95_low_hz,ci95_high_hz,damping_ratio,damping_ci95_low,damping_ci95_high,reference_mac\n",
     );
     for (k, found) in o.merged.found.iter().enumerate() {
         for (r, index) in found.iter().enumerate() {
@@ -151,9 +151,10 @@ fn tracks_csv(o: &SeriesOutcome) -> String {
             let (f, z) = (&mode.natural_frequency_hz, &mode.damping_ratio);
             let mac = o.merged.reference_mac[k][r].unwrap_or(f64::NAN);
             t += &format!(
-                "{},{},{},{},{},{},{},{},{mac}\n",
+                "{},{},\"{}\",{},{},{},{},{},{},{mac}\n",
                 k + 1,
                 r + 1,
+                o.records[r].label.replace('"', "\"\""),
                 f.value,
                 f.ci95[0],
                 f.ci95[1],
@@ -169,6 +170,7 @@ fn tracks_csv(o: &SeriesOutcome) -> String {
 #[derive(Serialize)]
 struct RecordResult<'a> {
     path: String,
+    label: &'a str,
     samples: usize,
     channels: Vec<&'a str>,
     left_out: Vec<&'a str>,
@@ -201,6 +203,7 @@ fn results(
             .iter()
             .map(|r| RecordResult {
                 path: r.path.display().to_string(),
+                label: &r.label,
                 samples: r.record.len(),
                 channels: r.record.channels.iter().map(|c| c.name.as_str()).collect(),
                 left_out: r.left_out.iter().map(|(n, _)| n.as_str()).collect(),
