@@ -68,7 +68,7 @@ fn page(s: &mut String, o: &SeriesOutcome, figures: &[&str]) -> std::fmt::Result
     writeln!(s, "## Files\n")?;
     writeln!(
         s,
-        "`results.json` (every record's fit and the combined modes), `modes.csv` and `shapes.csv` (the combined modes and their shapes over every DOF), `tracks.csv` (each mode in each record), `modes.uff` (the combined shapes as UFF datasets 55), the figures as PNG and SVG.\n"
+        "`results.json` (every record's modes and the combined modes), `modes.csv` and `shapes.csv` (the combined modes and their shapes over every DOF), `tracks.csv` (each mode in each record), `modes.uff` (the combined shapes as UFF datasets 55), the figures as PNG and SVG.\n"
     )
 }
 
@@ -174,7 +174,21 @@ struct RecordResult<'a> {
     samples: usize,
     channels: Vec<&'a str>,
     left_out: Vec<&'a str>,
-    fit: &'a msd_modal::OmaFit,
+    /// The record's own method and settings, modes and unconfirmed columns (its diagram
+    /// is left out: ten of them weigh megabytes; one record's run writes it).
+    settings: String,
+    modes: &'a [msd_modal::Mode],
+    unconfirmed: &'a [msd_modal::StableColumn],
+}
+
+/// How the records combine: the DOFs every record measured, which record found which
+/// mode (its index there) and the MAC of its reference entries (the modes themselves are
+/// `modes[]`).
+#[derive(Serialize)]
+struct Combination<'a> {
+    reference_dofs: &'a [msd_modal::Dof],
+    found: &'a [Vec<Option<usize>>],
+    reference_mac: &'a [Vec<Option<f64>>],
 }
 
 #[derive(Serialize)]
@@ -184,7 +198,7 @@ struct Results<'a> {
     verdict: &'a crate::verdict::Verdict,
     records: Vec<RecordResult<'a>>,
     merge_tolerance: f64,
-    merged: &'a msd_modal::MergedFit,
+    merged: Combination<'a>,
     modes: &'a [msd_modal::Mode],
     timings_ms: BTreeMap<&'static str, f64>,
 }
@@ -207,7 +221,9 @@ fn results(
                 samples: r.record.len(),
                 channels: r.record.channels.iter().map(|c| c.name.as_str()).collect(),
                 left_out: r.left_out.iter().map(|(n, _)| n.as_str()).collect(),
-                fit: &r.fit,
+                settings: format!("{}: {}", r.fit.method, r.fit.settings()),
+                modes: &r.fit.modes,
+                unconfirmed: &r.fit.unconfirmed,
             })
             .collect(),
         merge_tolerance: o
@@ -215,7 +231,11 @@ fn results(
             .operational
             .as_ref()
             .map_or(0.01, |c| c.merge_tolerance),
-        merged: &o.merged,
+        merged: Combination {
+            reference_dofs: &o.merged.reference_dofs,
+            found: &o.merged.found,
+            reference_mac: &o.merged.reference_mac,
+        },
         modes: &o.merged.modes,
         timings_ms: crate::results::timings_ms(&o.timings, extra, total),
     };
