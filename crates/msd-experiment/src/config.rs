@@ -644,6 +644,10 @@ pub struct DataSection {
     /// Field delimiter. By default `","`.
     #[serde(default = "default_delimiter")]
     pub delimiter: char,
+    /// The decimal mark: `"."` (the default) or `","` (with a delimiter other than `","`,
+    /// as European spreadsheets write CSV: `;` and `-0,98`).
+    #[serde(default = "default_decimal", skip_serializing_if = "is_point")]
+    pub decimal: char,
     /// Whether the first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]
     pub header: bool,
@@ -746,6 +750,12 @@ impl<'de> Deserialize<'de> for Paths {
 
 fn default_delimiter() -> char {
     ','
+}
+pub(crate) fn default_decimal() -> char {
+    '.'
+}
+pub(crate) fn is_point(c: &char) -> bool {
+    *c == '.'
 }
 fn default_true() -> bool {
     true
@@ -1146,6 +1156,7 @@ impl Config {
             }
         }
         let Some(d) = &self.data else { return Ok(()) };
+        check_decimal("data", d.decimal, d.delimiter)?;
         if self.setup.is_none() {
             match d.path.0.len() {
                 0 => return Err(("data.path".into(), " = []: expected a CSV file".into())),
@@ -1492,6 +1503,29 @@ pub(crate) fn locate_key(text: &str, path: &str) -> Option<usize> {
         }
     }
     table_line
+}
+
+/// A decimal mark `"."` or `","`, not the delimiter; errors name `{table}.decimal`.
+pub(crate) fn check_decimal(
+    table: &str,
+    decimal: char,
+    delimiter: char,
+) -> std::result::Result<(), (String, String)> {
+    if decimal != '.' && decimal != ',' {
+        return Err((
+            format!("{table}.decimal"),
+            format!(" = {decimal:?}: expected \".\" or \",\""),
+        ));
+    }
+    if decimal == delimiter {
+        return Err((
+            format!("{table}.decimal"),
+            format!(
+                " = {decimal:?} is also the delimiter: expected another {table}.delimiter (\";\" or a tab with decimal commas)"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

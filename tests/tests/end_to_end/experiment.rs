@@ -473,7 +473,7 @@ fn measured_data_by_index_with_sample_rate_scaling_decimation_and_time_ranges() 
         ));
     }
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("bench.txt"), text).unwrap();
+    std::fs::write(dir.path().join("bench.txt"), &text).unwrap();
     let config_text = r#"
 name = "bench"
 [data]
@@ -506,6 +506,33 @@ samples = 100
         assert!((value / truth - 1.0).abs() < 0.03, "{name} = {value}");
     }
     assert!(run.number("validation.r2") > 0.99);
+
+    // The same file as a European spreadsheet writes it (decimal commas): with
+    // `decimal = ","` the same numbers, bit for bit; without it, refused with the hint.
+    let commas = text.replace('.', ",");
+    std::fs::write(dir.path().join("bench.txt"), commas).unwrap();
+    let with_decimal =
+        config_text.replace("delimiter = \";\"", "delimiter = \";\"\ndecimal = \",\"");
+    std::fs::write(dir.path().join("comma.toml"), &with_decimal).unwrap();
+    let again = run_in_temp(&dir.path().join("comma.toml"), None, None).expect("runs");
+    for name in ["mass", "damping", "stiffness"] {
+        let key = format!("estimate.{name}.value");
+        assert_eq!(again.number(&key), run.number(&key), "{name}");
+    }
+    let Err(err) = run_in_temp(&dir.path().join("bench.toml"), None, None) else {
+        panic!("decimal commas read without decimal = \",\"");
+    };
+    assert_eq!(err.exit_code(), 2);
+    assert!(
+        err.to_string().contains("line 2") && err.to_string().contains("decimal = \",\""),
+        "{err}"
+    );
+    let clash = with_decimal.replace("delimiter = \";\"", "delimiter = \",\"");
+    std::fs::write(dir.path().join("clash.toml"), clash).unwrap();
+    let Err(err) = run_in_temp(&dir.path().join("clash.toml"), None, None) else {
+        panic!("decimal and delimiter both \",\"");
+    };
+    assert!(err.to_string().contains("data.decimal"), "{err}");
 }
 
 /// A damper past critical damping (ζ ≈ 1.7: c = 60 N·s/m on the paper's m and k) has no

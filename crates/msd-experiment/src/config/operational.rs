@@ -135,6 +135,9 @@ pub struct RecordSource {
     /// A CSV record's field delimiter. By default `","`.
     #[serde(default = "comma")]
     pub delimiter: char,
+    /// A CSV record's decimal mark: `"."` (the default) or `","`.
+    #[serde(default = "super::default_decimal", skip_serializing_if = "super::is_point")]
+    pub decimal: char,
     /// Whether a CSV record's first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]
     pub header: bool,
@@ -293,6 +296,7 @@ impl OperationalSection {
 
 fn validate_record(r: &RecordSource, channels: &[OutputChannelSection]) -> Check {
     let err = |key: &str, message: String| Err((format!("operational.{key}"), message));
+    super::check_decimal("operational.record", r.decimal, r.delimiter)?;
     if let Some(fs) = r.sample_rate_hz
         && !(fs.is_finite() && fs > 0.0)
     {

@@ -154,7 +154,7 @@ pub fn read_columns(
         let expected = *fields.get_or_insert(r.len());
         check_width(path, line, r.len(), expected, header.is_some(), d.delimiter)?;
         for (slot, &(spec, index)) in cells.iter().enumerate() {
-            let (value, scaled) = cell_value(path, line, &r, spec, index)?;
+            let (value, scaled) = cell_value(path, line, &r, spec, index, d.decimal)?;
             match values.get_mut(slot) {
                 Some(column) => column.push(scaled),
                 None => time.push(value),
@@ -331,10 +331,22 @@ fn column_index(
                     .filter(|h| !h.is_empty())
                     .map(|h| format!("`{h}`"))
                     .collect();
+                let hint = match names.as_slice() {
+                    [one] => [';', '\t', ',', ' ']
+                        .into_iter()
+                        .find(|c| one.contains(*c))
+                        .map_or(String::new(), |c| {
+                            format!(
+                                ": the header reads as one field — is the delimiter {:?}? (set delimiter = {:?})",
+                                c, c
+                            )
+                        }),
+                    _ => String::new(),
+                };
                 ExperimentError::data(
                     path,
                     format!(
-                        "line {line}: no {role} column named `{name}` ({key}): the header has {}",
+                        "line {line}: no {role} column named `{name}` ({key}): the header has {}{hint}",
                         found.join(", ")
                     ),
                 )
@@ -379,6 +391,7 @@ fn cell_value(
     r: &csv::StringRecord,
     spec: &ColumnSpec,
     index: usize,
+    decimal: char,
 ) -> Result<(f64, f64)> {
     let (role, column, scale) = (&spec.role, &spec.column, spec.scale);
     let cell = r.get(index).ok_or_else(|| {
@@ -390,7 +403,7 @@ fn cell_value(
             ),
         )
     })?;
-    let value = parse_cell(cell).map_err(|why| {
+    let value = parse_cell(cell, decimal).map_err(|why| {
         ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
     })?;
     let scaled = value * scale;
@@ -466,15 +479,26 @@ fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) 
 /// scale, refused where it is read rather than misdiagnosed later.
 pub const LARGEST_VALUE: f64 = 1e100;
 
-fn parse_cell(cell: &str) -> std::result::Result<f64, String> {
+/// A cell as a finite number, with `decimal` as its decimal mark; a cell that would read
+/// with the other mark says so.
+fn parse_cell(cell: &str, decimal: char) -> std::result::Result<f64, String> {
     let cell = cell.trim().trim_matches('"');
     if cell.is_empty() {
         return Err("empty cell: expected a number".into());
     }
-    match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(v) => Err(format!("{v}: expected a finite number")),
-        Err(_) => Err(format!("`{cell}` is not a number")),
+    let read = |mark: char| -> Option<f64> {
+        if mark == ',' && cell.contains('.') {
+            return None; // "1.234,5": a thousands separator, not read
+        }
+        cell.replacen(mark, ".", 1).parse::<f64>().ok()
+    };
+    match read(decimal) {
+        Some(v) if v.is_finite() => Ok(v),
+        Some(v) => Err(format!("{v}: expected a finite number")),
+        None if decimal == '.' && read(',').is_some() => Err(format!(
+            "`{cell}` is not a number with a decimal point: a decimal comma? set decimal = \",\" (and a delimiter other than \",\")"
+        )),
+        None => Err(format!("`{cell}` is not a number")),
     }
 }
 
@@ -520,4 +544,22 @@ pub(crate) fn pick<'a>(
         ));
     }
     Ok(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_cell;
+
+    #[test]
+    fn decimal_commas_read_when_asked_and_are_named_when_not() {
+        assert_eq!(parse_cell("-0,980708", ','), Ok(-0.980708));
+        assert_eq!(parse_cell(" 12 ", ','), Ok(12.0));
+        assert_eq!(parse_cell("1.5e-3", '.'), Ok(1.5e-3));
+        let why = parse_cell("-0,980708", '.').unwrap_err();
+        assert!(why.contains("decimal = \",\""), "{why}");
+        // A thousands separator with a decimal comma is not guessed at.
+        assert!(parse_cell("1.234,5", ',').is_err());
+        let why = parse_cell("abc", '.').unwrap_err();
+        assert!(!why.contains("decimal"), "{why}");
+    }
 }

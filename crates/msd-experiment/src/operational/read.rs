@@ -327,6 +327,7 @@ fn read_csv(
         time: source.time.clone(),
         sample_rate: source.sample_rate_hz,
         delimiter: source.delimiter,
+        decimal: source.decimal,
         header: source.header,
         skip_lines: source.skip_lines,
         input_unit: String::new(),
