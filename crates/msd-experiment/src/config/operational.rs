@@ -136,7 +136,10 @@ pub struct RecordSource {
     #[serde(default = "comma")]
     pub delimiter: char,
     /// A CSV record's decimal mark: `"."` (the default) or `","`.
-    #[serde(default = "super::default_decimal", skip_serializing_if = "super::is_point")]
+    #[serde(
+        default = "super::default_decimal",
+        skip_serializing_if = "super::is_point"
+    )]
     pub decimal: char,
     /// Whether a CSV record's first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]

@@ -141,18 +141,7 @@ fn subspace_identification(
         &poles,
         options,
     );
-    for (m, &c) in chosen.iter().enumerate() {
-        for &p in &found[c].members {
-            let order_index = poles[p].order_index;
-            let at = diagram_orders[order_index]
-                .poles
-                .iter()
-                .position(|d| d.natural_frequency_hz == poles[p].frequency_hz);
-            if let Some(at) = at {
-                diagram_orders[order_index].poles[at].mode = Some(m);
-            }
-        }
-    }
+    mark_modes(&mut diagram_orders, &chosen, &found, &poles);
     let used: Vec<Vec<usize>> = chosen
         .iter()
         .map(|&c| estimated_from(&found[c].members, &poles))
@@ -221,6 +210,27 @@ fn subspace_identification(
         unconfirmed,
         spectrum: None,
     })
+}
+
+/// Marks in the diagram each pole that formed a chosen cluster with that mode's index.
+fn mark_modes(
+    diagram: &mut [crate::diagram::DiagramOrder],
+    chosen: &[usize],
+    found: &[super::select::Cluster],
+    poles: &[Physical],
+) {
+    for (m, &c) in chosen.iter().enumerate() {
+        for &p in &found[c].members {
+            let order = &mut diagram[poles[p].order_index];
+            let at = order
+                .poles
+                .iter()
+                .position(|d| d.natural_frequency_hz == poles[p].frequency_hz);
+            if let Some(at) = at {
+                order.poles[at].mode = Some(m);
+            }
+        }
+    }
 }
 
 /// The record long enough and the orders within the Toeplitz matrix.
