@@ -3,7 +3,7 @@
 //! (`grid.txt`: node, x, y, z; `lines.txt`: node, node; an optional header line).
 
 use super::read::text;
-use crate::config::GeometrySection;
+use crate::config::{GeometrySection, OperationalSection};
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
 use std::path::Path;
@@ -39,8 +39,17 @@ impl Geometry {
     }
 }
 
+/// The geometry `[operational.geometry]` names, read; `None` where it names none.
+pub(crate) fn of(section: &OperationalSection, sources: &Sources) -> Result<Option<Geometry>> {
+    section
+        .geometry
+        .as_ref()
+        .map(|g| read(g, sources))
+        .transpose()
+}
+
 /// Reads the section's files; errors name the file, the line and what was expected.
-pub(crate) fn read(section: &GeometrySection, sources: &Sources) -> Result<Geometry> {
+fn read(section: &GeometrySection, sources: &Sources) -> Result<Geometry> {
     let nodes_path = sources.path(&section.nodes);
     let nodes: Vec<(u32, [f64; 3])> = rows(
         &text(sources, &section.nodes, "operational.geometry.nodes")?,

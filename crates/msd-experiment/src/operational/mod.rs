@@ -64,21 +64,12 @@ pub fn run(
     options: &RunOptions,
     progress: &Progress,
 ) -> Result<OperationalOutcome> {
-    let Some(section) = config.operational.clone() else {
-        return Err(ExperimentError::config(
-            config_path,
-            "no [operational] section",
-        ));
-    };
+    let section = section_of(&config, config_path)?;
     let seed = options.seed.unwrap_or(config.seed);
     progress.stage("data");
     let t = Instant::now();
     let loaded = read::load(&section, &config.sources, seed)?;
-    let geometry = section
-        .geometry
-        .as_ref()
-        .map(|g| geometry::read(g, &config.sources))
-        .transpose()?;
+    let geometry = geometry::of(&section, &config.sources)?;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
     let t = Instant::now();
@@ -107,6 +98,14 @@ pub fn run(
         timings,
         verdict,
     })
+}
+
+/// The config's `[operational]` section (an error naming the file where it has none).
+pub(crate) fn section_of(config: &Config, config_path: &Path) -> Result<OperationalSection> {
+    config
+        .operational
+        .clone()
+        .ok_or_else(|| ExperimentError::config(config_path, "no [operational] section"))
 }
 
 /// The section's method on one record.

@@ -61,20 +61,11 @@ pub fn run(
     options: &RunOptions,
     progress: &Progress,
 ) -> Result<SeriesOutcome> {
-    let Some(section) = config.operational.clone() else {
-        return Err(ExperimentError::config(
-            config_path,
-            "no [operational] section",
-        ));
-    };
+    let section = super::section_of(&config, config_path)?;
     progress.stage("data");
     let t = Instant::now();
     let loaded = load_records(&section, &config.sources)?;
-    let geometry = section
-        .geometry
-        .as_ref()
-        .map(|g| super::geometry::read(g, &config.sources))
-        .transpose()?;
+    let geometry = super::geometry::of(&section, &config.sources)?;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
     let t = Instant::now();
