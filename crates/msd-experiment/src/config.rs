@@ -651,9 +651,15 @@ pub struct DataSection {
     /// Whether the first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]
     pub header: bool,
-    /// Lines to skip at the top of the file (before the header). By default 0.
+    /// Lines to skip at the top of the file (before the header). By default 0: lines
+    /// of metadata above the header (and a units line under it) are found by themselves
+    /// and the report says which.
     #[serde(default)]
     pub skip_lines: usize,
+    /// What to do with a missing value (an empty cell, `NaN`, `NA`): `"refuse"` (the
+    /// default), `"drop"` the row or `"interpolate"` it; the report says how many.
+    #[serde(default, skip_serializing_if = "crate::data::text::Missing::is_refuse")]
+    pub missing: crate::data::text::Missing,
     /// Unit of the input column after scaling, for the report. By default "N".
     #[serde(default = "default_input_unit")]
     pub input_unit: String,
@@ -675,6 +681,19 @@ pub struct DataSection {
     /// The part used for validation. By default the estimation part.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub validation: Option<Range>,
+}
+
+impl DataSection {
+    /// How its text files are written.
+    pub fn text_format(&self) -> crate::data::text::TextFormat {
+        crate::data::text::TextFormat {
+            delimiter: self.delimiter,
+            decimal: self.decimal,
+            header: self.header,
+            skip_lines: self.skip_lines,
+            missing: self.missing,
+        }
+    }
 }
 
 /// One file or several: `path = "run.csv"` or `path = ["run1.csv", "run2.csv"]`.

@@ -16,6 +16,7 @@ use msd_ident::{
 use std::path::{Path, PathBuf};
 
 pub(crate) mod csv;
+pub mod text;
 pub use csv::{ColumnSpec, LARGEST_VALUE, Table, read_columns, read_csv};
 
 /// Both records of an experiment and what is known about them.
@@ -227,6 +228,8 @@ pub struct Record {
     pub output: Vec<f64>,
     /// Sampling interval, s.
     pub dt: f64,
+    /// What the reader did that the report should say (metadata skipped, missing values).
+    pub notes: Vec<String>,
 }
 
 fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Result<ExperimentData> {
@@ -282,7 +285,12 @@ fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Resu
         validation_truth: None,
         truth: None,
         validation_initial_samples: initial,
-        notes: overlap_note(est, val).into_iter().collect(),
+        notes: record
+            .notes
+            .iter()
+            .cloned()
+            .chain(overlap_note(est, val))
+            .collect(),
         source: Source::Measured {
             path,
             rows,

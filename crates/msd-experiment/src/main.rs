@@ -49,6 +49,14 @@ enum Command {
     // written.
     #[allow(rustdoc::broken_intra_doc_links, rustdoc::invalid_html_tags)]
     Design(msd_experiment::design::DesignArgs),
+    /// List what a data file holds (a CSV or text export, MATLAB .mat, NumPy .npy/.npz,
+    /// NI TDMS): its channels or columns, units, lengths and sampling rate, how a text
+    /// file is written (encoding, delimiter, decimal mark, metadata and units lines,
+    /// missing values), and print the config lines that read it.
+    Inspect {
+        /// The data file.
+        file: std::path::PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -57,6 +65,9 @@ fn main() -> ExitCode {
         Command::Run(args) => cli::exit(cli::run(&args, &args.options(None, "msd run"))),
         Command::Plan(args) => cli::exit(msd_experiment::plan::run_plan(&args)),
         Command::Design(args) => cli::exit(msd_experiment::design::run_design(&args, None)),
+        Command::Inspect { file } => {
+            cli::exit(msd_experiment::inspect::inspect(&file).map(|text| cli::print_stdout(&text)))
+        }
         Command::FetchData(args) => cli::exit(cli::fetch_data(
             &args,
             std::path::Path::new("../shared/data/real"),

@@ -5,9 +5,13 @@
 //! experiment kind runs on data held in memory with the same checks and messages.
 
 use crate::error::{ExperimentError, Result};
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+/// A column of numbers and its name, as a table given in memory holds it.
+pub type NamedColumn = (String, Vec<f64>);
 
 /// A data file given in memory.
 #[derive(Debug, Clone, PartialEq)]
@@ -90,6 +94,31 @@ impl Sources {
             Some(InMemory::Columns(c)) => Some(c),
             _ => None,
         }
+    }
+
+    /// The named columns of the resolved `path` when it is not a text file: given in
+    /// memory as columns, or a MATLAB, NumPy or TDMS file by its extension (read by
+    /// msd-files: a vector is a column named as its variable, a matrix's columns are
+    /// `name[0]`, `name[1]`, …); `None` for a text table. `key` names the file in messages.
+    pub fn table(&self, path: &Path, key: &str) -> Result<Option<Cow<'_, [NamedColumn]>>> {
+        if let Some(columns) = self.columns(path) {
+            return Ok(Some(Cow::Borrowed(columns)));
+        }
+        if msd_files::FileFormat::of(path).is_none() {
+            return Ok(None);
+        }
+        let bytes = self.bytes(path, key)?;
+        let contents = msd_files::read_bytes(path, &bytes).map_err(|e| match e {
+            msd_files::FilesError::Malformed { format, why, .. } => ExperimentError::data(
+                path,
+                format!(
+                    "{key}: not a {} file that can be read: {why}",
+                    format.name()
+                ),
+            ),
+            other => ExperimentError::data(path, format!("{key}: {other}")),
+        })?;
+        Ok(Some(Cow::Owned(contents.into_columns())))
     }
 
     /// The bytes of the resolved `path`: from memory, else from the disk (a file given

@@ -4,7 +4,9 @@
 //! and LabVIEW (NI TDMS). [`read`] turns any of them into [`Contents`]: the channels it
 //! holds, each a name, a unit where the file gives one, its samples and a sampling rate
 //! where the file gives one. The formats themselves are read by well-kept crates
-//! (`matfile`, `npyz` with `zip`; TDMS, whose crate loops on valid files, as NI documents it); this crate decides what a channel is and says,
+//! (`npyz` with `zip` for NumPy; MATLAB and TDMS as their publishers document them, since
+//! the crates for them fail on valid files: `matfile` on every int32 array, `tdms` on a
+//! segment of properties only; MATLAB's compressed elements through `flate2`); this crate decides what a channel is and says,
 //! naming the file, what it could not read and why.
 //!
 //! What a channel is:
@@ -105,6 +107,18 @@ pub struct Channel {
     pub sample_rate_hz: Option<f64>,
     /// The samples, converted to `f64` (integers exactly, `f32` widened).
     pub values: Vec<f64>,
+}
+
+impl Channel {
+    /// A channel of `values` named `name`, with no unit or rate.
+    pub fn new(name: impl Into<String>, values: Vec<f64>) -> Self {
+        Self {
+            name: name.into(),
+            unit: None,
+            sample_rate_hz: None,
+            values,
+        }
+    }
 }
 
 /// What a file holds: its format, its channels in the file's order, and what was left

@@ -106,12 +106,7 @@ fn channels_of(name: &str, bytes: &[u8]) -> Result<Result<Vec<Channel>, String>,
     let at = |r: usize, c: usize| values[r * cols + c];
     Ok(Ok(split::channels(name, rows, cols, at)
         .into_iter()
-        .map(|(name, values)| Channel {
-            name,
-            unit: None,
-            sample_rate_hz: None,
-            values,
-        })
+        .map(|(name, values)| Channel::new(name, values))
         .collect()))
 }
 

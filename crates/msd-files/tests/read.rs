@@ -34,7 +34,16 @@ fn matlab_level_5_variables_are_channels_and_text_is_left_out() {
     let c = read(&fixture("record-v5.mat")).unwrap();
     assert_eq!(c.format, FileFormat::Mat);
     let names: Vec<&str> = c.channels.iter().map(|c| c.name.as_str()).collect();
-    assert_eq!(names, ["t", "force", "X[0]", "X[1]", "H.re", "H.im"]);
+    assert_eq!(
+        names,
+        ["t", "force", "X[0]", "X[1]", "H.re", "H.im", "count"]
+    );
+    assert_eq!(c.skipped, ["note: text: not read (expected numbers)"]);
+    assert_series(
+        &c.channel("count").unwrap().values,
+        |i| i as f64 - 100.0,
+        0.0,
+    );
     assert_series(&c.channel("t").unwrap().values, t, 1e-15);
     assert_series(&c.channel("X[1]").unwrap().values, x, 1e-15);
     assert_series(&c.channel("H.im").unwrap().values, x, 1e-15);

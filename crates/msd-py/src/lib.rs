@@ -11,6 +11,7 @@ mod convert;
 mod errors;
 mod experiment;
 mod fit;
+mod files;
 mod frf;
 mod oma;
 mod uff;
@@ -41,6 +42,8 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(frf::one_mode_fit, m)?)?;
     m.add_function(wrap_pyfunction!(oma::oma, m)?)?;
     m.add_function(wrap_pyfunction!(oma::oma_setups, m)?)?;
+    m.add_function(wrap_pyfunction!(files::read_file, m)?)?;
+    m.add_function(wrap_pyfunction!(files::inspect, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_read, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_write, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::run, m)?)?;

@@ -406,15 +406,21 @@ fn line_numbers_count_the_comment_lines_before_the_header() {
     );
     let c = case.file("c.toml", &measured_config("data.csv", "disp", ""));
     case.refuses(&c, &["data.csv", "line 4", "no output column named `disp`"]);
-    // The header read as data (header = false): its line is named.
+    // Text in the middle of the data (header = false): its line is named. (Text above
+    // the first numeric line is metadata, skipped and reported.)
+    let body = csv_with(30, "0.30,1.0,abc");
+    case.file(
+        "e.csv",
+        &format!("# rig 3\n{}", body.split_once('\n').unwrap().1),
+    );
     let c = case.file(
         "d.toml",
-        &measured_config("data.csv", "2", "")
+        &measured_config("e.csv", "2", "")
             .replace("output = \"2\"", "output = 2")
             .replace("input = \"force\"", "input = 1\nheader = false")
             .replace("time = \"t\"", "time = 0"),
     );
-    case.refuses(&c, &["data.csv", "line 4", "is not a number"]);
+    case.refuses(&c, &["e.csv", "line 32", "`abc` is not a number"]);
 }
 
 #[test]
@@ -450,7 +456,7 @@ fn nan_in_data() {
             "data.csv",
             "line 50",
             "input column `force`",
-            "NaN: expected a finite number",
+            "`NaN`: expected a number (set missing = \"drop\" or \"interpolate\"",
         ],
     );
 }

@@ -364,7 +364,7 @@ fn silverbox_config_runs_on_the_real_data_and_reports_the_validation_rms() {
 }
 
 /// A synthetic "lab measurement" in the template's layout: t, force, displacement.
-fn lab_csv(dir: &std::path::Path) {
+pub(crate) fn lab_csv(dir: &std::path::Path) {
     use msd_ident::{Backend, Excitation, InitialState, Parameters, simulate};
     let input = msd_signal::Signal::Sum {
         terms: vec![

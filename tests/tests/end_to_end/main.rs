@@ -6,6 +6,7 @@ mod chain_experiment;
 mod determinism;
 mod experiment;
 mod faults;
+mod files;
 mod frf_compare;
 mod frf_experiment;
 mod golden;

@@ -303,14 +303,53 @@ pub struct TableSource {
     /// Field delimiter. By default `","`.
     #[serde(default = "comma")]
     pub delimiter: char,
-    /// Whether the first line holds column names. By default true.
+    /// Whether the first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]
     pub header: bool,
+    /// The decimal mark: `"."` (the default) or `","` (with a delimiter other than `","`).
+    #[serde(
+        default = "super::default_decimal",
+        skip_serializing_if = "super::is_point"
+    )]
+    pub decimal: char,
+    /// Lines to skip before the header. By default 0: metadata lines above the header
+    /// (a SignalCalc or spreadsheet export's) and a units line under it are found by
+    /// themselves, and the report says which.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub skip_lines: usize,
+    /// What to do with a missing value: `"refuse"` (the default), `"drop"` the line or
+    /// `"interpolate"` it; the report says how many.
+    #[serde(default, skip_serializing_if = "crate::data::text::Missing::is_refuse")]
+    pub missing: crate::data::text::Missing,
 }
 
 fn comma() -> char {
     ','
 }
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// The text format of a table or records source.
+macro_rules! text_format {
+    ($t:ty) => {
+        impl $t {
+            /// How its text file is written.
+            pub fn text_format(&self) -> crate::data::text::TextFormat {
+                crate::data::text::TextFormat {
+                    delimiter: self.delimiter,
+                    decimal: self.decimal,
+                    header: self.header,
+                    skip_lines: self.skip_lines,
+                    missing: self.missing,
+                }
+            }
+        }
+    };
+}
+text_format!(TableSource);
+text_format!(RecordsSource);
 
 /// A function of a UFF file (datasets 58 and 58b, read by msd-uff).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -350,9 +389,24 @@ pub struct RecordsSource {
     /// Field delimiter. By default `","`.
     #[serde(default = "comma")]
     pub delimiter: char,
-    /// Whether the first line holds column names. By default true.
+    /// Whether the first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]
     pub header: bool,
+    /// The decimal mark: `"."` (the default) or `","` (with a delimiter other than `","`).
+    #[serde(
+        default = "super::default_decimal",
+        skip_serializing_if = "super::is_point"
+    )]
+    pub decimal: char,
+    /// Lines to skip before the header. By default 0: metadata lines above the header
+    /// (a SignalCalc or spreadsheet export's) and a units line under it are found by
+    /// themselves, and the report says which.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub skip_lines: usize,
+    /// What to do with a missing value: `"refuse"` (the default), `"drop"` the line or
+    /// `"interpolate"` it; the report says how many.
+    #[serde(default, skip_serializing_if = "crate::data::text::Missing::is_refuse")]
+    pub missing: crate::data::text::Missing,
 }
 
 impl Config {

@@ -144,9 +144,14 @@ pub struct RecordSource {
     /// Whether a CSV record's first (non-skipped) line holds column names. By default true.
     #[serde(default = "default_true")]
     pub header: bool,
-    /// Lines to skip at the top of a CSV record. By default 0.
+    /// Lines to skip at the top of a CSV record. By default 0 (metadata lines above the
+    /// header are found by themselves).
     #[serde(default)]
     pub skip_lines: usize,
+    /// What to do with a missing value in a CSV record: `"refuse"` (the default),
+    /// `"drop"` or `"interpolate"`.
+    #[serde(default, skip_serializing_if = "crate::data::text::Missing::is_refuse")]
+    pub missing: crate::data::text::Missing,
     /// How the report and figure name this record among several (e.g. when it was
     /// taken: "11-28 14:00"). By default its number.
     #[serde(default, skip_serializing_if = "Option::is_none")]

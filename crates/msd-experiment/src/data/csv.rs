@@ -1,8 +1,11 @@
-//! CSV files: columns by header name or 0-based index, a time column or a sample rate,
-//! any delimiter, `#` comment lines, extra columns ignored. Every bad cell is reported
-//! with the file, its line and the column.
+//! Time records: columns by header name or 0-based index, a time column or a sample
+//! rate, from a text table (read by [`super::text`]: any delimiter and encoding, metadata
+//! and units lines, decimal commas, missing values) or from a MATLAB, NumPy or TDMS file
+//! (read by msd-files as named channels). Every bad cell is reported with the file, its
+//! line and the column.
 
 use super::Record;
+use super::text::{self, Header, TextFormat};
 use crate::config::{Column, DataSection};
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
@@ -34,6 +37,9 @@ pub struct Table {
     pub columns: Vec<Vec<f64>>,
     /// Sampling interval, s.
     pub dt: f64,
+    /// What the reader did that a report should say (metadata lines skipped, units
+    /// found, missing values dropped or interpolated, the encoding).
+    pub notes: Vec<String>,
 }
 
 /// Reads the input, output and (optional) time columns of a CSV file.
@@ -69,6 +75,7 @@ pub fn read_csv(d: &DataSection, sources: &Sources, path: &Path) -> Result<Recor
         input,
         output,
         dt: table.dt,
+        notes: table.notes,
     })
 }
 
@@ -83,93 +90,59 @@ pub fn read_columns(
     path_key: &str,
     columns: &[ColumnSpec],
 ) -> Result<Table> {
-    if let Some(given) = sources.columns(path) {
-        return from_columns(d, path, given, columns);
+    if let Some(given) = sources.table(path, path_key)? {
+        return from_columns(d, path, &given, columns);
     }
     let bytes = sources.bytes(path, path_key)?;
-    let (newlines, start) = line_starts(&bytes, d.skip_lines);
-    if !d.delimiter.is_ascii() {
-        return Err(ExperimentError::data(
-            path,
-            format!(
-                "delimiter {:?}: expected a single ASCII character",
-                d.delimiter
-            ),
-        ));
-    }
-    let mut csv = csv::ReaderBuilder::new()
-        .delimiter(d.delimiter as u8)
-        .has_headers(false)
-        .flexible(true)
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .from_reader(&bytes[start..]);
-    let line_of = |pos: Option<&csv::Position>| {
-        pos.map_or(0, |p| {
-            let byte = start + p.byte() as usize;
-            // With CRLF the csv crate puts a record's start on the previous line's
-            // '\n' (after its '\r'), hence ≤: that newline ends the previous line.
-            let line = 1 + newlines.partition_point(|&i| i <= byte);
-            // The crate also puts it before the comment and blank lines it skipped:
-            // the record is on the first line after them.
-            first_data_line(&bytes, &newlines, line)
-        })
-    };
-    let mut records = csv.records();
-    let header = if d.header {
-        Some(read_header(path, records.next(), &line_of)?)
-    } else {
-        None
-    };
-    let find = |role: &str, key: &str, c: &Column| column_index(path, &header, role, key, c);
-    let indices = columns
-        .iter()
-        .map(|c| find(&c.role, &c.key, &c.column))
-        .collect::<Result<Vec<usize>>>()?;
-    let time_col = d
-        .time
-        .as_ref()
-        .map(|c| find("time", "data.time", c))
-        .transpose()?;
-    let time_spec = time_col
-        .zip(d.time.clone())
-        .map(|(i, column)| (time_column(column), i));
-    let cells: Vec<(&ColumnSpec, usize)> = columns
-        .iter()
-        .zip(indices)
-        .chain(time_spec.as_ref().map(|(s, i)| (s, *i)))
-        .collect();
-
+    let format = d.text_format();
     let mut time = Vec::new();
     let mut values: Vec<Vec<f64>> = vec![Vec::new(); columns.len()];
-    // More fields than the header (or the first data row) has: a decimal comma or a
-    // wrong delimiter would shift the columns, so the row is refused.
-    let mut fields = header.as_ref().map(|(names, _)| names.len());
-    for r in records {
-        let r = r.map_err(|e| ExperimentError::data(path, csv_error(&e, &line_of)))?;
-        let line = line_of(r.position());
-        if r.iter().all(str::is_empty) {
-            continue; // a blank line
-        }
-        let expected = *fields.get_or_insert(r.len());
-        check_width(path, line, r.len(), expected, header.is_some(), d.delimiter)?;
-        for (slot, &(spec, index)) in cells.iter().enumerate() {
-            let (value, scaled) = cell_value(path, line, &r, spec, index, d.decimal)?;
+    let mut lines = Vec::new();
+    let time_spec = d.time.clone().map(time_column);
+    let indices = |header: Option<&Header>| -> Result<Vec<usize>> {
+        let find = |role: &str, key: &str, c: &Column| column_index(path, header, role, key, c);
+        columns
+            .iter()
+            .chain(time_spec.as_ref())
+            .map(|c| find(&c.role, &c.key, &c.column))
+            .collect()
+    };
+    let mut notes = text::scan(path, &bytes, &format, indices, |indices, line, r| {
+        for (slot, (spec, &index)) in columns
+            .iter()
+            .chain(time_spec.as_ref())
+            .zip(indices)
+            .enumerate()
+        {
+            let (value, scaled) = cell_value(path, line, r, spec, index, &format)?;
             match values.get_mut(slot) {
                 Some(column) => column.push(scaled),
                 None => time.push(value),
             }
         }
-        if let (Some(_), [.., a, b]) = (time_col, time.as_slice())
-            && b <= a
-        {
-            return Err(ExperimentError::data(
-                path,
-                format!(
-                    "line {line}, time column: {b} s is not after the previous {a} s: expected increasing time"
-                ),
-            ));
-        }
+        lines.push(line);
+        Ok(())
+    })?;
+    let mut all: Vec<&mut Vec<f64>> = values.iter_mut().collect();
+    if time_spec.is_some() {
+        all.push(&mut time);
+    }
+    notes.extend(text::fill_missing(
+        path,
+        &mut all,
+        &mut lines,
+        format.missing,
+    )?);
+    if let Some(k) = time.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "line {}, time column: {} s is not after the previous {} s: expected increasing time",
+                lines[k + 1],
+                time[k + 1],
+                time[k]
+            ),
+        ));
     }
     let rows = values.first().map_or(time.len(), Vec::len);
     check_rows(path, rows)?;
@@ -178,43 +151,8 @@ pub fn read_columns(
         time,
         columns: values,
         dt,
+        notes,
     })
-}
-
-/// The byte offset of every '\n' of `bytes`, and where the data start after `skip_lines`
-/// lines. Line numbers come from these offsets (the csv crate's own count is off by one
-/// with CRLF line endings): line of byte b = 1 + number of '\n' before b.
-fn line_starts(bytes: &[u8], skip_lines: usize) -> (Vec<usize>, usize) {
-    let newlines: Vec<usize> = bytes
-        .iter()
-        .enumerate()
-        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
-        .collect();
-    let start = if skip_lines == 0 {
-        0
-    } else {
-        newlines.get(skip_lines - 1).map_or(bytes.len(), |&i| i + 1)
-    };
-    (newlines, start)
-}
-
-/// The header's names and its line, from the file's first record.
-fn read_header(
-    path: &Path,
-    first: Option<std::result::Result<csv::StringRecord, csv::Error>>,
-    line_of: &impl Fn(Option<&csv::Position>) -> usize,
-) -> Result<(Vec<String>, usize)> {
-    match first {
-        Some(Ok(r)) => Ok((
-            r.iter().map(str::to_string).collect(),
-            line_of(r.position()),
-        )),
-        Some(Err(e)) => Err(ExperimentError::data(path, csv_error(&e, line_of))),
-        None => Err(ExperimentError::data(
-            path,
-            "the file is empty: expected a header line and data rows",
-        )),
-    }
 }
 
 /// The time column read as the others are, unscaled.
@@ -243,7 +181,7 @@ fn check_rows(path: &Path, rows: usize) -> Result<()> {
     Ok(())
 }
 
-/// The table of the columns given in memory for `path`: each spec's column scaled, the
+/// The table of named columns (given in memory, or a MATLAB, NumPy or TDMS file's) for `path`: each spec's column scaled, the
 /// time from `d.time` (increasing) or `d.sample_rate`, with the checks of a file.
 fn from_columns(
     d: &DataSection,
@@ -251,7 +189,11 @@ fn from_columns(
     given: &[(String, Vec<f64>)],
     specs: &[ColumnSpec],
 ) -> Result<Table> {
-    let rows = given.first().map_or(0, |(_, v)| v.len());
+    let rows = specs
+        .first()
+        .map(|s| pick(path, given, &s.column, &s.key).map(<[f64]>::len))
+        .transpose()?
+        .unwrap_or(0);
     let values = specs
         .iter()
         .map(|s| {
@@ -291,40 +233,50 @@ fn from_columns(
             "data.time or data.sample_rate: missing: expected one of them",
         ));
     }
+    if let Some((s, v)) = specs.iter().zip(&values).find(|(_, v)| v.len() != rows) {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "{} = {}: {} values where {} = {} has {rows}: expected columns of one length",
+                s.key,
+                s.column,
+                v.len(),
+                specs[0].key,
+                specs[0].column
+            ),
+        ));
+    }
+    if !time.is_empty() && time.len() != rows {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "data.time: {} values where {} = {} has {rows}: expected columns of one length",
+                time.len(),
+                specs[0].key,
+                specs[0].column
+            ),
+        ));
+    }
     let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
     Ok(Table {
         time,
         columns: values,
         dt,
+        notes: Vec::new(),
     })
 }
 
-/// The first line from `line` (1-based) on that is neither a `#` comment nor blank;
-/// `newlines` are the offsets of the '\n's of `bytes`.
-fn first_data_line(bytes: &[u8], newlines: &[usize], mut line: usize) -> usize {
-    loop {
-        let from = if line == 1 { 0 } else { newlines[line - 2] + 1 };
-        let to = newlines.get(line - 1).copied().unwrap_or(bytes.len());
-        let text = &bytes[from.min(to)..to];
-        let skipped = text.starts_with(b"#") || text.trim_ascii().is_empty();
-        if !skipped || to == bytes.len() {
-            return line;
-        }
-        line += 1;
-    }
-}
-
 /// The 0-based index of column `c` (an index, or a name looked up in the header).
-fn column_index(
+pub(crate) fn column_index(
     path: &Path,
-    header: &Option<(Vec<String>, usize)>,
+    header: Option<&Header>,
     role: &str,
     key: &str,
     c: &Column,
 ) -> Result<usize> {
     match (c, header) {
         (Column::Index(i), _) => Ok(*i),
-        (Column::Name(name), Some((names, line))) => {
+        (Column::Name(name), Some(Header { names, line })) => {
             names.iter().position(|h| h == name).ok_or_else(|| {
                 let found: Vec<String> = names
                     .iter()
@@ -343,10 +295,11 @@ fn column_index(
                         }),
                     _ => String::new(),
                 };
+                let role = if role.is_empty() { String::new() } else { format!("{role} ") };
                 ExperimentError::data(
                     path,
                     format!(
-                        "line {line}: no {role} column named `{name}` ({key}): the header has {}{hint}",
+                        "line {line}: no {role}column named `{name}` ({key}): the header has {}{hint}",
                         found.join(", ")
                     ),
                 )
@@ -355,32 +308,10 @@ fn column_index(
         (Column::Name(name), None) => Err(ExperimentError::data(
             path,
             format!(
-                "{key} = \"{name}\": the file has no header (data.header = false): use a 0-based column index"
+                "{key} = \"{name}\": the file has no header (header = false): use a 0-based column index"
             ),
         )),
     }
-}
-
-/// Refuses a row with more fields than the header (or the first data row) has: a
-/// decimal comma or a wrong delimiter would shift the columns.
-fn check_width(
-    path: &Path,
-    line: usize,
-    fields: usize,
-    expected: usize,
-    has_header: bool,
-    delimiter: char,
-) -> Result<()> {
-    if fields <= expected {
-        return Ok(());
-    }
-    Err(ExperimentError::data(
-        path,
-        format!(
-            "line {line}: the row has {fields} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (data.delimiter = {delimiter:?})?",
-            if has_header { "header" } else { "first row" },
-        ),
-    ))
 }
 
 /// The value of one cell (`spec`'s column, at `index` of row `r` on `line`) as read and
@@ -391,7 +322,7 @@ fn cell_value(
     r: &csv::StringRecord,
     spec: &ColumnSpec,
     index: usize,
-    decimal: char,
+    format: &TextFormat,
 ) -> Result<(f64, f64)> {
     let (role, column, scale) = (&spec.role, &spec.column, spec.scale);
     let cell = r.get(index).ok_or_else(|| {
@@ -403,9 +334,12 @@ fn cell_value(
             ),
         )
     })?;
-    let value = parse_cell(cell, decimal).map_err(|why| {
+    let value = text::parse_cell(cell, format.decimal, format.missing).map_err(|why| {
         ExperimentError::data(path, format!("line {line}, {role} column {column}: {why}"))
     })?;
+    if value.is_nan() {
+        return Ok((value, value)); // missing, filled or dropped by the missing policy
+    }
     let scaled = value * scale;
     if !scaled.is_finite() {
         return Err(ExperimentError::data(
@@ -466,41 +400,11 @@ fn time_grid(
     Ok((time, dt))
 }
 
-fn csv_error(e: &csv::Error, line_of: &dyn Fn(Option<&csv::Position>) -> usize) -> String {
-    match e.position() {
-        Some(p) => format!("line {}: malformed CSV: {e}", line_of(Some(p))),
-        None => format!("malformed CSV: {e}"),
-    }
-}
-
 /// The largest magnitude a data value may have: the sums of squares that every fit and
 /// test computes stay finite (1e100² · 1e8 samples = 1e208 < f64::MAX ≈ 1.8e308). No
 /// measurement in any unit comes near it; a value beyond it is a corrupt cell or a wrong
 /// scale, refused where it is read rather than misdiagnosed later.
 pub const LARGEST_VALUE: f64 = 1e100;
-
-/// A cell as a finite number, with `decimal` as its decimal mark; a cell that would read
-/// with the other mark says so.
-fn parse_cell(cell: &str, decimal: char) -> std::result::Result<f64, String> {
-    let cell = cell.trim().trim_matches('"');
-    if cell.is_empty() {
-        return Err("empty cell: expected a number".into());
-    }
-    let read = |mark: char| -> Option<f64> {
-        if mark == ',' && cell.contains('.') {
-            return None; // "1.234,5": a thousands separator, not read
-        }
-        cell.replacen(mark, ".", 1).parse::<f64>().ok()
-    };
-    match read(decimal) {
-        Some(v) if v.is_finite() => Ok(v),
-        Some(v) => Err(format!("{v}: expected a finite number")),
-        None if decimal == '.' && read(',').is_some() => Err(format!(
-            "`{cell}` is not a number with a decimal point: a decimal comma? set decimal = \",\" (and a delimiter other than \",\")"
-        )),
-        None => Err(format!("`{cell}` is not a number")),
-    }
-}
 
 /// The column `column` (config key `key`) of the in-memory table `columns` of `path`.
 pub(crate) fn pick<'a>(
@@ -518,22 +422,12 @@ pub(crate) fn pick<'a>(
         ExperimentError::data(
             path,
             format!(
-                "{key} = {column}: no such column among the {} given in memory ({})",
+                "{key} = {column}: no such column among the {} the file holds ({})",
                 columns.len(),
                 names.join(", ")
             ),
         )
     })?;
-    let rows = columns[0].1.len();
-    if values.len() != rows {
-        return Err(ExperimentError::data(
-            path,
-            format!(
-                "{key} = {column}: {} values where the first column has {rows}: expected columns of one length",
-                values.len()
-            ),
-        ));
-    }
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
         return Err(ExperimentError::data(
             path,
@@ -544,22 +438,4 @@ pub(crate) fn pick<'a>(
         ));
     }
     Ok(values)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_cell;
-
-    #[test]
-    fn decimal_commas_read_when_asked_and_are_named_when_not() {
-        assert_eq!(parse_cell("-0,980708", ','), Ok(-0.980708));
-        assert_eq!(parse_cell(" 12 ", ','), Ok(12.0));
-        assert_eq!(parse_cell("1.5e-3", '.'), Ok(1.5e-3));
-        let why = parse_cell("-0,980708", '.').unwrap_err();
-        assert!(why.contains("decimal = \",\""), "{why}");
-        // A thousands separator with a decimal comma is not guessed at.
-        assert!(parse_cell("1.234,5", ',').is_err());
-        let why = parse_cell("abc", '.').unwrap_err();
-        assert!(!why.contains("decimal"), "{why}");
-    }
 }

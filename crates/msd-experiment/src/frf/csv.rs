@@ -1,22 +1,26 @@
-//! Named numeric columns of a CSV file, each value with its line, for the table and
-//! records sources: errors name the file, the line, the column and the config key.
+//! Named numeric columns of a table, each value with its line, for the table and
+//! records sources: a text file read by the one text reader (`data::text`: encoding,
+//! metadata lines, decimal commas, missing values), or a MATLAB, NumPy or TDMS file's
+//! channels. Errors name the file, the line, the column and the config key.
 
 use crate::config::Column;
-use crate::data::csv::pick;
+use crate::data::csv::{column_index, pick};
+use crate::data::text::{self, Header, Missing, TextFormat};
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
 use msd_signal::Complex64;
 use std::path::Path;
 
-/// The columns read: `values[c][row]`, the complex column if one was asked for, and the
-/// 1-based line of each row.
+/// The columns read: `values[c][row]`, the complex column if one was asked for, the
+/// 1-based line of each row, and what the reader did that a report should say.
 pub(crate) struct Columns {
     pub values: Vec<Vec<f64>>,
     pub complex: Vec<Complex64>,
     pub lines: Vec<usize>,
+    pub notes: Vec<String>,
 }
 
-/// Where to read: the file, its delimiter and header, and the columns as
+/// Where to read: the file, how it is written, and the columns as
 /// `(config key, column)`.
 pub(crate) struct Request<'a> {
     /// Where the file comes from (the disk, or memory).
@@ -24,8 +28,7 @@ pub(crate) struct Request<'a> {
     pub path: &'a Path,
     /// The key of the file in the config, for messages (`frequency_response.table.path`).
     pub path_key: &'a str,
-    pub delimiter: char,
-    pub header: bool,
+    pub format: TextFormat,
     pub columns: Vec<(String, &'a Column)>,
     /// A column of complex numbers as text, `(config key, column)`.
     pub complex: Option<(String, &'a Column)>,
@@ -35,123 +38,92 @@ pub(crate) struct Request<'a> {
 pub(crate) fn read(request: &Request<'_>) -> Result<Columns> {
     let path = request.path;
     let fail = |message: String| ExperimentError::data(path, message);
-    if let Some(given) = request.sources.columns(path) {
-        return from_columns(request, given);
+    if let Some(given) = request.sources.table(path, request.path_key)? {
+        return from_columns(request, &given);
     }
-    let bytes = request.sources.read(path).map_err(|e| {
-        fail(format!(
-            "cannot open the file ({} = {:?}): {e}",
-            request.path_key,
-            path.file_name().unwrap_or_default()
-        ))
-    })?;
-    if !request.delimiter.is_ascii() {
-        return Err(fail(format!(
-            "delimiter {:?}: expected a single ASCII character",
-            request.delimiter
-        )));
-    }
-    let mut reader = csv::ReaderBuilder::new()
-        .delimiter(request.delimiter as u8)
-        .has_headers(false)
-        .flexible(true)
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .from_reader(bytes.as_slice());
-    let line_of = |r: &csv::StringRecord| r.position().map_or(0, |p| p.line() as usize);
-    let mut records = reader.records();
-    let header = if request.header {
-        match records.next() {
-            Some(Ok(r)) => Some(r),
-            Some(Err(e)) => return Err(fail(e.to_string())),
-            None => return Err(fail("the file is empty: expected a header line".into())),
-        }
-    } else {
-        None
-    };
-    let indices = request
-        .columns
-        .iter()
-        .map(|(key, column)| {
-            index_of(column, key, header.as_ref().map(|h| (h, line_of(h)))).map_err(&fail)
-        })
-        .collect::<Result<Vec<usize>>>()?;
-    let complex = match &request.complex {
-        Some((key, column)) => Some((
-            index_of(column, key, header.as_ref().map(|h| (h, line_of(h)))).map_err(&fail)?,
-            key,
-            *column,
-        )),
-        None => None,
-    };
+    let bytes = request.sources.bytes(path, request.path_key)?;
+    let format = &request.format;
     let mut out = Columns {
-        values: vec![Vec::new(); indices.len()],
+        values: vec![Vec::new(); request.columns.len()],
         complex: Vec::new(),
         lines: Vec::new(),
+        notes: Vec::new(),
     };
-    for r in records {
-        let r = r.map_err(|e| fail(e.to_string()))?;
-        if r.iter().all(str::is_empty) {
-            continue;
-        }
-        let line = line_of(&r);
-        // The cell of `column` parsed by `parse`, or why not, with the line and the key.
-        let cell =
-            |index: usize,
-             key: &str,
-             column: &Column,
-             parse: &dyn Fn(&str) -> std::result::Result<Complex64, String>| {
-                let text = r.get(index).ok_or_else(|| {
+    let indices = |header: Option<&Header>| -> Result<(Vec<usize>, Option<usize>)> {
+        let find = |key: &str, c: &Column| column_index(path, header, "", key, c);
+        let columns = request
+            .columns
+            .iter()
+            .map(|(key, column)| find(key, column))
+            .collect::<Result<Vec<usize>>>()?;
+        let complex = request
+            .complex
+            .as_ref()
+            .map(|(key, column)| find(key, column))
+            .transpose()?;
+        Ok((columns, complex))
+    };
+    let notes = text::scan(
+        path,
+        &bytes,
+        format,
+        indices,
+        |(indices, complex), line, r| {
+            // The cell of `column` at `index`, or why not, with the line and the key.
+            let cell = |index: usize, key: &str, column: &Column| {
+                r.get(index).ok_or_else(|| {
                     fail(format!(
                         "line {line}: the row has {} fields, no column {column} ({key}){}",
                         r.len(),
                         numbering(column, r.len())
                     ))
-                })?;
-                parse(text).map_err(|why: String| {
-                    fail(format!("line {line}, column {column} ({key}): {why}"))
                 })
             };
-        for (c, (&index, (key, column))) in indices.iter().zip(&request.columns).enumerate() {
-            out.values[c].push(
-                cell(index, key, column, &|t| {
-                    parse(t).map(|v| Complex64::new(v, 0.0))
-                })?
-                .re,
-            );
-        }
-        if let Some((index, key, column)) = complex {
-            out.complex.push(cell(index, key, column, &parse_complex)?);
-        }
-        out.lines.push(line);
-    }
+            for (c, (&index, (key, column))) in indices.iter().zip(&request.columns).enumerate() {
+                let v = text::parse_cell(cell(index, key, column)?, format.decimal, format.missing)
+                    .map_err(|why| fail(format!("line {line}, column {column} ({key}): {why}")))?;
+                out.values[c].push(v);
+            }
+            if let (Some(index), Some((key, column))) = (complex, &request.complex) {
+                let text = cell(*index, key, column)?;
+                let z = if text::is_missing(text) && format.missing != Missing::Refuse {
+                    Complex64::new(f64::NAN, f64::NAN)
+                } else {
+                    parse_complex(text).map_err(|why| {
+                        fail(format!("line {line}, column {column} ({key}): {why}"))
+                    })?
+                };
+                out.complex.push(z);
+            }
+            out.lines.push(line);
+            Ok(())
+        },
+    )?;
+    out.notes = notes;
+    fill(path, &mut out, format.missing)?;
     if out.lines.is_empty() {
         return Err(fail("no data rows: expected at least one".into()));
     }
     Ok(out)
 }
 
-/// The 0-based index of `column`, looked up in the header by name.
-fn index_of(
-    column: &Column,
-    key: &str,
-    header: Option<(&csv::StringRecord, usize)>,
-) -> std::result::Result<usize, String> {
-    match (column, header) {
-        (Column::Index(i), _) => Ok(*i),
-        (Column::Name(name), Some((h, line))) => {
-            h.iter().position(|n| n == name).ok_or_else(|| {
-                let found: Vec<String> = h.iter().map(|n| format!("`{n}`")).collect();
-                format!(
-                    "line {line}: no column named `{name}` ({key}): the header has {}",
-                    found.join(", ")
-                )
-            })
-        }
-        (Column::Name(name), None) => Err(format!(
-            "{key} = \"{name}\": the file has no header (header = false): use a 0-based column index"
-        )),
+/// The missing policy applied to every column read, the complex one as its two parts.
+fn fill(path: &Path, out: &mut Columns, missing: Missing) -> Result<()> {
+    let (mut re, mut im): (Vec<f64>, Vec<f64>) = out.complex.iter().map(|z| (z.re, z.im)).unzip();
+    let mut all: Vec<&mut Vec<f64>> = out.values.iter_mut().collect();
+    if !re.is_empty() {
+        all.push(&mut re);
+        all.push(&mut im);
     }
+    if let Some(note) = text::fill_missing(path, &mut all, &mut out.lines, missing)? {
+        out.notes.push(note);
+        out.complex = re
+            .into_iter()
+            .zip(im)
+            .map(|(re, im)| Complex64::new(re, im))
+            .collect();
+    }
+    Ok(())
 }
 
 /// For a column given by number: how the row's columns are numbered.
@@ -165,14 +137,9 @@ fn numbering(column: &Column, fields: usize) -> String {
     }
 }
 
+/// A finite number with a decimal point.
 fn parse(cell: &str) -> std::result::Result<f64, String> {
-    let cell = cell.trim_matches('"');
-    match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        Ok(v) => Err(format!("{v}: expected a finite number")),
-        Err(_) if cell.is_empty() => Err("empty cell: expected a number".into()),
-        Err(_) => Err(format!("`{cell}` is not a number")),
-    }
+    text::parse_cell(cell, '.', Missing::Refuse)
 }
 
 /// A complex number as text: `a+bj`, `(a+bj)`, `a-bi`, `bj`, `a` (spaces allowed
@@ -229,11 +196,26 @@ fn from_columns(request: &Request<'_>, given: &[(String, Vec<f64>)]) -> Result<C
         .iter()
         .map(|(key, column)| pick(request.path, given, column, key).map(<[f64]>::to_vec))
         .collect::<Result<Vec<_>>>()?;
-    let rows = given.first().map_or(0, |(_, v)| v.len());
+    let rows = values.first().map_or(0, Vec::len);
+    if let Some((c, (key, column))) = values
+        .iter()
+        .zip(&request.columns)
+        .find(|(v, _)| v.len() != rows)
+    {
+        return Err(ExperimentError::data(
+            request.path,
+            format!(
+                "{key} = {column}: {} values where {} has {rows}: expected columns of one length",
+                c.len(),
+                request.columns[0].0
+            ),
+        ));
+    }
     Ok(Columns {
         values,
         complex: Vec::new(),
         lines: (1..=rows).collect(),
+        notes: Vec::new(),
     })
 }
 

@@ -125,8 +125,7 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
         sources,
         path,
         path_key: "frequency_response.table.path",
-        delimiter: t.delimiter,
-        header: t.header,
+        format: t.text_format(),
         columns,
         complex: t.complex.as_ref().map(|c| (key("complex"), c)),
     })?;
@@ -170,11 +169,12 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
     Ok(Loaded {
         time: None,
         description: format!(
-            "the table {} ({} lines, {}–{} Hz, {what})",
+            "the table {} ({} lines, {}–{} Hz, {what}){}",
             path.display(),
             f.len(),
             f[0],
             f[f.len() - 1],
+            notes_text(&read.notes)
         ),
         frf,
         members: Vec::new(),
@@ -445,8 +445,7 @@ fn records(
         sources,
         path,
         path_key: "frequency_response.records.path",
-        delimiter: r.delimiter,
-        header: r.header,
+        format: r.text_format(),
         columns,
         complex: None,
     })?;
@@ -480,12 +479,13 @@ fn records(
         ExperimentError::data(path, format!("{e}{hint}"))
     })?;
     let description = format!(
-        "{} records of {} samples at {} Hz from {} ({})",
+        "{} records of {} samples at {} Hz from {} ({}){}",
         records.len(),
         read.lines.len(),
         r.sample_rate,
         path.display(),
-        options.kind
+        options.kind,
+        notes_text(&read.notes)
     );
     let mut values = read.values.into_iter();
     let mut channels = Vec::new();
@@ -505,4 +505,9 @@ fn records(
         members: Vec::new(),
         nodes: Vec::new(),
     })
+}
+
+/// What the reader said of the file, after its description: "; lines 1–9 read as …".
+fn notes_text(notes: &[String]) -> String {
+    notes.iter().map(|n| format!("; {n}")).collect()
 }

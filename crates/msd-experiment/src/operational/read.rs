@@ -330,6 +330,7 @@ fn read_csv(
         decimal: source.decimal,
         header: source.header,
         skip_lines: source.skip_lines,
+        missing: source.missing,
         input_unit: String::new(),
         output_unit: String::new(),
         input_scale: 1.0,

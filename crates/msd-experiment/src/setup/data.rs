@@ -91,10 +91,11 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData>
         .clone()
         .ok_or_else(|| ExperimentError::config(config_path, "setup: missing section"))?;
     let channels = setup.channels();
-    let (records, files) = match &config.data {
+    let (records, files, notes) = match &config.data {
         Some(_) => measured(config, &setup, &channels)?,
         None => (
             synthetic(config, config_path, &setup, &channels, seed)?,
+            Vec::new(),
             Vec::new(),
         ),
     };
@@ -104,7 +105,7 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData>
         channels,
         records,
         validation: Vec::new(),
-        notes: Vec::new(),
+        notes,
         files,
     };
     if let Some(d) = &config.data {
@@ -148,9 +149,9 @@ fn measured(
     config: &Config,
     setup: &SetupSection,
     channels: &[Response],
-) -> Result<(Vec<SetupRecord>, Vec<PathBuf>)> {
+) -> Result<(Vec<SetupRecord>, Vec<PathBuf>, Vec<String>)> {
     let Some(d) = &config.data else {
-        return Ok((Vec::new(), Vec::new()));
+        return Ok((Vec::new(), Vec::new(), Vec::new()));
     };
     let mut specs: Vec<ColumnSpec> = Vec::new();
     if let Some(column) = &d.input {
@@ -173,9 +174,12 @@ fn measured(
     }
     let mut records = Vec::new();
     let mut files = Vec::new();
+    let mut notes = Vec::new();
     for (i, file) in d.path.0.iter().enumerate() {
         let path = config.sources.path(file);
         let mut table = read_columns(d, &config.sources, &path, &d.path.key(i), &specs)?;
+        let label = file.display();
+        notes.extend(table.notes.drain(..).map(|n| format!("{label}: {n}")));
         let input = match d.input {
             Some(_) => {
                 let samples = table.columns.remove(0);
@@ -202,7 +206,7 @@ fn measured(
         });
         files.push(path);
     }
-    Ok((records, files))
+    Ok((records, files, notes))
 }
 
 fn synthetic(

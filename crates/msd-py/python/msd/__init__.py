@@ -84,6 +84,8 @@ __all__ = [
     "plan",
     "design",
     "paper_data",
+    "read_file",
+    "inspect",
     "uff",
 ]
 
@@ -864,3 +866,30 @@ def paper_data(seed: int = 1) -> Dict[str, Dict[str, np.ndarray]]:
     2 ms; σ = 2.5 mm noise from `seed`): ``{"identification": {...}, "validation":
     {...}}``, each with ``t``, ``force``, ``displacement`` and ``true_displacement``."""
     return _msd.paper_data(int(seed))
+
+
+def read_file(path: Union[str, "os.PathLike[str]"], details: bool = False) -> Union[Dict[str, np.ndarray], List[Dict[str, Any]]]:
+    """The channels of a MATLAB ``.mat`` (levels 5 and 7), NumPy ``.npy``/``.npz`` or NI
+    TDMS file, as ``{name: array}`` in the file's order.
+
+    A vector is one channel named as its variable; a matrix is split along its shorter
+    dimension into ``name[0]``, ``name[1]``, … (0-based); a complex variable gives
+    ``name.re`` and ``name.im``; a TDMS channel is named ``channel`` (``group/channel``
+    where two groups share the name). The same names pick columns in a config's
+    ``[data]`` section. With ``details=True``: a list of dicts with ``name``, ``unit``,
+    ``sample_rate_hz`` (where the file gives them) and ``values``.
+
+    Raises OSError for a file that cannot be opened, ValueError (naming the file and what
+    was expected) for one that is not what its extension says, truncated or corrupt.
+    """
+    channels, _skipped = _msd.read_file(os.fspath(path))
+    if details:
+        return channels
+    return {c["name"]: c["values"] for c in channels}
+
+
+def inspect(path: Union[str, "os.PathLike[str]"]) -> str:
+    """What a data file holds (``msd inspect FILE``): its channels or columns, units,
+    lengths and sampling rate, how a text file is written, and the config lines that
+    read it."""
+    return _msd.inspect(os.fspath(path))

@@ -1,0 +1,532 @@
+//! The one reader of text tables (time records, FRF tables, output-only records): the
+//! file's encoding (UTF-8, UTF-16 with its BOM, else Windows-1252 — a SignalCalc export's
+//! `m/s²` in Latin-1), metadata lines before the header found and skipped, a units line
+//! under the header, `#` comments and blank lines passed over, any delimiter, a decimal
+//! comma, and missing values refused, dropped or interpolated. Every row comes with its
+//! 1-based line for messages.
+
+use crate::error::{ExperimentError, Result};
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
+use std::path::Path;
+
+/// What a text table's reader does with a missing value (an empty cell, or `NaN`, `NA`,
+/// `N/A`, `#N/A`, `null`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Missing {
+    /// Refuse the file, naming the line (the default).
+    #[default]
+    Refuse,
+    /// Drop every row with a missing value; the report says how many.
+    Drop,
+    /// Fill each gap linearly between its neighbours (the nearest value at an end); the
+    /// report says how many.
+    Interpolate,
+}
+
+impl Missing {
+    /// Whether this is the default (`refuse`), left out of `results.json`'s config echo.
+    pub fn is_refuse(&self) -> bool {
+        *self == Self::Refuse
+    }
+}
+
+/// How a text table is written.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TextFormat {
+    /// The field delimiter (one ASCII character).
+    pub delimiter: char,
+    /// The decimal mark, `.` or `,`.
+    pub decimal: char,
+    /// Whether a line of column names precedes the data.
+    pub header: bool,
+    /// Lines to skip before the header; 0 finds metadata lines by themselves.
+    pub skip_lines: usize,
+    /// What to do with an empty or NaN cell.
+    pub missing: Missing,
+}
+
+/// The header's names and its 1-based line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Header {
+    /// The column names.
+    pub names: Vec<String>,
+    /// The line they are on.
+    pub line: usize,
+}
+
+/// Reads the table in `bytes` (the file `path`): `on_header` receives the header (or
+/// `None` without one) and returns what `on_row` needs; `on_row` receives every data row
+/// with its line. Returns the notes a report shows (metadata skipped, units found, the
+/// encoding when it was not UTF-8).
+pub(crate) fn scan<H>(
+    path: &Path,
+    bytes: &[u8],
+    format: &TextFormat,
+    on_header: impl FnOnce(Option<&Header>) -> Result<H>,
+    mut on_row: impl FnMut(&H, usize, &csv::StringRecord) -> Result<()>,
+) -> Result<Vec<String>> {
+    if !format.delimiter.is_ascii() {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "delimiter {:?}: expected a single ASCII character",
+                format.delimiter
+            ),
+        ));
+    }
+    let (text, mut notes) = decode(bytes);
+    let text = text.as_bytes();
+    let newlines: Vec<usize> = text
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &b)| (b == b'\n').then_some(i))
+        .collect();
+    let layout = layout(text, &newlines, format);
+    notes.extend(layout.notes.iter().cloned());
+    let start = if layout.skip == 0 {
+        0
+    } else {
+        newlines.get(layout.skip - 1).map_or(text.len(), |&i| i + 1)
+    };
+    let mut reader = csv::ReaderBuilder::new()
+        .delimiter(format.delimiter as u8)
+        .has_headers(false)
+        .flexible(true)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(&text[start..]);
+    let line_of = |pos: Option<&csv::Position>| {
+        pos.map_or(0, |p| {
+            let byte = start + p.byte() as usize;
+            // With CRLF the csv crate puts a record's start on the previous line's '\n'
+            // (after its '\r'), hence ≤; it also puts it before the comment and blank
+            // lines it skipped: the record is on the first line after them.
+            let line = 1 + newlines.partition_point(|&i| i <= byte);
+            first_data_line(text, &newlines, line)
+        })
+    };
+    let malformed = |e: &csv::Error| match e.position() {
+        Some(p) => format!("line {}: malformed CSV: {e}", line_of(Some(p))),
+        None => format!("malformed CSV: {e}"),
+    };
+    let mut records = reader.records();
+    let header = if format.header {
+        match records.next() {
+            Some(Ok(r)) => Some(Header {
+                names: r.iter().map(str::to_string).collect(),
+                line: line_of(r.position()),
+            }),
+            Some(Err(e)) => return Err(ExperimentError::data(path, malformed(&e))),
+            None => {
+                return Err(ExperimentError::data(
+                    path,
+                    "the file is empty: expected a header line and data rows",
+                ));
+            }
+        }
+    } else {
+        None
+    };
+    let state = on_header(header.as_ref())?;
+    // More fields than the header (or the first data row) has: a decimal comma or a
+    // wrong delimiter would shift the columns, so the row is refused.
+    let mut fields = header.as_ref().map(|h| h.names.len());
+    for r in records {
+        let r = r.map_err(|e| ExperimentError::data(path, malformed(&e)))?;
+        let line = line_of(r.position());
+        if r.iter().all(str::is_empty) || layout.units_lines.contains(&line) {
+            continue;
+        }
+        let expected = *fields.get_or_insert(r.len());
+        if r.len() > expected {
+            return Err(ExperimentError::data(
+                path,
+                format!(
+                    "line {line}: the row has {} fields, expected {expected} as the {}: a decimal comma, or the wrong delimiter (delimiter = {:?})?",
+                    r.len(),
+                    if header.is_some() {
+                        "header"
+                    } else {
+                        "first row"
+                    },
+                    format.delimiter
+                ),
+            ));
+        }
+        on_row(&state, line, &r)?;
+    }
+    Ok(notes)
+}
+
+/// The text of `bytes`: UTF-8 (a BOM dropped), UTF-16 by its BOM, else Windows-1252,
+/// which reads every byte (Latin-1's letters and symbols where they are); a note says
+/// which when it was not UTF-8.
+pub(crate) fn decode(bytes: &[u8]) -> (Cow<'_, str>, Vec<String>) {
+    if let Some((encoding, bom)) = encoding_rs::Encoding::for_bom(bytes) {
+        let (text, _) = encoding.decode_without_bom_handling(&bytes[bom..]);
+        let note = (encoding != encoding_rs::UTF_8)
+            .then(|| format!("read as {} (by its byte-order mark)", encoding.name()));
+        return (text, note.into_iter().collect());
+    }
+    match std::str::from_utf8(bytes) {
+        Ok(text) => (Cow::Borrowed(text), Vec::new()),
+        Err(_) => {
+            let (text, _, _) = encoding_rs::WINDOWS_1252.decode(bytes);
+            (
+                text,
+                vec!["not UTF-8: read as Windows-1252 (Latin-1)".into()],
+            )
+        }
+    }
+}
+
+/// Where the table starts: the lines skipped before the header, units lines under it,
+/// and what a report says of them.
+#[derive(Debug, Default, PartialEq)]
+pub(crate) struct Layout {
+    pub skip: usize,
+    pub units_lines: Vec<usize>,
+    pub units: Vec<String>,
+    pub notes: Vec<String>,
+}
+
+/// Finds the table in `text` when `format.skip_lines` is 0: the first line whose fields
+/// all read as numbers (with the next such line, if any, of the same width) starts the
+/// data; with a header, the header is the first of the lines of that width just above
+/// it (the others, units); every line above is metadata.
+pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> Layout {
+    if format.skip_lines > 0 {
+        return Layout {
+            skip: format.skip_lines,
+            ..Layout::default()
+        };
+    }
+    let line_text = |i: usize| -> &[u8] {
+        let from = if i == 0 { 0 } else { newlines[i - 1] + 1 };
+        let to = newlines.get(i).copied().unwrap_or(text.len());
+        text[from.min(to)..to].trim_ascii()
+    };
+    let lines = (newlines.len() + 1).min(500);
+    let content: Vec<usize> = (0..lines)
+        .filter(|&i| {
+            let t = line_text(i);
+            !t.is_empty() && !t.starts_with(b"#")
+        })
+        .collect();
+    let fields = |i: usize| -> Vec<String> {
+        String::from_utf8_lossy(line_text(i))
+            .split(format.delimiter)
+            .map(|f| f.trim().trim_matches('"').to_string())
+            .collect()
+    };
+    let numeric = |i: usize| {
+        let f = fields(i);
+        f.iter().any(|c| !c.is_empty())
+            && f.iter()
+                .all(|c| c.is_empty() || number(c, format.decimal).is_some())
+    };
+    let Some(pos) = content.iter().position(|&i| numeric(i)) else {
+        return Layout::default();
+    };
+    let data = content[pos];
+    let width = fields(data).len();
+    let above = &content[..pos];
+    let block = above
+        .iter()
+        .rev()
+        .take_while(|&&i| fields(i).len() == width)
+        .count();
+    let header = match (format.header, block) {
+        (false, _) => data,
+        (true, 0) => return Layout::default(),
+        (true, n) => above[pos - n],
+    };
+    let mut out = Layout {
+        skip: header,
+        ..Layout::default()
+    };
+    if format.header && block > 1 {
+        out.units_lines = above[pos - block + 1..].iter().map(|i| i + 1).collect();
+        out.units = fields(above[pos - 1]);
+        out.notes.push(format!(
+            "line {}: units {}",
+            above[pos - 1] + 1,
+            out.units.join(", ")
+        ));
+    }
+    let metadata: Vec<usize> = above.iter().copied().filter(|&i| i < header).collect();
+    if let Some(&first) = metadata.first() {
+        let shown: String = String::from_utf8_lossy(line_text(first))
+            .chars()
+            .take(60)
+            .collect();
+        let lines = if header == 1 {
+            "line 1".to_string()
+        } else {
+            format!("lines 1–{header}")
+        };
+        out.notes.push(format!(
+            "{lines} read as metadata and skipped (line {}: `{shown}`); set skip_lines to choose",
+            first + 1
+        ));
+    }
+    out
+}
+
+/// A cell as a number with `decimal` as its decimal mark, if it reads as one.
+pub(crate) fn number(cell: &str, decimal: char) -> Option<f64> {
+    if decimal == ',' && cell.contains('.') {
+        return None; // "1.234,5": a thousands separator, not read
+    }
+    cell.replacen(decimal, ".", 1).parse::<f64>().ok()
+}
+
+/// Whether a cell holds no value: empty, or NaN as spreadsheets and loggers write it.
+pub(crate) fn is_missing(cell: &str) -> bool {
+    let cell = cell.trim().trim_matches('"');
+    cell.is_empty()
+        || ["nan", "na", "n/a", "#n/a", "null"].contains(&cell.to_ascii_lowercase().as_str())
+}
+
+/// A cell as a finite number with `decimal` as its decimal mark (NaN for a missing
+/// value when `missing` is not `refuse`); a cell that would read with the other mark
+/// says so.
+pub(crate) fn parse_cell(
+    cell: &str,
+    decimal: char,
+    missing: Missing,
+) -> std::result::Result<f64, String> {
+    let cell = cell.trim().trim_matches('"');
+    if is_missing(cell) {
+        return match missing {
+            Missing::Refuse => Err(format!(
+                "{}: expected a number (set missing = \"drop\" or \"interpolate\" to pass over missing values)",
+                if cell.is_empty() {
+                    "empty cell".to_string()
+                } else {
+                    format!("`{cell}`")
+                }
+            )),
+            Missing::Drop | Missing::Interpolate => Ok(f64::NAN),
+        };
+    }
+    match number(cell, decimal) {
+        Some(v) if v.is_finite() => Ok(v),
+        Some(v) => Err(format!("{v}: expected a finite number")),
+        None if decimal == '.' && number(cell, ',').is_some() => Err(format!(
+            "`{cell}` is not a number with a decimal point: a decimal comma? set decimal = \",\" (and a delimiter other than \",\")"
+        )),
+        None => Err(format!("`{cell}` is not a number")),
+    }
+}
+
+/// Applies `missing` to the columns read (NaN where a value was missing), rows at
+/// `lines`: `drop` removes every row with a missing value, `interpolate` fills each gap
+/// linearly between its neighbours (the nearest value at an end). Returns the note that
+/// says how many, or an error when a column has no value at all.
+pub(crate) fn fill_missing(
+    path: &Path,
+    columns: &mut [&mut Vec<f64>],
+    lines: &mut Vec<usize>,
+    missing: Missing,
+) -> Result<Option<String>> {
+    let gaps: Vec<usize> = (0..lines.len())
+        .filter(|&r| columns.iter().any(|c| c[r].is_nan()))
+        .collect();
+    if gaps.is_empty() {
+        return Ok(None);
+    }
+    let shown = |rows: &[usize]| {
+        let mut s: Vec<String> = rows.iter().take(5).map(|&r| lines[r].to_string()).collect();
+        if rows.len() > 5 {
+            s.push("…".into());
+        }
+        s.join(", ")
+    };
+    let where_ = shown(&gaps);
+    match missing {
+        Missing::Refuse => Ok(None),
+        Missing::Drop => {
+            let keep: Vec<bool> = (0..lines.len())
+                .map(|r| gaps.binary_search(&r).is_err())
+                .collect();
+            for c in columns.iter_mut() {
+                let mut k = keep.iter();
+                c.retain(|_| *k.next().unwrap_or(&true));
+            }
+            let mut k = keep.iter();
+            lines.retain(|_| *k.next().unwrap_or(&true));
+            Ok(Some(format!(
+                "{} row{} with a missing value dropped (line {where_})",
+                gaps.len(),
+                if gaps.len() == 1 { "" } else { "s" }
+            )))
+        }
+        Missing::Interpolate => {
+            let mut count = 0;
+            for c in columns.iter_mut() {
+                count += interpolate(c).ok_or_else(|| {
+                    ExperimentError::data(
+                        path,
+                        "a column has no value at all: expected at least one number",
+                    )
+                })?;
+            }
+            Ok(Some(format!(
+                "{count} missing value{} interpolated (line {where_})",
+                if count == 1 { "" } else { "s" }
+            )))
+        }
+    }
+}
+
+/// Fills the NaNs of `v` linearly between neighbours (the nearest value at an end);
+/// how many, or `None` when every value is NaN.
+fn interpolate(v: &mut [f64]) -> Option<usize> {
+    let known: Vec<usize> = (0..v.len()).filter(|&i| !v[i].is_nan()).collect();
+    let (&first, &last) = (known.first()?, known.last()?);
+    let mut count = 0;
+    for i in 0..v.len() {
+        if !v[i].is_nan() {
+            continue;
+        }
+        count += 1;
+        v[i] = if i < first {
+            v[first]
+        } else if i > last {
+            v[last]
+        } else {
+            let k = known.partition_point(|&j| j < i);
+            let (a, b) = (known[k - 1], known[k]);
+            v[a] + (v[b] - v[a]) * (i - a) as f64 / (b - a) as f64
+        };
+    }
+    Some(count)
+}
+
+/// The first line from `line` (1-based) on that is neither a `#` comment nor blank;
+/// `newlines` are the offsets of the '\n's of `text`.
+fn first_data_line(text: &[u8], newlines: &[usize], mut line: usize) -> usize {
+    loop {
+        let from = if line == 1 { 0 } else { newlines[line - 2] + 1 };
+        let to = newlines.get(line - 1).copied().unwrap_or(text.len());
+        let t = &text[from.min(to)..to];
+        let skipped = t.starts_with(b"#") || t.trim_ascii().is_empty();
+        if !skipped || to == text.len() {
+            return line;
+        }
+        line += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn format(delimiter: char, decimal: char) -> TextFormat {
+        TextFormat {
+            delimiter,
+            decimal,
+            header: true,
+            skip_lines: 0,
+            missing: Missing::Refuse,
+        }
+    }
+
+    fn layout_of(text: &str, f: &TextFormat) -> Layout {
+        let newlines: Vec<usize> = text
+            .bytes()
+            .enumerate()
+            .filter_map(|(i, b)| (b == b'\n').then_some(i))
+            .collect();
+        layout(text.as_bytes(), &newlines, f)
+    }
+
+    #[test]
+    fn metadata_lines_and_a_units_line_are_found() {
+        let text = "Title: rig 2\nDate: 2026-11-29; 10:00\n\ntime;force;accel\ns;N;m/s²\n0,0;1,5;-0,98\n0,1;1,4;-0,97\n";
+        let l = layout_of(text, &format(';', ','));
+        assert_eq!(l.skip, 3); // the header is line 4
+        assert_eq!(l.units_lines, vec![5]);
+        assert_eq!(l.units, vec!["s", "N", "m/s²"]);
+        assert!(
+            l.notes
+                .iter()
+                .any(|n| n.contains("lines 1–3 read as metadata")),
+            "{:?}",
+            l.notes
+        );
+        // A plain file: nothing skipped, nothing said.
+        assert_eq!(
+            layout_of("t,F\n0,1\n", &format(',', '.')),
+            Layout::default()
+        );
+    }
+
+    #[test]
+    fn latin_1_and_utf_16_text_is_read() {
+        let (text, notes) = decode(b"a\tm/s\xb2\n");
+        assert_eq!(text, "a\tm/s²\n");
+        assert!(notes[0].contains("Windows-1252"));
+        let utf16: Vec<u8> = [0xFF, 0xFE]
+            .into_iter()
+            .chain("t,F\n".encode_utf16().flat_map(u16::to_le_bytes))
+            .collect();
+        assert_eq!(decode(&utf16).0, "t,F\n");
+    }
+
+    #[test]
+    fn decimal_commas_read_when_asked_and_are_named_when_not() {
+        let refuse = Missing::Refuse;
+        assert_eq!(parse_cell("-0,980708", ',', refuse), Ok(-0.980708));
+        assert_eq!(parse_cell(" 12 ", ',', refuse), Ok(12.0));
+        assert_eq!(parse_cell("1.5e-3", '.', refuse), Ok(1.5e-3));
+        let why = parse_cell("-0,980708", '.', refuse).unwrap_err();
+        assert!(why.contains("decimal = \",\""), "{why}");
+        // A thousands separator with a decimal comma is not guessed at.
+        assert!(parse_cell("1.234,5", ',', refuse).is_err());
+        let why = parse_cell("abc", '.', refuse).unwrap_err();
+        assert!(!why.contains("decimal"), "{why}");
+        assert!(
+            parse_cell("NaN", '.', refuse)
+                .unwrap_err()
+                .contains("missing = ")
+        );
+        assert!(parse_cell("", '.', Missing::Interpolate).unwrap().is_nan());
+    }
+
+    #[test]
+    fn missing_values_are_dropped_or_interpolated_and_counted() {
+        let nan = f64::NAN;
+        let (mut a, mut b) = (vec![nan, 1.0, nan, 3.0, nan], vec![0.0, 1.0, 2.0, 3.0, 4.0]);
+        let mut lines = vec![2, 3, 4, 5, 6];
+        let note = fill_missing(
+            Path::new("x.csv"),
+            &mut [&mut a, &mut b],
+            &mut lines,
+            Missing::Interpolate,
+        )
+        .unwrap();
+        assert_eq!(a, vec![1.0, 1.0, 2.0, 3.0, 3.0]);
+        assert_eq!(
+            note.unwrap(),
+            "3 missing values interpolated (line 2, 4, 6)"
+        );
+        let (mut a, mut b) = (vec![nan, 1.0, 2.0], vec![0.0, 1.0, nan]);
+        let mut lines = vec![2, 3, 4];
+        let note = fill_missing(
+            Path::new("x.csv"),
+            &mut [&mut a, &mut b],
+            &mut lines,
+            Missing::Drop,
+        )
+        .unwrap();
+        assert_eq!((a, b, lines), (vec![1.0], vec![1.0], vec![3]));
+        assert!(
+            note.unwrap()
+                .starts_with("2 rows with a missing value dropped")
+        );
+    }
+}

@@ -1,0 +1,282 @@
+//! `msd inspect FILE`: what a data file holds — its channels or columns, units, lengths,
+//! sampling rate, how a text file is written (encoding, delimiter, decimal mark,
+//! metadata and units lines, missing values) — and the config lines that read it.
+
+use crate::data::text::{self, Missing, TextFormat};
+use crate::error::{ExperimentError, Result};
+use crate::fmt::short;
+use std::fmt::Write;
+use std::path::Path;
+
+/// The report of `msd inspect` on the file at `path`.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let path = dir.path().join("run.csv");
+/// std::fs::write(&path, "Rig 2, 2026-11-29\ntime;force;accel\ns;N;m/s²\n0,000;1,5;0,1\n0,001;1,4;0,2\n0,002;1,3;0,3\n").unwrap();
+/// let text = msd_experiment::inspect::inspect(&path).unwrap();
+/// assert!(text.contains("delimiter = \";\""), "{text}");
+/// assert!(text.contains("decimal = \",\""), "{text}");
+/// assert!(text.contains("time = \"time\""), "{text}");
+/// assert!(text.contains("uniform step 0.001"), "{text}");
+/// ```
+pub fn inspect(path: &Path) -> Result<String> {
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    if msd_files::FileFormat::of(path).is_some() {
+        let contents =
+            msd_files::read(path).map_err(|e| ExperimentError::data(path, e.to_string()))?;
+        let columns: Vec<Column> = contents
+            .channels
+            .iter()
+            .map(|c| Column::of(&c.name, c.unit.clone(), &c.values, c.sample_rate_hz))
+            .collect();
+        let mut out = format!("{}: {contents}", path.display());
+        out.push_str(&config_lines(&name, &columns, &[]));
+        return Ok(out);
+    }
+    let bytes = std::fs::read(path)
+        .map_err(|e| ExperimentError::data(path, format!("cannot read the file: {e}")))?;
+    text_table(path, &name, &bytes)
+}
+
+/// One column's summary.
+struct Column {
+    name: String,
+    unit: Option<String>,
+    rows: usize,
+    range: Option<(f64, f64)>,
+    /// The step when the column increases uniformly (within 1 %): a time column.
+    step: Option<f64>,
+    /// The sampling rate the file gives, Hz.
+    rate: Option<f64>,
+}
+
+impl Column {
+    fn of(name: &str, unit: Option<String>, values: &[f64], rate: Option<f64>) -> Self {
+        let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
+        let range = finite.iter().fold(None, |r: Option<(f64, f64)>, &v| {
+            Some(r.map_or((v, v), |(a, b)| (a.min(v), b.max(v))))
+        });
+        let step = (finite.len() == values.len() && values.len() > 2)
+            .then(|| (values[values.len() - 1] - values[0]) / (values.len() - 1) as f64)
+            .filter(|&dt| {
+                dt > 0.0
+                    && values
+                        .windows(2)
+                        .all(|w| ((w[1] - w[0]) - dt).abs() <= 0.01 * dt)
+            });
+        Self {
+            name: name.to_string(),
+            unit,
+            rows: values.len(),
+            range,
+            step,
+            rate,
+        }
+    }
+}
+
+/// A text table: how it is written, its columns, the config lines.
+fn text_table(path: &Path, name: &str, bytes: &[u8]) -> Result<String> {
+    let (decoded, encoding) = text::decode(bytes);
+    let (delimiter, decimal) = sniff(&decoded);
+    let format = TextFormat {
+        delimiter,
+        decimal,
+        header: true,
+        skip_lines: 0,
+        missing: Missing::Interpolate,
+    };
+    let newlines: Vec<usize> = decoded
+        .bytes()
+        .enumerate()
+        .filter_map(|(i, b)| (b == b'\n').then_some(i))
+        .collect();
+    let layout = text::layout(decoded.as_bytes(), &newlines, &format);
+    let mut names = Vec::new();
+    let mut values: Vec<Vec<f64>> = Vec::new();
+    let mut missing = 0usize;
+    let mut rows = 0usize;
+    text::scan(
+        path,
+        bytes,
+        &format,
+        |h| {
+            names = h.map(|h| h.names.clone()).unwrap_or_default();
+            Ok(())
+        },
+        |_, _, r| {
+            values.resize(values.len().max(r.len()), Vec::new());
+            for (k, cell) in r.iter().enumerate() {
+                let v = text::parse_cell(cell, decimal, Missing::Interpolate).unwrap_or(f64::NAN);
+                missing += usize::from(v.is_nan());
+                values[k].push(v);
+            }
+            rows += 1;
+            Ok(())
+        },
+    )?;
+    let columns: Vec<Column> = values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let name = names.get(k).cloned().unwrap_or_else(|| k.to_string());
+            let unit = layout.units.get(k).cloned().filter(|u| !u.is_empty());
+            Column::of(&name, unit, v, None)
+        })
+        .collect();
+    let mut out = format!(
+        "{}: a text table, {} columns × {rows} rows; delimiter {delimiter:?}, decimal mark {decimal:?}\n",
+        path.display(),
+        columns.len()
+    );
+    for note in encoding.iter().chain(&layout.notes) {
+        let _ = writeln!(out, "  {note}");
+    }
+    if missing > 0 {
+        let _ = writeln!(
+            out,
+            "  {missing} missing or unreadable cells: missing = \"interpolate\" or \"drop\" passes over missing ones"
+        );
+    }
+    out.push_str(&column_table(&columns));
+    let mut keys = Vec::new();
+    if delimiter != ',' {
+        keys.push(format!("delimiter = {:?}", delimiter.to_string()));
+    }
+    if decimal != '.' {
+        keys.push("decimal = \",\"".to_string());
+    }
+    if missing > 0 {
+        keys.push("missing = \"interpolate\"".to_string());
+    }
+    out.push_str(&config_lines(name, &columns, &keys));
+    Ok(out)
+}
+
+/// The delimiter that splits the last lines into the same number (≥ 2) of fields, and
+/// the decimal mark their cells use.
+fn sniff(text: &str) -> (char, char) {
+    let tail: Vec<&str> = text
+        .lines()
+        .rev()
+        .map(str::trim)
+        // Data lines: no letters but an exponent's or a NaN's.
+        .filter(|l| {
+            !l.is_empty()
+                && !l.starts_with('#')
+                && l.chars()
+                    .all(|c| !c.is_alphabetic() || "eEnNaA".contains(c))
+        })
+        .take(20)
+        .collect();
+    let delimiter = ['\t', ';', ',', '|']
+        .into_iter()
+        .find(|&d| {
+            let counts: Vec<usize> = tail.iter().map(|l| l.split(d).count()).collect();
+            counts
+                .first()
+                .is_some_and(|&n| n >= 2 && counts.iter().all(|&c| c == n))
+        })
+        .unwrap_or(',');
+    let commas = delimiter != ','
+        && tail.iter().any(|l| {
+            l.split(delimiter)
+                .any(|c| text::number(c.trim(), ',').is_some() && c.contains(','))
+        });
+    (delimiter, if commas { ',' } else { '.' })
+}
+
+fn column_table(columns: &[Column]) -> String {
+    let width = columns
+        .iter()
+        .map(|c| c.name.chars().count())
+        .max()
+        .unwrap_or(4)
+        .max(4);
+    let mut out = format!(
+        "  {:<width$}  {:<8}  {:>9}  range\n",
+        "name", "unit", "values"
+    );
+    for c in columns {
+        let range = c.range.map_or("—".into(), |(a, b)| {
+            format!("{} … {}", short(a), short(b))
+        });
+        let _ = writeln!(
+            out,
+            "  {:<width$}  {:<8}  {:>9}  {range}{}",
+            c.name,
+            c.unit.as_deref().unwrap_or("—"),
+            c.rows,
+            match (c.step, c.rate) {
+                (Some(dt), _) => format!("  (uniform step {})", short(dt)),
+                (None, Some(r)) => format!("  (sampled at {} Hz)", short(r)),
+                (None, None) => String::new(),
+            }
+        );
+    }
+    out
+}
+
+/// The `[data]` lines (or `[frequency_response.table]` lines for a table whose first
+/// column is a frequency) that read the file.
+fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
+    let quoted = |c: &Column| format!("{:?}", c.name);
+    let long: Vec<&Column> = columns.iter().filter(|c| c.rows > 1).collect();
+    let time = long.iter().find(|c| c.step.is_some()).copied();
+    let others: Vec<&Column> = long
+        .iter()
+        .copied()
+        .filter(|c| time.is_none_or(|t| !std::ptr::eq(*c, t)))
+        .collect();
+    let mut out =
+        String::from("\nConfig lines that read it (choose the columns among those above):\n");
+    let frequency = time.filter(|t| {
+        let n = t.name.to_ascii_lowercase();
+        n.contains("freq") || n.contains("hz") || t.unit.as_deref() == Some("Hz")
+    });
+    if let Some(f) = frequency {
+        let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
+        for k in keys {
+            let _ = writeln!(out, "{k}");
+        }
+        let _ = writeln!(out, "frequency = {}", quoted(f));
+        if let [re, im, ..] = others.as_slice() {
+            let _ = writeln!(
+                out,
+                "real = {}\nimaginary = {}    # or magnitude = …, phase = …",
+                quoted(re),
+                quoted(im)
+            );
+        }
+        let _ = writeln!(
+            out,
+            "kind = \"accelerance\"    # or receptance, mobility: what the response measures"
+        );
+        return out;
+    }
+    let _ = writeln!(out, "[data]\npath = {name:?}");
+    for k in keys {
+        let _ = writeln!(out, "{k}");
+    }
+    if let Some(t) = time {
+        let _ = writeln!(out, "time = {}", quoted(t));
+    } else {
+        let rate = long.iter().find_map(|c| c.rate).map_or("…".into(), short);
+        let _ = writeln!(out, "sample_rate = {rate}");
+    }
+    let mut picks = others.iter();
+    for role in ["input", "output"] {
+        match picks.next() {
+            Some(c) => {
+                let _ = writeln!(out, "{role} = {}", quoted(c));
+            }
+            None => {
+                let _ = writeln!(out, "{role} = \"…\"");
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,149 @@
+//! One lab record in the forms data-acquisition software writes it — a plain CSV, a
+//! European spreadsheet export (Latin-1 metadata line, `;`, decimal commas, a units line,
+//! CRLF), a NumPy array — read by the same `[data]` section with one or two keys each:
+//! the same numbers, bit for bit, and the report says what the reader passed over.
+
+use super::experiment::lab_csv;
+use msd_tests::{config, run_in_temp};
+use std::path::Path;
+
+/// The lab template's estimates (mass, damping, stiffness, offset) on `data`, a file
+/// in `dir`, with `keys` added to its `[data]` section and its columns renamed.
+fn estimates(dir: &Path, data: &str, keys: &str, columns: [&str; 3]) -> (Vec<f64>, String) {
+    let template = std::fs::read_to_string(config("lab-template.toml")).unwrap();
+    // Each key replaces the template's line that sets it, or follows `path`.
+    let mut lines: Vec<String> = template.lines().map(str::to_string).collect();
+    for key in keys.lines() {
+        let name = key.split('=').next().unwrap_or_default().trim();
+        match lines
+            .iter()
+            .position(|l| l.split('=').next().is_some_and(|n| n.trim() == name))
+        {
+            Some(i) => lines[i] = key.to_string(),
+            None => {
+                let at = lines.iter().position(|l| l.starts_with("path =")).unwrap();
+                lines.insert(at + 1, key.to_string());
+            }
+        }
+    }
+    let text = lines
+        .join("\n")
+        .replacen(
+            "path = \"my-measurement.csv\"",
+            &format!("path = {data:?}"),
+            1,
+        )
+        .replacen("input = \"force\"", &format!("input = {:?}", columns[1]), 1)
+        .replacen(
+            "output = \"displacement\"",
+            &format!("output = {:?}", columns[2]),
+            1,
+        )
+        .replacen("time = \"t\"", &format!("time = {:?}", columns[0]), 1);
+    let path = dir.join(format!("{data}.toml"));
+    std::fs::write(&path, text).unwrap();
+    let run = run_in_temp(&path, None, None).unwrap_or_else(|e| panic!("{data}: {e}"));
+    let values = ["mass", "damping", "stiffness"]
+        .map(|p| run.number(&format!("estimate.{p}.value")))
+        .into_iter()
+        .chain([run.number("estimate.offset")])
+        .collect();
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    (values, report)
+}
+
+/// The CSV's rows as numbers (the very values its text reads as).
+fn rows(dir: &Path) -> Vec<[f64; 3]> {
+    let text = std::fs::read_to_string(dir.join("my-measurement.csv")).unwrap();
+    text.lines()
+        .skip(2)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|c| c.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect()
+}
+
+/// The lab record as the template's plain CSV in a scratch folder, and its estimates.
+fn plain_run() -> (tempfile::TempDir, Vec<f64>) {
+    let dir = tempfile::tempdir().unwrap();
+    lab_csv(dir.path());
+    let columns = ["t", "force", "displacement"];
+    let (plain, _) = estimates(dir.path(), "my-measurement.csv", "", columns);
+    (dir, plain)
+}
+
+#[test]
+fn a_european_export_and_a_numpy_array_read_as_the_plain_csv() {
+    let (dir, plain) = plain_run();
+
+    // Latin-1, a metadata line, `;` and decimal commas, a units line, CRLF.
+    let mut text: Vec<u8> = b"Pr\xfcfstand 3; Messung 7\r\nZeit;Kraft;Weg\r\ns;N;m\r\n".to_vec();
+    let original = std::fs::read_to_string(dir.path().join("my-measurement.csv")).unwrap();
+    for line in original.lines().skip(2) {
+        text.extend(line.replace(',', ";").replace('.', ",").as_bytes());
+        text.extend(b"\r\n");
+    }
+    std::fs::write(dir.path().join("export.csv"), &text).unwrap();
+    let (european, report) = estimates(
+        dir.path(),
+        "export.csv",
+        "delimiter = \";\"\ndecimal = \",\"",
+        ["Zeit", "Kraft", "Weg"],
+    );
+    assert_eq!(european, plain);
+    for said in [
+        "read as Windows-1252",
+        "line 3: units s, N, m",
+        "line 1 read as metadata",
+    ] {
+        assert!(report.contains(said), "the report does not say `{said}`");
+    }
+
+    // samples × 3, float64, C order, as numpy.save writes it.
+    let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (7501, 3), }";
+    let padded = format!("{header:<117}\n");
+    let mut npy = b"\x93NUMPY\x01\x00".to_vec();
+    npy.extend((padded.len() as u16).to_le_bytes());
+    npy.extend(padded.as_bytes());
+    for row in rows(dir.path()) {
+        for v in row {
+            npy.extend(v.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.path().join("rec.npy"), npy).unwrap();
+    let (numpy, _) = estimates(dir.path(), "rec.npy", "", ["rec[0]", "rec[1]", "rec[2]"]);
+    assert_eq!(numpy, plain);
+}
+
+#[test]
+fn missing_values_are_interpolated_when_asked_and_counted() {
+    let (dir, plain) = plain_run();
+    let original = std::fs::read_to_string(dir.path().join("my-measurement.csv")).unwrap();
+    let mut lines: Vec<String> = original.lines().map(str::to_string).collect();
+    for (row, with) in [
+        (1000, "{t},{f},"),
+        (3000, "{t},NaN,{x}"),
+        (5000, "{t},,{x}"),
+    ] {
+        let cells: Vec<&str> = lines[row].split(',').collect();
+        let (t, f, x) = (cells[0], cells[1], cells[2]);
+        lines[row] = with.replace("{t}", t).replace("{f}", f).replace("{x}", x);
+    }
+    std::fs::write(dir.path().join("gaps.csv"), lines.join("\n")).unwrap();
+    let (filled, report) = estimates(
+        dir.path(),
+        "gaps.csv",
+        "missing = \"interpolate\"",
+        ["t", "force", "displacement"],
+    );
+    assert!(
+        report.contains("3 missing values interpolated (line 1001, 3001, 5001)"),
+        "the report does not count the gaps"
+    );
+    // Three of 7501 samples replaced by their neighbours' mean: the estimates move by
+    // far less than their standard errors (here within 0.1 %).
+    for (a, b) in filled.iter().zip(&plain).take(3) {
+        assert!((a / b - 1.0).abs() < 1e-3, "{a} against {b}");
+    }
+}
