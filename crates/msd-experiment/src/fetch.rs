@@ -402,18 +402,55 @@ const STEEL_FRAME_FILES: [DataFile; 33] = [
     },
 ];
 
+/// The EMPS benchmark (A. Janot, M. Gautier, M. Brunot, "Data set and reference models
+/// of EMPS", 2019): a real electro-mechanical positioning system, one moving mass with
+/// viscous and Coulomb friction, MATLAB v5 files (`t`, `qm` the measured position, `vir`
+/// the drive voltage, `gtau` the gain: force = gtau·vir); an estimation record and a
+/// validation record with force pulses. Taken byte for byte from the public repository
+/// forgi86/sysid-neural-continuous (Apache-2.0), `examples/EMPS/data/` at commit
+/// 956aa7ecd73061b0321c6f6098d74c9e4a7ce67a, which redistributes them.
+///
+/// ```
+/// use msd_experiment::fetch::{EMPS, set_named};
+/// assert_eq!(set_named("emps").unwrap(), EMPS);
+/// assert_eq!(
+///     EMPS.archive.file_url("DATA_EMPS.mat"),
+///     "https://raw.githubusercontent.com/forgi86/sysid-neural-continuous/956aa7ecd73061b0321c6f6098d74c9e4a7ce67a/examples/EMPS/data/DATA_EMPS.mat"
+/// );
+/// ```
+pub const EMPS: DataSetFiles = DataSetFiles {
+    name: "emps",
+    files: &[
+        DataFile {
+            name: "DATA_EMPS.mat",
+            bytes: 626_039,
+            sha256: "6cf6814ae14618795da0101aae2bb97ff0c6351b0501b5492751b02b07facf7e",
+        },
+        DataFile {
+            name: "DATA_EMPS_PULSES.mat",
+            bytes: 630_990,
+            sha256: "0eab75bb1f6b16228ee78791343a88bf9bfd9a51036ac9807d7b5fc11c0e1704",
+        },
+    ],
+    archive: Archive {
+        url: "https://raw.githubusercontent.com/forgi86/sysid-neural-continuous/956aa7ecd73061b0321c6f6098d74c9e4a7ce67a/",
+        folder: "examples/EMPS/data",
+        zipped: false,
+    },
+};
+
 /// The known sets, by name.
 ///
 /// ```
-/// assert_eq!(msd_experiment::fetch::SETS.map(|s| s.name), ["silverbox", "impact-frf", "steel-frame"]);
+/// assert_eq!(msd_experiment::fetch::SETS.map(|s| s.name), ["silverbox", "impact-frf", "steel-frame", "emps"]);
 /// ```
-pub const SETS: [DataSetFiles; 3] = [SILVERBOX, IMPACT_FRF, STEEL_FRAME];
+pub const SETS: [DataSetFiles; 4] = [SILVERBOX, IMPACT_FRF, STEEL_FRAME, EMPS];
 
 /// The set called `name`, or a config error listing the known ones.
 ///
 /// ```
 /// let err = msd_experiment::fetch::set_named("goldbox").unwrap_err();
-/// assert!(err.to_string().contains("expected one of silverbox, impact-frf, steel-frame"), "{err}");
+/// assert!(err.to_string().contains("expected one of silverbox, impact-frf, steel-frame, emps"), "{err}");
 /// ```
 pub fn set_named(name: &str) -> Result<DataSetFiles> {
     SETS.iter()

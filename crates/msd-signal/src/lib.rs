@@ -67,6 +67,7 @@
 
 pub mod error;
 pub mod frf;
+pub mod lowpass;
 pub mod noise;
 pub mod pair;
 pub mod paper;
@@ -80,6 +81,7 @@ pub use frf::{
     Estimator, FrfKind, FrfOptions, ImpactWindows, REPEATING, Record, UNEXCITED, frf_estimate,
     resolve_window,
 };
+pub use lowpass::{central_difference, lowpass_zero_phase};
 pub use noise::{NoiseStream, gaussian_noise, stream_id, stream_rng};
 pub use paper::{paper_identification_input, paper_validation_input};
 pub use preprocess::{

@@ -4,6 +4,7 @@
 mod bad_input;
 mod chain_experiment;
 mod determinism;
+mod emps;
 mod experiment;
 mod faults;
 mod files;

@@ -7,6 +7,7 @@
 
 mod condition;
 mod harmonics;
+mod inverse;
 mod law_fit;
 mod left_out;
 mod predicted;
@@ -15,6 +16,10 @@ mod summary;
 mod synthetic;
 
 pub use condition::{Condition, MIN_CYCLES};
+pub use inverse::{
+    ForcePrediction, InverseCoefficient, InverseDynamics, InverseLaw, InverseOptions, StrokeRecord,
+    inverse_dynamics,
+};
 pub use law_fit::LawFit;
 pub use left_out::ConditionPrediction;
 pub use predicted::PredictedLaw;

@@ -9,6 +9,7 @@ mod error_paths;
 mod estimation;
 mod free_decay;
 mod frf;
+mod inverse_dynamics;
 mod noise_model;
 mod nonlinear;
 mod nonlinear_fast;
