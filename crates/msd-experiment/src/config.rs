@@ -50,7 +50,7 @@ mod frf;
 mod nonlinear;
 mod operational;
 mod pilot;
-mod setup;
+pub mod setup;
 pub use chain::{ChainSection, ChainSensorSection};
 pub use frf::{
     ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ReferenceMode, ShakerSource,
@@ -681,6 +681,10 @@ pub struct DataSection {
     /// The part used for validation. By default the estimation part.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub validation: Option<Range>,
+    /// A `[setup]` config: records of the same test read with the same columns, not
+    /// fitted but predicted by the fit (validation on fresh data): one file or a list.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub validation_path: Option<Paths>,
 }
 
 impl DataSection {
@@ -1177,6 +1181,14 @@ impl Config {
         let Some(d) = &self.data else { return Ok(()) };
         check_decimal("data", d.decimal, d.delimiter)?;
         if self.setup.is_none() {
+            if let Some(v) = &d.validation_path {
+                return Err((
+                    "data.validation_path".into(),
+                    format!(
+                        " = {v}: only in a [setup] config (here data.validation gives the validation part of the record)"
+                    ),
+                ));
+            }
             match d.path.0.len() {
                 0 => return Err(("data.path".into(), " = []: expected a CSV file".into())),
                 1 => {}

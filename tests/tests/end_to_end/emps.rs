@@ -63,3 +63,68 @@ fn emps_at_default_settings_is_within_three_percent_of_the_reference() {
     );
     assert!(ours.rms_error <= 1.05 * theirs.rms_error);
 }
+
+/// A positioning move written as a lab's CSV (stroke in mm, force in N): a `[setup]` with
+/// `excitation = "imposed_displacement"` and nothing else finds it is not a sine stroke,
+/// fits it by inverse dynamics and predicts the validation file's force.
+#[test]
+fn a_stroke_that_is_not_a_sine_is_found_and_fitted_by_inverse_dynamics() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two tones (0.7 and 3.1 Hz): the acceleration is 38 % in the fundamental.
+    let write = |name: &str, phase: f64| {
+        let mut text = String::from("t,stroke_mm,force\n");
+        for i in 0..20_000 {
+            let t = i as f64 * 1e-3;
+            let (w1, w2) = (
+                2.0 * std::f64::consts::PI * 0.7,
+                2.0 * std::f64::consts::PI * 3.1,
+            );
+            let x = 0.05 * (w1 * t).sin() + 0.01 * (w2 * t + phase).sin();
+            let v = 0.05 * w1 * (w1 * t).cos() + 0.01 * w2 * (w2 * t + phase).cos();
+            let a = -0.05 * w1 * w1 * (w1 * t).sin() - 0.01 * w2 * w2 * (w2 * t + phase).sin();
+            let f = 20.0 * a + 150.0 * v + 12.0 * v.signum() - 2.0;
+            text.push_str(&format!("{t:.3},{:.9},{f:.9}\n", 1e3 * x));
+        }
+        std::fs::write(dir.path().join(name), text).unwrap();
+    };
+    write("move.csv", 0.0);
+    write("check.csv", 1.0);
+    let config = dir.path().join("machine.toml");
+    std::fs::write(
+        &config,
+        "name = \"machine\"\n[setup]\nexcitation = \"imposed_displacement\"\nresponses = [{ quantity = \"force\", column = \"force\" }]\n[data]\npath = \"move.csv\"\nvalidation_path = \"check.csv\"\ntime = \"t\"\ninput = \"stroke_mm\"\ninput_scale = 0.001\n",
+    )
+    .unwrap();
+    let run = msd_tests::run_in_temp(&config, None, None).unwrap();
+    for (name, truth) in [
+        ("mass", 20.0),
+        ("damping", 150.0),
+        ("coulomb_force", 12.0),
+        ("force_offset", -2.0),
+    ] {
+        let value = run.number(&format!("estimate.{name}.value"));
+        assert!(
+            (value / truth - 1.0).abs() < 2e-3,
+            "{name} = {value}, truth {truth}"
+        );
+    }
+    let predictions = &run.summary.results["any_stroke"]["predictions"];
+    assert_eq!(predictions[1]["validation"], true);
+    // Noise-free records: what is left is the same on both, the force's steps at each
+    // reversal through the filter against the Coulomb term of the filtered velocity.
+    let error = |k: usize| {
+        predictions[k]["rms_error"].as_f64().unwrap()
+            / predictions[k]["rms_force"].as_f64().unwrap()
+    };
+    eprintln!(
+        "force error: fitted {:.4}, validation {:.4}",
+        error(0),
+        error(1)
+    );
+    assert!(
+        error(1) < 1.5 * error(0) && error(1) < 0.03,
+        "{} against {}",
+        error(1),
+        error(0)
+    );
+}

@@ -50,7 +50,7 @@ fn stem(path: &Path) -> String {
 /// The real data set a config reads, if any (skipped when it is not fetched).
 fn real_set(path: &Path) -> Option<&'static str> {
     let text = std::fs::read_to_string(path).ok()?;
-    ["silverbox", "impact-frf", "steel-frame"]
+    ["silverbox", "impact-frf", "steel-frame", "emps"]
         .into_iter()
         .find(|set| text.contains(&format!("data/{set}/")))
 }
@@ -460,6 +460,7 @@ fn every_shipped_config_computes_the_golden_numbers() {
         ("silverbox", fetched("silverbox")),
         ("impact-frf", fetched("impact-frf")),
         ("steel-frame", fetched("steel-frame")),
+        ("emps", fetched("emps")),
     ];
     let mut problems = Vec::new();
     let mut checked = 0;

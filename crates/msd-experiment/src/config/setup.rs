@@ -255,6 +255,41 @@ pub struct SetupSection {
     /// Damper test machine: whole stroke cycles per condition. By default 5.
     #[serde(default = "default_cycles")]
     pub cycles: usize,
+    /// Test machine: how the stroke is analysed. `"harmonic"`: each record one sine
+    /// condition, its derivatives from a Fourier fit (loops, c_eq, k′ per condition);
+    /// `"any"`: inverse dynamics on the whole record of any stroke (a positioning move, a
+    /// random or swept stroke: stroke and force low-passed alike, derivatives by central
+    /// differences). By default `"auto"`: harmonic when every measured record's
+    /// acceleration is at least 90 % in its fundamental, else any.
+    #[serde(default, skip_serializing_if = "StrokeAnalysis::is_auto")]
+    pub stroke: StrokeAnalysis,
+    /// Test machine, any stroke: the low-pass cut-off in Hz. By default 10× the
+    /// frequency below which 99 % of the stroke velocity's power lies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cutoff_hz: Option<f64>,
+    /// Test machine, any stroke: whether a stiffness k is estimated. By default false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub stiffness: bool,
+}
+
+/// How a test machine's stroke is analysed (`setup.stroke`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StrokeAnalysis {
+    /// Harmonic when every record's acceleration is ≥ 90 % fundamental, else any.
+    #[default]
+    Auto,
+    /// Sine conditions, Fourier fits.
+    Harmonic,
+    /// Inverse dynamics of any stroke.
+    Any,
+}
+
+impl StrokeAnalysis {
+    /// Whether this is the default.
+    pub fn is_auto(&self) -> bool {
+        *self == Self::Auto
+    }
 }
 
 fn default_records() -> usize {

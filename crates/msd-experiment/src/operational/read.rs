@@ -338,6 +338,7 @@ fn read_csv(
         preprocessing: Vec::new(),
         estimation: Range::default(),
         validation: None,
+        validation_path: None,
     };
     let specs: Vec<ColumnSpec> = given
         .iter()

@@ -91,20 +91,24 @@ pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData>
         .clone()
         .ok_or_else(|| ExperimentError::config(config_path, "setup: missing section"))?;
     let channels = setup.channels();
-    let (records, files, notes) = match &config.data {
+    let Measured {
+        records,
+        files,
+        notes,
+        validation,
+    } = match &config.data {
         Some(_) => measured(config, &setup, &channels)?,
-        None => (
-            synthetic(config, config_path, &setup, &channels, seed)?,
-            Vec::new(),
-            Vec::new(),
-        ),
+        None => Measured {
+            records: synthetic(config, config_path, &setup, &channels, seed)?,
+            ..Measured::default()
+        },
     };
     let mut data = SetupData {
         truth: config.data.is_none().then_some(config.plant).flatten(),
         setup,
         channels,
         records,
-        validation: Vec::new(),
+        validation,
         notes,
         files,
     };
@@ -145,13 +149,11 @@ fn split(data: &mut SetupData, d: &DataSection, config_path: &Path) -> Result<()
     Ok(())
 }
 
-fn measured(
-    config: &Config,
-    setup: &SetupSection,
-    channels: &[Response],
-) -> Result<(Vec<SetupRecord>, Vec<PathBuf>, Vec<String>)> {
+/// The measured records of `config`'s `[data]`: the files of `path` (fitted) and of
+/// `validation_path` (predicted, returned apart), their files and the reader's notes.
+fn measured(config: &Config, setup: &SetupSection, channels: &[Response]) -> Result<Measured> {
     let Some(d) = &config.data else {
-        return Ok((Vec::new(), Vec::new(), Vec::new()));
+        return Ok(Measured::default());
     };
     let mut specs: Vec<ColumnSpec> = Vec::new();
     if let Some(column) = &d.input {
@@ -176,37 +178,79 @@ fn measured(
     let mut files = Vec::new();
     let mut notes = Vec::new();
     for (i, file) in d.path.0.iter().enumerate() {
-        let path = config.sources.path(file);
-        let mut table = read_columns(d, &config.sources, &path, &d.path.key(i), &specs)?;
-        let label = file.display();
-        notes.extend(table.notes.drain(..).map(|n| format!("{label}: {n}")));
-        let input = match d.input {
-            Some(_) => {
-                let samples = table.columns.remove(0);
-                Some(
-                    Excitation::from_samples(table.time[0], table.dt, samples)
-                        .map_err(|e| ExperimentError::data(&path, format!("data.input: {e}")))?,
-                )
-            }
-            None => None,
-        };
-        let name = file.file_stem().map_or_else(
-            || format!("record-{}", i + 1),
-            |s| s.to_string_lossy().into(),
-        );
-        records.push(SetupRecord {
-            name,
-            input,
-            t0: table.time[0],
-            time: table.time.clone(),
-            dt: table.dt,
-            channels: table.columns,
-            truth: None,
-            frequency: None,
-        });
-        files.push(path);
+        records.push(read_record(
+            config,
+            d,
+            &specs,
+            file,
+            &d.path.key(i),
+            &mut notes,
+        )?);
+        files.push(config.sources.path(file));
     }
-    Ok((records, files, notes))
+    let mut validation = Vec::new();
+    if let Some(paths) = &d.validation_path {
+        for (i, file) in paths.0.iter().enumerate() {
+            let key = format!("data.validation_path[{i}]");
+            validation.push(read_record(config, d, &specs, file, &key, &mut notes)?);
+            files.push(config.sources.path(file));
+        }
+    }
+    Ok(Measured {
+        records,
+        files,
+        notes,
+        validation,
+    })
+}
+
+/// A `[data]` section's records: fitted, their files, the reader's notes, and the
+/// validation records.
+#[derive(Default)]
+struct Measured {
+    records: Vec<SetupRecord>,
+    files: Vec<PathBuf>,
+    notes: Vec<String>,
+    validation: Vec<SetupRecord>,
+}
+
+/// One measured record: the columns of `specs` from `file` (config key `key`), the
+/// reader's notes added to `notes`.
+fn read_record(
+    config: &Config,
+    d: &crate::config::DataSection,
+    specs: &[ColumnSpec],
+    file: &Path,
+    key: &str,
+    notes: &mut Vec<String>,
+) -> Result<SetupRecord> {
+    let path = config.sources.path(file);
+    let mut table = read_columns(d, &config.sources, &path, key, specs)?;
+    let label = file.display();
+    notes.extend(table.notes.drain(..).map(|n| format!("{label}: {n}")));
+    let input = match d.input {
+        Some(_) => {
+            let samples = table.columns.remove(0);
+            Some(
+                Excitation::from_samples(table.time[0], table.dt, samples)
+                    .map_err(|e| ExperimentError::data(&path, format!("data.input: {e}")))?,
+            )
+        }
+        None => None,
+    };
+    let name = file
+        .file_stem()
+        .map_or_else(|| key.to_string(), |s| s.to_string_lossy().into());
+    Ok(SetupRecord {
+        name,
+        input,
+        t0: table.time[0],
+        time: table.time.clone(),
+        dt: table.dt,
+        channels: table.columns,
+        truth: None,
+        frequency: None,
+    })
 }
 
 fn synthetic(

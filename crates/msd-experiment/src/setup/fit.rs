@@ -28,6 +28,8 @@ pub enum SetupFit {
     },
     /// A damper test machine's conditions and damping laws.
     Machine(Box<Dynamometer>),
+    /// A test machine under any stroke: inverse dynamics.
+    Stroke(Box<super::stroke::StrokeFit>),
 }
 
 /// Fits the records of `data` as `config` asks.
@@ -42,6 +44,12 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
         }
         other => ExperimentError::data(config_path, format!("setup: {other}")),
     };
+    if setup.excitation == ExcitationKind::ImposedDisplacement
+        && super::stroke::any_stroke(setup, data, config.data.is_some())
+    {
+        let result = super::stroke::fit(data).map_err(refused)?;
+        return Ok(SetupFit::Stroke(Box::new(result)));
+    }
     if setup.excitation == ExcitationKind::ImposedDisplacement {
         let result =
             dynamometer(&machine_conditions(data), &machine_options(setup)).map_err(refused)?;
@@ -242,5 +250,11 @@ pub(crate) fn models(o: &SetupOutcome, i: usize) -> Vec<(String, &[f64])> {
             let best = &m.laws[m.best];
             vec![("force".to_string(), best.model_force[i].as_slice())]
         }
+        SetupFit::Stroke(f) => f
+            .predictions
+            .get(i)
+            .map(|p| ("force".to_string(), p.force.predicted.as_slice()))
+            .into_iter()
+            .collect(),
     }
 }

@@ -16,6 +16,7 @@ mod report;
 mod report_machine;
 mod report_validation;
 mod results;
+pub mod stroke;
 
 pub use data::{SetupData, SetupRecord};
 pub use fit::SetupFit;

@@ -22,6 +22,7 @@ pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str
     let figures = match &o.fit {
         SetupFit::Records { .. } => vec![fit_figure(o)],
         SetupFit::Machine(_) => vec![loops(o), force_velocity(o)],
+        SetupFit::Stroke(f) => vec![stroke_force(o, f)],
     };
     for f in figures.into_iter().flatten() {
         save(&f, dir)?;
@@ -217,5 +218,56 @@ fn force_velocity(o: &SetupOutcome) -> Option<Stack<'_>> {
         name: "setup_force_velocity",
         title: format!("Test machine damping law — {}", o.config.name),
         panels: vec![panel],
+    })
+}
+
+/// Any stroke: each record's force (low-passed) and the best law's prediction from its
+/// stroke, the validation records' on fresh data, one panel per record (at most four).
+fn stroke_force<'a>(o: &'a SetupOutcome, f: &'a super::stroke::StrokeFit) -> Option<Stack<'a>> {
+    let law = f.inverse.laws.get(f.inverse.best)?.law.formula();
+    let panels: Vec<Panel<'a>> = f
+        .predictions
+        .iter()
+        .take(4)
+        .filter_map(|p| {
+            let range = (*p.time.first()?, *p.time.last()?);
+            Some(Panel {
+                title: format!(
+                    "{} ({}): RMS error {} N of {} N",
+                    p.record,
+                    if p.validation {
+                        "validation, not fitted"
+                    } else {
+                        "fitted"
+                    },
+                    crate::fmt::sig(p.rms_error, 3),
+                    crate::fmt::sig(p.rms_force, 3)
+                ),
+                x_desc: "time t [s]".into(),
+                y_desc: "force F [N]".into(),
+                x_range: range,
+                curves: vec![
+                    Curve {
+                        label: "measured (low-passed)".into(),
+                        x: &p.time,
+                        y: p.force.measured.clone(),
+                        style: Style::Points(BLUE, 2),
+                    },
+                    Curve {
+                        label: format!("model: {law}"),
+                        x: &p.time,
+                        y: p.force.predicted.clone(),
+                        style: Style::Line(RED, 1),
+                    },
+                ],
+                band: None,
+                legend: Some(SeriesLabelPosition::UpperRight),
+            })
+        })
+        .collect();
+    Some(Stack {
+        name: "setup_stroke_force",
+        title: format!("Test machine, any stroke — {}", o.config.name),
+        panels,
     })
 }

@@ -30,6 +30,13 @@ pub(crate) fn estimates(o: &SetupOutcome) -> Vec<(&'static str, String, Interval
                 })
                 .collect()
         }
+        SetupFit::Stroke(f) => {
+            let best = &f.inverse.laws[f.inverse.best];
+            best.coefficients
+                .iter()
+                .map(|c| (c.name, format!("{} [{}]", c.name, c.unit), c.estimate, None))
+                .collect()
+        }
     }
 }
 
@@ -104,6 +111,7 @@ pub(crate) fn summary(o: &SetupOutcome) -> String {
             super::report_validation::summary(&mut s, fit);
         }
         SetupFit::Machine(m) => super::report_machine::summary(&mut s, m),
+        SetupFit::Stroke(f) => super::stroke::summary(&mut s, f),
     }
     s.trim_end().to_string()
 }
@@ -115,7 +123,7 @@ fn channel_names(o: &SetupOutcome) -> Vec<String> {
 fn identifiability_note(o: &SetupOutcome) -> Option<&str> {
     match &o.fit {
         SetupFit::Records { fit, .. } => fit.plant.note.as_deref(),
-        SetupFit::Machine(_) => None,
+        SetupFit::Machine(_) | SetupFit::Stroke(_) => None,
     }
 }
 
@@ -142,6 +150,7 @@ fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result 
             }
         }
         SetupFit::Machine(m) => super::report_machine::section(s, m)?,
+        SetupFit::Stroke(f) => super::stroke::section(s, f)?,
     }
     writeln!(s, "## Figures\n")?;
     for f in figures {

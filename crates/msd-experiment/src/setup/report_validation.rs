@@ -121,6 +121,7 @@ pub(super) fn verdict(fit: &super::SetupFit) -> Verdict {
     let fit = match fit {
         super::SetupFit::Records { fit, .. } => fit,
         super::SetupFit::Machine(m) => return super::report_machine::verdict(m),
+        super::SetupFit::Stroke(f) => return super::stroke::verdict(f),
     };
     let sigma = |channel: &str| {
         (fit.noise.iter())

@@ -46,6 +46,8 @@ struct Results<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     dynamometer: Option<&'a msd_ident::dynamometer::Dynamometer>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    any_stroke: Option<&'a super::stroke::StrokeFit>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     truth: Option<Truth<'a>>,
     timings_ms: BTreeMap<&'static str, f64>,
 }
@@ -103,10 +105,15 @@ pub(crate) fn to_json(
             fit.plant.note.clone(),
         ),
         SetupFit::Machine(m) => (None, None, None, None, Some(m.as_ref()), None),
+        SetupFit::Stroke(_) => (None, None, None, None, None, None),
     };
     let records_fit = match &o.fit {
         SetupFit::Records { fit, .. } => Some(fit.as_ref()),
-        SetupFit::Machine(_) => None,
+        SetupFit::Machine(_) | SetupFit::Stroke(_) => None,
+    };
+    let any_stroke = match &o.fit {
+        SetupFit::Stroke(f) => Some(f.as_ref()),
+        _ => None,
     };
     let timings = crate::results::timings_ms(&o.timings, extra, total);
     let setup = &o.data.setup;
@@ -152,6 +159,7 @@ pub(crate) fn to_json(
         validation: records_fit.and_then(|f| f.validation.as_ref()),
         free_decay,
         dynamometer,
+        any_stroke,
         truth: o.data.truth.as_ref().map(|p| Truth {
             plant: p,
             natural_frequency_hz: p.parameters().natural_frequency_hz(),

@@ -246,6 +246,40 @@ pub(crate) fn estimate_frequency(dt: f64, x: &[f64]) -> Option<f64> {
     Some(four_parameter_fit(dt, x, start) / (2.0 * std::f64::consts::PI))
 }
 
+/// The share of a stroke's acceleration power in its fundamental, from five harmonics
+/// fitted at its estimated frequency (harmonic h weighs h⁴ in acceleration; what the
+/// five leave unexplained counts as a sixth): about 1 for a test machine's sine stroke
+/// (a few per cent of distortion in the second harmonic, 2⁴ times more in acceleration,
+/// still under 5 %), far less for a positioning move whose acceleration comes in pulses
+/// or a stroke of several tones. `None` when the stroke has no frequency (fewer than two
+/// upward crossings).
+///
+/// ```
+/// let dt = 1e-3;
+/// let sine: Vec<f64> = (0..5000).map(|i| 0.02 * (2.0 * std::f64::consts::PI * 3.0 * i as f64 * dt).sin()).collect();
+/// assert!(msd_ident::dynamometer::fundamental_share(dt, &sine).unwrap() > 0.999);
+/// ```
+pub fn fundamental_share(dt: f64, x: &[f64]) -> Option<f64> {
+    let f = estimate_frequency(dt, x)?;
+    let omega = 2.0 * std::f64::consts::PI * f;
+    let harmonics = (1..=5)
+        .rev()
+        .find(|&h| h as f64 * omega * dt < std::f64::consts::PI)?;
+    let fit = HarmonicFit::new(dt, omega, harmonics, x, x)?;
+    let power: Vec<f64> = (1..=harmonics)
+        .map(|h| {
+            let ([c, s], _) = fit.harmonic(h);
+            (h as f64).powi(4) * (c * c + s * s)
+        })
+        .collect();
+    // The unexplained part as an amplitude² (2·SSE/n), at the weight of a sixth harmonic.
+    let n = x.len();
+    let sse = fit.stroke_sigma.powi(2) * n.saturating_sub(2 * harmonics + 1) as f64;
+    let rest = 6f64.powi(4) * 2.0 * sse / n as f64;
+    let total: f64 = power.iter().sum::<f64>() + rest;
+    (total > 0.0).then(|| power[0] / total)
+}
+
 /// IEEE 1057's four-parameter sine fit x ≈ A·cos ωt + B·sin ωt + C from ω₀: ω.
 fn four_parameter_fit(dt: f64, x: &[f64], omega0: f64) -> f64 {
     let mut omega = omega0;

@@ -118,7 +118,8 @@ impl InverseLaw {
 pub struct InverseDynamics {
     /// The low-pass cut-off used, Hz.
     pub cutoff_hz: f64,
-    /// Samples fitted over all records.
+    /// Samples fitted over all records (each record less two periods of the cut-off at
+    /// each end, where the forward–backward filter meets it).
     pub samples: usize,
     /// Blocks of the covariance.
     pub blocks: usize,
@@ -142,6 +143,9 @@ pub struct InverseDynamics {
 /// A record's force as the model predicts it from its stroke.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ForcePrediction {
+    /// The record's first sample compared (the ends, where the filter meets them, are
+    /// left out: two periods of the cut-off).
+    pub first: usize,
     /// The measured force, filtered as in the fit, N.
     pub measured: Vec<f64>,
     /// The model's force, N.
@@ -160,6 +164,20 @@ struct Motion {
     velocity: Vec<f64>,
     acceleration: Vec<f64>,
     force: Vec<f64>,
+}
+
+impl Motion {
+    /// The samples kept at each end out of the fit and the prediction's error: two
+    /// periods of the cut-off, where a forward–backward filter meets the record's ends
+    /// (a force step near an end is reflected there, not smoothed as inside).
+    fn edge(&self) -> usize {
+        ((2.0 / (self.cutoff_hz * self.dt)).ceil() as usize).min(self.force.len() / 4)
+    }
+
+    /// The kept range of samples.
+    fn kept(&self) -> std::ops::Range<usize> {
+        self.edge()..self.force.len() - self.edge()
+    }
 }
 
 fn motion(r: &StrokeRecord, cutoff_hz: f64) -> Result<Motion> {
@@ -236,7 +254,7 @@ pub fn inverse_dynamics(
         .iter()
         .map(|r| motion(r, cutoff))
         .collect::<Result<Vec<_>>>()?;
-    let samples: usize = motions.iter().map(|m| m.force.len()).sum();
+    let samples: usize = motions.iter().map(|m| m.kept().len()).sum();
     let rms_velocity = (motions
         .iter()
         .flat_map(|m| m.velocity.iter())
@@ -373,7 +391,7 @@ fn fit_law(
 ) -> Result<InverseLaw> {
     let cols = columns(law, options);
     let (n, p) = (
-        motions.iter().map(|m| m.force.len()).sum::<usize>(),
+        motions.iter().map(|m| m.kept().len()).sum::<usize>(),
         cols.len(),
     );
     let known = options.known_mass.unwrap_or(0.0);
@@ -381,15 +399,17 @@ fn fit_law(
     let mut y = DVector::<f64>::zeros(n);
     let mut k = 0;
     for m in motions {
+        let kept = m.kept();
         for (j, (name, _)) in cols.iter().enumerate() {
-            for (i, v) in column(name, m, 1.0 / smoothing)?.into_iter().enumerate() {
-                phi[(k + i, j)] = v;
+            let values = column(name, m, 1.0 / smoothing)?;
+            for (i, v) in values[kept.clone()].iter().enumerate() {
+                phi[(k + i, j)] = *v;
             }
         }
-        for i in 0..m.force.len() {
-            y[k + i] = m.force[i] - known * m.acceleration[i];
+        for (i, s) in kept.clone().enumerate() {
+            y[k + i] = m.force[s] - known * m.acceleration[s];
         }
-        k += m.force.len();
+        k += kept.len();
     }
     // Columns scaled to unit norm: the QR and the covariance stay well conditioned
     // whatever the units.
@@ -474,18 +494,23 @@ impl InverseDynamics {
                 *p += c.estimate.value * x;
             }
         }
+        let kept = m.kept();
+        let (measured, predicted) = (
+            m.force[kept.clone()].to_vec(),
+            predicted[kept.clone()].to_vec(),
+        );
         let n = predicted.len() as f64;
-        let rms_error = (m
-            .force
+        let rms_error = (measured
             .iter()
             .zip(&predicted)
             .map(|(f, p)| (f - p).powi(2))
             .sum::<f64>()
             / n)
             .sqrt();
-        let rms_force = (m.force.iter().map(|f| f * f).sum::<f64>() / n).sqrt();
+        let rms_force = (measured.iter().map(|f| f * f).sum::<f64>() / n).sqrt();
         Ok(ForcePrediction {
-            measured: m.force,
+            first: kept.start,
+            measured,
             predicted,
             rms_error,
             rms_force,

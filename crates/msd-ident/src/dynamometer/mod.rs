@@ -30,6 +30,7 @@ use crate::{
     error::{IdentError, Result},
     nonlinear::{DampingLaw, SmoothingVelocity, bic_evidence},
 };
+pub use harmonics::fundamental_share;
 use harmonics::{HarmonicFit, estimate_frequency};
 use regression::{Needs, Normal, Prepared};
 use serde::{Deserialize, Serialize};
