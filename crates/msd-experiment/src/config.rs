@@ -1548,7 +1548,8 @@ pub(crate) fn check_decimal(
             format!(" = {decimal:?}: expected \".\" or \",\""),
         ));
     }
-    if decimal == delimiter {
+    // Decimal commas beside the default delimiter: the delimiter is found in the file.
+    if decimal == delimiter && decimal != ',' {
         return Err((
             format!("{table}.decimal"),
             format!(

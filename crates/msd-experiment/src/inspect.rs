@@ -81,7 +81,7 @@ impl Column {
 /// A text table: how it is written, its columns, the config lines.
 fn text_table(path: &Path, name: &str, bytes: &[u8]) -> Result<String> {
     let (decoded, encoding) = text::decode(bytes);
-    let (delimiter, decimal) = sniff(&decoded);
+    let (delimiter, decimal) = text::sniff(&decoded);
     let format = TextFormat {
         delimiter,
         decimal,
@@ -154,39 +154,6 @@ fn text_table(path: &Path, name: &str, bytes: &[u8]) -> Result<String> {
     }
     out.push_str(&config_lines(name, &columns, &keys));
     Ok(out)
-}
-
-/// The delimiter that splits the last lines into the same number (≥ 2) of fields, and
-/// the decimal mark their cells use.
-fn sniff(text: &str) -> (char, char) {
-    let tail: Vec<&str> = text
-        .lines()
-        .rev()
-        .map(str::trim)
-        // Data lines: no letters but an exponent's or a NaN's.
-        .filter(|l| {
-            !l.is_empty()
-                && !l.starts_with('#')
-                && l.chars()
-                    .all(|c| !c.is_alphabetic() || "eEnNaA".contains(c))
-        })
-        .take(20)
-        .collect();
-    let delimiter = ['\t', ';', ',', '|']
-        .into_iter()
-        .find(|&d| {
-            let counts: Vec<usize> = tail.iter().map(|l| l.split(d).count()).collect();
-            counts
-                .first()
-                .is_some_and(|&n| n >= 2 && counts.iter().all(|&c| c == n))
-        })
-        .unwrap_or(',');
-    let commas = delimiter != ','
-        && tail.iter().any(|l| {
-            l.split(delimiter)
-                .any(|c| text::number(c.trim(), ',').is_some() && c.contains(','))
-        });
-    (delimiter, if commas { ',' } else { '.' })
 }
 
 fn column_table(columns: &[Column]) -> String {

@@ -85,14 +85,16 @@ fn a_european_export_and_a_numpy_array_read_as_the_plain_csv() {
         text.extend(b"\r\n");
     }
     std::fs::write(dir.path().join("export.csv"), &text).unwrap();
+    // One key: the delimiter is found in the file.
     let (european, report) = estimates(
         dir.path(),
         "export.csv",
-        "delimiter = \";\"\ndecimal = \",\"",
+        "decimal = \",\"",
         ["Zeit", "Kraft", "Weg"],
     );
     assert_eq!(european, plain);
     for said in [
+        "delimiter ';' (found in the file",
         "read as Windows-1252",
         "line 3: units s, N, m",
         "line 1 read as metadata",
@@ -145,5 +147,44 @@ fn missing_values_are_interpolated_when_asked_and_counted() {
     // far less than their standard errors (here within 0.1 %).
     for (a, b) in filled.iter().zip(&plain).take(3) {
         assert!((a / b - 1.0).abs() < 1e-3, "{a} against {b}");
+    }
+}
+
+/// A SignalCalc-style ASCII export of a measured FRF: nine header lines (seven of
+/// metadata, the column names, a units line with `m/s²` in Latin-1), tab-separated, read
+/// by `[frequency_response.table]` with one key (the delimiter); `msd inspect` prints the
+/// lines that read it.
+#[test]
+fn a_signalcalc_export_reads_with_one_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text: Vec<u8> = b"SignalCalc ACE ASCII Export\r\nTitle:\tbeam\r\nDate:\t11/29/2026\r\nChannels:\t2\r\nAverages:\t10\r\nWindow:\tHanning\r\n\r\nX Axis\tReal\tImag\r\nHz\tm/s\xb2/N\tm/s\xb2/N\r\n".to_vec();
+    let (m, k, zeta) = (1.0, (2.0 * std::f64::consts::PI * 100.0).powi(2), 0.01);
+    let c = 2.0 * zeta * (k * m).sqrt();
+    for i in 1..=1600 {
+        let f = i as f64 * 0.3125;
+        let w = 2.0 * std::f64::consts::PI * f;
+        let (re, im) = (k - m * w * w, c * w);
+        let d = re * re + im * im;
+        text.extend(format!("{f:.4}\t{:.9e}\t{:.9e}\r\n", re / d, -im / d).as_bytes());
+    }
+    std::fs::write(dir.path().join("beam.txt"), &text).unwrap();
+    let config = dir.path().join("beam.toml");
+    std::fs::write(
+        &config,
+        "name = \"beam\"\n[frequency_response.table]\npath = \"beam.txt\"\ndelimiter = \"\\t\"\nfrequency = \"X Axis\"\nreal = \"Real\"\nimaginary = \"Imag\"\n",
+    )
+    .unwrap();
+    let run = run_in_temp(&config, None, None).expect("the export reads with one key");
+    let f = run.number("estimate.natural_frequency_hz.value");
+    assert!((f / 100.0 - 1.0).abs() < 1e-4, "fn = {f}");
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(report.contains("lines 1–7 read as metadata"), "{report}");
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("beam.txt")).unwrap();
+    for line in [
+        "[frequency_response.table]",
+        "delimiter = \"\\t\"",
+        "frequency = \"X Axis\"",
+    ] {
+        assert!(listing.contains(line), "{listing}");
     }
 }

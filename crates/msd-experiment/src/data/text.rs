@@ -77,6 +77,7 @@ pub(crate) fn scan<H>(
         ));
     }
     let (text, mut notes) = decode(bytes);
+    let format = &with_delimiter(path, &text, format, &mut notes)?;
     let text = text.as_bytes();
     let newlines: Vec<usize> = text
         .iter()
@@ -158,6 +159,66 @@ pub(crate) fn scan<H>(
         on_row(&state, line, &r)?;
     }
     Ok(notes)
+}
+
+/// `format` with its delimiter: with decimal commas and the default `,` delimiter, the
+/// one found in the file (`;` or a tab, as spreadsheets write them), said in a note.
+fn with_delimiter(
+    path: &Path,
+    text: &str,
+    format: &TextFormat,
+    notes: &mut Vec<String>,
+) -> Result<TextFormat> {
+    if !(format.decimal == ',' && format.delimiter == ',') {
+        return Ok(*format);
+    }
+    match sniff(text).0 {
+        d if d != ',' => {
+            notes.push(format!(
+                "delimiter {d:?} (found in the file: the decimal mark is \",\")"
+            ));
+            Ok(TextFormat {
+                delimiter: d,
+                ..*format
+            })
+        }
+        _ => Err(ExperimentError::data(
+            path,
+            "decimal = \",\": no delimiter other than \",\" splits the data lines alike: expected \";\" or a tab between the columns (set delimiter)",
+        )),
+    }
+}
+
+/// The delimiter that splits the last data lines (no letters but an exponent's or a
+/// NaN's) into the same number (≥ 2) of fields, and the decimal mark their cells use.
+pub(crate) fn sniff(text: &str) -> (char, char) {
+    let tail: Vec<&str> = text
+        .lines()
+        .rev()
+        .map(str::trim)
+        .filter(|l| {
+            !l.is_empty()
+                && !l.starts_with('#')
+                && l.chars()
+                    .all(|c| !c.is_alphabetic() || "eEnNaA".contains(c))
+        })
+        .take(20)
+        .collect();
+    let delimiter = ['\t', ';', ',', '|']
+        .into_iter()
+        .find(|&d| {
+            let counts: Vec<usize> = tail.iter().map(|l| l.split(d).count()).collect();
+            counts
+                .first()
+                .is_some_and(|&n| n >= 2 && counts.iter().all(|&c| c == n))
+        })
+        .unwrap_or(',');
+    let commas = delimiter != ','
+        && tail.iter().any(|l| {
+            l.split(delimiter)
+                .any(|c| number(c.trim(), ',').is_some() && c.contains(','))
+        });
+    (delimiter, if commas { ',' } else { '.' })
 }
 
 /// The text of `bytes`: UTF-8 (a BOM dropped), UTF-16 by its BOM, else Windows-1252,
