@@ -3,7 +3,10 @@
 
 use crate::convert::{options, result_dict, vec_f64};
 use crate::errors;
-use msd_ident::{chain::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup}, IdentError};
+use msd_ident::{
+    IdentError,
+    chain::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup},
+};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

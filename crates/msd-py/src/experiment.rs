@@ -2,14 +2,14 @@
 
 use crate::convert::{result_dict, value_to_py, vec_f64};
 use crate::errors;
+use msd_experiment::config::Config;
 use msd_experiment::design::DesignRunOptions;
 use msd_experiment::plan::PlanOptions;
-use msd_experiment::config::Config;
 use msd_experiment::{DEFAULT_RESULTS_ROOT, ExperimentError, RunOptions};
 use numpy::PyReadonlyArray1;
-use std::collections::BTreeMap;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// run(config, config_json, out, seed, threads, files, tables)
@@ -41,9 +41,14 @@ pub fn run<'py>(
     let mut config = match (config, config_json) {
         (Some(path), _) => Config::load(&path),
         (None, Some(json)) => serde_json::from_str(&json)
-            .map_err(|e| ExperimentError::config("config", format!("{e}: expected a table of keys")))
+            .map_err(|e| {
+                ExperimentError::config("config", format!("{e}: expected a table of keys"))
+            })
             .and_then(|v| Config::from_value(v, "config.toml")),
-        (None, None) => Err(ExperimentError::config("config", "missing: expected a file or a dict")),
+        (None, None) => Err(ExperimentError::config(
+            "config",
+            "missing: expected a file or a dict",
+        )),
     }
     .map_err(errors::experiment)?;
     let mut sources = config.sources.clone();
@@ -51,7 +56,10 @@ pub fn run<'py>(
         sources = sources.with_bytes(path, bytes);
     }
     for (path, columns) in tables.unwrap_or_default() {
-        let columns = columns.iter().map(|(n, a)| (n.clone(), vec_f64(a))).collect();
+        let columns = columns
+            .iter()
+            .map(|(n, a)| (n.clone(), vec_f64(a)))
+            .collect();
         sources = sources.with_columns(path, columns);
     }
     config.sources = sources;

@@ -4,7 +4,11 @@
 use crate::convert::{array, merged, options, result_dict, vec_f64};
 use crate::errors;
 use msd_ident::dynamometer::Condition;
-use msd_ident::{Backend, Channel, DataSet, dynamometer::DynamometerOptions, EstimationOptions, Excitation, free_decay::FreeDecayOptions, InitialState, PaperExperiment, Parameters, Record, RecordsOptions, ValidationOptions};
+use msd_ident::{
+    Backend, Channel, DataSet, EstimationOptions, Excitation, InitialState, PaperExperiment,
+    Parameters, Record, RecordsOptions, ValidationOptions, dynamometer::DynamometerOptions,
+    free_decay::FreeDecayOptions,
+};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -315,6 +319,68 @@ pub fn dynamometer<'py>(
         .detach(|| msd_ident::dynamometer::dynamometer(&built, &opts))
         .map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &[])?;
+    dict.set_item("summary", fit.to_string())?;
+    Ok(dict)
+}
+
+/// A stroke record from Python: (name, dt, stroke, force).
+type PyStroke<'py> = (
+    String,
+    f64,
+    PyReadonlyArray1<'py, f64>,
+    PyReadonlyArray1<'py, f64>,
+);
+
+fn stroke_records(records: &[PyStroke<'_>]) -> Vec<msd_ident::dynamometer::StrokeRecord> {
+    records
+        .iter()
+        .map(|(name, dt, x, f)| msd_ident::dynamometer::StrokeRecord {
+            name: name.clone(),
+            dt: *dt,
+            stroke: vec_f64(x),
+            force: vec_f64(f),
+        })
+        .collect()
+}
+
+/// inverse_dynamics(records, validation, options_json)
+/// --
+///
+/// msd-ident's `inverse_dynamics` on `records` (name, dt, stroke, force), each of
+/// `validation` predicted by the best law.
+#[pyfunction]
+pub fn inverse_dynamics<'py>(
+    py: Python<'py>,
+    records: Vec<PyStroke<'py>>,
+    validation: Vec<PyStroke<'py>>,
+    options_json: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts: msd_ident::dynamometer::InverseOptions =
+        options("inverse_dynamics options", options_json)?;
+    let (fitted, fresh) = (stroke_records(&records), stroke_records(&validation));
+    let (fit, predictions) = py
+        .detach(|| {
+            let fit = msd_ident::dynamometer::inverse_dynamics(&fitted, &opts)?;
+            let predictions = fresh
+                .iter()
+                .map(|r| fit.predict(fit.best, r))
+                .collect::<msd_ident::Result<Vec<_>>>()?;
+            Ok::<_, msd_ident::IdentError>((fit, predictions))
+        })
+        .map_err(errors::ident)?;
+    let dict = result_dict(py, &fit, &[])?;
+    let list = pyo3::types::PyList::empty(py);
+    for (r, p) in fresh.iter().zip(predictions) {
+        let d = PyDict::new(py);
+        d.set_item("name", &r.name)?;
+        d.set_item("first", p.first)?;
+        d.set_item("rms_error", p.rms_error)?;
+        d.set_item("rms_force", p.rms_force)?;
+        d.set_item("measured", PyArray1::from_vec(py, p.measured))?;
+        d.set_item("predicted", PyArray1::from_vec(py, p.predicted))?;
+        list.append(d)?;
+    }
+    dict.set_item("validation", list)?;
     dict.set_item("summary", fit.to_string())?;
     Ok(dict)
 }

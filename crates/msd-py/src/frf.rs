@@ -3,9 +3,9 @@
 
 use crate::convert::{array, options, result_dict, vec_f64};
 use crate::errors;
-use msd_modal::{Dof, SetMember};
 use msd_ident::OneModeOptions;
 use msd_modal::ModalOptions;
+use msd_modal::{Dof, SetMember};
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, FrfOptions};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;

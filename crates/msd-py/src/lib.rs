@@ -10,8 +10,8 @@ mod chain;
 mod convert;
 mod errors;
 mod experiment;
-mod fit;
 mod files;
+mod fit;
 mod frf;
 mod oma;
 mod uff;
@@ -34,6 +34,7 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit::fit_records, m)?)?;
     m.add_function(wrap_pyfunction!(fit::free_decay, m)?)?;
     m.add_function(wrap_pyfunction!(fit::dynamometer, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::inverse_dynamics, m)?)?;
     m.add_function(wrap_pyfunction!(chain::simulate_chain, m)?)?;
     m.add_function(wrap_pyfunction!(chain::fit_chain, m)?)?;
     m.add_function(wrap_pyfunction!(chain::predict_chain, m)?)?;

@@ -4,7 +4,8 @@
 use crate::convert::{options, result_dict};
 use crate::errors;
 use msd_modal::{
-    Dof, FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, efdd, merge_setups, ssi_cov, ssi_dat,
+    Dof, FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup,
+    efdd, merge_setups, ssi_cov, ssi_dat,
 };
 use numpy::PyReadonlyArray2;
 use pyo3::exceptions::PyValueError;
@@ -25,10 +26,15 @@ type PySetup<'py> = (
 
 /// The method named (`"ssi-cov"`, `"ssi-dat"` or `"efdd"`) with its options parsed: a closure
 /// analysing one record.
-fn analysis(method: &str, options_json: &str) -> PyResult<impl Fn(&OutputRecord) -> Result<OmaFit, msd_modal::ModalError> + Send + Sync> {
+fn analysis(
+    method: &str,
+    options_json: &str,
+) -> PyResult<impl Fn(&OutputRecord) -> Result<OmaFit, msd_modal::ModalError> + Send + Sync> {
     let method: OmaMethod = options("method", &serde_json::to_string(method).unwrap_or_default())?;
     let (ssi, fdd): (Option<OmaOptions>, Option<FddOptions>) = match method {
-        OmaMethod::SsiCov | OmaMethod::SsiDat => (Some(options("oma options", options_json)?), None),
+        OmaMethod::SsiCov | OmaMethod::SsiDat => {
+            (Some(options("oma options", options_json)?), None)
+        }
         OmaMethod::Efdd => (None, Some(options("efdd options", options_json)?)),
     };
     Ok(move |record: &OutputRecord| match (&ssi, &fdd) {
@@ -60,7 +66,15 @@ pub fn oma<'py>(
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let analyse = analysis(method, options_json)?;
-    let record = record_of((data, sample_rate_hz, references, dofs, directions, quantities, names))?;
+    let record = record_of((
+        data,
+        sample_rate_hz,
+        references,
+        dofs,
+        directions,
+        quantities,
+        names,
+    ))?;
     let fit = py.detach(|| analyse(&record)).map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &["singular_values"])?;
     dict.set_item("summary", fit.to_string())?;
@@ -73,13 +87,23 @@ pub fn oma<'py>(
 /// `ssi_cov` or `efdd` on each setup, then msd-modal's `merge_setups` (PoSER): a dict with `setups`
 /// (each setup's fit) and `merged`.
 #[pyfunction]
-pub fn oma_setups<'py>(py: Python<'py>, setups: Vec<PySetup<'py>>, tolerance: f64, method: &str, options_json: &str) -> PyResult<Bound<'py, PyDict>> {
+pub fn oma_setups<'py>(
+    py: Python<'py>,
+    setups: Vec<PySetup<'py>>,
+    tolerance: f64,
+    method: &str,
+    options_json: &str,
+) -> PyResult<Bound<'py, PyDict>> {
     let analyse = analysis(method, options_json)?;
     let records: Vec<OutputRecord> = setups.into_iter().map(record_of).collect::<PyResult<_>>()?;
     let (fits, merged) = py
         .detach(|| -> Result<_, msd_modal::ModalError> {
             let fits: Vec<OmaFit> = records.iter().map(&analyse).collect::<Result<_, _>>()?;
-            let views: Vec<Setup<'_>> = records.iter().zip(&fits).map(|(record, fit)| Setup { record, fit }).collect();
+            let views: Vec<Setup<'_>> = records
+                .iter()
+                .zip(&fits)
+                .map(|(record, fit)| Setup { record, fit })
+                .collect();
             let merged = merge_setups(&views, tolerance)?;
             Ok((fits, merged))
         })
@@ -113,7 +137,13 @@ fn record_of(setup: PySetup<'_>) -> PyResult<OutputRecord> {
         channels: Vec::with_capacity(channels),
         references: references.unwrap_or_default(),
     };
-    for (c, (((&(node, direction), oblique), quantity), name)) in dofs.iter().zip(&directions).zip(&quantities).zip(&names).enumerate() {
+    for (c, (((&(node, direction), oblique), quantity), name)) in dofs
+        .iter()
+        .zip(&directions)
+        .zip(&quantities)
+        .zip(&names)
+        .enumerate()
+    {
         let quantity: Quantity = options(
             &format!("quantities[{c}]"),
             &serde_json::Value::from(quantity.as_str()).to_string(),

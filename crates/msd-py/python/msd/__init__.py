@@ -77,6 +77,7 @@ __all__ = [
     "fit_records",
     "free_decay",
     "dynamometer",
+    "inverse_dynamics",
     "simulate_chain",
     "fit_chain",
     "predict_chain",
@@ -564,6 +565,54 @@ def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> Setu
             )
         )
     return SetupFit(_msd.dynamometer(built, options_json(options)))
+
+
+def _strokes(records: Iterable[Mapping[str, Any]], name: str) -> List[Tuple[str, float, np.ndarray, np.ndarray]]:
+    built = []
+    for i, r in enumerate(records):
+        if not isinstance(r, Mapping):
+            raise ValueError(f"{name}[{i}]: expected a dict with 'stroke', 'force' and 'dt' or 't'")
+        if ("dt" in r) == ("t" in r):
+            raise ValueError(f"{name}[{i}]: give 'dt' or 't' (one of them)")
+        for key in ("stroke", "force"):
+            if key not in r:
+                raise ValueError(f"{name}[{i}]: missing {key!r} (expected 'stroke' in m and 'force' in N)")
+        if "dt" in r:
+            dt = float(r["dt"])
+        else:
+            t = vector(f"{name}[{i}]['t']", r["t"])
+            if len(t) < 2:
+                raise ValueError(f"{name}[{i}]['t']: expected at least two time stamps")
+            dt = float((t[-1] - t[0]) / (len(t) - 1))
+        built.append(
+            (
+                str(r.get("name", f"record {i + 1}")),
+                dt,
+                vector(f"{name}[{i}]['stroke']", r["stroke"]),
+                vector(f"{name}[{i}]['force']", r["force"]),
+            )
+        )
+    return built
+
+
+def inverse_dynamics(
+    records: Iterable[Mapping[str, Any]], validation: Iterable[Mapping[str, Any]] = (), **options: Any
+) -> SetupFit:
+    """A test machine under any stroke (a positioning move, a random or swept stroke):
+    msd-ident's ``inverse_dynamics``. Stroke and force are low-passed alike (a zero-phase
+    4th-order Butterworth), velocity and acceleration taken by central differences, and
+    every damping law fitted by least squares and ranked by BIC, with intervals from the
+    sandwich over blocks of samples (honest for coloured residuals).
+
+    Each record is a dict with ``"stroke"`` (m) and ``"force"`` (N) arrays, ``"dt"`` (s)
+    or ``"t"``, and an optional ``"name"``; ``validation`` records are not fitted but
+    predicted (``data["validation"]``: RMS error, measured and predicted force).
+    ``**options``: ``InverseOptions`` (``laws``, ``cutoff_hz``, ``stiffness``,
+    ``force_offset``, ``known_mass``, ``blocks``).
+    """
+    fitted = _strokes(records, "records")
+    fresh = _strokes(validation, "validation")
+    return SetupFit(_msd.inverse_dynamics(fitted, fresh, options_json(options)))
 
 
 ChainParametersLike = Union[ChainParameters, Mapping[str, Any]]

@@ -14,7 +14,7 @@ __all__ = [
     "IdentificationError", "ChainFit", "ChainIntervals", "ChainParameters", "ChainUncertainty", "Estimate",
     "FrequencyResponse", "Interval", "ModalFit", "Mode", "MergedOma", "OmaFit",
     "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
-    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "oma", "oma_setups", "fit_records", "free_decay", "dynamometer",
+    "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "oma", "oma_setups", "fit_records", "free_decay", "dynamometer", "inverse_dynamics",
     "simulate_chain", "fit_chain", "predict_chain", "run", "plan", "design", "paper_data", "read_file", "inspect", "uff",
 ]
 
@@ -366,3 +366,4 @@ def paper_data(seed: int = ...) -> Dict[str, Dict[str, _F64]]: ...
 
 def read_file(path: Union[str, "os.PathLike[str]"], details: bool = False) -> Union[Dict[str, np.ndarray], List[Dict[str, Any]]]: ...
 def inspect(path: Union[str, "os.PathLike[str]"]) -> str: ...
+def inverse_dynamics(records: Iterable[Mapping[str, Any]], validation: Iterable[Mapping[str, Any]] = (), **options: Any) -> SetupFit: ...
