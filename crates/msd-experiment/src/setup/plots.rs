@@ -233,7 +233,7 @@ fn stroke_force<'a>(o: &'a SetupOutcome, f: &'a super::stroke::StrokeFit) -> Opt
             let range = (*p.time.first()?, *p.time.last()?);
             Some(Panel {
                 title: format!(
-                    "{} ({}): RMS error {} N of {} N",
+                    "{} ({}): blue measured (low-passed), red model; RMS error {} N of {} N",
                     p.record,
                     if p.validation {
                         "validation, not fitted"
@@ -261,7 +261,7 @@ fn stroke_force<'a>(o: &'a SetupOutcome, f: &'a super::stroke::StrokeFit) -> Opt
                     },
                 ],
                 band: None,
-                legend: Some(SeriesLabelPosition::UpperRight),
+                legend: None,
             })
         })
         .collect();
