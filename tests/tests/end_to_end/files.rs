@@ -188,3 +188,33 @@ fn a_signalcalc_export_reads_with_one_key() {
         assert!(listing.contains(line), "{listing}");
     }
 }
+
+/// A data file that is not what its extension says, or is cut short, is refused before
+/// anything is written: exit status 2, the file and the key named.
+#[test]
+fn a_damaged_binary_file_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = msd_tests::root().join("crates/msd-files/fixtures/record-v7.mat");
+    let bytes = std::fs::read(fixture).unwrap();
+    std::fs::write(dir.path().join("cut.mat"), &bytes[..bytes.len() / 2]).unwrap();
+    std::fs::write(dir.path().join("text.npy"), "t,F\n0,1\n").unwrap();
+    for (file, expected) in [
+        ("cut.mat", "not a MATLAB .mat file"),
+        ("text.npy", "not a NumPy .npy file"),
+    ] {
+        let config = dir.path().join("c.toml");
+        std::fs::write(
+            &config,
+            format!("name = \"bad\"\n[data]\npath = \"{file}\"\ninput = \"force\"\noutput = \"x\"\nsample_rate = 100\n"),
+        )
+        .unwrap();
+        let Err(err) = run_in_temp(&config, None, None) else {
+            panic!("{file}: a damaged file must be refused");
+        };
+        assert_eq!(err.exit_code(), 2, "{err}");
+        let message = err.to_string();
+        for fragment in [file, "data.path", expected] {
+            assert!(message.contains(fragment), "`{message}` lacks `{fragment}`");
+        }
+    }
+}
