@@ -218,3 +218,35 @@ fn a_damaged_binary_file_is_refused_by_name() {
         }
     }
 }
+
+/// Every text reader's format keys are checked alike: a decimal mark that is neither
+/// "." nor "," is refused, naming the section's key.
+#[test]
+fn a_table_s_decimal_mark_is_checked_as_data_s() {
+    let dir = tempfile::tempdir().unwrap();
+    for (section, extra) in [
+        (
+            "frequency_response.table",
+            "frequency = 0\nreal = 1\nimaginary = 2\n",
+        ),
+        (
+            "frequency_response.records",
+            "sample_rate = 100\nforce = [0]\nresponse = [1]\n",
+        ),
+    ] {
+        let config = dir.path().join("c.toml");
+        std::fs::write(
+            &config,
+            format!("name = \"t\"\n[{section}]\npath = \"x.csv\"\ndecimal = \"x\"\n{extra}"),
+        )
+        .unwrap();
+        let Err(err) = run_in_temp(&config, None, None) else {
+            panic!("{section}: decimal = \"x\" must be refused");
+        };
+        assert_eq!(err.exit_code(), 2, "{err}");
+        assert!(
+            err.to_string().contains(&format!("{section}.decimal")),
+            "{err}"
+        );
+    }
+}

@@ -138,6 +138,7 @@ impl FrequencyResponseSection {
             );
         }
         if let Some(r) = &self.records {
+            crate::config::check_decimal("frequency_response.records", r.decimal, r.delimiter)?;
             check_positive("frequency_response.records.sample_rate", r.sample_rate)?;
             if r.force.is_empty() || r.force.len() != r.response.len() {
                 return err(
@@ -188,6 +189,7 @@ impl FrequencyResponseSection {
 
 /// A table source's columns and frequency axis; errors name `frequency_response.table.…`.
 fn check_table(t: &super::TableSource) -> Check {
+    crate::config::check_decimal("frequency_response.table", t.decimal, t.delimiter)?;
     let pairs = (
         t.magnitude.is_some() && t.phase.is_some(),
         t.real.is_some() && t.imaginary.is_some(),
