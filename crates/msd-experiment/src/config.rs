@@ -444,7 +444,7 @@ fn unused_sections(text: &str, config: &Config) -> std::result::Result<(), (Stri
     } else if config.chain.is_some() {
         (
             "a [chain] config (a chain of masses)",
-            &["chain", "time", "identification"],
+            &["chain", "time", "identification", "data"],
         )
     } else if config.setup.is_some() {
         (
@@ -1090,8 +1090,24 @@ impl Config {
         Ok(())
     }
 
-    /// A `[chain]` needs `[time]` and `[identification.input]` (the drive's samples).
+    /// A `[chain]` needs `[time]` and `[identification.input]` (the drive's samples) and
+    /// the true chain — or measured records in `[data]`: one file, the drive's column,
+    /// each sensor's.
     fn validate_chain(&self, chain: &ChainSection) -> std::result::Result<(), (String, String)> {
+        if let Some(d) = &self.data {
+            return validate_chain_data(
+                chain,
+                d,
+                self.time.is_some(),
+                self.identification.is_some(),
+            );
+        }
+        if chain.plant.is_none() {
+            return Err((
+                "chain.plant".into(),
+                ": missing: a [chain] config without [data] simulates its records from the true chain".into(),
+            ));
+        }
         let Some(time) = &self.time else {
             return Err((
                 "time".into(),
@@ -1537,6 +1553,65 @@ pub(crate) fn locate_key(text: &str, path: &str) -> Option<usize> {
 }
 
 /// A decimal mark `"."` or `","`, not the delimiter; errors name `{table}.decimal`.
+/// A `[chain]` on measured records: `[data]` with one file, the drive's column and no
+/// output column; every sensor's column; no true chain, no synthetic sections.
+fn validate_chain_data(
+    chain: &ChainSection,
+    d: &DataSection,
+    time: bool,
+    identification: bool,
+) -> std::result::Result<(), (String, String)> {
+    let not_with_data =
+        |key: &str, why: &str| Err((key.to_string(), format!(": not with [data]: {why}")));
+    if chain.plant.is_some() {
+        return not_with_data(
+            "chain.plant",
+            "the measured chain is what the fit finds (its guess starts the fit)",
+        );
+    }
+    if time {
+        return not_with_data(
+            "time",
+            "the records give the sampling (data.time or data.sample_rate)",
+        );
+    }
+    if identification {
+        return not_with_data("identification", "the records give the drive (data.input)");
+    }
+    check_decimal("data", d.decimal, d.delimiter)?;
+    if d.path.0.len() != 1 {
+        return Err((
+            "data.path".into(),
+            format!(
+                " = {}: expected one file holding the drive and every sensor",
+                d.path
+            ),
+        ));
+    }
+    if d.input.is_none() {
+        return Err((
+            "data.input".into(),
+            ": missing: expected the drive's column (the force, or the base acceleration)".into(),
+        ));
+    }
+    if d.output.is_some() {
+        return Err(("data.output".into(), ": not read by a [chain] config: each sensor names its column (chain.sensors[i].column)".into()));
+    }
+    if let Some(i) = chain.sensors.iter().position(|s| s.column.is_none()) {
+        return Err((
+            format!("chain.sensors[{i}].column"),
+            ": missing: with [data], each sensor names its column".into(),
+        ));
+    }
+    if d.time.is_none() && d.sample_rate.is_none() {
+        return Err((
+            "data.time".into(),
+            ": missing: expected data.time or data.sample_rate".into(),
+        ));
+    }
+    chain.validate(f64::INFINITY)
+}
+
 pub(crate) fn check_decimal(
     table: &str,
     decimal: char,

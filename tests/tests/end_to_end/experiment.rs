@@ -527,10 +527,24 @@ samples = 100
         err.to_string().contains("line 2") && err.to_string().contains("decimal = \",\""),
         "{err}"
     );
-    let clash = with_decimal.replace("delimiter = \";\"", "delimiter = \",\"");
+    // Decimal commas beside the default delimiter: the file's `;` is found and said.
+    let found = with_decimal.replace("delimiter = \";\"\n", "");
+    std::fs::write(dir.path().join("found.toml"), found).unwrap();
+    let third = run_in_temp(&dir.path().join("found.toml"), None, None).expect("runs");
+    for name in ["mass", "damping", "stiffness"] {
+        let key = format!("estimate.{name}.value");
+        assert_eq!(third.number(&key), run.number(&key), "{name}");
+    }
+    let report = std::fs::read_to_string(third.out().join("report.md")).unwrap();
+    assert!(
+        report.contains("delimiter ';' (found in the file"),
+        "{report}"
+    );
+    // A decimal point that is also the delimiter stays refused.
+    let clash = config_text.replace("delimiter = \";\"", "delimiter = \".\"");
     std::fs::write(dir.path().join("clash.toml"), clash).unwrap();
     let Err(err) = run_in_temp(&dir.path().join("clash.toml"), None, None) else {
-        panic!("decimal and delimiter both \",\"");
+        panic!("decimal and delimiter both \".\"");
     };
     assert!(err.to_string().contains("data.decimal"), "{err}");
 }

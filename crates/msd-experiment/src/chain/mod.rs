@@ -157,10 +157,17 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
     let Some(chain) = config.chain.as_ref() else {
         return Err(ExperimentError::config(config_path, "no [chain] section"));
     };
+    if let Some(d) = &config.data {
+        return measured_record(config, chain, d);
+    }
+    let plant = chain
+        .plant
+        .as_ref()
+        .ok_or_else(|| ExperimentError::config(config_path, "chain.plant: missing: a [chain] config without [data] simulates its records from the true chain"))?;
     let input = crate::data::synthetic_input(config, config_path)?
         .ok_or_else(|| ExperimentError::config(config_path, "identification.input: missing"))?;
-    let tested = chain.tested(chain.plant.masses.len());
-    let clean = simulate_chain(&tested, &chain.plant, input.samples(), input.dt())
+    let tested = chain.tested(chain.size());
+    let clean = simulate_chain(&tested, plant, input.samples(), input.dt())
         .map_err(|e| ExperimentError::run("data", e))?;
     let mut outputs = Vec::with_capacity(clean.len());
     for (j, (y, sensor)) in clean.iter().zip(&chain.sensors).enumerate() {
@@ -183,6 +190,52 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
     })
 }
 
+/// The measured record of `[data]`: the drive's column (`data.input`, scaled) and each
+/// sensor's (`chain.sensors[i].column`, scaled), on the time column or sampling rate.
+fn measured_record(
+    config: &Config,
+    chain: &ChainSection,
+    d: &crate::config::DataSection,
+) -> Result<ChainRecord> {
+    use crate::data::ColumnSpec;
+    let path = config.sources.path(d.path.first());
+    let missing = |key: String| {
+        ExperimentError::data(
+            &path,
+            format!("{key}: missing: expected the column that holds it"),
+        )
+    };
+    let mut specs = vec![ColumnSpec {
+        role: "drive".into(),
+        key: "data.input".into(),
+        column: d
+            .input
+            .clone()
+            .ok_or_else(|| missing("data.input".into()))?,
+        scale: d.input_scale,
+        scale_key: "data.input_scale".into(),
+    }];
+    for (i, s) in chain.sensors.iter().enumerate() {
+        specs.push(ColumnSpec {
+            role: format!("sensor {}", i + 1),
+            key: format!("chain.sensors[{i}].column"),
+            column: s
+                .column
+                .clone()
+                .ok_or_else(|| missing(format!("chain.sensors[{i}].column")))?,
+            scale: s.scale,
+            scale_key: format!("chain.sensors[{i}].scale"),
+        });
+    }
+    let mut table = crate::data::read_columns(d, &config.sources, &path, "data.path", &specs)?;
+    let input = table.columns.remove(0);
+    Ok(ChainRecord {
+        dt: table.dt,
+        input,
+        outputs: table.columns,
+    })
+}
+
 /// The share of the record held out to check the fit on fresh data.
 const HOLD_OUT: f64 = 0.2;
 
@@ -190,7 +243,12 @@ const HOLD_OUT: f64 = 0.2;
 pub(crate) fn fit_options(chain: &ChainSection) -> ChainOptions {
     ChainOptions {
         known_masses: chain.known_masses.clone(),
-        noise_model: chain.noise_model(),
+        // Measured records: the drive's own noise is estimated unless chosen otherwise
+        // (a load cell is never exact).
+        noise_model: match (chain.noise_model, chain.plant.is_none()) {
+            (None, true) => msd_ident::records::NoiseModel::InputNoise,
+            _ => chain.noise_model(),
+        },
         ..ChainOptions::default()
     }
 }

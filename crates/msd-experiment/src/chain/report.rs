@@ -18,52 +18,64 @@ pub(crate) fn markdown(o: &ChainOutcome, figures: &[&str]) -> String {
     s
 }
 
-/// The rows (name, truth, estimate) of every physical parameter.
-fn rows(o: &ChainOutcome, u: &ChainUncertainty) -> Vec<(String, f64, Option<Interval>)> {
+/// The rows (name, truth, estimate) of every physical parameter; no truth for measured
+/// records.
+fn rows(o: &ChainOutcome, u: &ChainUncertainty) -> Vec<(String, Option<f64>, Option<Interval>)> {
     let Some(chain) = o.config.chain.as_ref() else {
         return Vec::new();
     };
-    let truth = &chain.plant;
+    // The parameters the fit has: the true chain's layout, or the guess's.
+    let layout = chain.plant.as_ref().unwrap_or(&chain.guess);
+    let truth = chain.plant.as_ref();
     let iv = u.intervals.as_ref();
     let mut out = Vec::new();
-    for i in 0..truth.masses.len() {
+    for i in 0..layout.masses.len() {
         out.push((
             format!("m{} [kg]", i + 1),
-            truth.masses[i],
+            truth.map(|t| t.masses[i]),
             iv.map(|v| v.masses[i]),
         ));
         out.push((
             format!("c{} [N·s/m]", i + 1),
-            truth.dampers[i],
+            truth.map(|t| t.dampers[i]),
             iv.map(|v| v.dampers[i]),
         ));
         out.push((
             format!("k{} [N/m]", i + 1),
-            truth.springs[i],
+            truth.map(|t| t.springs[i]),
             iv.map(|v| v.springs[i]),
         ));
         let ground = [
             (
                 "cg",
                 "N·s/m",
-                &truth.ground_dampers,
+                &layout.ground_dampers,
                 iv.map(|v| &v.ground_dampers),
             ),
             (
                 "kg",
                 "N/m",
-                &truth.ground_springs,
+                &layout.ground_springs,
                 iv.map(|v| &v.ground_springs),
             ),
         ];
         for (symbol, unit, values, fitted) in ground {
             if let Some(&t) = values.get(i).filter(|v| **v > 0.0) {
                 let interval = fitted.and_then(|f| f.get(i).copied());
-                out.push((format!("{symbol}{} [{unit}]", i + 1), t, interval));
+                out.push((
+                    format!("{symbol}{} [{unit}]", i + 1),
+                    truth.map(|_| t),
+                    interval,
+                ));
             }
         }
     }
     out
+}
+
+/// A truth for a table: its value, or "—" for measured records.
+fn truth_text(truth: Option<f64>) -> String {
+    truth.map_or_else(|| "—".into(), |t| sig(t, 6))
 }
 
 fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result {
@@ -75,14 +87,19 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     writeln!(s, "## Chain\n")?;
     writeln!(
         s,
-        "{} masses in a chain from the ground; drive: **{}**; {} samples every {} s (synthetic).\n",
-        chain.plant.masses.len(),
+        "{} masses in a chain from the ground; drive: **{}**; {} samples every {} s ({}).\n",
+        chain.size(),
         match chain.drive {
             msd_ident::chain::ChainDrive::Force => format!("force on mass {}", chain.force_at),
             msd_ident::chain::ChainDrive::BaseAcceleration => "base acceleration".into(),
         },
         o.record.len(),
-        sig(o.record.dt, 4)
+        sig(o.record.dt, 4),
+        if chain.plant.is_some() {
+            "synthetic"
+        } else {
+            "measured"
+        }
     )?;
     if !chain.known_masses.is_empty() {
         writeln!(s, "Known masses (held): {:?}.\n", chain.known_masses)?;
@@ -196,15 +213,15 @@ fn estimates(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Resu
     )?;
     for (name, truth, iv) in rows(o, &fit.uncertainty) {
         let Some(iv) = iv else { continue };
-        let z = if iv.standard_error > 0.0 {
-            format!("{:+.2}", (iv.value - truth) / iv.standard_error)
-        } else {
-            "known".into()
+        let z = match truth {
+            _ if iv.standard_error <= 0.0 => "known".into(),
+            Some(t) => format!("{:+.2}", (iv.value - t) / iv.standard_error),
+            None => "—".into(),
         };
         writeln!(
             s,
             "| {name} | {} | {} | {z} |",
-            sig(truth, 6),
+            truth_text(truth),
             interval(&iv)
         )?;
     }
@@ -312,7 +329,7 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
             writeln!(
                 s,
                 "| {name} | {} | {} | {} | {:+.1} |",
-                sig(truth, 6),
+                truth_text(truth),
                 sig(p.value, 6),
                 sig(n.value, 6),
                 (n.value - p.value) / p.standard_error
@@ -342,12 +359,9 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
         Some(_) => {
             for (name, truth, iv) in rows(o, &o.fit.uncertainty) {
                 if let Some(iv) = iv {
-                    let _ = writeln!(
-                        s,
-                        "  {name:<14} {}  (true {})",
-                        interval(&iv),
-                        sig(truth, 6)
-                    );
+                    let truth =
+                        truth.map_or_else(String::new, |t| format!("  (true {})", sig(t, 6)));
+                    let _ = writeln!(s, "  {name:<14} {}{truth}", interval(&iv));
                 }
             }
         }
@@ -409,8 +423,9 @@ fn truth_modes(o: &ChainOutcome) -> Vec<(f64, f64)> {
     o.config
         .chain
         .as_ref()
-        .map(|c| {
-            let modes = c.plant.modes();
+        .and_then(|c| c.plant.as_ref())
+        .map(|plant| {
+            let modes = plant.modes();
             modes
                 .iter()
                 .map(|m| (m.natural_frequency_hz.value, m.damping_ratio.value))

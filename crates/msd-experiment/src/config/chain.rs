@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 /// ```
 /// let config = msd_experiment::config::Config::load("../../configs/two-storey.toml".as_ref())?;
 /// let chain = config.chain.expect("a [chain] config");
-/// assert_eq!(chain.plant.masses.len(), 2);
+/// assert_eq!(chain.size(), 2);
 /// # Ok::<(), msd_experiment::ExperimentError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -25,7 +25,9 @@ pub struct ChainSection {
     #[serde(default = "first")]
     pub force_at: usize,
     /// The true chain (synthetic records): masses, dampers, springs from the ground out.
-    pub plant: ChainParameters,
+    /// Not with measured records (`[data]`), whose chain is what the fit finds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plant: Option<ChainParameters>,
     /// Where the fit starts.
     pub guess: ChainParameters,
     /// Masses (from 1) that are known: held at the guess's value.
@@ -49,8 +51,16 @@ fn first() -> usize {
     1
 }
 
+fn one() -> f64 {
+    1.0
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
+}
+
 /// One sensor of a chain as tested: where, what, its noise, its delay and filter.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChainSensorSection {
     /// The mass it is on, from 1 at the ground.
@@ -58,8 +68,16 @@ pub struct ChainSensorSection {
     /// `"displacement"`, `"velocity"` or `"acceleration"`. By default a displacement.
     #[serde(default)]
     pub quantity: ResponseQuantity,
-    /// Noise σ of the synthetic record, in the channel's unit (≥ 0).
+    /// Noise σ of the synthetic record, in the channel's unit (≥ 0). By default 0.
+    #[serde(default)]
     pub sigma: f64,
+    /// Measured records (`[data]`): the sensor's column, by header name or 0-based index.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column: Option<crate::config::Column>,
+    /// Measured records: the factor applied to the column on reading (1e-3 for mm, 9.81
+    /// for g). By default 1.
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub scale: f64,
     /// The sensor's true delay, s. By default none.
     #[serde(default)]
     pub delay: Option<f64>,
@@ -76,6 +94,11 @@ pub struct ChainSensorSection {
 }
 
 impl ChainSection {
+    /// The number of masses (the true chain's, or the guess's with measured records).
+    pub fn size(&self) -> usize {
+        self.plant.as_ref().unwrap_or(&self.guess).masses.len()
+    }
+
     /// The noise model of the fit: as chosen, or by default the drive's noise model
     /// when the drive has noise, white when it is exact.
     pub fn noise_model(&self) -> NoiseModel {
@@ -110,7 +133,7 @@ impl ChainSection {
     /// The chain as planned: the true sensors, each estimated delay marked so (the plan
     /// predicts its interval at its true value).
     pub fn planned(&self) -> ChainSetup {
-        let mut setup = self.tested(self.plant.masses.len());
+        let mut setup = self.tested(self.size());
         for (sensor, section) in setup.sensors.iter_mut().zip(&self.sensors) {
             sensor.estimate_delay = section.estimate_delay;
             sensor.estimate_cutoff = section.estimate_cutoff;
@@ -120,7 +143,7 @@ impl ChainSection {
 
     /// The chain as fitted: an estimated delay starts from 0.
     pub fn fitted(&self) -> ChainSetup {
-        let mut setup = self.tested(self.plant.masses.len());
+        let mut setup = self.tested(self.size());
         for (sensor, section) in setup.sensors.iter_mut().zip(&self.sensors) {
             if section.estimate_delay {
                 sensor.delay = None;
@@ -144,17 +167,26 @@ impl ChainSection {
                 reason[split..].to_string(),
             )
         };
-        let n = self.plant.masses.len();
+        let n = self.size();
         if !(1..=msd_ident::chain::MAX_MASSES).contains(&n) {
             return Err((
-                "chain.plant.masses".into(),
+                format!(
+                    "chain.{}.masses",
+                    if self.plant.is_some() {
+                        "plant"
+                    } else {
+                        "guess"
+                    }
+                ),
                 format!(
                     " has {n} values: expected 1 to {} masses",
                     msd_ident::chain::MAX_MASSES
                 ),
             ));
         }
-        self.plant.validate(n).map_err(|e| keyed("plant.", e))?;
+        if let Some(plant) = &self.plant {
+            plant.validate(n).map_err(|e| keyed("plant.", e))?;
+        }
         self.guess.validate(n).map_err(|e| keyed("guess.", e))?;
         self.fitted().validate().map_err(|e| keyed("", e))?;
         if let Some(&m) = self.known_masses.iter().find(|&&m| !(1..=n).contains(&m)) {

@@ -85,7 +85,7 @@ impl Slot {
 fn slots(chain: &ChainSection, u: &ChainUncertainty) -> Vec<Slot> {
     let mut out = Vec::new();
     if u.intervals.is_some() {
-        for i in 0..chain.plant.masses.len() {
+        for i in 0..chain.size() {
             if !chain.known_masses.contains(&(i + 1)) {
                 out.push(Slot::Mass(i));
             }
@@ -127,6 +127,12 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
             "a chain plan needs [chain] and [time]",
         ));
     };
+    let Some(plant) = chain.plant.as_ref() else {
+        return Err(ExperimentError::config(
+            path,
+            "chain.plant: missing: a plan predicts a test of a known chain (a config with measured [data] has none to plan)",
+        ));
+    };
     if let Some(i) = chain.sensors.iter().position(|s| s.sigma <= 0.0) {
         return Err(ExperimentError::config(
             path,
@@ -140,7 +146,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
         let options = crate::chain::fit_options(chain);
         predict_chain(
             &chain.planned(),
-            &chain.plant,
+            plant,
             input.samples(),
             input.dt(),
             &noise,
