@@ -104,9 +104,15 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     if !chain.known_masses.is_empty() {
         writeln!(s, "Known masses (held): {:?}.\n", chain.known_masses)?;
     }
+    let measured = chain.plant.is_none();
     writeln!(
         s,
-        "| sensor | mass | noise σ | true delay [s] | delay in the fit | filter |\n|---|---|---|---|---|---|"
+        "| sensor | mass | {} | delay in the fit | filter |\n|---|---|---|---|---|---|",
+        if measured {
+            "column | scale"
+        } else {
+            "noise σ | true delay [s]"
+        }
     )?;
     for ((name, sensor), delay) in channel_names(o)
         .iter()
@@ -133,12 +139,21 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
             Some(c) => format!("{filter}; cut-off estimated: {}", interval(&c)),
             None => filter,
         };
+        let (first, second) = if measured {
+            (
+                sensor.column.as_ref().map_or("—".into(), |c| c.to_string()),
+                sig(sensor.scale, 4),
+            )
+        } else {
+            (
+                sig(sensor.sigma, 4),
+                sensor.delay.map_or("—".into(), |d| sig(d, 4)),
+            )
+        };
         writeln!(
             s,
-            "| {name} | {} | {} | {} | {fitted} | {filter} |",
+            "| {name} | {} | {first} | {second} | {fitted} | {filter} |",
             sensor.at,
-            sig(sensor.sigma, 4),
-            sensor.delay.map_or("—".into(), |d| sig(d, 4)),
         )?;
     }
     writeln!(s, "\n## Estimates\n")?;
