@@ -104,6 +104,61 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     if !chain.known_masses.is_empty() {
         writeln!(s, "Known masses (held): {:?}.\n", chain.known_masses)?;
     }
+    sensors(s, o, chain)?;
+    writeln!(s, "\n## Estimates\n")?;
+    estimates(s, o, &o.fit)?;
+    writeln!(s, "\n## Modes\n")?;
+    modes(s, o, &o.fit)?;
+    if let Some(ideal) = &o.ideal {
+        ignoring(s, o, ideal)?;
+    }
+    writeln!(s)?;
+    noise(s, o)?;
+    writeln!(s, "## Monte Carlo band\n")?;
+    writeln!(
+        s,
+        "Every m, c and k drawn uniform within ±{} % of the estimate, {} draws; the band is the {}–{} percentile of each sensor's response, the paper's 90 % band (drawn in the figure).\n",
+        msd_mc::ChainBandOptions::default().percent,
+        o.band.samples,
+        o.band.percentiles[0],
+        o.band.percentiles[1]
+    )?;
+    if let Some(coverage) = &o.band.coverage {
+        writeln!(
+            s,
+            "| sensor | share of the record inside the band |\n|---|---|"
+        )?;
+        for (name, c) in channel_names(o).iter().zip(coverage) {
+            writeln!(s, "| {name} | {:.1} % |", 100.0 * c)?;
+        }
+    }
+    writeln!(s)?;
+    super::validation::section(s, o)?;
+    writeln!(s, "## Fit\n")?;
+    writeln!(s, "```text\n{}\n```\n", o.fit)?;
+    writeln!(
+        s,
+        "Solver: {}, {} evaluations of the model.\n",
+        o.fit.exit, o.fit.evaluations
+    )?;
+    writeln!(s, "## Figures\n")?;
+    for f in figures {
+        writeln!(s, "![{f}]({f}.png)\n")?;
+    }
+    writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
+    for (name, d) in &o.timings {
+        writeln!(s, "| {name} | {} |", millis(*d))?;
+    }
+    Ok(())
+}
+
+/// The sensors' table: where each is, its column and scale (measured records) or its
+/// noise and true delay (synthetic), the delay in the fit and its filter.
+fn sensors(
+    s: &mut String,
+    o: &ChainOutcome,
+    chain: &crate::config::ChainSection,
+) -> std::fmt::Result {
     let measured = chain.plant.is_none();
     writeln!(
         s,
@@ -155,50 +210,6 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
             "| {name} | {} | {first} | {second} | {fitted} | {filter} |",
             sensor.at,
         )?;
-    }
-    writeln!(s, "\n## Estimates\n")?;
-    estimates(s, o, &o.fit)?;
-    writeln!(s, "\n## Modes\n")?;
-    modes(s, o, &o.fit)?;
-    if let Some(ideal) = &o.ideal {
-        ignoring(s, o, ideal)?;
-    }
-    writeln!(s)?;
-    noise(s, o)?;
-    writeln!(s, "## Monte Carlo band\n")?;
-    writeln!(
-        s,
-        "Every m, c and k drawn uniform within ±{} % of the estimate, {} draws; the band is the {}–{} percentile of each sensor's response, the paper's 90 % band (drawn in the figure).\n",
-        msd_mc::ChainBandOptions::default().percent,
-        o.band.samples,
-        o.band.percentiles[0],
-        o.band.percentiles[1]
-    )?;
-    if let Some(coverage) = &o.band.coverage {
-        writeln!(
-            s,
-            "| sensor | share of the record inside the band |\n|---|---|"
-        )?;
-        for (name, c) in channel_names(o).iter().zip(coverage) {
-            writeln!(s, "| {name} | {:.1} % |", 100.0 * c)?;
-        }
-    }
-    writeln!(s)?;
-    super::validation::section(s, o)?;
-    writeln!(s, "## Fit\n")?;
-    writeln!(s, "```text\n{}\n```\n", o.fit)?;
-    writeln!(
-        s,
-        "Solver: {}, {} evaluations of the model.\n",
-        o.fit.exit, o.fit.evaluations
-    )?;
-    writeln!(s, "## Figures\n")?;
-    for f in figures {
-        writeln!(s, "![{f}]({f}.png)\n")?;
-    }
-    writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
-    for (name, d) in &o.timings {
-        writeln!(s, "| {name} | {} |", millis(*d))?;
     }
     Ok(())
 }
