@@ -17,6 +17,8 @@
 //!   common poles by variable projection, the shapes over named DOFs ([`Dof`]);
 //! - shapes: [`mac`], [`mac_matrix`], [`compare_shapes`], [`modal_phase_collinearity`]
 //!   (MPC), [`mean_phase_deviation`] (MPD); [`mode_indicator`] (CMIF and MIF);
+//! - [`dominant_peak`]: the dominant resonance and the band a one-mode fit takes around
+//!   it;
 //! - the classroom [`half_power`] estimate, the exponential window's correction
 //!   ([`WindowCorrection`]) and [`synthetic_frequency_response`] for tests and teaching;
 //! - [`lines`]: a frequency response's lines prepared for any fit, weighted by
@@ -57,6 +59,7 @@ mod mode;
 mod modes;
 mod oma;
 mod options;
+mod peak;
 mod polish;
 mod set;
 mod set_poles;
@@ -80,6 +83,7 @@ pub use oma::{
     node_components, singular_spectrum, ssi_cov, ssi_dat,
 };
 pub use options::ModalOptions;
+pub use peak::{DominantPeak, dominant_peak};
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
 pub use shapes::{
     ShapeComparison, compare_shapes, mac, mac_matrix, mean_phase_deviation,

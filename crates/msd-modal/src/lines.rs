@@ -84,7 +84,8 @@ pub struct Lines {
     /// p of the measured quantity, (jω)^p × receptance: 0 receptance, 1 mobility,
     /// 2 accelerance. The fit error is reported on the measured quantity.
     pub measured_power: i32,
-    /// Segments K averaged into the estimate (1 for a table).
+    /// Segments K averaged into the estimate (1 for a table without coherence, 0 when
+    /// a table's coherence does not say over how many).
     pub averages: usize,
 }
 
@@ -149,7 +150,8 @@ pub fn prepare(
     let receptance = frf.to_kind(FrfKind::Receptance);
     let [low, high] = band_hz.unwrap_or([0.0, f64::INFINITY]);
     let inside = |f: f64| f > 0.0 && f >= low && f <= high;
-    let informative = frf.averages > 1
+    // K = 0: a coherence whose count of averages is not known (a measured table's).
+    let informative = frf.averages != 1
         && (frf.frequency.iter().zip(&frf.coherence)).any(|(&f, &g)| inside(f) && g < 1.0 - 1e-6);
     let weighting = match weighting {
         FrfWeighting::Coherence if !informative && frf.variance.is_some() => FrfWeighting::Variance,
@@ -173,7 +175,7 @@ pub fn prepare(
             1.0
         },
         measured_power,
-        averages: frf.averages.max(1),
+        averages: frf.averages,
     };
     for (k, &f) in receptance.frequency.iter().enumerate() {
         if !inside(f) {
@@ -258,14 +260,15 @@ impl Lines {
     /// [`reweight`](Self::reweight) where the model cannot be fitted (no coherence
     /// weighting, too few lines). Assumes the input's power varies slowly over the band.
     ///
-    /// Returns whether the noise model was applied: σ_k are then each line's own
-    /// standard deviation (per real and imaginary part), the coherence's residual power
-    /// corrected by K/(K − 1) for the one complex response it was taken about, so that
-    /// a fit's weighted SSE/(2L − p) is about 1 when its model leaves only noise.
+    /// Returns whether σ_k are then each line's own standard deviation (per real and
+    /// imaginary part): the noise model applied with K ≥ 2 known, the coherence's
+    /// residual power corrected by K/(K − 1) for the one complex response it was taken
+    /// about, so that a fit's weighted SSE/(2L − p) is about 1 when its model leaves only
+    /// noise. With K not known (0) the noise model sets the weights' shape only.
     pub fn smooth_coherence_weights(&mut self, model: impl Fn(f64) -> Complex64) -> bool {
         if self.weighting != FrfWeighting::Coherence
             || self.relative_sigma.len() != self.h.len()
-            || self.averages < 2
+            || self.averages == 1
         {
             self.reweight(model);
             return false;
@@ -282,11 +285,28 @@ impl Lines {
             self.reweight(model);
             return false;
         };
+        // K/(K − 1) for the one response the coherence was taken about; with K unknown
+        // the weights are relative only (the fit's s² sets their scale).
         let k = self.averages as f64;
         for ((s, &m), &u) in self.sigma.iter_mut().zip(&m).zip(&u) {
-            *s = ((a * m + b * u) * k / (k - 1.0)).sqrt();
+            let variance = a * m + b * u;
+            *s = if self.averages >= 2 {
+                (variance * k / (k - 1.0)).sqrt()
+            } else {
+                variance.sqrt()
+            };
         }
-        true
+        self.averages >= 2
+    }
+
+    /// The spacing of the lines around `frequency_hz`, Hz (0 with fewer than two).
+    pub fn spacing_hz(&self, frequency_hz: f64) -> f64 {
+        let n = self.omega.len();
+        if n < 2 {
+            return 0.0;
+        }
+        let k = (self.omega.partition_point(|&w| w < TAU * frequency_hz)).clamp(1, n - 1);
+        (self.omega[k] - self.omega[k - 1]) / TAU
     }
 
     /// The weighted residuals (model − H)/σ of every line: real parts in the first half
@@ -396,6 +416,30 @@ impl Lines {
         }
     }
 }
+
+/// The receptance as data of quantity `kind` show it: r such that r·(jω)^p is the
+/// conjugate of h·(jω)^p when they are `conjugated` (r = (−1)^p·h̄), else h.
+///
+/// ```
+/// use msd_modal::lines::as_measured;
+/// use msd_signal::{Complex64, FrfKind};
+/// let h = Complex64::new(1.0, -2.0);
+/// assert_eq!(as_measured(h, false, FrfKind::Mobility), h);
+/// assert_eq!(as_measured(h, true, FrfKind::Accelerance), h.conj());
+/// // Mobility: jω·r = conj(jω·h).
+/// let jw = Complex64::new(0.0, 3.0);
+/// assert!((jw * as_measured(h, true, FrfKind::Mobility) - (jw * h).conj()).norm() < 1e-12);
+/// ```
+pub fn as_measured(h: Complex64, conjugated: bool, kind: FrfKind) -> Complex64 {
+    match (conjugated, kind.power() % 2) {
+        (false, _) => h,
+        (true, 0) => h.conj(),
+        (true, _) => -h.conj(),
+    }
+}
+
+/// What a fit on conjugated data says of them.
+pub const CONJUGATED: &str = "warning: the data's phase rises through the resonances (the e^(−jωt) convention, or H = S_xy/S_xx as MATLAB's cpsd(x, y) gives it): no mode fits them as they are, so the fit was made on their complex conjugate; fn, ζ and |modal constants| hold, phases are the conjugate's";
 
 /// The first line of a modal fit's display: what was fitted, to how many lines in which
 /// band, the weighting, the iterations and the relative error.

@@ -4,7 +4,7 @@
 use std::f64::consts::TAU;
 
 use msd_opt::LmExit;
-use msd_signal::{Complex64, FrequencyResponseEstimate};
+use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
@@ -61,8 +61,15 @@ pub struct ModalFit {
     pub sigma: f64,
     /// 2K − p.
     pub degrees_of_freedom: usize,
-    /// ‖H_model − H‖/‖H‖ over the lines (unweighted).
+    /// ‖H_model − H‖/‖H‖ over the lines (unweighted), in the measured quantity.
     pub relative_error: f64,
+    /// The quantity the data measure (and `relative_error` is in).
+    pub kind: FrfKind,
+    /// Whether the data's phase rises through their resonances (the e^(−jωt)
+    /// convention, or H = S_xy/S_xx as MATLAB's `cpsd` gives it): the fit was made on
+    /// their complex conjugate; [`response`](Self::response) gives the model as the data
+    /// show it.
+    pub conjugated: bool,
     /// Levenberg–Marquardt iterations of the polish.
     pub iterations: usize,
     /// Its residual evaluations.
@@ -110,11 +117,12 @@ impl ModalFit {
                 p.receptance(frequency_hz)
             })
             .sum();
-        modes
+        let h = modes
             + Complex64::new(
                 self.upper_residual.value - self.lower_residual.value / (w * w),
                 0.0,
-            )
+            );
+        crate::lines::as_measured(h, self.conjugated, self.kind)
     }
 }
 
@@ -131,6 +139,10 @@ impl std::fmt::Display for ModalFit {
             iterations,
             self.relative_error,
         )?;
+        write!(f, " in {}", self.kind)?;
+        if self.conjugated {
+            write!(f, "\n{}", crate::lines::CONJUGATED)?;
+        }
         for (i, m) in self.modes.iter().enumerate() {
             write!(
                 f,
@@ -201,6 +213,44 @@ fn scientific(i: &Interval) -> String {
 /// ```
 pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Result<ModalFit> {
     options.validate()?;
+    let mut fit = or_conjugated(
+        fit_as_given(frf, options),
+        || fit_as_given(&frf.conjugate(), options),
+        |fit| fit.relative_error,
+    )?;
+    fit.0.conjugated = fit.1;
+    Ok(fit.0)
+}
+
+/// `first` (a fit of the data as they are), or `conjugated` (the same fit of their
+/// complex conjugate), marked `true`, when `first` finds no mode or explains nothing of
+/// the data (`error`, the relative error in the measured quantity, at least 0.9: data
+/// whose phase rises through their resonances have only unstable poles as they are, or
+/// poles that fit them no better than zero) and the conjugate does better. Else the
+/// first result.
+pub(crate) fn or_conjugated<T>(
+    first: Result<T>,
+    conjugated: impl FnOnce() -> Result<T>,
+    error: impl Fn(&T) -> f64,
+) -> Result<(T, bool)> {
+    match first {
+        Err(e @ (ModalError::TooFewModes { .. } | ModalError::NotIdentifiable { .. })) => {
+            conjugated().map(|fit| (fit, true)).map_err(|_| e)
+        }
+        Ok(fit) if error(&fit) >= EXPLAINS_NOTHING || error(&fit).is_nan() => match conjugated() {
+            Ok(other) if error(&other) < error(&fit) => Ok((other, true)),
+            _ => Ok((fit, false)),
+        },
+        other => other.map(|fit| (fit, false)),
+    }
+}
+
+/// A relative error in the measured quantity from which a fit explains nothing (the
+/// model's residual is 90 % of the data's norm).
+const EXPLAINS_NOTHING: f64 = 0.9;
+
+/// [`fit_modes`] on the data as they are.
+fn fit_as_given(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Result<ModalFit> {
     let lines = prepare(
         frf,
         options.band_hz,
@@ -243,6 +293,8 @@ pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Res
         lower_residual: interval(p - 2),
         upper_residual: interval(p - 1),
         relative_error: lines.relative_error(|w| model(theta, w)),
+        kind: frf.kind,
+        conjugated: false,
         band_hz: lines.band_hz,
         lines: lines.omega.len(),
         weighting: lines.weighting,
@@ -283,7 +335,7 @@ fn polish_selected(
         weighted.reweight(|w| model(&start, w));
         let polished = polish(&weighted, lsfd(&weighted, &poles)?)?;
         let moved: Vec<RefusedMode> = (0..selected.len())
-            .filter_map(|r| moved(&polished.theta, &selected, r))
+            .filter_map(|r| moved(&polished.theta, &selected, r, &lines))
             .collect();
         if moved.is_empty() {
             return Ok((polished, weighted, selected, refused));
@@ -318,22 +370,27 @@ pub(crate) fn drop_moved(
 
 /// Mode `r` refused if the polish moved it out of its half-power band or nearer to
 /// another selected mode.
-fn moved(theta: &[f64], selected: &[StableColumn], r: usize) -> Option<RefusedMode> {
+fn moved(theta: &[f64], selected: &[StableColumn], r: usize, lines: &Lines) -> Option<RefusedMode> {
     let j = PER_MODE * r;
-    moved_from_column(theta[j] / TAU, theta[j + 1], selected, r)
+    let f = theta[j] / TAU;
+    moved_from_column(f, theta[j + 1], selected, r, lines.spacing_hz(f))
 }
 
 /// Mode `r` of `selected`, fitted at `fitted_hz` with damping `zeta`, refused if that
-/// is out of its column's half-power band or nearer to another selected mode.
+/// is out of its column's half-power band (or, for a mode narrower than the lines, the
+/// line spacing `spacing_hz` there: on noisy lines a column's poles scatter by that
+/// much) or nearer to another selected mode.
 pub(crate) fn moved_from_column(
     fitted_hz: f64,
     zeta: f64,
     selected: &[StableColumn],
     r: usize,
+    spacing_hz: f64,
 ) -> Option<RefusedMode> {
     let column = selected[r];
-    let bandwidth =
-        (2.0 * zeta * fitted_hz).max(2.0 * column.damping_ratio * column.natural_frequency_hz);
+    let bandwidth = (2.0 * zeta * fitted_hz)
+        .max(2.0 * column.damping_ratio * column.natural_frequency_hz)
+        .max(spacing_hz);
     let distance = |m: &StableColumn| (m.natural_frequency_hz - fitted_hz).abs();
     let nearest = selected
         .iter()
@@ -346,7 +403,7 @@ pub(crate) fn moved_from_column(
         )
     } else if distance(&column).is_nan() || distance(&column) > bandwidth {
         format!(
-            "moved by {:.4} Hz, more than its half-power bandwidth {:.4} Hz",
+            "moved by {:.4} Hz, more than its half-power bandwidth (or the line spacing) {:.4} Hz",
             fitted_hz - column.natural_frequency_hz,
             bandwidth
         )

@@ -3,14 +3,14 @@
 
 use std::f64::consts::TAU;
 
-use msd_signal::{Complex64, FrequencyResponseEstimate};
+use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use serde::{Deserialize, Serialize};
 
 use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::error::{ModalError, Result};
 use crate::lines::{FrfWeighting, Lines, prepare};
 use crate::mode::{Dof, Mode, ShapeEntry};
-use crate::modes::{RefusedMode, drop_moved, moved_from_column, pole_intervals};
+use crate::modes::{RefusedMode, drop_moved, moved_from_column, or_conjugated, pole_intervals};
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, lsfd, model};
 use crate::set_poles::refine_poles;
@@ -88,6 +88,11 @@ pub struct ModeSetFit {
     pub iterations: usize,
     /// Modes the diagram selected that the fit moved away (not in `modes`).
     pub refused: Vec<RefusedMode>,
+    /// The quantity the data measure (and each member's `relative_error` is in).
+    pub kind: FrfKind,
+    /// Whether the data's phase rises through their resonances: the fit was made on
+    /// their complex conjugate (see [`ModalFit::conjugated`](crate::ModalFit::conjugated)).
+    pub conjugated: bool,
 }
 
 impl ModeSetFit {
@@ -108,7 +113,7 @@ impl ModeSetFit {
             let a = m.modal_constants[member];
             h += crate::modal::term(&[wn, zeta, a.re, a.im], w);
         }
-        h
+        crate::lines::as_measured(h, self.conjugated, self.kind)
     }
 }
 
@@ -130,6 +135,10 @@ impl std::fmt::Display for ModeSetFit {
             self.weighting,
             100.0 * worst
         )?;
+        write!(f, " in {}", self.kind)?;
+        if self.conjugated {
+            write!(f, "\n{}", crate::lines::CONJUGATED)?;
+        }
         for (i, m) in self.modes.iter().enumerate() {
             write!(
                 f,
@@ -215,7 +224,7 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 ///
 /// ```
 /// use msd_modal::{ModalOptions, fit_mode_set, mac, Dof, ModalParameters, SetMember};
-/// use msd_signal::{Complex64, FrequencyResponseEstimate};
+/// use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 /// // Two modes of a three-point structure, the force at point 1.
 /// let shapes = [[1.0, 0.8, 0.4], [1.0, -0.5, -1.0]];
 /// let (fns, zetas) = ([10.0, 24.0], [0.01, 0.02]);
@@ -240,6 +249,27 @@ fn check_members(members: &[SetMember]) -> Result<(Roving, Option<Dof>)> {
 /// ```
 pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<ModeSetFit> {
     options.validate()?;
+    let conjugate = || {
+        let members: Vec<SetMember> = (members.iter())
+            .map(|m| SetMember {
+                frf: m.frf.conjugate(),
+                ..m.clone()
+            })
+            .collect();
+        set_as_given(&members, options)
+    };
+    let worst = |fit: &ModeSetFit| {
+        (fit.members.iter())
+            .map(|m| m.relative_error)
+            .fold(0.0, f64::max)
+    };
+    let (mut fit, conjugated) = or_conjugated(set_as_given(members, options), conjugate, worst)?;
+    fit.conjugated = conjugated;
+    Ok(fit)
+}
+
+/// [`fit_mode_set`] on the data as they are.
+fn set_as_given(members: &[SetMember], options: &ModalOptions) -> Result<ModeSetFit> {
     let (roving, driving_point) = check_members(members)?;
     let min_lines = options.orders[1] + 1;
     let lines: Vec<Lines> = members
@@ -281,7 +311,8 @@ pub fn fit_mode_set(members: &[SetMember], options: &ModalOptions) -> Result<Mod
         let moved: Vec<RefusedMode> = (0..selected.len())
             .filter_map(|r| {
                 let (wn, zeta) = poles.poles[r];
-                moved_from_column(wn / TAU, zeta, &selected, r)
+                let f = wn / TAU;
+                moved_from_column(f, zeta, &selected, r, lines[0].spacing_hz(f))
             })
             .collect();
         if moved.is_empty() {
@@ -398,6 +429,8 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
         iterations: poles.iterations,
         refused,
         diagram,
+        kind: members[0].frf.kind,
+        conjugated: false,
     })
 }
 

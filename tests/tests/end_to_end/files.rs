@@ -250,3 +250,66 @@ fn a_table_s_decimal_mark_is_checked_as_data_s() {
         );
     }
 }
+
+/// An analyser's FRF export with its coherence (issue 44 §1): 1601 lines 0–500 Hz of
+/// accelerance written with the other phase convention (the conjugate), coherence 0.4
+/// around the peak and 0.95 away from it. `[frequency_response.table]` with `coherence`
+/// and `averages` and no band: the band chosen around the peak, the conjugate fitted and
+/// said so, the low coherence reported, fn exact (the data are noise-free); a coherence
+/// outside [0, 1] refused naming its line.
+#[test]
+fn an_analyser_export_with_coherence_is_fitted_at_defaults() {
+    use std::f64::consts::TAU;
+    let dir = tempfile::tempdir().unwrap();
+    let (fn_hz, zeta) = (192.4, 0.008);
+    let wn = TAU * fn_hz;
+    let mut text = String::from("f,re,im,coh\n");
+    for i in 0..=1600 {
+        let f = 0.3125 * i as f64;
+        let w = TAU * f;
+        // A = −ω²/(ωn² − ω² + 2jζωnω), conjugated.
+        let (re, im) = (wn * wn - w * w, 2.0 * zeta * wn * w);
+        let d = re * re + im * im;
+        let (a, b) = (-w * w * re / d, -w * w * im / d);
+        let coherence = 0.95 - 0.55 * (-((f - fn_hz) / 10.0).powi(2)).exp();
+        text.push_str(&format!("{f},{a:e},{b:e},{coherence}\n"));
+    }
+    std::fs::write(dir.path().join("frf.csv"), &text).unwrap();
+    let config = dir.path().join("frf.toml");
+    let write = |extra: &str| {
+        std::fs::write(
+            &config,
+            format!("name = \"export\"\n[frequency_response.table]\npath = \"frf.csv\"\nfrequency = \"f\"\nreal = \"re\"\nimaginary = \"im\"\ncoherence = \"coh\"\naverages = 10\nkind = \"accelerance\"\n{extra}"),
+        )
+        .unwrap()
+    };
+    write("");
+    let run = run_in_temp(&config, None, None).expect("fitted at defaults");
+    let f = run.number("estimate.natural_frequency_hz.value");
+    assert!((f / fn_hz - 1.0).abs() < 1e-6, "fn = {f}");
+    assert!(run.flag("estimate.conjugated"));
+    let peak = run.number("estimate.dominant_peak.peak_hz");
+    assert!((peak - fn_hz).abs() <= 0.3125, "peak at {peak}");
+    assert!(run.number("estimate.low_coherence.median") < 0.5);
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    for text in [
+        "phase rises through the resonance",
+        "the coherence is only",
+        "around the dominant resonance",
+    ] {
+        assert!(report.contains(text), "{text}: {report}");
+    }
+    std::fs::write(
+        dir.path().join("frf.csv"),
+        text.replacen(",0.95\n", ",1.5\n", 1),
+    )
+    .unwrap();
+    let Err(e) = run_in_temp(&config, None, None) else {
+        panic!("γ² = 1.5 was accepted");
+    };
+    let message = e.to_string();
+    assert!(
+        message.contains("line 2") && message.contains("1.5"),
+        "{message}"
+    );
+}

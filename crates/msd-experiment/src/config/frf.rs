@@ -290,6 +290,17 @@ pub struct TableSource {
     /// The imaginary-part column (with `real`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub imaginary: Option<Column>,
+    /// The ordinary coherence γ² column, in [0, 1], when the analyser exported it: the
+    /// fits then weight each line by what it is worth (the variance of an H1 line,
+    /// (1 − γ²)/(K·γ²)·|H|²) and the report shows it. By default none (every line
+    /// weighted alike in the measured quantity).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coherence: Option<Column>,
+    /// With `coherence`: the number of averages K it was estimated over (the analyser's
+    /// header says it). Without it the coherence weights the lines relative to each
+    /// other only, and the residuals cannot be checked against the FRF's own noise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub averages: Option<usize>,
     /// What the response measures. By default receptance.
     #[serde(default)]
     pub kind: FrfKind,

@@ -6,8 +6,8 @@ use super::{FrfFit, FrfOutcome};
 use crate::error::Result;
 use crate::plots::diagram::Stabilization;
 use crate::plots::{
-    BLUE, DARK, Draw, Figure, RED, draw_legend, house_mesh, limits, phase_panel, save, suptitle,
-    text, tick, title_style,
+    BLUE, DARK, Draw, Figure, RED, draw_legend, house_mesh, limits, log_frequency_axis,
+    phase_panel, save, suptitle, text, tick, title_style,
 };
 use msd_signal::Complex64;
 use plotters::coord::Shift;
@@ -23,7 +23,7 @@ pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>>
     written.push("frf_fit_bode");
     save(&Nyquist(&view), dir)?;
     written.push("frf_fit_nyquist");
-    if o.data.averages > 1 {
+    if o.data.averages != 1 {
         save(&Coherence(o), dir)?;
         written.push("frf_coherence");
     }
@@ -133,7 +133,7 @@ impl Figure for Bode<'_> {
             .margin_right(28)
             .x_label_area_size(52)
             .y_label_area_size(96)
-            .build_cartesian_2d((f0..f1).log_scale(), (lo..hi).log_scale())
+            .build_cartesian_2d(log_frequency_axis(f0, f1), (lo..hi).log_scale())
             .map_err(text)?;
         house_mesh(&mut chart.configure_mesh())
             .x_desc("frequency f [Hz]")
@@ -270,7 +270,10 @@ impl Figure for Coherence<'_> {
         let d = &self.0.data;
         let area = suptitle(
             root,
-            &format!("Ordinary coherence γ² ({} averages)", d.averages),
+            &match d.averages {
+                0 => "Ordinary coherence γ² (as exported)".to_string(),
+                k => format!("Ordinary coherence γ² ({k} averages)"),
+            },
         )?;
         let (f0, f1) = (d.frequency[0], d.frequency[d.frequency.len() - 1]);
         let mut chart = ChartBuilder::on(&area)

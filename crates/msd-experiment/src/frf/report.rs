@@ -155,11 +155,14 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
     writeln!(w, "## Data\n")?;
     writeln!(
         w,
-        "{n} lines from {} to {} Hz, {}; averaged over {} segments.",
+        "{n} lines from {} to {} Hz, {}; {}.",
         sig(d.frequency[0], 4),
         sig(d.frequency[n - 1], 4),
         d.kind,
-        d.averages
+        match d.averages {
+            0 => "with the coherence as exported (over how many averages not stated)".to_string(),
+            k => format!("averaged over {k} segments"),
+        }
     )?;
     if o.chose_rectangular_window() {
         write!(
@@ -174,7 +177,7 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
             " {unexcited} of them carry no force (its power there is below 1e-12 of its largest line: lines outside a periodic force's band or between its lines) and are left out of the fit."
         )?;
     }
-    if d.averages > 1 {
+    if d.averages != 1 {
         let ([from, to], low) = fitted_band_coherence(o);
         write!(
             w,
@@ -197,6 +200,22 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
 fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt::Result {
     let u = &f.uncertainty;
     writeln!(w, "## One mode\n\n{}\n", first_line(&f.to_string()))?;
+    if let Some(peak) = &f.dominant_peak {
+        writeln!(
+            w,
+            "No band was given: fitted in {peak}. `one_mode.band_hz` sets another.\n"
+        )?;
+    }
+    if f.conjugated {
+        writeln!(
+            w,
+            "{}.\n",
+            crate::fmt::capitalised(msd_modal::lines::CONJUGATED)
+        )?;
+    }
+    if let Some(low) = &f.low_coherence {
+        writeln!(w, "{}.\n", crate::fmt::capitalised(&low.to_string()))?;
+    }
     let truth = o.truth.as_ref().filter(|t| t.plant.len() == 1);
     let mode = truth.and_then(|t| t.modes.first());
     let classroom = o.classroom.first().copied().flatten();
@@ -253,6 +272,13 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
 
 fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Result {
     writeln!(w, "## Modes\n\n{}\n", first_line(&m.to_string()))?;
+    if m.conjugated {
+        writeln!(
+            w,
+            "{}.\n",
+            crate::fmt::capitalised(msd_modal::lines::CONJUGATED)
+        )?;
+    }
     writeln!(w, "{}\n", first_line(&m.diagram.to_string()))?;
     writeln!(
         w,

@@ -14,6 +14,13 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
         "## Modes common to the set\n\n{}\n",
         first_line(&m.to_string())
     )?;
+    if m.conjugated {
+        writeln!(
+            w,
+            "{}.\n",
+            crate::fmt::capitalised(msd_modal::lines::CONJUGATED)
+        )?;
+    }
     writeln!(w, "{}\n", first_line(&m.diagram.to_string()))?;
     writeln!(
         w,

@@ -65,6 +65,9 @@ struct SetSummary<'a> {
     noise_sigma: f64,
     degrees_of_freedom: usize,
     iterations: usize,
+    /// The fit was made on the data's complex conjugate.
+    #[serde(skip_serializing_if = "is_false")]
+    conjugated: bool,
     stabilization: &'a StabilizationDiagram,
 }
 
@@ -108,9 +111,22 @@ struct Estimate {
     relative_error: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     noise_check: Option<msd_ident::frf::NoiseCheck>,
+    /// The resonance the band was chosen around (no band given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dominant_peak: Option<msd_modal::DominantPeak>,
+    /// The coherence over the mode's half-power band, when low.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    low_coherence: Option<msd_ident::frf::LowCoherence>,
+    /// The fit was made on the data's complex conjugate.
+    #[serde(skip_serializing_if = "is_false")]
+    conjugated: bool,
     iterations: usize,
     evaluations: usize,
     exit: LmExit,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 #[derive(Serialize)]
@@ -126,6 +142,9 @@ struct ModalSummary<'a> {
     iterations: usize,
     evaluations: usize,
     exit: LmExit,
+    /// The fit was made on the data's complex conjugate.
+    #[serde(skip_serializing_if = "is_false")]
+    conjugated: bool,
     stabilization: &'a StabilizationDiagram,
 }
 
@@ -200,6 +219,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             noise_sigma: m.sigma,
             degrees_of_freedom: m.degrees_of_freedom,
             iterations: m.iterations,
+            conjugated: m.conjugated,
             stabilization: &m.diagram,
         }),
         modal_fit: modal(o),
@@ -248,6 +268,9 @@ fn one_mode(o: &FrfOutcome) -> Option<Estimate> {
         degrees_of_freedom: u.degrees_of_freedom,
         relative_error: f.relative_error,
         noise_check: f.noise_check,
+        dominant_peak: f.dominant_peak,
+        low_coherence: f.low_coherence,
+        conjugated: f.conjugated,
         iterations: f.iterations,
         evaluations: f.evaluations,
         exit: f.exit,
@@ -270,6 +293,7 @@ fn modal(o: &FrfOutcome) -> Option<ModalSummary<'_>> {
         iterations: m.iterations,
         evaluations: m.evaluations,
         exit: m.exit,
+        conjugated: m.conjugated,
         stabilization: &m.diagram,
     })
 }

@@ -116,6 +116,7 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
         ("phase", &t.phase),
         ("real", &t.real),
         ("imaginary", &t.imaginary),
+        ("coherence", &t.coherence),
     ] {
         if let Some(c) = c {
             columns.push((key(name), c));
@@ -165,6 +166,15 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
         (frf, "real and imaginary parts")
     };
     frf.kind = t.kind;
+    if let Some(column) = &t.coherence {
+        let coherence = if t.complex.is_some() {
+            a
+        } else {
+            values.next().unwrap_or_default()
+        };
+        frf.coherence = checked_coherence(path, coherence, &read.lines, column)?;
+        frf.averages = t.averages.unwrap_or(0);
+    }
     check_values(&frf, path, |k| format!("line {}", read.lines[k]))?;
     Ok(Loaded {
         time: None,
@@ -282,6 +292,21 @@ fn check_values(
         ));
     }
     Ok(())
+}
+
+/// A coherence column's values, each in [0, 1] (a little above 1 from rounding is
+/// clamped), else refused naming the line.
+fn checked_coherence(path: &Path, g: &[f64], lines: &[usize], column: &Column) -> Result<Vec<f64>> {
+    if let Some(k) = g.iter().position(|g| !(-1e-6..=1.0 + 1e-6).contains(g)) {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "line {}, column {column} (frequency_response.table.coherence): {}: expected an ordinary coherence γ² from 0 to 1",
+                lines[k], g[k]
+            ),
+        ));
+    }
+    Ok(g.iter().map(|g| g.clamp(0.0, 1.0)).collect())
 }
 
 /// Refuses frequencies that are negative or do not increase, naming the line.

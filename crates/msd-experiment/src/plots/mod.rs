@@ -16,7 +16,7 @@ pub(crate) mod panel;
 use crate::error::{ExperimentError, Result};
 use plotters::chart::MeshStyle;
 use plotters::coord::Shift;
-use plotters::coord::combinators::LogCoord;
+use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -148,6 +148,41 @@ pub(crate) fn tick(v: &f64) -> String {
     }
 }
 
+/// Tick positions on a logarithmic axis from `f0` to `f1`: 1, 2 and 5 per decade, or
+/// where those give fewer than three (a span under a decade, as a band around one
+/// resonance), about six round values evenly spaced.
+pub(crate) fn log_ticks(f0: f64, f1: f64) -> Vec<f64> {
+    if !(f0 > 0.0 && f1 > f0 && f1.is_finite()) {
+        return Vec::new();
+    }
+    let (d0, d1) = (f0.log10().floor() as i32, f1.log10().ceil() as i32);
+    let decades: Vec<f64> = (d0..=d1)
+        .flat_map(|d| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(d)))
+        .filter(|v| (f0..=f1).contains(v))
+        .collect();
+    if decades.len() >= 3 {
+        return decades;
+    }
+    let raw = (f1 - f0) / 6.0;
+    let power = 10f64.powi(raw.log10().floor() as i32);
+    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+        .iter()
+        .map(|m| m * power)
+        .find(|&s| s >= raw)
+        .unwrap_or(10.0 * power);
+    let first = (f0 / step).ceil() as i64;
+    let last = (f1 / step).floor() as i64;
+    (first..=last).map(|i| i as f64 * step).collect()
+}
+
+/// A logarithmic frequency axis from `f0` to `f1` Hz whose ticks read ([`log_ticks`]).
+pub(crate) fn log_frequency_axis(f0: f64, f1: f64) -> WithKeyPoints<LogCoord<f64>> {
+    (f0..f1).log_scale().with_key_points(log_ticks(f0, f1))
+}
+
+/// A log frequency axis ([`log_frequency_axis`]) against a linear one.
+pub(crate) type LogFrequencyPlane = Cartesian2d<WithKeyPoints<LogCoord<f64>>, RangedCoordf64>;
+
 /// The phase panel of a Bode plot in the house style: log frequency from `f0` to `f1`
 /// Hz, phase from `lo` to `hi` degrees, captioned and meshed; the caller draws the
 /// series (the one panel of the frequency check's and the frequency-response fit's
@@ -156,14 +191,14 @@ pub(crate) fn phase_panel<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     (f0, f1): (f64, f64),
     (lo, hi): (f64, f64),
-) -> std::result::Result<ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, RangedCoordf64>>, String> {
+) -> std::result::Result<ChartContext<'a, DB, LogFrequencyPlane>, String> {
     let mut chart = ChartBuilder::on(area)
         .caption("Phase", title_style())
         .margin(14)
         .margin_right(28)
         .x_label_area_size(52)
         .y_label_area_size(96)
-        .build_cartesian_2d((f0..f1).log_scale(), lo..hi)
+        .build_cartesian_2d(log_frequency_axis(f0, f1), lo..hi)
         .map_err(text)?;
     house_mesh(&mut chart.configure_mesh())
         .x_desc("frequency f [Hz]")

@@ -5,15 +5,15 @@ use msd_opt::{
     LeastSquaresProblem, LevenbergMarquardtOptions, LevenbergMarquardtResult, LmExit,
     levenberg_marquardt,
 };
-use msd_signal::{Complex64, FrequencyResponseEstimate};
+use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{IdentError, Result};
 use crate::params::{PARAMETER_NAMES, Parameters};
 use crate::uncertainty::{Uncertainty, from_jacobian};
-use msd_modal::lines::{FrfWeighting, Lines, check_band, prepare};
-use msd_modal::{HalfPower, WindowCorrection, half_power};
+use msd_modal::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
+use msd_modal::{DominantPeak, HalfPower, WindowCorrection, dominant_peak, half_power};
 use msd_opt::statistics::{Interval, t_975};
 
 /// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
@@ -30,7 +30,10 @@ use msd_opt::statistics::{Interval, t_975};
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OneModeOptions {
-    /// The band to fit in Hz; `None` = every line above 0 Hz. By default `None`.
+    /// The band to fit in Hz. By default `None`: the band around the dominant resonance
+    /// ([`dominant_peak`](msd_modal::dominant_peak): the highest peak, coherence
+    /// weighted, ± 10 half-power bandwidths, cut at a valley before another peak), or
+    /// every line above 0 Hz when no peak stands 10 dB above the median line.
     #[serde(default, deserialize_with = "msd_signal::pair::optional")]
     pub band_hz: Option<[f64; 2]>,
     /// How the lines are weighted. By default [`FrfWeighting::Coherence`].
@@ -85,6 +88,17 @@ pub struct OneModeFit {
     pub half_power: Option<HalfPower>,
     /// The first and last line fitted, Hz.
     pub band_hz: [f64; 2],
+    /// The dominant resonance the band was chosen around, when no band was given.
+    pub dominant_peak: Option<DominantPeak>,
+    /// The quantity the data measure (and `relative_error` is in).
+    pub kind: FrfKind,
+    /// Whether the data's phase runs the other way (rising through the resonance: the
+    /// e^(−jωt) convention, or H = S_xy/S_xx with MATLAB's `cpsd`): the fit was made on
+    /// their complex conjugate, and [`response`](Self::response) gives the model as the
+    /// data show it.
+    pub conjugated: bool,
+    /// The coherence within the mode's half-power band, when it is low enough to say so.
+    pub low_coherence: Option<LowCoherence>,
     /// Lines fitted (each gives two residuals, real and imaginary).
     pub lines: usize,
     /// The weighting used (`coherence` where the coherence says nothing is `variance`
@@ -119,10 +133,27 @@ impl OneModeFit {
     /// ```
     pub fn response(&self, frequency_hz: f64) -> Complex64 {
         let a = self.window_correction.map_or(0.0, |c| 1.0 / c.decay_time);
-        receptance(
+        let sign = if self.negative_modal_constant {
+            -1.0
+        } else {
+            1.0
+        };
+        let h = receptance(
             &windowed(self.parameters.to_array(), a),
             std::f64::consts::TAU * frequency_hz,
-        )
+        ) * sign;
+        as_measured(h, self.conjugated, self.kind)
+    }
+}
+
+impl OneModeFit {
+    /// The fitted mode's half-power band fn(1 ± ζ), Hz.
+    pub fn half_power_band_hz(&self) -> [f64; 2] {
+        let (f, z) = (
+            self.uncertainty.natural_frequency_hz.value,
+            self.uncertainty.damping_ratio.value,
+        );
+        [f * (1.0 - z), f * (1.0 + z)]
     }
 }
 
@@ -138,8 +169,17 @@ impl std::fmt::Display for OneModeFit {
             iterations,
             self.relative_error,
         )?;
-        writeln!(f)?;
+        writeln!(f, " in {}", self.kind)?;
+        if let Some(peak) = &self.dominant_peak {
+            writeln!(f, "fitted in {peak}")?;
+        }
+        if self.conjugated {
+            writeln!(f, "{CONJUGATED}")?;
+        }
         writeln!(f, "{}", self.uncertainty)?;
+        if let Some(low) = &self.low_coherence {
+            writeln!(f, "{low}")?;
+        }
         if let Some(check) = &self.noise_check {
             writeln!(f, "{check}")?;
         }
@@ -157,8 +197,11 @@ impl std::fmt::Display for OneModeFit {
 /// Fits one mode, m·x'' + c·x' + k·x = F, to `frf` (converted to receptance).
 ///
 /// ## The algorithm
-/// Levy's linear least squares (1/H ≈ k − mω² + jcω, each line weighted by |H|²/σ so
-/// its error approximates the error in H) gives the start; Levenberg–Marquardt
+/// Without `options.band_hz` the band is that of the dominant resonance
+/// ([`dominant_peak`](msd_modal::dominant_peak)), or every line when no peak stands out
+/// 10 dB. Levy's linear least squares (1/H ≈ k − mω² + jcω, each line weighted by
+/// |H|²/σ so its error approximates the error in H) gives the start (or, when it finds
+/// no resonance on noisy lines, the highest line and its half-power width); Levenberg–Marquardt
 /// (msd-opt, analytic Jacobian) minimises Σ |H(ω_k; m, c, k) − Ĥ_k|²/σ_k², real and
 /// imaginary parts as separate residuals, σ_k from `options.weighting`. Weights relative
 /// to |H| (coherence, relative) are then taken from the fitted model's |H| rather than
@@ -177,6 +220,11 @@ impl std::fmt::Display for OneModeFit {
 /// that many neighbouring lines. With an exponential window (τ, a = 1/τ) the fit finds the windowed
 /// m, c′ = c + 2am, k′ = k + ac + a²m, which are mapped back (a linear map, so the
 /// covariance maps exactly).
+///
+/// When the data fit no mode as they are but their complex conjugate does (a phase that
+/// rises through the resonance: the other sign convention), the conjugate is fitted and
+/// [`OneModeFit::conjugated`] says so. The coherence over the mode's half-power band is
+/// reported when it is low ([`LowCoherence`]).
 ///
 /// Errors: too few lines (at least 4), a malformed band, `Variance` weighting without
 /// variances, no resonance (Levy's start or the fit gives m ≤ 0 or k ≤ 0, or the window
@@ -199,8 +247,38 @@ pub fn fit_one_mode(
     options: &OneModeOptions,
 ) -> Result<OneModeFit> {
     options.validate()?;
-    let mut lines = prepare(frf, options.band_hz, options.weighting, 4)?;
-    let start = levy_start(&lines)?;
+    // No band: around the dominant resonance, or every line when none stands out.
+    let dominant_peak = match options.band_hz {
+        Some(_) => None,
+        None => dominant_peak(frf).ok(),
+    };
+    let band = options.band_hz.or(dominant_peak.map(|d| d.band_hz));
+    let mut fit = match fit_in_band(frf, band, options.weighting) {
+        Ok(fit) => fit,
+        // Data whose phase runs the other way fit no mode as they are; their conjugate
+        // does when that is all that is wrong.
+        Err(e) => match fit_in_band(&frf.conjugate(), band, options.weighting) {
+            Ok(fit) => OneModeFit {
+                conjugated: true,
+                ..fit
+            },
+            Err(_) => return Err(e),
+        },
+    };
+    fit.dominant_peak = dominant_peak;
+    let [f1, f2] = fit.half_power_band_hz();
+    fit.low_coherence = LowCoherence::within(frf, [f1, f2]);
+    Ok(fit)
+}
+
+/// [`fit_one_mode`] in the band (or on every line above 0 Hz), the data as they are.
+fn fit_in_band(
+    frf: &FrequencyResponseEstimate,
+    band_hz: Option<[f64; 2]>,
+    weighting: FrfWeighting,
+) -> Result<OneModeFit> {
+    let mut lines = prepare(frf, band_hz, weighting, 4)?;
+    let start = levy_start(&lines).or_else(|e| peak_start(&lines).ok_or(e))?;
     let first = least_squares(&lines, start)?;
     // Once more with |H| from the model, coherence weights from the noise model fitted
     // to every line's coherence (see Lines::smooth_coherence_weights).
@@ -289,12 +367,84 @@ pub fn fit_one_mode(
         negative_modal_constant,
         window_correction,
         band_hz: lines.band_hz,
+        dominant_peak: None,
+        kind: frf.kind,
+        conjugated: false,
+        low_coherence: None,
         lines: lines.omega.len(),
         weighting: lines.weighting,
         iterations: fit.iterations,
         evaluations: fit.evaluations,
         exit: fit.exit,
     })
+}
+
+/// Coherence γ² below this (the median over a mode's half-power band) is reported:
+/// 0.8 is the usual floor of a good measurement.
+const LOW_COHERENCE: f64 = 0.8;
+
+/// The coherence over a mode's half-power band, reported when its median is below 0.8:
+/// the lines that decide fn and ζ are noisy there.
+///
+/// ```
+/// use msd_ident::frf::LowCoherence;
+/// let low = LowCoherence { band_hz: [191.2, 193.6], lowest: 0.33, median: 0.44, highest: 0.49 };
+/// assert!(low.to_string().contains("γ² = 0.33–0.49"));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LowCoherence {
+    /// The half-power band fn(1 ± ζ) (or the line nearest fn), Hz.
+    pub band_hz: [f64; 2],
+    /// The lowest γ² there.
+    pub lowest: f64,
+    /// The median γ² there.
+    pub median: f64,
+    /// The highest γ² there.
+    pub highest: f64,
+}
+
+impl LowCoherence {
+    /// The coherence of `frf` within `band_hz` (the line nearest its centre when none
+    /// lies inside), when the coherence says something and its median is below 0.8.
+    pub fn within(frf: &FrequencyResponseEstimate, band_hz: [f64; 2]) -> Option<Self> {
+        let informative = frf.averages != 1 && frf.coherence.iter().any(|&g| g < 1.0 - 1e-6);
+        if !informative || frf.frequency.is_empty() {
+            return None;
+        }
+        let mut g: Vec<f64> = (frf.frequency.iter().zip(&frf.coherence))
+            .filter(|(f, _)| (band_hz[0]..=band_hz[1]).contains(*f))
+            .map(|(_, &g)| g)
+            .collect();
+        if g.is_empty() {
+            let centre = 0.5 * (band_hz[0] + band_hz[1]);
+            let k = (0..frf.frequency.len())
+                .min_by(|&a, &b| {
+                    (frf.frequency[a] - centre)
+                        .abs()
+                        .total_cmp(&(frf.frequency[b] - centre).abs())
+                })
+                .unwrap_or(0);
+            g.push(frf.coherence[k]);
+        }
+        g.sort_by(f64::total_cmp);
+        let median = g[g.len() / 2];
+        (median < LOW_COHERENCE).then(|| LowCoherence {
+            band_hz,
+            lowest: g[0],
+            median,
+            highest: g[g.len() - 1],
+        })
+    }
+}
+
+impl std::fmt::Display for LowCoherence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "warning: the coherence is only γ² = {:.2}–{:.2} (median {:.2}) within the mode's half-power band {:.4}–{:.4} Hz: the lines that decide fn and ζ are noisy there, and the intervals are as wide as they make them. Where the noise is on the force (a shaker's force drops at resonance), H1 underestimates the peak and overestimates ζ: estimate H2 or Hv from the records, or average more",
+            self.lowest, self.highest, self.median, self.band_hz[0], self.band_hz[1]
+        )
+    }
 }
 
 /// A one-mode fit's residuals against the frequency response's own noise: each line
@@ -434,6 +584,32 @@ fn levy_start(lines: &Lines) -> Result<[f64; 3]> {
         floor
     };
     Ok([m, sign * c, k])
+}
+
+/// A start read off the highest line (when Levy's fails on noisy lines): ωn there, ζ
+/// from where |H| falls to 1/√2 of it on each side (at least a line; `None` when it
+/// does not on both sides: no peak), c = 1/(|H|·ωn),
+/// m = c/(2ζωn), k = mωn²; all negative when the peak's imaginary part is positive (a
+/// negative modal constant).
+fn peak_start(lines: &Lines) -> Option<[f64; 3]> {
+    let n = lines.omega.len();
+    let magnitude = |k: usize| lines.h[k].norm();
+    let top = (0..n).max_by(|&a, &b| magnitude(a).total_cmp(&magnitude(b)))?;
+    let half = magnitude(top) / std::f64::consts::SQRT_2;
+    // A peak: |H| falls below 1/√2 of it on both sides.
+    let low = (0..top).rev().find(|&k| magnitude(k) < half)?;
+    let high = (top + 1..n).find(|&k| magnitude(k) < half)?;
+    let wn = lines.omega[top];
+    let spacing = (lines.omega[n - 1] - lines.omega[0]) / (n - 1) as f64;
+    let zeta = ((lines.omega[high] - lines.omega[low]).max(spacing) / (2.0 * wn)).min(0.5);
+    let c = 1.0 / (magnitude(top) * wn);
+    let m = c / (2.0 * zeta * wn);
+    let sign = if lines.h[top].im > 0.0 { -1.0 } else { 1.0 };
+    let start = [m, c, m * wn * wn].map(|x| sign * x);
+    start
+        .iter()
+        .all(|x| x.is_finite() && *x != 0.0)
+        .then_some(start)
 }
 
 /// The Jacobian ∂r/∂θ (2K × 3: real parts, then imaginary parts) of the weighted

@@ -287,7 +287,8 @@ pub struct FrequencyResponseEstimate {
     /// γ² = |S_xy|²/(S_xx·S_yy) in [0, 1]; identically 1 with one segment or for a
     /// measured table; 0 where the input or output has no power.
     pub coherence: Vec<f64>,
-    /// Number of averaged segments K (1 for a measured table).
+    /// Number of averaged segments K (1 for a measured table without coherence; 0 when
+    /// not known: a measured table's coherence without its count of averages).
     pub averages: usize,
     /// What the response measures. Receptance unless set.
     pub kind: FrfKind,

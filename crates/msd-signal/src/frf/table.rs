@@ -182,6 +182,24 @@ impl FrequencyResponseEstimate {
         out
     }
 
+    /// The complex conjugate of the response, in its own quantity: a frequency response
+    /// written with the other phase convention (e^(−jωt), or H = S_xy/S_xx with MATLAB's
+    /// `cpsd(x, y)` = X·conj(Y)), whose phase rises through a resonance, back to the
+    /// convention every fit here assumes (H = S_yx/S_xx, phase falling through a
+    /// resonance). Coherence and variances are unchanged.
+    ///
+    /// ```
+    /// use msd_signal::{Complex64, FrequencyResponseEstimate};
+    /// let frf = FrequencyResponseEstimate::new(vec![1.0], vec![Complex64::new(1.0, -2.0)])?;
+    /// assert_eq!(frf.conjugate().h[0], Complex64::new(1.0, 2.0));
+    /// # Ok::<(), msd_signal::SignalError>(())
+    /// ```
+    pub fn conjugate(&self) -> Self {
+        let mut out = self.clone();
+        out.h.iter_mut().for_each(|h| *h = h.conj());
+        out
+    }
+
     /// The damping ratio the exponential window added to a mode of natural frequency
     /// `natural_frequency_hz`, to first order: ζ_added = 1/(ωn·τ) (0 without the window).
     ///

@@ -226,7 +226,19 @@ fn check_table(t: &super::TableSource) -> Check {
         }
         (Some(_), None) => {}
     }
-    Ok(())
+    match (&t.coherence, t.averages) {
+        (None, Some(k)) => err(
+            "frequency_response.table.averages",
+            format!(
+                " = {k}: expected with a `coherence` column only (the count of averages the coherence was estimated over)"
+            ),
+        ),
+        (Some(_), Some(k)) if k < 2 => err(
+            "frequency_response.table.averages",
+            format!(" = {k}: expected at least 2 (one average has a coherence of 1 on every line)"),
+        ),
+        _ => Ok(()),
+    }
 }
 
 /// A chain plant's sizes, values and force and response positions.

@@ -7,7 +7,7 @@ use crate::plots::{
 };
 use msd_ident::{ResidualAnalysis, frequency::FrequencyCheck, residuals::CorrelationTest};
 use plotters::coord::Shift;
-use plotters::coord::combinators::LogCoord;
+use plotters::coord::combinators::{LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
@@ -312,7 +312,10 @@ impl Bode<'_> {
             .margin_right(28)
             .x_label_area_size(52)
             .y_label_area_size(96)
-            .build_cartesian_2d((f0..f1).log_scale(), ((mlo * 0.7)..(mhi * 1.5)).log_scale())
+            .build_cartesian_2d(
+                crate::plots::log_frequency_axis(f0, f1),
+                ((mlo * 0.7)..(mhi * 1.5)).log_scale(),
+            )
             .map_err(text)?;
         house_mesh(&mut chart.configure_mesh())
             .x_desc("frequency f [Hz]")
@@ -431,7 +434,7 @@ fn draw_phase<DB: DrawingBackend>(
 /// The data's curve: blue inside the excited band, light gray outside (where the input
 /// carries no power and H1 is noise).
 fn draw_data<DB: DrawingBackend, Y: Ranged<ValueType = f64>>(
-    chart: &mut ChartContext<'_, DB, Cartesian2d<LogCoord<f64>, Y>>,
+    chart: &mut ChartContext<'_, DB, Cartesian2d<WithKeyPoints<LogCoord<f64>>, Y>>,
     f: &[f64],
     v: &[f64],
     [b0, b1]: [f64; 2],

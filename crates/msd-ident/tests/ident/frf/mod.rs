@@ -3,6 +3,7 @@
 //! fits are tested in msd-modal.
 
 mod impact;
+mod noisy_peak;
 mod one_mode;
 
 use msd_signal::{Complex64, FrequencyResponseEstimate};

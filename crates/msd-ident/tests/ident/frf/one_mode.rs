@@ -174,10 +174,11 @@ fn bad_inputs_are_refused_by_name() {
     ));
     // A pure spring (no mass, no resonance): no mode to fit.
     let spring = table(&f, vec![Complex64::new(0.01, 0.0); f.len()]);
-    assert!(matches!(
-        fit_one_mode(&spring, &OneModeOptions::default()),
-        Err(IdentError::NotIdentifiable { .. })
-    ));
+    let refused = fit_one_mode(&spring, &OneModeOptions::default());
+    assert!(
+        matches!(refused, Err(IdentError::NotIdentifiable { .. })),
+        "{refused:?}"
+    );
     let mut short = sweep.clone();
     short.coherence.pop();
     assert!(matches!(
