@@ -15,6 +15,8 @@
 //!   the chance of a false alarm at 1 − confidence; the lags outside the plain band are
 //!   still counted and reported.
 
+pub mod sandwich;
+
 use crate::error::{IdentError, Result};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};

@@ -83,7 +83,7 @@ pub use oma::{
     node_components, singular_spectrum, ssi_cov, ssi_dat,
 };
 pub use options::ModalOptions;
-pub use peak::{DominantPeak, dominant_peak};
+pub use peak::{BANDWIDTHS, DominantPeak, PROMINENCE, dominant_peak};
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
 pub use shapes::{
     ShapeComparison, compare_shapes, mac, mac_matrix, mean_phase_deviation,

@@ -413,6 +413,12 @@ struct CandidateSection<'a> {
     damping: msd_ident::law::DampingLaw,
     stiffness: msd_ident::nonlinear::StiffnessLaw,
     parameters: BTreeMap<&'a str, Interval>,
+    /// Which covariance the intervals come from (the block sandwich where the
+    /// identification residuals are coloured).
+    covariance: msd_ident::residuals::sandwich::CovarianceUsed,
+    /// With the sandwich: the intervals white residuals would have given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    white_noise_parameters: Option<BTreeMap<&'a str, Interval>>,
     estimated: usize,
     samples: usize,
     sse: f64,
@@ -460,6 +466,12 @@ fn candidate((i, r): (usize, &msd_ident::nonlinear::ComparisonRow)) -> Candidate
             .map(String::as_str)
             .zip(r.intervals.iter().copied())
             .collect(),
+        covariance: r.covariance_used,
+        white_noise_parameters: r.white_intervals.as_ref().map(|w| {
+            (r.names.iter().map(String::as_str))
+                .zip(w.iter().copied())
+                .collect()
+        }),
         estimated: r.estimated,
         samples: r.samples,
         sse: r.sse,

@@ -14,6 +14,7 @@
 use crate::error::{IdentError, Result};
 use crate::law::{DampingLaw, smoothed_sign};
 use crate::nonlinear::bic_evidence;
+use crate::residuals::sandwich::block_sandwich;
 use msd_opt::statistics::{Interval, t_975};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -440,14 +441,8 @@ fn fit_law(
     let rss = residual.norm_squared();
     let mean = y.mean();
     let tss: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
-    let mut meat = DMatrix::<f64>::zeros(p, p);
     let blocks = options.blocks;
-    for b in 0..blocks {
-        let (lo, hi) = (b * n / blocks, (b + 1) * n / blocks);
-        let score = phi.rows(lo, hi - lo).transpose() * residual.rows(lo, hi - lo);
-        meat += &score * score.transpose();
-    }
-    let cov = &h_inv * meat * &h_inv * (blocks as f64 / (blocks - 1) as f64);
+    let cov = block_sandwich(&phi, &residual, &h_inv, blocks);
     let t = t_975(blocks - 1);
     let coefficients = cols
         .iter()

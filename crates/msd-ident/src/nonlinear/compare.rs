@@ -4,6 +4,7 @@
 use super::estimate::{NonlinearEstimate, NonlinearOptions, estimate_nonlinear};
 use super::model::{ModelStructure, NonlinearParameters};
 use super::simulate::{NonlinearSimulation, SimulationUsed, simulate_nonlinear};
+use crate::residuals::sandwich::CovarianceUsed;
 use crate::{
     data::DataSet,
     error::{IdentError, Result},
@@ -60,6 +61,11 @@ pub struct ComparisonRow {
     pub names: Vec<String>,
     /// Intervals of the parameters (value, standard error, 95 %).
     pub intervals: Vec<Interval>,
+    /// Which covariance they come from (the block sandwich where the identification
+    /// residuals are coloured).
+    pub covariance_used: CovarianceUsed,
+    /// With the sandwich: the intervals white residuals would have given.
+    pub white_intervals: Option<Vec<Interval>>,
     /// Estimated quantities p (parameters, plus the initial state when estimated).
     pub estimated: usize,
     /// Samples N of the identification data.
@@ -494,6 +500,8 @@ pub fn assess_estimate(
             .map(|s| s.to_string())
             .collect(),
         intervals: e.intervals.clone(),
+        covariance_used: e.covariance_used,
+        white_intervals: e.white_intervals.clone(),
         estimated: e.estimated,
         samples: n,
         sse: e.sse,

@@ -5,6 +5,7 @@ use super::model::{Forces, ModelStructure, NonlinearParameters};
 use super::problem::{OutputError, Scaling, Statistics, at_optimum, step_doubling};
 use super::simulate::{NonlinearSimulation, SimulationUsed, Simulator, simulate_nonlinear};
 use crate::local::Local;
+use crate::residuals::sandwich::{CovarianceUsed, ResidualCovariance};
 use crate::{
     data::DataSet,
     error::{IdentError, Result},
@@ -79,6 +80,7 @@ impl Default for NonlinearMultistart {
 /// | `nelder_mead` | fminsearch defaults with relative tolerances 1e-8 |
 /// | `multistart` | `None` |
 /// | `dissipative_damping` | true: F_c ≥ 0, c₂ ≥ 0 |
+/// | `covariance` | `auto`: the block sandwich where the residuals are coloured ([`ResidualCovariance`]) |
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct NonlinearOptions {
@@ -104,6 +106,10 @@ pub struct NonlinearOptions {
     /// and in the multistart box; Nelder–Mead runs unbounded. Without it an estimate may
     /// take a negative coefficient, whose prediction can diverge. By default true.
     pub dissipative_damping: bool,
+    /// How the intervals treat the residuals: by default the block sandwich where they
+    /// fail the whiteness test (a measured record's noise is seldom white, and
+    /// s²·(JᵀJ)⁻¹ is then too narrow), s²·(JᵀJ)⁻¹ where they look white.
+    pub covariance: ResidualCovariance,
 }
 
 impl Default for NonlinearOptions {
@@ -124,6 +130,7 @@ impl Default for NonlinearOptions {
             },
             multistart: None,
             dissipative_damping: true,
+            covariance: ResidualCovariance::Auto,
         }
     }
 }
@@ -145,9 +152,15 @@ pub struct NonlinearEstimate {
     pub initial_state_intervals: Option<[Interval; 2]>,
     /// Covariance of the physical parameters (and initial state, last, when
     /// estimated): σ̂²·D(JᵀJ)⁻¹D with J the Jacobian in the scaled parameters and D
-    /// the derivative of the physical by the scaled parameters.
+    /// the derivative of the physical by the scaled parameters, or with coloured
+    /// residuals D times the block sandwich times D (`covariance_used`).
     #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub covariance: DMatrix<f64>,
+    /// Which covariance the intervals come from (the block sandwich where the residuals
+    /// are coloured) and the residuals' whiteness.
+    pub covariance_used: CovarianceUsed,
+    /// With the sandwich: the parameters' intervals s²·(JᵀJ)⁻¹ would have given.
+    pub white_intervals: Option<Vec<Interval>>,
     /// Correlation matrix of the estimated quantities (same order as `covariance`).
     #[serde(serialize_with = "crate::ser::matrix_rows")]
     pub correlation: DMatrix<f64>,
@@ -202,6 +215,7 @@ impl std::fmt::Display for NonlinearEstimate {
                 i.value, i.standard_error, i.ci95[0], i.ci95[1]
             )?;
         }
+        writeln!(f, "  {}", self.covariance_used)?;
         writeln!(
             f,
             "  SSE = {:.6e}, σ̂ = {:.4e}, fit {:.2} %, {} simulations ({}), {:.2?}, {}",
@@ -471,16 +485,19 @@ pub fn estimate_nonlinear(
         steps_per_sample: problem.simulator.rk4.steps(),
         error_estimate,
     };
-    let statistics = Statistics::new(&at, &scaling, &best.x, structure)?;
+    let statistics = Statistics::new(&at, &scaling, &best.x, structure, options.covariance)?;
     let (intervals, initial_state_intervals) =
         statistics.intervals(&parameters, initial_state, options.estimate_initial_state);
     let residuals: Vec<f64> = at.residuals.iter().map(|r| -r).collect();
+    let white_intervals = statistics.white_intervals(&parameters);
     Ok(NonlinearEstimate {
         fit: FitMetrics::new(&data.output, &at.output),
         parameters,
         intervals,
         initial_state,
         initial_state_intervals,
+        covariance_used: statistics.used,
+        white_intervals,
         covariance: statistics.covariance,
         correlation: statistics.correlation,
         condition_number: statistics.condition_number,

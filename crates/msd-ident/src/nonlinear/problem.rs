@@ -6,7 +6,10 @@ use super::estimate::NonlinearOptions;
 use super::model::{Forces, ModelStructure, NonlinearParameters};
 use super::rk4::Columns;
 use super::simulate::{NonlinearSimulation, NonlinearSolver, Simulator, checked_forces};
+use crate::correlation::autocorrelation;
 use crate::least_squares::SingularError;
+use crate::residuals::ljung_box;
+use crate::residuals::sandwich::{BLOCKS, CovarianceUsed, ResidualCovariance, block_sandwich};
 use crate::{
     data::DataSet,
     error::{IdentError, Result},
@@ -15,7 +18,7 @@ use crate::{
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::{Linearization, correlation};
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, levenberg_marquardt};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// The map between physical parameters θ and scaled parameters z: z = ln θ for m, c, k;
 /// z = θ/s for the nonlinear coefficients and the initial state.
@@ -286,6 +289,10 @@ pub(super) struct Statistics {
     pub correlation: DMatrix<f64>,
     pub condition_number: f64,
     t: f64,
+    /// The covariance reported and why; with the sandwich, the white-noise covariance
+    /// and its t beside it.
+    pub used: CovarianceUsed,
+    pub white: Option<(DMatrix<f64>, f64)>,
 }
 
 impl Statistics {
@@ -296,6 +303,7 @@ impl Statistics {
         scaling: &Scaling,
         z: &[f64],
         structure: ModelStructure,
+        treatment: ResidualCovariance,
     ) -> Result<Self> {
         let (n, p) = at.jacobian.shape();
         let sse: f64 = at.residuals.iter().map(|v| v * v).sum();
@@ -308,8 +316,34 @@ impl Statistics {
             .map_err(|e| e.error(&format!("the record ({structure})"), &names))?;
         // In the physical parameters θ = θ(z): D·Cov(z)·D with D = dθ/dz diagonal.
         let d = scaling.derivative(z);
-        let in_z = linearization.covariance(sigma2);
-        let covariance = DMatrix::from_fn(p, p, |r, c| d[r] * in_z[(r, c)] * d[c]);
+        let physical =
+            |in_z: &DMatrix<f64>| DMatrix::from_fn(p, p, |r, c| d[r] * in_z[(r, c)] * d[c]);
+        let white = physical(&linearization.covariance(sigma2));
+        let lags = crate::residuals::ResidualOptions::default()
+            .max_lag
+            .min(n / 5)
+            .max(1);
+        let whiteness_p = ljung_box(&autocorrelation(&at.residuals, lags), n).p_value;
+        let sandwich = match treatment {
+            ResidualCovariance::White => false,
+            ResidualCovariance::Sandwich => true,
+            ResidualCovariance::Auto => whiteness_p < 0.01,
+        } && n >= 2 * BLOCKS;
+        let used = CovarianceUsed {
+            sandwich,
+            blocks: BLOCKS,
+            whiteness_p,
+        };
+        let t_white = crate::uncertainty::t_975(dof);
+        let (covariance, t, white) = if sandwich {
+            let bread = linearization.covariance(1.0);
+            let r = DVector::from_column_slice(&at.residuals);
+            let in_z = block_sandwich(&at.jacobian, &r, &bread, BLOCKS);
+            let t = crate::uncertainty::t_975(BLOCKS - 1);
+            (physical(&in_z), t, Some((white, t_white)))
+        } else {
+            (white, t_white, None)
+        };
         let correlation = correlation(&covariance);
         Ok(Self {
             sse,
@@ -318,8 +352,20 @@ impl Statistics {
             condition_number: linearization.condition_number,
             covariance,
             correlation,
-            t: crate::uncertainty::t_975(dof),
+            t,
+            used,
+            white,
         })
+    }
+
+    /// With the sandwich: the intervals s²·(JᵀJ)⁻¹ would have given.
+    pub fn white_intervals(&self, parameters: &NonlinearParameters) -> Option<Vec<Interval>> {
+        let (cov, t) = self.white.as_ref()?;
+        Some(
+            (parameters.values.iter().enumerate())
+                .map(|(i, &v)| Interval::new(v, cov[(i, i)].max(0.0).sqrt(), *t))
+                .collect(),
+        )
     }
 
     /// The intervals of the parameters, and of the initial state when estimated.

@@ -166,5 +166,8 @@ fn parameter_table(w: &mut String, o: &Outcome, n: &NonlinearOutcome) -> std::fm
         }
     }
     writeln!(w)?;
+    for r in &c.rows {
+        writeln!(w, "{}: {}.\n", r.structure, r.covariance_used)?;
+    }
     Ok(())
 }
