@@ -494,3 +494,22 @@ fn the_shipped_configs_document_every_nonlinear_key() {
     }
     assert!(Path::new(&config("silverbox-models.toml")).exists());
 }
+
+/// Issue 42: the generating model's identification residuals are white, so its
+/// intervals are s²·(JᵀJ)⁻¹'s; the linear candidate misses the nonlinear forces, its
+/// residuals are coloured, and its intervals are the block sandwich's — wider than the
+/// white-noise ones listed beside them — and the report says which ran for each.
+#[test]
+fn coloured_residuals_get_the_sandwich_and_white_ones_do_not() {
+    let run = synthetic();
+    let generating = row(run, "quadratic_viscous+cubic");
+    assert_eq!(generating["covariance"]["sandwich"], false, "{generating}");
+    assert!(generating.get("white_noise_parameters").is_none());
+    let linear = row(run, "viscous+linear");
+    assert_eq!(linear["covariance"]["sandwich"], true, "{linear}");
+    let sandwich = num(linear, "parameters.stiffness.standard_error");
+    let white = num(linear, "white_noise_parameters.stiffness.standard_error");
+    assert!(sandwich > white, "sandwich {sandwich} vs white {white}");
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(report.contains("viscous+linear: intervals from the block sandwich over 20 blocks"));
+}

@@ -21,6 +21,7 @@ use super::{check_positive, default_true};
 use msd_ident::nonlinear::{
     ModelStructure, NonlinearMethod, NonlinearSimulation, SmoothingVelocity,
 };
+use msd_ident::residuals::sandwich::ResidualCovariance;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// The `[nonlinear]` section.
@@ -64,6 +65,11 @@ pub struct NonlinearSection {
     /// Local runs from a Latin hypercube around the start (off unless given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub multistart: Option<NonlinearMultistartSection>,
+    /// How the intervals treat the residuals: `"auto"` (the block sandwich where the
+    /// identification residuals fail the whiteness test), `"white"` or `"sandwich"`.
+    /// By default auto.
+    #[serde(default)]
+    pub covariance: ResidualCovariance,
 }
 
 /// `[nonlinear.multistart]`: msd-ident's [`msd_ident::nonlinear::NonlinearMultistart`], its

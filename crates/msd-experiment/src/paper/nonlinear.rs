@@ -56,6 +56,7 @@ pub fn options(
             .estimate_initial_state
             .unwrap_or(config.estimation.estimate_initial_state),
         dissipative_damping: section.dissipative_damping,
+        covariance: section.covariance,
         multistart: section.multistart.map(|m| NonlinearMultistart {
             starts: m.starts,
             decades: m.decades,
