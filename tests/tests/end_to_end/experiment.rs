@@ -640,3 +640,45 @@ samples = 50
     );
     assert!((value - 2.5).abs() < 4.0 * se, "m = {value} ± {se}");
 }
+
+/// Issue 45: a newcomer points the displacement template at an accelerometer column.
+/// The fit cannot work (it fits x(t) to an acceleration); the run says so by the key,
+/// names the template that reads an accelerometer, and exits 2 (the config is to change).
+#[test]
+fn an_acceleration_in_the_displacement_template_names_the_accelerometer_template() {
+    let dir = tempfile::tempdir().unwrap();
+    lab_csv(dir.path());
+    // The same rig measured with an accelerometer: the displacement's second difference.
+    let text = std::fs::read_to_string(dir.path().join("my-measurement.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = (text.lines().skip(2))
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let dt = rows[1][0] - rows[0][0];
+    let mut csv = String::from("t,force,accel\n");
+    for (i, row) in rows.iter().enumerate() {
+        let j = i.clamp(1, rows.len() - 2);
+        let a = (rows[j + 1][2] - 2.0 * rows[j][2] + rows[j - 1][2]) / (dt * dt);
+        csv.push_str(&format!("{},{},{a}\n", row[0], row[1]));
+    }
+    std::fs::write(dir.path().join("my-measurement.csv"), csv).unwrap();
+    let template = std::fs::read_to_string(config("lab-template.toml")).unwrap();
+    assert!(template.contains("output = \"displacement\""));
+    let config_path = dir.path().join("my-experiment.toml");
+    std::fs::write(
+        &config_path,
+        template.replacen("output = \"displacement\"", "output = \"accel\"", 1),
+    )
+    .unwrap();
+    let Err(err) = run_in_temp(&config_path, None, None) else {
+        panic!("a displacement fit of an acceleration was reported");
+    };
+    let message = err.to_string();
+    assert_eq!(err.exit_code(), 2, "{message}");
+    for text in [
+        "data.output",
+        "looks like an acceleration",
+        "configs/templates/accelerometer.toml",
+    ] {
+        assert!(message.contains(text), "{text}: {message}");
+    }
+}

@@ -291,7 +291,15 @@ fn estimation_stage(
     {
         ms.threads = threads;
     }
-    let estimate = estimate(&data.identification, &est_options).map_err(estimation_error)?;
+    let estimate =
+        estimate(&data.identification, &est_options).map_err(|e| {
+            match acceleration_hint(config) {
+                Some(hint) => {
+                    ExperimentError::config("data.output", format!("{hint}; the fit said: {e}"))
+                }
+                None => estimation_error(e),
+            }
+        })?;
     let estimation_solver = ode45_stats(
         &estimate.parameters,
         &data.identification.excitation,
@@ -337,6 +345,22 @@ fn frequency_stage(
         }
         Err(e) => Err(ExperimentError::run("frequency check", e)),
     }
+}
+
+/// What to use instead when a failed fit's output column looks like an acceleration (its
+/// name holds "acc", or its unit is g or m/s²): this kind fits a displacement x(t).
+fn acceleration_hint(config: &Config) -> Option<String> {
+    let data = config.data.as_ref()?;
+    let column = data.output.as_ref()?.to_string();
+    let name = column.to_lowercase();
+    let unit = data.output_unit.trim().to_lowercase();
+    let acceleration =
+        name.contains("acc") || ["g", "m/s²", "m/s^2", "m/s2", "m s-2"].contains(&unit.as_str());
+    acceleration.then(|| {
+        format!(
+            "{column} looks like an acceleration, and a config with [data] and no [setup] fits a displacement x(t) to it: for an accelerometer start from configs/templates/accelerometer.toml (a [setup] with an acceleration channel; a unit of g is scaled by 9.80665)"
+        )
+    })
 }
 
 /// A failed estimation as a failure of the stage "estimation", its reason said once
