@@ -150,9 +150,7 @@ pub fn prepare(
     let receptance = frf.to_kind(FrfKind::Receptance);
     let [low, high] = band_hz.unwrap_or([0.0, f64::INFINITY]);
     let inside = |f: f64| f > 0.0 && f >= low && f <= high;
-    // K = 0: a coherence whose count of averages is not known (a measured table's).
-    let informative = frf.averages != 1
-        && (frf.frequency.iter().zip(&frf.coherence)).any(|(&f, &g)| inside(f) && g < 1.0 - 1e-6);
+    let informative = frf.has_coherence_in([low, high]);
     let weighting = match weighting {
         FrfWeighting::Coherence if !informative && frf.variance.is_some() => FrfWeighting::Variance,
         FrfWeighting::Coherence if !informative => FrfWeighting::Uniform,

@@ -83,7 +83,7 @@ pub fn dominant_peak(frf: &FrequencyResponseEstimate) -> Result<DominantPeak> {
         .collect();
     let n = lines.len();
     let power: Vec<f64> = lines.iter().map(|&k| frf.h[k].norm_sqr()).collect();
-    let informative = frf.averages != 1 && lines.iter().any(|&k| frf.coherence[k] < 1.0 - 1e-6);
+    let informative = frf.has_coherence_in([0.0, f64::INFINITY]);
     let weight: Vec<f64> = (lines.iter())
         .map(|&k| if informative { frf.coherence[k] } else { 1.0 })
         .collect();

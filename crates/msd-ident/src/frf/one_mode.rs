@@ -407,8 +407,7 @@ impl LowCoherence {
     /// The coherence of `frf` within `band_hz` (the line nearest its centre when none
     /// lies inside), when the coherence says something and its median is below 0.8.
     pub fn within(frf: &FrequencyResponseEstimate, band_hz: [f64; 2]) -> Option<Self> {
-        let informative = frf.averages != 1 && frf.coherence.iter().any(|&g| g < 1.0 - 1e-6);
-        if !informative || frf.frequency.is_empty() {
+        if !frf.has_coherence_in([0.0, f64::INFINITY]) {
             return None;
         }
         let mut g: Vec<f64> = (frf.frequency.iter().zip(&frf.coherence))

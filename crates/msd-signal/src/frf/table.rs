@@ -182,6 +182,24 @@ impl FrequencyResponseEstimate {
         out
     }
 
+    /// Whether the coherence says something about the lines above 0 Hz within
+    /// `[low, high]` Hz: averaged over K ≠ 1 segments (0: a table's coherence over an
+    /// unknown count) and below 1 on one of them, so that it can weight the lines.
+    ///
+    /// ```
+    /// use msd_signal::{Complex64, FrequencyResponseEstimate};
+    /// let mut frf = FrequencyResponseEstimate::new(vec![1.0, 2.0], vec![Complex64::new(1.0, 0.0); 2])?;
+    /// assert!(!frf.has_coherence_in([0.0, f64::INFINITY])); // a table: γ² = 1
+    /// (frf.coherence[1], frf.averages) = (0.5, 0);
+    /// assert!(frf.has_coherence_in([0.0, f64::INFINITY]) && !frf.has_coherence_in([0.0, 1.5]));
+    /// # Ok::<(), msd_signal::SignalError>(())
+    /// ```
+    pub fn has_coherence_in(&self, [low, high]: [f64; 2]) -> bool {
+        self.averages != 1
+            && (self.frequency.iter().zip(&self.coherence))
+                .any(|(&f, &g)| f > 0.0 && f >= low && f <= high && g < 1.0 - 1e-6)
+    }
+
     /// The complex conjugate of the response, in its own quantity: a frequency response
     /// written with the other phase convention (e^(−jωt), or H = S_xy/S_xx with MATLAB's
     /// `cpsd(x, y)` = X·conj(Y)), whose phase rises through a resonance, back to the
