@@ -6,39 +6,58 @@ use super::{FrfFit, FrfOutcome};
 use crate::error::Result;
 use crate::plots::diagram::Stabilization;
 use crate::plots::{
-    BLUE, DARK, Draw, Figure, RED, draw_legend, house_mesh, limits, log_frequency_axis,
-    phase_panel, save, suptitle, text, tick, title_style,
+    BLUE, DARK, Draw, Drawable, Figure, RED, draw_legend, house_mesh, limits, log_frequency_axis,
+    phase_panel, save, save_all, suptitle, text, tick, title_style,
 };
 use msd_signal::Complex64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Writes every figure the outcome supports; returns the base names written.
+/// Writes every figure the outcome supports (and a set's UFF files); returns the
+/// figures' base names.
 pub(crate) fn write_all(o: &FrfOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     crate::plots::register_fonts();
     let view = View::of(o);
-    let mut written = Vec::new();
-    save(&Bode(&view), dir)?;
-    written.push("frf_fit_bode");
-    save(&Nyquist(&view), dir)?;
-    written.push("frf_fit_nyquist");
+    let mut figures: Vec<Box<dyn Drawable + '_>> =
+        vec![Box::new(Bode(&view)), Box::new(Nyquist(&view))];
     if o.data.averages != 1 {
-        save(&Coherence(o), dir)?;
-        written.push("frf_coherence");
+        figures.push(Box::new(Coherence(o)));
     }
     let members: Vec<_> = o.members.iter().map(|m| &m.frf).collect();
     if let FrfFit::Modes(m) = &o.fit {
-        save_diagram(&m.diagram, summed_magnitude(&o.data, &members), dir)?;
-        written.push("frf_stabilization");
+        figures.push(Box::new(stabilization(
+            &m.diagram,
+            summed_magnitude(&o.data, &members),
+        )));
     }
     if let FrfFit::Set(m) = &o.fit {
-        save_diagram(&m.diagram, summed_magnitude(&o.data, &members), dir)?;
-        written.push("frf_stabilization");
-        written.extend(super::plots_set::write_all(o, m, dir)?);
+        figures.push(Box::new(stabilization(
+            &m.diagram,
+            summed_magnitude(&o.data, &members),
+        )));
+        figures.extend(super::plots_set::figures(o, m));
+        super::uff_out::write_all(o, m, dir)?;
     }
-    written.extend(super::plots_modes::indicator(o, dir)?);
-    Ok(written)
+    figures.extend(super::plots_modes::indicator(o));
+    let drawn: Vec<&dyn Drawable> = figures.iter().map(|f| f.as_ref()).collect();
+    save_all(&drawn, dir)?;
+    Ok(drawn.iter().map(|f| f.file_name()).collect())
+}
+
+/// The stabilization diagram with `magnitude` (frequency, |H|) behind it.
+fn stabilization(
+    diagram: &msd_modal::StabilizationDiagram,
+    magnitude: Vec<(f64, f64)>,
+) -> Stabilization<'_> {
+    Stabilization {
+        diagram,
+        behind: magnitude,
+        name: "frf_stabilization",
+        title: "Stabilization diagram (LSCF poles by model order)",
+        behind_label: "the data's magnitude (log scale, summed over the FRFs)",
+        view_hz: None,
+    }
 }
 
 /// Writes `frf_stabilization` (PNG and SVG) into `dir`: the diagram with `magnitude`
@@ -49,17 +68,7 @@ pub(crate) fn save_diagram(
     dir: &Path,
 ) -> Result<()> {
     crate::plots::register_fonts();
-    save(
-        &Stabilization {
-            diagram,
-            behind: magnitude,
-            name: "frf_stabilization",
-            title: "Stabilization diagram (LSCF poles by model order)",
-            behind_label: "the data's magnitude (log scale, summed over the FRFs)",
-            view_hz: None,
-        },
-        dir,
-    )
+    save(&stabilization(diagram, magnitude), dir)
 }
 
 /// The data in the fitted band beside the model on a dense logarithmic grid.

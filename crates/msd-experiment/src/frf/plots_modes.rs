@@ -3,34 +3,25 @@
 //! coordinates (`frf_shapes_geometry`).
 
 use super::FrfOutcome;
-use crate::error::Result;
 use crate::plots::{
-    BLUE, DARK, Draw, Figure, GRAY, RED, draw_legend, house_mesh, save, suptitle, text, tick,
+    BLUE, DARK, Draw, Drawable, Figure, GRAY, RED, draw_legend, house_mesh, suptitle, text, tick,
     title_style,
 };
 use msd_modal::{ModeIndicator, ModeSetFit};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
-/// Writes `frf_mode_indicator` when the outcome has mode indicators; returns its name.
-pub(crate) fn indicator(o: &FrfOutcome, dir: &Path) -> Result<Option<&'static str>> {
-    let Some(indicator) = &o.indicator else {
-        return Ok(None);
-    };
+/// `frf_mode_indicator` when the outcome has mode indicators.
+pub(crate) fn indicator(o: &FrfOutcome) -> Option<Box<dyn Drawable + '_>> {
+    let indicator = o.indicator.as_ref()?;
     let modes_hz: Vec<f64> = o.fit.poles().iter().map(|p| p.0.value).collect();
-    save(&Indicator(indicator, modes_hz, o.fit.band_hz()), dir)?;
-    Ok(Some("frf_mode_indicator"))
+    Some(Box::new(Indicator(indicator, modes_hz, o.fit.band_hz())))
 }
 
-/// Writes `frf_shapes_geometry` when the set's nodes have coordinates; returns its name.
-pub(crate) fn geometry(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Option<&'static str>> {
+/// `frf_shapes_geometry` when the set's nodes have coordinates.
+pub(crate) fn geometry<'a>(o: &'a FrfOutcome, m: &'a ModeSetFit) -> Option<Box<dyn Drawable + 'a>> {
     let drawn = Geometry::of(&o.geometry, m);
-    if drawn.modes.is_empty() {
-        return Ok(None);
-    }
-    save(&drawn, dir)?;
-    Ok(Some("frf_shapes_geometry"))
+    (!drawn.modes.is_empty()).then(|| Box::new(drawn) as Box<dyn Drawable>)
 }
 
 struct Indicator<'a>(&'a ModeIndicator, Vec<f64>, [f64; 2]);

@@ -2,15 +2,13 @@
 //! matrix (`frf_mac`) and the shapes over the DOFs (`frf_shapes`).
 
 use super::FrfOutcome;
-use crate::error::Result;
 use crate::plots::{
-    BLUE, DARK, Draw, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, save, suptitle, text,
+    BLUE, DARK, Draw, Drawable, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, suptitle, text,
     tick, tick_style,
 };
 use msd_modal::ModeSetFit;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// A colour per series, cycling.
 const PALETTE: [RGBColor; 6] = [
@@ -22,9 +20,9 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(140, 86, 75),
 ];
 
-/// Writes the set's figures; returns their base names.
-pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Vec<&'static str>> {
-    save(&SetFit(o, m), dir)?;
+/// The set's figures: the fit, the MAC (and against the reference shapes), the shapes
+/// (and over the geometry).
+pub(crate) fn figures<'a>(o: &'a FrfOutcome, m: &'a ModeSetFit) -> Vec<Box<dyn Drawable + 'a>> {
     let auto = Mac {
         name: "frf_mac",
         title: "MAC of the mode shapes".into(),
@@ -32,23 +30,19 @@ pub(crate) fn write_all(o: &FrfOutcome, m: &ModeSetFit, dir: &Path) -> Result<Ve
         x_desc: "mode".into(),
         y_desc: "mode".into(),
     };
-    save(&auto, dir)?;
-    save(&Shapes(m), dir)?;
-    super::uff_out::write_all(o, m, dir)?;
-    let mut written = vec!["frf_set_fit", "frf_mac", "frf_shapes"];
+    let mut figures: Vec<Box<dyn Drawable + 'a>> =
+        vec![Box::new(SetFit(o, m)), Box::new(auto), Box::new(Shapes(m))];
     if let Some(r) = &o.reference_shapes {
-        let against = Mac {
+        figures.push(Box::new(Mac {
             name: "frf_mac_reference",
             title: format!("MAC against {}", r.file),
             matrix: &r.comparison.mac,
             x_desc: format!("mode of {}", r.file),
             y_desc: "estimated mode".into(),
-        };
-        save(&against, dir)?;
-        written.push("frf_mac_reference");
+        }));
     }
-    written.extend(super::plots_modes::geometry(o, m, dir)?);
-    Ok(written)
+    figures.extend(super::plots_modes::geometry(o, m));
+    figures
 }
 
 /// The measured quantity's magnitude of member `i`'s model at `f`.

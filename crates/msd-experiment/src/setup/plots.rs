@@ -11,24 +11,25 @@ use super::fit::models;
 use super::{SetupFit, SetupOutcome};
 use crate::error::Result;
 use crate::plots::panel::{Curve, Panel, Stack, Style};
-use crate::plots::{BLUE, RED, register_fonts, save};
+use crate::plots::{BLUE, Drawable, RED, register_fonts, save_all};
 use plotters::prelude::*;
 use std::path::Path;
 
 /// Writes every figure of the setup; returns their base names.
 pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
-    let mut written = Vec::new();
     let figures = match &o.fit {
         SetupFit::Records { .. } => vec![fit_figure(o)],
         SetupFit::Machine(_) => vec![loops(o), force_velocity(o)],
         SetupFit::Stroke(f) => vec![stroke_force(o, f)],
     };
-    for f in figures.into_iter().flatten() {
-        save(&f, dir)?;
-        written.push(f.name);
-    }
-    Ok(written)
+    let drawn: Vec<&dyn Drawable> = figures
+        .iter()
+        .flatten()
+        .map(|f| f as &dyn Drawable)
+        .collect();
+    save_all(&drawn, dir)?;
+    Ok(drawn.iter().map(|f| f.file_name()).collect())
 }
 
 fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {

@@ -18,44 +18,36 @@ mod time;
 
 use super::Outcome;
 use crate::error::Result;
-use crate::plots::{Figure, register_fonts, save};
+use crate::plots::{Drawable, register_fonts, save_all};
 use std::path::Path;
 
 /// Writes every figure the outcome supports; returns the base names written.
 pub fn write_all(outcome: &Outcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
-    let mut written = Vec::new();
     let units = Units::of(outcome);
-    let f2 = time::Identification::new(outcome, &units);
-    save(&f2, dir)?;
-    written.push(f2.name());
-    let f3 = time::validation(outcome, &units);
-    save(&f3, dir)?;
-    written.push(f3.name());
-    if let Some(f4) = time::monte_carlo(outcome, &units) {
-        save(&f4, dir)?;
-        written.push(f4.name());
-    }
-    if let Some(r) = &outcome.residuals {
-        let f = diagnostics::Correlation::new(r);
-        save(&f, dir)?;
-        written.push(f.name());
-    }
-    if let Some(fc) = outcome.frequency.check() {
-        let f = diagnostics::Bode::new(
+    let identification = time::Identification::new(outcome, &units);
+    let validation = time::validation(outcome, &units);
+    let monte_carlo = time::monte_carlo(outcome, &units);
+    let correlation = outcome
+        .residuals
+        .as_ref()
+        .map(diagnostics::Correlation::new);
+    let bode = outcome.frequency.check().map(|fc| {
+        diagnostics::Bode::new(
             fc,
             outcome.estimate.parameters,
             &units,
             outcome.config.frequency_check.data.name(),
-        );
-        save(&f, dir)?;
-        written.push(f.name());
-    }
-    if let Some(f) = models::residuals(outcome, &units) {
-        save(&f, dir)?;
-        written.push(f.name());
-    }
-    Ok(written)
+        )
+    });
+    let models = models::residuals(outcome, &units);
+    let mut figures: Vec<&dyn Drawable> = vec![&identification, &validation];
+    figures.extend(monte_carlo.as_ref().map(|f| f as &dyn Drawable));
+    figures.extend(correlation.as_ref().map(|f| f as &dyn Drawable));
+    figures.extend(bode.as_ref().map(|f| f as &dyn Drawable));
+    figures.extend(models.as_ref().map(|f| f as &dyn Drawable));
+    save_all(&figures, dir)?;
+    Ok(figures.iter().map(|f| f.file_name()).collect())
 }
 
 /// Display units: displacement in mm when the data are in metres.
