@@ -322,6 +322,51 @@ pub fn fetch_data(
     run_fetch(&fetch_plan(args, default_from, default_root)?)
 }
 
+/// `msd init FILE`'s arguments.
+///
+/// ```
+/// use clap::Parser;
+/// #[derive(Parser)]
+/// struct Cli { #[command(flatten)] init: msd_experiment::cli::InitArgs }
+/// let cli = Cli::try_parse_from(["msd", "run.csv", "--input", "F", "--output", "a1", "--output", "a2"]).unwrap();
+/// assert_eq!(cli.init.output, ["a1", "a2"]);
+/// ```
+#[derive(Debug, Clone, clap::Args)]
+pub struct InitArgs {
+    /// The data file: a CSV or text export, MATLAB .mat, NumPy .npy/.npz, NI TDMS.
+    pub file: PathBuf,
+    /// The column that drives the plant (a force, or the base's motion), when its unit
+    /// and name do not say.
+    #[arg(long, value_name = "COLUMN")]
+    pub input: Option<String>,
+    /// A response column (repeat for each), when their units and names do not say.
+    #[arg(long, value_name = "COLUMN")]
+    pub output: Vec<String>,
+    /// The sampling rate, Hz, for a file with no time column and no rate of its own.
+    #[arg(long, value_name = "HZ")]
+    pub sample_rate: Option<f64>,
+    /// Where to write the config [default: the data file's name with .toml, beside it].
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Replace the config if it exists.
+    #[arg(long)]
+    pub overwrite: bool,
+}
+
+/// `msd init`: writes the config and prints what was found and the command to run.
+pub fn init(args: &InitArgs) -> Result<(), ExperimentError> {
+    let options = crate::init::InitOptions {
+        input: args.input.clone(),
+        outputs: args.output.clone(),
+        sample_rate_hz: args.sample_rate,
+        config: args.config.clone(),
+        overwrite: args.overwrite,
+    };
+    let done = crate::init::init(&args.file, &options)?;
+    crate::output::print_stdout(&done.summary);
+    Ok(())
+}
+
 /// Prints `result`'s error on stderr as `error: …` and gives the exit status.
 pub fn exit(result: Result<(), ExperimentError>) -> ExitCode {
     match result {

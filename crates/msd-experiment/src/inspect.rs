@@ -21,7 +21,28 @@ use std::path::Path;
 /// assert!(text.contains("uniform step 0.001"), "{text}");
 /// ```
 pub fn inspect(path: &Path) -> Result<String> {
-    let name = path
+    let survey = survey(path)?;
+    Ok(
+        survey.description.clone()
+            + &config_lines(&survey.file_name, &survey.columns, &survey.keys),
+    )
+}
+
+/// What a data file holds, as `msd inspect` and `msd init` read it.
+pub(crate) struct Survey {
+    /// The file's name (the config's `path` beside it).
+    pub file_name: String,
+    /// How the file is written and its columns, as `msd inspect` prints them.
+    pub description: String,
+    /// Its columns or channels, in order.
+    pub columns: Vec<Column>,
+    /// The `[data]` format keys a text file needs (`delimiter`, `decimal`, `missing`).
+    pub keys: Vec<String>,
+}
+
+/// Reads the file at `path` (a text table, or a format of `msd_files`) into a [`Survey`].
+pub(crate) fn survey(path: &Path) -> Result<Survey> {
+    let file_name = path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     if msd_files::FileFormat::of(path).is_some() {
@@ -32,25 +53,32 @@ pub fn inspect(path: &Path) -> Result<String> {
             .iter()
             .map(|c| Column::of(&c.name, c.unit.clone(), &c.values, c.sample_rate_hz))
             .collect();
-        let mut out = format!("{}: {contents}", path.display());
-        out.push_str(&config_lines(&name, &columns, &[]));
-        return Ok(out);
+        return Ok(Survey {
+            file_name,
+            description: format!("{}: {contents}", path.display()),
+            columns,
+            keys: Vec::new(),
+        });
     }
     let bytes = std::fs::read(path)
         .map_err(|e| ExperimentError::data(path, format!("cannot read the file: {e}")))?;
-    text_table(path, &name, &bytes)
+    text_table(path, file_name, &bytes)
 }
 
 /// One column's summary.
-struct Column {
-    name: String,
-    unit: Option<String>,
-    rows: usize,
-    range: Option<(f64, f64)>,
+pub(crate) struct Column {
+    /// Its name in the file (or its 0-based position when the file names none).
+    pub name: String,
+    /// The unit the file gives.
+    pub unit: Option<String>,
+    /// Its number of values.
+    pub rows: usize,
+    /// Its smallest and largest finite value.
+    pub range: Option<(f64, f64)>,
     /// The step when the column increases uniformly (within 1 %): a time column.
-    step: Option<f64>,
+    pub step: Option<f64>,
     /// The sampling rate the file gives, Hz.
-    rate: Option<f64>,
+    pub rate: Option<f64>,
 }
 
 impl Column {
@@ -79,7 +107,7 @@ impl Column {
 }
 
 /// A text table: how it is written, its columns, the config lines.
-fn text_table(path: &Path, name: &str, bytes: &[u8]) -> Result<String> {
+fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
     let (decoded, encoding) = text::decode(bytes);
     let (delimiter, decimal) = text::sniff(&decoded);
     let format = TextFormat {
@@ -152,11 +180,15 @@ fn text_table(path: &Path, name: &str, bytes: &[u8]) -> Result<String> {
     if missing > 0 {
         keys.push("missing = \"interpolate\"".to_string());
     }
-    out.push_str(&config_lines(name, &columns, &keys));
-    Ok(out)
+    Ok(Survey {
+        file_name,
+        description: out,
+        columns,
+        keys,
+    })
 }
 
-fn column_table(columns: &[Column]) -> String {
+pub(crate) fn column_table(columns: &[Column]) -> String {
     let width = columns
         .iter()
         .map(|c| c.name.chars().count())

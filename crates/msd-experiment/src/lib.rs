@@ -32,6 +32,7 @@ pub mod fetch;
 pub mod finished;
 pub mod fmt;
 pub mod frf;
+pub mod init;
 pub mod inspect;
 mod noise_report;
 pub mod operational;

@@ -15,7 +15,9 @@ use std::process::ExitCode;
     version,
     about = "Identify the mass, damping and stiffness of a mass–spring–damper from vibration data",
     long_about = "Identify the mass m, damping c and stiffness k of a mass–spring–damper from \
-vibration data.\n\nRun an experiment config:\n\n    msd run experiment.toml\n\n\
+vibration data.\n\nStart from your own data file (CSV or text export, .mat, .npy/.npz, TDMS):\n\n    \
+msd init my-test.csv      # writes my-test.toml beside it\n    msd run my-test.toml\n\n\
+Run an experiment config:\n\n    msd run experiment.toml\n\n\
 It writes msd-results/<name>/ in the current folder with report.md, results.json, CSV files \
 and figures."
 )]
@@ -57,6 +59,12 @@ enum Command {
         /// The data file.
         file: std::path::PathBuf,
     },
+    /// Start from your own data file: read it as inspect does, choose the experiment its
+    /// columns describe (a force and responses → a force test; a base sensor → base
+    /// excitation; one response → a free decay), scale each column to SI from its unit
+    /// (g → 9.80665 m/s², mm → 1e-3 m, kN → 1000 N) and write a commented config
+    /// beside it that `msd run` runs.
+    Init(cli::InitArgs),
 }
 
 fn main() -> ExitCode {
@@ -68,6 +76,7 @@ fn main() -> ExitCode {
         Command::Inspect { file } => {
             cli::exit(msd_experiment::inspect::inspect(&file).map(|text| cli::print_stdout(&text)))
         }
+        Command::Init(args) => cli::exit(cli::init(&args)),
         Command::FetchData(args) => cli::exit(cli::fetch_data(
             &args,
             std::path::Path::new("../shared/data/real"),

@@ -34,3 +34,26 @@ pub fn read_file<'py>(
 pub fn inspect(path: std::path::PathBuf) -> PyResult<String> {
     msd_experiment::inspect::inspect(&path).map_err(errors::experiment)
 }
+
+/// `msd init FILE`: writes a config for the file beside it; returns its path, its text
+/// and what was found.
+#[pyfunction]
+#[pyo3(signature = (path, input=None, outputs=Vec::new(), sample_rate=None, config=None, overwrite=false))]
+pub fn init(
+    path: std::path::PathBuf,
+    input: Option<String>,
+    outputs: Vec<String>,
+    sample_rate: Option<f64>,
+    config: Option<std::path::PathBuf>,
+    overwrite: bool,
+) -> PyResult<(std::path::PathBuf, String, String)> {
+    let options = msd_experiment::init::InitOptions {
+        input,
+        outputs,
+        sample_rate_hz: sample_rate,
+        config,
+        overwrite,
+    };
+    let done = msd_experiment::init::init(&path, &options).map_err(errors::experiment)?;
+    Ok((done.config_path, done.text, done.summary))
+}

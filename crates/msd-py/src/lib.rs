@@ -45,6 +45,7 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(oma::oma_setups, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_file, m)?)?;
     m.add_function(wrap_pyfunction!(files::inspect, m)?)?;
+    m.add_function(wrap_pyfunction!(files::init, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_read, m)?)?;
     m.add_function(wrap_pyfunction!(uff::uff_write, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::run, m)?)?;

@@ -11,5 +11,6 @@ mod files;
 mod frf_compare;
 mod frf_experiment;
 mod golden;
+mod init;
 mod nonlinear_experiment;
 mod oma_experiment;

@@ -87,6 +87,7 @@ __all__ = [
     "paper_data",
     "read_file",
     "inspect",
+    "init",
     "uff",
 ]
 
@@ -942,3 +943,37 @@ def inspect(path: Union[str, "os.PathLike[str]"]) -> str:
     lengths and sampling rate, how a text file is written, and the config lines that
     read it."""
     return _msd.inspect(os.fspath(path))
+
+
+def init(
+    path: Union[str, "os.PathLike[str]"],
+    input: Optional[str] = None,
+    outputs: Sequence[str] = (),
+    sample_rate: Optional[float] = None,
+    config: Optional[Union[str, "os.PathLike[str]"]] = None,
+    overwrite: bool = False,
+) -> str:
+    """Write a config for your own data file (``msd init FILE``) and return its path.
+
+    The file is read as :func:`inspect` reads it; the experiment comes from its columns'
+    units and names (a force and responses: a force test; a base sensor: base
+    excitation; one response: a free decay), each column scaled to SI from its unit
+    (g, mm, kN, …). `input` and `outputs` name the columns when they cannot say,
+    `sample_rate` (Hz) gives the rate of a file with no time column; the
+    config goes to `config`, else beside the file with the extension ``.toml`` (an
+    existing one only with `overwrite`). Then ``msd.run(path)`` runs it::
+
+        results = msd.run(msd.init("shaker.csv"))
+
+    Raises ValueError naming the file when its columns do not say what they are (with
+    the columns to choose from) or the config exists.
+    """
+    written, _text, _summary = _msd.init(
+        os.fspath(path),
+        input,
+        [str(o) for o in outputs],
+        None if sample_rate is None else float(sample_rate),
+        None if config is None else os.fspath(config),
+        bool(overwrite),
+    )
+    return os.fspath(written)

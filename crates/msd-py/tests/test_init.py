@@ -1,0 +1,76 @@
+"""msd.init: a config for the user's own file, written beside it, that msd.run runs.
+
+The record is made outside this project (scipy's DOP853 on the continuous force), as a
+lab's logger writes it: two metadata lines, a units line, semicolons and decimal commas,
+the accelerometer in g. "Holds the truth" is |estimate - truth| <= 4 standard errors (a
+correct interval misses that with probability 6e-5)."""
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+import msd
+
+scipy_integrate = pytest.importorskip("scipy.integrate")
+
+M, C, K = 1.7, 3.1, 950.0
+
+
+def _shaker_csv(path, seed=5):
+    fs, duration = 1000.0, 12.0
+    t = np.arange(0.0, duration, 1.0 / fs)
+    rng = np.random.default_rng(seed)
+    lines = np.arange(0.2, 15.01, 0.2)
+    phases = rng.uniform(0.0, 2.0 * np.pi, lines.size)
+    amplitude = 5.0 * math.sqrt(2.0 / lines.size)
+
+    def force(tt):
+        return amplitude * np.sum(np.sin(2.0 * np.pi * lines * tt + phases))
+
+    sol = scipy_integrate.solve_ivp(
+        lambda tt, y: [y[1], (force(tt) - C * y[1] - K * y[0]) / M],
+        (0.0, duration),
+        [0.0, 0.0],
+        t_eval=t,
+        method="DOP853",
+        rtol=1e-10,
+        atol=1e-12,
+    )
+    f = np.array([force(tt) for tt in t])
+    a = (f - C * sol.y[1] - K * sol.y[0]) / M + rng.normal(0.0, 0.05, t.size)
+    with open(path, "w", encoding="utf-8") as out:
+        out.write("Rig 2 shaker test\nOperator: A. N. Other\ntime;force;accel\ns;N;g\n")
+        for row in zip(t, f, a / 9.80665):
+            out.write(("%.4f;%.6f;%.7e\n" % row).replace(".", ","))
+
+
+def test_init_writes_a_config_that_runs_and_holds_the_truth(tmp_path):
+    data = tmp_path / "shaker.csv"
+    _shaker_csv(data)
+    config = msd.init(data)
+    assert config == os.fspath(tmp_path / "shaker.toml")
+    text = open(config, encoding="utf-8").read()
+    assert "scale = 9.80665" in text and 'decimal = ","' in text
+    results = msd.run(config, out=tmp_path / "out")
+    truth = {
+        "mass": M,
+        "damping": C,
+        "stiffness": K,
+        "natural_frequency_hz": math.sqrt(K / M) / (2.0 * math.pi),
+        "damping_ratio": C / (2.0 * math.sqrt(K * M)),
+    }
+    for name, value in truth.items():
+        q = results["estimate"][name]
+        assert abs(q["value"] - value) <= 4.0 * q["standard_error"], (name, q, value)
+    with pytest.raises(ValueError, match="overwrite"):
+        msd.init(data)
+
+
+def test_init_asks_for_the_columns_it_cannot_place(tmp_path):
+    data = tmp_path / "daq.csv"
+    data.write_text("t,ch1,ch2\n" + "".join(f"{i / 100},{i % 7},{i % 5}\n" for i in range(300)))
+    with pytest.raises(ValueError, match="--input"):
+        msd.init(data)
+    assert not (tmp_path / "daq.toml").exists()
