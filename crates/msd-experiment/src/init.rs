@@ -228,7 +228,7 @@ fn time_column(columns: &[Column]) -> Option<&Column> {
     uniform()
         .find(|c| {
             let n = c.name.to_ascii_lowercase();
-            n == "t" || n.contains("time") || c.unit.as_deref() == Some("s")
+            n == "t" || n.contains("time") || unit(c) == Some("s")
         })
         .or_else(|| uniform().next())
 }
@@ -271,9 +271,29 @@ fn role_of_name(name: &str) -> Option<Role> {
     }
 }
 
+/// The column's unit: the file's units line (or channel property), else a unit written
+/// in the column's name, `accel [g]` or `force (kN)`.
+fn unit(column: &Column) -> Option<&str> {
+    let given = column
+        .unit
+        .as_deref()
+        .map(str::trim)
+        .filter(|u| !u.is_empty());
+    given.or_else(|| {
+        let name = column.name.trim_end();
+        let (open, close) = match name.chars().last()? {
+            ']' => ('[', ']'),
+            ')' => ('(', ')'),
+            _ => return None,
+        };
+        let inner = &name[name.rfind(open)? + 1..name.len() - close.len_utf8()];
+        Some(inner.trim()).filter(|u| !u.is_empty())
+    })
+}
+
 /// The column's role with its reason, if its unit or name gives one.
 fn channel(column: &Column) -> Option<Channel<'_>> {
-    if let Some(unit) = &column.unit
+    if let Some(unit) = unit(column)
         && let Some(role) = role_of_unit(unit)
     {
         return Some(Channel {
@@ -282,7 +302,7 @@ fn channel(column: &Column) -> Option<Channel<'_>> {
             because: format!("its unit {unit}"),
         });
     }
-    let because = match column.unit.as_deref().filter(|u| !u.trim().is_empty()) {
+    let because = match unit(column) {
         Some(unit) => format!(
             "its name (its unit {unit} is not one of the quantity's: set its scale to SI per {unit}, \
              the sensor's sensitivity)"
@@ -475,7 +495,7 @@ fn write_setup(out: &mut String, chosen: &Chosen<'_>) {
         let Role::Motion(quantity, scale) = r.role else {
             continue;
         };
-        let unit = r.column.unit.as_deref().filter(|_| scale != 1.0);
+        let unit = unit(r.column).filter(|_| scale != 1.0);
         let unit = unit.map_or_else(String::new, |u| format!(", unit = {u:?}"));
         let _ = writeln!(
             out,
@@ -510,8 +530,8 @@ fn write_setup(out: &mut String, chosen: &Chosen<'_>) {
 /// The column's unit when it is not one of a quantity's (a voltage): its scale is the
 /// sensor's sensitivity, which the file does not give.
 fn foreign_unit(column: &Column) -> Option<&str> {
-    let unit = column.unit.as_deref()?.trim();
-    (!unit.is_empty() && role_of_unit(unit).is_none()).then_some(unit)
+    let unit = unit(column)?;
+    role_of_unit(unit).is_none().then_some(unit)
 }
 
 /// The comment beside a scale: what it converts, or that it is to be set.
@@ -632,6 +652,20 @@ mod tests {
             step: None,
             rate: None,
         }
+    }
+
+    #[test]
+    fn a_unit_in_the_name_counts() {
+        let c = column("accel [g]", None);
+        assert_eq!(unit(&c), Some("g"));
+        assert_eq!(
+            channel(&c).unwrap().role,
+            Role::Motion(Quantity::Acceleration, STANDARD_GRAVITY)
+        );
+        assert_eq!(unit(&column("F (kN)", None)), Some("kN"));
+        assert_eq!(unit(&column("x", Some("mm"))), Some("mm"));
+        assert_eq!(unit(&column("[g]", None)), Some("g"));
+        assert_eq!(unit(&column("speed)", None)), None);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! Issue 45's scripted first hour: `msd init` on a lab's own file writes a config beside
 //! it that runs, and whose intervals hold the truth — a force and an accelerometer in g
 //! behind metadata lines with decimal commas, a displacement record in mm with a load
-//! cell in kN, a ring-down; columns that cannot say what they are get a question back.
+//! cell in kN (units in the column names), a ring-down; columns that cannot say what they are get a question back.
 //!
 //! "Hold the truth" is |estimate − truth| ≤ 4 standard errors for each quantity (a
 //! correct interval misses that by chance with probability 6e-5), so that the test
@@ -125,19 +125,19 @@ fn a_force_and_an_accelerometer_in_g_with_metadata_and_decimal_commas() {
 }
 
 #[test]
-fn a_displacement_in_mm_and_a_load_cell_in_kn() {
+fn a_displacement_in_mm_and_a_load_cell_in_kn_named_in_the_header() {
     let dir = tempfile::tempdir().unwrap();
     let f = force();
     let x = response(&f, ResponseQuantity::Displacement, 2e-5, 12);
-    let mut csv = String::from("t,load,laser\ns,kN,mm\n");
+    let mut csv = String::from("t [s],load [kN],laser [mm]\n");
     for i in 0..SAMPLES {
         let row = format!("{:.4},{:.9},{:.6}\n", i as f64 * DT, f[i] / 1e3, x[i] * 1e3);
         csv.push_str(&row);
     }
     let text = init_on(dir.path(), "laser.csv", &csv, &InitOptions::default());
     for line in [
-        "quantity = \"displacement\", column = \"laser\", scale = 0.001",
-        "input = \"load\"",
+        "quantity = \"displacement\", column = \"laser [mm]\", scale = 0.001",
+        "input = \"load [kN]\"",
         "input_scale = 1000",
     ] {
         assert!(text.contains(line), "{line}:\n{text}");
