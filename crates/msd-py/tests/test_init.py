@@ -74,3 +74,19 @@ def test_init_asks_for_the_columns_it_cannot_place(tmp_path):
     with pytest.raises(ValueError, match="--input"):
         msd.init(data)
     assert not (tmp_path / "daq.toml").exists()
+
+
+def test_an_acceleration_given_to_estimate_points_to_fit_records(tmp_path):
+    """Issue 45: a newcomer hands msd.estimate an accelerometer's record; the error says
+    estimate takes a displacement and names the call that fits an acceleration, and that
+    call recovers the rig."""
+    data = tmp_path / "shaker.csv"
+    _shaker_csv(data)
+    rows = [line.replace(",", ".").split(";") for line in data.read_text().splitlines()[4:]]
+    t, force, accel_g = (np.array([float(r[k]) for r in rows]) for k in range(3))
+    accel = accel_g * 9.80665
+    with pytest.raises(msd.IdentificationError, match="fit_records"):
+        msd.estimate(t, force, accel)
+    fit = msd.fit_records({"t": t, "force": force, "acceleration": accel})
+    for q, value in ((fit.mass, M), (fit.damping, C), (fit.stiffness, K)):
+        assert abs(q.value - value) <= 4.0 * q.standard_error, (q, value)

@@ -157,15 +157,23 @@ def estimate(
     IdentificationError
         The data cannot identify the parameters.
     """
-    return Estimate(
-        _msd.estimate(
-            vector("t", t),
-            vector("force", force),
-            vector("displacement", displacement),
-            preset,
-            options_json(_options(options)),
+    try:
+        return Estimate(
+            _msd.estimate(
+                vector("t", t),
+                vector("force", force),
+                vector("displacement", displacement),
+                preset,
+                options_json(_options(options)),
+            )
         )
-    )
+    except IdentificationError as e:
+        raise IdentificationError(
+            f"{e}. msd.estimate fits a displacement in m: if the third array is an "
+            "acceleration or a velocity (an accelerometer, a vibrometer), fit it with "
+            'msd.fit_records({"t": t, "force": force, "acceleration": a}) (or "velocity"); '
+            "a displacement in mm is scaled by 1e-3 first"
+        ) from e
 
 
 def simulate(
