@@ -491,7 +491,7 @@ def test_a_ground_spring_and_a_filter_cutoff_fitted_and_predicted():
         ([0.02, np.inf], r"sensors\[1\] noise σ = inf: expected a finite number > 0"),
         (["0.02", "0.02"], r"noise: expected real numbers"),
         ([[0.02, 0.02]], r"noise: expected a 1-D array"),
-        (None, r"noise: expected a 1-D array of numbers, got None"),
+        (None, r"noise: missing or None \(expected a 1-D array of numbers\)"),
         ([0.02, 1e-310], r"sensors\[1\] noise σ = 1e-310: expected at least 1e-300"),
         ([1e-120, 0.02], r"sensors\[0\] noise σ = 1e-120 beside an RMS reading of .*: expected a signal-to-noise ratio below 1e100"),
     ],

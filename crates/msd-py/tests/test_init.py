@@ -90,3 +90,27 @@ def test_an_acceleration_given_to_estimate_points_to_fit_records(tmp_path):
     fit = msd.fit_records({"t": t, "force": force, "acceleration": accel})
     for q, value in ((fit.mass, M), (fit.damping, C), (fit.stiffness, K)):
         assert abs(q.value - value) <= 4.0 * q.standard_error, (q, value)
+
+
+def test_a_record_without_t_names_the_missing_key_and_its_keys():
+    with pytest.raises(ValueError, match=r"records\[0\]: no key 't'.*'time', 'force'"):
+        msd.fit_records({"time": np.arange(10.0), "force": np.zeros(10), "displacement": np.zeros(10)})
+
+
+def test_the_namespace_shows_the_api_only():
+    names = dir(msd)
+    assert "fit_records" in names and "init" in names
+    for imported in ("Any", "Dict", "np", "os", "rows", "vector"):
+        assert imported not in names
+
+
+def test_the_correlation_of_a_records_fit_is_labelled_and_round_trips():
+    p = msd.paper_data(1)["identification"]
+    fit = msd.fit_records({"t": p["t"], "force": p["force"], "displacement": p["displacement"]})
+    c = fit.correlation
+    assert list(c) == fit.data["identifiable"]
+    assert c["mass"]["mass"] == pytest.approx(1.0)
+    assert c["mass"]["stiffness"] == pytest.approx(c["stiffness"]["mass"], abs=1e-12)
+    d = fit.to_dict()
+    assert d["correlation"]["damping"]["natural_frequency_hz"] == c["damping"]["natural_frequency_hz"]
+    assert type(fit).from_dict(d) == fit

@@ -505,7 +505,12 @@ def fit_records(
         if not isinstance(r, Mapping):
             raise ValueError(f"records[{i}]: expected a dict with 't', the drive and the channels")
         name = str(r.get("name", f"record {i + 1}"))
-        t = vector(f"records[{i}]['t']", r.get("t"))
+        if "t" not in r:
+            keys = ", ".join(repr(k) for k in r)
+            raise ValueError(
+                f"records[{i}]: no key 't' (the uniform time stamps, s); the record's keys are {keys}"
+            )
+        t = vector(f"records[{i}]['t']", r["t"])
         key = "drive" if "drive" in r else "force"
         samples = r.get(key)
         drive_samples = None if samples is None else vector(f"records[{i}][{key!r}]", samples)
@@ -985,3 +990,8 @@ def init(
         bool(overwrite),
     )
     return os.fspath(written)
+
+
+def __dir__() -> List[str]:
+    """The package's public names only (``__all__``), not its imports."""
+    return sorted(__all__)

@@ -12,7 +12,7 @@ import numpy as np
 def vector(name: str, x: Any) -> np.ndarray:
     """`x` as a contiguous 1-D float64 array (ints and float32 converted); ValueError else."""
     if x is None:
-        raise ValueError(f"{name}: expected a 1-D array of numbers, got None")
+        raise ValueError(f"{name}: missing or None (expected a 1-D array of numbers)")
     try:
         a = np.asarray(x)
     except Exception as e:  # ragged lists and the like

@@ -468,6 +468,28 @@ class SetupFit(Result):
 class RecordsFit(SetupFit):
     """`msd.fit_records`'s result: the plant's identifiable quantities with intervals."""
 
+    @property
+    def correlation(self) -> Dict[str, Dict[str, Optional[float]]]:
+        """The estimates' correlation labelled by quantity (``identifiable``'s names):
+        ``fit.correlation["mass"]["stiffness"]``; a known quantity's row is zeros."""
+        names = list(self.data.get("identifiable") or ())
+        rows = self.data.get("correlation") or ()
+        return {a: {b: rows[i][j] for j, b in enumerate(names)} for i, a in enumerate(names)}
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Every field as plain JSON types, the correlation labelled (see `correlation`)."""
+        d = super().to_dict()
+        if "correlation" in d:
+            d["correlation"] = jsonable(self.correlation)
+        return d
+
+    @classmethod
+    def _restore(cls, data: Dict[str, Any]) -> None:
+        labelled = data.get("correlation")
+        if isinstance(labelled, dict):
+            names = list(data.get("identifiable") or ())
+            data["correlation"] = [[labelled[a][b] for b in names] for a in names]
+
     def _interval(self, name: str) -> Optional[Interval]:
         v = self.data.get(name)
         return None if v is None else Interval.from_dict(v)
