@@ -237,7 +237,32 @@ pub fn fit_records<'py>(
         .map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &[])?;
     dict.set_item("summary", fit.to_string())?;
+    add_predictions(py, &dict, &fit, &built)?;
     Ok(dict)
+}
+
+/// Puts each channel's model (`model`: the fitted plant's prediction at every sample,
+/// offset included) and residual (`residual`: measured − model) as arrays into
+/// `dict["records"][i]["channels"][j]`, beside the channel's metrics.
+fn add_predictions(
+    py: Python<'_>,
+    dict: &Bound<'_, PyDict>,
+    fit: &msd_ident::records::RecordsFit,
+    records: &[Record],
+) -> PyResult<()> {
+    let Some(listed) = dict.get_item("records")? else {
+        return Ok(());
+    };
+    for ((entry, fitted), measured) in listed.try_iter()?.zip(&fit.records).zip(records) {
+        let channels = entry?.get_item("channels")?;
+        for ((channel, c), samples) in channels.try_iter()?.zip(&fitted.channels).zip(&measured.channels) {
+            let residual: Vec<f64> = samples.samples.iter().zip(&c.model).map(|(y, m)| y - m).collect();
+            let channel = channel?;
+            channel.set_item("model", PyArray1::from_slice(py, &c.model))?;
+            channel.set_item("residual", PyArray1::from_vec(py, residual))?;
+        }
+    }
+    Ok(())
 }
 
 /// free_decay(t, response, options_json)

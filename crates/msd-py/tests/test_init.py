@@ -114,3 +114,21 @@ def test_the_correlation_of_a_records_fit_is_labelled_and_round_trips():
     d = fit.to_dict()
     assert d["correlation"]["damping"]["natural_frequency_hz"] == c["damping"]["natural_frequency_hz"]
     assert type(fit).from_dict(d) == fit
+
+
+def test_a_records_fit_carries_its_model_and_residuals_and_plots():
+    p = msd.paper_data(1)["identification"]
+    fit = msd.fit_records({"t": p["t"], "force": p["force"], "displacement": p["displacement"]})
+    model, residual = fit.model("displacement"), fit.residual()
+    np.testing.assert_allclose(model + residual, p["displacement"], rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(fit.time(), p["t"])
+    # The model is the plant's noise-free response: its error against the truth is far
+    # below the noise (σ = 2.5 mm), the residual's rms about the noise.
+    assert np.sqrt(np.mean((model - p["true_displacement"]) ** 2)) < 0.1 * 2.5e-3
+    assert abs(np.std(residual) / 2.5e-3 - 1.0) < 0.05
+    with pytest.raises(KeyError, match="'displacement'"):
+        fit.model("acceleration")
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    fig = fit.plot()
+    assert len(fig.axes) == 2 and fig.axes[1].get_ylabel() == "residual [m]"

@@ -528,7 +528,10 @@ def fit_records(
         built.append((name, t, drive_samples, channels))
     opts = _options(options)
     opts["drive"] = drive
-    return RecordsFit(_msd.fit_records(built, options_json(opts)))
+    fit = RecordsFit(_msd.fit_records(built, options_json(opts)))
+    for entry, (_, t, _, _) in zip(fit.data.get("records") or (), built):
+        entry["t"] = t
+    return fit
 
 
 def free_decay(

@@ -468,6 +468,64 @@ class SetupFit(Result):
 class RecordsFit(SetupFit):
     """`msd.fit_records`'s result: the plant's identifiable quantities with intervals."""
 
+    def _channel(self, channel: Optional[str], record: int) -> Dict[str, Any]:
+        records = self.data.get("records") or []
+        if not 0 <= record < len(records):
+            raise IndexError(f"record {record}: the fit has {len(records)} record(s)")
+        channels = records[record]["channels"]
+        if channel is None:
+            return channels[0]
+        for c in channels:
+            if c["channel"] == channel:
+                return c
+        names = ", ".join(repr(c["channel"]) for c in channels)
+        raise KeyError(f"channel {channel!r}: the record's channels are {names}")
+
+    def time(self, record: int = 0) -> np.ndarray:
+        """The time stamps of record `record` (0-based), s."""
+        self._channel(None, record)
+        return np.asarray(self.data["records"][record]["t"], dtype=float)
+
+    def model(self, channel: Optional[str] = None, record: int = 0) -> np.ndarray:
+        """The fitted plant's prediction of `channel` (by name; the first by default) in
+        record `record`, at every sample, offset included, in the channel's SI unit."""
+        return np.asarray(self._channel(channel, record)["model"], dtype=float)
+
+    def residual(self, channel: Optional[str] = None, record: int = 0) -> np.ndarray:
+        """Measured − model for `channel` in record `record` (see `model`)."""
+        return np.asarray(self._channel(channel, record)["residual"], dtype=float)
+
+    def plot(self, record: int = 0, fig: Any = None) -> Any:
+        """Draw record `record`: each channel's measurements (points) under the model
+        (a thin line on top), and the residual below it; returns the matplotlib Figure
+        (matplotlib is an optional dependency: ``pip install matplotlib``)."""
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("RecordsFit.plot needs matplotlib: pip install matplotlib") from e
+        t = self.time(record)
+        channels = self.data["records"][record]["channels"]
+        fig = fig or plt.figure(figsize=(9, 3.2 * len(channels)))
+        axes = fig.subplots(2 * len(channels), 1, sharex=True, squeeze=False)[:, 0]
+        units = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}
+        for k, c in enumerate(channels):
+            model = np.asarray(c["model"], dtype=float)
+            residual = np.asarray(c["residual"], dtype=float)
+            quantity = next((q for q in units if q in c["channel"]), "")
+            unit = units.get(quantity, "SI")
+            top, bottom = axes[2 * k], axes[2 * k + 1]
+            top.plot(t, model + residual, ".", ms=2, color="tab:blue", label="measured")
+            top.plot(t, model, "-", lw=0.8, color="tab:red", label="model")
+            top.set_ylabel(f"{c['channel']} [{unit}]")
+            top.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")  # beside the data
+            top.set_title(f"{self.data['records'][record]['name']}: {c['channel']}, "
+                          f"fit {c['fit']['fit_percent']:.1f} %")
+            bottom.plot(t, residual, "-", lw=0.6, color="tab:gray")
+            bottom.set_ylabel(f"residual [{unit}]")
+        axes[-1].set_xlabel("time t [s]")
+        fig.tight_layout()
+        return fig
+
     @property
     def correlation(self) -> Dict[str, Dict[str, Optional[float]]]:
         """The estimates' correlation labelled by quantity (``identifiable``'s names):
