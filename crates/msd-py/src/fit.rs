@@ -255,8 +255,17 @@ fn add_predictions(
     };
     for ((entry, fitted), measured) in listed.try_iter()?.zip(&fit.records).zip(records) {
         let channels = entry?.get_item("channels")?;
-        for ((channel, c), samples) in channels.try_iter()?.zip(&fitted.channels).zip(&measured.channels) {
-            let residual: Vec<f64> = samples.samples.iter().zip(&c.model).map(|(y, m)| y - m).collect();
+        for ((channel, c), samples) in channels
+            .try_iter()?
+            .zip(&fitted.channels)
+            .zip(&measured.channels)
+        {
+            let residual: Vec<f64> = samples
+                .samples
+                .iter()
+                .zip(&c.model)
+                .map(|(y, m)| y - m)
+                .collect();
             let channel = channel?;
             channel.set_item("model", PyArray1::from_slice(py, &c.model))?;
             channel.set_item("residual", PyArray1::from_vec(py, residual))?;
