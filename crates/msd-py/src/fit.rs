@@ -123,6 +123,58 @@ pub fn simulate<'py>(
     Ok(array(py, out))
 }
 
+/// simulate_motion(mass, damping, stiffness, t, force, x0, v0)
+/// --
+///
+/// The plant's displacement, velocity and acceleration on the sampled force (msd-ident's
+/// exact simulator with a cubic hold: `records::simulate_response`), as a dict.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_motion<'py>(
+    py: Python<'py>,
+    mass: f64,
+    damping: f64,
+    stiffness: f64,
+    t: PyReadonlyArray1<'py, f64>,
+    force: PyReadonlyArray1<'py, f64>,
+    x0: f64,
+    v0: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    use msd_ident::{Drive, Frame, ResponseQuantity};
+    let parameters = Parameters::new(mass, damping, stiffness).map_err(errors::ident)?;
+    if !(x0.is_finite() && v0.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "initial_state = ({x0}, {v0}): expected finite numbers"
+        )));
+    }
+    let initial = InitialState {
+        displacement: x0,
+        velocity: v0,
+    };
+    let input = excitation("simulate", &vec_f64(&t), vec_f64(&force))?;
+    let out = PyDict::new(py);
+    for (name, quantity) in [
+        ("displacement", ResponseQuantity::Displacement),
+        ("velocity", ResponseQuantity::Velocity),
+        ("acceleration", ResponseQuantity::Acceleration),
+    ] {
+        let series = py
+            .detach(|| {
+                msd_ident::records::simulate_response(
+                    &parameters,
+                    Drive::Force,
+                    &input,
+                    initial,
+                    quantity,
+                    Frame::Absolute,
+                )
+            })
+            .map_err(errors::ident)?;
+        out.set_item(name, array(py, series))?;
+    }
+    Ok(out)
+}
+
 /// validate(mass, damping, stiffness, t, force, displacement, options_json)
 /// --
 ///

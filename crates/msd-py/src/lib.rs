@@ -29,6 +29,7 @@ fn _msd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(fit::estimate, m)?)?;
     m.add_function(wrap_pyfunction!(fit::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::simulate_motion, m)?)?;
     m.add_function(wrap_pyfunction!(fit::validate, m)?)?;
     m.add_function(wrap_pyfunction!(fit::paper_data, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_records, m)?)?;

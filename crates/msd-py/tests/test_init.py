@@ -132,3 +132,24 @@ def test_a_records_fit_carries_its_model_and_residuals_and_plots():
     matplotlib.use("Agg")
     fig = fit.plot()
     assert len(fig.axes) == 2 and fig.axes[1].get_ylabel() == "residual [m]"
+
+
+def test_simulate_gives_every_quantity():
+    """The velocity and acceleration of the exact simulator against the displacement's
+    own: the acceleration is the equation of motion's value, (F - c v - k x) / m, and the
+    velocity integrates to the displacement (within the trapezoid rule's error bound)."""
+    t = np.arange(0.0, 4.0, 1e-3)
+    force = np.sin(2 * np.pi * 1.3 * t) + 0.5 * np.sin(2 * np.pi * 5.1 * t)
+    plant = (1.7, 3.1, 950.0)
+    motion = msd.simulate(plant, t, force, quantity="all")
+    x, v, a = motion["displacement"], motion["velocity"], motion["acceleration"]
+    np.testing.assert_allclose(x, msd.simulate(plant, t, force), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a, (force - 3.1 * v - 950.0 * x) / 1.7, rtol=0, atol=1e-9)
+    integrated = np.concatenate(([0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * 1e-3)))
+    jerk = np.max(np.abs(np.diff(a))) / 1e-3
+    # The trapezoid rule's global error bound, (T / 12)·dt²·max|v″|, with 10 % for the
+    # jerk's estimate from differences.
+    assert np.max(np.abs(integrated - x)) <= 1.1 * t[-1] / 12 * 1e-3 ** 2 * jerk
+    np.testing.assert_array_equal(msd.simulate(plant, t, force, quantity="velocity"), v)
+    with pytest.raises(ValueError, match="quantity = 'jerk'"):
+        msd.simulate(plant, t, force, quantity="jerk")

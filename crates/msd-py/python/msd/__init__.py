@@ -183,8 +183,13 @@ def simulate(
     *,
     initial_state: Sequence[float] = (0.0, 0.0),
     backend: Union[str, Dict[str, Any]] = "exact",
-) -> np.ndarray:
+    quantity: str = "displacement",
+) -> Any:
     """Simulate the displacement of `plant` under the sampled `force` on the uniform grid `t`.
+
+    `quantity`: "displacement" (m, the default), "velocity" (m/s), "acceleration" (m/s²),
+    or "all" for a dict of the three arrays; velocity and acceleration come from the
+    exact simulator (cubic hold), the acceleration being the equation of motion's value.
 
     `plant` is a ``msd.Plant(mass, damping, stiffness)``, a dict with those keys or a
     3-sequence. `initial_state` is (x(t0), x'(t0)). `backend` is "exact" (the exact
@@ -198,6 +203,14 @@ def simulate(
         x0, v0 = (float(v) for v in initial_state)
     except (TypeError, ValueError):
         raise ValueError(f"initial_state: expected (displacement, velocity), got {initial_state!r}") from None
+    if quantity != "displacement":
+        kinds = ("displacement", "velocity", "acceleration", "all")
+        if quantity not in kinds:
+            raise ValueError(f"quantity = {quantity!r}: expected one of {', '.join(map(repr, kinds))}")
+        if backend != "exact":
+            raise ValueError(f"quantity = {quantity!r}: the velocity and acceleration come from the exact simulator (backend = 'exact')")
+        motion = _msd.simulate_motion(p.mass, p.damping, p.stiffness, vector("t", t), vector("force", force), x0, v0)
+        return motion if quantity == "all" else motion[quantity]
     return _msd.simulate(
         p.mass, p.damping, p.stiffness, vector("t", t), vector("force", force), x0, v0,
         value_json("backend", backend),

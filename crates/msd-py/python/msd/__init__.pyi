@@ -263,7 +263,8 @@ def simulate(
     *,
     initial_state: Sequence[float] = ...,
     backend: Union[str, Dict[str, Any]] = ...,
-) -> _F64: ...
+    quantity: str = ...,
+) -> Any: ...
 def validate(plant: PlantLike, t: _ArrayLike, force: _ArrayLike, displacement: _ArrayLike, **options: Any) -> Validation: ...
 def frf(
     t: _ArrayLike,

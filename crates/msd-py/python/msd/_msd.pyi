@@ -8,7 +8,7 @@ import numpy.typing as npt
 __version__: str
 __all__ = [
     "IdentificationError", "__version__", "design", "dynamometer", "estimate", "fit_chain", "fit_records",
-    "free_decay", "frf", "init", "inspect", "inverse_dynamics", "modal_fit", "oma", "oma_setups", "one_mode_fit", "paper_data", "plan", "predict_chain", "read_file", "run", "simulate",
+    "free_decay", "frf", "init", "inspect", "inverse_dynamics", "modal_fit", "oma", "oma_setups", "one_mode_fit", "paper_data", "plan", "predict_chain", "read_file", "run", "simulate", "simulate_motion",
     "simulate_chain", "uff_read", "uff_write", "validate",
 ]
 
@@ -22,6 +22,7 @@ def estimate(t: _F64, force: _F64, displacement: _F64, preset: str, options_json
 def simulate(
     mass: float, damping: float, stiffness: float, t: _F64, force: _F64, x0: float, v0: float, backend_json: str
 ) -> _F64: ...
+def simulate_motion(mass: float, damping: float, stiffness: float, t: _F64, force: _F64, x0: float, v0: float) -> Dict[str, _F64]: ...
 def validate(
     mass: float, damping: float, stiffness: float, t: _F64, force: _F64, displacement: _F64, options_json: str
 ) -> Dict[str, Any]: ...
