@@ -39,7 +39,7 @@
 //!     frequency::{frequency_check, FrequencyCheckOptions},
 //! };
 //!
-//! // The paper's experiment (shared/paper-experiment.md) with noise seed 1.
+//! // The paper's experiment (docs/paper-experiment.md) with noise seed 1.
 //! let experiment = PaperExperiment::generate(1)?;
 //!
 //! // The fast method from the paper's initial guess θ0 = (2, 1, 100).

@@ -123,7 +123,7 @@ pub fn synthetic_data(
     Ok((options.data_set(excitation, truth.clone())?, truth))
 }
 
-/// The paper experiment (shared/paper-experiment.md) for one seed: identification and
+/// The paper experiment (docs/paper-experiment.md) for one seed: identification and
 /// validation data sets with their noise-free responses.
 #[derive(Debug, Clone)]
 pub struct PaperExperiment {

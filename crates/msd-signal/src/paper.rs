@@ -1,4 +1,4 @@
-//! The two inputs of the paper experiment (`shared/paper-experiment.md`), exactly.
+//! The two inputs of the paper experiment (`docs/paper-experiment.md`), exactly.
 //!
 //! Identification: F_id(t) = 6·H(t − 0.5) + 3·sin(2π·0.5·t) for 3 ≤ t < 9
 //! + 2.5·sin(2π·1.4·t) for 9 ≤ t (the grid ends at 15 s).

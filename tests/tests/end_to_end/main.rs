@@ -4,6 +4,7 @@
 mod bad_input;
 mod chain_experiment;
 mod determinism;
+mod docs;
 mod emps;
 mod experiment;
 mod faults;

@@ -107,7 +107,7 @@ impl Plant {
     }
 }
 
-/// The paper's identification input (shared/paper-experiment.md), right-continuous.
+/// The paper's identification input (docs/paper-experiment.md), right-continuous.
 pub fn paper_input(t: f64) -> f64 {
     use std::f64::consts::PI;
     let step = if t >= 0.5 { 6.0 } else { 0.0 };
