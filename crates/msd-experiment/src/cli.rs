@@ -24,7 +24,18 @@ use std::process::ExitCode;
 pub const RUN_HELP: &str = "\
 Run an experiment config end to end and write its results.
 
-Stages: generate (synthetic) or load (measured CSV) data; estimate m, c, k; validate on \
+A config is of one kind, chosen by its sections (docs/guides/ has a guide per kind):
+  (none of those below)   the paper's workflow: a force and a displacement, described below
+  [setup]                 a lab setup: a force, a shaker table (base excitation), a ring-down \
+(free decay), repeats, a damper test machine; any displacement, velocity and acceleration \
+channels
+  [frequency_response]    frequency responses: one mode or several, sets of FRFs with shapes \
+(hammer or shaker records, analyser tables, UFF files)
+  [chain]                 a chain of masses: every m, c, k, sensor delays and filters, the modes
+  [operational]           output-only modal analysis (no measured input): SSI-cov, SSI-dat, EFDD
+Start from your own data file with `msd init FILE`, which writes a config of the right kind.
+
+The paper's workflow: generate (synthetic) or load (measured CSV) data; estimate m, c, k; validate on \
 fresh data; residual diagnostics (autocorrelation, Ljung–Box, residual–input \
 cross-correlation); frequency-consistency check (H1 estimate vs the model); Monte Carlo \
 band on the validation input; with a [nonlinear] section, nonlinear models (Coulomb or \

@@ -151,6 +151,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_run_help_names_every_kind() {
+        // One section per kind that is not the paper's (ExperimentKind::of's rule).
+        for section in [
+            "[setup]",
+            "[frequency_response]",
+            "[chain]",
+            "[operational]",
+        ] {
+            assert!(crate::cli::RUN_HELP.contains(section), "{section}");
+        }
+        assert!(crate::cli::RUN_HELP.contains("msd init FILE"));
+    }
+
+    #[test]
     fn each_shipped_kind_is_recognised() {
         let kind = |name: &str| {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
