@@ -55,18 +55,32 @@ pub(crate) fn page(markdown: &str, title: &str, svg: impl Fn(&str) -> Option<Str
 }
 
 /// The report's events with every paragraph that holds only a figure replaced by a
-/// `<figure>` with the SVG inline and the alt text as caption; tables wrapped so that a
-/// wide one scrolls instead of widening the page.
+/// `<figure>` with the SVG inline; its caption is the paragraph after it when that is one
+/// emphasised sentence (the report's caption, then shown once), else the alt text. Tables
+/// are wrapped so that a wide one scrolls instead of widening the page.
 fn inline_figures<'a>(markdown: &'a str, svg: &impl Fn(&str) -> Option<String>) -> Vec<Event<'a>> {
     let mut out = Vec::new();
     let mut paragraph: Option<Vec<Event<'a>>> = None;
+    // A figure waiting for its caption: its drawing and its alt text.
+    let mut pending: Option<(String, String)> = None;
+    let flush = |out: &mut Vec<Event<'a>>, pending: &mut Option<(String, String)>| {
+        if let Some((drawing, alt)) = pending.take() {
+            out.push(Event::Html(figure_html(&drawing, &escape(&alt)).into()));
+        }
+    };
     for event in Parser::new_ext(markdown, Options::ENABLE_TABLES) {
         match event {
             Event::Start(Tag::Paragraph) => paragraph = Some(Vec::new()),
             Event::End(TagEnd::Paragraph) => {
                 let events = paragraph.take().unwrap_or_default();
+                if let (Some((drawing, _)), Some(caption)) = (&pending, emphasised(&events)) {
+                    out.push(Event::Html(figure_html(drawing, &caption).into()));
+                    pending = None;
+                    continue;
+                }
+                flush(&mut out, &mut pending);
                 match figure(&events, svg) {
-                    Some(html) => out.push(Event::Html(html.into())),
+                    Some(found) => pending = Some(found),
                     None => {
                         out.push(Event::Start(Tag::Paragraph));
                         out.extend(events);
@@ -75,6 +89,7 @@ fn inline_figures<'a>(markdown: &'a str, svg: &impl Fn(&str) -> Option<String>) 
                 }
             }
             Event::Start(Tag::Table(_)) => {
+                flush(&mut out, &mut pending);
                 out.push(Event::Html("<div class=\"table\">".into()));
                 out.push(event);
             }
@@ -84,15 +99,47 @@ fn inline_figures<'a>(markdown: &'a str, svg: &impl Fn(&str) -> Option<String>) 
             }
             other => match &mut paragraph {
                 Some(events) => events.push(other),
-                None => out.push(other),
+                None => {
+                    flush(&mut out, &mut pending);
+                    out.push(other);
+                }
             },
         }
     }
+    flush(&mut out, &mut pending);
     out
 }
 
-/// The `<figure>` of a paragraph that is one image with an SVG twin, else `None`.
-fn figure(events: &[Event<'_>], svg: &impl Fn(&str) -> Option<String>) -> Option<String> {
+/// The HTML of a paragraph that is one emphasised run (a figure's caption), else `None`.
+fn emphasised(events: &[Event<'_>]) -> Option<String> {
+    let (Some(Event::Start(Tag::Emphasis)), Some(Event::End(TagEnd::Emphasis))) =
+        (events.first(), events.last())
+    else {
+        return None;
+    };
+    let inner = &events[1..events.len() - 1];
+    if inner
+        .iter()
+        .any(|e| matches!(e, Event::End(TagEnd::Emphasis)))
+    {
+        return None; // two emphasised runs with text between: not one caption
+    }
+    let mut html_text = String::new();
+    html::push_html(&mut html_text, inner.iter().cloned());
+    Some(html_text)
+}
+
+/// A `<figure>` of `drawing` (inline SVG) with the caption's HTML.
+fn figure_html(drawing: &str, caption: &str) -> String {
+    format!(
+        "<figure>\n{}\n<figcaption>{caption}</figcaption>\n</figure>\n",
+        drawing.trim_end()
+    )
+}
+
+/// The inline SVG (labelled by the alt text) and the alt text of a paragraph that is one
+/// image with an SVG twin, else `None`.
+fn figure(events: &[Event<'_>], svg: &impl Fn(&str) -> Option<String>) -> Option<(String, String)> {
     let (Some(Event::Start(Tag::Image { dest_url, .. })), Some(Event::End(TagEnd::Image))) =
         (events.first(), events.last())
     else {
@@ -112,11 +159,7 @@ fn figure(events: &[Event<'_>], svg: &impl Fn(&str) -> Option<String>) -> Option
         &format!("<svg role=\"img\" aria-label=\"{}\"", escape(&caption)),
         1,
     );
-    Some(format!(
-        "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
-        drawing.trim_end(),
-        escape(&caption)
-    ))
+    Some((drawing, caption))
 }
 
 /// `text` with HTML's special characters escaped.
@@ -187,4 +230,48 @@ pub(crate) fn write_pages(
         std::fs::read_to_string(staging.path().join(format!("{name}.svg"))).ok()
     };
     staging.write("report.html", page(markdown, title, svg).as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn svg(name: &str) -> Option<String> {
+        (name == "fig.png").then(|| "<svg width=\"10\"></svg>".to_string())
+    }
+
+    #[test]
+    fn a_figure_is_captioned_once_by_the_reports_caption() {
+        let html = page(
+            "![alt text](fig.png)\n\n*Figure 1 — the fit, `x` in mm.*\n\nNext.\n",
+            "t",
+            svg,
+        );
+        assert_eq!(html.matches("<figcaption>").count(), 1, "{html}");
+        assert!(
+            html.contains("<figcaption>Figure 1 — the fit, <code>x</code> in mm.</figcaption>"),
+            "{html}"
+        );
+        assert!(
+            !html.contains("<em>Figure 1"),
+            "the caption is shown twice: {html}"
+        );
+        assert!(html.contains("<p>Next.</p>"));
+    }
+
+    #[test]
+    fn a_figure_without_a_caption_keeps_its_alt_text_and_the_next_paragraph() {
+        let html = page(
+            "![alt text](fig.png)\n\nA paragraph, *partly* emphasised.\n",
+            "t",
+            svg,
+        );
+        assert!(html.contains("<figcaption>alt text</figcaption>"), "{html}");
+        assert!(
+            html.contains("<p>A paragraph, <em>partly</em> emphasised.</p>"),
+            "{html}"
+        );
+        let last = page("text\n\n![alt text](fig.png)\n", "t", svg);
+        assert!(last.contains("<figcaption>alt text</figcaption>"), "{last}");
+    }
 }

@@ -224,6 +224,10 @@ struct BodeCurves {
     magnitude_range: (f64, f64),
 }
 
+/// How far (a factor) the magnitude axis reaches past the band's data and the model to
+/// show out-of-band data.
+const OUT_OF_BAND_DECADES: f64 = 100.0;
+
 impl BodeCurves {
     fn new(c: &FrequencyCheck, p: &msd_ident::Parameters) -> std::result::Result<Self, String> {
         let keep: Vec<usize> = (0..c.frequency_hz.len())
@@ -263,12 +267,19 @@ impl BodeCurves {
             .zip(&data_magnitude)
             .filter(|(fi, _)| **fi >= b0 && **fi <= b1)
             .map(|(_, v)| v);
-        let magnitude_range = model_magnitude
-            .iter()
-            .chain(in_band)
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
+        let span = |values: &mut dyn Iterator<Item = &f64>| {
+            values.fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
                 (lo.min(v), hi.max(v))
-            });
+            })
+        };
+        let (lo, hi) = span(&mut model_magnitude.iter().chain(in_band));
+        // Out-of-band data shown too, within two decades of the band's range: past that it
+        // is the noise of lines without input power, drawn as a gap at the axis' edge.
+        let (all_lo, all_hi) = span(&mut data_magnitude.iter());
+        let magnitude_range = (
+            lo.min(all_lo.max(lo / OUT_OF_BAND_DECADES)),
+            hi.max(all_hi.min(hi * OUT_OF_BAND_DECADES)),
+        );
         Ok(Self {
             f,
             data_magnitude,
@@ -333,13 +344,20 @@ impl Bode<'_> {
             .map_err(text)?
             .label("band of the single-mode fit")
             .legend(move |(x, y)| Rectangle::new([(x, y - 7), (x + 24, y + 7)], band.filled()));
-        // Clamped to the axis: a line leaving the plot area would be drawn past it.
-        let clamped: Vec<f64> = curves
+        // Beyond the axis a line would be drawn past the plot area: a gap there instead
+        // (never a flat line at the edge, which would read as data).
+        let inside: Vec<f64> = curves
             .data_magnitude
             .iter()
-            .map(|v| v.clamp(mlo * 0.7, mhi * 1.5))
+            .map(|&v| {
+                if (mlo * 0.7..=mhi * 1.5).contains(&v) {
+                    v
+                } else {
+                    f64::NAN
+                }
+            })
             .collect();
-        draw_data(&mut chart, f, &clamped, [b0, b1], true)?;
+        draw_data(&mut chart, f, &inside, [b0, b1], true)?;
         chart
             .draw_series(LineSeries::new(
                 curves
@@ -441,17 +459,25 @@ fn draw_data<DB: DrawingBackend, Y: Ranged<ValueType = f64>>(
     legend: bool,
 ) -> Draw {
     let inside = |fi: f64| fi >= b0 && fi <= b1;
+    // Runs of one kind (in the band or not), joined to the previous run; a value that is
+    // not finite (off the axis) ends a run without joining.
     let mut runs: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
+    let mut broken = false;
     for (&fi, &vi) in f.iter().zip(v) {
+        if !vi.is_finite() {
+            broken = true;
+            continue;
+        }
         let flag = inside(fi);
         match runs.last_mut() {
-            Some((g, points)) if *g == flag => points.push((fi, vi)),
-            Some((_, points)) => {
+            Some((g, points)) if *g == flag && !broken => points.push((fi, vi)),
+            Some((_, points)) if !broken => {
                 let last = *points.last().unwrap_or(&(fi, vi));
                 runs.push((flag, vec![last, (fi, vi)]));
             }
-            None => runs.push((flag, vec![(fi, vi)])),
+            _ => runs.push((flag, vec![(fi, vi)])),
         }
+        broken = false;
     }
     let (mut labelled_in, mut labelled_out) = (!legend, !legend);
     for (flag, points) in runs {
