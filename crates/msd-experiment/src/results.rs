@@ -98,22 +98,20 @@ pub(crate) fn timings_ms(
     timings
 }
 
-/// The head of a run's report: its name, its description, and how it was run.
+/// The head of a run's report: its name, its description, and how it was run (with the
+/// seed when the run draws random numbers: synthetic data, a Monte Carlo band).
 pub(crate) fn report_head(
     s: &mut String,
     config: &crate::config::Config,
     command: &str,
     config_path: &std::path::Path,
-    seed: u64,
+    seed: Option<u64>,
 ) -> std::fmt::Result {
     use std::fmt::Write;
     writeln!(s, "# {}\n", config.name)?;
     if !config.description.is_empty() {
         writeln!(s, "{}\n", config.description)?;
     }
-    writeln!(
-        s,
-        "Run with `{command} {}` (seed {seed}).\n",
-        config_path.display()
-    )
+    let seed = seed.map_or(String::new(), |seed| format!(" (seed {seed})"));
+    writeln!(s, "Run with `{command} {}`{seed}.\n", config_path.display())
 }

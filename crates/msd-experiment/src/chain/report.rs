@@ -82,7 +82,7 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     let Some(chain) = o.config.chain.as_ref() else {
         return Ok(());
     };
-    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
+    crate::results::report_head(s, &o.config, &o.command, &o.config_path, Some(o.seed))?;
     crate::verdict::section(s, &o.verdict)?;
     writeln!(s, "## Chain\n")?;
     writeln!(

@@ -14,7 +14,15 @@ pub(crate) fn markdown(o: &OperationalOutcome, figures: &[&str]) -> String {
 }
 
 fn page(s: &mut String, o: &OperationalOutcome, figures: &[&str]) -> std::fmt::Result {
-    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
+    let simulated =
+        (o.config.operational.as_ref()).is_some_and(|section| section.simulate.is_some());
+    crate::results::report_head(
+        s,
+        &o.config,
+        &o.command,
+        &o.config_path,
+        simulated.then_some(o.seed),
+    )?;
     crate::verdict::section(s, &o.verdict)?;
     record(s, o)?;
     modes(s, o)?;

@@ -16,7 +16,7 @@ use std::path::Path;
 use std::time::Duration;
 
 fn page(s: &mut String, o: &SeriesOutcome, figures: &[&str]) -> std::fmt::Result {
-    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.config.seed)?;
+    crate::results::report_head(s, &o.config, &o.command, &o.config_path, None)?;
     crate::verdict::section(s, &o.verdict)?;
     writeln!(s, "## Records\n")?;
     writeln!(

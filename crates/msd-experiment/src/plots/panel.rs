@@ -98,12 +98,19 @@ impl<'a> Panel<'a> {
             .iter()
             .flat_map(|b| [b.lower.as_slice(), b.upper.as_slice()])
             .collect();
-        let (lo, hi) = limits(
+        let limits = limits(
             self.curves
                 .iter()
                 .map(|c| c.y.as_slice())
                 .chain(band_series),
         );
+        let (legend, (lo, hi)) = match self.legend.clone() {
+            Some(preferred) => {
+                let (position, limits) = self.legend_place(area.dim_in_pixel(), limits, preferred);
+                (Some(position), limits)
+            }
+            None => (None, limits),
+        };
         let mut chart = ChartBuilder::on(area)
             .caption(&self.title, title_style())
             .margin(14)
@@ -188,10 +195,87 @@ impl<'a> Panel<'a> {
                 }
             }
         }
-        if let Some(position) = self.legend.clone() {
+        if let Some(position) = legend {
             draw_legend(&mut chart, position)?;
         }
         Ok(())
+    }
+
+    /// Where the legend covers no data, and the y-limits that make room for it: the
+    /// `preferred` corner when it is clear, else the clearest corner with no point under
+    /// it, else the upper right with the axis raised above the data by the legend's
+    /// height (a legend never hides data). `area` is the panel's size in pixels.
+    fn legend_place(
+        &self,
+        (width, height): (u32, u32),
+        (lo, hi): (f64, f64),
+        preferred: SeriesLabelPosition,
+    ) -> (SeriesLabelPosition, (f64, f64)) {
+        let labels: Vec<&str> = (self.band.iter().map(|b| b.label.as_str()))
+            .chain(self.curves.iter().map(|c| c.label.as_str()))
+            .filter(|l| !l.is_empty())
+            .collect();
+        let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+        // The plot area and the legend box (its margin included), in pixels, as the
+        // chart above lays them out (label areas, margins, the caption's line).
+        let plot_w = f64::from(width.saturating_sub(86 + 28 + 28)).max(1.0);
+        let plot_h = f64::from(height.saturating_sub(52 + 28 + 34)).max(1.0);
+        let box_w = (12.0 + 34.0 + 9.0 * longest as f64 + 24.0) / plot_w;
+        let box_h = (22.0 * labels.len() as f64 + 14.0 + 12.0) / plot_h;
+        if labels.is_empty() || box_w >= 1.0 || box_h >= 0.6 {
+            return (preferred, (lo, hi));
+        }
+        let (x0, x1) = self.x_range;
+        let covered = |right: bool, upper: bool| {
+            let (xa, xb) = if right {
+                (x1 - box_w * (x1 - x0), x1)
+            } else {
+                (x0, x0 + box_w * (x1 - x0))
+            };
+            let (ya, yb) = if upper {
+                (hi - box_h * (hi - lo), hi)
+            } else {
+                (lo, lo + box_h * (hi - lo))
+            };
+            let inside = |x: f64, y: f64| (xa..=xb).contains(&x) && (ya..=yb).contains(&y);
+            let bands = self.band.iter().flat_map(|b| {
+                let rows = b.x.iter().zip(b.lower.iter().zip(&b.upper));
+                rows.filter(move |(x, (l, u))| {
+                    inside(**x, **l)
+                        || inside(**x, **u)
+                        || ((xa..=xb).contains(*x) && **l <= ya && **u >= yb)
+                })
+            });
+            let points = self
+                .curves
+                .iter()
+                .flat_map(|c| c.x.iter().zip(&c.y))
+                .filter(|(x, y)| inside(**x, **y));
+            points.count() + bands.count()
+        };
+        use SeriesLabelPosition::{LowerLeft, LowerRight, UpperLeft, UpperRight};
+        let corner = |p: &SeriesLabelPosition| match p {
+            UpperRight => Some((true, true)),
+            UpperLeft => Some((false, true)),
+            LowerRight => Some((true, false)),
+            LowerLeft => Some((false, false)),
+            _ => None,
+        };
+        let order = [
+            preferred.clone(),
+            UpperRight,
+            UpperLeft,
+            LowerRight,
+            LowerLeft,
+        ];
+        if let Some(clear) = order
+            .into_iter()
+            .find(|p| corner(p).is_some_and(|(right, upper)| covered(right, upper) == 0))
+        {
+            return (clear, (lo, hi));
+        }
+        // Room above the data: the legend's height is a share box_h of the new range.
+        (UpperRight, (lo, hi + box_h * (hi - lo) / (1.0 - box_h)))
     }
 }
 
@@ -256,5 +340,58 @@ impl Figure for Stack<'_> {
             panel.draw(part)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn panel<'a>(x: &'a [f64], y: Vec<f64>) -> Panel<'a> {
+        Panel {
+            title: String::new(),
+            x_desc: String::new(),
+            y_desc: String::new(),
+            x_range: (x[0], x[x.len() - 1]),
+            curves: vec![Curve {
+                label: "measured".into(),
+                x,
+                y,
+                style: Style::Points(super::super::BLUE, 2),
+            }],
+            band: None,
+            legend: Some(SeriesLabelPosition::UpperRight),
+        }
+    }
+
+    #[test]
+    fn the_legend_goes_where_no_data_is() {
+        let x: Vec<f64> = (0..1000).map(|i| i as f64 / 100.0).collect();
+        // A rising ramp: its upper right is full, its upper left empty.
+        let p = panel(&x, x.clone());
+        let (position, limits) =
+            p.legend_place((1400, 420), (0.0, 10.0), SeriesLabelPosition::UpperRight);
+        assert!(
+            matches!(position, SeriesLabelPosition::UpperLeft),
+            "{position:?}"
+        );
+        assert_eq!(limits, (0.0, 10.0));
+        // Noise over the whole panel: no corner is clear, the axis rises above the data.
+        let y: Vec<f64> = (0..1000)
+            .map(|i| ((i * 7919) % 1000) as f64 / 100.0)
+            .collect();
+        let p = panel(&x, y);
+        let (position, (lo, hi)) =
+            p.legend_place((1400, 420), (0.0, 10.0), SeriesLabelPosition::UpperRight);
+        assert!(
+            matches!(position, SeriesLabelPosition::UpperRight),
+            "{position:?}"
+        );
+        assert_eq!(lo, 0.0);
+        assert!(hi > 10.0);
+        // With the raised axis the upper right holds no point.
+        let (again, limits) =
+            p.legend_place((1400, 420), (lo, hi), SeriesLabelPosition::UpperRight);
+        assert!(matches!(again, SeriesLabelPosition::UpperRight) && limits == (lo, hi));
     }
 }

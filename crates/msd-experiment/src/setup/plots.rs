@@ -79,7 +79,8 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
                     label: "model".into(),
                     x: time,
                     y: model.to_vec(),
-                    style: Style::Line(RED, 2),
+                    // Thin, so that the measured points stay visible under it.
+                    style: Style::Line(RED, 1),
                 },
             ],
             band: None,

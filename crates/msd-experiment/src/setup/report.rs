@@ -136,7 +136,13 @@ pub(crate) fn markdown(o: &SetupOutcome, figures: &[&str]) -> String {
 }
 
 fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result {
-    crate::results::report_head(s, &o.config, &o.command, &o.config_path, o.seed)?;
+    crate::results::report_head(
+        s,
+        &o.config,
+        &o.command,
+        &o.config_path,
+        o.data.files.is_empty().then_some(o.seed),
+    )?;
     crate::verdict::section(s, &o.verdict)?;
     setup_section(s, o)?;
     estimate_section(s, o)?;
@@ -154,7 +160,8 @@ fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result 
     }
     writeln!(s, "## Figures\n")?;
     for f in figures {
-        writeln!(s, "![{f}]({f}.png)\n")?;
+        let (alt, caption) = figure_caption(f);
+        writeln!(s, "![{alt}]({f}.png)\n\n*{caption}*\n")?;
     }
     writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
     for (name, d) in &o.timings {
@@ -183,26 +190,28 @@ fn setup_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
     if let Some(k) = setup.known_stiffness {
         writeln!(s, "Known static stiffness: {} N/m.", sig(k, 6))?;
     }
+    let synthetic = o.data.files.is_empty();
     writeln!(
         s,
-        "\n| channel | quantity | frame | unit | noise σ (synthetic) |\n|---|---|---|---|---|"
+        "\n| channel | quantity | frame | unit |{}\n|---|---|---|---|{}",
+        if synthetic { " noise σ added |" } else { "" },
+        if synthetic { "---|" } else { "" }
     )?;
     let default_sigma = o.config.noise.map(|n| n.sigma);
     for c in &o.data.channels {
-        let sigma = if o.data.files.is_empty() {
-            c.sigma.or(default_sigma).map_or("—".into(), |v| sig(v, 4))
-        } else {
-            "—".into()
-        };
-        writeln!(
+        write!(
             s,
-            "| {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} |",
             c.channel_name(),
             c.quantity.name(),
             c.frame.name(),
             c.unit.as_deref().unwrap_or(c.quantity.unit()),
-            sigma
         )?;
+        if synthetic {
+            let sigma = c.sigma.or(default_sigma).map_or("—".into(), |v| sig(v, 4));
+            write!(s, " {sigma} |")?;
+        }
+        s.push('\n');
     }
     s.push('\n');
     Ok(())
@@ -211,8 +220,8 @@ fn setup_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
 fn estimate_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
     writeln!(s, "## Estimate\n")?;
     let rows = estimates(o);
-    let names: Vec<&str> = rows.iter().map(|r| r.0).collect();
-    writeln!(s, "The setup identifies: {}.\n", names.join(", "))?;
+    let names: Vec<&str> = rows.iter().map(|r| quantity_name(r.0)).collect();
+    writeln!(s, "The setup identifies the {}.\n", names.join(", "))?;
     if let Some(note) = identifiability_note(o) {
         writeln!(s, "**Not identifiable:** {note}\n")?;
     }
@@ -254,6 +263,44 @@ fn estimate_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
     Ok(())
 }
 
+/// A figure's alt text and caption, as sentences.
+fn figure_caption(name: &str) -> (&'static str, &'static str) {
+    match name {
+        "setup_fit" => (
+            "The fit of the first record",
+            "The first record: the drive, then each channel measured (blue points) and as the fitted plant predicts it (red line).",
+        ),
+        "setup_loops" => (
+            "Force–displacement loops",
+            "Each condition's force against the imposed displacement: measured and as the best damping law predicts it.",
+        ),
+        "setup_force_velocity" => (
+            "Force against velocity",
+            "The damping force against the velocity over every condition: measured and the fitted laws.",
+        ),
+        "setup_stroke_force" => (
+            "Force under the stroke",
+            "The measured force under the imposed stroke and as the identified model predicts it, on fresh data.",
+        ),
+        _ => ("Figure", "Figure."),
+    }
+}
+
+/// A result key in words: `natural_frequency_hz` → "natural frequency fn".
+fn quantity_name(key: &str) -> &str {
+    match key {
+        "mass" => "mass m",
+        "damping" => "damping c",
+        "stiffness" => "stiffness k",
+        "natural_frequency_hz" => "natural frequency fn",
+        "damping_ratio" => "damping ratio ζ",
+        "quadratic_damping" => "quadratic damping c₂",
+        "coulomb_force" => "Coulomb force F_c",
+        "force_offset" => "force offset",
+        other => other,
+    }
+}
+
 fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
     writeln!(
         s,
@@ -268,7 +315,7 @@ fn records_section(s: &mut String, fit: &RecordsFit) -> std::fmt::Result {
     )?;
     writeln!(
         s,
-        "| record | channel | R² | fit % | offset | x(t₀) | x′(t₀) |\n|---|---|---|---|---|---|---|"
+        "| record | channel | R² | fit % | offset [channel's unit] | x(t₀) [m] | x′(t₀) [m/s] |\n|---|---|---|---|---|---|---|"
     )?;
     for r in &fit.records {
         for c in &r.channels {
