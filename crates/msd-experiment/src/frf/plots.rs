@@ -79,6 +79,58 @@ struct View {
     model: Vec<Complex64>,
     modes_hz: Vec<f64>,
     unit: String,
+    /// The Nyquist plot's view: one mode's circle.
+    circle: ModeCircle,
+}
+
+/// One mode's Nyquist circle: the data lines around it and the model on a grid fine
+/// enough to draw it round (a whole band of lightly damped modes draws as a few spikes).
+struct ModeCircle {
+    /// The mode's number (1-based) and fn, Hz.
+    mode: usize,
+    natural_frequency_hz: f64,
+    h: Vec<Complex64>,
+    model: Vec<Complex64>,
+}
+
+/// Half-power bandwidths each side of a mode in its Nyquist view.
+const CIRCLE_BANDWIDTHS: f64 = 3.0;
+
+impl ModeCircle {
+    /// The circle of the mode best resolved by the data (the most lines per half-power
+    /// bandwidth): its lines within ± 3 bandwidths (at least 3 line spacings).
+    fn of(o: &FrfOutcome, f: &[f64], h: &[Complex64]) -> Self {
+        let spacing = f
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min);
+        let poles = o.fit.poles();
+        let (mode, fnat, zeta) = poles
+            .iter()
+            .enumerate()
+            .map(|(k, (fnat, zeta))| (k, fnat.value, zeta.value))
+            .filter(|(_, fnat, zeta)| fnat.is_finite() && zeta.is_finite())
+            .max_by(|a, b| (a.1 * a.2).total_cmp(&(b.1 * b.2)))
+            .unwrap_or((0, f[f.len() / 2], 0.0));
+        let bandwidth = 2.0 * zeta.abs() * fnat;
+        let half = (CIRCLE_BANDWIDTHS * bandwidth).max(3.0 * spacing.min(fnat));
+        let (low, high) = (fnat - half, fnat + half);
+        let inside: Vec<Complex64> = f
+            .iter()
+            .zip(h)
+            .filter(|(x, _)| (low..=high).contains(*x))
+            .map(|(_, h)| *h)
+            .collect();
+        let model = (0..=600)
+            .map(|i| o.model_response(low + (high - low) * i as f64 / 600.0))
+            .collect();
+        Self {
+            mode: mode + 1,
+            natural_frequency_hz: fnat,
+            h: inside,
+            model,
+        }
+    }
 }
 
 impl View {
@@ -97,6 +149,7 @@ impl View {
             .collect();
         let model = dense.iter().map(|&x| o.model_response(x)).collect();
         let modes_hz = o.fit.poles().iter().map(|p| p.0.value).collect();
+        let circle = ModeCircle::of(o, &f, &h);
         let unit = match o.data.kind {
             msd_signal::FrfKind::Receptance => "m/N",
             msd_signal::FrfKind::Mobility => "m/(N·s)",
@@ -109,6 +162,7 @@ impl View {
             model,
             modes_hz,
             unit: unit.into(),
+            circle,
         }
     }
 }
@@ -227,11 +281,23 @@ impl Figure for Nyquist<'_> {
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let v = self.0;
-        let area = suptitle(root, "Nyquist plot: data and fitted model")?;
-        let re: Vec<f64> = v.h.iter().chain(&v.model).map(|h| h.re).collect();
-        let im: Vec<f64> = v.h.iter().chain(&v.model).map(|h| h.im).collect();
-        let (x0, x1) = limits([re.as_slice()]);
-        let (y0, y1) = limits([im.as_slice()]);
+        let c = &v.circle;
+        let title = if v.modes_hz.len() > 1 {
+            format!(
+                "Nyquist plot around mode {} (fn = {} Hz): data and fitted model",
+                c.mode,
+                crate::fmt::sig(c.natural_frequency_hz, 5)
+            )
+        } else {
+            "Nyquist plot: data and fitted model".to_string()
+        };
+        let area = suptitle(root, &title)?;
+        let re: Vec<f64> = c.h.iter().chain(&c.model).map(|h| h.re).collect();
+        let im: Vec<f64> = c.h.iter().chain(&c.model).map(|h| h.im).collect();
+        let (size_x, size_y) = area.dim_in_pixel();
+        let pixels = (f64::from(size_x) - 166.0, f64::from(size_y) - 94.0);
+        let ((x0, x1), (y0, y1)) =
+            equal_aspect(limits([re.as_slice()]), limits([im.as_slice()]), pixels);
         let mut chart = ChartBuilder::on(&area)
             .margin(14)
             .margin_right(28)
@@ -247,23 +313,34 @@ impl Figure for Nyquist<'_> {
             .draw()
             .map_err(text)?;
         chart
+            .draw_series(LineSeries::new(
+                c.model.iter().map(|h| (h.re, h.im)),
+                RED.stroke_width(2),
+            ))
+            .map_err(text)?
+            .label("fitted model")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], RED.stroke_width(2)));
+        chart
             .draw_series(
-                v.h.iter()
-                    .map(|h| Circle::new((h.re, h.im), 4, BLUE.filled())),
+                c.h.iter()
+                    .map(|h| Circle::new((h.re, h.im), 5, BLUE.filled())),
             )
             .map_err(text)?
             .label("data")
             .legend(|(x, y)| Circle::new((x + 12, y), 4, BLUE.filled()));
-        chart
-            .draw_series(LineSeries::new(
-                v.model.iter().map(|h| (h.re, h.im)),
-                RED.stroke_width(3),
-            ))
-            .map_err(text)?
-            .label("fitted model")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], RED.stroke_width(3)));
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
     }
+}
+
+/// Axis ranges with one unit per pixel on both axes (a circle drawn round), each range
+/// widened about its centre, for a plot area of `pixels` (width, height).
+fn equal_aspect(x: (f64, f64), y: (f64, f64), pixels: (f64, f64)) -> ((f64, f64), (f64, f64)) {
+    let per_pixel = ((x.1 - x.0) / pixels.0).max((y.1 - y.0) / pixels.1);
+    let widen = |(a, b): (f64, f64), pixels: f64| {
+        let (centre, half) = (0.5 * (a + b), 0.5 * per_pixel * pixels);
+        (centre - half, centre + half)
+    };
+    (widen(x, pixels.0), widen(y, pixels.1))
 }
 
 struct Coherence<'a>(&'a FrfOutcome);
@@ -319,4 +396,18 @@ pub(crate) fn summed_magnitude(
         .filter(|&k| data.frequency[k] > 0.0)
         .map(|k| (data.frequency[k], sets.iter().map(|s| s.h[k].norm()).sum()))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_nyquist_plot_has_one_unit_per_pixel_on_both_axes() {
+        let ((x0, x1), (y0, y1)) = equal_aspect((-1.0, 1.0), (-10.0, 0.0), (800.0, 400.0));
+        assert!(((x1 - x0) / 800.0 - (y1 - y0) / 400.0).abs() < 1e-12);
+        // Both data ranges inside, centred.
+        assert!(x0 <= -1.0 && x1 >= 1.0 && y0 <= -10.0 && y1 >= 0.0);
+        assert!((x0 + x1).abs() < 1e-12 && (y0 + y1 + 10.0).abs() < 1e-12);
+    }
 }

@@ -280,18 +280,24 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
         )?;
     }
     writeln!(w, "{}\n", first_line(&m.diagram.to_string()))?;
+    let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
     writeln!(
         w,
-        "| mode | fn [Hz] | ζ [-] | modal constant A | B | stable orders | half-power fn, ζ | true fn, ζ |\n|---|---|---|---|---|---|---|---|"
+        "| mode | fn [Hz] | ζ [-] | modal constant A | B | stable orders | half-power fn, ζ |{}\n|---|---|---|---|---|---|---|{}",
+        if truth.is_some() {
+            " true fn, ζ |"
+        } else {
+            ""
+        },
+        if truth.is_some() { "---|" } else { "" },
     )?;
-    let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
     for (r, mode) in m.modes.iter().enumerate() {
         let classroom = o.classroom.get(r).copied().flatten();
         let t = truth.map(|t| t.modes[r]);
         let constant = m.modal_constant(r);
-        writeln!(
+        write!(
             w,
-            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             r + 1,
             interval(&mode.natural_frequency_hz),
             interval(&mode.damping_ratio),
@@ -299,8 +305,11 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
             constant.map_or("—".into(), |[_, b]| interval(&b)),
             count(mode.stable_orders),
             classroom_cell(classroom.as_ref()),
-            truth_cell(t.as_ref()),
         )?;
+        if truth.is_some() {
+            write!(w, " {} |", truth_cell(t.as_ref()))?;
+        }
+        w.push('\n');
     }
     unreliable_note(w, o.classroom.iter().flatten())?;
     writeln!(
@@ -417,13 +426,26 @@ fn row(
     Ok(())
 }
 
+/// "value (low … high)" with the digits the interval needs: at least five significant,
+/// and enough that its half-width shows with two (108.00014 (107.99968 … 108.00060), not
+/// 108.00 (108.00 … 108.00)).
 pub(super) fn interval(i: &Interval) -> String {
+    let digits = interval_digits(i.value, 0.5 * (i.ci95[1] - i.ci95[0]));
     format!(
         "{} ({} … {})",
-        sig(i.value, 5),
-        sig(i.ci95[0], 5),
-        sig(i.ci95[1], 5)
+        sig(i.value, digits),
+        sig(i.ci95[0], digits),
+        sig(i.ci95[1], digits)
     )
+}
+
+/// Significant digits for `value` so that `half_width` shows with two: 5 to 12.
+fn interval_digits(value: f64, half_width: f64) -> usize {
+    let ratio = value.abs() / half_width;
+    if !(ratio.is_finite() && ratio > 0.0) {
+        return 5;
+    }
+    (ratio.log10().ceil() as i64 + 2).clamp(5, 12) as usize
 }
 
 fn first_line(text: &str) -> &str {
@@ -476,4 +498,21 @@ pub(crate) fn verdict(o: &FrfOutcome) -> Option<Verdict> {
         )));
     }
     Some(verdict::from_findings(findings))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_interval_shows_the_digits_its_width_needs() {
+        let iv = |value: f64, half: f64| Interval {
+            value,
+            standard_error: half / 1.96,
+            ci95: [value - half, value + half],
+        };
+        let narrow = interval(&iv(108.000141, 4.6e-4));
+        assert_eq!(narrow, "108.00014 (107.99968 … 108.00060)");
+        assert_eq!(interval(&iv(2.5, 0.1)), "2.5000 (2.4000 … 2.6000)");
+    }
 }

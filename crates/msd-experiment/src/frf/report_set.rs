@@ -22,16 +22,22 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
         )?;
     }
     writeln!(w, "{}\n", first_line(&m.diagram.to_string()))?;
+    let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
     writeln!(
         w,
-        "| mode | fn [Hz] | ζ [-] | MPC | MPD [°] | modal mass | stable orders | half-power fn, ζ (FRF 1) | true fn, ζ |\n|---|---|---|---|---|---|---|---|---|"
+        "| mode | fn [Hz] | ζ [-] | MPC | MPD [°] | modal mass [kg]¹ | stable orders | half-power fn, ζ (FRF 1) |{}\n|---|---|---|---|---|---|---|---|{}",
+        if truth.is_some() {
+            " true fn, ζ |"
+        } else {
+            ""
+        },
+        if truth.is_some() { "---|" } else { "" },
     )?;
-    let truth = o.truth.as_ref().filter(|t| t.modes.len() == m.modes.len());
     for (r, mode) in m.modes.iter().enumerate() {
         let classroom = o.classroom.get(r).copied().flatten();
-        writeln!(
+        write!(
             w,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
             r + 1,
             interval(&mode.natural_frequency_hz),
             interval(&mode.damping_ratio),
@@ -40,9 +46,16 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
             mode.modal_mass.map_or("—".into(), |x| sig(x, 4)),
             count(mode.stable_orders),
             classroom_cell(classroom.as_ref()),
-            truth_cell(truth.map(|t| &t.modes[r])),
         )?;
+        if let Some(t) = truth {
+            write!(w, " {} |", truth_cell(Some(&t.modes[r])))?;
+        }
+        w.push('\n');
     }
+    writeln!(
+        w,
+        "\n¹ In kg for FRFs in SI units (accelerance in (m/s²)/N, mobility in (m/s)/N, receptance in m/N); otherwise in the FRFs' unit of force per unit of acceleration."
+    )?;
     unreliable_note(w, o.classroom.iter().flatten())?;
     if let Some(note) = &m.modal_mass_note {
         writeln!(w, "\nModal masses: {note}.")?;
