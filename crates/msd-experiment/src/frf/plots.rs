@@ -150,11 +150,7 @@ impl View {
         let model = dense.iter().map(|&x| o.model_response(x)).collect();
         let modes_hz = o.fit.poles().iter().map(|p| p.0.value).collect();
         let circle = ModeCircle::of(o, &f, &h);
-        let unit = match o.data.kind {
-            msd_signal::FrfKind::Receptance => "m/N",
-            msd_signal::FrfKind::Mobility => "m/(N·s)",
-            msd_signal::FrfKind::Accelerance => "m/(N·s²)",
-        };
+        let unit = frf_unit(o.data.kind);
         Self {
             f,
             h,
@@ -329,6 +325,15 @@ impl Figure for Nyquist<'_> {
             .label("data")
             .legend(|(x, y)| Circle::new((x + 12, y), 4, BLUE.filled()));
         draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+    }
+}
+
+/// The SI unit of a frequency response of `kind`, for axes.
+pub(crate) fn frf_unit(kind: msd_signal::FrfKind) -> &'static str {
+    match kind {
+        msd_signal::FrfKind::Receptance => "m/N",
+        msd_signal::FrfKind::Mobility => "m/(N·s)",
+        msd_signal::FrfKind::Accelerance => "m/(N·s²)",
     }
 }
 

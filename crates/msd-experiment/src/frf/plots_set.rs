@@ -3,22 +3,12 @@
 
 use super::FrfOutcome;
 use crate::plots::{
-    BLUE, DARK, Draw, Drawable, Figure, GRAY, ORANGE, RED, draw_legend, house_mesh, suptitle, text,
-    tick, tick_style,
+    DARK, Draw, Drawable, Figure, GRAY, KEY_WIDTH, category_colour, draw_key, house_mesh, suptitle,
+    text, tick, tick_style,
 };
 use msd_modal::ModeSetFit;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// A colour per series, cycling.
-const PALETTE: [RGBColor; 6] = [
-    BLUE,
-    RED,
-    ORANGE,
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-];
 
 /// The set's figures: the fit, the MAC (and against the reference shapes), the shapes
 /// (and over the geometry).
@@ -35,7 +25,12 @@ pub(crate) fn figures<'a>(o: &'a FrfOutcome, m: &'a ModeSetFit) -> Vec<Box<dyn D
     if let Some(r) = &o.reference_shapes {
         figures.push(Box::new(Mac {
             name: "frf_mac_reference",
-            title: format!("MAC against {}", r.file),
+            title: format!(
+                "MAC against {}",
+                std::path::Path::new(&r.file)
+                    .file_name()
+                    .map_or_else(|| r.file.clone(), |n| n.to_string_lossy().into_owned())
+            ),
             matrix: &r.comparison.mac,
             x_desc: format!("mode of {}", r.file),
             y_desc: "estimated mode".into(),
@@ -82,7 +77,9 @@ impl Figure for SetFit<'_> {
         if !(lo > 0.0 && hi > lo) {
             return Err("no positive magnitude to draw".into());
         }
-        let mut chart = ChartBuilder::on(&area)
+        let (width, _) = area.dim_in_pixel();
+        let (plot, key) = area.split_horizontally(width.saturating_sub(KEY_WIDTH));
+        let mut chart = ChartBuilder::on(&plot)
             .margin(14)
             .margin_right(28)
             .x_label_area_size(52)
@@ -91,7 +88,11 @@ impl Figure for SetFit<'_> {
             .map_err(text)?;
         house_mesh(&mut chart.configure_mesh())
             .x_desc("frequency f [Hz]")
-            .y_desc(format!("|H| ({})", o.data.kind))
+            .y_desc(format!(
+                "|H| [{}] ({})",
+                super::plots::frf_unit(o.data.kind),
+                o.data.kind
+            ))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
@@ -99,26 +100,21 @@ impl Figure for SetFit<'_> {
         let dense: Vec<f64> = (0..=4000)
             .map(|i| f0 + (f1 - f0) * i as f64 / 4000.0)
             .collect();
+        let mut entries = Vec::new();
         for (i, (points, fit)) in data.iter().zip(&m.members).enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
+            let colour = category_colour(i);
             chart
                 .draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled())))
                 .map_err(text)?;
             let line = dense
                 .iter()
                 .map(|&f| (f, model_magnitude(o, m, i, f).clamp(lo * 0.5, hi * 2.0)));
-            let series = chart
+            chart
                 .draw_series(LineSeries::new(line, colour.stroke_width(2)))
                 .map_err(text)?;
-            if i < 8 {
-                series
-                    .label(format!("{} / {}", fit.response, fit.reference))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-                    });
-            }
+            entries.push((format!("{} / {}", fit.response, fit.reference), colour));
         }
-        draw_legend(&mut chart, SeriesLabelPosition::LowerRight)
+        draw_key(&key, "response / reference", &entries)
     }
 }
 
@@ -136,7 +132,13 @@ impl Figure for Mac<'_> {
         self.name
     }
     fn size(&self) -> (u32, u32) {
-        (900, 860)
+        // About 90 px a cell (a 5 × 5 MAC is not a wall of colour), 900 px at most.
+        let cells = self
+            .matrix
+            .len()
+            .max(self.matrix.first().map_or(0, Vec::len)) as u32;
+        let side = (160 + 90 * cells).clamp(640, 900);
+        (side, side)
     }
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Draw {
         let mac = self.matrix;
@@ -167,11 +169,13 @@ impl Figure for Mac<'_> {
         for (i, row) in mac.iter().enumerate() {
             for (j, &v) in row.iter().enumerate() {
                 let (x, y) = ((j + 1) as f64, (i + 1) as f64);
-                let shade = (255.0 * (1.0 - v.clamp(0.0, 1.0))) as u8;
-                let fill = RGBColor(shade, shade, 255);
+                // A sequential scale from near-white to dark blue; a gap between cells.
+                let t = v.clamp(0.0, 1.0);
+                let mix = |a: f64, b: f64| (a + (b - a) * t).round() as u8;
+                let fill = RGBColor(mix(247.0, 8.0), mix(251.0, 48.0), mix(255.0, 107.0));
                 chart
                     .draw_series(std::iter::once(Rectangle::new(
-                        [(x - 0.5, y - 0.5), (x + 0.5, y + 0.5)],
+                        [(x - 0.47, y - 0.47), (x + 0.47, y + 0.47)],
                         fill.filled(),
                     )))
                     .map_err(text)?;
@@ -215,7 +219,9 @@ impl Figure for Shapes<'_> {
             .iter()
             .map(|e| format!("{}:{:+}", e.node, e.direction))
             .collect();
-        let mut chart = ChartBuilder::on(&area)
+        let (width, _) = area.dim_in_pixel();
+        let (plot, key) = area.split_horizontally(width.saturating_sub(KEY_WIDTH));
+        let mut chart = ChartBuilder::on(&plot)
             .margin(14)
             .margin_right(28)
             .x_label_area_size(52)
@@ -239,8 +245,9 @@ impl Figure for Shapes<'_> {
                 GRAY.stroke_width(1),
             ))
             .map_err(text)?;
+        let mut entries = Vec::new();
         for (r, mode) in m.modes.iter().enumerate() {
-            let colour = PALETTE[r % PALETTE.len()];
+            let colour = category_colour(r);
             let points: Vec<(f64, f64)> = mode
                 .shape
                 .iter()
@@ -249,15 +256,7 @@ impl Figure for Shapes<'_> {
                 .collect();
             chart
                 .draw_series(LineSeries::new(points.clone(), colour.stroke_width(3)))
-                .map_err(text)?
-                .label(format!(
-                    "mode {}: {:.4} Hz",
-                    r + 1,
-                    mode.natural_frequency_hz.value
-                ))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], colour.stroke_width(3))
-                });
+                .map_err(text)?;
             chart
                 .draw_series(
                     points
@@ -265,7 +264,9 @@ impl Figure for Shapes<'_> {
                         .map(|p| Circle::new(p, 5, colour.filled())),
                 )
                 .map_err(text)?;
+            let hz = crate::fmt::sig(mode.natural_frequency_hz.value, 5);
+            entries.push((format!("mode {}: {hz} Hz", r + 1), colour));
         }
-        draw_legend(&mut chart, SeriesLabelPosition::UpperRight)
+        draw_key(&key, "mode", &entries)
     }
 }

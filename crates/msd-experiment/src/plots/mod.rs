@@ -296,6 +296,70 @@ where
         .axis_style(DARK)
 }
 
+/// Ten distinct colours for series of one kind (FRFs of a set, modes), in order.
+pub(crate) const CATEGORY_COLOURS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// The colour of series `i`: the ten of [`CATEGORY_COLOURS`], then each of them lighter
+/// (halfway to white) for the next ten, and so on.
+pub(crate) fn category_colour(i: usize) -> RGBColor {
+    let RGBColor(r, g, b) = CATEGORY_COLOURS[i % CATEGORY_COLOURS.len()];
+    let round = i / CATEGORY_COLOURS.len();
+    let light = |c: u8| 255 - ((255 - u32::from(c)) >> round.min(3)) as u8;
+    RGBColor(light(r), light(g), light(b))
+}
+
+/// Width in pixels of a key column beside a chart (see [`draw_key`]).
+pub(crate) const KEY_WIDTH: u32 = 240;
+
+/// Draws a key — a colour swatch and a label per entry, under `title` — down `area`, a
+/// column beside the chart, so that it covers no data. Entries past the column's height
+/// end in "… and N more".
+pub(crate) fn draw_key<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    entries: &[(String, RGBColor)],
+) -> Draw {
+    let (_, height) = area.dim_in_pixel();
+    let (row, top) = (24i32, 70i32);
+    let bold = (FONT, 16).into_font().style(FontStyle::Bold).color(&BLACK);
+    area.draw(&Text::new(title.to_string(), (8, top - 34), bold))
+        .map_err(text)?;
+    let fits = ((height as i32 - top - 40) / row).max(1) as usize;
+    let shown = if entries.len() > fits {
+        fits - 1
+    } else {
+        entries.len()
+    };
+    for (k, (label, colour)) in entries.iter().take(shown).enumerate() {
+        let y = top + row * k as i32;
+        area.draw(&PathElement::new(
+            vec![(8, y), (36, y)],
+            colour.stroke_width(3),
+        ))
+        .map_err(text)?;
+        area.draw(&Text::new(label.clone(), (44, y - 9), legend_style()))
+            .map_err(text)?;
+    }
+    if shown < entries.len() {
+        let y = top + row * shown as i32;
+        let more = format!("… and {} more", entries.len() - shown);
+        area.draw(&Text::new(more, (8, y - 9), legend_style()))
+            .map_err(text)?;
+    }
+    Ok(())
+}
+
 /// Draws the legend of `chart` at `position` in a light box.
 pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
