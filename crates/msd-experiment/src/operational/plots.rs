@@ -212,18 +212,7 @@ struct Tracks<'a> {
 }
 
 /// A mode's colour and marker: ten colours, then the same with triangles.
-const PALETTE: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
+const PALETTE: [RGBColor; 10] = crate::plots::CATEGORY_COLOURS;
 
 impl Tracks<'_> {
     /// Per mode, (record, value, low, high) of fn's deviation in % or of ζ in %.
