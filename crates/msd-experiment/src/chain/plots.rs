@@ -63,7 +63,8 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
                     label: "model".into(),
                     x: &time,
                     y: fitted.clone(),
-                    style: Style::Line(RED, 2),
+                    // Thin, so that the measured points stay visible under it.
+                    style: Style::Line(RED, 1),
                 },
             ],
             band: Some(Band {
@@ -75,13 +76,44 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
             legend: Some(SeriesLabelPosition::UpperRight),
         });
     }
+    let mut title = format!("Chain fit — {}", o.config.name);
+    if let Some((from, to)) = zoom_window(o, end) {
+        // A long broadband record drawn whole is a solid mass of lines: a window of it.
+        panels = panels
+            .iter()
+            .map(|p| p.zoomed((from, to), p.title.clone()))
+            .collect();
+        title = format!(
+            "{title}: t = {}–{} s of the {} s record",
+            crate::fmt::sig(from, 3),
+            crate::fmt::sig(to, 3),
+            crate::fmt::sig(end, 3)
+        );
+    }
     let figure = Stack {
         name: "chain_fit",
-        title: format!("Chain fit — {}", o.config.name),
+        title,
         panels,
     };
     save(&figure, dir)?;
     Ok(vec![figure.name])
+}
+
+/// Periods of the chain's first mode past which a record is drawn in a window.
+const WINDOW_PERIODS: f64 = 25.0;
+
+/// The window drawn of a record `end` seconds long: 25 periods of the first mode, from
+/// 40 % of the record, when the record holds more; else `None` (drawn whole).
+fn zoom_window(o: &ChainOutcome, end: f64) -> Option<(f64, f64)> {
+    let lowest = (o.fit.parameters.modes().iter())
+        .map(|m| m.natural_frequency_hz.value)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let length = WINDOW_PERIODS / lowest;
+    (length.is_finite() && length < 0.5 * end).then(|| {
+        let from = 0.4 * end;
+        (from, (from + length).min(end))
+    })
 }
 
 /// "acceleration [m/s²]" for a channel named "acceleration_2".

@@ -78,6 +78,47 @@ fn truth_text(truth: Option<f64>) -> String {
     truth.map_or_else(|| "—".into(), |t| sig(t, 6))
 }
 
+/// `## Fit`: the fit's statistics as a table (the estimates and modes are above).
+fn fit_section(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
+    let u = &o.fit.uncertainty;
+    writeln!(s, "## Fit\n\n| | |\n|---|---|")?;
+    writeln!(s, "| degrees of freedom | {} |", u.degrees_of_freedom)?;
+    writeln!(
+        s,
+        "| condition number (scaled JᵀJ) | {} |",
+        sig(u.condition_number, 4)
+    )?;
+    for (name, sigma) in channel_names(o).iter().zip(&o.fit.noise) {
+        writeln!(s, "| noise σ̂ of {name} | {} |", sig(*sigma, 4))?;
+    }
+    for (i, d) in u.delays.iter().enumerate() {
+        if let Some(d) = d {
+            writeln!(s, "| delay of sensor {} [s] | {} |", i + 1, d)?;
+        }
+    }
+    for (i, c) in u.cutoffs.iter().enumerate() {
+        if let Some(c) = c {
+            writeln!(s, "| filter cut-off of sensor {} [Hz] | {} |", i + 1, c)?;
+        }
+    }
+    let model = o.fit.noise_model.to_string();
+    let model = model.trim_start_matches("noise model: ");
+    writeln!(
+        s,
+        "| noise model | {} |",
+        model.replace('|', "\\|").replace('\n', " ")
+    )?;
+    writeln!(
+        s,
+        "| solver | {}, {} evaluations of the model |",
+        o.fit.exit, o.fit.evaluations
+    )?;
+    for note in &o.fit.notes {
+        writeln!(s, "| note | {} |", note.replace('|', "\\|"))?;
+    }
+    writeln!(s)
+}
+
 fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result {
     let Some(chain) = o.config.chain.as_ref() else {
         return Ok(());
@@ -134,16 +175,13 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     }
     writeln!(s)?;
     super::validation::section(s, o)?;
-    writeln!(s, "## Fit\n")?;
-    writeln!(s, "```text\n{}\n```\n", o.fit)?;
-    writeln!(
-        s,
-        "Solver: {}, {} evaluations of the model.\n",
-        o.fit.exit, o.fit.evaluations
-    )?;
+    fit_section(s, o)?;
     writeln!(s, "## Figures\n")?;
     for f in figures {
-        writeln!(s, "![{f}]({f}.png)\n")?;
+        writeln!(
+            s,
+            "![The chain's fit]({f}.png)\n\n*The drive, then each sensor measured (blue points) and as the fitted chain predicts it (red line), with the Monte Carlo band (grey).*\n"
+        )?;
     }
     writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
     for (name, d) in &o.timings {
