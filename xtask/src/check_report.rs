@@ -1,4 +1,4 @@
-//! `cargo xtask check-report`: the paper run's `report.html` opened in headless Chromium.
+//! `cargo xtask check-report`: a run's `report.html` opened in headless Chromium.
 //!
 //! The page is checked three ways: as text (one self-contained file, a figure for every
 //! figure of `report.md`, the same sections), in the browser's layout (a copy with a
@@ -252,6 +252,10 @@ const PROBE: &str = r#"
   document.querySelectorAll("figure, table").forEach(function (e, i) {
     if (getComputedStyle(e).breakInside !== "avoid") out.push(e.tagName + " " + i + " may be split across pages");
   });
+  document.querySelectorAll(".table, pre").forEach(function (e, i) {
+    if (e.scrollWidth > e.clientWidth + 1)
+      out.push((e.tagName === "PRE" ? "a text block " : "table ") + i + " scrolls sideways (" + e.scrollWidth + " px in " + e.clientWidth + " px): cut in print");
+  });
   if (document.documentElement.scrollWidth > window.innerWidth + 1)
     out.push("the page is " + document.documentElement.scrollWidth + " px wide on a " + window.innerWidth + " px screen");
   var pre = document.createElement("pre");
@@ -480,6 +484,16 @@ mod tests {
                 "no size",
             ),
             ("<div style=\"width: 3000px\">wide</div>", 0, "wide"),
+            (
+                "<div class=\"table\" style=\"overflow-x: auto\"><table><tr><td><div style=\"width: 3000px\">a wide cell</div></td></tr></table></div>",
+                0,
+                "scrolls sideways",
+            ),
+            (
+                "<pre style=\"overflow-x: auto\"><span style=\"display: inline-block; width: 3000px\">a long line</span></pre>",
+                0,
+                "text block",
+            ),
         ];
         for (body, figures, expected) in cases {
             let err = browse(body, figures).expect_err(body).to_string();

@@ -57,11 +57,14 @@ enum Command {
     /// floor) printed and written to target/bench/bench.json and bench.md. Builds and
     /// runs the measurements in release mode (the first build takes a few minutes).
     Bench(BenchArgs),
-    /// Open the paper run's report.html in headless Chromium (Debian's `chromium`, or
-    /// $CHROMIUM): self-contained, every figure drawn, no console message, a screenshot
-    /// that is not blank, a PDF with pages (written to <run>/browser/).
+    /// Run every shipped config (configs/*.toml; the paper's first) and open each
+    /// report.html in headless Chromium (Debian's `chromium`, or $CHROMIUM):
+    /// self-contained, every figure drawn, no table or text block scrolling sideways, no
+    /// page wider than a laptop, no console message, a screenshot that is not blank, a
+    /// PDF with pages (written to <run>/browser/). A config whose real data set is not
+    /// fetched is skipped, saying so (an error under MSD_REQUIRE_REAL_DATA).
     CheckReport {
-        /// A result folder to check instead of running configs/paper.toml.
+        /// A result folder to check instead of running the shipped configs.
         dir: Option<PathBuf>,
     },
     /// Time the first run as a new user meets it: git clone of this checkout's committed
@@ -211,25 +214,85 @@ fn experiment(args: RunArgs) -> Result<(), ExperimentError> {
     cli::run(&args, &options)
 }
 
-/// `check-report`: run the paper config (unless given a folder) and check its report.
+/// Shipped configs that `run` does not take as they are, and why.
+const NOT_RUN: [(&str, &str); 2] = [
+    ("lab-template.toml", "a template for the user's own file"),
+    (
+        "design-sequential.toml",
+        "run by `design`, which writes the config to run",
+    ),
+];
+
+/// `check-report`: check the report in `dir`, or run every shipped config and check
+/// each report (every failure listed at the end).
 fn check_report(dir: Option<PathBuf>) -> Result<(), ExperimentError> {
-    let dir = match dir {
-        Some(dir) => dir,
-        None => {
-            let config = xtask::project_root().join("configs").join("paper.toml");
-            let args = RunArgs {
-                config,
-                out: None,
-                seed: None,
-                threads: None,
-                quiet: true,
-            };
-            let options = args.options(Some(xtask::results_root()), "cargo xtask experiment");
-            cli::run(&args, &options)?;
-            xtask::results_root().join("paper")
+    if let Some(dir) = dir {
+        return check_one(&dir);
+    }
+    let root = xtask::project_root();
+    let folder = root.join("configs");
+    let listed = std::fs::read_dir(&folder)
+        .map_err(|e| ExperimentError::run("check-report", format!("{}: {e}", folder.display())))?;
+    let mut configs: Vec<PathBuf> = listed
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    // The paper's first: msd-py's tests compare msd.run with its results.json.
+    configs.sort_by_key(|p| (p.file_name() != Some("paper.toml".as_ref()), p.clone()));
+    let mut failures = Vec::new();
+    for config in configs {
+        let name = config
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        if let Some((_, why)) = NOT_RUN.iter().find(|(n, _)| *n == name) {
+            eprintln!("{name}: not checked ({why})");
+            continue;
         }
-    };
-    let check = xtask::check_report::check(&dir)?;
+        if let Some(set) = missing_real_data(&root, &config) {
+            let fetch = format!("cargo xtask fetch-data {set}");
+            if std::env::var_os("MSD_REQUIRE_REAL_DATA").is_some() {
+                failures.push(format!(
+                    "{name}: the real data set `{set}` is missing ({fetch})"
+                ));
+            } else {
+                eprintln!(
+                    "{name}: not checked, the real data set `{set}` is not fetched ({fetch})"
+                );
+            }
+            continue;
+        }
+        let args = RunArgs {
+            config,
+            out: None,
+            seed: None,
+            threads: None,
+            quiet: true,
+        };
+        let options = args.options(Some(xtask::results_root()), "cargo xtask experiment");
+        let outcome = msd_experiment::run_experiment(&args.config, &options)
+            .and_then(|run| check_one(&run.out_dir));
+        if let Err(e) = outcome {
+            failures.push(format!("{name}: {e}"));
+        }
+    }
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(ExperimentError::run("check-report", failures.join("\n")))
+    }
+}
+
+/// The real data set a config reads (`data/<set>/` in its text) when it is not fetched.
+fn missing_real_data(root: &std::path::Path, config: &std::path::Path) -> Option<&'static str> {
+    let text = std::fs::read_to_string(config).ok()?;
+    ["silverbox", "impact-frf", "steel-frame", "emps"]
+        .into_iter()
+        .find(|set| text.contains(&format!("data/{set}/")) && !root.join("data").join(set).is_dir())
+}
+
+/// Checks the report in `dir` and prints what the browser saw.
+fn check_one(dir: &std::path::Path) -> Result<(), ExperimentError> {
+    let check = xtask::check_report::check(dir)?;
     println!(
         "report.html in headless Chromium: {} figures drawn, no console message, screenshot {:.0} % ink, PDF {} pages ({})",
         check.figures,

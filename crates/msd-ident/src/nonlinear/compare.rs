@@ -166,22 +166,26 @@ impl Comparison {
 }
 
 impl std::fmt::Display for Comparison {
-    /// A Markdown table of the ranking, then the verdict.
+    /// A Markdown table of the ranking (AIC is in the rows, not the table: BIC ranks),
+    /// then the verdict.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "| rank | model | p | SSE | AIC | BIC | ΔBIC | validation RMS | validation fit % | Ljung–Box p | white | uncorrelated with input |"
+            "| rank | model | p | SSE | BIC | ΔBIC | RMS on validation | fit % on validation | Ljung–Box p | white | independent of the input |"
         )?;
-        writeln!(f, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+        writeln!(f, "|---|---|---|---|---|---|---|---|---|---|---|")?;
         for (i, r) in self.rows.iter().enumerate() {
             writeln!(
                 f,
-                "| {} | {} | {} | {:.4e} | {:.1} | {:.1} | {:.1} | {:.4e} | {:.2} | {:.3} | {} | {} |",
+                "| {} | {} | {} | {:.4e} | {:.1} | {:.1} | {:.4e} | {:.2} | {:.3} | {} | {} |",
                 i + 1,
-                r.structure,
+                // Spaced, so that a narrow page can wrap the name.
+                r.structure
+                    .to_string()
+                    .replace('+', " + ")
+                    .replace('_', " "),
                 r.estimated,
                 r.sse,
-                r.aic,
                 r.bic,
                 r.delta_bic,
                 r.validation_rms,
