@@ -153,3 +153,16 @@ def test_simulate_gives_every_quantity():
     np.testing.assert_array_equal(msd.simulate(plant, t, force, quantity="velocity"), v)
     with pytest.raises(ValueError, match="quantity = 'jerk'"):
         msd.simulate(plant, t, force, quantity="jerk")
+
+
+def test_an_estimate_is_labelled_and_plots():
+    p = msd.paper_data(1)["identification"]
+    e = msd.estimate(p["t"], p["force"], p["displacement"])
+    assert list(e.correlation) == list(e.data["uncertainty"]["names"])
+    assert e.correlation["mass"]["mass"] == pytest.approx(1.0)
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    fig = e.plot()
+    assert [a.get_ylabel() for a in fig.axes] == ["displacement [m]", "residual [m]"]
+    np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), p["displacement"], rtol=0, atol=1e-12)
+    assert type(e).from_dict(e.to_dict()) == e

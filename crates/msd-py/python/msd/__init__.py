@@ -157,16 +157,19 @@ def estimate(
     IdentificationError
         The data cannot identify the parameters.
     """
+    times = vector("t", t)
     try:
-        return Estimate(
+        result = Estimate(
             _msd.estimate(
-                vector("t", t),
+                times,
                 vector("force", force),
                 vector("displacement", displacement),
                 preset,
                 options_json(_options(options)),
             )
         )
+        result.data["t"] = times
+        return result
     except IdentificationError as e:
         raise IdentificationError(
             f"{e}. msd.estimate fits a displacement in m: if the third array is an "

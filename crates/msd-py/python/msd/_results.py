@@ -149,7 +149,23 @@ class Estimate(_PlantIntervals):
     """`msd.estimate`'s result: m, c, k with intervals, fn, ζ, the fit and the
     optimiser's counts; every field of msd-ident's `Estimate` in `data`."""
 
-    _arrays = ("model_output", "residuals")
+    _arrays = ("model_output", "residuals", "t")
+
+    @property
+    def correlation(self) -> Dict[str, Dict[str, Optional[float]]]:
+        """The estimates' correlation labelled by quantity: ``e.correlation["mass"]["stiffness"]``."""
+        u = self.data["uncertainty"]
+        names = list(u["names"])
+        return {a: {b: u["correlation"][i][j] for j, b in enumerate(names)} for i, a in enumerate(names)}
+
+    def plot(self, fig: Any = None) -> Any:
+        """Draw the record: the measured displacement (points) under the model (a thin
+        line on top), and the residual below; returns the matplotlib Figure."""
+        if self.data.get("t") is None:
+            raise ValueError("this estimate carries no time stamps (made before plot() existed)")
+        title = f"displacement, fit {self.data['fit']['fit_percent']:.1f} %"
+        panel = ("displacement", "m", self.model_output, self.residuals, title)
+        return _plot_fits(np.asarray(self.data["t"], dtype=float), [panel], fig)
 
     @property
     def parameters(self) -> Plant:
@@ -465,6 +481,32 @@ class SetupFit(Result):
         return f"<pre>{html.escape(self.summary)}</pre>"
 
 
+def _plot_fits(t: np.ndarray, panels: List[Tuple[str, str, Any, Any, str]], fig: Any = None) -> Any:
+    """Each (name, unit, model, residual, title): the measurements (model + residual) as
+    points under the model as a thin line, the legend beside the data, the residual
+    below; returns the matplotlib Figure."""
+    try:
+        import matplotlib.pyplot as plt
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise ImportError("plot() needs matplotlib: pip install matplotlib") from e
+    fig = fig or plt.figure(figsize=(9, 3.2 * len(panels)))
+    axes = fig.subplots(2 * len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    for k, (name, unit, model, residual, title) in enumerate(panels):
+        model = np.asarray(model, dtype=float)
+        residual = np.asarray(residual, dtype=float)
+        top, bottom = axes[2 * k], axes[2 * k + 1]
+        top.plot(t, model + residual, ".", ms=2, color="tab:blue", label="measured")
+        top.plot(t, model, "-", lw=0.8, color="tab:red", label="model")
+        top.set_ylabel(f"{name} [{unit}]")
+        top.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")  # beside the data
+        top.set_title(title)
+        bottom.plot(t, residual, "-", lw=0.6, color="tab:gray")
+        bottom.set_ylabel(f"residual [{unit}]")
+    axes[-1].set_xlabel("time t [s]")
+    fig.tight_layout()
+    return fig
+
+
 class RecordsFit(SetupFit):
     """`msd.fit_records`'s result: the plant's identifiable quantities with intervals."""
 
@@ -499,32 +541,15 @@ class RecordsFit(SetupFit):
         """Draw record `record`: each channel's measurements (points) under the model
         (a thin line on top), and the residual below it; returns the matplotlib Figure
         (matplotlib is an optional dependency: ``pip install matplotlib``)."""
-        try:
-            import matplotlib.pyplot as plt
-        except ImportError as e:  # pragma: no cover - depends on the environment
-            raise ImportError("RecordsFit.plot needs matplotlib: pip install matplotlib") from e
-        t = self.time(record)
-        channels = self.data["records"][record]["channels"]
-        fig = fig or plt.figure(figsize=(9, 3.2 * len(channels)))
-        axes = fig.subplots(2 * len(channels), 1, sharex=True, squeeze=False)[:, 0]
         units = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}
-        for k, c in enumerate(channels):
-            model = np.asarray(c["model"], dtype=float)
-            residual = np.asarray(c["residual"], dtype=float)
+        self._channel(None, record)  # an IndexError naming the records for a bad `record`
+        entry = self.data["records"][record]
+        panels = []
+        for c in entry["channels"]:
             quantity = next((q for q in units if q in c["channel"]), "")
-            unit = units.get(quantity, "SI")
-            top, bottom = axes[2 * k], axes[2 * k + 1]
-            top.plot(t, model + residual, ".", ms=2, color="tab:blue", label="measured")
-            top.plot(t, model, "-", lw=0.8, color="tab:red", label="model")
-            top.set_ylabel(f"{c['channel']} [{unit}]")
-            top.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")  # beside the data
-            top.set_title(f"{self.data['records'][record]['name']}: {c['channel']}, "
-                          f"fit {c['fit']['fit_percent']:.1f} %")
-            bottom.plot(t, residual, "-", lw=0.6, color="tab:gray")
-            bottom.set_ylabel(f"residual [{unit}]")
-        axes[-1].set_xlabel("time t [s]")
-        fig.tight_layout()
-        return fig
+            title = f"{entry['name']}: {c['channel']}, fit {c['fit']['fit_percent']:.1f} %"
+            panels.append((c["channel"], units.get(quantity, "SI"), c["model"], c["residual"], title))
+        return _plot_fits(self.time(record), panels, fig)
 
     @property
     def correlation(self) -> Dict[str, Dict[str, Optional[float]]]:
