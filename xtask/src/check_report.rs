@@ -99,6 +99,14 @@ fn check_text(html: &str, markdown: &str) -> Result<usize> {
         )));
     }
     let figures = markdown.lines().filter(|l| l.starts_with("![")).count();
+    // Each inline figure on its own: their coordinates are their own.
+    let overlaps: Vec<String> = html.split("<svg").skip(1).flat_map(text_overlaps).collect();
+    if !overlaps.is_empty() {
+        return Err(fail(format!(
+            "text overlaps in the figures: {}",
+            overlaps.join("; ")
+        )));
+    }
     let inline = html.matches("<figure>").count();
     if inline != figures {
         return Err(fail(format!(
@@ -111,6 +119,89 @@ fn check_text(html: &str, markdown: &str) -> Result<usize> {
         }
     }
     Ok(figures)
+}
+
+/// One horizontal text of an SVG figure: its estimated box (DejaVu Sans averages about
+/// 0.55 em a character; the box is the em square's height) and its text.
+struct TextBox {
+    x: [f64; 2],
+    y: [f64; 2],
+    text: String,
+}
+
+/// The pairs of horizontal texts in one figure's `svg` whose boxes overlap
+/// by more than a quarter of the smaller (a rotated text is left out; the same text
+/// drawn twice at one place is not an overlap).
+fn text_overlaps(svg: &str) -> Vec<String> {
+    let mut boxes: Vec<TextBox> = Vec::new();
+    let mut found = Vec::new();
+    for element in svg.split("<text").skip(1) {
+        let Some((attributes, rest)) = element.split_once('>') else {
+            continue;
+        };
+        let text = rest
+            .split("</text>")
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_string();
+        let Some(b) = text_box(attributes, text) else {
+            continue;
+        };
+        for other in &boxes {
+            let same = other.text == b.text && other.x == b.x && other.y == b.y;
+            let ix = b.x[1].min(other.x[1]) - b.x[0].max(other.x[0]);
+            let iy = b.y[1].min(other.y[1]) - b.y[0].max(other.y[0]);
+            let area = |t: &TextBox| (t.x[1] - t.x[0]) * (t.y[1] - t.y[0]);
+            if !same && ix > 2.0 && iy > 2.0 && ix * iy > 0.25 * area(&b).min(area(other)) {
+                found.push(format!("`{}` and `{}`", other.text, b.text));
+            }
+        }
+        boxes.push(b);
+    }
+    found
+}
+
+/// The box of a `<text …>` element from its attributes, or `None` when rotated or
+/// unreadable.
+fn text_box(attributes: &str, text: String) -> Option<TextBox> {
+    let attribute = |name: &str| {
+        let start = attributes.find(&format!(" {name}=\""))? + name.len() + 3;
+        let end = attributes[start..].find('"')? + start;
+        Some(&attributes[start..end])
+    };
+    if attribute("transform").is_some() || text.is_empty() {
+        return None;
+    }
+    let (x, y) = (
+        attribute("x")?.parse::<f64>().ok()?,
+        attribute("y")?.parse::<f64>().ok()?,
+    );
+    let size = attribute("font-size")
+        .and_then(|v| v.parse::<f64>().ok())
+        .unwrap_or(12.0);
+    let width = 0.55 * size * text.chars().count() as f64;
+    let left = match attribute("text-anchor") {
+        Some("middle") => x - 0.5 * width,
+        Some("end") => x - width,
+        _ => x,
+    };
+    // The baseline's offset: dy in em or ex (ex taken as half an em).
+    let shift = attribute("dy").map_or(0.0, |dy| {
+        let (number, unit) = dy.split_at(dy.len().saturating_sub(2));
+        let value = number.parse::<f64>().unwrap_or(0.0);
+        if unit == "ex" {
+            0.5 * value * size
+        } else {
+            value * size
+        }
+    });
+    let baseline = y + shift;
+    Some(TextBox {
+        x: [left, left + width],
+        y: [baseline - 0.8 * size, baseline + 0.2 * size],
+        text,
+    })
 }
 
 /// Headless Chromium, as Debian's `chromium` package installs it (or `$CHROMIUM`).
@@ -431,6 +522,26 @@ mod tests {
                 .to_string()
                 .contains("`Fit`")
         );
+    }
+
+    #[test]
+    fn overlapping_texts_are_found_and_repeated_or_rotated_ones_are_not() {
+        let text = |x: u32, y: u32, t: &str| {
+            format!(
+                "<text x=\"{x}\" y=\"{y}\" dy=\"0.5ex\" text-anchor=\"end\" font-size=\"16\">\n{t}\n</text>"
+            )
+        };
+        let apart = text(100, 100, "20") + &text(100, 140, "40");
+        assert!(text_overlaps(&apart).is_empty());
+        let twice = text(100, 100, "1e-1") + &text(100, 100, "1e-1");
+        assert!(
+            text_overlaps(&twice).is_empty(),
+            "the same text drawn twice"
+        );
+        let clash = text(100, 100, "20") + &text(108, 104, "20");
+        assert_eq!(text_overlaps(&clash), ["`20` and `20`"]);
+        let rotated = "<text x=\"100\" y=\"100\" transform=\"rotate(270, 100, 100)\" font-size=\"16\">label</text>";
+        assert!(text_overlaps(&(text(100, 100, "label") + rotated)).is_empty());
     }
 
     #[test]

@@ -5,7 +5,7 @@
 
 use super::geometry::Geometry;
 use crate::fmt::sig;
-use crate::plots::{BLUE, Draw, Figure, GRAY, label_style, suptitle, text, tick_style};
+use crate::plots::{BLUE, Draw, Figure, GRAY, label_style, suptitle, text, tick, tick_style};
 use msd_modal::{Mode, ShapeEntry};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -101,10 +101,14 @@ impl<'a> ShapesFigure<'a> {
             let pad = 0.05 * (hi - lo).max(1e-9);
             (lo - pad)..(hi + pad)
         };
+        let x_range = range(0);
+        let x_end = x_range.end - 0.15 * (x_range.end - x_range.start);
         // plotters' y is up: the structure's (x, y, z) is drawn as (x, z, y).
         let mut chart = ChartBuilder::on(area)
             .caption(title, label_style())
             .margin(20)
+            // Room for the vertical axis' labels on the left (they were cut).
+            .margin_left(44)
             .build_cartesian_3d(range(0), range(2), range(1))
             .map_err(text)?;
         chart.with_projection(|mut p| {
@@ -120,6 +124,12 @@ impl<'a> ShapesFigure<'a> {
             .x_labels(3)
             .y_labels(3)
             .z_labels(3)
+            // Shortest numbers ("20", not "20.0"): two axes' labels meet at a corner.
+            // The x axis ends where the depth axis begins: its last label would sit on
+            // the depth axis' first.
+            .x_formatter(&|v| if *v > x_end { String::new() } else { tick(v) })
+            .y_formatter(&tick)
+            .z_formatter(&tick)
             .draw()
             .map_err(text)?;
         let at = |p: [f64; 3]| (p[0], p[2], p[1]);
