@@ -86,6 +86,15 @@ fn the_shapes_are_compared_with_the_models_file_and_drawn_on_the_geometry() {
             "{figure}.png"
         );
     }
+    // Issue 45: the set's figure names every FRF in its key (it named 8 of 10), the MAC
+    // map is not a wall (a 5 × 5 MAC in cells of about 90 px).
+    let set_fit = std::fs::read_to_string(summary.out_dir.join("frf_set_fit.svg")).expect("svg");
+    for point in 1..=example::POINTS {
+        let label = format!("3:+3 / {point}:+3");
+        assert!(set_fit.contains(&label), "{label} is not in the key");
+    }
+    let mac = std::fs::read_to_string(summary.out_dir.join("frf_mac.svg")).expect("svg");
+    assert!(mac.starts_with("<svg width=\"640\""), "{}", &mac[..60]);
     let report = std::fs::read_to_string(summary.out_dir.join("report.md")).expect("report");
     assert!(report.contains("### Against the shapes of `data/roving-hammer-beam-model.uff`"));
     assert_eq!(
