@@ -104,23 +104,35 @@ pub fn simulate<'py>(
     v0: f64,
     backend_json: &str,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let parameters = Parameters::new(mass, damping, stiffness).map_err(errors::ident)?;
+    let (parameters, initial, input) =
+        simulation([mass, damping, stiffness], &t, &force, [x0, v0])?;
     let backend: Value = serde_json::from_str(backend_json).map_err(errors::value)?;
     let backend: Backend = options("backend", &backend_value(backend)?.to_string())?;
-    let initial = InitialState {
-        displacement: x0,
-        velocity: v0,
-    };
+    let out = py
+        .detach(|| msd_ident::simulate(&parameters, &input, initial, &backend))
+        .map_err(errors::ident)?;
+    Ok(array(py, out))
+}
+
+/// A simulation's plant, initial state and sampled force, each checked.
+fn simulation(
+    [mass, damping, stiffness]: [f64; 3],
+    t: &PyReadonlyArray1<'_, f64>,
+    force: &PyReadonlyArray1<'_, f64>,
+    [x0, v0]: [f64; 2],
+) -> PyResult<(Parameters, InitialState, Excitation)> {
+    let parameters = Parameters::new(mass, damping, stiffness).map_err(errors::ident)?;
     if !(x0.is_finite() && v0.is_finite()) {
         return Err(PyValueError::new_err(format!(
             "initial_state = ({x0}, {v0}): expected finite numbers"
         )));
     }
-    let input = excitation("simulate", &vec_f64(&t), vec_f64(&force))?;
-    let out = py
-        .detach(|| msd_ident::simulate(&parameters, &input, initial, &backend))
-        .map_err(errors::ident)?;
-    Ok(array(py, out))
+    let initial = InitialState {
+        displacement: x0,
+        velocity: v0,
+    };
+    let input = excitation("simulate", &vec_f64(t), vec_f64(force))?;
+    Ok((parameters, initial, input))
 }
 
 /// simulate_motion(mass, damping, stiffness, t, force, x0, v0)
@@ -141,17 +153,8 @@ pub fn simulate_motion<'py>(
     v0: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     use msd_ident::{Drive, Frame, ResponseQuantity};
-    let parameters = Parameters::new(mass, damping, stiffness).map_err(errors::ident)?;
-    if !(x0.is_finite() && v0.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "initial_state = ({x0}, {v0}): expected finite numbers"
-        )));
-    }
-    let initial = InitialState {
-        displacement: x0,
-        velocity: v0,
-    };
-    let input = excitation("simulate", &vec_f64(&t), vec_f64(&force))?;
+    let (parameters, initial, input) =
+        simulation([mass, damping, stiffness], &t, &force, [x0, v0])?;
     let out = PyDict::new(py);
     for (name, quantity) in [
         ("displacement", ResponseQuantity::Displacement),

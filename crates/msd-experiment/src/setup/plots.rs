@@ -103,19 +103,6 @@ fn condition_label(c: &msd_ident::dynamometer::ConditionSummary) -> String {
     )
 }
 
-const PALETTE: [RGBColor; 10] = [
-    BLUE,
-    RED,
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
-
 /// Each condition's last whole cycle, measured (points) and fitted (line).
 fn loops(o: &SetupOutcome) -> Option<Stack<'_>> {
     let SetupFit::Machine(m) = &o.fit else {
@@ -132,7 +119,7 @@ fn loops(o: &SetupOutcome) -> Option<Stack<'_>> {
             lo = lo.min(*v);
             hi = hi.max(*v);
         }
-        let colour = PALETTE[i % PALETTE.len()];
+        let colour = crate::plots::category_colour(i);
         curves.push(Curve {
             label: condition_label(c),
             x,
@@ -190,7 +177,7 @@ fn force_velocity(o: &SetupOutcome) -> Option<Stack<'_>> {
             label: condition_label(c),
             x: &c.velocity,
             y: damping,
-            style: Style::Points(PALETTE[i % PALETTE.len()], 1),
+            style: Style::Points(crate::plots::category_colour(i), 1),
         });
     }
     // The law along one whole cycle of the fastest condition: the line runs over
