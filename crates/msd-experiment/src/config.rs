@@ -1121,6 +1121,22 @@ impl Config {
                 ": missing section: a [chain] config needs the drive's signal".into(),
             ));
         }
+        // The record, the fit's copies and the Monte Carlo band's draws (every draw's
+        // response of every sensor is held for the percentiles) per second of record.
+        let sensors = chain.sensors.len() as f64;
+        let draws = msd_mc::ChainBandOptions::default().samples as f64;
+        let per_second = (sensors + 1.0 + sensors * draws) / time.dt;
+        crate::budget::check("time.duration", time.duration, per_second, crate::budget::Budget::Held)
+            .map_err(|(key, message)| {
+                let held = sensors + 1.0 + sensors * draws;
+                (
+                    key,
+                    format!(
+                        "{message} s at time.dt = {} s ({held} values a sample: the drive, {sensors} sensors and the Monte Carlo band's {draws} draws of each); shorten time.duration or lengthen time.dt",
+                        time.dt
+                    ),
+                )
+            })?;
         chain.validate(time.duration)
     }
 

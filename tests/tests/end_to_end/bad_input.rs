@@ -536,3 +536,28 @@ fn a_failed_run_leaves_a_previous_result_untouched() {
         "{\"previous\": true}"
     );
 }
+
+/// Issue 46 §1: a chain's sizes go through the one budget before anything is allocated
+/// (a 1e9 s record aborted on a 4 TB allocation; 2000 s held 3 GB, the band's draws).
+#[test]
+fn a_chain_past_the_budget_is_refused_by_its_time_keys() {
+    let case = Case::new();
+    let shipped = std::fs::read_to_string(config("two-storey.toml")).unwrap();
+    for (from, to, expected) in [
+        (
+            "duration = 10.0",
+            "duration = 1e9",
+            "time.duration = 1000000000",
+        ),
+        (
+            "duration = 10.0",
+            "duration = 2000.0",
+            "the largest accepted is 248 s",
+        ),
+        ("dt = 0.002", "dt = 1e-9", "at time.dt = 0.000000001 s"),
+    ] {
+        assert!(shipped.contains(from), "{from}");
+        let c = case.file("c.toml", &shipped.replacen(from, to, 1));
+        case.refuses(&c, &["c.toml", expected, "Monte Carlo band's 200 draws"]);
+    }
+}

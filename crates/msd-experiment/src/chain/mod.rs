@@ -87,11 +87,16 @@ pub fn run(
     timings.push(("estimation", t.elapsed()));
     progress.stage("monte carlo");
     let t = Instant::now();
+    // Every draw's response of every sensor is held for the percentiles: a long measured
+    // record gets fewer draws (the report says how many), at least 20.
+    let per_draw = (record.input.len() * record.outputs.len().max(1)) as f64;
+    let draws = (crate::budget::SAMPLES_HELD / per_draw).floor() as usize;
     let band_options = ChainBandOptions {
         seed,
         threads: options
             .threads
             .unwrap_or(ChainBandOptions::default().threads),
+        samples: draws.clamp(20, ChainBandOptions::default().samples),
         ..ChainBandOptions::default()
     };
     let band = chain_band(
