@@ -309,6 +309,12 @@ fn solve(start: &Start<'_>, record: &ChainRecord, passes: usize) -> Result<Solve
         });
     }
     runaway(start, &theta)?;
+    // A delay past zero was read as zero during the fit (ChainProblem::simulate): the
+    // estimate is that zero, at which the residuals and sensitivities were taken.
+    let simulated = start.layout.simulated();
+    for t in &mut theta[simulated..] {
+        *t = t.max(0.0);
+    }
     Ok(Solved {
         theta,
         noise: problem.noise,

@@ -240,13 +240,16 @@ impl ChainProblem<'_> {
         theta: &[f64],
         jacobian: Option<&mut DMatrix<f64>>,
     ) -> Option<Simulation> {
-        let (parameters, delays) = self.layout.unpack(theta, self.base, self.delays);
+        let (parameters, mut delays) = self.layout.unpack(theta, self.base, self.delays);
         let half = self.record.dt * self.record.len() as f64 / 2.0;
-        if delays
-            .iter()
-            .any(|d| !(d.is_finite() && *d >= 0.0 && *d < half))
-        {
+        if delays.iter().any(|d| !(d.is_finite() && *d < half)) {
             return None;
+        }
+        // A delay is not negative: a step past zero reads the sensor at zero delay (the
+        // residual stays continuous, so the other parameters still move when the true
+        // delay is zero; a hard wall there stalled every step at the guess).
+        for d in &mut delays {
+            *d = d.max(0.0);
         }
         let setup = self.layout.setup_at(theta, self.setup);
         let (plant, partials) = systems(&setup, self.layout, &parameters);
