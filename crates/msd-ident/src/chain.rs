@@ -17,7 +17,7 @@ mod simulate;
 mod uncertainty;
 mod validate;
 
-pub use fit::{ChainFit, ChainOptions, fit_chain};
+pub use fit::{CUTOFF_NOT_SEPARATED, ChainFit, ChainOptions, fit_chain};
 pub use plan::predict_chain;
 pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};

@@ -75,6 +75,49 @@ fn delays_asked_of_sensors_without_one_do_not_stall_the_fit() {
     }
 }
 
+/// Issue 46 §2: a cut-off estimated beside the delay (configs/delayed-sensor.toml, a
+/// 50 Hz first-order filter and 6 ms) ran to 3.6e9 ± 8.1e15 Hz with the interval
+/// [0, inf]. The record cannot separate them: the fit says so, reports no cut-off, and
+/// its delay is the sensor's whole lag — 6 ms plus the filter's low-frequency group
+/// delay 1/(2π·50 Hz) = 3.18 ms (exact to 0.04 % over the excited 0.1–3 Hz) — within 4 SE.
+#[test]
+fn a_cutoff_the_record_cannot_separate_from_the_delay_is_said_and_not_reported() {
+    let shipped = std::fs::read_to_string(config("delayed-sensor.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("delayed-cutoff.toml");
+    let text = shipped.replacen(
+        "estimate_delay = true,",
+        "estimate_delay = true, estimate_cutoff = true,",
+        1,
+    );
+    assert!(text.contains("estimate_cutoff = true"));
+    std::fs::write(&path, text).unwrap();
+    let run = run_in_temp(&path, None, None).expect("runs");
+    let fit = &run.summary.results["fit"];
+    assert!(
+        fit["cutoffs"]
+            .as_array()
+            .is_none_or(|c| c.iter().all(Value::is_null)),
+        "{}",
+        fit["cutoffs"]
+    );
+    assert!(
+        run.summary
+            .summary
+            .contains("cannot separate a first-order filter from the sensor's delay")
+    );
+    let delay = &fit["delays"][0];
+    let lag = 0.006 + 1.0 / (std::f64::consts::TAU * 50.0);
+    let (value, se) = (
+        delay["value"].as_f64().unwrap(),
+        delay["standard_error"].as_f64().unwrap(),
+    );
+    assert!(
+        (value - lag).abs() < 4.0 * se,
+        "{value} ± {se} against {lag}"
+    );
+}
+
 #[test]
 fn the_delayed_sensor_is_fitted_with_its_delay_and_the_bias_of_ignoring_it_is_shown() {
     let run = run_in_temp(&config("delayed-sensor.toml"), None, None).expect("runs");

@@ -460,6 +460,10 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             );
         }
     }
+    for note in (o.fit.notes.iter()).filter(|n| n.contains(msd_ident::chain::CUTOFF_NOT_SEPARATED))
+    {
+        let _ = writeln!(s, "  warning: {note}");
+    }
     noise_report::summary(
         &mut s,
         &o.fit.noise_model,

@@ -142,7 +142,43 @@ pub fn fit_chain(
         delays: &delays,
     };
     let solved = solve(&start, record, options.passes)?;
-    statistics(&start, record, solved, options)
+    let fit = statistics(&start, record, solved, options)?;
+    let runaway = runaway_cutoffs(&fit, record.dt);
+    if runaway.is_empty() {
+        return Ok(fit);
+    }
+    // A cut-off the record cannot pin runs off (past Nyquist, an unbounded interval):
+    // a first-order filter at fc delays by about 1/(2π fc) at low frequency, so with
+    // the delay estimated the two are nearly confounded. Refit without those filters and
+    // say so, rather than report a number whose interval means nothing.
+    let mut without = setup.clone();
+    for &i in &runaway {
+        without.sensors[i].estimate_cutoff = false;
+        without.sensors[i].low_pass = None;
+    }
+    let mut refit = fit_chain(&without, record, guess, options)?;
+    for &i in &runaway {
+        let fc = fit.uncertainty.cutoffs[i].map_or(f64::NAN, |c| c.value);
+        refit.notes.push(format!(
+            "sensor {}: {CUTOFF_NOT_SEPARATED} {fc:.3e} Hz (past the Nyquist frequency, or with an unbounded interval): the record cannot separate a first-order filter from the sensor's delay (the filter delays by about 1/(2π·fc)); refitted without the filter, so the delay reported is the sensor's whole lag, filter included",
+            i + 1
+        ));
+    }
+    Ok(refit)
+}
+
+/// The words of the note a refit without a runaway cut-off leaves in [`ChainFit::notes`].
+pub const CUTOFF_NOT_SEPARATED: &str = "its low-pass cut-off ran to";
+
+/// The sensors whose estimated cut-off ran off: past the Nyquist frequency, not finite,
+/// or with an interval that is not bounded above.
+fn runaway_cutoffs(fit: &ChainFit, dt: f64) -> Vec<usize> {
+    let nyquist = 0.5 / dt;
+    (fit.uncertainty.cutoffs.iter().enumerate())
+        .filter_map(|(i, c)| c.map(|c| (i, c)))
+        .filter(|(_, c)| !(c.value.is_finite() && c.value < nyquist && c.ci95[1].is_finite()))
+        .map(|(i, _)| i)
+        .collect()
 }
 
 /// Checks the inputs; the errors name the key.
