@@ -85,8 +85,13 @@ pub(crate) struct Evidence<'a> {
 /// The verdict on `e`.
 pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
     let mut findings = Vec::new();
-    for reason in &e.unidentified {
-        findings.push(fail(format!("not everything is identified: {reason}")));
+    match e.unidentified.as_slice() {
+        [] => {}
+        [reason] => findings.push(fail(format!("not everything is identified: {reason}"))),
+        reasons => findings.push(fail(format!(
+            "not everything is identified: {} combinations of the parameters leave the records unchanged (listed with the estimates); the modes are identified",
+            reasons.len()
+        ))),
     }
     let coloured: Vec<String> = (e.whiteness.iter())
         .filter(|c| !c.passed)

@@ -7,6 +7,7 @@
 //! for the frequency-response sources that simulate one.
 
 mod fit;
+mod identifiable;
 mod model;
 mod modes;
 mod noise;
@@ -17,7 +18,9 @@ mod simulate;
 mod uncertainty;
 mod validate;
 
-pub use fit::{CUTOFF_NOT_SEPARATED, ChainFit, ChainOptions, fit_chain};
+pub use fit::{
+    CUTOFF_NOT_SEPARATED, ChainFit, ChainOptions, GROUND_AT_ZERO, GROUND_NOT_IN_RECORDS, fit_chain,
+};
 pub use plan::predict_chain;
 pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};

@@ -460,8 +460,10 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
             );
         }
     }
-    for note in (o.fit.notes.iter()).filter(|n| n.contains(msd_ident::chain::CUTOFF_NOT_SEPARATED))
-    {
+    use msd_ident::chain::{CUTOFF_NOT_SEPARATED, GROUND_AT_ZERO, GROUND_NOT_IN_RECORDS};
+    let warnings = [CUTOFF_NOT_SEPARATED, GROUND_NOT_IN_RECORDS, GROUND_AT_ZERO];
+    let said = |n: &&String| warnings.iter().any(|w| n.contains(w));
+    for note in o.fit.notes.iter().filter(said) {
         let _ = writeln!(s, "  warning: {note}");
     }
     noise_report::summary(

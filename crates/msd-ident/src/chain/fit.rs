@@ -1,5 +1,6 @@
 //! `fit_chain`: every mass, damper and spring of a chain, with intervals, from one record.
 
+use super::identifiable::hold_lost;
 use super::noise::treat;
 use super::problem::{ChainProblem, Layout, enough_rows};
 use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
@@ -7,6 +8,7 @@ use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
 use crate::error::{IdentError, Result};
 use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness, notes};
 use crate::residuals::ResidualOptions;
+use msd_opt::statistics::Interval;
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -129,12 +131,13 @@ pub fn fit_chain(
     options: &ChainOptions,
 ) -> Result<ChainFit> {
     check(setup, record, guess, options)?;
-    let layout = Layout::new(setup, &options.known_masses, guess);
+    let mut layout = Layout::new(setup, &options.known_masses, guess);
     let delays: Vec<f64> = setup
         .sensors
         .iter()
         .map(|s| s.delay.unwrap_or(0.0))
         .collect();
+    let lost = hold_lost(setup, record, guess, &delays, &mut layout);
     let start = Start {
         setup,
         layout: &layout,
@@ -142,7 +145,16 @@ pub fn fit_chain(
         delays: &delays,
     };
     let solved = solve(&start, record, options.passes)?;
-    let fit = statistics(&start, record, solved, options)?;
+    if let Some(j) = runaway(&start, &solved.theta) {
+        return absent_or_lost(&start, &solved.theta, j, record, options);
+    }
+    let mut fit = statistics(&start, record, solved, options)?;
+    if !lost.is_empty() {
+        not_identified(&mut fit.uncertainty, &lost);
+        if let Some(white) = fit.white_noise_uncertainty.as_mut() {
+            not_identified(white, &lost);
+        }
+    }
     let runaway = runaway_cutoffs(&fit, record.dt);
     if runaway.is_empty() {
         return Ok(fit);
@@ -169,6 +181,13 @@ pub fn fit_chain(
 
 /// The words of the note a refit without a runaway cut-off leaves in [`ChainFit::notes`].
 pub const CUTOFF_NOT_SEPARATED: &str = "its low-pass cut-off ran to";
+
+/// The words of the note a refit without a ground spring or damper that ran to zero
+/// leaves in [`ChainFit::notes`].
+pub const GROUND_NOT_IN_RECORDS: &str = "the records show no";
+
+/// The words of the note on a spring or damper to the ground whose interval reaches zero.
+pub const GROUND_AT_ZERO: &str = "its interval reaches zero";
 
 /// The sensors whose estimated cut-off ran off: past the Nyquist frequency, not finite,
 /// or with an interval that is not bounded above.
@@ -294,7 +313,7 @@ fn solve(start: &Start<'_>, record: &ChainRecord, passes: usize) -> Result<Solve
             evaluations += result.evaluations;
             // A short record may not fix every parameter: a stage that ran one away
             // is dropped.
-            if runaway(start, &result.x).is_ok() {
+            if runaway(start, &result.x).is_none() {
                 theta = result.x;
             }
         }
@@ -344,7 +363,6 @@ fn solve(start: &Start<'_>, record: &ChainRecord, passes: usize) -> Result<Solve
             reason: format!("the chain fit did not converge: {}", result.exit),
         });
     }
-    runaway(start, &theta)?;
     // A delay past zero was read as zero during the fit (ChainProblem::simulate): the
     // estimate is that zero, at which the residuals and sensitivities were taken.
     let simulated = start.layout.simulated();
@@ -368,29 +386,61 @@ const REWEIGHT: f64 = 0.05;
 /// The fewest samples of a prefix stage.
 const MIN_STAGE: usize = 256;
 
-/// A parameter that left its guess by more than [`RUNAWAY`] (or to 0 or ∞) is a
-/// fit that fell into a wrong minimum, not an estimate: an error naming it.
-fn runaway(start: &Start<'_>, theta: &[f64]) -> Result<()> {
+/// The first parameter that left its guess by more than [`RUNAWAY`] (or to 0 or ∞).
+fn runaway(start: &Start<'_>, theta: &[f64]) -> Option<usize> {
     let first = start.layout.theta(start.guess, start.delays);
-    for (j, (t, t0)) in theta
-        .iter()
-        .zip(&first)
-        .enumerate()
-        .take(start.layout.free.len())
-    {
+    let free = start.layout.free.len();
+    (theta.iter().zip(&first).take(free)).position(|(t, t0)| {
         let ratio = (t - t0).exp();
-        if !(ratio.is_finite() && ratio > 1.0 / RUNAWAY && ratio < RUNAWAY && t.exp() > 0.0) {
-            return Err(IdentError::EstimationFailed {
-                reason: format!(
-                    "{} ran from the guess {:e} to {:e}: the fit fell into a wrong minimum (or the records do not fix it); start from a closer guess",
-                    start.layout.name(j),
-                    t0.exp(),
-                    t.exp()
-                ),
-            });
-        }
+        !(ratio.is_finite() && ratio > 1.0 / RUNAWAY && ratio < RUNAWAY && t.exp() > 0.0)
+    })
+}
+
+/// A fit whose column `j` ran away: a spring or damper to the ground that ran to zero is
+/// one the chain does not have (refitted without it, said in a note); anything else is a
+/// wrong minimum, not an estimate: an error naming it.
+fn absent_or_lost(
+    start: &Start<'_>,
+    theta: &[f64],
+    j: usize,
+    record: &ChainRecord,
+    options: &ChainOptions,
+) -> Result<ChainFit> {
+    use super::model::Family::{GroundDamper, GroundSpring};
+    let (name, t0, t) = (
+        start.layout.name(j),
+        start.layout.theta(start.guess, start.delays)[j].exp(),
+        theta[j].exp(),
+    );
+    let (family, i) = start.layout.free[j];
+    if matches!(family, GroundDamper | GroundSpring) && t < t0 {
+        let mut without = start.guess.clone();
+        let values = match family {
+            GroundDamper => &mut without.ground_dampers,
+            _ => &mut without.ground_springs,
+        };
+        values[i] = 0.0;
+        let mut fit = fit_chain(start.setup, record, &without, options)?;
+        fit.notes.push(format!(
+            "{name} ran from the guess {t0:.3e} to {t:.3e}: {GROUND_NOT_IN_RECORDS} {} from mass {} to the ground; refitted without it",
+            if family == GroundDamper { "damper" } else { "spring" },
+            i + 1
+        ));
+        return Ok(fit);
     }
-    Ok(())
+    Err(IdentError::EstimationFailed {
+        reason: format!(
+            "{name} ran from the guess {t0:e} to {t:e}: the fit fell into a wrong minimum (or the records do not fix it); start from a closer guess"
+        ),
+    })
+}
+
+/// Marks `uncertainty` as not identifying m, c, k for the reasons `lost` (found before
+/// the fit, which held one parameter per reason), before any found at the estimate.
+fn not_identified(uncertainty: &mut ChainUncertainty, lost: &[String]) {
+    uncertainty.intervals = None;
+    let found = std::mem::take(&mut uncertainty.unidentifiable);
+    uncertainty.unidentifiable = lost.iter().cloned().chain(found).collect();
 }
 
 /// The factor a parameter may move from its guess.
@@ -439,12 +489,13 @@ fn statistics(
     let reported = treated.covariance.as_ref().map(|c| (c, treated.t_dof));
     let uncertainty = uncertainty_at(&at, &jacobian, s2, dof, reported);
     let white_noise_uncertainty = reported.map(|_| uncertainty_at(&at, &jacobian, s2, dof, None));
-    let notes = notes(
+    let mut notes = notes(
         &treated.fit,
         &treated.whiteness,
         "white_noise_uncertainty",
         true,
     );
+    notes.extend(ground_at_zero(&uncertainty));
     Ok(ChainFit {
         parameters,
         uncertainty,
@@ -456,6 +507,29 @@ fn statistics(
         exit: solved.exit,
         evaluations: solved.evaluations,
     })
+}
+
+/// A note for each spring or damper to the ground whose interval reaches zero.
+fn ground_at_zero(uncertainty: &ChainUncertainty) -> Vec<String> {
+    let Some(iv) = &uncertainty.intervals else {
+        return Vec::new();
+    };
+    let each = |values: &[Interval], symbol: &str, what: &str, unit: &str| {
+        (values.iter().enumerate())
+            .filter(|(_, v)| v.standard_error > 0.0 && v.ci95[0] <= 0.0)
+            .map(|(i, v)| {
+                format!(
+                    "{symbol}{} = {:.3e} {unit}: {GROUND_AT_ZERO}, so the records do not show that the {what} from mass {} to the ground is there",
+                    i + 1,
+                    v.value,
+                    i + 1
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut notes = each(&iv.ground_springs, "kg", "spring", "N/m");
+    notes.extend(each(&iv.ground_dampers, "cg", "damper", "N·s/m"));
+    notes
 }
 
 /// The root mean square of `values`.

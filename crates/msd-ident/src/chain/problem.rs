@@ -55,6 +55,23 @@ impl Layout {
         }
     }
 
+    /// Holds column `j` at the start's value: it is no longer fitted.
+    pub(crate) fn hold(&mut self, j: usize) {
+        let free = self.free.len();
+        if j < free {
+            self.free.remove(j);
+        } else if j < self.simulated() {
+            self.cutoffs.remove(j - free);
+        } else if j < self.len() {
+            self.delayed.remove(j - self.simulated());
+        }
+    }
+
+    /// The column of the physical parameter `family`, `i`, when it is fitted.
+    pub(crate) fn column(&self, family: Family, i: usize) -> Option<usize> {
+        self.free.iter().position(|&c| c == (family, i))
+    }
+
     pub(crate) fn len(&self) -> usize {
         self.free.len() + self.cutoffs.len() + self.delayed.len()
     }

@@ -195,6 +195,13 @@ fn intervals(
             .enumerate()
             .map(
                 |(i, &value)| match layout.free.iter().position(|&c| c == (family, i)) {
+                    // A spring or damper to the ground may be absent: its interval is on
+                    // the value itself and stops at zero, so that it can reach it.
+                    Some(j) if matches!(family, GroundDamper | GroundSpring) => {
+                        let mut iv = Interval::new(value, value * se(j), t);
+                        iv.ci95[0] = iv.ci95[0].max(0.0);
+                        iv
+                    }
                     // The log's standard error times the value; the interval on the log.
                     Some(j) => Interval::positive(value, value * se(j), t),
                     None => Interval::new(value, 0.0, t),
@@ -254,7 +261,11 @@ fn pseudo_covariance(
 }
 
 /// The null directions (orthonormal, in column-scaled coordinates) in words.
-fn lost_in_words(mut null: Vec<DVector<f64>>, norms: &[f64], layout: &Layout) -> Vec<String> {
+pub(super) fn lost_in_words(
+    mut null: Vec<DVector<f64>>,
+    norms: &[f64],
+    layout: &Layout,
+) -> Vec<String> {
     let free = layout.free.len();
     // The common scale: δ(ln p) = 1 for every free m, c, k.
     let mut scale = DVector::from_fn(norms.len(), |j, _| if j < free { norms[j] } else { 0.0 });
