@@ -1406,13 +1406,23 @@ fn check_backend(field: &str, b: &Backend) -> std::result::Result<(), (String, S
     })
 }
 
+/// A value as written in a message: plainly, or in exponent form when very large or
+/// small (1e300 is not 301 digits).
+pub(crate) fn show(v: f64) -> String {
+    if v.is_finite() && v != 0.0 && !(1e-4..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 fn check_positive(field: &str, v: f64) -> std::result::Result<(), (String, String)> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
         Err((
             field.into(),
-            format!(" = {v}: expected a finite number > 0"),
+            format!(" = {}: expected a finite number > 0", show(v)),
         ))
     }
 }
@@ -1423,7 +1433,7 @@ fn check_non_negative(field: &str, v: f64) -> std::result::Result<(), (String, S
     } else {
         Err((
             field.into(),
-            format!(" = {v}: expected a finite number >= 0"),
+            format!(" = {}: expected a finite number >= 0", show(v)),
         ))
     }
 }
@@ -1432,7 +1442,10 @@ fn check_finite(field: &str, v: f64) -> std::result::Result<(), (String, String)
     if v.is_finite() {
         Ok(())
     } else {
-        Err((field.into(), format!(" = {v}: expected a finite number")))
+        Err((
+            field.into(),
+            format!(" = {}: expected a finite number", show(v)),
+        ))
     }
 }
 
@@ -1442,7 +1455,7 @@ fn check_finite_nonzero(field: &str, v: f64) -> std::result::Result<(), (String,
     } else {
         Err((
             field.into(),
-            format!(" = {v}: expected a finite, non-zero factor"),
+            format!(" = {}: expected a finite, non-zero factor", show(v)),
         ))
     }
 }

@@ -22,8 +22,8 @@ pub use fit::{
     CUTOFF_NOT_SEPARATED, ChainFit, ChainOptions, GROUND_AT_ZERO, GROUND_NOT_IN_RECORDS, fit_chain,
 };
 pub use plan::predict_chain;
-pub use setup::MAX_MASSES;
 pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};
+pub use setup::{LEVELS, MAX_MASSES};
 pub use uncertainty::{ChainIntervals, ChainUncertainty};
 pub use validate::{ChainPrediction, ChainValidation, hold_out_chain};
 

@@ -340,6 +340,53 @@ fn bad_chains_are_refused_naming_the_key() {
     );
 }
 
+/// Issue 46 §4: sizes a config can state but the fit cannot take exit 2 naming the key
+/// (they exited 1 from inside the run, or 0 with inf in the report).
+#[test]
+fn absurd_sizes_are_refused_naming_the_key() {
+    let sensor = "{ at = 2, quantity = \"acceleration\", sigma = 0.02 }";
+    let with = |extra: &str| sensor.replace(" }", &format!(", {extra} }}"));
+    for (extra, fragments) in [
+        (
+            "delay = -0.006, estimate_delay = true",
+            ["chain.sensors[1].delay = -0.006", "≥ 0"],
+        ),
+        (
+            "delay = nan, estimate_delay = true",
+            ["chain.sensors[1].delay = NaN", "≥ 0"],
+        ),
+        (
+            "low_pass = { cutoff_hz = 1e-6 }",
+            [
+                "chain.sensors[1].low_pass.cutoff_hz = 1e-6",
+                "1/duration = 0.1 Hz",
+            ],
+        ),
+    ] {
+        refuses(sensor, &with(extra), &fragments);
+    }
+    refuses(
+        sensor,
+        &sensor.replace("0.02", "1e300"),
+        &["chain.sensors[1].sigma = 1e300", "from 0 to 1e150"],
+    );
+    for (rms, level) in [
+        ("0.0", "RMS 0e0"),
+        ("1e-200", "RMS 0e0"),
+        ("1e200", "RMS inf"),
+    ] {
+        refuses(
+            "rms = 2.0",
+            &format!("rms = {rms}"),
+            &[
+                "identification.input: the drive it describes has",
+                level,
+                "between 1e-150 and 1e150",
+            ],
+        );
+    }
+}
+
 /// The two-storey rig with a load cell of 2 % noise (0.04 N on 2 N rms): the drive's
 /// noise is found (σ̂_u within 4 of its standard errors, ~1/√(lines) relative, of 0.04 N
 /// — here within 25 %), the intervals widen and hold the truth, the white-noise ones

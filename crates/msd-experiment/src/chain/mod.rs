@@ -183,7 +183,7 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
     // The drive as its sensor reads it: the chain felt the exact one.
     let drive_noise = gaussian_noise(seed, "chain/drive", chain.drive_sigma, input.len())
         .map_err(|e| ExperimentError::run("data", e))?;
-    Ok(ChainRecord {
+    let record = ChainRecord {
         dt: input.dt(),
         input: input
             .samples()
@@ -192,8 +192,27 @@ pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<C
             .map(|(u, e)| u + e)
             .collect(),
         outputs,
-    })
+    };
+    match record.level_out_of_range() {
+        None => Ok(record),
+        Some((which, level)) => Err(ExperimentError::config(
+            config_path,
+            match which {
+                None => format!(
+                    "identification.input: the drive it describes has RMS {level:e}: {LEVELS_EXPECTED}"
+                ),
+                Some(i) => format!(
+                    "chain.sensors[{i}].sigma = {}: with the drive of identification.input, sensor {}'s record has RMS {level:e}: {LEVELS_EXPECTED}",
+                    crate::config::show(chain.sensors[i].sigma),
+                    i + 1
+                ),
+            },
+        )),
+    }
 }
+
+/// What a series' RMS must be, in a message.
+const LEVELS_EXPECTED: &str = "expected between 1e-150 and 1e150 (outside, its squares leave double precision: a drive of zero, or of an absurd size)";
 
 /// The measured record of `[data]`: the drive's column (`data.input`, scaled) and each
 /// sensor's (`chain.sensors[i].column`, scaled), on the time column or sampling rate.
@@ -234,11 +253,24 @@ fn measured_record(
     }
     let mut table = crate::data::read_columns(d, &config.sources, &path, "data.path", &specs)?;
     let input = table.columns.remove(0);
-    Ok(ChainRecord {
+    let record = ChainRecord {
         dt: table.dt,
         input,
         outputs: table.columns,
-    })
+    };
+    match record.level_out_of_range() {
+        None => Ok(record),
+        Some((which, level)) => {
+            let spec = &specs[which.map_or(0, |i| i + 1)];
+            Err(ExperimentError::data(
+                &path,
+                format!(
+                    "{} (column {}, the {}): its series has RMS {level:e}: {LEVELS_EXPECTED}",
+                    spec.key, spec.column, spec.role
+                ),
+            ))
+        }
+    }
 }
 
 /// The share of the record held out to check the fit on fresh data.

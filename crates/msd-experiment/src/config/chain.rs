@@ -202,10 +202,37 @@ impl ChainSection {
             ));
         }
         for (i, s) in self.sensors.iter().enumerate() {
-            if !(s.sigma.is_finite() && s.sigma >= 0.0) {
+            if !(s.sigma.is_finite() && (0.0..=msd_ident::chain::LEVELS[1]).contains(&s.sigma)) {
                 return Err((
                     format!("chain.sensors[{i}].sigma"),
-                    format!(" = {}: expected a finite number ≥ 0", s.sigma),
+                    format!(
+                        " = {}: expected a number from 0 to {:e} (beyond, its squares leave double precision)",
+                        super::show(s.sigma),
+                        msd_ident::chain::LEVELS[1]
+                    ),
+                ));
+            }
+            if let Some(delay) = s.delay
+                && !(delay.is_finite() && delay >= 0.0)
+            {
+                return Err((
+                    format!("chain.sensors[{i}].delay"),
+                    format!(
+                        " = {}: expected a finite number of seconds ≥ 0",
+                        super::show(delay)
+                    ),
+                ));
+            }
+            if let Some(filter) = s.low_pass
+                && filter.cutoff_hz * duration < 1.0
+            {
+                return Err((
+                    format!("chain.sensors[{i}].low_pass.cutoff_hz"),
+                    format!(
+                        " = {}: expected at least 1/duration = {} Hz (below, the sensor shows nothing of the motion but the record's mean)",
+                        super::show(filter.cutoff_hz),
+                        super::show(1.0 / duration)
+                    ),
                 ));
             }
             if let Some(delay) = s.delay

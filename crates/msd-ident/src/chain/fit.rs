@@ -3,7 +3,7 @@
 use super::identifiable::hold_lost;
 use super::noise::treat;
 use super::problem::{ChainProblem, Layout, enough_rows};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
+use super::setup::{ChainParameters, ChainRecord, ChainSetup, levels, rms, setup_error};
 use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
 use crate::error::{IdentError, Result};
 use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness, notes};
@@ -220,19 +220,7 @@ fn check(
             setup.masses
         )));
     }
-    if record.input.iter().all(|&u| u == 0.0) {
-        return Err(setup_error(
-            "the drive is zero throughout: nothing excites the chain".into(),
-        ));
-    }
-    for (i, y) in record.outputs.iter().enumerate() {
-        let level = rms(y);
-        if !(level.is_finite() && level > 0.0) {
-            return Err(setup_error(format!(
-                "sensors[{i}]: its series has RMS {level:e}: expected a record that is neither zero throughout nor beyond 1e150"
-            )));
-        }
-    }
+    levels(record)?;
     let rows = record.len() * setup.sensors.len();
     let estimated = Layout::new(setup, &options.known_masses, guess).len();
     enough_rows(rows, estimated)
@@ -530,11 +518,6 @@ fn ground_at_zero(uncertainty: &ChainUncertainty) -> Vec<String> {
     let mut notes = each(&iv.ground_springs, "kg", "spring", "N/m");
     notes.extend(each(&iv.ground_dampers, "cg", "damper", "N·s/m"));
     notes
-}
-
-/// The root mean square of `values`.
-pub(super) fn rms(values: &[f64]) -> f64 {
-    (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
 }
 
 /// σ̂ of each channel from its residuals, with `inflation` = rows/dof shared evenly.

@@ -835,3 +835,33 @@ fn eight_masses_seen_by_one_sensor_at_the_far_end_lose_combinations_before_the_f
     assert!(!words.is_empty());
     assert_eq!(24 - layout.len(), words.len(), "{words:?}");
 }
+
+#[test]
+fn a_plan_the_sensors_cannot_see_says_so_and_has_no_infinite_number() {
+    // Masses of 1e300 kg: the records do not move; the prediction's variances overflow.
+    // It says what is not fixed and carries only finite numbers (it gave None SEs).
+    let setup = two_storey();
+    let heavy = ChainParameters {
+        masses: vec![1e300, 1e300],
+        ..truth()
+    };
+    let force = gaussian_noise(1, "force", 1.0, 2000).unwrap();
+    match predict_chain(
+        &setup,
+        &heavy,
+        &force,
+        2e-3,
+        &[0.02, 0.02],
+        &ChainOptions::default(),
+    ) {
+        Err(e) => assert!(!e.to_string().is_empty()),
+        Ok(plan) => {
+            assert!(plan.intervals.is_none());
+            assert!(!plan.unidentifiable.is_empty());
+            assert!(plan.correlation.iter().flatten().all(|v| v.is_finite()));
+            for mode in &plan.modes {
+                assert!(mode.natural_frequency_hz.ci95.iter().all(|v| v.is_finite()));
+            }
+        }
+    }
+}

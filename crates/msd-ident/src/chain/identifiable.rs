@@ -10,10 +10,9 @@
 //! at its guess — a mass first, as a weighed mass would — so the solver does not wander
 //! along it; the fit then reports the modes, which are identified, and not m, c, k.
 
-use super::fit::rms;
 use super::model::Family;
 use super::problem::{ChainProblem, Layout};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup};
+use super::setup::{ChainParameters, ChainRecord, ChainSetup, rms};
 use super::uncertainty::lost_in_words;
 use msd_opt::LeastSquaresProblem;
 use msd_opt::statistics::SINGULAR_CONDITION;

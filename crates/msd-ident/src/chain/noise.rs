@@ -4,9 +4,9 @@
 //! Everything here is in the fit's weighted units (each channel divided by its σ̂), so
 //! each sensor is its own group and the Jacobian is the solver's.
 
-use super::fit::rms;
 use super::problem::ChainProblem;
 use super::setup::ChainRecord;
+use super::setup::rms;
 use crate::correlation::autocorrelation;
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,

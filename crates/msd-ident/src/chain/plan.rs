@@ -54,6 +54,7 @@ pub fn predict_chain(
         outputs,
     };
     record.validate(setup)?;
+    super::setup::levels(&record)?;
     if let Some(&m) = options
         .known_masses
         .iter()

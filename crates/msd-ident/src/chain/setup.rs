@@ -220,6 +220,10 @@ impl ChainSetup {
     }
 }
 
+/// The RMS a record's series may have: squares of numbers outside this range leave
+/// double precision (underflow to zero or overflow to infinity) in the fit's sums.
+pub const LEVELS: [f64; 2] = [1e-150, 1e150];
+
 /// Every mass, damper and spring of a chain, from the ground out.
 ///
 /// ```
@@ -374,6 +378,25 @@ impl ChainRecord {
         }
     }
 
+    /// The first series whose RMS lies outside [`LEVELS`] — `None` for the drive,
+    /// `Some(i)` for sensor i — and that RMS; `None` when every one is inside.
+    ///
+    /// ```
+    /// use msd_ident::chain::ChainRecord;
+    /// let record = ChainRecord { dt: 1e-3, input: vec![0.0; 10], outputs: vec![vec![1.0; 10]] };
+    /// assert_eq!(record.level_out_of_range(), Some((None, 0.0)));
+    /// ```
+    pub fn level_out_of_range(&self) -> Option<(Option<usize>, f64)> {
+        let inside = |level: f64| (LEVELS[0]..=LEVELS[1]).contains(&level);
+        let drive = rms(&self.input);
+        if !inside(drive) {
+            return Some((None, drive));
+        }
+        (self.outputs.iter().map(|y| rms(y)).enumerate())
+            .find(|&(_, level)| !inside(level))
+            .map(|(i, level)| (Some(i), level))
+    }
+
     /// Checks the record against `setup`: dt, one finite series per sensor of the
     /// input's length, delays shorter than the record.
     pub fn validate(&self, setup: &ChainSetup) -> Result<()> {
@@ -404,6 +427,15 @@ impl ChainRecord {
         }
         let duration = self.dt * self.input.len() as f64;
         for (i, sensor) in setup.sensors.iter().enumerate() {
+            if let Some(filter) = sensor.low_pass
+                && filter.cutoff_hz * duration < 1.0
+            {
+                return Err(setup_error(format!(
+                    "sensors[{i}].low_pass.cutoff_hz = {} Hz: expected at least 1/duration = {} Hz (below, the sensor shows nothing of the motion but the record's mean)",
+                    show(filter.cutoff_hz),
+                    show(1.0 / duration)
+                )));
+            }
             if let Some(delay) = sensor.delay
                 && delay >= duration / 2.0
             {
@@ -443,4 +475,25 @@ pub(crate) fn show(v: f64) -> String {
     } else {
         format!("{v}")
     }
+}
+
+/// Refuses a record with a series of no signal, or beyond double precision's squares.
+pub(crate) fn levels(record: &ChainRecord) -> Result<()> {
+    match record.level_out_of_range() {
+        None => Ok(()),
+        Some((None, level)) if level == 0.0 && record.input.iter().all(|&u| u == 0.0) => Err(
+            setup_error("the drive is zero throughout: nothing excites the chain".into()),
+        ),
+        Some((which, level)) => Err(setup_error(format!(
+            "{}: its series has RMS {level:e}: expected between {:e} and {:e} (outside, its squares leave double precision)",
+            which.map_or("the drive".to_string(), |i| format!("sensors[{i}]")),
+            LEVELS[0],
+            LEVELS[1]
+        ))),
+    }
+}
+
+/// The root mean square of `values`.
+pub(crate) fn rms(values: &[f64]) -> f64 {
+    (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
 }

@@ -144,6 +144,8 @@ pub(crate) fn uncertainty_at(
         Err(_) => pseudo_covariance(jacobian, s2, layout),
     };
     let se = |j: usize| covariance[(j, j)].max(0.0).sqrt();
+    let mut unidentifiable = unidentifiable;
+    unidentifiable.extend(loose(layout, &covariance));
     let intervals = unidentifiable
         .is_empty()
         .then(|| intervals(layout, &parameters, &se, t));
@@ -163,7 +165,15 @@ pub(crate) fn uncertainty_at(
             Some(Interval::positive(hz, hz * se(layout.free.len() + j), t))
         })
         .collect();
-    let modes = modes_with_intervals(layout, at.theta, at.base, at.delays, &covariance, t);
+    let mut modes = modes_with_intervals(layout, at.theta, at.base, at.delays, &covariance, t);
+    let all = modes.len();
+    modes.retain(bounded);
+    if modes.len() < all {
+        unidentifiable.push(format!(
+            "{} of the {all} modes have intervals beyond double precision: the records do not fix them; not reported",
+            all - modes.len()
+        ));
+    }
     let correlation = correlation(&covariance);
     ChainUncertainty {
         intervals,
@@ -172,13 +182,56 @@ pub(crate) fn uncertainty_at(
         delays: delay_intervals,
         cutoffs,
         names: (0..layout.len()).map(|j| layout.name(j)).collect(),
-        correlation: correlation
-            .row_iter()
-            .map(|r| r.iter().copied().collect())
-            .collect(),
+        // Not computable where a variance is not finite: empty, never NaN.
+        correlation: if correlation.iter().all(|v| v.is_finite()) {
+            (correlation.row_iter())
+                .map(|r| r.iter().copied().collect())
+                .collect()
+        } else {
+            Vec::new()
+        },
         condition_number,
         degrees_of_freedom: dof,
     }
+}
+
+/// The largest standard error of a logarithm an identified parameter may have: its 95 %
+/// interval then spans a factor e^±20 (5e8) already; beyond, nothing is fixed.
+const MAX_LOG_SE: f64 = 10.0;
+
+/// The parameters the records do not fix, in words: a variance not finite, or a standard
+/// error of the logarithm above [`MAX_LOG_SE`].
+fn loose(layout: &Layout, covariance: &DMatrix<f64>) -> Option<String> {
+    let names: Vec<String> = (0..layout.free.len())
+        .filter(|&j| {
+            let v = covariance[(j, j)];
+            v.is_nan() || v > MAX_LOG_SE * MAX_LOG_SE
+        })
+        .map(|j| layout.name(j))
+        .collect();
+    (!names.is_empty()).then(|| {
+        format!(
+            "the records do not fix {}: the standard errors of their logarithms exceed {MAX_LOG_SE} or are not finite (the sensors see too little of them)",
+            names.join(", ")
+        )
+    })
+}
+
+/// Whether every number of a mode's intervals is finite.
+fn bounded(mode: &Mode) -> bool {
+    let finite = |iv: &Interval| {
+        iv.value.is_finite()
+            && iv.standard_error.is_finite()
+            && iv.ci95.iter().all(|v| v.is_finite())
+    };
+    finite(&mode.natural_frequency_hz)
+        && finite(&mode.damping_ratio)
+        && (mode.shape.iter()).all(|e| {
+            e.re.is_finite()
+                && e.im.is_finite()
+                && e.standard_error
+                    .is_none_or(|se| se.iter().all(|v| v.is_finite()))
+        })
 }
 
 /// Every m, c, k with its interval, computed on its logarithm (a known mass exact).
