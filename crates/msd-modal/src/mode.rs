@@ -27,6 +27,20 @@ pub struct Dof {
     pub direction: i32,
 }
 
+impl Dof {
+    /// Whether the direction is one UFF numbers: ±1 … ±6.
+    ///
+    /// ```
+    /// use msd_modal::Dof;
+    /// assert!(Dof { node: 3, direction: -3 }.is_valid());
+    /// assert!(!Dof { node: 3, direction: 0 }.is_valid());
+    /// assert!(!Dof { node: 3, direction: 7 }.is_valid());
+    /// ```
+    pub fn is_valid(&self) -> bool {
+        (1..=6).contains(&self.direction.unsigned_abs())
+    }
+}
+
 impl std::fmt::Display for Dof {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}:{:+}", self.node, self.direction)

@@ -17,15 +17,34 @@ use msd_signal::Complex64;
 /// assert!((mac(&a, &b) - 1.0).abs() < 1e-15);
 /// let c = [1.0, 0.0, 1.0].map(|x| Complex64::new(x, 0.0)); // orthogonal to a
 /// assert_eq!(mac(&a, &c), 0.0);
+/// // Any scale: shapes of 1e300 (whose products overflow) give the same MAC.
+/// let huge = a.map(|x| x * 1e300);
+/// assert!((mac(&huge, &b) - 1.0).abs() < 1e-15);
 /// ```
 pub fn mac(a: &[Complex64], b: &[Complex64]) -> f64 {
     debug_assert_eq!(a.len(), b.len());
-    let cross: Complex64 = a.iter().zip(b).map(|(x, y)| x.conj() * y).sum();
-    let (aa, bb) = (norm_sqr(a), norm_sqr(b));
-    if aa == 0.0 || bb == 0.0 {
+    // Each shape divided by its largest entry first: MAC does not depend on the scale,
+    // and shapes of 1e300 (or 1e-300) would overflow (underflow) the products.
+    let (a, b) = (unit_peak(a), unit_peak(b));
+    let cross: Complex64 = a.iter().zip(&b).map(|(x, y)| x.conj() * y).sum();
+    let (aa, bb) = (norm_sqr(&a), norm_sqr(&b));
+    if !(aa > 0.0 && bb > 0.0) {
         return 0.0;
     }
     cross.norm_sqr() / (aa * bb)
+}
+
+/// `shape` divided by its largest magnitude (unchanged when that is zero or not finite).
+fn unit_peak(shape: &[Complex64]) -> Vec<Complex64> {
+    let peak = shape
+        .iter()
+        .map(|z| z.re.abs().max(z.im.abs()))
+        .fold(0.0, f64::max);
+    if peak > 0.0 && peak.is_finite() {
+        shape.iter().map(|z| z / peak).collect()
+    } else {
+        shape.to_vec()
+    }
 }
 
 /// The MAC of every shape of `a` with every shape of `b`: `matrix[i][j]` = MAC(aᵢ, bⱼ)

@@ -7,18 +7,18 @@ use std::path::{Path, PathBuf};
 
 /// A scratch folder holding the bad config (and data), with the output folder planned
 /// inside it.
-struct Case {
-    dir: tempfile::TempDir,
+pub(crate) struct Case {
+    pub(crate) dir: tempfile::TempDir,
 }
 
 impl Case {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             dir: tempfile::tempdir().unwrap(),
         }
     }
 
-    fn file(&self, name: &str, text: &str) -> PathBuf {
+    pub(crate) fn file(&self, name: &str, text: &str) -> PathBuf {
         let path = self.dir.path().join(name);
         std::fs::write(&path, text).unwrap();
         path
@@ -26,7 +26,7 @@ impl Case {
 
     /// Runs `config` and checks the refusal: exit status 2, one line containing every
     /// `expected` fragment, and nothing written.
-    fn refuses(&self, config: &Path, expected: &[&str]) {
+    pub(crate) fn refuses(&self, config: &Path, expected: &[&str]) {
         let before: Vec<_> = listing(self.dir.path());
         let out = self.dir.path().join("out");
         let options = RunOptions {

@@ -2,6 +2,7 @@
 //! `cargo test -p msd-tests --test properties`).
 
 mod bad_input;
+mod bad_sets;
 mod chain_experiment;
 mod determinism;
 mod docs;

@@ -277,6 +277,15 @@ pub(crate) fn column_index(
     match (c, header) {
         (Column::Index(i), _) => Ok(*i),
         (Column::Name(name), Some(Header { names, line })) => {
+            let mut found = (names.iter().enumerate()).filter(|(_, h)| *h == name);
+            if let (Some((first, _)), Some((second, _))) = (found.next(), found.next()) {
+                return Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "line {line}: two columns are named `{name}` ({key}), #{first} and #{second} (from 0): expected one; rename one, or give the column by its number"
+                    ),
+                ));
+            }
             names.iter().position(|h| h == name).ok_or_else(|| {
                 let found: Vec<String> = names
                     .iter()
@@ -414,7 +423,17 @@ pub(crate) fn pick<'a>(
     key: &str,
 ) -> Result<&'a [f64]> {
     let found = match column {
-        Column::Name(name) => columns.iter().find(|(n, _)| n == name),
+        Column::Name(name) => {
+            if columns.iter().filter(|(n, _)| n == name).count() > 1 {
+                return Err(ExperimentError::data(
+                    path,
+                    format!(
+                        "{key} = {column}: two channels have that name: expected one; give the column by its number"
+                    ),
+                ));
+            }
+            columns.iter().find(|(n, _)| n == name)
+        }
         Column::Index(i) => columns.get(*i),
     };
     let names: Vec<String> = columns.iter().map(|(n, _)| format!("`{n}`")).collect();

@@ -145,9 +145,13 @@ fn parse(cell: &str) -> std::result::Result<f64, String> {
 /// A complex number as text: `a+bj`, `(a+bj)`, `a-bi`, `bj`, `a` (spaces allowed
 /// around the sign), each part a finite number.
 fn parse_complex(cell: &str) -> std::result::Result<Complex64, String> {
-    let text: String = cell
-        .trim_matches('"')
-        .trim()
+    let quoted = cell.trim_matches('"').trim();
+    if quoted.starts_with('(') != quoted.ends_with(')') {
+        return Err(format!(
+            "`{cell}` is not a complex number: its parenthesis is not closed (a line cut short, or a decimal comma read as the delimiter: then set decimal = \",\" and the file's own delimiter)"
+        ));
+    }
+    let text: String = quoted
         .trim_start_matches('(')
         .trim_end_matches(')')
         .chars()
@@ -237,6 +241,13 @@ mod tests {
         assert_eq!(parse_complex("7"), c(7.0, 0.0));
         for bad in ["1+xj", "(1+2k)", "nan+1j", "1+infj", "()"] {
             assert!(parse_complex(bad).is_err(), "{bad}");
+        }
+        // Issue 46 §5: `(-0,077+2,6e-08j)` split at its decimal commas gave `(-0`, read
+        // as 0; a last line cut short gave a real number.
+        assert!(parse_complex("077+2").is_err());
+        for cut in ["(-0", "6e-08j)", "(-0.08208477"] {
+            let err = parse_complex(cut).unwrap_err();
+            assert!(err.contains("parenthesis is not closed"), "{err}");
         }
     }
 }

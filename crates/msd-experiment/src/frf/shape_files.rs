@@ -38,6 +38,24 @@ pub(crate) fn reference_shapes(
         ));
     }
     let theirs: Vec<Vec<ShapeEntry>> = uff.data_at_nodes.iter().map(entries).collect();
+    for (i, shape) in theirs.iter().enumerate() {
+        if let Some(e) = shape
+            .iter()
+            .find(|e| !(e.re.is_finite() && e.im.is_finite()))
+        {
+            return Err(ExperimentError::data(
+                &path,
+                format!(
+                    "{key}: shape {} (the file's dataset 55 number {}) has {} + {}j at DOF {}: expected finite numbers",
+                    i + 1,
+                    i + 1,
+                    e.re,
+                    e.im,
+                    e.dof()
+                ),
+            ));
+        }
+    }
     let ours: Vec<Vec<ShapeEntry>> = fit.modes.iter().map(|m| m.shape.clone()).collect();
     let comparison = compare_shapes(&ours, &theirs)
         .map_err(|e| ExperimentError::data(&path, format!("{key}: {e}")))?;

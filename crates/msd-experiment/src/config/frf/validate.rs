@@ -123,10 +123,19 @@ impl FrequencyResponseSection {
                 )
             })?;
             for (name, dof) in [("response", t.response), ("reference", t.reference)] {
-                if dof.is_none() {
+                let Some(dof) = dof else {
                     return err(
                         &format!("frequency_response.set[{i}].{name}"),
                         ": missing: each FRF of a set names its DOFs, e.g. { node = 1, direction = 3 }".into(),
+                    );
+                };
+                if !dof.is_valid() {
+                    return err(
+                        &format!("frequency_response.set[{i}].{name}.direction"),
+                        format!(
+                            " = {}: expected ±1, ±2, ±3 (X, Y, Z) or ±4, ±5, ±6 (rotations about them), as UFF numbers directions",
+                            dof.direction
+                        ),
                     );
                 }
             }
@@ -177,6 +186,9 @@ impl FrequencyResponseSection {
                 );
             }
         }
+        for (i, mode) in self.reference_modes.iter().flatten().enumerate() {
+            check_reference_mode(i, mode)?;
+        }
         if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
             return err(
                 "frequency_response.uff.function",
@@ -185,6 +197,45 @@ impl FrequencyResponseSection {
         }
         Ok(())
     }
+}
+
+/// A reference mode: a finite frequency > 0, a damping ratio in [0, 1), a shape of
+/// finite numbers, not all zero, that a MAC can be computed with.
+fn check_reference_mode(i: usize, mode: &super::ReferenceMode) -> Check {
+    let key = |k: &str| format!("frequency_response.reference_modes[{i}].{k}");
+    let f = mode.natural_frequency_hz;
+    if !(f.is_finite() && f > 0.0) {
+        return err(
+            &key("natural_frequency_hz"),
+            format!(
+                " = {}: expected a finite frequency > 0",
+                crate::config::show(f)
+            ),
+        );
+    }
+    let z = mode.damping_ratio;
+    if !(z.is_finite() && (0.0..1.0).contains(&z)) {
+        return err(
+            &key("damping_ratio"),
+            format!(
+                " = {}: expected a number from 0 to below 1",
+                crate::config::show(z)
+            ),
+        );
+    }
+    if let Some((j, v)) = (mode.shape.iter().enumerate()).find(|(_, v)| !v.is_finite()) {
+        return err(
+            &format!("{}[{j}]", key("shape")),
+            format!(" = {v}: expected a finite number"),
+        );
+    }
+    if mode.shape.iter().all(|&v| v == 0.0) {
+        return err(
+            &key("shape"),
+            ": is zero throughout: expected a shape (a MAC with zero means nothing)".into(),
+        );
+    }
+    Ok(())
 }
 
 /// A table source's columns and frequency axis; errors name `frequency_response.table.…`.
