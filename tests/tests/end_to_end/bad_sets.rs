@@ -172,3 +172,66 @@ fn two_columns_of_one_name_are_refused_naming_both() {
         ],
     );
 }
+
+/// Issue 46 §6: messages that pointed the wrong way now name the key and the file.
+#[test]
+fn messages_name_the_key_and_the_file() {
+    let case = Case::new();
+    let rows: Vec<String> = (0..100)
+        .map(|i| {
+            format!(
+                "{:.2},{},{}",
+                f64::from(i) * 0.01,
+                (f64::from(i) * 0.3).sin(),
+                0.0
+            )
+        })
+        .collect();
+    case.file(
+        "data.csv",
+        &format!("t,force,displacement\n{}\n", rows.join("\n")),
+    );
+    let measured = |extra: &str| {
+        format!(
+            "name = \"lab\"\n[data]\npath = \"data.csv\"\ninput = \"force\"\noutput = \"displacement\"\ntime = \"t\"\n{extra}\n[monte_carlo]\nenabled = false\n"
+        )
+    };
+    // skip_lines past the end said "the file is empty".
+    let c = case.file("c.toml", &measured("skip_lines = 1000000000"));
+    case.refuses(
+        &c,
+        &[
+            "data.csv",
+            "skip_lines = 1000000000",
+            "the file has 101 lines",
+        ],
+    );
+    // An empty reference_shapes named the config's folder.
+    let c = case.file(
+        "b.toml",
+        &beam_with(
+            "reference_shapes = \"data/roving-hammer-beam-model.uff\"",
+            "reference_shapes = \"\"",
+        ),
+    );
+    case.refuses(
+        &c,
+        &["frequency_response.reference_shapes = \"\"", "UFF file"],
+    );
+    // A table too short for the fit named the key but not the file.
+    let table = std::fs::read_to_string(config("data/stepped-sine-table.csv")).unwrap();
+    let short: Vec<&str> = table.lines().take(5).collect();
+    case.file("short.csv", &(short.join("\n") + "\n"));
+    let text = std::fs::read_to_string(config("frf-table.toml"))
+        .unwrap()
+        .replace("data/stepped-sine-table.csv", "short.csv");
+    let c = case.file("t.toml", &text);
+    case.refuses(
+        &c,
+        &[
+            "frequency_response.one_mode.band_hz",
+            "short.csv",
+            "2 lines",
+        ],
+    );
+}

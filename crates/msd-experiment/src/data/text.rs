@@ -86,6 +86,16 @@ pub(crate) fn scan<H>(
         .collect();
     let layout = layout(text, &newlines, format);
     notes.extend(layout.notes.iter().cloned());
+    let lines = newlines.len() + usize::from(text.last().is_some_and(|&b| b != b'\n'));
+    if format.skip_lines >= lines && lines > 0 {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "skip_lines = {}: the file has {lines} lines: expected fewer lines skipped than it has (the header, then the data, come after them)",
+                format.skip_lines
+            ),
+        ));
+    }
     let start = if layout.skip == 0 {
         0
     } else {
@@ -308,6 +318,16 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
         skip: header,
         ..Layout::default()
     };
+    if !format.header && block > 0 {
+        let shown: String = String::from_utf8_lossy(line_text(above[pos - 1]))
+            .chars()
+            .take(60)
+            .collect();
+        out.notes.push(format!(
+            "line {} looks like a header (`{shown}`: as many fields as the data, not all numbers) but header = false: it was skipped and the columns are read by number; set header = true to name them",
+            above[pos - 1] + 1
+        ));
+    }
     if format.header && block > 1 {
         out.units_lines = above[pos - block + 1..].iter().map(|i| i + 1).collect();
         out.units = fields(above[pos - 1]);
@@ -317,16 +337,22 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
             out.units.join(", ")
         ));
     }
-    let metadata: Vec<usize> = above.iter().copied().filter(|&i| i < header).collect();
+    // Without a header, a header-like line just above the data has its own note.
+    let named = (!format.header && block > 0).then(|| above[pos - 1]);
+    let metadata: Vec<usize> = (above.iter().copied())
+        .filter(|&i| i < header && Some(i) != named)
+        .collect();
     if let Some(&first) = metadata.first() {
         let shown: String = String::from_utf8_lossy(line_text(first))
             .chars()
             .take(60)
             .collect();
-        let lines = if header == 1 {
+        // Every line above the header (or the header-like line), blank ones included.
+        let last = named.unwrap_or(header);
+        let lines = if last == 1 {
             "line 1".to_string()
         } else {
-            format!("lines 1–{header}")
+            format!("lines 1–{last}")
         };
         out.notes.push(format!(
             "{lines} read as metadata and skipped (line {}: `{shown}`); set skip_lines to choose",
@@ -494,6 +520,27 @@ mod tests {
             skip_lines: 0,
             missing: Missing::Refuse,
         }
+    }
+
+    #[test]
+    fn a_header_under_header_false_is_skipped_and_said_once() {
+        let f = TextFormat {
+            header: false,
+            ..format(',', '.')
+        };
+        let layout = layout_of("station 7\nt,force,x\n0,1,2\n1,2,3\n", &f);
+        assert_eq!(layout.skip, 2);
+        assert!(
+            layout.notes[0].starts_with("line 2 looks like a header"),
+            "{:?}",
+            layout.notes
+        );
+        assert!(
+            layout.notes[1].starts_with("line 1 read as metadata"),
+            "{:?}",
+            layout.notes
+        );
+        assert_eq!(layout.notes.len(), 2);
     }
 
     fn layout_of(text: &str, f: &TextFormat) -> Layout {

@@ -402,7 +402,10 @@ fn fit_failure(
         .is_some_and(|m| m.mode_count.is_some());
     let n = data.frequency.len();
     let range = format!(
-        "the data hold {n} lines, {}–{} Hz",
+        "the data{} hold {n} lines, {}–{} Hz",
+        section
+            .data_file()
+            .map_or(String::new(), |p| format!(" of {}", p.display())),
         data.frequency[0],
         data.frequency[n - 1]
     );

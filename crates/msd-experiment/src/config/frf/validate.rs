@@ -15,6 +15,15 @@ impl FrequencyResponseSection {
             .unwrap_or("none")
     }
 
+    /// The measured file the frequency responses come from (the first of a set); `None`
+    /// for a simulated source.
+    pub fn data_file(&self) -> Option<&std::path::Path> {
+        (self.table.as_ref().map(|t| t.path.as_path()))
+            .or_else(|| self.set.iter().flatten().next().map(|t| t.path.as_path()))
+            .or_else(|| self.uff.as_ref().map(|u| u.path.as_path()))
+            .or_else(|| self.records.as_ref().map(|r| r.path.as_path()))
+    }
+
     fn sources(&self) -> [(&'static str, bool); 7] {
         [
             ("sweep", self.sweep.is_some()),
@@ -183,6 +192,18 @@ impl FrequencyResponseSection {
                         ": given with the `{}` source: expected a set of FRFs ([[frequency_response.set]], or [frequency_response.uff] with set = true), whose shapes it is about",
                         self.source_name()
                     ),
+                );
+            }
+        }
+        for (key, file) in [
+            ("reference_shapes", &self.reference_shapes),
+            ("geometry", &self.geometry),
+        ] {
+            if file.as_ref().is_some_and(|f| f.as_os_str().is_empty()) {
+                return err(
+                    &format!("frequency_response.{key}"),
+                    " = \"\": expected a UFF file (datasets 55 or 15), relative to the config"
+                        .into(),
                 );
             }
         }
