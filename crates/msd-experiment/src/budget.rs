@@ -22,6 +22,13 @@ pub const SAMPLES_HELD: f64 = 5e7;
 /// At this budget a check of a short test runs minutes, not hours.
 pub const SAMPLES_FITTED: f64 = 2e8;
 
+/// Samples fitted by a `--verify` in all, a chain's weighted by its simulation's size
+/// ([`ChainSection::work_per_sample`](crate::config::ChainSection::work_per_sample)):
+/// the largest check accepted runs about half a minute on the two threads a verify
+/// uses (release build; the paper's fit of 10,001 samples takes 29 ms, so its largest,
+/// 1999 draws, takes 29 s; see BENCHMARKS.md).
+pub const SAMPLES_VERIFIED: f64 = 4e7;
+
 /// Which budget a size counts against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Budget {
@@ -29,6 +36,8 @@ pub enum Budget {
     Held,
     /// [`SAMPLES_FITTED`].
     Fitted,
+    /// [`SAMPLES_VERIFIED`].
+    Verified,
 }
 
 impl Budget {
@@ -37,6 +46,7 @@ impl Budget {
         match self {
             Budget::Held => (SAMPLES_HELD, "samples held in memory at once"),
             Budget::Fitted => (SAMPLES_FITTED, "samples fitted in all"),
+            Budget::Verified => (SAMPLES_VERIFIED, "samples fitted in all"),
         }
     }
 }
@@ -83,14 +93,15 @@ pub fn check_beside(
 }
 
 /// The samples of one experiment of `config` (every record's channels and drive, or a
-/// test machine's conditions), as simulated for `plan --verify`, `design --verify` and
+/// test machine's conditions; a chain's weighted by its simulation's size), as simulated for `plan --verify`, `design --verify` and
 /// each plant of a robust design; 0 when the config has no time grid (measured data).
 pub fn samples_per_experiment(config: &crate::config::Config) -> f64 {
     let Some(time) = &config.time else {
         return 0.0;
     };
     if let Some(chain) = &config.chain {
-        return (chain.sensors.len() as f64 + 1.0) * time.samples() as f64;
+        // The state's steps cost the time, not the few channels read from it.
+        return time.samples() as f64 * chain.work_per_sample();
     }
     let Some(setup) = &config.setup else {
         return 2.0 * time.samples() as f64;

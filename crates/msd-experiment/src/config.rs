@@ -1137,6 +1137,21 @@ impl Config {
                     ),
                 )
             })?;
+        // The fit's work: the record's samples weighted by the simulation's size, against
+        // the budget a --verify has (a run fits a few times: the hold-out, ideal sensors).
+        let work = chain.work_per_sample() / time.dt;
+        crate::budget::check("time.duration", time.duration, work, crate::budget::Budget::Verified)
+            .map_err(|(key, message)| {
+                (
+                    key,
+                    format!(
+                        "{message} s at time.dt = {} s for this chain's fit ({} masses: each sample costs {:.0} of a single mass's); shorten time.duration or lengthen time.dt",
+                        time.dt,
+                        chain.size(),
+                        chain.work_per_sample()
+                    ),
+                )
+            })?;
         chain.validate(time.duration)
     }
 

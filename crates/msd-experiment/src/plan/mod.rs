@@ -225,7 +225,7 @@ pub(crate) fn verify_budget(config: &Config, config_path: &Path, draws: usize) -
         "--verify",
         draws as f64,
         per_draw,
-        crate::budget::Budget::Fitted,
+        crate::budget::Budget::Verified,
     )
     .map_err(|(key, message)| ExperimentError::config(config_path, format!("{key}{message}")))
 }
@@ -241,9 +241,10 @@ pub struct PlanArgs {
     #[arg(long, default_value_t = 0.01)]
     pub target: f64,
     /// Check the prediction against N simulated experiments (noise seeds 0 … N−1), each
-    /// fitted: N × the experiment's samples count against a budget of 2e8 samples
-    /// fitted (the largest N is named when it is past it). Progress is drawn on a
-    /// terminal.
+    /// fitted: N × the experiment's samples (a chain's weighted by its size) count
+    /// against a budget of 4e7 samples fitted, which the largest N accepted runs in
+    /// about half a minute on two threads, release build (the largest N is named when
+    /// it is past it). Progress is drawn on a terminal.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub verify: usize,
 }

@@ -86,24 +86,41 @@ impl<F> Drop for Widths<F> {
     }
 }
 
-/// Runs `draw(seed)` for the seeds 0 … n − 1 of a `--verify`, with a progress bar named
-/// `name` when `progress`.
-pub(crate) fn draws<T>(
+/// Runs `draw(seed)` for the seeds 0 … n − 1 of a `--verify` on [`VERIFY_THREADS`]
+/// threads (each draw depends on its seed alone, and the results keep the seeds'
+/// order: the same numbers whatever the thread count), with a progress bar named `name`
+/// when `progress`.
+pub(crate) fn draws<T: Send>(
     n: usize,
     name: &str,
     progress: bool,
-    mut draw: impl FnMut(u64) -> Result<T>,
+    draw: impl Fn(u64) -> Result<T> + Sync,
 ) -> Result<Vec<T>> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicU64, Ordering};
     let bar = crate::progress::Progress::new(progress);
     bar.bar(name, n as u64);
-    let mut out = Vec::with_capacity(n);
-    for seed in 0..n as u64 {
-        out.push(draw(seed)?);
-        bar.set_position(seed + 1);
-    }
+    let done = AtomicU64::new(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(VERIFY_THREADS)
+        .build()
+        .map_err(|e| crate::error::ExperimentError::run("verify", e))?;
+    let out = pool.install(|| {
+        (0..n as u64)
+            .into_par_iter()
+            .map(|seed| {
+                let result = draw(seed);
+                bar.set_position(done.fetch_add(1, Ordering::Relaxed) + 1);
+                result
+            })
+            .collect::<Result<Vec<T>>>()
+    });
     bar.finish();
-    Ok(out)
+    out
 }
+
+/// The threads a `--verify` fits its draws on (as the Monte Carlo band's default).
+pub(crate) const VERIFY_THREADS: usize = 2;
 
 /// The repeats that reach `target` from `planned` repeats of relative half-width `now`:
 /// the information of independent identical repeats adds up, so the width scales as
