@@ -98,6 +98,18 @@ fn check_text(html: &str, markdown: &str) -> Result<usize> {
             problems.join(", ")
         )));
     }
+    // A number that is not one: NaN or an infinity printed where a value should be.
+    let not_numbers: Vec<&str> = markdown
+        .split(|c: char| !(c.is_alphanumeric() || c == '-'))
+        .filter(|w| matches!(*w, "NaN" | "nan" | "inf" | "-inf" | "Inf"))
+        .collect();
+    if !not_numbers.is_empty() {
+        return Err(fail(format!(
+            "report.md prints {} where numbers belong (`{}`)",
+            not_numbers.len(),
+            not_numbers[0]
+        )));
+    }
     let figures = markdown.lines().filter(|l| l.starts_with("![")).count();
     // Each inline figure on its own: their coordinates are their own.
     let overlaps: Vec<String> = html.split("<svg").skip(1).flat_map(text_overlaps).collect();
