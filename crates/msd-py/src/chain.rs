@@ -89,6 +89,11 @@ pub fn fit_chain<'py>(
     let setup = chain_setup(setup_json)?;
     let guess: ChainParameters = options("guess", guess_json)?;
     let opts: ChainOptions = options("fit_chain options", options_json)?;
+    if opts.passes == 0 {
+        return Err(PyValueError::new_err(
+            "passes = 0: expected at least 1 (each pass fits the record once)",
+        ));
+    }
     let record = ChainRecord {
         dt,
         input: vec_f64(&input),

@@ -4,7 +4,7 @@ use msd_experiment::ExperimentError;
 use msd_ident::IdentError;
 use msd_modal::ModalError;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
-use pyo3::{PyErr, create_exception};
+use pyo3::{PyErr, Python, create_exception};
 
 create_exception!(
     msd,
@@ -43,6 +43,14 @@ pub fn ident(e: impl Into<IdentError>) -> PyErr {
 /// Any other crate's error on bad input: `ValueError`.
 pub fn value(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
+}
+
+/// `e` with the argument it concerns named first (`datasets[2]: …`), of the same type.
+pub fn within(py: Python<'_>, argument: &str, e: PyErr) -> PyErr {
+    let message = format!("{argument}: {}", e.value(py));
+    let renamed = PyErr::from_type(e.get_type(py), message);
+    renamed.set_cause(py, e.cause(py));
+    renamed
 }
 
 /// msd-experiment's error: a bad config or bad data `ValueError`, a failed download

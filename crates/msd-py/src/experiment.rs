@@ -1,6 +1,6 @@
 //! msd-experiment's commands: `run` (a config to its result folder), `plan`, `design`.
 
-use crate::convert::{result_dict, value_to_py, vec_f64};
+use crate::convert::{integer, integer_in, result_dict, value_to_py, vec_f64};
 use crate::errors;
 use msd_experiment::config::Config;
 use msd_experiment::design::DesignRunOptions;
@@ -27,15 +27,17 @@ pub fn run<'py>(
     config: Option<PathBuf>,
     config_json: Option<String>,
     out: Option<PathBuf>,
-    seed: Option<u64>,
-    threads: Option<usize>,
+    seed: Option<Bound<'py, PyAny>>,
+    threads: Option<Bound<'py, PyAny>>,
     files: Option<BTreeMap<String, Vec<u8>>>,
     tables: Option<BTreeMap<String, Vec<(String, PyReadonlyArray1<'py, f64>)>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = RunOptions {
         out,
-        seed,
-        threads,
+        seed: seed.map(|s| integer("seed", &s)).transpose()?,
+        threads: threads
+            .map(|t| integer_in("threads", &t, 1, msd_mc::MAX_THREADS as i128))
+            .transpose()?,
         ..RunOptions::default()
     };
     let mut config = match (config, config_json) {
@@ -78,16 +80,19 @@ pub fn run<'py>(
 ///
 /// msd-experiment's `plan`: the predicted precision of a synthetic config's test.
 #[pyfunction]
-#[pyo3(signature = (config, target=0.01, verify=0))]
+#[pyo3(signature = (config, target=0.01, verify=None), text_signature = "(config, target=0.01, verify=0)")]
 pub fn plan<'py>(
     py: Python<'py>,
     config: PathBuf,
     target: f64,
-    verify: usize,
+    verify: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = PlanOptions {
         target,
-        verify,
+        verify: verify
+            .map(|v| integer("verify", &v))
+            .transpose()?
+            .unwrap_or(0),
         ..PlanOptions::default()
     };
     let plan = py
@@ -104,16 +109,19 @@ pub fn plan<'py>(
 /// msd-experiment's `design` (and, when `write`, its files in `out`, else
 /// `msd-results/<name>-design`).
 #[pyfunction]
-#[pyo3(signature = (config, out=None, verify=0, write=true))]
+#[pyo3(signature = (config, out=None, verify=None, write=true), text_signature = "(config, out=None, verify=0, write=True)")]
 pub fn design<'py>(
     py: Python<'py>,
     config: PathBuf,
     out: Option<PathBuf>,
-    verify: usize,
+    verify: Option<Bound<'py, PyAny>>,
     write: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = DesignRunOptions {
-        verify,
+        verify: verify
+            .map(|v| integer("verify", &v))
+            .transpose()?
+            .unwrap_or(0),
         out: out.clone(),
         ..DesignRunOptions::default()
     };

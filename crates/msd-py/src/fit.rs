@@ -1,7 +1,7 @@
 //! Time-domain fits and simulation: msd-ident's `estimate`, `simulate`, `validate_model`, `fit_records`,
 //! `free_decay`, `dynamometer`, and the paper's synthetic data.
 
-use crate::convert::{array, merged, options, result_dict, vec_f64};
+use crate::convert::{array, integer, merged, options, result_dict, vec_f64};
 use crate::errors;
 use msd_ident::dynamometer::Condition;
 use msd_ident::{
@@ -219,7 +219,8 @@ pub fn validate<'py>(
 /// msd-ident's `PaperExperiment::generate(seed)`: the paper's identification and
 /// validation records (t, force, displacement, true response).
 #[pyfunction]
-pub fn paper_data<'py>(py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyDict>> {
+pub fn paper_data<'py>(py: Python<'py>, seed: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let seed: u64 = integer("seed", &seed)?;
     let paper = py
         .detach(|| PaperExperiment::generate(seed))
         .map_err(errors::ident)?;

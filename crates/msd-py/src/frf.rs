@@ -1,11 +1,11 @@
 //! Frequency responses: msd-signal's `frf_estimate` from time records, msd-ident's
 //! `fit_modes` (one FRF) and `fit_mode_set` (a set, with shapes).
 
-use crate::convert::{array, options, result_dict, vec_f64};
+use crate::convert::{PyDof, array, dof, options, result_dict, vec_f64};
 use crate::errors;
 use msd_ident::OneModeOptions;
 use msd_modal::ModalOptions;
-use msd_modal::{Dof, SetMember};
+use msd_modal::SetMember;
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, FrfOptions};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -113,9 +113,6 @@ fn measured(
     Ok(e)
 }
 
-/// A DOF as (node, direction).
-type PyDof = (u32, i32);
-
 /// modal_fit(frequency, frfs, coherences, kind, exponential_decay, dofs, options_json)
 /// --
 ///
@@ -130,7 +127,7 @@ pub fn modal_fit<'py>(
     coherences: Option<Vec<PyReadonlyArray1<'py, f64>>>,
     kind: &str,
     exponential_decay: Option<f64>,
-    dofs: Option<Vec<(PyDof, PyDof)>>,
+    dofs: Option<Vec<(PyDof<'py>, PyDof<'py>)>>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: ModalOptions = options("modal_fit options", options_json)?;
@@ -183,19 +180,16 @@ pub fn modal_fit<'py>(
             }
             let members: Vec<SetMember> = estimates
                 .into_iter()
-                .zip(dofs)
-                .map(|(frf, ((rn, rd), (fn_, fd)))| SetMember {
-                    frf,
-                    response: Dof {
-                        node: rn,
-                        direction: rd,
-                    },
-                    reference: Dof {
-                        node: fn_,
-                        direction: fd,
-                    },
+                .zip(&dofs)
+                .enumerate()
+                .map(|(i, (frf, (response, reference)))| {
+                    Ok(SetMember {
+                        frf,
+                        response: dof(&format!("dofs[{i}] response"), response)?,
+                        reference: dof(&format!("dofs[{i}] reference"), reference)?,
+                    })
                 })
-                .collect();
+                .collect::<PyResult<_>>()?;
             let fit = py
                 .detach(|| msd_modal::fit_mode_set(&members, &opts))
                 .map_err(errors::ident)?;

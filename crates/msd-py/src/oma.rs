@@ -1,11 +1,11 @@
 //! Output-only modal analysis: msd-modal's `ssi_cov` or `efdd` on a NumPy array of
 //! channels.
 
-use crate::convert::{options, result_dict};
+use crate::convert::{PyDof, channel_dof, integer, options, result_dict};
 use crate::errors;
 use msd_modal::{
-    Dof, FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup,
-    efdd, merge_setups, ssi_cov, ssi_dat,
+    FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, efdd,
+    merge_setups, ssi_cov, ssi_dat,
 };
 use numpy::PyReadonlyArray2;
 use pyo3::exceptions::PyValueError;
@@ -17,8 +17,8 @@ use pyo3::types::PyDict;
 type PySetup<'py> = (
     PyReadonlyArray2<'py, f64>,
     f64,
-    Option<Vec<usize>>,
-    Vec<(u32, i32)>,
+    Option<Vec<Bound<'py, PyAny>>>,
+    Vec<PyDof<'py>>,
     Vec<Option<[f64; 3]>>,
     Vec<String>,
     Vec<String>,
@@ -57,8 +57,8 @@ pub fn oma<'py>(
     py: Python<'py>,
     data: PyReadonlyArray2<'py, f64>,
     sample_rate_hz: f64,
-    references: Option<Vec<usize>>,
-    dofs: Vec<(u32, i32)>,
+    references: Option<Vec<Bound<'py, PyAny>>>,
+    dofs: Vec<PyDof<'py>>,
     directions: Vec<Option<[f64; 3]>>,
     quantities: Vec<String>,
     names: Vec<String>,
@@ -66,15 +66,18 @@ pub fn oma<'py>(
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let analyse = analysis(method, options_json)?;
-    let record = record_of((
-        data,
-        sample_rate_hz,
-        references,
-        dofs,
-        directions,
-        quantities,
-        names,
-    ))?;
+    let record = record_of(
+        "",
+        (
+            data,
+            sample_rate_hz,
+            references,
+            dofs,
+            directions,
+            quantities,
+            names,
+        ),
+    )?;
     let fit = py.detach(|| analyse(&record)).map_err(errors::ident)?;
     let dict = result_dict(py, &fit, &["singular_values"])?;
     dict.set_item("summary", fit.to_string())?;
@@ -95,7 +98,11 @@ pub fn oma_setups<'py>(
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let analyse = analysis(method, options_json)?;
-    let records: Vec<OutputRecord> = setups.into_iter().map(record_of).collect::<PyResult<_>>()?;
+    let records: Vec<OutputRecord> = setups
+        .into_iter()
+        .enumerate()
+        .map(|(i, setup)| record_of(&format!("setups[{i}]."), setup))
+        .collect::<PyResult<_>>()?;
     let (fits, merged) = py
         .detach(|| -> Result<_, msd_modal::ModalError> {
             let fits: Vec<OmaFit> = records.iter().map(&analyse).collect::<Result<_, _>>()?;
@@ -118,8 +125,9 @@ pub fn oma_setups<'py>(
     Ok(dict)
 }
 
-/// A setup's record, its lengths checked.
-fn record_of(setup: PySetup<'_>) -> PyResult<OutputRecord> {
+/// A setup's record, its lengths, references and DOFs checked (each named after
+/// `prefix`: "" for `oma`'s arguments, `setups[i].` for a setup's).
+fn record_of(prefix: &str, setup: PySetup<'_>) -> PyResult<OutputRecord> {
     let (data, sample_rate_hz, references, dofs, directions, quantities, names) = setup;
     let array = data.as_array();
     let channels = array.ncols();
@@ -132,26 +140,33 @@ fn record_of(setup: PySetup<'_>) -> PyResult<OutputRecord> {
             names.len()
         )));
     }
+    let references = references
+        .unwrap_or_default()
+        .iter()
+        .enumerate()
+        .map(|(i, r)| integer(&format!("{prefix}references[{i}]"), r))
+        .collect::<PyResult<_>>()?;
     let mut record = OutputRecord {
         sample_rate_hz,
         channels: Vec::with_capacity(channels),
-        references: references.unwrap_or_default(),
+        references,
     };
-    for (c, (((&(node, direction), oblique), quantity), name)) in dofs
+    for (c, (((pair, oblique), quantity), name)) in dofs
         .iter()
         .zip(&directions)
         .zip(&quantities)
         .zip(&names)
         .enumerate()
     {
+        let dof = channel_dof(&format!("{prefix}dofs[{c}]"), pair)?;
         let quantity: Quantity = options(
-            &format!("quantities[{c}]"),
+            &format!("{prefix}quantities[{c}]"),
             &serde_json::Value::from(quantity.as_str()).to_string(),
         )?;
         let samples = array.column(c).iter().copied().collect();
         record.channels.push(OutputChannel {
             direction: *oblique,
-            ..OutputChannel::new(name.clone(), Dof { node, direction }, quantity, samples)
+            ..OutputChannel::new(name.clone(), dof, quantity, samples)
         });
     }
     Ok(record)

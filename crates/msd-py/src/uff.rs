@@ -8,7 +8,7 @@ use msd_uff::{
     Node, Ordinate, Precision, UffFile, Units164, WriteOptions,
 };
 use numpy::{PyArray1, PyReadonlyArray1};
-use pyo3::exceptions::{PyKeyError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyComplex, PyDict, PyList};
 
@@ -289,7 +289,9 @@ fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str) -> PyR
         Some(v) if v.is_none() => Ok(None),
         Some(v) => v.extract::<T>().map(Some).map_err(|e| {
             let e: PyErr = e.into();
-            PyValueError::new_err(format!("dataset field '{key}': {e}"))
+            let shown = v.repr().map(|r| r.to_string()).unwrap_or_default();
+            let shown: String = shown.chars().take(60).collect();
+            PyValueError::new_err(format!("field '{key}' = {shown}: {}", e.value(d.py())))
         }),
     }
 }
@@ -299,8 +301,9 @@ fn required<'py, T: FromPyObjectOwned<'py>>(
     key: &str,
     kind: i64,
 ) -> PyResult<T> {
-    get(d, key)?
-        .ok_or_else(|| PyKeyError::new_err(format!("dataset {kind} needs the field '{key}'")))
+    get(d, key)?.ok_or_else(|| {
+        PyValueError::new_err(format!("missing field '{key}': dataset {kind} needs it"))
+    })
 }
 
 fn function_from<'py>(d: &Bound<'py, PyDict>) -> PyResult<Function58> {
@@ -458,7 +461,9 @@ fn nodes_from<'py>(d: &Bound<'py, PyDict>, kind: i64, out: &mut Vec<Node>) -> Py
         Ok(get::<PyReadonlyArray1<'py, f64>>(d, key)?.map(|a| a.as_array().to_vec()))
     };
     let labels = column("node_nums")?.ok_or_else(|| {
-        PyKeyError::new_err(format!("dataset {kind} needs the field 'node_nums'"))
+        PyValueError::new_err(format!(
+            "missing field 'node_nums': dataset {kind} needs it"
+        ))
     })?;
     let n = labels.len();
     let or_zeros = |c: Option<Vec<f64>>, key: &str| -> PyResult<Vec<f64>> {
@@ -594,6 +599,26 @@ fn data55_from<'py>(d: &Bound<'py, PyDict>) -> PyResult<Data55> {
     Ok(out)
 }
 
+/// One dataset dict into `file`, by its type.
+fn add_dataset(file: &mut UffFile, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    let kind: i64 = get(d, "type")?.ok_or_else(|| {
+        PyValueError::new_err("missing field 'type': expected 58, 55, 151, 164, 15 or 2411")
+    })?;
+    match kind {
+        58 => file.functions.push(function_from(d)?),
+        151 => file.header = Some(header_from(d)?),
+        164 => file.units = Some(units_from(d)?),
+        15 | 2411 => nodes_from(d, kind, &mut file.nodes)?,
+        55 => file.data_at_nodes.push(data55_from(d)?),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "type {other}: msd.uff writes 58 (and 58b), 55, 151, 164, 15 and 2411"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// uff_write(path, datasets, exact)
 /// --
 ///
@@ -608,20 +633,7 @@ pub fn uff_write<'py>(
 ) -> PyResult<()> {
     let mut file = UffFile::default();
     for (i, d) in datasets.iter().enumerate() {
-        let kind: i64 = get(d, "type")?
-            .ok_or_else(|| PyKeyError::new_err(format!("dataset #{i} has no 'type'")))?;
-        match kind {
-            58 => file.functions.push(function_from(d)?),
-            151 => file.header = Some(header_from(d)?),
-            164 => file.units = Some(units_from(d)?),
-            15 | 2411 => nodes_from(d, kind, &mut file.nodes)?,
-            55 => file.data_at_nodes.push(data55_from(d)?),
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "dataset #{i} has type {other}: msd.uff writes 58 (and 58b), 55, 151, 164, 15 and 2411"
-                )));
-            }
-        }
+        add_dataset(&mut file, d).map_err(|e| errors::within(py, &format!("datasets[{i}]"), e))?;
     }
     let options = WriteOptions {
         ascii: if exact {

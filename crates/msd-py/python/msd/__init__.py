@@ -8,7 +8,11 @@ Functions: `estimate`, `simulate`, `validate`, `frf`, `modal_fit`, `one_mode_fit
 `dynamometer`, `simulate_chain`, `fit_chain`, `predict_chain`, `run`, `plan`, `design`, `paper_data`; the
 module `msd.uff` reads and writes Universal File Format files.
 
-Errors: `ValueError` for bad input (with the toolkit's message), `IdentificationError`
+Errors: a bad argument raises `ValueError` (a bad value) or `TypeError` (a value of
+the wrong type), each message naming the argument (``segment_length = -1: expected an
+integer from 0 to …``, ``force: input sample 3750 is NaN``); their subclasses
+`MissingKeyError` (a dict argument without a key it needs; also a `KeyError`) and
+`OutOfRangeError` (an index out of range; also an `IndexError`). `IdentificationError`
 (a subclass of `ValueError`) when the data cannot identify what is asked.
 """
 
@@ -20,7 +24,22 @@ from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _msd
-from ._convert import complex_vector, options_json, rows, value_json, vector
+from ._convert import (
+    MissingKeyError,
+    OutOfRangeError,
+    _shown,
+    complex_vector,
+    field,
+    items,
+    mapping,
+    number,
+    options_json,
+    path as _path,
+    rows,
+    text,
+    value_json,
+    vector,
+)
 from ._msd import IdentificationError
 from ._results import (
     ChainFit,
@@ -48,6 +67,8 @@ __version__: str = _msd.__version__
 
 __all__ = [
     "IdentificationError",
+    "MissingKeyError",
+    "OutOfRangeError",
     "ChainFit",
     "ChainIntervals",
     "ChainParameters",
@@ -98,17 +119,18 @@ def _plant(plant: PlantLike, name: str = "plant") -> Plant:
     if isinstance(plant, Plant):
         return plant
     if isinstance(plant, Mapping):
-        try:
-            return Plant(float(plant["mass"]), float(plant["damping"]), float(plant["stiffness"]))
-        except KeyError as e:
-            raise ValueError(f"{name}: missing {e.args[0]!r} (expected mass, damping, stiffness)") from None
+        keys = ("mass", "damping", "stiffness")
+        for key in keys:
+            if key not in plant:
+                raise MissingKeyError(f"{name}: missing {key!r} (expected mass, damping, stiffness)")
+        return Plant(*(number(f"{name}[{key!r}]", plant[key]) for key in keys))
     try:
         m, c, k = plant  # type: ignore[misc]
     except (TypeError, ValueError):
         raise ValueError(
             f"{name}: expected msd.Plant(mass, damping, stiffness), a dict or a 3-sequence, got {plant!r}"
         ) from None
-    return Plant(float(m), float(c), float(k))
+    return Plant(*(number(f"{name}[{i}]", v) for i, v in enumerate((m, c, k))))
 
 
 def _options(options: Dict[str, Any]) -> Dict[str, Any]:
@@ -157,14 +179,14 @@ def estimate(
     IdentificationError
         The data cannot identify the parameters.
     """
-    times = vector("t", t)
+    times = vector("t", t, "time")
     try:
         result = Estimate(
             _msd.estimate(
                 times,
-                vector("force", force),
-                vector("displacement", displacement),
-                preset,
+                vector("force", force, "input"),
+                vector("displacement", displacement, "output"),
+                text("preset", preset),
                 options_json(_options(options)),
             )
         )
@@ -212,10 +234,12 @@ def simulate(
             raise ValueError(f"quantity = {quantity!r}: expected one of {', '.join(map(repr, kinds))}")
         if backend != "exact":
             raise ValueError(f"quantity = {quantity!r}: the velocity and acceleration come from the exact simulator (backend = 'exact')")
-        motion = _msd.simulate_motion(p.mass, p.damping, p.stiffness, vector("t", t), vector("force", force), x0, v0)
+        motion = _msd.simulate_motion(
+            p.mass, p.damping, p.stiffness, vector("t", t, "time"), vector("force", force, "input"), x0, v0
+        )
         return motion if quantity == "all" else motion[quantity]
     return _msd.simulate(
-        p.mass, p.damping, p.stiffness, vector("t", t), vector("force", force), x0, v0,
+        p.mass, p.damping, p.stiffness, vector("t", t, "time"), vector("force", force, "input"), x0, v0,
         value_json("backend", backend),
     )
 
@@ -240,7 +264,7 @@ def validate(
     return Validation(
         _msd.validate(
             p.mass, p.damping, p.stiffness,
-            vector("t", t), vector("force", force), vector("displacement", displacement),
+            vector("t", t, "time"), vector("force", force, "input"), vector("displacement", displacement, "output"),
             options_json(options),
         )
     )
@@ -282,9 +306,12 @@ def frf(
         },
     }
     if impact is not None:
-        opts["impact"] = dict(impact)
+        opts["impact"] = dict(mapping("impact", impact, 'a dict such as {"force_width": 0.01, "decay_time": 0.5}, or {}'))
     return FrequencyResponse(
-        _msd.frf(vector("t", t), rows("force", force), rows("response", response), options_json(opts))
+        _msd.frf(
+            vector("t", t, "time"), rows("force", force, role="input"), rows("response", response, role="output"),
+            options_json(opts),
+        )
     )
 
 
@@ -320,7 +347,8 @@ def modal_fit(
 
     `frequencies` (Hz, increasing) and `frfs`: one complex 1-D array, or a 2-D array /
     list of arrays (one FRF per row) for a set, then with `dofs`, one
-    ``((response node, direction), (reference node, direction))`` per FRF. A
+    ``((response node, direction), (reference node, direction))`` per FRF (directions
+    ±1, ±2, ±3 for x, y, z, ±4, ±5, ±6 for the rotations, as UFF numbers them). A
     `FrequencyResponse` from `msd.frf` may be passed as `frequencies` alone (its
     coherence, kind and window are used). `coherence` weights the lines (one array per
     FRF); `kind` is "receptance" (default), "mobility" or "accelerance";
@@ -340,23 +368,44 @@ def modal_fit(
     coherences = None if coherence is None else rows("coherence", coherence)
     pairs = None
     if dofs is not None:
-        try:
-            pairs = [((int(r[0]), int(r[1])), (int(f[0]), int(f[1]))) for r, f in dofs]
-        except (TypeError, ValueError):
-            raise ValueError(
-                "dofs: expected one ((response node, direction), (reference node, direction)) per FRF"
-            ) from None
+        expected = "one ((response node, direction), (reference node, direction)) per FRF"
+        pairs = [
+            (_dof(f"dofs[{i}] response", response), _dof(f"dofs[{i}] reference", reference))
+            for i, (response, reference) in enumerate(_pairs("dofs", dofs, expected))
+        ]
     return ModalFit(
         _msd.modal_fit(
             vector("frequencies", frequencies),
             members,
             coherences,
-            kind or "receptance",
-            None if exponential_decay is None else float(exponential_decay),
+            text("kind", kind or "receptance"),
+            None if exponential_decay is None else number("exponential_decay", exponential_decay),
             pairs,
             options_json(options),
         )
     )
+
+
+def _pairs(name: str, value: Any, expected: str) -> List[Tuple[Any, Any]]:
+    """The items of `value`, each a pair; ValueError (TypeError) naming `name` else."""
+    out = []
+    for i, item in enumerate(items(name, value, expected)):
+        try:
+            a, b = item
+        except (TypeError, ValueError):
+            raise ValueError(f"{name}[{i}] = {item!r:.60}: expected {expected}") from None
+        out.append((a, b))
+    return out
+
+
+def _dof(name: str, value: Any) -> Tuple[Any, Any]:
+    """A (node, direction) pair as given: the core checks both (an integer node from 0,
+    a direction as the function allows), naming the DOF `name`."""
+    try:
+        node, direction = value
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {value!r:.60}: expected (node, direction)") from None
+    return node, direction
 
 
 def oma(
@@ -378,7 +427,8 @@ def oma(
 
     `data`: samples × channels (a 2-D array, as pyOMA takes it); `sample_rate_hz`;
     `references`: the reference channels' indices (default: every channel); `dofs`: one
-    (node, direction) per channel (default: node i + 1, direction 1); `quantities`:
+    (node, direction) per channel (default: node i + 1, direction 1; a direction ±1 …
+    ±6, or 0 for a channel along no axis, given by its `directions` entry); `quantities`:
     "acceleration" (default), "velocity" or "displacement", one for all or one per
     channel (shapes are reported as displacement shapes); `names`: the channels' names;
     `directions`: per channel None (along its DOF's direction) or the unit vector (x, y,
@@ -393,31 +443,68 @@ def oma(
     singular values line by line and the peaks picked.
 
     Raises `ValueError` on a bad record (NaN, a constant channel, one channel, a
-    reference that is not a channel) and `IdentificationError` when no mode is found.
+    reference that is not a channel, a DOF out of range) and `IdentificationError` when
+    no mode is found.
     """
-    return OmaFit(_msd.oma(*_setup(data, sample_rate_hz, references, dofs, quantities, names, directions), str(method), options_json(options)))
+    return OmaFit(
+        _msd.oma(
+            *_setup(data, sample_rate_hz, references, dofs, quantities, names, directions),
+            text("method", method),
+            options_json(options),
+        )
+    )
 
 
-def _setup(data: Any, sample_rate_hz: float, references: Any, dofs: Any, quantities: Any, names: Any, directions: Any) -> tuple:
-    """One record's arguments for the core: the array and every channel's description."""
+def _setup(
+    data: Any, sample_rate_hz: float, references: Any, dofs: Any, quantities: Any, names: Any, directions: Any,
+    prefix: str = "",
+) -> tuple:
+    """One record's arguments for the core: the array and every channel's description
+    (each named after `prefix`: "" for `oma`'s arguments, ``setups[i].`` for a setup's;
+    the core checks the references' and DOFs' values, naming them alike)."""
     try:
         a = np.asarray(data)
     except Exception as e:
-        raise ValueError(f"data: expected a 2-D array of numbers ({e})") from None
+        raise ValueError(f"{prefix}data: expected a 2-D array of numbers ({e})") from None
     if a.dtype.kind not in "iuf" or a.ndim != 2:
-        raise ValueError(f"data: expected a 2-D array of real numbers (samples × channels), got shape {a.shape} and dtype {a.dtype}")
+        raise ValueError(
+            f"{prefix}data: expected a 2-D array of real numbers (samples × channels), got shape {a.shape} and dtype {a.dtype}"
+        )
     a = np.ascontiguousarray(a, dtype=np.float64)
     channels = a.shape[1]
-    pairs = [(i + 1, 1) for i in range(channels)] if dofs is None else [(int(n), int(d)) for n, d in dofs]
-    kinds = [quantities] * channels if isinstance(quantities, str) else [str(q) for q in quantities]
-    labels = [f"channel {i}" for i in range(channels)] if names is None else [str(n) for n in names]
-    refs = None if references is None else [int(r) for r in references]
-    if refs is not None and any(r < 0 for r in refs):
-        raise ValueError(f"references = {refs}: expected channel indices from 0")
-    units = [None] * channels if directions is None else [None if d is None else tuple(float(x) for x in d) for d in directions]
-    if any(u is not None and len(u) != 3 for u in units):
-        raise ValueError("directions: expected per channel None or a unit vector (x, y, z)")
-    return a, float(sample_rate_hz), refs, pairs, units, kinds, labels
+    if dofs is None:
+        pairs = [(i + 1, 1) for i in range(channels)]
+    else:
+        pairs = [_dof(f"{prefix}dofs[{i}]", d) for i, d in enumerate(items(f"{prefix}dofs", dofs, "one (node, direction) per channel"))]
+    if isinstance(quantities, str):
+        kinds = [quantities] * channels
+    else:
+        kinds = [str(q) for q in items(f"{prefix}quantities", quantities, "a quantity, or one per channel")]
+    if names is None:
+        labels = [f"channel {i}" for i in range(channels)]
+    else:
+        labels = [str(n) for n in items(f"{prefix}names", names, "one name per channel")]
+    refs = None if references is None else items(f"{prefix}references", references, "a list of channel indices from 0")
+    if directions is None:
+        units = [None] * channels
+    else:
+        units = []
+        for i, d in enumerate(items(f"{prefix}directions", directions, "per channel None or a unit vector (x, y, z)")):
+            u = None if d is None else tuple(
+                number(f"{prefix}directions[{i}][{j}]", x)
+                for j, x in enumerate(items(f"{prefix}directions[{i}]", d, "None or a unit vector (x, y, z)"))
+            )
+            if u is not None and len(u) != 3:
+                raise ValueError(f"{prefix}directions[{i}]: expected None or a unit vector (x, y, z), got {len(u)} values")
+            units.append(u)
+    bad = ~np.isfinite(a)
+    if bad.any():
+        i, c = (int(v) for v in np.argwhere(bad)[0])
+        label = labels[c] if c < len(labels) else f"channel {c}"
+        raise ValueError(
+            f"{prefix}data[:, {c}] ({label!r}): sample {i} is {_shown(a[i, c])}: expected a finite number"
+        )
+    return a, number(f"{prefix}sample_rate_hz", sample_rate_hz), refs, pairs, units, kinds, labels
 
 
 def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, method: str = "ssi-cov", **options: Any) -> MergedOma:
@@ -432,13 +519,12 @@ def oma_setups(setups: Sequence[Mapping[str, Any]], *, tolerance: float = 0.01, 
     `msd.oma`.
     """
     args = []
-    for i, s in enumerate(setups):
-        try:
-            args.append(_setup(s["data"], s["sample_rate_hz"], s.get("references"), s.get("dofs"),
-                               s.get("quantities", "acceleration"), s.get("names"), s.get("directions")))
-        except KeyError as e:
-            raise ValueError(f"setups[{i}]: missing {e.args[0]!r} (expected data and sample_rate_hz)") from None
-    return MergedOma(_msd.oma_setups(args, float(tolerance), str(method), options_json(options)))
+    for i, s in enumerate(items("setups", setups, "a list of dicts with data and sample_rate_hz")):
+        owner, expected = f"setups[{i}]", "expected data and sample_rate_hz"
+        args.append(_setup(field(owner, s, "data", expected), field(owner, s, "sample_rate_hz", expected),
+                           s.get("references"), s.get("dofs"), s.get("quantities", "acceleration"), s.get("names"),
+                           s.get("directions"), prefix=f"setups[{i}]."))
+    return MergedOma(_msd.oma_setups(args, number("tolerance", tolerance), text("method", method), options_json(options)))
 
 
 def one_mode_fit(
@@ -466,7 +552,7 @@ def one_mode_fit(
         raise ValueError("frf: expected the complex frequency response")
     opts: Dict[str, Any] = {}
     if band_hz is not None:
-        opts["band_hz"] = list(band_hz)
+        opts["band_hz"] = items("band_hz", band_hz, "[low, high] in Hz")
     if weighting is not None:
         opts["weighting"] = weighting
     return OneModeFit(
@@ -474,8 +560,8 @@ def one_mode_fit(
             vector("frequencies", frequencies),
             complex_vector("frf", frf),
             None if coherence is None else vector("coherence", coherence),
-            kind or "receptance",
-            None if exponential_decay is None else float(exponential_decay),
+            text("kind", kind or "receptance"),
+            None if exponential_decay is None else number("exponential_decay", exponential_decay),
             options_json(opts),
         )
     )
@@ -516,8 +602,10 @@ def fit_records(
     """
     if isinstance(records, Mapping):
         records = [records]
+    if responses is not None:
+        mapping("responses", responses, "a dict of channel key to quantity or (quantity, frame)")
     built = []
-    for i, r in enumerate(records):
+    for i, r in enumerate(items("records", records, "a dict or a list of dicts (t, the drive and the channels)")):
         if not isinstance(r, Mapping):
             raise ValueError(f"records[{i}]: expected a dict with 't', the drive and the channels")
         name = str(r.get("name", f"record {i + 1}"))
@@ -526,10 +614,10 @@ def fit_records(
             raise ValueError(
                 f"records[{i}]: no key 't' (the uniform time stamps, s); the record's keys are {keys}"
             )
-        t = vector(f"records[{i}]['t']", r["t"])
+        t = vector(f"records[{i}]['t']", r["t"], "time")
         key = "drive" if "drive" in r else "force"
         samples = r.get(key)
-        drive_samples = None if samples is None else vector(f"records[{i}][{key!r}]", samples)
+        drive_samples = None if samples is None else vector(f"records[{i}][{key!r}]", samples, "input")
         if drive != "none" and drive_samples is None:
             raise ValueError(f"records[{i}]: the drive {drive!r} needs its samples under 'drive' (or 'force')")
         channels_of = responses or {q: q for q in _QUANTITIES if q in r}
@@ -537,10 +625,18 @@ def fit_records(
             raise ValueError(f"records[{i}]: no channels (give responses={{key: quantity}})")
         channels = []
         for cname, spec in channels_of.items():
-            quantity, frame = (spec, "absolute") if isinstance(spec, str) else tuple(spec)
+            if isinstance(spec, str):
+                quantity, frame = spec, "absolute"
+            else:
+                try:
+                    quantity, frame = spec
+                except (TypeError, ValueError):
+                    raise ValueError(
+                        f"responses[{cname!r}] = {spec!r:.60}: expected a quantity or (quantity, frame)"
+                    ) from None
             if cname not in r:
                 raise ValueError(f"records[{i}]: no channel {cname!r}")
-            channels.append((str(cname), quantity, frame, vector(f"records[{i}][{cname!r}]", r[cname])))
+            channels.append((str(cname), str(quantity), str(frame), vector(f"records[{i}][{cname!r}]", r[cname], "output")))
         built.append((name, t, drive_samples, channels))
     opts = _options(options)
     opts["drive"] = drive
@@ -568,7 +664,7 @@ def free_decay(
         opts["known"] = {"mass": known_mass}
     if known_stiffness is not None:
         opts["known"] = {"stiffness": known_stiffness}
-    return SetupFit(_msd.free_decay(vector("t", t), vector("response", response), options_json(opts)))
+    return SetupFit(_msd.free_decay(vector("t", t, "time"), vector("response", response), options_json(opts)))
 
 
 def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> SetupFit:
@@ -581,7 +677,7 @@ def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> Setu
     (``harmonics``, ``laws``, ``known_mass``, ``force_offset``, ``smoothing_velocity``).
     """
     built = []
-    for i, c in enumerate(conditions):
+    for i, c in enumerate(items("conditions", conditions, "a list of dicts (displacement, force, dt or t)")):
         if not isinstance(c, Mapping):
             raise ValueError(f"conditions[{i}]: expected a dict with the displacement, the force and dt or t")
         if ("dt" in c) == ("t" in c):
@@ -590,11 +686,11 @@ def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> Setu
         built.append(
             (
                 str(c.get("name", f"condition {i + 1}")),
-                float(c["dt"]) if "dt" in c else None,
-                vector(f"conditions[{i}]['t']", c["t"]) if "t" in c else None,
+                number(f"conditions[{i}]['dt']", c["dt"]) if "dt" in c else None,
+                vector(f"conditions[{i}]['t']", c["t"], "time") if "t" in c else None,
                 vector(f"conditions[{i}]['displacement']", c.get("displacement")),
                 vector(f"conditions[{i}]['force']", c.get("force")),
-                None if hz is None else float(hz),
+                None if hz is None else number(f"conditions[{i}]['frequency_hz']", hz),
             )
         )
     return SetupFit(_msd.dynamometer(built, options_json(options)))
@@ -602,7 +698,7 @@ def dynamometer(conditions: Iterable[Mapping[str, Any]], **options: Any) -> Setu
 
 def _strokes(records: Iterable[Mapping[str, Any]], name: str) -> List[Tuple[str, float, np.ndarray, np.ndarray]]:
     built = []
-    for i, r in enumerate(records):
+    for i, r in enumerate(items(name, records, "a list of dicts (stroke, force, dt or t)")):
         if not isinstance(r, Mapping):
             raise ValueError(f"{name}[{i}]: expected a dict with 'stroke', 'force' and 'dt' or 't'")
         if ("dt" in r) == ("t" in r):
@@ -611,9 +707,9 @@ def _strokes(records: Iterable[Mapping[str, Any]], name: str) -> List[Tuple[str,
             if key not in r:
                 raise ValueError(f"{name}[{i}]: missing {key!r} (expected 'stroke' in m and 'force' in N)")
         if "dt" in r:
-            dt = float(r["dt"])
+            dt = number(f"{name}[{i}]['dt']", r["dt"])
         else:
-            t = vector(f"{name}[{i}]['t']", r["t"])
+            t = vector(f"{name}[{i}]['t']", r["t"], "time")
             if len(t) < 2:
                 raise ValueError(f"{name}[{i}]['t']: expected at least two time stamps")
             dt = float((t[-1] - t[0]) / (len(t) - 1))
@@ -689,7 +785,7 @@ def _seconds(name: str, value: Any) -> float:
     try:
         return float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} = {value!r}: expected a number of seconds") from None
+        raise ValueError(f"{name} = {value!r:.60}: expected a number of seconds") from None
 
 
 def _known_masses(known_masses: Any) -> List[int]:
@@ -742,7 +838,7 @@ def simulate_chain(
     setup_json = _chain_setup(
         setup, {"masses": masses, "drive": drive, "force_at": force_at, "sensors": sensors}, p
     )
-    return _msd.simulate_chain(setup_json, options_json(p), vector("input", input), _seconds("dt", dt))
+    return _msd.simulate_chain(setup_json, options_json(p), vector("input", input, "input"), _seconds("dt", dt))
 
 
 def fit_chain(
@@ -804,8 +900,8 @@ def fit_chain(
     return ChainFit(
         _msd.fit_chain(
             setup_json,
-            vector("input", input),
-            rows("outputs", outputs),
+            vector("input", input, "input"),
+            rows("outputs", outputs, role="output"),
             _seconds("dt", dt),
             options_json(g),
             options_json(opts),
@@ -817,7 +913,7 @@ def _noise(noise: Any) -> np.ndarray:
     """Each sensor's σ as a 1-D array (a number for a single sensor)."""
     if isinstance(noise, (int, float, np.integer, np.floating)):
         noise = [noise]
-    return vector("noise", noise)
+    return vector("noise", noise, finite=False)  # σ NaN: the core names the sensor
 
 
 def predict_chain(
@@ -865,7 +961,7 @@ def predict_chain(
         _msd.predict_chain(
             setup_json,
             options_json(t),
-            vector("input", input),
+            vector("input", input, "input"),
             _seconds("dt", dt),
             _noise(noise),
             options_json(opts),
@@ -904,19 +1000,21 @@ def run(
     if isinstance(config, Mapping):
         path, text = None, options_json(dict(config))
     else:
-        path, text = os.fspath(config), None
+        path, text = _path("config", config), None
     files: Dict[str, bytes] = {}
     tables: Dict[str, List[Tuple[str, np.ndarray]]] = {}
-    for name, given in (data or {}).items():
+    given_data = {} if data is None else mapping("data", data, "a dict of path to bytes or to columns")
+    for name, given in given_data.items():
         if isinstance(given, (bytes, bytearray, memoryview)):
             files[str(name)] = bytes(given)
         elif isinstance(given, Mapping):
-            tables[str(name)] = [(str(c), vector(f"data[{name!r}][{c!r}]", v)) for c, v in given.items()]
+            # Not checked finite here: the run names the config's column and row.
+            tables[str(name)] = [(str(c), vector(f"data[{name!r}][{c!r}]", v, finite=False)) for c, v in given.items()]
         else:
             raise ValueError(
                 f"data[{name!r}]: expected the file's bytes or a mapping of column name to 1-D array, got {type(given).__name__}"
             )
-    r = _msd.run(path, text, None if out is None else os.fspath(out), seed, threads, files, tables)
+    r = _msd.run(path, text, None if out is None else _path("out", out), seed, threads, files, tables)
     return RunResults(r["results"], r["summary"], str(r["out_dir"]))
 
 
@@ -926,7 +1024,7 @@ def plan(
     """Predict the precision of a synthetic config's test (``msd plan``): each
     quantity's predicted 95 % half-width and the record length that reaches `target`
     (relative); `verify` simulated experiments check the prediction."""
-    return SetupFit(_msd.plan(os.fspath(config), float(target), int(verify)))
+    return SetupFit(_msd.plan(_path("config", config), number("target", target), verify))
 
 
 def design(
@@ -938,7 +1036,7 @@ def design(
     """Design the input of a config with a ``[design]`` section (``msd design``): the
     multisine that minimises the Cramér–Rao bound within the rig's limits; written into
     `out` (else ``msd-results/<name>-design``) unless ``write=False``."""
-    r = _msd.design(os.fspath(config), None if out is None else os.fspath(out), int(verify), bool(write))
+    r = _msd.design(_path("config", config), None if out is None else _path("out", out), verify, bool(write))
     r["out_dir"] = None if r["out_dir"] is None else str(r["out_dir"])
     return SetupFit(r)
 
@@ -947,7 +1045,7 @@ def paper_data(seed: int = 1) -> Dict[str, Dict[str, np.ndarray]]:
     """The paper's synthetic records (m = 2.5 kg, c = 1.8 N·s/m, k = 120 N/m; 0–15 s at
     2 ms; σ = 2.5 mm noise from `seed`): ``{"identification": {...}, "validation":
     {...}}``, each with ``t``, ``force``, ``displacement`` and ``true_displacement``."""
-    return _msd.paper_data(int(seed))
+    return _msd.paper_data(seed)
 
 
 def read_file(path: Union[str, "os.PathLike[str]"], details: bool = False) -> Union[Dict[str, np.ndarray], List[Dict[str, Any]]]:
@@ -964,7 +1062,7 @@ def read_file(path: Union[str, "os.PathLike[str]"], details: bool = False) -> Un
     Raises OSError for a file that cannot be opened, ValueError (naming the file and what
     was expected) for one that is not what its extension says, truncated or corrupt.
     """
-    channels, _skipped = _msd.read_file(os.fspath(path))
+    channels, _skipped = _msd.read_file(_path("path", path))
     if details:
         return channels
     return {c["name"]: c["values"] for c in channels}
@@ -974,7 +1072,7 @@ def inspect(path: Union[str, "os.PathLike[str]"]) -> str:
     """What a data file holds (``msd inspect FILE``): its channels or columns, units,
     lengths and sampling rate, how a text file is written, and the config lines that
     read it."""
-    return _msd.inspect(os.fspath(path))
+    return _msd.inspect(_path("path", path))
 
 
 def init(
@@ -1001,11 +1099,11 @@ def init(
     the columns to choose from) or the config exists.
     """
     written, _text, _summary = _msd.init(
-        os.fspath(path),
-        input,
-        [str(o) for o in outputs],
-        None if sample_rate is None else float(sample_rate),
-        None if config is None else os.fspath(config),
+        _path("path", path),
+        None if input is None else text("input", input),
+        [outputs] if isinstance(outputs, str) else [str(o) for o in items("outputs", outputs, "a list of column names")],
+        None if sample_rate is None else number("sample_rate", sample_rate),
+        None if config is None else _path("config", config),
         bool(overwrite),
     )
     return os.fspath(written)

@@ -8,10 +8,13 @@ import numpy.typing as npt
 from . import uff as uff
 from ._msd import IdentificationError as IdentificationError
 
+class MissingKeyError(ValueError, KeyError): ...
+class OutOfRangeError(ValueError, IndexError): ...
+
 __version__: str
 
 __all__ = [
-    "IdentificationError", "ChainFit", "ChainIntervals", "ChainParameters", "ChainUncertainty", "Estimate",
+    "IdentificationError", "MissingKeyError", "OutOfRangeError", "ChainFit", "ChainIntervals", "ChainParameters", "ChainUncertainty", "Estimate",
     "FrequencyResponse", "Interval", "ModalFit", "Mode", "MergedOma", "OmaFit",
     "OneModeFit", "Plant", "RecordsFit", "Result", "RunResults", "SetupFit", "Validation",
     "estimate", "simulate", "validate", "frf", "modal_fit", "one_mode_fit", "oma", "oma_setups", "fit_records", "free_decay", "dynamometer", "inverse_dynamics",

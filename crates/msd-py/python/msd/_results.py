@@ -9,7 +9,8 @@ from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 import numpy as np
 
-from ._convert import jsonable
+from ._convert import MissingKeyError, OutOfRangeError, integer, items, jsonable, mapping, number
+from ._convert import field as _key
 
 
 @dataclass(frozen=True)
@@ -22,11 +23,23 @@ class Interval:
 
     @classmethod
     def from_dict(cls, d: Dict[str, Any]) -> "Interval":
-        """The interval of a result dict's entry {value, standard_error, ci95}."""
+        """The interval of a result dict's entry {value, standard_error, ci95} (None: NaN).
+
+        Raises MissingKeyError (a ValueError) naming a missing key, TypeError or
+        ValueError naming a key whose value is not a number (ci95: two)."""
+        owner, expected = "Interval.from_dict", "expected value, standard_error, ci95"
+        keys = [_key(owner, d, k, expected) for k in ("value", "standard_error", "ci95")]
+        value, se, ci95 = keys
+        bounds = items(f"{owner}: ci95", ci95, "[low, high]")
+        if len(bounds) != 2:
+            raise ValueError(f"{owner}: ci95 = {ci95!r:.60}: expected [low, high]")
         nan = float("nan")
-        low, high = (nan if v is None else v for v in d["ci95"])
-        se = d["standard_error"]
-        return cls(float(d["value"]), nan if se is None else float(se), (low, high))
+        low, high = (nan if v is None else number(f"{owner}: ci95[{i}]", v) for i, v in enumerate(bounds))
+        return cls(
+            number(f"{owner}: value", value),
+            nan if se is None else number(f"{owner}: standard_error", se),
+            (low, high),
+        )
 
     def contains(self, x: float) -> bool:
         """Whether x lies within the 95 % interval."""
@@ -94,7 +107,7 @@ class Result:
     @classmethod
     def from_dict(cls, d: Dict[str, Any]):
         """The result back from `to_dict()` (e.g. after a JSON round trip)."""
-        data = dict(d)
+        data = dict(mapping(f"{cls.__name__}.from_dict", d, "a dict from to_dict()"))
         for key in cls._arrays:
             if data.get(key) is not None:
                 data[key] = np.array([np.nan if v is None else v for v in data[key]], dtype=float)
@@ -301,8 +314,10 @@ class FrequencyResponse(Result):
 
     @classmethod
     def _restore(cls, data: Dict[str, Any]) -> None:
-        h = data["h"]
-        data["h"] = np.array(h["re"], dtype=float) + 1j * np.array(h["im"], dtype=float)
+        owner = "FrequencyResponse.from_dict"
+        h = _key(owner, data, "h", "the frequency response as {re, im}")
+        re, im = (_key(f"{owner}: h", h, k, "expected re and im") for k in ("re", "im"))
+        data["h"] = np.array(re, dtype=float) + 1j * np.array(im, dtype=float)
         if data.get("variance") is not None:
             data["variance"] = np.array(data["variance"], dtype=float)
 
@@ -375,6 +390,9 @@ class Mode:
     @classmethod
     def from_dict(cls, m: Dict[str, Any]) -> "Mode":
         """The mode of a result dict's entry (every field of msd-modal's `Mode`)."""
+        owner = "Mode.from_dict"
+        for key in ("natural_frequency_hz", "damping_ratio"):
+            _key(owner, m, key, "expected natural_frequency_hz and damping_ratio")
         shape = m.get("shape") or []
         constants = m.get("modal_constants") or []
         se = [e.get("standard_error") for e in shape]
@@ -512,8 +530,9 @@ class RecordsFit(SetupFit):
 
     def _channel(self, channel: Optional[str], record: int) -> Dict[str, Any]:
         records = self.data.get("records") or []
+        record = integer("record", record, None)
         if not 0 <= record < len(records):
-            raise IndexError(f"record {record}: the fit has {len(records)} record(s)")
+            raise OutOfRangeError(f"record = {record}: the fit has {len(records)} record(s), 0 to {len(records) - 1}")
         channels = records[record]["channels"]
         if channel is None:
             return channels[0]
@@ -521,7 +540,7 @@ class RecordsFit(SetupFit):
             if c["channel"] == channel:
                 return c
         names = ", ".join(repr(c["channel"]) for c in channels)
-        raise KeyError(f"channel {channel!r}: the record's channels are {names}")
+        raise MissingKeyError(f"channel {channel!r}: the record's channels are {names}")
 
     def time(self, record: int = 0) -> np.ndarray:
         """The time stamps of record `record` (0-based), s."""
@@ -542,7 +561,7 @@ class RecordsFit(SetupFit):
         (a thin line on top), and the residual below it; returns the matplotlib Figure
         (matplotlib is an optional dependency: ``pip install matplotlib``)."""
         units = {"displacement": "m", "velocity": "m/s", "acceleration": "m/s²"}
-        self._channel(None, record)  # an IndexError naming the records for a bad `record`
+        self._channel(None, record)  # an OutOfRangeError naming the records for a bad `record`
         entry = self.data["records"][record]
         panels = []
         for c in entry["channels"]:
@@ -641,9 +660,18 @@ class ChainParameters:
     @classmethod
     def from_dict(cls, d: Dict[str, Any]) -> "ChainParameters":
         """From {masses, dampers, springs} and optionally {ground_springs, ground_dampers}
-        (lists of numbers)."""
-        each = [tuple(float(v) for v in d[key]) for key in ("masses", "dampers", "springs")]
-        ground = [tuple(float(v) for v in d.get(key) or ()) for key in ("ground_springs", "ground_dampers")]
+        (lists of numbers).
+
+        Raises MissingKeyError (a ValueError) naming a missing key, TypeError or
+        ValueError naming a key whose value is not a list of numbers."""
+        owner, expected = "ChainParameters.from_dict", "expected masses, dampers, springs"
+
+        def numbers(key: str, value: Any) -> Tuple[float, ...]:
+            listed = items(f"{owner}: {key}", value, "a list of numbers")
+            return tuple(number(f"{owner}: {key}[{i}]", v) for i, v in enumerate(listed))
+
+        each = [numbers(key, _key(owner, d, key, expected)) for key in ("masses", "dampers", "springs")]
+        ground = [numbers(key, d.get(key) or ()) for key in ("ground_springs", "ground_dampers")]
         return cls(*each, *ground)
 
     def to_dict(self) -> Dict[str, List[float]]:

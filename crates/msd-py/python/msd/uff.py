@@ -15,6 +15,7 @@ from typing import Any, Dict, List, Mapping, Sequence, Union
 import numpy as np
 
 from . import _msd
+from ._convert import MissingKeyError, check_finite, integer, items, path as _path
 
 __all__ = ["read", "read_skipped", "write"]
 
@@ -31,14 +32,14 @@ def read(path: PathLike) -> List[Dict[str, Any]]:
     Raises FileNotFoundError/OSError when the file cannot be read, ValueError with the
     byte offset, line and dataset when it is malformed.
     """
-    datasets, _ = _msd.uff_read(os.fspath(path))
+    datasets, _ = _msd.uff_read(_path("path", path))
     return datasets
 
 
 def read_skipped(path: PathLike) -> List[Dict[str, Any]]:
     """The datasets `read` skips (types other than 15, 55, 58, 151, 164, 2411), each
     with its 'type', byte 'offset', 'line' and a 'note'."""
-    _, skipped = _msd.uff_read(os.fspath(path))
+    _, skipped = _msd.uff_read(_path("path", path))
     return skipped
 
 
@@ -47,7 +48,7 @@ def _function(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
     'x' as float64, the abscissa spacing decided when not given."""
     out = dict(d)
     if "data" not in d:
-        raise KeyError(f"datasets[{i}] (type 58) needs the field 'data'")
+        raise MissingKeyError(f"datasets[{i}] (type 58) needs the field 'data'")
     data = np.asarray(d["data"])
     if data.ndim != 1 or data.dtype.kind not in "iufc":
         raise ValueError(f"datasets[{i}]['data']: expected a 1-D array of numbers, got {data.dtype} {data.shape}")
@@ -67,23 +68,25 @@ def _function(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
         else:
             step = (x[-1] - x[0]) / (len(x) - 1) if len(x) > 1 else 1.0
             spacing = int(len(x) < 2 or bool(np.allclose(np.diff(x), step, rtol=1e-9, atol=0.0)))
-    out["abscissa_spacing"] = int(spacing)
+    out["abscissa_spacing"] = integer(f"datasets[{i}]['abscissa_spacing']", spacing, 0, 1)
     if out["abscissa_spacing"] == 1:
         if "abscissa_min" not in d or d.get("abscissa_min") is None:
             if x is None or len(x) == 0:
-                raise KeyError(f"datasets[{i}]: give 'x' or 'abscissa_min' and 'abscissa_inc'")
+                raise MissingKeyError(f"datasets[{i}]: give 'x' or 'abscissa_min' and 'abscissa_inc'")
             out["abscissa_min"] = float(x[0])
         if "abscissa_inc" not in d or d.get("abscissa_inc") is None:
             if x is None or len(x) < 2:
-                raise KeyError(f"datasets[{i}]: give 'x' (2 values or more) or 'abscissa_inc'")
+                raise MissingKeyError(f"datasets[{i}]: give 'x' (2 values or more) or 'abscissa_inc'")
             out["abscissa_inc"] = float(x[1] - x[0])
     elif x is None:
-        raise KeyError(f"datasets[{i}]: an uneven abscissa (abscissa_spacing 0) needs 'x'")
+        raise MissingKeyError(f"datasets[{i}]: an uneven abscissa (abscissa_spacing 0) needs 'x'")
     return out
 
 
 def _nodes(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
     out = dict(d)
+    if d.get("node_nums") is None:
+        raise MissingKeyError(f"datasets[{i}] (type {d.get('type')}) needs the field 'node_nums'")
     for key in ("node_nums", "def_cs", "disp_cs", "color", "x", "y", "z"):
         if d.get(key) is not None:
             a = np.asarray(d[key])
@@ -98,16 +101,18 @@ def _data55(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
     float64 or complex128 (complex when any is)."""
     out = dict(d)
     if "node_nums" not in d:
-        raise KeyError(f"datasets[{i}] (type 55) needs the field 'node_nums'")
+        raise MissingKeyError(f"datasets[{i}] (type 55) needs the field 'node_nums'")
     nodes = np.asarray(d["node_nums"])
     if nodes.ndim != 1 or nodes.dtype.kind not in "iuf" or (nodes.size and np.any(nodes != np.round(nodes))):
         raise ValueError(f"datasets[{i}]['node_nums']: expected a 1-D array of integers")
     out["node_nums"] = [int(n) for n in nodes]
-    per_node = int(d.get("n_data_per_node") or (6 if "r4" in d else 3))
+    given = d.get("n_data_per_node")
+    per_node = integer(f"datasets[{i}]['n_data_per_node']", given, 1) if given is not None else (6 if "r4" in d else 3)
     columns = []
     for k in range(1, per_node + 1):
         if f"r{k}" not in d:
-            raise KeyError(f"datasets[{i}] (type 55) needs the field 'r{k}'")
+            told = "" if given is None else f" (n_data_per_node = {per_node})"
+            raise MissingKeyError(f"datasets[{i}] (type 55) needs the field 'r{k}'{told}")
         a = np.asarray(d[f"r{k}"])
         if a.ndim != 1 or a.dtype.kind not in "iufc":
             raise ValueError(f"datasets[{i}]['r{k}']: expected a 1-D array of numbers")
@@ -120,6 +125,24 @@ def _data55(i: int, d: Mapping[str, Any]) -> Dict[str, Any]:
     return out
 
 
+def _finite(i: int, d: Mapping[str, Any]) -> None:
+    """ValueError naming the field of dataset `i` that holds a NaN or an infinity (UFF
+    has no such numbers: written, they read back as garbage or not at all)."""
+    for key, value in d.items():
+        if isinstance(value, (str, bytes)) or value is None:
+            continue
+        if isinstance(value, (float, complex, np.floating, np.complexfloating)):
+            if not np.isfinite(value):
+                raise ValueError(f"datasets[{i}][{key!r}] = {value}: expected a finite number")
+        elif isinstance(value, (np.ndarray, list, tuple)):
+            try:
+                a = np.asarray(value)
+            except Exception:  # ragged: the field's own check says so
+                continue
+            if a.dtype.kind in "fc":
+                check_finite(f"datasets[{i}][{key!r}]", a)
+
+
 def write(path: PathLike, datasets: Sequence[Mapping[str, Any]], *, exact: bool = False) -> None:
     """Write dataset dicts (as `read` returns them, or as written for pyuff) to a UFF
     file: 151, 164, 15/2411, 55, then 58 (58b when 'binary' is 1). Missing fields take the
@@ -128,13 +151,19 @@ def write(path: PathLike, datasets: Sequence[Mapping[str, Any]], *, exact: bool 
     is decided from 'x' when not given. `exact`: every ASCII number in 25 columns that
     reads back identically (readers that split on blanks read these; pyuff's
     fixed-column reader does not); by default the format's columns.
+
+    Raises ValueError naming the dataset and field: a value that is NaN or infinite, a
+    missing field (MissingKeyError, also a KeyError), a value of the wrong type or range.
     """
     if isinstance(datasets, Mapping):
         datasets = [datasets]
     ready = []
-    for i, d in enumerate(datasets):
+    for i, d in enumerate(items("datasets", datasets, "a list of dataset dicts")):
         if not isinstance(d, Mapping):
             raise ValueError(f"datasets[{i}]: expected a dict")
+        if d.get("type") is None:
+            raise MissingKeyError(f"datasets[{i}] needs the field 'type' (58, 55, 151, 164, 15 or 2411)")
+        _finite(i, d)
         kind = d.get("type")
         if kind == 58:
             ready.append(_function(i, d))
@@ -144,4 +173,4 @@ def write(path: PathLike, datasets: Sequence[Mapping[str, Any]], *, exact: bool 
             ready.append(_data55(i, d))
         else:
             ready.append(dict(d))
-    _msd.uff_write(os.fspath(path), ready, bool(exact))
+    _msd.uff_write(_path("path", path), ready, bool(exact))
