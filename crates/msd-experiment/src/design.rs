@@ -309,7 +309,7 @@ pub struct DesignArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Check the prediction against N simulated tests of the design (seeds 0 … N−1),
-    /// each fitted: N × the test's samples count against a budget of 4e7 samples fitted,
+    /// each fitted: N × the test's samples count against a budget of 3e7 samples fitted,
     /// which the largest N accepted runs in about half a minute on two threads, release
     /// build (the largest N is named when it is past it). Progress is drawn on a terminal.
     #[arg(long, value_name = "N", default_value_t = 0)]

@@ -242,7 +242,7 @@ pub struct PlanArgs {
     pub target: f64,
     /// Check the prediction against N simulated experiments (noise seeds 0 … N−1), each
     /// fitted: N × the experiment's samples (a chain's weighted by its size) count
-    /// against a budget of 4e7 samples fitted, which the largest N accepted runs in
+    /// against a budget of 3e7 samples fitted, which the largest N accepted runs in
     /// about half a minute on two threads, release build (the largest N is named when
     /// it is past it). Progress is drawn on a terminal.
     #[arg(long, value_name = "N", default_value_t = 0)]
