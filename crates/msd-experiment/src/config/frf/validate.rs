@@ -120,6 +120,43 @@ impl FrequencyResponseSection {
         if let Some(t) = &self.table {
             check_table(t)?;
         }
+        self.validate_set()?;
+        if let Some(r) = &self.records {
+            crate::config::check_decimal("frequency_response.records", r.decimal, r.delimiter)?;
+            check_positive("frequency_response.records.sample_rate", r.sample_rate)?;
+            if r.force.is_empty() || r.force.len() != r.response.len() {
+                return err(
+                    "frequency_response.records.response",
+                    format!(
+                        ": {} force and {} response columns: expected one pair per record",
+                        r.force.len(),
+                        r.response.len()
+                    ),
+                );
+            }
+        }
+        if self
+            .uff
+            .as_ref()
+            .is_some_and(|u| u.set && u.function.is_some())
+        {
+            return err(
+                "frequency_response.uff.function",
+                ": given with set = true: expected one or the other (a set takes every frequency response function of the file)".into(),
+            );
+        }
+        self.validate_shapes()?;
+        if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
+            return err(
+                "frequency_response.uff.function",
+                " = 0: expected a dataset number from 1".into(),
+            );
+        }
+        Ok(())
+    }
+
+    /// Each FRF of a `set`: its table and its two DOFs.
+    fn validate_set(&self) -> Check {
         for (i, t) in self.set.iter().flatten().enumerate() {
             check_table(t).map_err(|(key, why)| {
                 (
@@ -155,30 +192,12 @@ impl FrequencyResponseSection {
                 " = []: expected at least one FRF".into(),
             );
         }
-        if let Some(r) = &self.records {
-            crate::config::check_decimal("frequency_response.records", r.decimal, r.delimiter)?;
-            check_positive("frequency_response.records.sample_rate", r.sample_rate)?;
-            if r.force.is_empty() || r.force.len() != r.response.len() {
-                return err(
-                    "frequency_response.records.response",
-                    format!(
-                        ": {} force and {} response columns: expected one pair per record",
-                        r.force.len(),
-                        r.response.len()
-                    ),
-                );
-            }
-        }
-        if self
-            .uff
-            .as_ref()
-            .is_some_and(|u| u.set && u.function.is_some())
-        {
-            return err(
-                "frequency_response.uff.function",
-                ": given with set = true: expected one or the other (a set takes every frequency response function of the file)".into(),
-            );
-        }
+        Ok(())
+    }
+
+    /// What is compared with a set's shapes: given only with a set, non-empty paths,
+    /// reference modes that are modes.
+    fn validate_shapes(&self) -> Check {
         let a_set = self.set.is_some() || self.uff.as_ref().is_some_and(|u| u.set);
         for (key, given) in [
             ("reference_modes", self.reference_modes.is_some()),
@@ -209,12 +228,6 @@ impl FrequencyResponseSection {
         }
         for (i, mode) in self.reference_modes.iter().flatten().enumerate() {
             check_reference_mode(i, mode)?;
-        }
-        if self.uff.as_ref().and_then(|u| u.function) == Some(0) {
-            return err(
-                "frequency_response.uff.function",
-                " = 0: expected a dataset number from 1".into(),
-            );
         }
         Ok(())
     }
