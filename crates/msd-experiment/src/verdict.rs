@@ -89,7 +89,7 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
         [] => {}
         [reason] => findings.push(fail(format!("not everything is identified: {reason}"))),
         reasons => findings.push(fail(format!(
-            "not everything is identified: {} combinations of the parameters leave the records unchanged (listed with the estimates); the modes are identified",
+            "not everything is identified: {} combinations of the parameters leave the records unchanged (listed with the estimates)",
             reasons.len()
         ))),
     }

@@ -6,6 +6,7 @@
 //! - [`config`]: random mutations of the shipped `configs/*.toml` (deleted, duplicated,
 //!   retyped, out-of-range and unknown fields) through `Config::from_toml_str`, and a few
 //!   full runs of mutated small configs (exit status and nothing written on failure);
+//! - [`chain`]: the two-storey chain with absurd numbers, run end to end;
 //! - [`csv`]: measured CSV files with truncated rows, empty cells, text, NaN/inf, huge
 //!   values, wrong delimiters, a BOM, CRLF line endings, no header, … through a whole run;
 //! - [`signal`]: msd-signal `Signal` trees, multisines and PRBS with wild parameters;
@@ -21,6 +22,7 @@
 //! PROPTEST_CASES=10000 cargo test -p msd-tests --test properties
 //! ```
 
+mod chain;
 mod config;
 mod csv;
 mod signal;

@@ -516,6 +516,8 @@ fn damping_pairs<'a>(
         .zip(&ideal.uncertainty.modes)
         .map(|(p, n)| (&p.damping_ratio, &n.damping_ratio))
         .enumerate()
+        // A bias in standard errors needs one to measure it by.
+        .filter(|(_, (p, _))| p.standard_error > 0.0 && p.standard_error.is_finite())
 }
 
 /// The index of the sensor named `name` in the report's order.

@@ -170,7 +170,7 @@ pub(crate) fn uncertainty_at(
     modes.retain(bounded);
     if modes.len() < all {
         unidentifiable.push(format!(
-            "{} of the {all} modes have intervals beyond double precision: the records do not fix them; not reported",
+            "{} of the {all} modes have intervals that are not finite, or no width at all: the records do not fix them; not reported",
             all - modes.len()
         ));
     }
@@ -217,11 +217,14 @@ fn loose(layout: &Layout, covariance: &DMatrix<f64>) -> Option<String> {
     })
 }
 
-/// Whether every number of a mode's intervals is finite.
+/// Whether every number of a mode's intervals is finite, and its frequency and damping
+/// ratio are fixed by the records (a standard error of exactly zero under the
+/// pseudo-inverse means the mode moves only along directions the records lose).
 fn bounded(mode: &Mode) -> bool {
     let finite = |iv: &Interval| {
         iv.value.is_finite()
             && iv.standard_error.is_finite()
+            && iv.standard_error > 0.0
             && iv.ci95.iter().all(|v| v.is_finite())
     };
     finite(&mode.natural_frequency_hz)
