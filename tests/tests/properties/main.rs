@@ -9,6 +9,7 @@
 //! - [`chain`]: the two-storey chain with absurd numbers, run end to end;
 //! - [`csv`]: measured CSV files with truncated rows, empty cells, text, NaN/inf, huge
 //!   values, wrong delimiters, a BOM, CRLF line endings, no header, … through a whole run;
+//! - [`sets`]: a set file of complex FRF lines damaged at one line;
 //! - [`signal`]: msd-signal `Signal` trees, multisines and PRBS with wild parameters;
 //! - [`solvers`]: msd-ode `Ode45Options` and the exact simulator, msd-opt Nelder–Mead,
 //!   Levenberg–Marquardt and multistart options, msd-ident simulation, residual and
@@ -25,6 +26,7 @@
 mod chain;
 mod config;
 mod csv;
+mod sets;
 mod signal;
 mod solvers;
 
