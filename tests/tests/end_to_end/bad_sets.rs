@@ -233,5 +233,25 @@ fn messages_name_the_key_and_the_file() {
             "short.csv",
             "2 lines",
         ],
+    ); // Records of eight rows: five lines, no resonance among them (was exit 1, no file).
+    let rows: Vec<String> = (0..8)
+        .map(|i| {
+            let t = 0.7 * f64::from(i);
+            format!("{},{}", t.sin(), 0.01 * (t - 0.3).sin())
+        })
+        .collect();
+    case.file("rec8.csv", &format!("force,accel\n{}\n", rows.join("\n")));
+    let c = case.file(
+        "r.toml",
+        "name = \"r\"\n[frequency_response.records]\npath = \"rec8.csv\"\nsample_rate = 100.0\nforce = [\"force\"]\nresponse = [\"accel\"]\n[frequency_response.estimator]\nkind = \"acceleration\"\n",
+    );
+    case.refuses(
+        &c,
+        &[
+            "frequency_response.one_mode.band_hz",
+            "rec8.csv",
+            "5 lines",
+            "no resonance",
+        ],
     );
 }

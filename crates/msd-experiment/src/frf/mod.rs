@@ -433,6 +433,16 @@ fn fit_failure(
             format!("frequency_response.{part}"),
             format!("{reason} ({range})"),
         ),
+        // One mode fitted to lines that hold no resonance (a band beside it, or records
+        // too short to resolve it): the data and the band are the user's to change.
+        IdentError::NotIdentifiable { reason } if reason.contains("no resonance in the band") => {
+            ExperimentError::config(
+                key("band_hz"),
+                format!(
+                    "{reason} ({range}); choose a band around the resonance, or measure longer records (finer lines)"
+                ),
+            )
+        }
         e => ExperimentError::run("frequency-response fit", e),
     }
 }
