@@ -5,9 +5,9 @@
 //! but the optional values' own; a refusal is one line with its class's exit status
 //! (a config error naming the file), and leaves nothing behind.
 
-use crate::scaled_cases;
-use msd_experiment::{ExperimentError, RunOptions, run_experiment};
-use msd_tests::{config, listing};
+use crate::{not_a_number, refused_cleanly, scaled_cases};
+use msd_experiment::{RunOptions, run_experiment};
+use msd_tests::config;
 use proptest::prelude::*;
 use toml::{Table, Value};
 
@@ -135,25 +135,11 @@ proptest! {
                 prop_assert!(found.is_empty(), "nulls at {found:?} for {changes:?}");
                 for name in ["report.md", "record.csv"] {
                     let body = std::fs::read_to_string(out.join(name)).unwrap();
-                    let bad = body
-                        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
-                        .find(|t| matches!(*t, "NaN" | "nan" | "inf"));
+                    let bad = not_a_number(&body);
                     prop_assert!(bad.is_none(), "{name} holds {bad:?} for {changes:?}");
                 }
             }
-            Err(e) => {
-                let text = e.to_string();
-                prop_assert!(!text.contains('\n'), "{text}");
-                match &e {
-                    ExperimentError::Config { file, .. } => {
-                        prop_assert_eq!(e.exit_code(), 2);
-                        prop_assert!(file.contains("chain.toml"), "{text}");
-                    }
-                    ExperimentError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
-                    other => prop_assert!(false, "{other}"),
-                }
-                prop_assert_eq!(listing(dir.path()), vec!["chain.toml".to_string()], "{}", text);
-            }
+            Err(e) => refused_cleanly(&e, dir.path(), "chain.toml")?,
         }
     }
 }

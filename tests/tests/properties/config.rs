@@ -7,7 +7,7 @@
 use crate::{cases, scaled_cases, wild_f64};
 use msd_experiment::config::Config;
 use msd_experiment::{ExperimentError, RunOptions, run_experiment};
-use msd_tests::{TINY_CONFIG, config, listing};
+use msd_tests::{TINY_CONFIG, config};
 use proptest::prelude::*;
 use toml::{Table, Value};
 
@@ -393,27 +393,11 @@ proptest! {
                         continue;
                     }
                     let body = std::fs::read_to_string(out.join(name)).unwrap();
-                    let bad = body
-                        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
-                        .find(|t| *t == "NaN" || *t == "inf");
+                    let bad = crate::not_a_number(&body);
                     prop_assert!(bad.is_none(), "{name} holds {bad:?} for {changes:?}");
                 }
             }
-            Err(e) => {
-                let text = e.to_string();
-                prop_assert!(!text.contains('\n'), "{text}");
-                match &e {
-                    ExperimentError::Config { file, .. } => {
-                        prop_assert_eq!(e.exit_code(), 2);
-                        prop_assert!(file.contains("tiny.toml"), "{text}");
-                    }
-                    ExperimentError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
-                    ExperimentError::Data { .. } => prop_assert!(false, "no data file here: {text}"),
-                    ExperimentError::Download { .. } => prop_assert!(false, "a run downloads nothing: {text}"),
-                    ExperimentError::Kept { .. } => prop_assert!(false, "only a mode selection keeps a diagram: {text}"),
-                }
-                prop_assert_eq!(listing(dir.path()), vec!["tiny.toml".to_string()], "{}", text);
-            }
+            Err(e) => crate::refused_cleanly(&e, dir.path(), "tiny.toml")?,
         }
     }
 }

@@ -107,3 +107,36 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
         .unwrap_or_else(|| "a non-string panic".into())
 }
+
+/// The first word of `body` that is NaN or an infinity printed where a number belongs.
+pub fn not_a_number(body: &str) -> Option<&str> {
+    body.split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .find(|t| matches!(*t, "NaN" | "nan" | "inf"))
+}
+
+/// A whole run's refusal: one line, a config error naming `config` (exit 2) or a run
+/// failure (exit 1), and nothing left in `dir` but `config`.
+pub fn refused_cleanly(
+    e: &msd_experiment::ExperimentError,
+    dir: &std::path::Path,
+    config: &str,
+) -> Result<(), TestCaseError> {
+    use msd_experiment::ExperimentError;
+    let text = e.to_string();
+    prop_assert!(!text.contains('\n'), "{text}");
+    match e {
+        ExperimentError::Config { file, .. } => {
+            prop_assert_eq!(e.exit_code(), 2);
+            prop_assert!(file.contains(config), "{text}");
+        }
+        ExperimentError::Run { .. } => prop_assert_eq!(e.exit_code(), 1),
+        other => prop_assert!(false, "neither a config error nor a run failure: {other}"),
+    }
+    prop_assert_eq!(
+        msd_tests::listing(dir),
+        vec![config.to_string()],
+        "{}",
+        text
+    );
+    Ok(())
+}
