@@ -845,6 +845,9 @@ impl Config {
     pub fn from_toml_str(text: &str, file: impl AsRef<Path>) -> Result<Self> {
         let file = file.as_ref();
         let mut config: Config = toml::from_str(text).map_err(|e| {
+            if let Some(err) = unknown_variant(text, &e, file) {
+                return err;
+            }
             let location = e
                 .span()
                 .map(|s| {
@@ -1557,6 +1560,34 @@ pub(crate) fn line_column(text: &str, offset: usize) -> (usize, usize) {
 
 /// The 1-based line where the dotted key `path` (e.g. `plant.mass`) is set, found by a
 /// plain scan of table headers and `key =` lines; `None` when it cannot be told.
+/// An unknown variant inside a tagged table (`kind = "bogus"` in a term of
+/// `[validation.input]`): toml points at the table, so the line that writes the value
+/// is found below it and named with its key.
+fn unknown_variant(text: &str, e: &toml::de::Error, file: &Path) -> Option<ExperimentError> {
+    let message = e.message().trim().replace('\n', " ");
+    let variant = message
+        .strip_prefix("unknown variant `")?
+        .split('`')
+        .next()?;
+    let start = e.span()?.start;
+    let quoted = format!("\"{variant}\"");
+    let offset = text.get(start..)?.find(&quoted)? + start;
+    let (line, column) = line_column(text, offset);
+    let written = text[..offset].rsplit('\n').next()?.trim();
+    let key = written.strip_suffix('=')?.trim();
+    let table = text[..offset]
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('['))
+        .map(|l| format!(" in {l}"))
+        .unwrap_or_default();
+    Some(ExperimentError::Config {
+        file: format!("{}:{line}:{column}", file.display()),
+        message: format!("{key} = {quoted}{table}: {message}"),
+    })
+}
+
 pub(crate) fn locate_key(text: &str, path: &str) -> Option<usize> {
     let path = path.split('[').next().unwrap_or(path);
     let mut table = String::new();
@@ -1702,6 +1733,26 @@ mod tests {
         assert_eq!(locate_key(text, "estimation.backend"), Some(5));
         assert_eq!(locate_key(text, "estimation.backend.kind"), Some(6));
         assert_eq!(locate_key(text, "monte_carlo.samples"), None);
+    }
+
+    #[test]
+    fn an_unknown_variant_in_a_tagged_table_is_named_at_its_line() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../configs/paper-fast.toml"
+        ))
+        .unwrap();
+        let at = text.find("kind = \"chirp\"").expect("a chirp term");
+        let line = text[..at].lines().count() + 1;
+        let bad = text.replacen("kind = \"chirp\"", "kind = \"chirpp\"", 1);
+        let err = Config::from_toml_str(&bad, "p.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with(&format!("p.toml:{line}:8: kind = \"chirpp\" in [[")),
+            "{err}"
+        );
+        assert!(err.contains("input.terms]]: unknown variant"), "{err}");
     }
 
     #[test]

@@ -255,3 +255,82 @@ fn messages_name_the_key_and_the_file() {
         ],
     );
 }
+
+/// A UFF file that holds a time response beside its FRFs: the FRFs are read and the
+/// report names the dataset that was not (it was skipped without a word).
+#[test]
+fn a_mixed_uff_file_says_which_datasets_were_not_read() {
+    use msd_uff::{Abscissa, Function58, FunctionType, Ordinate};
+    let case = Case::new();
+    let mut file = msd_uff::read(config("data/frf-2dof.uff")).unwrap();
+    let time = Function58::new(
+        FunctionType::TimeResponse,
+        Abscissa::Even {
+            start: 0.0,
+            step: 1e-3,
+        },
+        Ordinate::Real(vec![0.5; 64]),
+    );
+    file.functions.insert(0, time);
+    let uff = case.dir.path().join("mixed.uff");
+    msd_uff::write(&uff, &file, &Default::default()).unwrap();
+    let text = std::fs::read_to_string(config("frf-uff.toml"))
+        .unwrap()
+        .replace("data/frf-2dof.uff", &uff.display().to_string());
+    let c = case.file("mixed.toml", &text);
+    let run = run_in_temp(&c, None, None).expect("the FRF of a mixed file is fitted");
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(
+        report.contains("dataset 58 #2 of") && report.contains("not read: dataset 58 #1 (time"),
+        "the report names the FRF read and the time response not read"
+    );
+}
+
+/// A setup record whose units line holds a number: read as units (a units line may), and
+/// said in the report, with or without validation records (it was said only with them).
+#[test]
+fn what_the_reader_found_is_said_in_a_setup_report() {
+    let case = Case::new();
+    let rows: Vec<String> = (1..3000)
+        .map(|i| {
+            let t = f64::from(i) * 0.002;
+            format!("{t},{}", 0.01 * (-0.36 * t).exp() * (6.9 * t).cos())
+        })
+        .collect();
+    case.file(
+        "decay.csv",
+        &format!("# rig 3\nt,displacement\ns,m\n{}\n", rows.join("\n")),
+    );
+    let c = case.file(
+        "fd.toml",
+        "name = \"fd\"\n[setup]\nexcitation = \"none\"\nresponses = [{ quantity = \"displacement\", column = \"displacement\" }]\n[data]\npath = \"decay.csv\"\ntime = \"t\"\n",
+    );
+    let run = run_in_temp(&c, None, None).expect("a clean decay is fitted");
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(report.contains("decay.csv: line 3: units s, m"), "{report}");
+}
+
+/// A measured free decay that sinks below its noise is refused naming its file (the
+/// message named the record and the config).
+#[test]
+fn a_free_decay_below_its_noise_is_refused_naming_its_file() {
+    let case = Case::new();
+    let rows: Vec<String> = (1..3000_u32)
+        .map(|i| {
+            let t = f64::from(i) * 0.002;
+            // A uniform draw of a multiplicative hash: white, not a tone.
+            let u = f64::from(i.wrapping_mul(2_654_435_761_u32)) / f64::from(u32::MAX);
+            let noise = 2e-4 * (u - 0.5);
+            format!("{t},{}", 1e-5 * (-0.36 * t).exp() * (6.9 * t).cos() + noise)
+        })
+        .collect();
+    case.file(
+        "quiet.csv",
+        &format!("t,displacement\n{}\n", rows.join("\n")),
+    );
+    let c = case.file(
+        "fd.toml",
+        "name = \"fd\"\n[setup]\nexcitation = \"none\"\nresponses = [{ quantity = \"displacement\", column = \"displacement\" }]\n[data]\npath = \"quiet.csv\"\ntime = \"t\"\n",
+    );
+    case.refuses(&c, &["quiet.csv", "not a free decay"]);
+}

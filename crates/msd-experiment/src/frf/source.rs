@@ -341,7 +341,7 @@ fn uff(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
     Ok(Loaded {
         time: None,
         description: format!(
-            "dataset 58 #{} of {} ({}, response {}:{}, reference {}:{}, {} lines, {})",
+            "dataset 58 #{} of {} ({}, response {}:{}, reference {}:{}, {} lines, {}){}",
             index + 1,
             path.display(),
             function.function_type,
@@ -350,12 +350,35 @@ fn uff(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
             function.reference_node,
             function.reference_direction,
             function.len(),
-            frf.kind
+            frf.kind,
+            not_read(&file.functions)
         ),
         frf,
         members: Vec::new(),
         nodes: Vec::new(),
     })
+}
+
+/// The datasets 58 of a file that are not frequency responses, said after a source's
+/// description ("; not read: dataset 58 #2 (time response)"), or nothing.
+fn not_read(functions: &[msd_uff::Function58]) -> String {
+    let others: Vec<String> = functions
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.function_type != msd_uff::FunctionType::FrequencyResponse)
+        .map(|(i, f)| format!("#{} ({})", i + 1, f.function_type))
+        .collect();
+    match others.len() {
+        0 => String::new(),
+        n if n <= 5 => format!(
+            "; not frequency responses, not read: dataset 58 {}",
+            others.join(", ")
+        ),
+        n => format!(
+            "; not frequency responses, not read: {n} datasets 58 ({}, …)",
+            others[..3].join(", ")
+        ),
+    }
 }
 
 /// Dataset 58 number `index` (from 0) as a frequency response, its values checked.
@@ -442,11 +465,12 @@ fn uff_set(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded>
     Ok(Loaded {
         frf: first.clone(),
         description: format!(
-            "the {} frequency response functions of {} as a set ({} lines each, {})",
+            "the {} frequency response functions of {} as a set ({} lines each, {}){}",
             members.len(),
             path.display(),
             first.frequency.len(),
-            first.kind
+            first.kind,
+            not_read(&file.functions)
         ),
         time: None,
         members,

@@ -13,7 +13,7 @@ use msd_ident::{
     free_decay::ClassroomEstimates,
     records::validate_records,
 };
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// What a setup run estimated.
 #[derive(Debug, Clone)]
@@ -42,7 +42,28 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
         msd_ident::IdentError::EstimationFailed { reason } => {
             ExperimentError::run("estimation", reason)
         }
-        other => ExperimentError::data(config_path, format!("setup: {other}")),
+        // A measured record at fault is named by its file.
+        msd_ident::IdentError::InvalidRecord { ref record, .. } => {
+            let file = data
+                .records
+                .iter()
+                .position(|r| &r.name == record)
+                .and_then(|i| data.files.get(i));
+            ExperimentError::data(
+                file.map_or(config_path, PathBuf::as_path),
+                format!("setup: {e}"),
+            )
+        }
+        other if data.files.is_empty() => {
+            ExperimentError::data(config_path, format!("setup: {other}"))
+        }
+        other => ExperimentError::data(
+            config_path,
+            format!(
+                "setup: {other} (the records of {})",
+                list_files(&data.files)
+            ),
+        ),
     };
     if setup.excitation == ExcitationKind::ImposedDisplacement
         && super::stroke::any_stroke(setup, data, config.data.is_some())
@@ -64,9 +85,10 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
     if !data.validation.is_empty() {
         let fresh = ident_records(&data.validation, &data.channels)?;
         let validation = validate_records(&fit, &fresh, &options).map_err(refused)?;
-        fit.notes.extend(data.notes.iter().cloned());
         fit.validation = Some(validation);
     }
+    // What the reader found (metadata, a units line, gaps filled) is said with the fit.
+    fit.notes.extend(data.notes.iter().cloned());
     // The classroom's reading of the decay beside the fit (not a second fit of it).
     let classroom = match (setup.excitation, data.records.first()) {
         (ExcitationKind::None, Some(r)) => ClassroomEstimates::from_record(r.dt, &r.channels[0])
@@ -78,6 +100,19 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
         fit: Box::new(fit),
         classroom,
     })
+}
+
+/// Up to three file names, then how many more.
+fn list_files(files: &[PathBuf]) -> String {
+    let names: Vec<String> = files
+        .iter()
+        .take(3)
+        .map(|f| f.display().to_string())
+        .collect();
+    match files.len() {
+        n if n > 3 => format!("{} and {} more", names.join(", "), n - 3),
+        _ => names.join(", "),
+    }
 }
 
 /// The joint fit's options of a `[setup]` config: its drive, known mass or stiffness

@@ -158,6 +158,14 @@ fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result 
         SetupFit::Machine(m) => super::report_machine::section(s, m)?,
         SetupFit::Stroke(f) => super::stroke::section(s, f)?,
     }
+    // The records' fit carries the reader's notes; the test machine's are said here.
+    if !matches!(o.fit, SetupFit::Records { .. }) && !o.data.notes.is_empty() {
+        writeln!(s, "Notes on the data:\n")?;
+        for n in &o.data.notes {
+            writeln!(s, "- {n}")?;
+        }
+        s.push('\n');
+    }
     writeln!(s, "## Figures\n")?;
     for f in figures {
         let (alt, caption) = figure_caption(f);

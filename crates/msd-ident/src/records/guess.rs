@@ -81,8 +81,10 @@ pub(crate) fn initial_theta(problem: &Joint<'_>, options: &RecordsOptions) -> Re
     let m = match (problem.drive, options.known, options.initial_guess) {
         (Drive::Force, KnownParameter::Mass(m), _) => m,
         (Drive::Force, KnownParameter::Stiffness(k), _) => k / (wn * wn),
-        (Drive::Force, _, Some(g)) => g.mass,
-        (Drive::Force, _, None) => gain_mass,
+        // A given guess's ωn and ζ are kept, its gain matched to the records (the mass
+        // that best scales its response): a mass 100× off otherwise sends the search to
+        // a wrong minimum, c to zero.
+        (Drive::Force, _, _) => gain_mass,
         _ => 1.0,
     };
     Ok([m, 2.0 * zeta * wn * m, wn * wn * m])

@@ -832,7 +832,8 @@ fn bad_records_and_setups_are_refused_with_located_messages() {
 
 /// Issue 31, class 5, what a lab hands in: a sensor mounted upside down is named with its
 /// correlation, a record whose force is zero is refused as such, and an `initial_guess`
-/// far from the truth (100×) is used as given and the fit still finds the plant.
+/// far from the truth (100× or 1/100×) has its gain matched to the records and the fit
+/// still finds the plant.
 #[test]
 fn an_inverted_sensor_a_zero_force_and_a_far_guess() {
     let force = paper_force();
@@ -892,16 +893,30 @@ fn an_inverted_sensor_a_zero_force_and_a_far_guess() {
         "{err}"
     );
 
-    let far = RecordsOptions {
-        initial_guess: Some(Parameters::new(250.0, 180.0, 12000.0).unwrap()),
-        ..RecordsOptions::default()
-    };
-    let fit = fit_records(&[one_record("run", &force, vec![laser])], &far).expect("fits");
-    for (name, truth) in [("mass", 2.5), ("damping", 1.8), ("stiffness", 120.0)] {
-        let i = get(&fit.plant, name);
-        assert!(
-            (i.value / truth - 1.0).abs() < 4.0 * i.standard_error / truth,
-            "{name}: {i:?}"
-        );
+    // A guess 100× (or 1/100×) the plant, with the laser, and with the laser and an
+    // accelerometer.
+    let acc = noisy(
+        "acc",
+        ResponseQuantity::Acceleration,
+        Frame::Absolute,
+        &a,
+        ACC_SIGMA,
+        3,
+    );
+    for scale in [100.0, 0.01] {
+        let far = RecordsOptions {
+            initial_guess: Some(Parameters::new(2.5 * scale, 1.8 * scale, 120.0 * scale).unwrap()),
+            ..RecordsOptions::default()
+        };
+        for channels in [vec![laser.clone()], vec![laser.clone(), acc.clone()]] {
+            let fit = fit_records(&[one_record("run", &force, channels)], &far).expect("fits");
+            for (name, truth) in [("mass", 2.5), ("damping", 1.8), ("stiffness", 120.0)] {
+                let i = get(&fit.plant, name);
+                assert!(
+                    (i.value / truth - 1.0).abs() < 4.0 * i.standard_error / truth,
+                    "{scale}×, {name}: {i:?}"
+                );
+            }
+        }
     }
 }
