@@ -52,6 +52,7 @@ mod diagram;
 pub mod error;
 mod half_power;
 mod indicator;
+mod input_noise;
 pub mod lines;
 mod lscf;
 mod modal;
@@ -72,6 +73,7 @@ pub use diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableColumn}
 pub use error::{ModalError, Result};
 pub use half_power::{HalfPower, half_power};
 pub use indicator::{ModeIndicator, mode_indicator};
+pub use input_noise::InputNoise;
 pub use lines::FrfWeighting;
 pub use modal::ModalParameters;
 pub use mode::{Dof, Mode, ShapeEntry};

@@ -3,7 +3,7 @@
 
 use std::f64::consts::TAU;
 
-use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
+use msd_signal::{Complex64, Estimator, FrequencyResponseEstimate, FrfKind};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{ModalError, Result};
@@ -87,6 +87,24 @@ pub struct Lines {
     /// Segments K averaged into the estimate (1 for a table without coherence, 0 when
     /// a table's coherence does not say over how many).
     pub averages: usize,
+    /// The estimator that formed the lines (`None` for a measured table).
+    pub estimator: Option<Estimator>,
+    /// The coherence's noise model, once
+    /// [`smooth_coherence_weights`](Self::smooth_coherence_weights) has fitted it.
+    pub noise_model: Option<CoherenceNoise>,
+}
+
+/// The noise model fitted to the lines' coherence: q_k = (1 − γ̂_k²)/(2K·γ̂_k²)·|Ĥ_k|²
+/// ≈ a·|H(ω_k)|² + b·ω_k^(−2p), a the force's noise and b the response's (each relative
+/// to the force's power).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CoherenceNoise {
+    /// a: the force's noise.
+    pub force: f64,
+    /// b: the response's noise (flat in the measured quantity).
+    pub response: f64,
+    /// The standard error of a, from the scatter of q about the model.
+    pub force_standard_error: f64,
 }
 
 /// Checks that the estimate's arrays have one entry per line.
@@ -174,6 +192,8 @@ pub fn prepare(
         },
         measured_power,
         averages: frf.averages,
+        estimator: frf.estimator,
+        noise_model: None,
     };
     for (k, &f) in receptance.frequency.iter().enumerate() {
         if !inside(f) {
@@ -283,6 +303,11 @@ impl Lines {
             self.reweight(model);
             return false;
         };
+        self.noise_model = Some(CoherenceNoise {
+            force: a,
+            response: b,
+            force_standard_error: standard_error_of_a(&m, &u, &q, [a, b]),
+        });
         // K/(K − 1) for the one response the coherence was taken about; with K unknown
         // the weights are relative only (the fit's s² sets their scale).
         let k = self.averages as f64;
@@ -411,6 +436,8 @@ impl Lines {
             correlated_lines: 1.0,
             measured_power: 0,
             averages: 1,
+            estimator: None,
+            noise_model: None,
         }
     }
 }
@@ -504,6 +531,27 @@ fn noise_model(m: &[f64], u: &[f64], q: &[f64]) -> Option<[f64; 2]> {
         }
     }
     ab
+}
+
+/// The standard error of a in q ≈ a·m + b·u fitted with weights 1/(a·m + b·u)²:
+/// s²·[(XᵀWX)⁻¹]₀₀ with s² the weighted residual variance on L − 2 degrees of freedom.
+fn standard_error_of_a(m: &[f64], u: &[f64], q: &[f64], [a, b]: [f64; 2]) -> f64 {
+    let [mut smm, mut smu, mut suu, mut sse] = [0.0; 4];
+    for ((&m, &u), &q) in m.iter().zip(u).zip(q) {
+        let p = a * m + b * u;
+        if p <= 0.0 {
+            continue;
+        }
+        let w = 1.0 / (p * p);
+        smm += w * m * m;
+        smu += w * m * u;
+        suu += w * u * u;
+        sse += w * (q - p).powi(2);
+    }
+    let det = smm * suu - smu * smu;
+    let dof = m.len().saturating_sub(2).max(1) as f64;
+    let se = (sse / dof * suu / det).sqrt();
+    if se.is_finite() { se } else { f64::INFINITY }
 }
 
 #[cfg(test)]

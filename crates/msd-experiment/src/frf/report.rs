@@ -266,6 +266,14 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
             }
         )?;
     }
+    if let Some(noise) = &f.input_noise {
+        writeln!(
+            w,
+            "{} (noise on the force adds to its auto-spectrum S_xx and not to the cross-spectrum S_xy, so H1 = S_xy/S_xx is low by the force's share of the incoherence at every line; the response's noise biases nothing): the fit is made on H1 × (1 + {:.2e}).\n",
+            crate::fmt::capitalised(&noise.to_string()),
+            noise.h1_bias
+        )?;
+    }
     window_note(w, f.window_correction.as_ref(), classroom.as_ref())?;
     Ok(())
 }

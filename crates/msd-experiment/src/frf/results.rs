@@ -111,6 +111,9 @@ struct Estimate {
     relative_error: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     noise_check: Option<msd_ident::frf::NoiseCheck>,
+    /// The force's noise the coherence showed on an H1 estimate, taken off the lines.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    input_noise: Option<msd_modal::InputNoise>,
     /// The resonance the band was chosen around (no band given).
     #[serde(skip_serializing_if = "Option::is_none")]
     dominant_peak: Option<msd_modal::DominantPeak>,
@@ -268,6 +271,7 @@ fn one_mode(o: &FrfOutcome) -> Option<Estimate> {
         degrees_of_freedom: u.degrees_of_freedom,
         relative_error: f.relative_error,
         noise_check: f.noise_check,
+        input_noise: f.input_noise,
         dominant_peak: f.dominant_peak,
         low_coherence: f.low_coherence,
         conjugated: f.conjugated,

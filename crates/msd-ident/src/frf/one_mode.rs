@@ -13,7 +13,7 @@ use crate::error::{IdentError, Result};
 use crate::params::{PARAMETER_NAMES, Parameters};
 use crate::uncertainty::{Uncertainty, from_jacobian};
 use msd_modal::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
-use msd_modal::{DominantPeak, HalfPower, WindowCorrection, dominant_peak, half_power};
+use msd_modal::{DominantPeak, HalfPower, InputNoise, WindowCorrection, dominant_peak, half_power};
 use msd_opt::statistics::{Interval, t_975};
 
 /// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
@@ -109,6 +109,9 @@ pub struct OneModeFit {
     /// The residuals against the frequency response's own noise, where the coherence
     /// gives it (records averaged over K ≥ 2 segments).
     pub noise_check: Option<NoiseCheck>,
+    /// The force's noise the coherence shows on an H1 estimate, and the correction of
+    /// the lines to the errors-in-variables estimate H_s (see [`InputNoise`]).
+    pub input_noise: Option<InputNoise>,
     /// Levenberg–Marquardt iterations.
     pub iterations: usize,
     /// Residual evaluations.
@@ -182,6 +185,9 @@ impl std::fmt::Display for OneModeFit {
         }
         if let Some(check) = &self.noise_check {
             writeln!(f, "{check}")?;
+        }
+        if let Some(noise) = &self.input_noise {
+            writeln!(f, "{noise}")?;
         }
         write!(f, "gain 1/m = {}", self.gain)?;
         if let Some(c) = &self.window_correction {
@@ -283,6 +289,8 @@ fn fit_in_band(
     // Once more with |H| from the model, coherence weights from the noise model fitted
     // to every line's coherence (see Lines::smooth_coherence_weights).
     let own_noise = lines.smooth_coherence_weights(|w| receptance(&first.0, w));
+    // Noise on the force biases H1 low: the lines become H_s, between H1 and H2.
+    let input_noise = lines.correct_input_noise();
     let (fitted, fit) = least_squares(&lines, first.0)?;
     let noise_check = own_noise.then(|| NoiseCheck::of(&lines, &fitted));
     let a = lines.exponential_decay.map_or(0.0, |tau| 1.0 / tau);
@@ -360,6 +368,7 @@ fn fit_in_band(
     Ok(OneModeFit {
         relative_error,
         noise_check,
+        input_noise,
         half_power: half_power(frf, Some(lines.band_hz)).ok(),
         parameters,
         uncertainty,

@@ -302,6 +302,9 @@ pub struct FrequencyResponseEstimate {
     /// neighbouring lines are correlated, so the lines hold that many times fewer
     /// independent values. 1 for a measured table.
     pub noise_bandwidth: f64,
+    /// The estimator that formed `h` from the spectra; `None` for a measured table.
+    /// A fit that finds the force's noise in the coherence corrects an H1 for it.
+    pub estimator: Option<Estimator>,
 }
 
 /// The input power, relative to its largest line, below which [`frf_estimate`] counts a
@@ -516,6 +519,7 @@ pub(crate) fn estimate_from(
         variance: None,
         exponential_decay: None,
         noise_bandwidth: w.noise_bandwidth,
+        estimator: Some(estimator),
     })
 }
 

@@ -57,6 +57,7 @@ impl FrequencyResponseEstimate {
             variance: None,
             exponential_decay: None,
             noise_bandwidth: 1.0,
+            estimator: None,
         })
     }
 
