@@ -6,7 +6,7 @@ use crate::errors;
 use msd_ident::OneModeOptions;
 use msd_modal::ModalOptions;
 use msd_modal::SetMember;
-use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, FrfOptions};
+use msd_signal::{Complex64, Estimator, FrequencyResponseEstimate, FrfKind, FrfOptions};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -70,7 +70,56 @@ fn estimate_dict(py: Python<'_>, e: FrequencyResponseEstimate) -> PyResult<Bound
     d.set_item("variance", e.variance.map(|v| array(py, v)))?;
     d.set_item("exponential_decay", e.exponential_decay)?;
     d.set_item("noise_bandwidth", e.noise_bandwidth)?;
+    d.set_item("estimator", e.estimator.map(estimator_name))?;
     Ok(d)
+}
+
+/// "H1", "H2" or "Hv", as the options write it.
+fn estimator_name(e: Estimator) -> &'static str {
+    match e {
+        Estimator::H1 => "H1",
+        Estimator::H2 => "H2",
+        Estimator::Hv => "Hv",
+    }
+}
+
+/// How an FRF was made, where known: K segments averaged and the estimator, which a
+/// fit needs to take the coherence's noise apart (and H1's bias off).
+#[derive(Clone, Copy)]
+struct Made {
+    averages: usize,
+    estimator: Option<Estimator>,
+    noise_bandwidth: f64,
+}
+
+impl Made {
+    /// From the Python arguments: `averages` ≥ 1 (1: one segment, or not known), an
+    /// estimator name or None (a measured table), and the window's noise bandwidth in
+    /// lines (≥ 1: 1 rectangular, 1.5 Hann).
+    fn new(averages: usize, estimator: Option<&str>, noise_bandwidth: f64) -> PyResult<Self> {
+        if !(noise_bandwidth.is_finite() && noise_bandwidth >= 1.0) {
+            return Err(PyValueError::new_err(format!(
+                "noise_bandwidth = {noise_bandwidth}: expected the window's noise bandwidth in lines, ≥ 1"
+            )));
+        }
+        if averages == 0 {
+            return Err(PyValueError::new_err(
+                "averages = 0: expected the number of segments averaged, ≥ 1",
+            ));
+        }
+        let estimator = match estimator {
+            None => None,
+            Some(name) => Some(options::<Estimator>(
+                "estimator",
+                &serde_json::Value::from(name).to_string(),
+            )?),
+        };
+        Ok(Self {
+            averages,
+            estimator,
+            noise_bandwidth,
+        })
+    }
 }
 
 /// A measured FRF on `frequency` with its coherence, kind and window.
@@ -80,8 +129,12 @@ fn measured(
     coherence: Option<Vec<f64>>,
     kind: FrfKind,
     exponential_decay: Option<f64>,
+    made: Made,
 ) -> PyResult<FrequencyResponseEstimate> {
     let mut e = FrequencyResponseEstimate::new(frequency.to_vec(), h).map_err(errors::value)?;
+    e.averages = made.averages;
+    e.estimator = made.estimator;
+    e.noise_bandwidth = made.noise_bandwidth;
     if let Some(c) = coherence {
         if c.len() != frequency.len() {
             return Err(PyValueError::new_err(format!(
@@ -113,7 +166,7 @@ fn measured(
     Ok(e)
 }
 
-/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, dofs, options_json)
+/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, averages, estimator, noise_bandwidth, dofs, options_json)
 /// --
 ///
 /// msd-ident's `fit_modes` on one FRF (dofs None) or `fit_mode_set` on a set, each
@@ -127,10 +180,14 @@ pub fn modal_fit<'py>(
     coherences: Option<Vec<PyReadonlyArray1<'py, f64>>>,
     kind: &str,
     exponential_decay: Option<f64>,
+    averages: usize,
+    estimator: Option<&str>,
+    noise_bandwidth: f64,
     dofs: Option<Vec<(PyDof<'py>, PyDof<'py>)>>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: ModalOptions = options("modal_fit options", options_json)?;
+    let made = Made::new(averages, estimator, noise_bandwidth)?;
     let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
     let frequency = vec_f64(&frequency);
     if frfs.is_empty() {
@@ -152,7 +209,7 @@ pub fn modal_fit<'py>(
             Err(_) => h.as_array().iter().copied().collect(),
         };
         let c = coherences.as_ref().map(|c| vec_f64(&c[i]));
-        estimates.push(measured(&frequency, h, c, kind, exponential_decay)?);
+        estimates.push(measured(&frequency, h, c, kind, exponential_decay, made)?);
     }
     match dofs {
         None => {
@@ -201,11 +258,12 @@ pub fn modal_fit<'py>(
     }
 }
 
-/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, options_json)
+/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, averages, estimator, noise_bandwidth, options_json)
 /// --
 ///
 /// msd-ident's `fit_one_mode`: m, c, k (with fn and ζ) of one FRF with 95 % intervals.
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 pub fn one_mode_fit<'py>(
     py: Python<'py>,
     frequency: PyReadonlyArray1<'py, f64>,
@@ -213,9 +271,13 @@ pub fn one_mode_fit<'py>(
     coherence: Option<PyReadonlyArray1<'py, f64>>,
     kind: &str,
     exponential_decay: Option<f64>,
+    averages: usize,
+    estimator: Option<&str>,
+    noise_bandwidth: f64,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: OneModeOptions = options("one_mode_fit options", options_json)?;
+    let made = Made::new(averages, estimator, noise_bandwidth)?;
     let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
     let h: Vec<Complex64> = h.as_array().iter().copied().collect();
     let e = measured(
@@ -224,6 +286,7 @@ pub fn one_mode_fit<'py>(
         coherence.as_ref().map(vec_f64),
         kind,
         exponential_decay,
+        made,
     )?;
     let fit = py
         .detach(|| msd_ident::fit_one_mode(&e, &opts))

@@ -30,6 +30,7 @@ from ._convert import (
     _shown,
     complex_vector,
     field,
+    integer,
     items,
     mapping,
     number,
@@ -333,6 +334,24 @@ def _unpacked(name: str, frequencies: Any, frf: Any, coherence: Any, kind: Optio
     )
 
 
+def _made(frequencies: Any, averages: Any, estimator: Optional[str]) -> Tuple[int, Optional[str], float]:
+    """How the FRF was made: the segments averaged (1 when not known), the estimator
+    ("H1", "H2", "Hv"; None for a measured table) and the window's noise bandwidth in
+    lines (1 rectangular, 1.5 Hann), from a `FrequencyResponse` unless given by name.
+    With them a coherence-weighted fit takes the force's noise apart from the
+    response's, corrects an H1 for it where the window does not leak, and counts the
+    lines a window correlates."""
+    noise_bandwidth = 1.0
+    if isinstance(frequencies, FrequencyResponse):
+        if averages is None:
+            averages = frequencies.averages
+        if estimator is None:
+            estimator = frequencies.estimator
+        noise_bandwidth = float(frequencies.data.get("noise_bandwidth", 1.0))
+    k = 1 if averages is None else integer("averages", averages, low=1)
+    return k, None if estimator is None else text("estimator", estimator), noise_bandwidth
+
+
 def modal_fit(
     frequencies: Any,
     frfs: Any = None,
@@ -341,6 +360,8 @@ def modal_fit(
     kind: Optional[str] = None,
     exponential_decay: Optional[float] = None,
     dofs: Optional[Sequence[Any]] = None,
+    averages: Optional[int] = None,
+    estimator: Optional[str] = None,
     **options: Any,
 ) -> ModalFit:
     """Modes (fn, ζ with intervals) of one FRF, or modes with shapes of a set of FRFs.
@@ -357,8 +378,11 @@ def modal_fit(
     ``order_step``, ``frequency_tolerance``, ``damping_tolerance``,
     ``max_damping_ratio``, ``min_stable_share``, ``mode_count``).
 
+    `averages` and `estimator`: how the FRFs were made (see `one_mode_fit`).
+
     Raises `IdentificationError` when no mode can be selected.
     """
+    made = _made(frequencies, averages, estimator)
     frequencies, frfs, coherence, kind, exponential_decay = _unpacked(
         "frfs", frequencies, frfs, coherence, kind, exponential_decay
     )
@@ -380,6 +404,7 @@ def modal_fit(
             coherences,
             text("kind", kind or "receptance"),
             None if exponential_decay is None else number("exponential_decay", exponential_decay),
+            *made,
             pairs,
             options_json(options),
         )
@@ -536,6 +561,8 @@ def one_mode_fit(
     exponential_decay: Optional[float] = None,
     band_hz: Optional[Sequence[float]] = None,
     weighting: Optional[str] = None,
+    averages: Optional[int] = None,
+    estimator: Optional[str] = None,
 ) -> OneModeFit:
     """m, c, k (with fn, ζ and 95 % intervals) of a single mode's frequency response:
     msd-ident's `fit_one_mode` (weighted Levenberg–Marquardt from Levy's linear start,
@@ -543,8 +570,13 @@ def one_mode_fit(
 
     `frequencies` (Hz) and `frf` (complex), or a `FrequencyResponse` from `msd.frf` alone;
     `kind` "receptance" (default), "mobility" or "accelerance"; `band_hz` the band to fit;
-    `weighting` "coherence" (default), "uniform", "relative" or "variance".
+    `weighting` "coherence" (default), "uniform", "relative" or "variance";
+    `averages` the segments K the coherence was averaged over and `estimator` ("H1",
+    "H2", "Hv") how the FRF was formed (a `FrequencyResponse` carries both): with them
+    the lines are weighted by the coherence's noise model, and an H1 whose coherence
+    shows noise on the force is corrected for it (`OneModeFit.input_noise`).
     """
+    made = _made(frequencies, averages, estimator)
     frequencies, frf, coherence, kind, exponential_decay = _unpacked(
         "frf", frequencies, frf, coherence, kind, exponential_decay
     )
@@ -562,6 +594,7 @@ def one_mode_fit(
             None if coherence is None else vector("coherence", coherence),
             text("kind", kind or "receptance"),
             None if exponential_decay is None else number("exponential_decay", exponential_decay),
+            *made,
             options_json(opts),
         )
     )

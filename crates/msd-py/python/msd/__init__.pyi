@@ -106,6 +106,8 @@ class Validation(Result):
 
 class OneModeFit(Result):
     @property
+    def input_noise(self) -> Optional[Dict[str, Any]]: ...
+    @property
     def mass(self) -> Interval: ...
     @property
     def damping(self) -> Interval: ...
@@ -130,6 +132,10 @@ class FrequencyResponse(Result):
     def kind(self) -> str: ...
     @property
     def exponential_decay(self) -> Optional[float]: ...
+    @property
+    def averages(self) -> int: ...
+    @property
+    def estimator(self) -> Optional[str]: ...
     def __iter__(self) -> Iterator[np.ndarray]: ...
     def _repr_html_(self) -> str: ...
 
@@ -293,6 +299,8 @@ def modal_fit(
     kind: Optional[str] = ...,
     exponential_decay: Optional[float] = ...,
     dofs: Optional[Sequence[Any]] = ...,
+    averages: Optional[int] = ...,
+    estimator: Optional[str] = ...,
     **options: Any,
 ) -> ModalFit: ...
 def oma(
@@ -317,6 +325,8 @@ def one_mode_fit(
     exponential_decay: Optional[float] = ...,
     band_hz: Optional[Sequence[float]] = ...,
     weighting: Optional[str] = ...,
+    averages: Optional[int] = ...,
+    estimator: Optional[str] = ...,
 ) -> OneModeFit: ...
 def fit_records(
     records: Union[Mapping[str, Any], Iterable[Mapping[str, Any]]],

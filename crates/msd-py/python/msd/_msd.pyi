@@ -49,6 +49,9 @@ def modal_fit(
     coherences: Optional[Sequence[_F64]],
     kind: str,
     exponential_decay: Optional[float],
+    averages: int,
+    estimator: Optional[str],
+    noise_bandwidth: float,
     dofs: Optional[Sequence[Tuple[Tuple[int, int], Tuple[int, int]]]],
     options_json: str,
 ) -> Dict[str, Any]: ...
@@ -70,6 +73,9 @@ def one_mode_fit(
     coherence: Optional[_F64],
     kind: str,
     exponential_decay: Optional[float],
+    averages: int,
+    estimator: Optional[str],
+    noise_bandwidth: float,
     options_json: str,
 ) -> Dict[str, Any]: ...
 def read_file(path: str) -> Tuple[List[Dict[str, Any]], List[str]]: ...

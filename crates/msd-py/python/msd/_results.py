@@ -296,6 +296,13 @@ class OneModeFit(_PlantIntervals):
         p = self.data["parameters"]
         return Plant(p["mass"], p["damping"], p["stiffness"])
 
+    @property
+    def input_noise(self) -> Optional[Dict[str, Any]]:
+        """The force's noise the coherence showed under an H1 estimate:
+        ``{"h1_bias": H1's relative bias, "corrected": whether the lines were raised by
+        it}`` (not under a leaking window, where it is a warning); None when none."""
+        return self.data.get("input_noise")
+
     def _repr_html_(self) -> str:
         rows = [
             ("m", self.mass),
@@ -345,6 +352,16 @@ class FrequencyResponse(Result):
     def exponential_decay(self) -> Optional[float]:
         """τ of an exponential window applied to both channels, if any."""
         return self.data["exponential_decay"]
+
+    @property
+    def averages(self) -> int:
+        """Segments K averaged into the estimate."""
+        return int(self.data.get("averages", 1))
+
+    @property
+    def estimator(self) -> Optional[str]:
+        """"H1", "H2" or "Hv"; None when not known."""
+        return self.data.get("estimator")
 
     def __iter__(self) -> Iterator[np.ndarray]:
         return iter((self.frequency, self.h, self.coherence))
