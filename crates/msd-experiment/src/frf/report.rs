@@ -499,6 +499,9 @@ pub(crate) fn verdict(o: &FrfOutcome) -> Option<Verdict> {
             "the residual exceeds the FRF's own noise ({numbers}): another mode, a nonlinearity or leakage in the band, and the intervals may be too narrow"
         ))
     }];
+    if let Some(noise) = &f.input_noise {
+        findings.push(input_noise_finding(noise, &f.uncertainty.mass));
+    }
     let ([from, to], low) = fitted_band_coherence(o);
     if low < 0.5 {
         findings.push(verdict::pass(format!(
@@ -509,6 +512,30 @@ pub(crate) fn verdict(o: &FrfOutcome) -> Option<Verdict> {
         )));
     }
     Some(verdict::from_findings(findings))
+}
+
+/// The force's noise in the verdict: taken off, or a possible bias of H1 in standard
+/// errors of m (m and k are high by H1's relative bias). A bias over one standard error
+/// takes a 95 % interval's coverage below 83 %: the estimates are then to be used with
+/// care.
+fn input_noise_finding(noise: &msd_modal::InputNoise, mass: &Interval) -> verdict::Finding {
+    let percent = sig(100.0 * noise.h1_bias, 2);
+    let in_se = noise.h1_bias * mass.value / mass.standard_error;
+    if noise.corrected {
+        verdict::pass(format!(
+            "the force's noise biased H1 low by {percent} % ({} standard errors of m): the lines were corrected",
+            sig(in_se, 2)
+        ))
+    } else if in_se > 1.0 {
+        verdict::fail(format!(
+            "the coherence shows noise on the force, or the window's leakage: H1 may be low by up to {percent} %, {} standard errors of m and k, not corrected under this window — use a force that repeats over whole records (rectangular window), or compare with H2",
+            sig(in_se, 2)
+        ))
+    } else {
+        verdict::pass(format!(
+            "the coherence shows at most {percent} % of force noise or leakage, under a standard error of m"
+        ))
+    }
 }
 
 #[cfg(test)]

@@ -174,3 +174,34 @@ fn a_mode_the_model_lacks_fails_the_noise_check() {
     );
     assert!(outcome.to_string().contains("\nverdict: use with care"));
 }
+
+/// The verdict says what the force's noise did: corrected on whole records under a
+/// rectangular window; under a Hann window, where leakage looks the same, a possible
+/// bias of more than a standard error of m makes the verdict "use with care".
+#[test]
+fn the_verdict_says_what_the_force_noise_did() {
+    let mut config = Config::load(CONFIG.as_ref()).expect("valid");
+    let section = config.frequency_response.as_mut().expect("an FRF section");
+    section.shaker.as_mut().expect("a shaker").force_noise = 0.1;
+    let outcome = frf::run(config.clone(), CONFIG.as_ref(), &RunOptions::default()).expect("fits");
+    let verdict = outcome.verdict.expect("a verdict").to_string();
+    assert!(verdict.contains("the lines were corrected"), "{verdict}");
+
+    let section = config.frequency_response.as_mut().expect("an FRF section");
+    section.shaker.as_mut().expect("a shaker").force_noise = 0.3;
+    section.estimator.welch.window = msd_signal::Window::Hann;
+    let outcome = frf::run(config, CONFIG.as_ref(), &RunOptions::default()).expect("fits");
+    let FrfFit::OneMode(fit) = &outcome.fit else {
+        panic!("one mode")
+    };
+    let noise = fit.input_noise.expect("the force's noise is seen");
+    assert!(!noise.corrected);
+    let verdict = outcome.verdict.expect("a verdict");
+    assert!(!verdict.trustworthy, "{verdict}");
+    assert!(
+        verdict
+            .to_string()
+            .contains("not corrected under this window"),
+        "{verdict}"
+    );
+}
