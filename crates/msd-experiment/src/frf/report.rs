@@ -266,16 +266,17 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
             }
         )?;
     }
-    if let Some(noise) = f.input_noise.filter(|n| !n.corrected) {
-        writeln!(w, "{}\n", crate::fmt::capitalised(&noise.to_string()))?;
-    }
-    if let Some(noise) = f.input_noise.filter(|n| n.corrected) {
-        writeln!(
-            w,
-            "{} (noise on the force adds to its auto-spectrum S_xx and not to the cross-spectrum S_xy, so H1 = S_xy/S_xx is low by the force's share of the incoherence at every line; the response's noise biases nothing): the fit is made on H1 × (1 + {:.2e}).\n",
-            crate::fmt::capitalised(&noise.to_string()),
-            noise.h1_bias
-        )?;
+    if let Some(noise) = &f.input_noise {
+        let said = crate::fmt::capitalised(&noise.to_string());
+        if noise.corrected {
+            writeln!(
+                w,
+                "{said} (noise on the force adds to its auto-spectrum S_xx and not to the cross-spectrum S_xy, so H1 = S_xy/S_xx is low by the force's share of the incoherence at every line; the response's noise biases nothing): the fit is made on H1 × (1 + {:.2e}).\n",
+                noise.h1_bias
+            )?;
+        } else {
+            writeln!(w, "{said}\n")?;
+        }
     }
     window_note(w, f.window_correction.as_ref(), classroom.as_ref())?;
     Ok(())
