@@ -46,12 +46,14 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::path::{Path, PathBuf};
 
 mod chain;
+mod experiment;
 mod frf;
 mod nonlinear;
 mod operational;
 mod pilot;
 pub mod setup;
 pub use chain::{ChainSection, ChainSensorSection};
+pub use experiment::{Experiment, ExperimentKind, Spec};
 pub use frf::{
     ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ReferenceMode, ShakerSource,
     Spacing, SweepSource, TableSource, UffSource,
@@ -980,19 +982,21 @@ impl Config {
                 ),
             );
         }
-        if let Some(section) = &self.operational {
+        // The kind's checks, by the one rule that tells the kind.
+        let kind = ExperimentKind::of(self);
+        if let (ExperimentKind::Operational, Some(section)) = (kind, &self.operational) {
             return section.validate();
         }
         if let Some(section) = &self.frequency_response {
             section.validate()?;
-            if self.frequency_only() {
-                return Ok(());
-            }
+        }
+        if kind == ExperimentKind::FrequencyResponse {
+            return Ok(());
         }
         if let Some(pilot) = &self.pilot {
             self.validate_pilot(pilot)?;
         }
-        if let Some(chain) = &self.chain {
+        if let (ExperimentKind::Chain, Some(chain)) = (kind, &self.chain) {
             return self.validate_chain(chain);
         }
         match (&self.setup, self.kind()) {

@@ -1,7 +1,7 @@
 //! What the writer needs of a finished run of any kind. Each kind's outcome implements
 //! [`Finished`] in its own module (`paper`, `setup`, `frf`, `chain`); the writer
 //! (`run.rs`) takes any of them, so a new kind plugs in here and in
-//! [`ExperimentKind`](crate::run::ExperimentKind), nowhere else.
+//! [`Experiment`](crate::config::Experiment), nowhere else.
 
 use crate::config::Config;
 use crate::error::Result;

@@ -3,9 +3,10 @@
 //! out.
 //!
 //! A run reads a config ([`config`]), which is one kind of experiment
-//! ([`run::ExperimentKind`]): the paper's workflow ([`paper`]: estimation, validation,
+//! ([`config::Experiment`]): the paper's workflow ([`paper`]: estimation, validation,
 //! residual diagnostics, frequency check, Monte Carlo, nonlinear models), a lab setup
-//! ([`setup`]) or a frequency response ([`frf`]). Its module generates or loads the data
+//! ([`setup`]), a frequency response ([`frf`]), a chain of masses ([`chain`]) or
+//! output-only modal analysis ([`operational`]). Its module generates or loads the data
 //! and computes an outcome; one writer ([`run`]) turns any outcome into figures (in the
 //! house style of [`plots`]), CSV tables, a report ([`page`] for its HTML) and
 //! `results.json` ([`results`] for the shared header), in one folder atomically

@@ -26,7 +26,7 @@ pub(crate) fn ms(d: Duration) -> f64 {
 /// The `experiment` section every results.json opens with (paper, frequency-response
 /// and setup runs alike).
 #[derive(Serialize)]
-pub(crate) struct Experiment<'a> {
+pub(crate) struct Header<'a> {
     name: &'a str,
     description: &'a str,
     kind: &'static str,
@@ -39,7 +39,7 @@ pub(crate) struct Experiment<'a> {
     toolkit: &'static str,
 }
 
-impl<'a> Experiment<'a> {
+impl<'a> Header<'a> {
     /// The section of a run of `config` (read from `config_path`) of `kind` with `seed`
     /// (and the Monte Carlo's `threads`, where there is one).
     pub(crate) fn new(

@@ -1,63 +1,29 @@
-//! One experiment shape: a config resolves to one [`ExperimentKind`]; its module runs it
-//! into an outcome; one writer turns any outcome into the result folder (figures, CSV
-//! tables, `report.md` and `report.html`, `results.json`), atomically, and the summary.
+//! One experiment shape: a config resolves once to an [`Experiment`] (its kind's section
+//! typed and required, [`ExperimentKind::of`]'s rule); its kind's module runs it into an
+//! outcome; one writer turns any outcome into the result folder (figures, CSV tables,
+//! `report.md` and `report.html`, `results.json`), atomically, and the summary.
 //!
 //! The kinds sit below this module and know nothing of each other: the paper workflow
-//! ([`paper`]), the lab setups ([`setup`]), the frequency response ([`frf`]) and the
-//! chain of masses ([`chain`]); each outcome implements [`Finished`], the writer's only
-//! view of it. `plan` and `design` are commands of their own.
+//! ([`paper`]), the lab setups ([`setup`]), the frequency response ([`frf`]), the chain
+//! of masses ([`chain`]) and output-only modal analysis ([`operational`]); each outcome
+//! implements [`Finished`], the writer's only view of it. `plan` and `design` are
+//! commands of their own.
 
-use crate::config::Config;
+use crate::config::{Config, Experiment};
 use crate::finished::Finished;
 use crate::output::Staging;
 use crate::progress::Progress;
 use crate::{
-    RunSummary, chain, error::Result, frf, options::RunOptions, paper, paper::Outcome, setup,
+    RunSummary, chain, error::Result, frf, operational, options::RunOptions, paper, paper::Outcome,
+    setup,
 };
 use std::path::Path;
 use std::time::Instant;
 
-/// What a config runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ExperimentKind {
-    /// The paper's workflow: identification, validation, residuals, frequency check,
-    /// Monte Carlo, nonlinear models.
-    Paper,
-    /// A lab setup (`[setup]`): any drive, several sensors and records, a test machine.
-    Setup,
-    /// A frequency response (`[frequency_response]` and no time-domain data).
-    FrequencyResponse,
-    /// A chain of masses in the time domain (`[chain]`).
-    Chain,
-    /// Output-only modal analysis (`[operational]`).
-    Operational,
-}
+#[cfg(doc)]
+use crate::config::ExperimentKind;
 
-impl ExperimentKind {
-    /// The kind of `config`.
-    ///
-    /// ```
-    /// use msd_experiment::{config::Config, run::ExperimentKind};
-    /// let config = Config::load("../../configs/free-decay.toml".as_ref())?;
-    /// assert_eq!(ExperimentKind::of(&config), ExperimentKind::Setup);
-    /// # Ok::<(), msd_experiment::ExperimentError>(())
-    /// ```
-    pub fn of(config: &Config) -> Self {
-        if config.operational.is_some() {
-            Self::Operational
-        } else if config.frequency_only() {
-            Self::FrequencyResponse
-        } else if config.chain.is_some() {
-            Self::Chain
-        } else if config.setup.is_some() {
-            Self::Setup
-        } else {
-            Self::Paper
-        }
-    }
-}
-
-/// Runs the config at `config_path` and writes its results (see [`write`]).
+/// Runs `config` (read from `config_path`) and writes its results (see [`write`]).
 pub(crate) fn run_and_write(
     config: Config,
     config_path: &Path,
@@ -67,38 +33,21 @@ pub(crate) fn run_and_write(
 ) -> Result<RunSummary> {
     let target = crate::output_dir(&config, config_path, options);
     crate::output::check_target(&target)?;
-    match ExperimentKind::of(&config) {
-        ExperimentKind::Paper => {
-            let outcome = paper::run_stages(config, config_path, options, progress)?;
-            write(&outcome, &target, progress, started)
+    let outcome: Box<dyn Finished> = match Experiment::from(config) {
+        Experiment::Paper(config) => {
+            Box::new(paper::run_stages(*config, config_path, options, progress)?)
         }
-        ExperimentKind::Setup => {
-            let outcome = setup::run(config, config_path, options, progress)?;
-            write(&outcome, &target, progress, started)
+        Experiment::Setup(spec) => Box::new(setup::run(*spec, options, progress)?),
+        Experiment::FrequencyResponse(spec) => {
+            Box::new(frf::run_keeping(*spec, options).map_err(|f| frf::write_failure(f, &target))?)
         }
-        ExperimentKind::FrequencyResponse => {
-            let outcome = frf::run_keeping(config, config_path, options)
-                .map_err(|f| frf::write_failure(f, &target))?;
-            write(&outcome, &target, progress, started)
+        Experiment::Chain(spec) => Box::new(chain::run(*spec, options, progress)?),
+        Experiment::Operational(spec) => Box::new(operational::run(*spec, options, progress)?),
+        Experiment::OperationalSeries(spec) => {
+            Box::new(operational::run_records(*spec, options, progress)?)
         }
-        ExperimentKind::Chain => {
-            let outcome = chain::run(config, config_path, options, progress)?;
-            write(&outcome, &target, progress, started)
-        }
-        ExperimentKind::Operational
-            if config
-                .operational
-                .as_ref()
-                .is_some_and(|o| !o.records.is_empty()) =>
-        {
-            let outcome = crate::operational::run_records(config, config_path, options, progress)?;
-            write(&outcome, &target, progress, started)
-        }
-        ExperimentKind::Operational => {
-            let outcome = crate::operational::run(config, config_path, options, progress)?;
-            write(&outcome, &target, progress, started)
-        }
-    }
+    };
+    write(outcome.as_ref(), &target, progress, started)
 }
 
 /// Writes `run` into `target` atomically (nothing is left there if any part fails):
@@ -149,6 +98,7 @@ pub(crate) fn write_paper(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::ExperimentKind;
 
     #[test]
     fn the_run_help_names_every_kind() {
@@ -164,16 +114,40 @@ mod tests {
         assert!(crate::cli::RUN_HELP.contains("msd init FILE"));
     }
 
+    /// The shipped config `name`.
+    fn shipped(name: &str) -> Config {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../configs")
+            .join(name);
+        Config::load(&path).expect("a shipped config")
+    }
+
     #[test]
     fn each_shipped_kind_is_recognised() {
-        let kind = |name: &str| {
-            let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../../configs")
-                .join(name);
-            ExperimentKind::of(&Config::load(&path).expect("a shipped config"))
-        };
+        let kind = |name: &str| Experiment::from(shipped(name)).kind();
         assert_eq!(kind("paper.toml"), ExperimentKind::Paper);
         assert_eq!(kind("repeats.toml"), ExperimentKind::Setup);
         assert_eq!(kind("frf-uff.toml"), ExperimentKind::FrequencyResponse);
+        assert_eq!(kind("two-storey.toml"), ExperimentKind::Chain);
+        assert_eq!(kind("shear-building.toml"), ExperimentKind::Operational);
+    }
+
+    /// Resolving keeps the config whole and hands each kind its own section; a series
+    /// of output-only records is its own variant (its own outcome).
+    #[test]
+    fn a_resolved_config_carries_its_section() {
+        let config = shipped("two-storey.toml");
+        match Experiment::from(config.clone()) {
+            Experiment::Chain(spec) => {
+                assert_eq!(Some(&spec.section), config.chain.as_ref());
+                assert_eq!(spec.config, config);
+            }
+            other => panic!("{:?}", other.kind()),
+        }
+        let series = Experiment::from(shipped("steel-frame-setups.toml"));
+        assert!(matches!(series, Experiment::OperationalSeries(_)));
+        assert_eq!(series.kind(), ExperimentKind::Operational);
+        let paper = shipped("paper.toml");
+        assert_eq!(Experiment::from(paper.clone()).config(), &paper);
     }
 }

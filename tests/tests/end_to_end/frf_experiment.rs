@@ -3,7 +3,7 @@
 //! file (two modes each), and every bad frequency-response input refused with its
 //! location and exit status 2.
 
-use msd_experiment::config::Config;
+use msd_experiment::config::{Config, Spec};
 use msd_experiment::frf::{self, FrfFit};
 use msd_experiment::{RunOptions, run_experiment};
 use msd_tests::{assert_results_file_is, config, decode_png, parse_svg, run_in_temp};
@@ -64,7 +64,11 @@ fn the_stepped_sine_intervals_cover_the_truth_95_percent_of_the_time() {
             seed: Some(seed),
             ..RunOptions::default()
         };
-        let outcome = frf::run(config.clone(), &path, &options).expect("fits");
+        let outcome = frf::run(
+            Spec::new(config.clone()).expect("a frequency response"),
+            &options,
+        )
+        .expect("fits");
         let FrfFit::OneMode(fit) = &outcome.fit else {
             panic!("one mode")
         };

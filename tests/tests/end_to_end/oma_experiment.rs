@@ -497,8 +497,12 @@ fn the_ten_steel_frame_setups_merge_into_global_shapes() {
         .map(|setup| {
             let path = setup_config(dir.path(), setup);
             let config = msd_experiment::config::Config::load(&path).unwrap();
-            msd_experiment::operational::run(config, &path, &Default::default(), &progress)
-                .expect("runs")
+            msd_experiment::operational::run(
+                msd_experiment::config::Spec::new(config).expect("an operational config"),
+                &Default::default(),
+                &progress,
+            )
+            .expect("runs")
         })
         .collect();
     let setups: Vec<msd_modal::Setup<'_>> = outcomes

@@ -5,7 +5,7 @@
 //! that fails writes nothing and exits with the status of its class.
 
 use crate::{cases, scaled_cases, wild_f64};
-use msd_experiment::config::Config;
+use msd_experiment::config::{Config, Spec};
 use msd_experiment::{ExperimentError, RunOptions, run_experiment};
 use msd_tests::{TINY_CONFIG, config};
 use proptest::prelude::*;
@@ -601,7 +601,8 @@ proptest! {
         let path = dir.path().join("t.toml");
         std::fs::write(&path, text).unwrap();
         let result = Config::load(&path)
-            .and_then(|c| msd_experiment::frf::run(c, &path, &RunOptions::default()));
+            .and_then(Spec::new)
+            .and_then(|s| msd_experiment::frf::run(s, &RunOptions::default()));
         if let Err(e) = result {
             let message = e.to_string();
             prop_assert_eq!(e.exit_code(), 2, "{}", message);
@@ -634,7 +635,7 @@ proptest! {
         );
         let config = Config::from_toml_str(&text, "s.toml").expect("valid");
         let run = std::panic::catch_unwind(|| {
-            msd_experiment::frf::run(config, "s.toml".as_ref(), &RunOptions::default())
+            msd_experiment::frf::run(Spec::new(config).expect("a frequency response"), &RunOptions::default())
         });
         prop_assert!(run.is_ok(), "a panic for {text}");
         if let Ok(Err(e)) = run {

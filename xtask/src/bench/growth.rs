@@ -66,7 +66,13 @@ pub fn growth_rows(budget: &Budget, dir: &Path) -> Result<Vec<Row>> {
             records,
         )?;
         let config = Config::load(&path)?;
-        let run = || msd_experiment::setup::run(config.clone(), &path, &options, &progress);
+        let run = || {
+            msd_experiment::setup::run(
+                msd_experiment::config::Spec::new(config.clone())?,
+                &options,
+                &progress,
+            )
+        };
         run()?;
         let row = Row::new(
             "growth",

@@ -89,7 +89,11 @@ fn steel_frame() -> Result<Option<OutputRecord>> {
     }
     let config = msd_experiment::config::Config::load(&path)?;
     let progress = msd_experiment::progress::Progress::new(false);
-    let outcome = msd_experiment::operational::run(config, &path, &Default::default(), &progress)?;
+    let outcome = msd_experiment::operational::run(
+        msd_experiment::config::Spec::new(config)?,
+        &Default::default(),
+        &progress,
+    )?;
     Ok(Some(outcome.record))
 }
 

@@ -8,9 +8,9 @@ mod plots;
 mod report;
 mod validation;
 
-use crate::config::{ChainSection, Config};
+use crate::config::{ChainSection, Config, Spec};
 use crate::progress::Progress;
-use crate::results::Experiment;
+use crate::results::Header;
 use crate::{
     error::{ExperimentError, Result},
     options::RunOptions,
@@ -32,6 +32,8 @@ pub struct ChainOutcome {
     pub config: Config,
     /// The config file as given.
     pub config_path: PathBuf,
+    /// The config's `[chain]`.
+    pub chain: ChainSection,
     /// The command that ran it, for the report.
     pub command: String,
     /// The seed used.
@@ -55,20 +57,21 @@ pub struct ChainOutcome {
     pub verdict: crate::verdict::Verdict,
 }
 
-/// Runs the `[chain]` experiment of `config`.
+/// Runs the `[chain]` experiment of `spec`.
 pub fn run(
-    config: Config,
-    config_path: &Path,
+    spec: Spec<ChainSection>,
     options: &RunOptions,
     progress: &Progress,
 ) -> Result<ChainOutcome> {
-    let Some(chain) = config.chain.clone() else {
-        return Err(ExperimentError::config(config_path, "no [chain] section"));
-    };
+    let Spec {
+        config,
+        section: chain,
+    } = spec;
+    let config_path = config.sources.config_file().to_path_buf();
     let seed = options.seed.unwrap_or(config.seed);
     progress.stage("data");
     let t = Instant::now();
-    let record = record(&config, config_path, seed)?;
+    let record = record(&config, &chain, seed)?;
     let dt = record.dt;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
@@ -137,7 +140,8 @@ pub fn run(
             .clone()
             .unwrap_or_else(|| "msd run".to_string()),
         config,
-        config_path: config_path.to_path_buf(),
+        config_path,
+        chain,
         seed,
         record,
         fit,
@@ -158,10 +162,8 @@ pub fn run(
 /// The synthetic record of `config` for `seed`: the drive from `[identification.input]`
 /// on the `[time]` grid, each sensor's reading of the true chain (delays and filters
 /// included) plus its noise (stream `chain/<sensor index>`).
-pub(crate) fn record(config: &Config, config_path: &Path, seed: u64) -> Result<ChainRecord> {
-    let Some(chain) = config.chain.as_ref() else {
-        return Err(ExperimentError::config(config_path, "no [chain] section"));
-    };
+pub(crate) fn record(config: &Config, chain: &ChainSection, seed: u64) -> Result<ChainRecord> {
+    let config_path = config.sources.config_file();
     if let Some(d) = &config.data {
         return measured_record(config, chain, d);
     }
@@ -301,11 +303,7 @@ pub(crate) fn tables(o: &ChainOutcome) -> Vec<(String, String)> {
     let names = channel_names(o);
     let mut text = format!(
         "time,{}",
-        if o.config
-            .chain
-            .as_ref()
-            .is_some_and(|c| c.drive == msd_ident::chain::ChainDrive::Force)
-        {
+        if o.chain.drive == msd_ident::chain::ChainDrive::Force {
             "force"
         } else {
             "base_acceleration"
@@ -327,23 +325,22 @@ pub(crate) fn tables(o: &ChainOutcome) -> Vec<(String, String)> {
 
 /// "acceleration_2" and the like, one per sensor.
 pub(crate) fn channel_names(o: &ChainOutcome) -> Vec<String> {
-    o.config.chain.as_ref().map_or_else(Vec::new, |c| {
-        c.sensors
-            .iter()
-            .map(|s| {
-                let q = serde_json::to_value(s.quantity)
-                    .ok()
-                    .and_then(|v| v.as_str().map(str::to_string))
-                    .unwrap_or_default();
-                format!("{q}_{}", s.at)
-            })
-            .collect()
-    })
+    o.chain
+        .sensors
+        .iter()
+        .map(|s| {
+            let q = serde_json::to_value(s.quantity)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default();
+            format!("{q}_{}", s.at)
+        })
+        .collect()
 }
 
 #[derive(Serialize)]
 struct Results<'a> {
-    experiment: Experiment<'a>,
+    experiment: Header<'a>,
     command: &'a str,
     verdict: &'a crate::verdict::Verdict,
     chain: &'a crate::config::ChainSection,
@@ -371,15 +368,10 @@ pub(crate) fn results(
     extra: &[(&'static str, Duration)],
     total: Duration,
 ) -> Result<serde_json::Value> {
-    let Some(chain) = o.config.chain.as_ref() else {
-        return Err(ExperimentError::config(
-            &o.config_path,
-            "no [chain] section",
-        ));
-    };
+    let chain = &o.chain;
     let timings = crate::results::timings_ms(&o.timings, extra, total);
     let results = Results {
-        experiment: Experiment::new(&o.config, &o.config_path, "synthetic", o.seed, None),
+        experiment: Header::new(&o.config, &o.config_path, "synthetic", o.seed, None),
         command: &o.command,
         verdict: &o.verdict,
         chain,

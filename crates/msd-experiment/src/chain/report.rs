@@ -21,9 +21,7 @@ pub(crate) fn markdown(o: &ChainOutcome, figures: &[&str]) -> String {
 /// The rows (name, truth, estimate) of every physical parameter; no truth for measured
 /// records.
 fn rows(o: &ChainOutcome, u: &ChainUncertainty) -> Vec<(String, Option<f64>, Option<Interval>)> {
-    let Some(chain) = o.config.chain.as_ref() else {
-        return Vec::new();
-    };
+    let chain = &o.chain;
     // The parameters the fit has: the true chain's layout, or the guess's.
     let layout = chain.plant.as_ref().unwrap_or(&chain.guess);
     let truth = chain.plant.as_ref();
@@ -120,9 +118,7 @@ fn fit_section(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
 }
 
 fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result {
-    let Some(chain) = o.config.chain.as_ref() else {
-        return Ok(());
-    };
+    let chain = &o.chain;
     crate::results::report_head(s, &o.config, &o.command, &o.config_path, Some(o.seed))?;
     crate::verdict::section(s, &o.verdict)?;
     writeln!(s, "## Chain\n")?;
@@ -338,9 +334,9 @@ pub(super) fn named_whiteness(o: &ChainOutcome) -> Vec<ResidualWhiteness> {
 
 /// The drive's unit.
 fn drive_unit(o: &ChainOutcome) -> &'static str {
-    match o.config.chain.as_ref().map(|c| c.drive) {
-        Some(msd_ident::chain::ChainDrive::BaseAcceleration) => "m/s²",
-        _ => "N",
+    match o.chain.drive {
+        msd_ident::chain::ChainDrive::BaseAcceleration => "m/s²",
+        msd_ident::chain::ChainDrive::Force => "N",
     }
 }
 
@@ -490,10 +486,9 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
 
 /// The true chain's modes.
 fn truth_modes(o: &ChainOutcome) -> Vec<(f64, f64)> {
-    o.config
-        .chain
+    o.chain
+        .plant
         .as_ref()
-        .and_then(|c| c.plant.as_ref())
         .map(|plant| {
             let modes = plant.modes();
             modes

@@ -11,7 +11,7 @@
 //! estimates compared ([`TimeDomain`]).
 //!
 //! ```
-//! use msd_experiment::{RunOptions, config::Config, frf};
+//! use msd_experiment::{RunOptions, config::{Config, Spec}, frf};
 //! let text = r#"
 //!     name = "sweep"
 //!     [frequency_response.plant]
@@ -23,7 +23,7 @@
 //!     lines = 40
 //! "#;
 //! let config = Config::from_toml_str(text, "sweep.toml")?;
-//! let outcome = frf::run(config, "sweep.toml".as_ref(), &RunOptions::default())?;
+//! let outcome = frf::run(Spec::new(config)?, &RunOptions::default())?;
 //! let frf::FrfFit::OneMode(fit) = &outcome.fit else { panic!("one mode") };
 //! assert!(fit.uncertainty.stiffness.contains(120.0));
 //! assert!(outcome.to_string().starts_with("sweep: one mode fitted to 40 lines"));
@@ -46,7 +46,7 @@ mod time_domain;
 mod uff;
 pub(crate) mod uff_out;
 
-use crate::config::{ChainPlant, Config};
+use crate::config::{ChainPlant, Config, FrequencyResponseSection, Spec};
 use crate::{
     error::{ExperimentError, Result},
     options::RunOptions,
@@ -160,8 +160,8 @@ pub struct FrfOutcome {
 
 /// Reads or simulates the frequency response of `config`'s `[frequency_response]`
 /// section and fits it (nothing is written). `options.seed` overrides the config's.
-pub fn run(config: Config, config_path: &Path, options: &RunOptions) -> Result<FrfOutcome> {
-    run_keeping(config, config_path, options).map_err(|f| f.error)
+pub fn run(spec: Spec<FrequencyResponseSection>, options: &RunOptions) -> Result<FrfOutcome> {
+    run_keeping(spec, options).map_err(|f| f.error)
 }
 
 /// A run's failure, with the stabilization diagram when the mode selection failed (to
@@ -182,15 +182,11 @@ impl From<ExperimentError> for Failure {
 
 /// As [`run`], keeping the diagram of a failed selection.
 pub(crate) fn run_keeping(
-    config: Config,
-    config_path: &Path,
+    spec: Spec<FrequencyResponseSection>,
     options: &RunOptions,
 ) -> std::result::Result<FrfOutcome, Failure> {
-    let Some(section) = config.frequency_response.clone() else {
-        return Err(
-            ExperimentError::config(config_path, "frequency_response: missing section").into(),
-        );
-    };
+    let Spec { config, section } = spec;
+    let config_path = config.sources.config_file().to_path_buf();
     let seed = options.seed.unwrap_or(config.seed);
     let t = Instant::now();
     let sources = &config.sources;
@@ -281,7 +277,7 @@ pub(crate) fn run_keeping(
     }
     let mut outcome = FrfOutcome {
         command: options.command.clone().unwrap_or_else(|| "msd run".into()),
-        config_path: config_path.to_path_buf(),
+        config_path,
         config,
         seed,
         source: loaded.description,

@@ -3,7 +3,7 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::config::{ChainPlant, Config};
-use crate::results::Experiment;
+use crate::results::Header;
 use msd_ident::Interval;
 use msd_ident::LmExit;
 use msd_modal::{
@@ -17,7 +17,7 @@ use std::time::Duration;
 
 #[derive(Serialize)]
 struct Results<'a> {
-    experiment: Experiment<'a>,
+    experiment: Header<'a>,
     #[serde(skip_serializing_if = "Option::is_none")]
     verdict: Option<&'a crate::verdict::Verdict>,
     config: &'a Config,
@@ -177,7 +177,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
         _ => None,
     };
     let results = Results {
-        experiment: Experiment::new(
+        experiment: Header::new(
             &o.config,
             &o.config_path,
             "frequency_response",

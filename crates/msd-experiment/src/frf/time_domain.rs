@@ -15,7 +15,7 @@
 //! the comparison is skipped and says why.
 //!
 //! ```
-//! use msd_experiment::{RunOptions, config::Config, frf::{self, TimeDomain}};
+//! use msd_experiment::{RunOptions, config::{Config, Spec}, frf::{self, TimeDomain}};
 //! let text = r#"
 //!     name = "shaker"
 //!     [frequency_response.plant]
@@ -32,7 +32,7 @@
 //!     welch = { window = "rectangular" }
 //! "#;
 //! let config = Config::from_toml_str(text, "shaker.toml")?;
-//! let outcome = frf::run(config, "shaker.toml".as_ref(), &RunOptions::default())?;
+//! let outcome = frf::run(Spec::new(config)?, &RunOptions::default())?;
 //! let Some(TimeDomain::Compared(fit)) = &outcome.time_domain else { panic!("compared") };
 //! assert_eq!(fit.records, 2);
 //! assert_eq!(fit.comparison[0].quantity, "mass");

@@ -16,11 +16,11 @@ mod shapes_plot;
 pub use geometry::Geometry;
 pub use series::{AnalysedRecord, SeriesOutcome, run as run_records};
 
-use crate::config::{Config, OperationalSection};
+use crate::config::{Config, OperationalSection, Spec};
 use crate::error::{ExperimentError, Result};
 use crate::options::RunOptions;
 use crate::progress::Progress;
-use crate::results::Experiment;
+use crate::results::Header;
 use crate::verdict::{Finding, Verdict};
 use msd_modal::{OmaFit, OmaMethod, OutputRecord, efdd, ssi_cov, ssi_dat};
 use serde::Serialize;
@@ -35,6 +35,8 @@ pub struct OperationalOutcome {
     pub config: Config,
     /// The config file as given.
     pub config_path: PathBuf,
+    /// The config's `[operational]`.
+    pub section: OperationalSection,
     /// The command that ran it, for the report.
     pub command: String,
     /// The seed used (a simulated record's noise).
@@ -59,12 +61,12 @@ pub struct OperationalOutcome {
 
 /// Runs the `[operational]` experiment of `config`.
 pub fn run(
-    config: Config,
-    config_path: &Path,
+    spec: Spec<OperationalSection>,
     options: &RunOptions,
     progress: &Progress,
 ) -> Result<OperationalOutcome> {
-    let section = section_of(&config, config_path)?;
+    let Spec { config, section } = spec;
+    let config_path = config.sources.config_file().to_path_buf();
     let seed = options.seed.unwrap_or(config.seed);
     progress.stage("data");
     let t = Instant::now();
@@ -78,7 +80,7 @@ pub fn run(
         |r| config.sources.path(&r.path),
     );
     let fit = analyse(&section, &loaded.record)
-        .map_err(|e| oma_error(e, section.options_table(), config_path, &record_path))?;
+        .map_err(|e| oma_error(e, section.options_table(), &config_path, &record_path))?;
     timings.push(("estimation", t.elapsed()));
     let verdict = verdict(&fit, &loaded.left_out, loaded.truth.as_deref());
     Ok(OperationalOutcome {
@@ -87,7 +89,8 @@ pub fn run(
             .clone()
             .unwrap_or_else(|| "msd run".to_string()),
         config,
-        config_path: config_path.to_path_buf(),
+        config_path,
+        section,
         seed,
         record: loaded.record,
         left_out: loaded.left_out,
@@ -98,14 +101,6 @@ pub fn run(
         timings,
         verdict,
     })
-}
-
-/// The config's `[operational]` section (an error naming the file where it has none).
-pub(crate) fn section_of(config: &Config, config_path: &Path) -> Result<OperationalSection> {
-    config
-        .operational
-        .clone()
-        .ok_or_else(|| ExperimentError::config(config_path, "no [operational] section"))
 }
 
 /// The section's method on one record.
@@ -251,7 +246,7 @@ struct TrueMode<'a> {
 
 #[derive(Serialize)]
 struct Results<'a> {
-    experiment: Experiment<'a>,
+    experiment: Header<'a>,
     command: &'a str,
     verdict: &'a Verdict,
     record: RecordSummary<'a>,
@@ -285,16 +280,11 @@ pub(crate) fn results(
     extra: &[(&'static str, Duration)],
     total: Duration,
 ) -> Result<serde_json::Value> {
-    let Some(section) = o.config.operational.as_ref() else {
-        return Err(ExperimentError::config(
-            &o.config_path,
-            "no [operational] section",
-        ));
-    };
+    let section = &o.section;
     let refs = o.record.reference_indices();
     let damping = section.simulate.as_ref().map_or(0.0, |b| b.damping_ratio);
     let results = Results {
-        experiment: Experiment::new(
+        experiment: Header::new(
             &o.config,
             &o.config_path,
             if o.truth.is_some() {

@@ -14,8 +14,7 @@ pub(crate) fn markdown(o: &OperationalOutcome, figures: &[&str]) -> String {
 }
 
 fn page(s: &mut String, o: &OperationalOutcome, figures: &[&str]) -> std::fmt::Result {
-    let simulated =
-        (o.config.operational.as_ref()).is_some_and(|section| section.simulate.is_some());
+    let simulated = o.section.simulate.is_some();
     crate::results::report_head(
         s,
         &o.config,

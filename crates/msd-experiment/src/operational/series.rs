@@ -6,13 +6,13 @@
 
 use super::read::{Loaded, load_records};
 use super::{analyse, oma_error};
-use crate::config::Config;
+use crate::config::{Config, OperationalSection, Spec};
 use crate::error::{ExperimentError, Result};
 use crate::options::RunOptions;
 use crate::progress::Progress;
 use crate::verdict::{Finding, Verdict};
 use msd_modal::{MergedFit, OmaFit, OutputRecord, Setup, merge_setups};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 /// One record of a series, analysed.
@@ -56,12 +56,12 @@ pub struct SeriesOutcome {
 
 /// Runs the `[[operational.records]]` of `config`.
 pub fn run(
-    config: Config,
-    config_path: &Path,
+    spec: Spec<OperationalSection>,
     options: &RunOptions,
     progress: &Progress,
 ) -> Result<SeriesOutcome> {
-    let section = super::section_of(&config, config_path)?;
+    let Spec { config, section } = spec;
+    let config_path = config.sources.config_file().to_path_buf();
     progress.stage("data");
     let t = Instant::now();
     let loaded = load_records(&section, &config.sources)?;
@@ -79,7 +79,7 @@ pub fn run(
         } = loaded;
         let path = config.sources.path(&source.path);
         let fit = analyse(&section, &record)
-            .map_err(|e| oma_error(e, section.options_table(), config_path, &path))?;
+            .map_err(|e| oma_error(e, section.options_table(), &config_path, &path))?;
         records.push(AnalysedRecord {
             path: source.path.clone(),
             label: source.label.clone().unwrap_or_else(|| (k + 1).to_string()),
@@ -98,7 +98,7 @@ pub fn run(
         .collect();
     let merged = merge_setups(&setups, section.merge_tolerance).map_err(|e| {
         ExperimentError::config(
-            config_path,
+            &config_path,
             format!("operational.records: the records cannot be combined: {e}"),
         )
     })?;
@@ -110,7 +110,7 @@ pub fn run(
             .clone()
             .unwrap_or_else(|| "msd run".to_string()),
         config,
-        config_path: config_path.to_path_buf(),
+        config_path,
         records,
         merged,
         geometry,

@@ -8,7 +8,7 @@ use super::{mode_tables, plots};
 use crate::config::Config;
 use crate::error::{ExperimentError, Result};
 use crate::fmt::sig;
-use crate::results::Experiment;
+use crate::results::Header;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -193,7 +193,7 @@ struct Combination<'a> {
 
 #[derive(Serialize)]
 struct Results<'a> {
-    experiment: Experiment<'a>,
+    experiment: Header<'a>,
     command: &'a str,
     verdict: &'a crate::verdict::Verdict,
     records: Vec<RecordResult<'a>>,
@@ -209,7 +209,7 @@ fn results(
     total: Duration,
 ) -> Result<serde_json::Value> {
     let results = Results {
-        experiment: Experiment::new(&o.config, &o.config_path, "measured", o.config.seed, None),
+        experiment: Header::new(&o.config, &o.config_path, "measured", o.config.seed, None),
         command: &o.command,
         verdict: &o.verdict,
         records: o

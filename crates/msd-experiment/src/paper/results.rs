@@ -7,7 +7,7 @@
 
 use super::Outcome;
 use crate::config::{Config, Kind};
-use crate::results::{Experiment, ms};
+use crate::results::{Header, ms};
 use msd_ident::Ode45Stats as Stats;
 use msd_ident::{
     Backend, FitMetrics, InitialState, Interval, Parameters, ResidualAnalysis,
@@ -23,7 +23,7 @@ use std::time::Duration;
 /// around them. Optional sections are absent, not null, when a stage did not run.
 #[derive(Serialize)]
 struct Results<'a> {
-    experiment: Experiment<'a>,
+    experiment: Header<'a>,
     config: &'a Config,
     data: DataSection<'a>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -184,12 +184,12 @@ pub fn to_json(
     serde_json::to_value(document).unwrap_or(Value::Null)
 }
 
-fn experiment(o: &Outcome) -> Experiment<'_> {
+fn experiment(o: &Outcome) -> Header<'_> {
     let kind = match o.data.kind {
         Kind::Synthetic => "synthetic",
         Kind::Measured => "measured",
     };
-    Experiment::new(&o.config, &o.config_path, kind, o.seed, Some(o.threads))
+    Header::new(&o.config, &o.config_path, kind, o.seed, Some(o.threads))
 }
 
 fn truth(plant: &Parameters, u: &msd_ident::Uncertainty) -> Truth {

@@ -156,7 +156,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
     };
     let now = predict(config)?;
     let slots = slots(chain, &now);
-    let verified = verify(config, path, chain, &slots, &now, options)?;
+    let verified = verify(config, chain, &slots, &now, options)?;
     let mut search = Widths::new(
         |duration| {
             let u = predict(&with_duration(config, time, duration))?;
@@ -257,7 +257,6 @@ fn test(config: &Config, chain: &ChainSection) -> PlannedTest {
 /// prior value.
 fn verify(
     config: &Config,
-    path: &Path,
     chain: &ChainSection,
     slots: &[Slot],
     prior: &ChainUncertainty,
@@ -267,7 +266,7 @@ fn verify(
         return Ok(None);
     }
     let draws = draws(options.verify, "plan --verify", options.progress, |seed| {
-        let record = crate::chain::record(config, path, seed)?;
+        let record = crate::chain::record(config, chain, seed)?;
         let fit = crate::chain::fit(chain, &record)?;
         slots
             .iter()

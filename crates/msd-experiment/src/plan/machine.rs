@@ -28,7 +28,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
     let noise = noise(config, path, setup)?;
     let conditions = planned_conditions(config, path, setup, &plant, setup.cycles)?;
     let fit = predict(&conditions, &noise, &machine_options, path)?;
-    let verified = verify(config, path, setup, law, &fit.names, options)?;
+    let verified = verify(config, setup, law, &fit.names, options)?;
     let quantities = fit
         .names
         .iter()
@@ -177,7 +177,6 @@ fn correlation(fit: &PredictedLaw) -> Correlation {
 /// (seeds 0, 1, …), each analysed as the run analyses it (every law, the same options).
 fn verify(
     config: &Config,
-    path: &Path,
     setup: &SetupSection,
     law: DampingLaw,
     names: &[&str],
@@ -188,7 +187,7 @@ fn verify(
     }
     let options = fit::machine_options(setup);
     let draws = super::search::draws(plan.verify, "plan --verify", plan.progress, |seed| {
-        let conditions = fit::machine_conditions(&data::load(config, path, seed)?);
+        let conditions = fit::machine_conditions(&data::load(config, setup, seed)?);
         let result = dynamometer(&conditions, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
         let values = names

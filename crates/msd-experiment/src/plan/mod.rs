@@ -31,7 +31,7 @@ mod search;
 pub(crate) use search::{draws, standard_deviations};
 mod setup;
 
-use crate::config::Config;
+use crate::config::{Config, ExcitationKind, ExperimentKind};
 use crate::error::{ExperimentError, Result};
 use serde::Serialize;
 use std::path::Path;
@@ -205,15 +205,22 @@ pub fn plan_config(config: &Config, config_path: &Path, options: &PlanOptions) -
         ));
     }
     verify_budget(config, config_path, options.verify)?;
-    if config.chain.is_some() {
-        return chain::plan(config, config_path, options);
-    }
-    match &config.setup {
-        None => force::plan(config, config_path, options),
-        Some(s) if s.excitation == crate::config::ExcitationKind::ImposedDisplacement => {
+    match (ExperimentKind::of(config), &config.setup) {
+        (ExperimentKind::Chain, _) => chain::plan(config, config_path, options),
+        (ExperimentKind::Setup, Some(s)) if s.excitation == ExcitationKind::ImposedDisplacement => {
             machine::plan(config, config_path, options)
         }
-        Some(_) => setup::plan(config, config_path, options),
+        (ExperimentKind::Setup, _) => setup::plan(config, config_path, options),
+        (ExperimentKind::Paper, _) => force::plan(config, config_path, options),
+        (kind @ (ExperimentKind::FrequencyResponse | ExperimentKind::Operational), _) => {
+            Err(ExperimentError::config(
+                config_path,
+                format!(
+                    "plan predicts a time-domain test from a prior plant (the paper's, a [setup] or a [chain]); this config is {}",
+                    kind.describe()
+                ),
+            ))
+        }
     }
 }
 

@@ -132,7 +132,7 @@ impl<'a> Planned<'a> {
             initial_state: plant.initial_state,
             time,
             channels,
-            options: fit::records_options(config),
+            options: fit::records_options(config, setup),
         })
     }
 
@@ -222,7 +222,7 @@ fn verify(p: &Planned<'_>, names: &[&str], plan: &PlanOptions) -> Result<Option<
         ..p.options.clone()
     };
     let draws = draws(plan.verify, "plan --verify", plan.progress, |seed| {
-        let loaded = data::load(p.config, p.path, seed)?;
+        let loaded = data::load(p.config, p.setup, seed)?;
         let records = fit::ident_records(&loaded.records, &loaded.channels)?;
         let fit = fit_records(&records, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;

@@ -84,12 +84,10 @@ pub struct SetupData {
     pub files: Vec<PathBuf>,
 }
 
-/// Generates or reads the records of `config` (which has a `[setup]`).
-pub fn load(config: &Config, config_path: &Path, seed: u64) -> Result<SetupData> {
-    let setup = config
-        .setup
-        .clone()
-        .ok_or_else(|| ExperimentError::config(config_path, "setup: missing section"))?;
+/// Generates or reads the records of `config`'s `setup`.
+pub fn load(config: &Config, setup: &SetupSection, seed: u64) -> Result<SetupData> {
+    let config_path = config.sources.config_file();
+    let setup = setup.clone();
     let channels = setup.channels();
     let Measured {
         records,

@@ -2,7 +2,7 @@
 //! test machine's analysis.
 
 use super::{SetupData, SetupOutcome, SetupRecord};
-use crate::config::{Config, ExcitationKind, Frame, Quantity, Response};
+use crate::config::{Config, ExcitationKind, Frame, Quantity, Response, SetupSection};
 use crate::error::{ExperimentError, Result};
 use crate::table::Table;
 use msd_ident::records::NoiseModel;
@@ -77,7 +77,7 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
         return Ok(SetupFit::Machine(Box::new(result)));
     }
     let records = ident_records(&data.records, &data.channels)?;
-    let mut options = records_options(config);
+    let mut options = records_options(config, setup);
     if !data.validation.is_empty() {
         options.hold_out = 0.0;
     }
@@ -117,12 +117,11 @@ fn list_files(files: &[PathBuf]) -> String {
 
 /// The joint fit's options of a `[setup]` config: its drive, known mass or stiffness
 /// and `[estimation]` (a free decay always estimates its initial state).
-pub(crate) fn records_options(config: &Config) -> RecordsOptions {
-    let setup = config.setup.as_ref();
-    let excitation = setup.map_or(ExcitationKind::Force, |s| s.excitation);
-    let known = match setup.map(|s| (s.known_mass, s.known_stiffness)) {
-        Some((Some(m), _)) => KnownParameter::Mass(m),
-        Some((None, Some(k))) => KnownParameter::Stiffness(k),
+pub(crate) fn records_options(config: &Config, setup: &SetupSection) -> RecordsOptions {
+    let excitation = setup.excitation;
+    let known = match (setup.known_mass, setup.known_stiffness) {
+        (Some(m), _) => KnownParameter::Mass(m),
+        (None, Some(k)) => KnownParameter::Stiffness(k),
         _ => KnownParameter::None,
     };
     RecordsOptions {
@@ -132,24 +131,19 @@ pub(crate) fn records_options(config: &Config) -> RecordsOptions {
         estimate_initial_state: config.estimation.estimate_initial_state
             || excitation == ExcitationKind::None,
         estimate_offset: config.estimation.estimate_offset,
-        noise_model: noise_model(config),
+        noise_model: noise_model(config, setup),
         residuals: config.residuals,
-        hold_out: setup
-            .and_then(|s| s.hold_out)
-            .unwrap_or(RecordsOptions::default().hold_out),
+        hold_out: setup.hold_out.unwrap_or(RecordsOptions::default().hold_out),
         ..RecordsOptions::default()
     }
 }
 
 /// `[setup] noise_model`, or by default the drive's noise model on measured data and on
 /// a synthetic drive with noise, white on a synthetic drive (exact by construction).
-fn noise_model(config: &Config) -> NoiseModel {
-    let setup = config.setup.as_ref();
-    match setup.and_then(|s| s.noise_model) {
+fn noise_model(config: &Config, setup: &SetupSection) -> NoiseModel {
+    match setup.noise_model {
         Some(chosen) => chosen,
-        None if config.data.is_none() && setup.is_none_or(|s| s.input_sigma == 0.0) => {
-            NoiseModel::White
-        }
+        None if config.data.is_none() && setup.input_sigma == 0.0 => NoiseModel::White,
         None => NoiseModel::InputNoise,
     }
 }

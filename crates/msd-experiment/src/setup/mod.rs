@@ -21,7 +21,7 @@ pub mod stroke;
 pub use data::{SetupData, SetupRecord};
 pub use fit::SetupFit;
 
-use crate::config::Config;
+use crate::config::{Config, SetupSection, Spec};
 use crate::progress::Progress;
 use crate::{error::Result, options::RunOptions};
 use std::path::{Path, PathBuf};
@@ -48,21 +48,22 @@ pub struct SetupOutcome {
     pub verdict: crate::verdict::Verdict,
 }
 
-/// Runs the setup experiment of `config` (which has a `[setup]` section).
+/// Runs the setup experiment of `spec`.
 pub fn run(
-    config: Config,
-    config_path: &Path,
+    spec: Spec<SetupSection>,
     options: &RunOptions,
     progress: &Progress,
 ) -> Result<SetupOutcome> {
+    let Spec { config, section } = spec;
+    let config_path = config.sources.config_file().to_path_buf();
     let seed = options.seed.unwrap_or(config.seed);
     progress.stage("data");
     let t = Instant::now();
-    let data = data::load(&config, config_path, seed)?;
+    let data = data::load(&config, &section, seed)?;
     let mut timings = vec![("data", t.elapsed())];
     progress.stage("estimation");
     let t = Instant::now();
-    let fit = fit::fit(&config, config_path, &data)?;
+    let fit = fit::fit(&config, &config_path, &data)?;
     timings.push(("estimation", t.elapsed()));
     let verdict = report_validation::verdict(&fit);
     Ok(SetupOutcome {
@@ -71,7 +72,7 @@ pub fn run(
             .clone()
             .unwrap_or_else(|| "msd run".to_string()),
         config,
-        config_path: config_path.to_path_buf(),
+        config_path,
         seed,
         data,
         fit,

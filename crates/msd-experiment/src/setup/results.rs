@@ -12,7 +12,7 @@ use super::report::estimates;
 use super::{SetupFit, SetupOutcome};
 use crate::config::{Plant, Response};
 use crate::error::{ExperimentError, Result};
-use crate::results::Experiment;
+use crate::results::Header;
 use msd_ident::Interval;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -20,7 +20,7 @@ use std::time::Duration;
 
 #[derive(Serialize)]
 struct Results<'a> {
-    experiment: Experiment<'a>,
+    experiment: Header<'a>,
     command: &'a str,
     verdict: &'a crate::verdict::Verdict,
     setup: SetupInfo<'a>,
@@ -118,7 +118,7 @@ pub(crate) fn to_json(
     let timings = crate::results::timings_ms(&o.timings, extra, total);
     let setup = &o.data.setup;
     let results = Results {
-        experiment: Experiment::new(
+        experiment: Header::new(
             &o.config,
             &o.config_path,
             if o.data.files.is_empty() {

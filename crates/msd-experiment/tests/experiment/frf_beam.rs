@@ -3,7 +3,7 @@
 //! mode, fn within 0.1 %, ζ within 5 %, MAC with the true shape >= 0.99, modal masses
 //! of the shapes as the simulation made them.
 
-use msd_experiment::config::Config;
+use msd_experiment::config::{Config, Spec};
 use msd_experiment::frf::{self, FrfFit};
 
 #[path = "../../examples/roving_beam_uff.rs"]
@@ -43,7 +43,11 @@ fn the_shipped_beam_file_is_what_the_example_writes() {
 #[test]
 fn the_shapes_are_compared_with_the_models_file_and_drawn_on_the_geometry() {
     let config = Config::load(CONFIG.as_ref()).expect("valid");
-    let outcome = frf::run(config, CONFIG.as_ref(), &Default::default()).expect("fits");
+    let outcome = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect("fits");
     let r = outcome
         .reference_shapes
         .as_ref()
@@ -113,7 +117,11 @@ fn the_roving_hammer_set_gives_the_beams_modes_and_shapes() {
         .as_ref()
         .and_then(|s| s.reference_modes.clone())
         .expect("the true modes");
-    let outcome = frf::run(config, CONFIG.as_ref(), &Default::default()).expect("fits");
+    let outcome = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect("fits");
     let FrfFit::Set(fit) = &outcome.fit else {
         panic!("a set")
     };
@@ -156,7 +164,10 @@ fn shape_and_geometry_files_that_do_not_serve_are_refused_by_name() {
         )
         .expect("written");
         let config = Config::load(&path)?;
-        frf::run(config, &path, &Default::default())
+        frf::run(
+            Spec::new(config).expect("a frequency response"),
+            &Default::default(),
+        )
     };
     let set = "[frequency_response.uff]\npath = \"roving-hammer-beam.uff\"\nset = true";
     let expect = |result: Result<frf::FrfOutcome, msd_experiment::ExperimentError>,

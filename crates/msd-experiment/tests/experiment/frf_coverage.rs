@@ -5,7 +5,7 @@
 //! fitted to every line's coherence instead (`Lines::smooth_coherence_weights`).
 
 use msd_experiment::RunOptions;
-use msd_experiment::config::Config;
+use msd_experiment::config::{Config, Spec};
 use msd_experiment::frf::{self, FrfFit};
 
 const CONFIG: &str = concat!(
@@ -46,7 +46,11 @@ fn study(force_noise: f64) -> Study {
             seed: Some(seed),
             ..RunOptions::default()
         };
-        let outcome = frf::run(config.clone(), CONFIG.as_ref(), &options).expect("fits");
+        let outcome = frf::run(
+            Spec::new(config.clone()).expect("a frequency response"),
+            &options,
+        )
+        .expect("fits");
         let FrfFit::OneMode(fit) = &outcome.fit else {
             panic!("one mode")
         };
@@ -153,7 +157,11 @@ fn a_mode_the_model_lacks_fails_the_noise_check() {
     plant.masses = vec![2.5, 0.05];
     plant.springs = vec![120.0, 40.0];
     plant.dampers = vec![1.8, 0.05];
-    let outcome = frf::run(config, CONFIG.as_ref(), &RunOptions::default()).expect("fits");
+    let outcome = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &RunOptions::default(),
+    )
+    .expect("fits");
     let FrfFit::OneMode(fit) = &outcome.fit else {
         panic!("one mode")
     };
@@ -183,14 +191,22 @@ fn the_verdict_says_what_the_force_noise_did() {
     let mut config = Config::load(CONFIG.as_ref()).expect("valid");
     let section = config.frequency_response.as_mut().expect("an FRF section");
     section.shaker.as_mut().expect("a shaker").force_noise = 0.1;
-    let outcome = frf::run(config.clone(), CONFIG.as_ref(), &RunOptions::default()).expect("fits");
+    let outcome = frf::run(
+        Spec::new(config.clone()).expect("a frequency response"),
+        &RunOptions::default(),
+    )
+    .expect("fits");
     let verdict = outcome.verdict.expect("a verdict").to_string();
     assert!(verdict.contains("the lines were corrected"), "{verdict}");
 
     let section = config.frequency_response.as_mut().expect("an FRF section");
     section.shaker.as_mut().expect("a shaker").force_noise = 0.3;
     section.estimator.welch.window = msd_signal::Window::Hann;
-    let outcome = frf::run(config, CONFIG.as_ref(), &RunOptions::default()).expect("fits");
+    let outcome = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &RunOptions::default(),
+    )
+    .expect("fits");
     let FrfFit::OneMode(fit) = &outcome.fit else {
         panic!("one mode")
     };

@@ -1,7 +1,7 @@
 //! A set of FRFs from CSV tables (`[[frequency_response.set]]`): fitted together with
 //! their shapes, and refused with the key and the file when the set is inconsistent.
 
-use msd_experiment::config::Config;
+use msd_experiment::config::{Config, Spec};
 use msd_experiment::frf::{self, FrfFit};
 use msd_modal::ModalParameters;
 use std::fmt::Write;
@@ -40,7 +40,10 @@ fn run(dir: &Path, body: &str) -> Result<frf::FrfOutcome, msd_experiment::Experi
     let path = dir.join("set.toml");
     std::fs::write(&path, format!("name = \"set\"\n{body}")).expect("written");
     let config = Config::load(&path)?;
-    frf::run(config, &path, &Default::default())
+    frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
 }
 
 #[test]

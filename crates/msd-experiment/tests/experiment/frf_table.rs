@@ -2,7 +2,7 @@
 //! and the config fits it: m, c and k of the plant it was simulated on inside their
 //! 95 % intervals.
 
-use msd_experiment::config::Config;
+use msd_experiment::config::{Config, Spec};
 use msd_experiment::frf::{self, FrfFit};
 
 #[path = "../../examples/frf_table.rs"]
@@ -26,7 +26,11 @@ fn the_shipped_table_is_what_the_example_writes() {
 #[test]
 fn the_table_config_fits_the_plant_it_was_simulated_on() {
     let config = Config::load(CONFIG.as_ref()).expect("valid");
-    let outcome = frf::run(config, CONFIG.as_ref(), &Default::default()).expect("fits");
+    let outcome = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect("fits");
     assert_eq!(outcome.data.frequency.len(), 30);
     assert!(outcome.time_domain.is_none(), "a table has no time records");
     let FrfFit::OneMode(fit) = &outcome.fit else {
@@ -60,7 +64,10 @@ fn bad_bands_sizes_and_scales_are_config_errors() {
         let path = dir.path().join("t.toml");
         std::fs::write(&path, config).expect("written");
         let config = Config::load(&path)?;
-        frf::run(config, &path, &Default::default())
+        frf::run(
+            Spec::new(config).expect("a frequency response"),
+            &Default::default(),
+        )
     };
     let expect = |result: Result<frf::FrfOutcome, msd_experiment::ExperimentError>,
                   parts: &[&str]| {
@@ -142,7 +149,10 @@ fn columns_by_number_count_from_zero() {
         );
         std::fs::write(&path, text).expect("written");
         let config = Config::load(&path)?;
-        frf::run(config, &path, &Default::default())
+        frf::run(
+            Spec::new(config).expect("a frequency response"),
+            &Default::default(),
+        )
     };
     let by_name = run(
         "frequency = \"frequency_hz\"\nmagnitude = \"magnitude_m_per_n\"\nphase = \"phase_deg\"",
@@ -227,7 +237,11 @@ fn a_source_without_force_is_refused_by_name() {
     let path = dir.path().join("silent.toml");
     std::fs::write(&path, silent).expect("written");
     let config = Config::load(&path).expect("valid");
-    let err = frf::run(config, &path, &Default::default()).expect_err("no force");
+    let err = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect_err("no force");
     assert_eq!(err.exit_code(), 2, "{err}");
     assert!(
         err.to_string().contains("frequency_response.shaker.force"),
@@ -245,7 +259,11 @@ fn a_source_without_force_is_refused_by_name() {
     )
     .expect("written");
     let config = Config::load(&path).expect("valid");
-    let err = frf::run(config, &path, &Default::default()).expect_err("no force");
+    let err = frf::run(
+        Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect_err("no force");
     assert_eq!(err.exit_code(), 2, "{err}");
     let text = err.to_string();
     assert!(
@@ -278,7 +296,10 @@ fn two_periods_a_record_take_a_rectangular_window_by_default() {
         let path = dir.path().join("two.toml");
         std::fs::write(&path, text).expect("written");
         let config = Config::load(&path).expect("valid");
-        frf::run(config, &path, &Default::default())
+        frf::run(
+            Spec::new(config).expect("a frequency response"),
+            &Default::default(),
+        )
     };
     let outcome = run(&two).expect("fits");
     assert!(outcome.chose_rectangular_window());

@@ -70,7 +70,11 @@ weighting = "relative"
     std::fs::write(&path, config_text).expect("config");
     std::fs::write(dir.path().join("frf.uff"), write("(1/N)*(m/s2)")).expect("uff");
     let config = Config::load(&path).expect("valid");
-    let outcome = frf::run(config, &path, &Default::default()).expect("fits");
+    let outcome = frf::run(
+        msd_experiment::config::Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect("fits");
     assert_eq!(outcome.data.kind, msd_signal::FrfKind::Accelerance);
     let FrfFit::OneMode(fit) = &outcome.fit else {
         panic!("one mode")
@@ -88,7 +92,11 @@ weighting = "relative"
     }
     std::fs::write(dir.path().join("frf.uff"), write("NONE")).expect("uff");
     let config = Config::load(&path).expect("valid");
-    let err = frf::run(config, &path, &Default::default()).expect_err("refused");
+    let err = frf::run(
+        msd_experiment::config::Spec::new(config).expect("a frequency response"),
+        &Default::default(),
+    )
+    .expect_err("refused");
     assert!(
         err.to_string().contains("frequency_response.uff.kind"),
         "{err}"

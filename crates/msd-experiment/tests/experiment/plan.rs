@@ -123,3 +123,21 @@ fn a_measured_config_or_a_bad_target_is_refused() {
     let err = plan(&config("paper-fast.toml"), &bad).unwrap_err();
     assert!(err.to_string().contains("--target = 0"), "{err}");
 }
+
+/// A frequency-response or output-only config has no prior plant to plan a test from:
+/// refused by the kind the run would give it, named in words.
+#[test]
+fn plan_refuses_the_kinds_it_cannot_predict() {
+    for (name, kind) in [
+        ("frf-uff.toml", "a frequency response"),
+        ("shear-building.toml", "output-only modal analysis"),
+    ] {
+        let err = plan(&config(name), &PlanOptions::default())
+            .expect_err(name)
+            .to_string();
+        assert!(
+            err.contains(name) && err.contains("plan predicts") && err.contains(kind),
+            "{err}"
+        );
+    }
+}
