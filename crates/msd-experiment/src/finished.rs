@@ -19,17 +19,13 @@ pub trait Finished {
     fn tables(&self) -> Vec<(String, String)> {
         Vec::new()
     }
-    /// `report.md`: with the figures written, the writer's `extra` stage times and the
-    /// time since the run began.
-    fn report(
-        &self,
-        figures: &[&str],
-        extra: &[(&'static str, Duration)],
-        elapsed: Duration,
-    ) -> String;
+    /// Wall time of each stage the kind ran, in order.
+    fn timings(&self) -> &[(&'static str, Duration)];
+    /// `report.md` with the figures written, but for its timings, which the writer adds.
+    fn report(&self, figures: &[&str]) -> String;
     /// The kind's `results.json` document (the writer adds `schema_version`).
     fn results(&self, extra: &[(&'static str, Duration)], total: Duration) -> Result<Value>;
-    /// What the command prints, ending with where the results are (`target`).
-    fn summary(&self, extra: &[(&'static str, Duration)], total: Duration, target: &Path)
-    -> String;
+    /// What the command prints, in the one format of every kind's summary, but for its
+    /// footer (the stages' times, where the results are), which the writer adds.
+    fn summary(&self) -> String;
 }

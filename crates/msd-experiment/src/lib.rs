@@ -48,6 +48,7 @@ pub mod results;
 pub mod run;
 pub mod setup;
 pub mod sources;
+mod summary;
 mod table;
 pub mod verdict;
 

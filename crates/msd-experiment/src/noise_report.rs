@@ -3,6 +3,7 @@
 //! found, each channel's whiteness, and the warnings.
 
 use crate::fmt::sig;
+use crate::summary::labelled;
 use msd_ident::Interval;
 use msd_ident::records::{NoiseModelFit, ResidualWhiteness};
 use std::fmt::Write;
@@ -16,35 +17,47 @@ pub(crate) fn summary(
     unit: &str,
 ) {
     if let (Some(sigma), Some(fraction)) = (m.input_noise_sigma, m.input_noise_fraction) {
-        let _ = writeln!(
+        labelled(
             s,
-            "  noise model: {}: the drive's noise σ̂_u = {} {unit} ({} % of its rms); intervals ×{} the white-noise ones",
-            m.treatment,
-            sig(sigma, 3),
-            sig(100.0 * fraction, 2),
-            sig(m.interval_ratio, 3)
+            "noise model",
+            &format!(
+                "{}: the drive's noise σ̂_u = {} {unit} ({} % of its rms); intervals ×{} the white-noise ones",
+                m.treatment,
+                sig(sigma, 3),
+                sig(100.0 * fraction, 2),
+                sig(m.interval_ratio, 3)
+            ),
         );
         if let Some(low) = m.output_error_efficiency.values().copied().reduce(f64::min) {
-            let _ = writeln!(
+            labelled(
                 s,
-                "  estimate weighted by each frequency line's noise (frequency-domain maximum likelihood): the output-error fit's intervals were up to ×{} wider (report.md, Noise)",
-                sig((1.0 / low).sqrt(), 2)
+                "",
+                &format!(
+                    "estimate weighted by each frequency line's noise (frequency-domain maximum likelihood): the output-error fit's intervals were up to ×{} wider (report.md, Noise)",
+                    sig((1.0 / low).sqrt(), 2)
+                ),
             );
         } else if let Some(low) = m.efficiency.values().copied().reduce(f64::min) {
-            let _ = writeln!(
+            labelled(
                 s,
-                "  efficiency against the Cramér–Rao bound of this noise model: ≥ {low:.2} (report.md, Noise)"
+                "",
+                &format!(
+                    "efficiency against the Cramér–Rao bound of this noise model: ≥ {low:.2} (report.md, Noise)"
+                ),
             );
         }
     }
     for c in whiteness.iter().filter(|c| !c.passed) {
         let test = c.ljung_box_under_noise_model.unwrap_or(c.ljung_box);
-        let _ = writeln!(
+        labelled(
             s,
-            "  warning: record `{}`, channel `{}`: the residual is not white under the noise model (Ljung–Box p = {}): the model leaves structure unexplained; the intervals may be too narrow (report.md, Noise)",
-            c.record,
-            c.channel,
-            sig(test.p_value, 2)
+            "warning",
+            &format!(
+                "record `{}`, channel `{}`: the residual is not white under the noise model (Ljung–Box p = {}): the model leaves structure unexplained; the intervals may be too narrow (report.md, Noise)",
+                c.record,
+                c.channel,
+                sig(test.p_value, 2)
+            ),
         );
     }
 }

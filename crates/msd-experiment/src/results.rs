@@ -115,3 +115,25 @@ pub(crate) fn report_head(
     let seed = seed.map_or(String::new(), |seed| format!(" (seed {seed})"));
     writeln!(s, "Run with `{command} {}`{seed}.\n", config_path.display())
 }
+
+/// The report's last section, the same for every kind: each stage's wall time (the
+/// kind's `stages`, then the writer's `extra`) and the time since the run began.
+pub(crate) fn report_timings(
+    s: &mut String,
+    stages: &[(&'static str, std::time::Duration)],
+    extra: &[(&'static str, std::time::Duration)],
+    elapsed: std::time::Duration,
+) {
+    use crate::fmt::millis;
+    use std::fmt::Write;
+    let _ = writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|");
+    for (name, d) in stages.iter().chain(extra) {
+        let _ = writeln!(
+            s,
+            "| {} | {} |",
+            crate::summary::stage_label(name),
+            millis(*d)
+        );
+    }
+    let _ = writeln!(s, "| total before this report | {} |", millis(elapsed));
+}

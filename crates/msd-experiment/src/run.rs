@@ -70,7 +70,8 @@ pub(crate) fn write(
     for (name, text) in run.tables() {
         staging.write(&name, text.as_bytes())?;
     }
-    let report = run.report(&figures, &extra, started.elapsed());
+    let mut report = run.report(&figures);
+    crate::results::report_timings(&mut report, run.timings(), &extra, started.elapsed());
     crate::page::write_pages(&staging, &report, &run.config().name)?;
     extra.push(("report", t.elapsed()));
 
@@ -78,9 +79,11 @@ pub(crate) fn write(
     let json = crate::results::versioned(run.results(&extra, total)?);
     crate::results::write_json(&staging, &json)?;
     staging.commit()?;
+    let mut summary = run.summary();
+    crate::summary::footer(&mut summary, run.timings(), &extra, total, target);
     Ok(RunSummary {
         out_dir: target.to_path_buf(),
-        summary: run.summary(&extra, total, target),
+        summary,
         results: json,
     })
 }

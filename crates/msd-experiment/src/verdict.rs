@@ -217,11 +217,6 @@ pub(crate) fn section(s: &mut String, v: &Verdict) -> std::fmt::Result {
     }
 }
 
-/// The summary's verdict line.
-pub(crate) fn summary(s: &mut String, v: &Verdict) {
-    let _ = writeln!(s, "  verdict: {v}");
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -122,7 +122,7 @@ fn layouts_that_lose_a_combination_say_which_and_report_the_modes() {
     assert!(
         tmd.summary
             .summary
-            .contains("verdict: use with care: not everything is identified")
+            .contains("verdict        use with care: not everything is identified")
     );
     // The modes of the truth, damped as fitted (fn = |λ|/2π of the damped system).
     let plant = msd_ident::chain::ChainParameters {
@@ -420,14 +420,14 @@ fn a_noisy_load_cell_on_a_chain_widens_the_intervals_and_says_why() {
     let report = std::fs::read_to_string(treated.out_dir.join("report.md")).unwrap();
     assert!(report.contains("## Noise") && report.contains("would have reported"));
     assert!(
-        treated.summary.contains("noise model: input_noise"),
+        treated.summary.contains("noise model    input_noise"),
         "{}",
         treated.summary
     );
     // The verdict comes first and says the drive's noise was accounted for.
     assert_eq!(r["verdict"]["trustworthy"], true, "{}", r["verdict"]);
     assert!(
-        treated.summary.contains("verdict: trustworthy")
+        treated.summary.contains("verdict        trustworthy")
             && treated.summary.contains("the drive's own noise shows"),
         "{}",
         treated.summary
@@ -453,7 +453,7 @@ fn a_noisy_load_cell_on_a_chain_widens_the_intervals_and_says_why() {
     let verdict = &white_run.results["verdict"];
     assert_eq!(verdict["trustworthy"], false, "{verdict}");
     assert!(
-        white_run.summary.contains("verdict: use with care")
+        white_run.summary.contains("verdict        use with care")
             && white_run.summary.contains("intervals may be too narrow"),
         "{}",
         white_run.summary

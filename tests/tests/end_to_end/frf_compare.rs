@@ -75,7 +75,7 @@ fn the_frf_records_config_agrees_with_the_time_domain_fit_and_covers_the_truth()
     assert!(
         run.summary
             .summary
-            .contains("time domain (4 records): largest difference")
+            .contains("time domain    (4 records): largest difference")
     );
     assert_results_file_is(run.out(), r);
 }

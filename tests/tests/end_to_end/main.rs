@@ -16,3 +16,4 @@ mod golden;
 mod init;
 mod nonlinear_experiment;
 mod oma_experiment;
+mod summary_format;

@@ -83,7 +83,7 @@ fn a_run_exits_0_prints_the_summary_and_writes_the_folder() {
     assert!(run.status.success(), "{}", text(&run.stderr));
     let stdout = text(&run.stdout);
     assert!(
-        stdout.contains("experiment `tiny` (synthetic data, seed 3)"),
+        stdout.contains("experiment `tiny` (the paper's workflow: synthetic data, seed 3)"),
         "{stdout}"
     );
     assert!(stdout.contains("Monte Carlo"), "{stdout}");

@@ -405,12 +405,11 @@ impl crate::finished::Finished for ChainOutcome {
         tables(self)
     }
 
-    fn report(
-        &self,
-        figures: &[&str],
-        _extra: &[(&'static str, Duration)],
-        _elapsed: Duration,
-    ) -> String {
+    fn timings(&self) -> &[(&'static str, Duration)] {
+        &self.timings
+    }
+
+    fn report(&self, figures: &[&str]) -> String {
         report(self, figures)
     }
 
@@ -422,12 +421,7 @@ impl crate::finished::Finished for ChainOutcome {
         results(self, extra, total)
     }
 
-    fn summary(
-        &self,
-        _extra: &[(&'static str, Duration)],
-        _total: Duration,
-        target: &Path,
-    ) -> String {
-        format!("{}results in {}\n", summary(self), target.display())
+    fn summary(&self) -> String {
+        summary(self)
     }
 }

@@ -1,8 +1,9 @@
 //! The report of a chain run, and the summary the command prints.
 
 use super::{ChainOutcome, channel_names};
-use crate::fmt::{millis, sig};
+use crate::fmt::sig;
 use crate::noise_report;
+use crate::summary;
 use msd_ident::{
     Interval,
     chain::{ChainFit, ChainUncertainty},
@@ -179,10 +180,6 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
             "![The chain's fit]({f}.png)\n\n*The drive, then each sensor measured (blue points) and as the fitted chain predicts it (red line), with the Monte Carlo band (grey).*\n"
         )?;
     }
-    writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
-    for (name, d) in &o.timings {
-        writeln!(s, "| {name} | {} |", millis(*d))?;
-    }
     Ok(())
 }
 
@@ -256,6 +253,16 @@ fn interval(iv: &Interval) -> String {
         sig(iv.ci95[0], 6),
         sig(iv.ci95[1], 6)
     )
+}
+
+/// A summary row of `iv`.
+fn estimate(label: String, iv: &Interval, truth: Option<f64>) -> summary::Estimate {
+    summary::Estimate {
+        label,
+        value: iv.value,
+        interval: Some(iv.ci95),
+        truth,
+    }
 }
 
 fn estimates(s: &mut String, o: &ChainOutcome, fit: &ChainFit) -> std::fmt::Result {
@@ -413,54 +420,59 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
 
 /// The summary the command prints.
 pub(crate) fn summary(o: &ChainOutcome) -> String {
-    let mut s = format!("{}\n", o.config.name);
-    crate::verdict::summary(&mut s, &o.verdict);
-    match &o.fit.uncertainty.intervals {
-        Some(_) => {
-            for (name, truth, iv) in rows(o, &o.fit.uncertainty) {
-                if let Some(iv) = iv {
-                    let truth =
-                        truth.map_or_else(String::new, |t| format!("  (true {})", sig(t, 6)));
-                    let _ = writeln!(s, "  {name:<14} {}{truth}", interval(&iv));
-                }
-            }
-        }
-        None => {
-            let _ = writeln!(s, "  m, c, k not identified:");
-            for reason in &o.fit.uncertainty.unidentifiable {
-                let _ = writeln!(s, "    {reason}");
+    let mut s = String::new();
+    let data = summary::data(o.chain.plant.is_some().then_some(o.seed));
+    summary::head(
+        &mut s,
+        &o.config.name,
+        &format!(
+            "a chain of {}, {}; {data}",
+            summary::plural(o.chain.size(), "mass", "masses"),
+            summary::plural(o.chain.sensors.len(), "sensor", "sensors")
+        ),
+    );
+    summary::verdict(&mut s, &o.verdict);
+    s.push('\n');
+    let u = &o.fit.uncertainty;
+    let mut table: Vec<summary::Estimate> = Vec::new();
+    if u.intervals.is_some() {
+        for (label, truth, iv) in rows(o, u) {
+            if let Some(iv) = iv {
+                table.push(estimate(label, &iv, truth));
             }
         }
     }
-    for (i, mode) in o.fit.uncertainty.modes.iter().enumerate() {
-        let _ = writeln!(
-            s,
-            "  mode {}: fn {} Hz, ζ {}",
-            i + 1,
-            interval(&mode.natural_frequency_hz),
-            interval(&mode.damping_ratio)
-        );
-    }
-    for (i, d) in o.fit.uncertainty.delays.iter().enumerate() {
+    for (i, d) in u.delays.iter().enumerate() {
         if let Some(d) = d {
-            let _ = writeln!(s, "  delay of sensor {}: {} s", i + 1, interval(d));
+            table.push(estimate(format!("delay {} [s]", i + 1), d, None));
         }
     }
-    for (i, c) in o.fit.uncertainty.cutoffs.iter().enumerate() {
+    for (i, c) in u.cutoffs.iter().enumerate() {
         if let Some(c) = c {
-            let _ = writeln!(
-                s,
-                "  filter cut-off of sensor {}: {} Hz",
-                i + 1,
-                interval(c)
-            );
+            table.push(estimate(format!("cut-off {} [Hz]", i + 1), c, None));
         }
     }
+    summary::estimates(&mut s, &table);
+    if u.intervals.is_none() {
+        summary::labelled(&mut s, "not identified", &u.unidentifiable.join("\n"));
+    }
+    s.push('\n');
+    let modes: Vec<summary::ModeRow> = u
+        .modes
+        .iter()
+        .map(|m| summary::ModeRow {
+            frequency_hz: (m.natural_frequency_hz.value, m.natural_frequency_hz.ci95),
+            damping_ratio: (m.damping_ratio.value, m.damping_ratio.ci95),
+            note: String::new(),
+        })
+        .collect();
+    summary::modes(&mut s, &modes);
+    s.push('\n');
     use msd_ident::chain::{CUTOFF_NOT_SEPARATED, GROUND_AT_ZERO, GROUND_NOT_IN_RECORDS};
     let warnings = [CUTOFF_NOT_SEPARATED, GROUND_NOT_IN_RECORDS, GROUND_AT_ZERO];
     let said = |n: &&String| warnings.iter().any(|w| n.contains(w));
     for note in o.fit.notes.iter().filter(said) {
-        let _ = writeln!(s, "  warning: {note}");
+        summary::labelled(&mut s, "warning", note);
     }
     noise_report::summary(
         &mut s,
@@ -471,13 +483,16 @@ pub(crate) fn summary(o: &ChainOutcome) -> String {
     super::validation::summary(&mut s, o);
     if let Some(ideal) = &o.ideal {
         for (i, (p, n)) in damping_pairs(o, ideal) {
-            let _ = writeln!(
-                s,
-                "  ideal sensors assumed: ζ{} {} instead of {} ({:+.1} SE)",
-                i + 1,
-                sig(n.value, 6),
-                sig(p.value, 6),
-                (n.value - p.value) / p.standard_error
+            summary::labelled(
+                &mut s,
+                "ideal sensors",
+                &format!(
+                    "assumed, ζ{} would be {} instead of {} ({:+.1} SE)",
+                    i + 1,
+                    sig(n.value, 6),
+                    sig(p.value, 6),
+                    (n.value - p.value) / p.standard_error
+                ),
             );
         }
     }

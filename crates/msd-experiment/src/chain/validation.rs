@@ -56,7 +56,11 @@ pub(super) fn summary(s: &mut String, o: &ChainOutcome) {
     let v = match &o.validation {
         Ok(v) => v,
         Err(reason) => {
-            let _ = writeln!(s, "  no check on fresh data: {reason}");
+            crate::summary::labelled(
+                s,
+                "validation",
+                &format!("no check on fresh data: {reason}"),
+            );
             return;
         }
     };
@@ -65,12 +69,7 @@ pub(super) fn summary(s: &mut String, o: &ChainOutcome) {
         .iter()
         .min_by(|a, b| a.fit.r_squared.total_cmp(&b.fit.r_squared))
     {
-        let _ = writeln!(
-            s,
-            "  validation on fresh data (held-out end): worst R² {}, fit {} %",
-            sig(worst.fit.r_squared, 5),
-            sig(worst.fit.fit_percent, 4)
-        );
+        crate::summary::fresh_data(s, "held-out end", &worst.fit, None);
     }
     for (name, p) in channel_names(o).iter().zip(&v.sensors) {
         if let Some(a) = p
@@ -78,10 +77,13 @@ pub(super) fn summary(s: &mut String, o: &ChainOutcome) {
             .as_ref()
             .filter(|a| !a.cross_correlation_passed)
         {
-            let _ = writeln!(
+            crate::summary::labelled(
                 s,
-                "  warning: validation: sensor `{name}`: the residual correlates with the drive on fresh data (max |ρ| = {}): part of its effect is not explained (report.md, Validation)",
-                sig(a.cross_correlation.max_abs, 2)
+                "warning",
+                &format!(
+                    "validation: sensor `{name}`: the residual correlates with the drive on fresh data (max |ρ| = {}): part of its effect is not explained (report.md, Validation)",
+                    sig(a.cross_correlation.max_abs, 2)
+                ),
             );
         }
     }

@@ -26,7 +26,7 @@
 //! let outcome = frf::run(Spec::new(config)?, &RunOptions::default())?;
 //! let frf::FrfFit::OneMode(fit) = &outcome.fit else { panic!("one mode") };
 //! assert!(fit.uncertainty.stiffness.contains(120.0));
-//! assert!(outcome.to_string().starts_with("sweep: one mode fitted to 40 lines"));
+//! assert!(outcome.to_string().starts_with("experiment `sweep` (a frequency response: one mode fitted to 40 lines"));
 //! # Ok::<(), msd_experiment::ExperimentError>(())
 //! ```
 //!
@@ -42,6 +42,7 @@ mod results;
 mod shape_files;
 mod simulate;
 mod source;
+mod summary;
 mod time_domain;
 mod uff;
 pub(crate) mod uff_out;
@@ -528,31 +529,11 @@ fn power(kind: msd_signal::FrfKind) -> i32 {
     }
 }
 
+/// The summary the command prints, but for the writer's footer (in the one format of
+/// every kind's summary).
 impl std::fmt::Display for FrfOutcome {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let name = &self.config.name;
-        let fit = match &self.fit {
-            FrfFit::OneMode(fit) => fit.to_string(),
-            FrfFit::Modes(fit) => fit.to_string(),
-            FrfFit::Set(fit) => fit.to_string(),
-        };
-        // The fit's headline, the verdict, then the fit's details.
-        let (headline, details) = fit.split_once('\n').unwrap_or((&fit, ""));
-        write!(f, "{name}: {headline}")?;
-        if let Some(v) = &self.verdict {
-            write!(f, "\nverdict: {v}")?;
-        }
-        if !details.is_empty() {
-            write!(f, "\n{details}")?;
-        }
-        if let Some(t) = &self.truth {
-            let covered = report::covered(self, t);
-            write!(f, "\ntruth inside the 95 % intervals: {covered}")?;
-        }
-        if let Some(td) = &self.time_domain {
-            write!(f, "\n{td}")?;
-        }
-        Ok(())
+        f.write_str(&summary::text(self))
     }
 }
 
@@ -569,12 +550,11 @@ impl crate::finished::Finished for FrfOutcome {
         figures(self, dir)
     }
 
-    fn report(
-        &self,
-        figures: &[&str],
-        _extra: &[(&'static str, Duration)],
-        _elapsed: Duration,
-    ) -> String {
+    fn timings(&self) -> &[(&'static str, Duration)] {
+        &self.timings
+    }
+
+    fn report(&self, figures: &[&str]) -> String {
         report(self, figures)
     }
 
@@ -586,12 +566,7 @@ impl crate::finished::Finished for FrfOutcome {
         Ok(to_json(self, extra, total))
     }
 
-    fn summary(
-        &self,
-        _extra: &[(&'static str, Duration)],
-        _total: Duration,
-        target: &Path,
-    ) -> String {
-        format!("{self}\nresults in {}\n", target.display())
+    fn summary(&self) -> String {
+        self.to_string()
     }
 }

@@ -142,10 +142,6 @@ fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
             writeln!(w, "![{caption}]({name}.png)\n")?;
         }
     }
-    writeln!(w, "## Timings\n\n| stage | ms |\n|---|---|")?;
-    for (name, d) in &o.timings {
-        writeln!(w, "| {name} | {} |", crate::fmt::millis(*d))?;
-    }
     Ok(())
 }
 
@@ -198,7 +194,6 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
 }
 
 fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt::Result {
-    let u = &f.uncertainty;
     writeln!(w, "## One mode\n\n{}\n", first_line(&f.to_string()))?;
     if let Some(peak) = &f.dominant_peak {
         writeln!(
@@ -216,39 +211,12 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
     if let Some(low) = &f.low_coherence {
         writeln!(w, "{}.\n", crate::fmt::capitalised(&low.to_string()))?;
     }
-    let truth = o.truth.as_ref().filter(|t| t.plant.len() == 1);
-    let mode = truth.and_then(|t| t.modes.first());
     let classroom = o.classroom.first().copied().flatten();
     writeln!(
         w,
         "| quantity | estimate | 95 % interval | half-power / peak | truth |\n|---|---|---|---|---|"
     )?;
-    let mut rows: Vec<(&str, &Interval, Option<f64>, Option<f64>)> = Vec::new();
-    if scale_known(o) {
-        let p = truth.map(|t| &t.plant);
-        rows.push(("m [kg]", &u.mass, None, p.map(|p| p.masses[0])));
-        rows.push(("c [N·s/m]", &u.damping, None, p.map(|p| p.dampers[0])));
-        rows.push(("k [N/m]", &u.stiffness, None, p.map(|p| p.springs[0])));
-    } else {
-        rows.push((
-            "gain 1/m [1/kg]",
-            &f.gain,
-            None,
-            truth.map(|t| 1.0 / t.plant.masses[0]),
-        ));
-    }
-    rows.push((
-        "fn [Hz]",
-        &u.natural_frequency_hz,
-        classroom.map(|c| c.natural_frequency_hz),
-        mode.map(|m| m.natural_frequency_hz),
-    ));
-    rows.push((
-        "ζ [-]",
-        &u.damping_ratio,
-        classroom.map(|c| c.damping_ratio),
-        mode.map(|m| m.damping_ratio),
-    ));
+    let rows = one_mode_rows(o, f);
     for (name, i, c, t) in rows {
         row(w, name, i, c, t)?;
     }
@@ -537,6 +505,45 @@ fn input_noise_finding(noise: &msd_modal::InputNoise, mass: &Interval) -> verdic
             "the coherence shows at most {percent} % of force noise or leakage, under a standard error of m"
         ))
     }
+}
+
+/// A one-mode fit's quantities: (name with unit, estimate, the half-power or peak
+/// estimate, the truth), m, c and k where the force's scale is known, else the gain 1/m.
+pub(crate) fn one_mode_rows<'a>(
+    o: &FrfOutcome,
+    f: &'a OneModeFit,
+) -> Vec<(&'static str, &'a Interval, Option<f64>, Option<f64>)> {
+    let u = &f.uncertainty;
+    let truth = o.truth.as_ref().filter(|t| t.plant.len() == 1);
+    let mode = truth.and_then(|t| t.modes.first());
+    let classroom = o.classroom.first().copied().flatten();
+    let mut rows: Vec<(&str, &Interval, Option<f64>, Option<f64>)> = Vec::new();
+    if scale_known(o) {
+        let p = truth.map(|t| &t.plant);
+        rows.push(("m [kg]", &u.mass, None, p.map(|p| p.masses[0])));
+        rows.push(("c [N·s/m]", &u.damping, None, p.map(|p| p.dampers[0])));
+        rows.push(("k [N/m]", &u.stiffness, None, p.map(|p| p.springs[0])));
+    } else {
+        rows.push((
+            "gain 1/m [1/kg]",
+            &f.gain,
+            None,
+            truth.map(|t| 1.0 / t.plant.masses[0]),
+        ));
+    }
+    rows.push((
+        "fn [Hz]",
+        &u.natural_frequency_hz,
+        classroom.map(|c| c.natural_frequency_hz),
+        mode.map(|m| m.natural_frequency_hz),
+    ));
+    rows.push((
+        "ζ [-]",
+        &u.damping_ratio,
+        classroom.map(|c| c.damping_ratio),
+        mode.map(|m| m.damping_ratio),
+    ));
+    rows
 }
 
 #[cfg(test)]

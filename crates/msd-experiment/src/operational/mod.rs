@@ -429,12 +429,11 @@ impl crate::finished::Finished for OperationalOutcome {
         tables(self)
     }
 
-    fn report(
-        &self,
-        figures: &[&str],
-        _extra: &[(&'static str, Duration)],
-        _elapsed: Duration,
-    ) -> String {
+    fn timings(&self) -> &[(&'static str, Duration)] {
+        &self.timings
+    }
+
+    fn report(&self, figures: &[&str]) -> String {
         report::markdown(self, figures)
     }
 
@@ -446,12 +445,7 @@ impl crate::finished::Finished for OperationalOutcome {
         results(self, extra, total)
     }
 
-    fn summary(
-        &self,
-        _extra: &[(&'static str, Duration)],
-        _total: Duration,
-        target: &Path,
-    ) -> String {
-        format!("{}results in {}\n", report::summary(self), target.display())
+    fn summary(&self) -> String {
+        report::summary(self)
     }
 }

@@ -2,6 +2,7 @@
 
 use super::OperationalOutcome;
 use crate::fmt::sig;
+use crate::summary;
 use msd_modal::{Mode, Quantity};
 use std::fmt::Write;
 
@@ -213,19 +214,26 @@ fn method(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     }
 }
 
-/// What the command prints: the verdict, then one line per mode.
+/// What the command prints: what was analysed, the verdict, the modes.
 pub(crate) fn summary(o: &OperationalOutcome) -> String {
-    let mut s = format!("{}: {}\n", o.config.name, o.verdict);
-    for (k, m) in o.fit.modes.iter().enumerate() {
-        let f = &m.natural_frequency_hz;
-        let z = &m.damping_ratio;
-        let [fv, f0, f1] = digits(f, 1.0, 6);
-        let [zv, z0, z1] = digits(z, 100.0, 3);
-        s += &format!(
-            "  mode {}: fn = {fv} Hz [{f0} … {f1}], ζ = {zv} % [{z0} … {z1}]\n",
-            k + 1
-        );
-    }
+    let mut s = String::new();
+    let data = summary::data(o.truth.is_some().then_some(o.seed));
+    summary::head(
+        &mut s,
+        &o.config.name,
+        &format!(
+            "output-only modal analysis by {}: {} channels at {} Hz; {data}",
+            o.fit.method,
+            o.record.channels.len(),
+            o.record.sample_rate_hz
+        ),
+    );
+    summary::verdict(&mut s, &o.verdict);
+    s.push('\n');
+    let rows: Vec<summary::ModeRow> = (o.fit.modes.iter())
+        .map(|m| summary::ModeRow::of(m, String::new()))
+        .collect();
+    summary::modes(&mut s, &rows);
     s
 }
 

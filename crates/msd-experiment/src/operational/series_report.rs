@@ -258,12 +258,11 @@ impl crate::finished::Finished for SeriesOutcome {
         tables
     }
 
-    fn report(
-        &self,
-        figures: &[&str],
-        _extra: &[(&'static str, Duration)],
-        _elapsed: Duration,
-    ) -> String {
+    fn timings(&self) -> &[(&'static str, Duration)] {
+        &self.timings
+    }
+
+    fn report(&self, figures: &[&str]) -> String {
         let mut s = String::new();
         // Writing into a String cannot fail.
         let _ = page(&mut s, self, figures);
@@ -278,22 +277,28 @@ impl crate::finished::Finished for SeriesOutcome {
         results(self, extra, total)
     }
 
-    fn summary(
-        &self,
-        _extra: &[(&'static str, Duration)],
-        _total: Duration,
-        target: &Path,
-    ) -> String {
-        let mut s = format!("{}: {}\n", self.config.name, self.verdict);
-        for (k, m) in self.merged.modes.iter().enumerate() {
-            let [fv, f0, f1, zv, z0, z1] = cells(m);
-            s += &format!(
-                "  mode {}: fn = {fv} Hz [{f0} … {f1}], ζ = {zv} % [{z0} … {z1}], {} of {} records\n",
-                k + 1,
-                self.merged.found[k].iter().flatten().count(),
+    fn summary(&self) -> String {
+        let mut s = String::new();
+        let method = self.records.first().map(|r| r.fit.method.to_string());
+        crate::summary::head(
+            &mut s,
+            &self.config.name,
+            &format!(
+                "output-only modal analysis by {}: {} records, each analysed alone and the modes joined",
+                method.unwrap_or_default(),
                 self.records.len()
-            );
-        }
-        format!("{s}results in {}\n", target.display())
+            ),
+        );
+        crate::summary::verdict(&mut s, &self.verdict);
+        s.push('\n');
+        let rows: Vec<crate::summary::ModeRow> = (self.merged.modes.iter().enumerate())
+            .map(|(k, m)| {
+                let found = self.merged.found[k].iter().flatten().count();
+                let note = format!("in {found} of {} records", self.records.len());
+                crate::summary::ModeRow::of(m, note)
+            })
+            .collect();
+        crate::summary::modes(&mut s, &rows);
+        s
     }
 }

@@ -540,13 +540,12 @@ impl crate::finished::Finished for Outcome {
             .collect()
     }
 
-    fn report(
-        &self,
-        figures: &[&str],
-        extra: &[(&'static str, Duration)],
-        elapsed: Duration,
-    ) -> String {
-        report::markdown(self, figures, extra, elapsed)
+    fn timings(&self) -> &[(&'static str, Duration)] {
+        &self.timings
+    }
+
+    fn report(&self, figures: &[&str]) -> String {
+        report::markdown(self, figures)
     }
 
     fn results(
@@ -557,13 +556,8 @@ impl crate::finished::Finished for Outcome {
         Ok(results::to_json(self, extra, total))
     }
 
-    fn summary(
-        &self,
-        extra: &[(&'static str, Duration)],
-        total: Duration,
-        target: &Path,
-    ) -> String {
-        summary::text(self, extra, total, target)
+    fn summary(&self) -> String {
+        summary::text(self)
     }
 }
 

@@ -2,13 +2,9 @@
 //! embedded.
 
 use super::Outcome;
-use super::summary::stage_label;
 use crate::config::Kind;
-use crate::fmt::{
-    display_output, method_name, millis, parameter_rows, parameter_units, short, sig,
-};
+use crate::fmt::{display_output, method_name, parameter_rows, parameter_units, short, sig};
 use std::fmt::Write;
-use std::time::Duration;
 
 mod nonlinear;
 
@@ -19,14 +15,9 @@ fn yes(b: bool) -> &'static str {
     if b { "yes" } else { "**no**" }
 }
 
-/// The markdown report of `outcome`; `figures` are the base names written, `extra` the
-/// writing stages' timings so far and `elapsed` the run's wall time so far.
-pub fn markdown(
-    outcome: &Outcome,
-    figures: &[&str],
-    extra: &[(&'static str, Duration)],
-    elapsed: Duration,
-) -> String {
+/// The markdown report of `outcome` (but for its timings, which the writer adds);
+/// `figures` are the base names written.
+pub fn markdown(outcome: &Outcome, figures: &[&str]) -> String {
     let id = &outcome.data.identification;
     let (factor, out_unit) = display_output(&id.output_unit);
     let page = Page {
@@ -38,7 +29,7 @@ pub fn markdown(
     };
     let mut s = String::new();
     // Writing into a String cannot fail.
-    let _ = sections(&mut s, &page, extra, elapsed);
+    let _ = sections(&mut s, &page);
     s
 }
 
@@ -60,12 +51,7 @@ impl Page<'_> {
     }
 }
 
-fn sections(
-    w: &mut String,
-    c: &Page<'_>,
-    extra: &[(&'static str, Duration)],
-    elapsed: Duration,
-) -> std::fmt::Result {
+fn sections(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
     header(w, c)?;
     in_short(w, c)?;
     data(w, c)?;
@@ -77,7 +63,6 @@ fn sections(
     if let Some(n) = &c.outcome.nonlinear {
         nonlinear::section(w, c.outcome, n, c.has("nonlinear_residuals"))?;
     }
-    timings(w, c, extra, elapsed)?;
     files(w, c)
 }
 
@@ -602,23 +587,6 @@ fn monte_carlo(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
             )?;
         }
     }
-    Ok(())
-}
-
-/// The stages' wall times.
-fn timings(
-    w: &mut String,
-    c: &Page<'_>,
-    extra: &[(&'static str, Duration)],
-    elapsed: Duration,
-) -> std::fmt::Result {
-    let o = c.outcome;
-    writeln!(w, "## Timings\n")?;
-    writeln!(w, "| stage | time [ms] |\n|---|---|")?;
-    for (name, d) in o.timings.iter().chain(extra) {
-        writeln!(w, "| {} | {} |", stage_label(name), millis(*d))?;
-    }
-    writeln!(w, "| total before this report | {} |\n", millis(elapsed))?;
     Ok(())
 }
 

@@ -1,49 +1,27 @@
 //! The concise summary printed after a run: parameters with intervals, fit on both
 //! records, residual, frequency and Monte Carlo verdicts, and the time of each stage.
 
-use crate::fmt::{display_output, millis, parameter_rows, parameter_units, sig};
+use crate::fmt::{display_output, parameter_rows, parameter_units, sig};
 use crate::paper::Outcome;
+use crate::summary;
 use std::fmt::Write;
-use std::path::Path;
-use std::time::Duration;
 
-/// The stage names as printed.
-pub(crate) fn stage_label(name: &str) -> &str {
-    match name {
-        "frequency_check" => "frequency check",
-        "monte_carlo" => "Monte Carlo",
-        "nonlinear" => "nonlinear models",
-        other => other,
-    }
-}
-
-/// The summary text of a finished run whose report is in `out_dir`.
-pub fn text(
-    outcome: &Outcome,
-    extra: &[(&'static str, Duration)],
-    total: Duration,
-    out_dir: &Path,
-) -> String {
+/// The summary text of a finished run, but for the writer's footer (the stages' times,
+/// where the report is).
+pub fn text(outcome: &Outcome) -> String {
     let mut s = String::new();
     // Writing into a String cannot fail.
-    let _ = sections(&mut s, outcome, extra, total, out_dir);
+    let _ = sections(&mut s, outcome);
     s
 }
 
-fn sections(
-    w: &mut String,
-    o: &Outcome,
-    extra: &[(&'static str, Duration)],
-    total: Duration,
-    out_dir: &Path,
-) -> std::fmt::Result {
+fn sections(w: &mut String, o: &Outcome) -> std::fmt::Result {
     let set = &o.data.identification;
     let (factor, out_unit) = display_output(&set.output_unit);
     header(w, o)?;
     parameters(w, o)?;
     fits(w, o, factor, &out_unit)?;
-    checks(w, o, factor, &out_unit)?;
-    footer(w, o, extra, total, out_dir)
+    checks(w, o, factor, &out_unit)
 }
 
 /// The experiment's name and data, and how the solver ended.
@@ -56,10 +34,9 @@ fn header(w: &mut String, o: &Outcome) -> std::fmt::Result {
         }
         crate::config::Kind::Measured => "measured data".to_string(),
     };
-    writeln!(w, "experiment `{}` ({kind})", o.config.name)?;
-    writeln!(
-        w,
-        "  {}{}: {} iterations, {} evaluations, {}",
+    summary::head(w, &o.config.name, &format!("the paper's workflow: {kind}"));
+    let solver = format!(
+        "{}{}: {} iterations, {} evaluations, {}",
         crate::fmt::solver_start(e),
         if e.initial_guess.1 == msd_ident::estimate::GuessSource::Automatic {
             " (automatic)"
@@ -73,7 +50,8 @@ fn header(w: &mut String, o: &Outcome) -> std::fmt::Result {
         } else {
             format!("NOT converged ({})", e.stop.optimiser_reason())
         }
-    )?;
+    );
+    summary::labelled(w, "estimation", &solver);
     Ok(())
 }
 
@@ -84,34 +62,24 @@ fn parameters(w: &mut String, o: &Outcome) -> std::fmt::Result {
     let set = &o.data.identification;
     let units = parameter_units(&set.input_unit, &set.output_unit);
     writeln!(w)?;
-    let truth = o.data.truth;
-    writeln!(
+    let rows: Vec<summary::Estimate> = parameter_rows(u, o.data.truth, &units)
+        .into_iter()
+        .map(|(label, truth, i)| summary::Estimate {
+            label,
+            value: i.value,
+            interval: Some(i.ci95),
+            truth,
+        })
+        .collect();
+    summary::estimates(w, &rows);
+    summary::labelled(
         w,
-        "  {:<14} {:>10} {:>11}   95 % interval",
-        "parameter",
-        if truth.is_some() { "true" } else { "" },
-        "estimate",
-    )?;
-    let rows = parameter_rows(u, truth, &units);
-    for (name, true_value, i) in rows {
-        writeln!(
-            w,
-            "  {:<14} {:>10} {:>11}   [{}, {}]",
-            name,
-            true_value.map(|v| sig(v, 5)).unwrap_or_default(),
-            sig(i.value, 5),
-            sig(i.ci95[0], 5),
-            sig(i.ci95[1], 5)
-        )?;
-    }
-    writeln!(
-        w,
-        "  ωn = {} rad/s",
-        sig(e.parameters.natural_frequency(), 5)
-    )?;
+        "ωn",
+        &format!("{} rad/s", sig(e.parameters.natural_frequency(), 5)),
+    );
     let insignificant = insignificance(&o.significance);
     for warning in u.warnings.iter().chain(&o.data.notes).chain(&insignificant) {
-        writeln!(w, "  warning        {warning}")?;
+        summary::labelled(w, "warning", warning);
     }
     Ok(())
 }
@@ -196,35 +164,6 @@ fn checks(w: &mut String, o: &Outcome, factor: f64, out_unit: &str) -> std::fmt:
             nonlinear_line(n, factor, out_unit)
         )?;
     }
-    Ok(())
-}
-
-/// The stages' times and where the report is.
-fn footer(
-    w: &mut String,
-    o: &Outcome,
-    extra: &[(&'static str, Duration)],
-    total: Duration,
-    out_dir: &Path,
-) -> std::fmt::Result {
-    let times: Vec<String> = o
-        .timings
-        .iter()
-        .chain(extra)
-        .map(|(name, d)| format!("{} {}", stage_label(name), millis(*d)))
-        .collect();
-    writeln!(w)?;
-    writeln!(
-        w,
-        "  time [ms]      {} · total {}",
-        times.join(" · "),
-        millis(total)
-    )?;
-    writeln!(
-        w,
-        "  report         {} (and report.md)",
-        out_dir.join("report.html").display()
-    )?;
     Ok(())
 }
 

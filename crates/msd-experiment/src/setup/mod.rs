@@ -102,12 +102,11 @@ impl crate::finished::Finished for SetupOutcome {
         tables(self)
     }
 
-    fn report(
-        &self,
-        figures: &[&str],
-        _extra: &[(&'static str, Duration)],
-        _elapsed: Duration,
-    ) -> String {
+    fn timings(&self) -> &[(&'static str, Duration)] {
+        &self.timings
+    }
+
+    fn report(&self, figures: &[&str]) -> String {
         report(self, figures)
     }
 
@@ -119,12 +118,7 @@ impl crate::finished::Finished for SetupOutcome {
         results(self, extra, total)
     }
 
-    fn summary(
-        &self,
-        _extra: &[(&'static str, Duration)],
-        _total: Duration,
-        target: &Path,
-    ) -> String {
-        format!("{}\nresults in {}\n", summary(self), target.display())
+    fn summary(&self) -> String {
+        summary(self)
     }
 }

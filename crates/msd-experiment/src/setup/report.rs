@@ -1,8 +1,9 @@
 //! `report.md` of a setup run and the summary the command prints.
 
 use super::{SetupFit, SetupOutcome};
-use crate::fmt::{millis, sig};
+use crate::fmt::sig;
 use crate::noise_report;
+use crate::summary;
 use msd_ident::{Interval, RecordsFit};
 use std::fmt::Write;
 
@@ -26,7 +27,7 @@ pub(crate) fn estimates(o: &SetupOutcome) -> Vec<(&'static str, String, Interval
                         "coulomb_force" => Some(p.coulomb_force),
                         _ => None,
                     });
-                    (*name, (*name).to_string(), *iv, t)
+                    (*name, machine_label(name), *iv, t)
                 })
                 .collect()
         }
@@ -34,9 +35,30 @@ pub(crate) fn estimates(o: &SetupOutcome) -> Vec<(&'static str, String, Interval
             let best = &f.inverse.laws[f.inverse.best];
             best.coefficients
                 .iter()
-                .map(|c| (c.name, format!("{} [{}]", c.name, c.unit), c.estimate, None))
+                .map(|c| {
+                    let label = machine_label(c.name);
+                    let label = if label == c.name {
+                        format!("{} [{}]", c.name, c.unit)
+                    } else {
+                        label
+                    };
+                    (c.name, label, c.estimate, None)
+                })
                 .collect()
         }
+    }
+}
+
+/// A test machine's coefficient with its unit, as `c₂ [N·s²/m²]`.
+fn machine_label(name: &str) -> String {
+    match name {
+        "mass" => "m [kg]".into(),
+        "damping" => "c [N·s/m]".into(),
+        "stiffness" => "k [N/m]".into(),
+        "quadratic_damping" => "c₂ [N·s²/m²]".into(),
+        "coulomb_force" => "F_c [N]".into(),
+        "force_offset" => "force offset [N]".into(),
+        other => other.into(),
     }
 }
 
@@ -68,7 +90,7 @@ fn plant_rows(
     ));
     rows.push((
         "damping_ratio",
-        "ζ".into(),
+        "ζ [-]".into(),
         p.damping_ratio,
         truth.map(|t| t.damping_ratio()),
     ));
@@ -77,28 +99,36 @@ fn plant_rows(
 
 /// The summary the command prints: the setup and the estimates.
 pub(crate) fn summary(o: &SetupOutcome) -> String {
-    let mut s = format!(
-        "{}: {} record(s), excitation {}, channels {}\n",
-        o.config.name,
-        o.data.records.len(),
-        o.data.setup.excitation.name(),
-        channel_names(o).join(", ")
+    let mut s = String::new();
+    let records = summary::plural(o.data.records.len(), "record", "records");
+    let data = summary::data(o.data.files.is_empty().then_some(o.seed));
+    summary::head(
+        &mut s,
+        &o.config.name,
+        &format!(
+            "a lab setup: {records}, {}, channels {}; {data}",
+            match o.data.setup.excitation {
+                crate::config::ExcitationKind::None => "a free decay".to_string(),
+                other => format!("drive {}", other.name().replace('_', " ")),
+            },
+            channel_names(o).join(", ")
+        ),
     );
-    crate::verdict::summary(&mut s, &o.verdict);
-    for (_, label, iv, truth) in estimates(o) {
-        let _ = write!(s, "  {label:<22} {}  ", sig(iv.value, 6));
-        if iv.standard_error == 0.0 {
-            s.push_str("known, fixed");
-        } else {
-            let _ = write!(s, "95 % [{}, {}]", sig(iv.ci95[0], 6), sig(iv.ci95[1], 6));
-        }
-        if let Some(t) = truth {
-            let _ = write!(s, "  (true {})", sig(t, 6));
-        }
-        s.push('\n');
-    }
+    summary::verdict(&mut s, &o.verdict);
+    s.push('\n');
+    let rows: Vec<summary::Estimate> = estimates(o)
+        .into_iter()
+        .map(|(_, label, iv, truth)| summary::Estimate {
+            label,
+            value: iv.value,
+            interval: (iv.standard_error != 0.0).then_some(iv.ci95),
+            truth,
+        })
+        .collect();
+    summary::estimates(&mut s, &rows);
+    s.push('\n');
     if let Some(note) = identifiability_note(o) {
-        let _ = writeln!(s, "  note: {note}");
+        summary::labelled(&mut s, "note", note);
     }
     match &o.fit {
         SetupFit::Records { fit, .. } => {
@@ -170,10 +200,6 @@ fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result 
     for f in figures {
         let (alt, caption) = figure_caption(f);
         writeln!(s, "![{alt}]({f}.png)\n\n*{caption}*\n")?;
-    }
-    writeln!(s, "## Timings\n\n| stage | time [ms] |\n|---|---|")?;
-    for (name, d) in &o.timings {
-        writeln!(s, "| {name} | {} |", millis(*d))?;
     }
     Ok(())
 }

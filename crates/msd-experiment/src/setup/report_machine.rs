@@ -89,13 +89,8 @@ pub(crate) fn summary(s: &mut String, m: &Dynamometer) {
     let worst = (m.leave_one_out.iter().flatten())
         .min_by(|a, b| a.fit.r_squared.total_cmp(&b.fit.r_squared));
     if let Some(p) = worst {
-        let _ = writeln!(
-            s,
-            "  validation on fresh data (leave one condition out): worst R² {} ({}), fit {} %",
-            sig(p.fit.r_squared, 5),
-            p.condition,
-            sig(p.fit.fit_percent, 4)
-        );
+        let how = "leave one condition out";
+        crate::summary::fresh_data(s, how, &p.fit, Some(&p.condition));
     }
 }
 

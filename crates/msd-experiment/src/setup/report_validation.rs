@@ -94,21 +94,19 @@ pub(super) fn summary(s: &mut String, fit: &RecordsFit) {
         .clone()
         .min_by(|a, b| a.1.fit.r_squared.total_cmp(&b.1.fit.r_squared));
     if let Some((_, c, _)) = worst {
-        let _ = writeln!(
-            s,
-            "  validation on fresh data ({what}): worst R² {}, fit {} %",
-            sig(c.fit.r_squared, 5),
-            sig(c.fit.fit_percent, 4)
-        );
+        crate::summary::fresh_data(s, what, &c.fit, None);
     }
     for (p, c, a) in rows {
         if let Some(a) = a.as_ref().filter(|a| !a.cross_correlation_passed) {
-            let _ = writeln!(
+            crate::summary::labelled(
                 s,
-                "  warning: validation: record `{}`, channel `{}`: the residual correlates with the drive on fresh data (max |ρ| = {}): part of its effect is not explained (report.md, Validation)",
-                p.record,
-                c.channel,
-                sig(a.cross_correlation.max_abs, 2)
+                "warning",
+                &format!(
+                    "validation: record `{}`, channel `{}`: the residual correlates with the drive on fresh data (max |ρ| = {}): part of its effect is not explained (report.md, Validation)",
+                    p.record,
+                    c.channel,
+                    sig(a.cross_correlation.max_abs, 2)
+                ),
             );
         }
     }

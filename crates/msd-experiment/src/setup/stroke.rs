@@ -172,19 +172,25 @@ pub(crate) fn section(s: &mut String, f: &StrokeFit) -> std::fmt::Result {
 
 /// The summary's lines: the method and the validation records' errors.
 pub(crate) fn summary(s: &mut String, f: &StrokeFit) {
-    let _ = writeln!(
+    crate::summary::labelled(
         s,
-        "  any stroke: inverse dynamics, low-pass {} Hz, {}",
-        sig(f.inverse.cutoff_hz, 4),
-        f.inverse.verdict
+        "method",
+        &format!(
+            "any stroke: inverse dynamics, low-pass {} Hz, {}",
+            sig(f.inverse.cutoff_hz, 4),
+            f.inverse.verdict
+        ),
     );
     for p in f.predictions.iter().filter(|p| p.validation) {
-        let _ = writeln!(
+        crate::summary::labelled(
             s,
-            "  validation `{}`: RMS force error {} N of {} N RMS",
-            p.record,
-            sig(p.force.rms_error, 4),
-            sig(p.force.rms_force, 4)
+            "validation",
+            &format!(
+                "`{}`: RMS force error {} N of {} N RMS",
+                p.record,
+                sig(p.force.rms_error, 4),
+                sig(p.force.rms_force, 4)
+            ),
         );
     }
 }

@@ -180,7 +180,11 @@ fn a_mode_the_model_lacks_fails_the_noise_check() {
             .starts_with("use with care: the residual exceeds the FRF's own noise"),
         "{verdict}"
     );
-    assert!(outcome.to_string().contains("\nverdict: use with care"));
+    assert!(
+        outcome
+            .to_string()
+            .contains("\n  verdict        use with care")
+    );
 }
 
 /// The verdict says what the force's noise did: corrected on whole records under a
