@@ -169,6 +169,38 @@ def test_a_chain_runs_from_a_dict(root, tmp_path):
     assert len(b["fit"]["modes"]) == 2
 
 
+def test_a_measured_chain_runs_on_columns_in_memory(root, tmp_path):
+    """A chain's measured record (the drive's column and each sensor's): the synthetic
+    two-storey run's record.csv given as NumPy columns to its template."""
+    out = tmp_path / "synthetic"
+    msd.run(root / "configs/two-storey.toml", out=out)
+    a, b, folder = run_both(root, tmp_path, "configs/templates/two-storey.toml", {"data.path": out / "record.csv"})
+    assert compare(a, b, folder) == []
+    assert a["experiment"]["kind"] == b["experiment"]["kind"] == "measured"
+    assert len(b["fit"]["modes"]) == 2
+
+
+def test_output_only_analysis_runs_from_memory(root, tmp_path):
+    """Output-only modal analysis: a simulated building from its dict alone, and the real
+    steel frame's pyOMA setup (the `.npy` record, its channel and setup files, the
+    geometry) given as bytes."""
+    a, b, folder = run_both(root, tmp_path, "configs/shear-building.toml", {})
+    assert compare(a, b, folder) == []
+    frame = root / "data/steel-frame"
+    require(frame / "measurement_1/measurement_1.npy", "cargo xtask fetch-data steel-frame", "MSD_REQUIRE_REAL_DATA")
+    files = {
+        "operational.record.path": frame / "measurement_1/measurement_1.npy",
+        "operational.record.channel_dofs": frame / "measurement_1/channel_dofs.txt",
+        "operational.record.setup_info": frame / "measurement_1/setup_info.txt",
+        "operational.geometry.nodes": frame / "grid.txt",
+        "operational.geometry.lines": frame / "lines.txt",
+    }
+    (tmp_path / "frame").mkdir()
+    a, b, folder = run_both(root, tmp_path / "frame", "configs/steel-frame.toml", files)
+    assert compare(a, b, folder) == []
+    assert len(b["modes"]) == len(a["modes"]) >= 5
+
+
 def test_memory_errors_name_the_file_and_key(root, tmp_path):
     cfg = tomllib.loads((root / "configs/templates/accelerometer.toml").read_text())
     cfg["data"]["path"] = "shaker.csv"

@@ -371,7 +371,17 @@ pub(crate) fn results(
     let chain = &o.chain;
     let timings = crate::results::timings_ms(&o.timings, extra, total);
     let results = Results {
-        experiment: Header::new(&o.config, &o.config_path, "synthetic", o.seed, None),
+        experiment: Header::new(
+            &o.config,
+            &o.config_path,
+            if chain.plant.is_some() {
+                "synthetic"
+            } else {
+                "measured"
+            },
+            o.seed,
+            None,
+        ),
         command: &o.command,
         verdict: &o.verdict,
         chain,
