@@ -98,22 +98,40 @@ pub(crate) fn timings_ms(
     timings
 }
 
-/// The head of a run's report: its name, its description, and how it was run (with the
-/// seed when the run draws random numbers: synthetic data, a Monte Carlo band).
+/// The head of every kind's report: its name and description, what the run identifies
+/// from what (`what`, one sentence), and how it was run — the config, the command, the
+/// seed where the run draws random numbers (synthetic data, a Monte Carlo band), the
+/// toolkit's version and the kind's own `rows` (a method, the worker threads).
 pub(crate) fn report_head(
     s: &mut String,
-    config: &crate::config::Config,
-    command: &str,
-    config_path: &std::path::Path,
+    run: (&crate::config::Config, &std::path::Path, &str),
+    what: &str,
     seed: Option<u64>,
+    rows: &[(&str, String)],
 ) -> std::fmt::Result {
     use std::fmt::Write;
-    writeln!(s, "# {}\n", config.name)?;
+    let (config, config_path, command) = run;
+    writeln!(s, "# Experiment `{}`\n", config.name)?;
     if !config.description.is_empty() {
-        writeln!(s, "{}\n", config.description)?;
+        writeln!(s, "{}\n", config.description.trim())?;
     }
-    let seed = seed.map_or(String::new(), |seed| format!(" (seed {seed})"));
-    writeln!(s, "Run with `{command} {}`{seed}.\n", config_path.display())
+    writeln!(s, "{}.\n", crate::fmt::capitalised(what))?;
+    writeln!(s, "| run | |\n|---|---|")?;
+    match config_path.file_name() {
+        None => writeln!(s, "| config | built by the calling program (Rust API) |")?,
+        Some(file) => {
+            writeln!(s, "| config | `{}` |", file.to_string_lossy())?;
+            writeln!(s, "| command | `{command} {}` |", config_path.display())?;
+        }
+    }
+    if let Some(seed) = seed {
+        writeln!(s, "| seed | {seed} |")?;
+    }
+    writeln!(s, "| toolkit version | {CRATE_VERSION} |")?;
+    for (name, value) in rows {
+        writeln!(s, "| {name} | {value} |")?;
+    }
+    writeln!(s)
 }
 
 /// The report's last section, the same for every kind: each stage's wall time (the

@@ -2,7 +2,9 @@
 //! (what ran)`, then lines that are either a label in the 14-wide column and its text,
 //! a continuation under that text, or a table row; a table's header names its columns
 //! (`quantity … 95 % interval`, `mode fn [Hz] … ζ [-] …`); and every summary ends with
-//! the stages' times and where the report is.
+//! the stages' times and where the report is. Every report opens with the same head (the
+//! name, a sentence on what was identified from what, the run's table) and ends with the
+//! same table of timings.
 
 use msd_tests::{config, run_in_temp};
 
@@ -87,7 +89,7 @@ fn check(name: &str, summary: &str) {
 }
 
 #[test]
-fn every_kind_prints_its_summary_in_one_format() {
+fn every_kind_prints_its_summary_and_report_head_in_one_format() {
     for name in [
         "paper-fast",
         "repeats",
@@ -102,5 +104,18 @@ fn every_kind_prints_its_summary_in_one_format() {
     ] {
         let run = run_in_temp(&config(&format!("{name}.toml")), None, None).expect(name);
         check(name, &run.summary.summary);
+        let report = std::fs::read_to_string(run.out().join("report.md")).expect("report.md");
+        let head = format!("# Experiment `{name}`\n\n");
+        assert!(report.starts_with(&head), "{name}: {}", &report[..80]);
+        let table = format!("| run | |\n|---|---|\n| config | `{name}.toml` |\n");
+        assert!(report.contains(&table), "{name}");
+        let timings = report
+            .rfind("## Timings\n\n| stage | time [ms] |")
+            .expect("timings");
+        assert!(
+            !report[timings..].contains("\n## ") && report.trim_end().ends_with('|'),
+            "{name}: the timings end the report"
+        );
+        assert!(report.contains("| total before this report | "), "{name}");
     }
 }

@@ -120,7 +120,8 @@ fn fit_section(s: &mut String, o: &ChainOutcome) -> std::fmt::Result {
 
 fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result {
     let chain = &o.chain;
-    crate::results::report_head(s, &o.config, &o.command, &o.config_path, Some(o.seed))?;
+    let run = (&o.config, o.config_path.as_path(), o.command.as_str());
+    crate::results::report_head(s, run, &what(o), Some(o.seed), &[])?;
     crate::verdict::section(s, &o.verdict)?;
     writeln!(s, "## Chain\n")?;
     writeln!(
@@ -418,19 +419,20 @@ fn ignoring(s: &mut String, o: &ChainOutcome, ideal: &ChainFit) -> std::fmt::Res
     Ok(())
 }
 
+/// What the run identifies from what, for the summary's and the report's head.
+fn what(o: &ChainOutcome) -> String {
+    format!(
+        "a chain of {}, {}; {}",
+        summary::plural(o.chain.size(), "mass", "masses"),
+        summary::plural(o.chain.sensors.len(), "sensor", "sensors"),
+        summary::data(o.chain.plant.is_some().then_some(o.seed))
+    )
+}
+
 /// The summary the command prints.
 pub(crate) fn summary(o: &ChainOutcome) -> String {
     let mut s = String::new();
-    let data = summary::data(o.chain.plant.is_some().then_some(o.seed));
-    summary::head(
-        &mut s,
-        &o.config.name,
-        &format!(
-            "a chain of {}, {}; {data}",
-            summary::plural(o.chain.size(), "mass", "masses"),
-            summary::plural(o.chain.sensors.len(), "sensor", "sensors")
-        ),
-    );
+    summary::head(&mut s, &o.config.name, &what(o));
     summary::verdict(&mut s, &o.verdict);
     s.push('\n');
     let u = &o.fit.uncertainty;

@@ -73,25 +73,9 @@ pub(crate) fn markdown(o: &FrfOutcome, figures: &[&str]) -> String {
 }
 
 fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
-    writeln!(w, "# Experiment `{}`\n", o.config.name)?;
-    if !o.config.description.is_empty() {
-        writeln!(w, "{}\n", o.config.description.trim())?;
-    }
-    writeln!(w, "Frequency-domain identification from {}.\n", o.source)?;
-    writeln!(w, "| run | |\n|---|---|")?;
-    writeln!(w, "| config | `{}` |", o.config_path.display())?;
-    writeln!(
-        w,
-        "| command | `{} {}` |",
-        o.command,
-        o.config_path.display()
-    )?;
-    writeln!(w, "| seed | {} |", o.seed)?;
-    writeln!(
-        w,
-        "| toolkit version | {} |\n",
-        crate::results::CRATE_VERSION
-    )?;
+    let run = (&o.config, o.config_path.as_path(), o.command.as_str());
+    let what = format!("frequency-domain identification from {}", o.source);
+    crate::results::report_head(w, run, &what, Some(o.seed), &[])?;
     if let Some(v) = &o.verdict {
         verdict::section(w, v)?;
     }

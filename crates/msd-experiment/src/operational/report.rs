@@ -16,13 +16,8 @@ pub(crate) fn markdown(o: &OperationalOutcome, figures: &[&str]) -> String {
 
 fn page(s: &mut String, o: &OperationalOutcome, figures: &[&str]) -> std::fmt::Result {
     let simulated = o.section.simulate.is_some();
-    crate::results::report_head(
-        s,
-        &o.config,
-        &o.command,
-        &o.config_path,
-        simulated.then_some(o.seed),
-    )?;
+    let run = (&o.config, o.config_path.as_path(), o.command.as_str());
+    crate::results::report_head(s, run, &what(o), simulated.then_some(o.seed), &[])?;
     crate::verdict::section(s, &o.verdict)?;
     record(s, o)?;
     modes(s, o)?;
@@ -214,20 +209,21 @@ fn method(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     }
 }
 
+/// What the run identifies from what, for the summary's and the report's head.
+fn what(o: &OperationalOutcome) -> String {
+    format!(
+        "output-only modal analysis by {}: {} channels at {} Hz; {}",
+        o.fit.method,
+        o.record.channels.len(),
+        o.record.sample_rate_hz,
+        summary::data(o.truth.is_some().then_some(o.seed))
+    )
+}
+
 /// What the command prints: what was analysed, the verdict, the modes.
 pub(crate) fn summary(o: &OperationalOutcome) -> String {
     let mut s = String::new();
-    let data = summary::data(o.truth.is_some().then_some(o.seed));
-    summary::head(
-        &mut s,
-        &o.config.name,
-        &format!(
-            "output-only modal analysis by {}: {} channels at {} Hz; {data}",
-            o.fit.method,
-            o.record.channels.len(),
-            o.record.sample_rate_hz
-        ),
-    );
+    summary::head(&mut s, &o.config.name, &what(o));
     summary::verdict(&mut s, &o.verdict);
     s.push('\n');
     let rows: Vec<summary::ModeRow> = (o.fit.modes.iter())

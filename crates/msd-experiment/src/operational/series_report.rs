@@ -15,8 +15,19 @@ use std::fmt::Write;
 use std::path::Path;
 use std::time::Duration;
 
+/// What the run identifies from what, for the summary's and the report's head.
+fn what(o: &SeriesOutcome) -> String {
+    let method = o.records.first().map(|r| r.fit.method.to_string());
+    format!(
+        "output-only modal analysis by {}: {} records, each analysed alone and the modes joined; measured data",
+        method.unwrap_or_default(),
+        o.records.len()
+    )
+}
+
 fn page(s: &mut String, o: &SeriesOutcome, figures: &[&str]) -> std::fmt::Result {
-    crate::results::report_head(s, &o.config, &o.command, &o.config_path, None)?;
+    let run = (&o.config, o.config_path.as_path(), o.command.as_str());
+    crate::results::report_head(s, run, &what(o), None, &[])?;
     crate::verdict::section(s, &o.verdict)?;
     writeln!(s, "## Records\n")?;
     writeln!(
@@ -279,16 +290,7 @@ impl crate::finished::Finished for SeriesOutcome {
 
     fn summary(&self) -> String {
         let mut s = String::new();
-        let method = self.records.first().map(|r| r.fit.method.to_string());
-        crate::summary::head(
-            &mut s,
-            &self.config.name,
-            &format!(
-                "output-only modal analysis by {}: {} records, each analysed alone and the modes joined",
-                method.unwrap_or_default(),
-                self.records.len()
-            ),
-        );
+        crate::summary::head(&mut s, &self.config.name, &what(self));
         crate::summary::verdict(&mut s, &self.verdict);
         s.push('\n');
         let rows: Vec<crate::summary::ModeRow> = (self.merged.modes.iter().enumerate())

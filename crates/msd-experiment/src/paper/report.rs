@@ -70,47 +70,21 @@ fn sections(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
 fn header(w: &mut String, c: &Page<'_>) -> std::fmt::Result {
     let o = c.outcome;
     let e = &o.estimate;
-    writeln!(w, "# Experiment `{}`\n", o.config.name)?;
-    if !o.config.description.is_empty() {
-        writeln!(w, "{}\n", o.config.description.trim())?;
-    }
-    writeln!(
-        w,
-        "Identification of mass *m*, damping *c* and stiffness *k* of m·x″ + c·x′ + k·x = F(t) from {}.\n",
+    let what = format!(
+        "identification of mass *m*, damping *c* and stiffness *k* of m·x″ + c·x′ + k·x = F(t) from {}",
         match o.data.kind {
-            Kind::Synthetic => "synthetic data generated from a known plant".to_string(),
-            Kind::Measured => "a measured record".to_string(),
+            Kind::Synthetic => "synthetic data generated from a known plant",
+            Kind::Measured => "a measured record",
         }
-    )?;
-    let config_file = o
-        .config_path
-        .file_name()
-        .map(|f| f.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    writeln!(w, "| run | |\n|---|---|")?;
-    if config_file.is_empty() {
-        writeln!(w, "| config | built by the calling program (Rust API) |")?;
-    } else {
-        writeln!(w, "| config | `{config_file}` |")?;
-        writeln!(
-            w,
-            "| command | `{} {}` |",
-            o.command,
-            o.config_path.display()
-        )?;
-    }
-    if o.data.kind == Kind::Synthetic {
-        writeln!(w, "| seed | {} |", o.seed)?;
-    }
-    writeln!(w, "| toolkit version | {} |", crate::results::CRATE_VERSION)?;
-    writeln!(
-        w,
-        "| method | {} on {} |",
-        method_name(e.method),
-        e.backend.name()
-    )?;
-    writeln!(w, "| worker threads | {} |\n", o.threads)?;
-    Ok(())
+    );
+    let method = format!("{} on {}", method_name(e.method), e.backend.name());
+    let rows = [
+        ("method", method),
+        ("worker threads", o.threads.to_string()),
+    ];
+    let run = (&o.config, o.config_path.as_path(), o.command.as_str());
+    let seed = (o.data.kind == Kind::Synthetic).then_some(o.seed);
+    crate::results::report_head(w, run, &what, seed, &rows)
 }
 
 /// The story in one paragraph: fit, truth, residuals, frequency, Monte Carlo, warnings.

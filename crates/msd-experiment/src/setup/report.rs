@@ -97,23 +97,24 @@ fn plant_rows(
     rows
 }
 
+/// What the run identifies from what, for the summary's and the report's head.
+fn what(o: &SetupOutcome) -> String {
+    let records = summary::plural(o.data.records.len(), "record", "records");
+    let data = summary::data(o.data.files.is_empty().then_some(o.seed));
+    format!(
+        "a lab setup: {records}, {}, channels {}; {data}",
+        match o.data.setup.excitation {
+            crate::config::ExcitationKind::None => "a free decay".to_string(),
+            other => format!("drive {}", other.name().replace('_', " ")),
+        },
+        channel_names(o).join(", ")
+    )
+}
+
 /// The summary the command prints: the setup and the estimates.
 pub(crate) fn summary(o: &SetupOutcome) -> String {
     let mut s = String::new();
-    let records = summary::plural(o.data.records.len(), "record", "records");
-    let data = summary::data(o.data.files.is_empty().then_some(o.seed));
-    summary::head(
-        &mut s,
-        &o.config.name,
-        &format!(
-            "a lab setup: {records}, {}, channels {}; {data}",
-            match o.data.setup.excitation {
-                crate::config::ExcitationKind::None => "a free decay".to_string(),
-                other => format!("drive {}", other.name().replace('_', " ")),
-            },
-            channel_names(o).join(", ")
-        ),
-    );
+    summary::head(&mut s, &o.config.name, &what(o));
     summary::verdict(&mut s, &o.verdict);
     s.push('\n');
     let rows: Vec<summary::Estimate> = estimates(o)
@@ -166,13 +167,9 @@ pub(crate) fn markdown(o: &SetupOutcome, figures: &[&str]) -> String {
 }
 
 fn page(s: &mut String, o: &SetupOutcome, figures: &[&str]) -> std::fmt::Result {
-    crate::results::report_head(
-        s,
-        &o.config,
-        &o.command,
-        &o.config_path,
-        o.data.files.is_empty().then_some(o.seed),
-    )?;
+    let run = (&o.config, o.config_path.as_path(), o.command.as_str());
+    let seed = o.data.files.is_empty().then_some(o.seed);
+    crate::results::report_head(s, run, &what(o), seed, &[])?;
     crate::verdict::section(s, &o.verdict)?;
     setup_section(s, o)?;
     estimate_section(s, o)?;
