@@ -167,24 +167,32 @@ pub enum Experiment {
 
 impl From<Config> for Experiment {
     fn from(config: Config) -> Self {
-        fn spec<S: KindSection>(config: &Config) -> Option<Box<Spec<S>>> {
-            Spec::new(config.clone()).ok().map(Box::new)
+        /// `config` with its section `S` taken as a value, wrapped by `kind`.
+        fn spec<S: KindSection>(
+            config: Config,
+            kind: fn(Box<Spec<S>>) -> Experiment,
+        ) -> Experiment {
+            match S::of(&config).cloned() {
+                Some(section) => kind(Box::new(Spec { config, section })),
+                // `of` found the kind by its section, so it is there.
+                None => Experiment::Paper(Box::new(config)),
+            }
         }
-        // `of` found the kind by its section, so each `spec` is there.
-        let resolved = match ExperimentKind::of(&config) {
-            ExperimentKind::Paper => None,
-            ExperimentKind::Setup => spec(&config).map(Self::Setup),
-            ExperimentKind::FrequencyResponse => spec(&config).map(Self::FrequencyResponse),
-            ExperimentKind::Chain => spec(&config).map(Self::Chain),
-            ExperimentKind::Operational => spec(&config).map(|s: Box<Spec<OperationalSection>>| {
-                if s.section.records.is_empty() {
-                    Self::Operational(s)
-                } else {
-                    Self::OperationalSeries(s)
-                }
-            }),
-        };
-        resolved.unwrap_or_else(|| Self::Paper(Box::new(config)))
+        match ExperimentKind::of(&config) {
+            ExperimentKind::Paper => Self::Paper(Box::new(config)),
+            ExperimentKind::Setup => spec(config, Self::Setup),
+            ExperimentKind::FrequencyResponse => spec(config, Self::FrequencyResponse),
+            ExperimentKind::Chain => spec(config, Self::Chain),
+            ExperimentKind::Operational
+                if config
+                    .operational
+                    .as_ref()
+                    .is_some_and(|o| !o.records.is_empty()) =>
+            {
+                spec(config, Self::OperationalSeries)
+            }
+            ExperimentKind::Operational => spec(config, Self::Operational),
+        }
     }
 }
 

@@ -27,6 +27,11 @@ struct Study {
 
 const NAMES: [&str; 3] = ["m", "k", "ζ"];
 
+/// `config` run as the FRF kind runs it (it must fit).
+fn fitted(config: Config, options: &RunOptions) -> frf::FrfOutcome {
+    frf::run(Spec::new(config).expect("a frequency response"), options).expect("fits")
+}
+
 fn study(force_noise: f64) -> Study {
     let mut config = Config::load(CONFIG.as_ref()).expect("valid");
     let shaker = (config.frequency_response.as_mut())
@@ -46,11 +51,7 @@ fn study(force_noise: f64) -> Study {
             seed: Some(seed),
             ..RunOptions::default()
         };
-        let outcome = frf::run(
-            Spec::new(config.clone()).expect("a frequency response"),
-            &options,
-        )
-        .expect("fits");
+        let outcome = fitted(config.clone(), &options);
         let FrfFit::OneMode(fit) = &outcome.fit else {
             panic!("one mode")
         };
@@ -157,11 +158,7 @@ fn a_mode_the_model_lacks_fails_the_noise_check() {
     plant.masses = vec![2.5, 0.05];
     plant.springs = vec![120.0, 40.0];
     plant.dampers = vec![1.8, 0.05];
-    let outcome = frf::run(
-        Spec::new(config).expect("a frequency response"),
-        &RunOptions::default(),
-    )
-    .expect("fits");
+    let outcome = fitted(config, &RunOptions::default());
     let FrfFit::OneMode(fit) = &outcome.fit else {
         panic!("one mode")
     };
@@ -195,22 +192,14 @@ fn the_verdict_says_what_the_force_noise_did() {
     let mut config = Config::load(CONFIG.as_ref()).expect("valid");
     let section = config.frequency_response.as_mut().expect("an FRF section");
     section.shaker.as_mut().expect("a shaker").force_noise = 0.1;
-    let outcome = frf::run(
-        Spec::new(config.clone()).expect("a frequency response"),
-        &RunOptions::default(),
-    )
-    .expect("fits");
+    let outcome = fitted(config.clone(), &RunOptions::default());
     let verdict = outcome.verdict.expect("a verdict").to_string();
     assert!(verdict.contains("the lines were corrected"), "{verdict}");
 
     let section = config.frequency_response.as_mut().expect("an FRF section");
     section.shaker.as_mut().expect("a shaker").force_noise = 0.3;
     section.estimator.welch.window = msd_signal::Window::Hann;
-    let outcome = frf::run(
-        Spec::new(config).expect("a frequency response"),
-        &RunOptions::default(),
-    )
-    .expect("fits");
+    let outcome = fitted(config, &RunOptions::default());
     let FrfFit::OneMode(fit) = &outcome.fit else {
         panic!("one mode")
     };
