@@ -48,6 +48,7 @@
 //! # Ok::<(), msd_modal::ModalError>(())
 //! ```
 
+mod correlated;
 mod diagram;
 pub mod error;
 mod half_power;

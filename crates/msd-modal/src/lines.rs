@@ -3,7 +3,7 @@
 
 use std::f64::consts::TAU;
 
-use msd_signal::{Complex64, Estimator, FrequencyResponseEstimate, FrfKind};
+use msd_signal::{Complex64, Estimator, FrequencyResponseEstimate, FrfKind, LineCorrelation};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{ModalError, Result};
@@ -79,8 +79,17 @@ pub struct Lines {
     /// Decay time τ of an exponential window on the records, if any.
     pub exponential_decay: Option<f64>,
     /// Over how many lines the errors are correlated (≥ 1): the factor by which a
-    /// covariance computed as if the lines were independent is too small.
+    /// covariance computed as if the lines were independent is too small, where
+    /// [`correlation`](Self::correlation) is not known.
     pub correlated_lines: f64,
+    /// How the errors of the estimate's lines are correlated (empty: not known).
+    pub correlation: LineCorrelation,
+    /// Each line's position among the estimate's lines (the lag between two lines).
+    pub index: Vec<usize>,
+    /// The share of each line's variance that the force's noise makes, once
+    /// [`smooth_coherence_weights`](Self::smooth_coherence_weights) has fitted the
+    /// noise model; empty before (all of it taken as the response's).
+    pub force_share: Vec<f64>,
     /// p of the measured quantity, (jω)^p × receptance: 0 receptance, 1 mobility,
     /// 2 accelerance. The fit error is reported on the measured quantity.
     pub measured_power: i32,
@@ -190,6 +199,9 @@ pub fn prepare(
         } else {
             1.0
         },
+        correlation: frf.line_correlation.clone(),
+        index: Vec::new(),
+        force_share: Vec::new(),
         measured_power,
         averages: frf.averages,
         estimator: frf.estimator,
@@ -221,6 +233,7 @@ pub fn prepare(
             continue;
         }
         lines.omega.push(TAU * f);
+        lines.index.push(k);
         lines.h.push(h);
         lines.sigma.push(sigma);
         lines.diagram_sigma.push(match weighting {
@@ -311,6 +324,12 @@ impl Lines {
         // K/(K − 1) for the one response the coherence was taken about; with K unknown
         // the weights are relative only (the fit's s² sets their scale).
         let k = self.averages as f64;
+        self.force_share = (m.iter().zip(&u))
+            .map(|(&m, &u)| match a * m + b * u {
+                total if total > 0.0 => (a * m / total).clamp(0.0, 1.0),
+                _ => 0.0,
+            })
+            .collect();
         for ((s, &m), &u) in self.sigma.iter_mut().zip(&m).zip(&u) {
             let variance = a * m + b * u;
             *s = if self.averages >= 2 {
@@ -434,6 +453,9 @@ impl Lines {
             relative_sigma: Vec::new(),
             exponential_decay: None,
             correlated_lines: 1.0,
+            correlation: LineCorrelation::default(),
+            index: (0..n).collect(),
+            force_share: Vec::new(),
             measured_power: 0,
             averages: 1,
             estimator: None,

@@ -332,8 +332,26 @@ fn polish_selected(
         }
         let mut weighted = lines.clone();
         let start = lsfd(&weighted, &poles)?;
-        weighted.reweight(|w| model(&start, w));
-        let polished = polish(&weighted, lsfd(&weighted, &poles)?)?;
+        // Weights from the coherence's noise model (every line's own coherence from a
+        // few averages is a noisy weight), which also splits each line's variance
+        // between the force's noise and the response's for the covariance.
+        weighted.smooth_coherence_weights(|w| model(&start, w));
+        let polished = match polish(&weighted, lsfd(&weighted, &poles)?) {
+            Err(ModalError::EstimationFailed { reason }) if selected.len() > 1 => {
+                let r = least_stable(&selected);
+                refused.push(RefusedMode {
+                    natural_frequency_hz: selected[r].natural_frequency_hz,
+                    fitted_hz: f64::NAN,
+                    reason: format!(
+                        "with it the fit failed ({reason}); stable at {} orders, the fewest",
+                        selected[r].stable_orders
+                    ),
+                });
+                selected.remove(r);
+                continue;
+            }
+            result => result?,
+        };
         let moved: Vec<RefusedMode> = (0..selected.len())
             .filter_map(|r| moved(&polished.theta, &selected, r, &lines))
             .collect();
@@ -342,6 +360,15 @@ fn polish_selected(
         }
         drop_moved(&mut selected, &mut refused, moved)?;
     }
+}
+
+/// The selected mode stable at the fewest orders (the highest of those tied): the one
+/// the data support least.
+fn least_stable(selected: &[StableColumn]) -> usize {
+    (0..selected.len())
+        .rev()
+        .min_by_key(|&r| selected[r].stable_orders)
+        .unwrap_or(0)
 }
 
 /// Takes the `moved` modes out of `selected` into `refused`; an error when none is left.
@@ -430,7 +457,7 @@ pub(crate) fn moved_from_column(
 pub struct RefusedMode {
     /// Where the diagram selected it, Hz.
     pub natural_frequency_hz: f64,
-    /// Where the final fit put it, Hz.
+    /// Where the final fit put it, Hz (NaN where the fit with it failed).
     pub fitted_hz: f64,
     /// Why it was refused.
     pub reason: String,
@@ -438,11 +465,11 @@ pub struct RefusedMode {
 
 impl std::fmt::Display for RefusedMode {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{:.4} Hz (fitted at {:.4} Hz): {}",
-            self.natural_frequency_hz, self.fitted_hz, self.reason
-        )
+        write!(f, "{:.4} Hz", self.natural_frequency_hz)?;
+        if self.fitted_hz.is_finite() {
+            write!(f, " (fitted at {:.4} Hz)", self.fitted_hz)?;
+        }
+        write!(f, ": {}", self.reason)
     }
 }
 

@@ -102,8 +102,8 @@ pub(crate) struct Polished {
     pub fit: LevenbergMarquardtResult,
 }
 
-/// Levenberg–Marquardt on every parameter from `start`, and the covariance c·s²(JᵀJ)⁻¹
-/// with s² = SSE/(2K − p) and c the lines' correlation length.
+/// Levenberg–Marquardt on every parameter from `start`, and the covariance s²N⁻¹ with
+/// s² = SSE/(2K − p) and N the lines' [`effective_normal`](Lines::effective_normal).
 pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     let scale = scales(lines, &start);
     let mut problem = ModalProblem {
@@ -123,9 +123,11 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     // J in θ: the solver's J (in x) with each column divided by its scale.
     let jacobian = DMatrix::from_fn(rows, p, |i, j| fit.jacobian[(i, j)] / scale[j]);
     let degrees_of_freedom = rows - p;
-    let s2 = fit.cost / degrees_of_freedom as f64;
-    // Errors correlated over c lines: c times less information than independent lines.
-    let covariance = covariance(&jacobian, s2 * lines.correlated_lines)?;
+    // Errors correlated from line to line: the sandwich, as a normal matrix, and the
+    // residual's variance from the degrees of freedom the fit leaves it.
+    let (normal, taken) = lines.effective_normal(&jacobian);
+    let s2 = fit.cost / (rows as f64 - taken);
+    let covariance = covariance(&normal, s2)?;
     Ok(Polished {
         theta,
         covariance,
@@ -135,9 +137,9 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     })
 }
 
-/// s²(JᵀJ)⁻¹, inverted with the columns scaled to unit norm.
-fn covariance(jacobian: &DMatrix<f64>, s2: f64) -> Result<DMatrix<f64>> {
-    Linearization::new(jacobian)
+/// s²N⁻¹, inverted with the columns scaled to unit norm.
+fn covariance(normal: &DMatrix<f64>, s2: f64) -> Result<DMatrix<f64>> {
+    Linearization::from_normal_matrix(normal)
         .map(|l| l.covariance(s2))
         .map_err(|e| not_identifiable(e, "the modal fit's lines", &[]))
 }

@@ -11,6 +11,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::correlated::sandwich;
 use crate::error::{ModalError, Result, not_identifiable};
 use crate::lines::Lines;
 use crate::modal::term_with_gradient;
@@ -79,8 +80,13 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
     }
     let degrees_of_freedom = residuals - parameters;
     let s2 = at.sse / degrees_of_freedom as f64;
-    let covariance = Linearization::from_normal_matrix(&at.normal)
-        .map(|l| l.covariance(s2 * lines[0].correlated_lines))
+    // The lines' correlated errors: the sandwich where every member's correlation is
+    // known, else the first member's correlation length for all.
+    let normal = error_information(lines, &poles)
+        .and_then(|g| sandwich(&at.normal, &g))
+        .map_or_else(|| &at.normal / lines[0].correlated_lines, |(n, _)| n);
+    let covariance = Linearization::from_normal_matrix(&normal)
+        .map(|l| l.covariance(s2))
         .map_err(|e| not_identifiable(e, "the set's lines", &[]))?;
     Ok(RefinedPoles {
         poles,
@@ -103,22 +109,56 @@ fn reduce(lines: &[Lines], poles: &[(f64, f64)]) -> Result<Reduced> {
         reason: "the modal constants cannot be told apart (two poles too close?)".into(),
     };
     for l in lines {
+        let m = Member::at(l, poles).ok_or_else(singular)?;
+        let atd = m.a.transpose() * &m.d;
+        out.sse += m.r.norm_squared();
+        out.normal += m.d.transpose() * &m.d - atd.transpose() * m.gram.solve(&atd);
+        out.gradient += m.d.transpose() * &m.r;
+    }
+    Ok(out)
+}
+
+/// One member's LSFD at fixed poles: the column-scaled A with its Gram factor, the
+/// residual r = A·x̂ − b and D (see the module docs).
+struct Member {
+    a: DMatrix<f64>,
+    gram: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    r: DVector<f64>,
+    d: DMatrix<f64>,
+}
+
+impl Member {
+    /// `None` when the modal constants cannot be told apart.
+    fn at(l: &Lines, poles: &[(f64, f64)]) -> Option<Self> {
         let (mut a, b) = lsfd_system(l, poles);
         // Column scaling leaves the projection unchanged and keeps AᵀA well conditioned.
         let norms: Vec<f64> = a.column_iter().map(|c| c.norm()).collect();
         for (j, &norm) in norms.iter().enumerate() {
             a.column_mut(j).scale_mut(1.0 / norm);
         }
-        let gram = (a.transpose() * &a).cholesky().ok_or_else(singular)?;
+        let gram = (a.transpose() * &a).cholesky()?;
         let x = gram.solve(&(a.transpose() * &b));
         let r = &a * &x - &b;
         let d = derivatives(l, poles, &x, &norms);
-        let atd = a.transpose() * &d;
-        out.sse += r.norm_squared();
-        out.normal += d.transpose() * &d - atd.transpose() * gram.solve(&atd);
-        out.gradient += d.transpose() * &r;
+        Some(Self { a, gram, r, d })
     }
-    Ok(out)
+
+    /// The reduced Jacobian J_o = (I − P_o)·D_o.
+    fn projected(&self) -> DMatrix<f64> {
+        &self.d - &self.a * self.gram.solve(&(self.a.transpose() * &self.d))
+    }
+}
+
+/// Σ_o J_oᵀC_oJ_o over the members, the information their correlated lines' errors
+/// carry about the poles (each member's errors correlated as its own lines say, the
+/// members' taken as independent of one another); `None` when a member's correlation
+/// is not known.
+fn error_information(lines: &[Lines], poles: &[(f64, f64)]) -> Option<DMatrix<f64>> {
+    let mut sum = DMatrix::zeros(2 * poles.len(), 2 * poles.len());
+    for l in lines {
+        sum += l.error_information(&Member::at(l, poles)?.projected())?;
+    }
+    Some(sum)
 }
 
 /// D = ∂(weighted model)/∂(ωn_r, ζ_r) at the scaled LSFD solution `x` (column norms

@@ -43,6 +43,7 @@ use rustfft::{Fft, FftPlannerScalar};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SignalError, check_data, positive, same_length};
+use crate::frf::correlation::{LagProducts, LineCorrelation, last_lag, window_kernel};
 
 /// The taper applied to each segment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -202,6 +203,8 @@ pub(crate) struct Welch {
     /// L·Σw²/(Σw)² of the output's window (the input's for one record): over how many
     /// lines the errors of the spectra are correlated.
     pub(crate) noise_bandwidth: f64,
+    /// How the lines' errors are correlated (empty for auto spectra alone).
+    pub(crate) line_correlation: LineCorrelation,
 }
 
 fn detrend_segment(seg: &mut [f64], how: Detrend) {
@@ -284,8 +287,17 @@ pub(crate) fn welch_records(
             Some((_, Some(_))) => segmenting.output_window,
             _ => segmenting.input_window,
         }),
+        line_correlation: LineCorrelation::default(),
     };
     let (wx, wy) = (segmenting.input_window, segmenting.output_window);
+    // The lines' correlation, for a cross spectrum only.
+    let pair = records.first().is_some_and(|(_, y)| y.is_some());
+    let kernels = match pair {
+        true => [window_kernel(wx, &*fft), window_kernel(wy, &*fft)],
+        false => [Vec::new(), Vec::new()],
+    };
+    let mut lags = LagProducts::new(last_lag(&kernels[0], &kernels[1], bins));
+    let mut xs = vec![Complex64::new(0.0, 0.0); bins];
     for &(x, y) in records {
         for s in 0..segmenting.count(x.len()) {
             let range = s * segmenting.step..s * segmenting.step + l;
@@ -315,10 +327,15 @@ pub(crate) fn welch_records(
                         w.sxx[k] += xk.norm_sqr();
                         w.syy[k] += yk.norm_sqr();
                         w.sxy[k] += xk.conj() * yk;
+                        xs[k] = xk;
                     }
+                    lags.add(&xs);
                 }
             }
         }
+    }
+    if pair {
+        w.line_correlation = lags.correlation(&w.sxx, &kernels[0], &kernels[1]);
     }
     let wss: f64 = wx.iter().map(|v| v * v).sum();
     let base = 1.0 / (fs * wss * w.averages as f64);
@@ -577,7 +594,9 @@ impl DftPair {
             sxy: Vec::with_capacity(lines),
             averages: 1,
             noise_bandwidth: 1.5, // the periodic Hann window's, exactly
+            line_correlation: LineCorrelation::default(),
         };
+        let mut xs = Vec::with_capacity(half + 1);
         for k in 0..=half {
             let (a, b) = (windowed(x, k), windowed(y, k));
             let c = one_sided(k);
@@ -586,7 +605,14 @@ impl DftPair {
             if k < lines {
                 w.sxy.push(a.conj() * b * c);
             }
+            xs.push(a);
         }
+        // The periodic Hann window's ρ(d), exactly: w² = 3/8 − cos/2 + cos(2·)/8.
+        let hann = [1.0, -2.0 / 3.0, 1.0 / 6.0].map(|r| Complex64::new(r, 0.0));
+        let mut lags = LagProducts::new(last_lag(&hann, &hann, half + 1));
+        lags.add(&xs);
+        let power: Vec<f64> = xs.iter().map(|x| x.norm_sqr()).collect();
+        w.line_correlation = lags.correlation(&power, &hann, &hann);
         h1_of(w)
     }
 }

@@ -7,6 +7,7 @@ mod download;
 mod fetch;
 mod frf_beam;
 mod frf_coverage;
+mod frf_modes_coverage;
 mod frf_set;
 mod frf_table;
 mod frf_uff;

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{IdentError, Result};
 use crate::params::{PARAMETER_NAMES, Parameters};
-use crate::uncertainty::{Uncertainty, from_jacobian};
+use crate::uncertainty::{Uncertainty, from_normal_matrix};
 use msd_modal::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
 use msd_modal::{DominantPeak, HalfPower, InputNoise, WindowCorrection, dominant_peak, half_power};
 use msd_opt::statistics::{Interval, t_975};
@@ -315,14 +315,18 @@ fn fit_in_band(
             ),
         });
     }
-    // ∂r/∂θ = ∂r/∂θ′·∂θ′/∂θ, with θ′ = windowed(θ).
-    // Lines whose errors are correlated over c lines (a window's noise bandwidth) hold
-    // c times less information: J/√c makes the covariance c·s²(JᵀJ)⁻¹.
-    let jacobian = jacobian_at(&lines, &fitted) * window_map(a) / lines.correlated_lines.sqrt();
+    // ∂r/∂θ = ∂r/∂θ′·∂θ′/∂θ, with θ′ = windowed(θ). Lines whose errors are correlated
+    // (the windows') hold less information than independent ones: the sandwich
+    // covariance, as the normal matrix it is the inverse of.
+    let jacobian = jacobian_at(&lines, &fitted) * window_map(a);
+    let (normal, taken) = lines.effective_normal(&jacobian);
+    let rows = jacobian.nrows();
     let names = PARAMETER_NAMES.to_vec();
-    let uncertainty = from_jacobian(
-        &jacobian,
-        fit.cost,
+    let uncertainty = from_normal_matrix(
+        &normal,
+        rows,
+        // s² = SSE/(rows − taken), passed as the SSE that gives it over rows − p.
+        fit.cost * (rows - PARAMETER_NAMES.len()) as f64 / (rows as f64 - taken),
         names,
         theta.to_vec(),
         &parameters,

@@ -64,7 +64,10 @@
 //! # Ok::<(), msd_signal::SignalError>(())
 //! ```
 
+pub(crate) mod correlation;
 mod table;
+
+pub use correlation::LineCorrelation;
 
 use rustfft::num_complex::Complex64;
 use serde::{Deserialize, Serialize};
@@ -305,6 +308,9 @@ pub struct FrequencyResponseEstimate {
     /// The estimator that formed `h` from the spectra; `None` for a measured table.
     /// A fit that finds the force's noise in the coherence corrects an H1 for it.
     pub estimator: Option<Estimator>,
+    /// How the errors of neighbouring lines are correlated by the windows (empty for a
+    /// measured table: independent lines as far as is known).
+    pub line_correlation: LineCorrelation,
 }
 
 /// The input power, relative to its largest line, below which [`frf_estimate`] counts a
@@ -520,6 +526,7 @@ pub(crate) fn estimate_from(
         exponential_decay: None,
         noise_bandwidth: w.noise_bandwidth,
         estimator: Some(estimator),
+        line_correlation: w.line_correlation,
     })
 }
 

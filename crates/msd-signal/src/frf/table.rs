@@ -5,6 +5,7 @@ use std::f64::consts::TAU;
 
 use rustfft::num_complex::Complex64;
 
+use super::correlation::LineCorrelation;
 use super::{FrequencyResponseEstimate, FrfKind};
 use crate::error::{Result, SignalError, check_data, same_length};
 
@@ -58,6 +59,7 @@ impl FrequencyResponseEstimate {
             exponential_decay: None,
             noise_bandwidth: 1.0,
             estimator: None,
+            line_correlation: LineCorrelation::default(),
         })
     }
 

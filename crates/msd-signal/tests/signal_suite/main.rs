@@ -3,6 +3,7 @@
 mod errors;
 mod frf;
 mod limits;
+mod line_correlation;
 mod multisine_prbs;
 mod noise;
 mod preprocess;
