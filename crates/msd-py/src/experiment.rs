@@ -12,6 +12,9 @@ use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+/// A table's columns as Python gives them: (name, values) pairs.
+type NamedColumns<'py> = Vec<(String, PyReadonlyArray1<'py, f64>)>;
+
 /// run(config, config_json, out, seed, threads, files, tables)
 /// --
 ///
@@ -30,7 +33,7 @@ pub fn run<'py>(
     seed: Option<Bound<'py, PyAny>>,
     threads: Option<Bound<'py, PyAny>>,
     files: Option<BTreeMap<String, Vec<u8>>>,
-    tables: Option<BTreeMap<String, Vec<(String, PyReadonlyArray1<'py, f64>)>>>,
+    tables: Option<BTreeMap<String, NamedColumns<'py>>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = RunOptions {
         out,

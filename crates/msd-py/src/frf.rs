@@ -6,7 +6,9 @@ use crate::errors;
 use msd_ident::OneModeOptions;
 use msd_modal::ModalOptions;
 use msd_modal::SetMember;
-use msd_signal::{Complex64, Estimator, FrequencyResponseEstimate, FrfKind, FrfOptions};
+use msd_signal::{
+    Complex64, Estimator, FrequencyResponseEstimate, FrfKind, FrfOptions, LineCorrelation,
+};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -70,6 +72,14 @@ fn estimate_dict(py: Python<'_>, e: FrequencyResponseEstimate) -> PyResult<Bound
     d.set_item("variance", e.variance.map(|v| array(py, v)))?;
     d.set_item("exponential_decay", e.exponential_decay)?;
     d.set_item("noise_bandwidth", e.noise_bandwidth)?;
+    let c = e.line_correlation;
+    d.set_item(
+        "line_correlation",
+        (
+            PyArray1::from_vec(py, c.response),
+            PyArray1::from_vec(py, c.force),
+        ),
+    )?;
     d.set_item("estimator", e.estimator.map(estimator_name))?;
     Ok(d)
 }
@@ -84,19 +94,51 @@ fn estimator_name(e: Estimator) -> &'static str {
 }
 
 /// How an FRF was made, where known: K segments averaged and the estimator, which a
-/// fit needs to take the coherence's noise apart (and H1's bias off).
-#[derive(Clone, Copy)]
+/// fit needs to take the coherence's noise apart (and H1's bias off), and how the
+/// windows correlate the lines' errors.
 struct Made {
     averages: usize,
     estimator: Option<Estimator>,
     noise_bandwidth: f64,
+    line_correlation: LineCorrelation,
+}
+
+/// The lines' correlation as Python gives it: (response, force) kernels, or None.
+type PyCorrelation<'py> = Option<(
+    PyReadonlyArray1<'py, Complex64>,
+    PyReadonlyArray1<'py, Complex64>,
+)>;
+
+/// A kernel ρ(0), ρ(1), … checked: empty, or ρ(0) = 1 and every |ρ(d)| ≤ 1.
+fn kernel(name: &str, values: &PyReadonlyArray1<'_, Complex64>) -> PyResult<Vec<Complex64>> {
+    let values: Vec<Complex64> = values.as_array().iter().copied().collect();
+    if let Some(first) = values.first()
+        && (first - 1.0).norm() > 1e-9
+    {
+        return Err(PyValueError::new_err(format!(
+            "line_correlation {name}[0] = {first}: expected 1 (a line's error is its own)"
+        )));
+    }
+    if let Some((d, v)) =
+        (values.iter().enumerate()).find(|(_, v)| v.norm().is_nan() || v.norm() > 1.0 + 1e-9)
+    {
+        return Err(PyValueError::new_err(format!(
+            "line_correlation {name}[{d}] = {v}: expected a correlation, |ρ| ≤ 1"
+        )));
+    }
+    Ok(values)
 }
 
 impl Made {
     /// From the Python arguments: `averages` ≥ 1 (1: one segment, or not known), an
     /// estimator name or None (a measured table), and the window's noise bandwidth in
     /// lines (≥ 1: 1 rectangular, 1.5 Hann).
-    fn new(averages: usize, estimator: Option<&str>, noise_bandwidth: f64) -> PyResult<Self> {
+    fn new(
+        averages: usize,
+        estimator: Option<&str>,
+        noise_bandwidth: f64,
+        line_correlation: PyCorrelation<'_>,
+    ) -> PyResult<Self> {
         if !(noise_bandwidth.is_finite() && noise_bandwidth >= 1.0) {
             return Err(PyValueError::new_err(format!(
                 "noise_bandwidth = {noise_bandwidth}: expected the window's noise bandwidth in lines, ≥ 1"
@@ -114,10 +156,18 @@ impl Made {
                 &serde_json::Value::from(name).to_string(),
             )?),
         };
+        let line_correlation = match line_correlation {
+            None => LineCorrelation::default(),
+            Some((response, force)) => LineCorrelation {
+                response: kernel("response", &response)?,
+                force: kernel("force", &force)?,
+            },
+        };
         Ok(Self {
             averages,
             estimator,
             noise_bandwidth,
+            line_correlation,
         })
     }
 }
@@ -129,12 +179,13 @@ fn measured(
     coherence: Option<Vec<f64>>,
     kind: FrfKind,
     exponential_decay: Option<f64>,
-    made: Made,
+    made: &Made,
 ) -> PyResult<FrequencyResponseEstimate> {
     let mut e = FrequencyResponseEstimate::new(frequency.to_vec(), h).map_err(errors::value)?;
     e.averages = made.averages;
     e.estimator = made.estimator;
     e.noise_bandwidth = made.noise_bandwidth;
+    e.line_correlation = made.line_correlation.clone();
     if let Some(c) = coherence {
         if c.len() != frequency.len() {
             return Err(PyValueError::new_err(format!(
@@ -166,7 +217,7 @@ fn measured(
     Ok(e)
 }
 
-/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, averages, estimator, noise_bandwidth, dofs, options_json)
+/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, averages, estimator, noise_bandwidth, line_correlation, dofs, options_json)
 /// --
 ///
 /// msd-ident's `fit_modes` on one FRF (dofs None) or `fit_mode_set` on a set, each
@@ -183,11 +234,12 @@ pub fn modal_fit<'py>(
     averages: usize,
     estimator: Option<&str>,
     noise_bandwidth: f64,
+    line_correlation: PyCorrelation<'py>,
     dofs: Option<Vec<(PyDof<'py>, PyDof<'py>)>>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: ModalOptions = options("modal_fit options", options_json)?;
-    let made = Made::new(averages, estimator, noise_bandwidth)?;
+    let made = Made::new(averages, estimator, noise_bandwidth, line_correlation)?;
     let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
     let frequency = vec_f64(&frequency);
     if frfs.is_empty() {
@@ -209,7 +261,7 @@ pub fn modal_fit<'py>(
             Err(_) => h.as_array().iter().copied().collect(),
         };
         let c = coherences.as_ref().map(|c| vec_f64(&c[i]));
-        estimates.push(measured(&frequency, h, c, kind, exponential_decay, made)?);
+        estimates.push(measured(&frequency, h, c, kind, exponential_decay, &made)?);
     }
     match dofs {
         None => {
@@ -258,7 +310,7 @@ pub fn modal_fit<'py>(
     }
 }
 
-/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, averages, estimator, noise_bandwidth, options_json)
+/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, averages, estimator, noise_bandwidth, line_correlation, options_json)
 /// --
 ///
 /// msd-ident's `fit_one_mode`: m, c, k (with fn and ζ) of one FRF with 95 % intervals.
@@ -274,10 +326,11 @@ pub fn one_mode_fit<'py>(
     averages: usize,
     estimator: Option<&str>,
     noise_bandwidth: f64,
+    line_correlation: PyCorrelation<'py>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: OneModeOptions = options("one_mode_fit options", options_json)?;
-    let made = Made::new(averages, estimator, noise_bandwidth)?;
+    let made = Made::new(averages, estimator, noise_bandwidth, line_correlation)?;
     let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
     let h: Vec<Complex64> = h.as_array().iter().copied().collect();
     let e = measured(
@@ -286,7 +339,7 @@ pub fn one_mode_fit<'py>(
         coherence.as_ref().map(vec_f64),
         kind,
         exponential_decay,
-        made,
+        &made,
     )?;
     let fit = py
         .detach(|| msd_ident::fit_one_mode(&e, &opts))

@@ -334,22 +334,28 @@ def _unpacked(name: str, frequencies: Any, frf: Any, coherence: Any, kind: Optio
     )
 
 
-def _made(frequencies: Any, averages: Any, estimator: Optional[str]) -> Tuple[int, Optional[str], float]:
+def _made(
+    frequencies: Any, averages: Any, estimator: Optional[str]
+) -> Tuple[int, Optional[str], float, Optional[Tuple[Any, Any]]]:
     """How the FRF was made: the segments averaged (1 when not known), the estimator
-    ("H1", "H2", "Hv"; None for a measured table) and the window's noise bandwidth in
-    lines (1 rectangular, 1.5 Hann), from a `FrequencyResponse` unless given by name.
-    With them a coherence-weighted fit takes the force's noise apart from the
-    response's, corrects an H1 for it where the window does not leak, and counts the
-    lines a window correlates."""
+    ("H1", "H2", "Hv"; None for a measured table), the window's noise bandwidth in
+    lines (1 rectangular, 1.5 Hann) and how the windows correlate the lines' errors
+    (the response's and the force's kernels), from a `FrequencyResponse` unless given by
+    name. With them a coherence-weighted fit takes the force's noise apart from the
+    response's, corrects an H1 for it where the window does not leak, and gives
+    intervals that hold on lines whose errors the windows correlate."""
     noise_bandwidth = 1.0
+    line_correlation = None
     if isinstance(frequencies, FrequencyResponse):
         if averages is None:
             averages = frequencies.averages
         if estimator is None:
             estimator = frequencies.estimator
         noise_bandwidth = float(frequencies.data.get("noise_bandwidth", 1.0))
+        line_correlation = frequencies.data.get("line_correlation")
     k = 1 if averages is None else integer("averages", averages, low=1)
-    return k, None if estimator is None else text("estimator", estimator), noise_bandwidth
+    name = None if estimator is None else text("estimator", estimator)
+    return k, name, noise_bandwidth, line_correlation
 
 
 def modal_fit(

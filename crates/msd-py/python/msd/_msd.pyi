@@ -52,6 +52,7 @@ def modal_fit(
     averages: int,
     estimator: Optional[str],
     noise_bandwidth: float,
+    line_correlation: Optional[Tuple[Any, Any]],
     dofs: Optional[Sequence[Tuple[Tuple[int, int], Tuple[int, int]]]],
     options_json: str,
 ) -> Dict[str, Any]: ...
@@ -76,6 +77,7 @@ def one_mode_fit(
     averages: int,
     estimator: Optional[str],
     noise_bandwidth: float,
+    line_correlation: Optional[Tuple[Any, Any]],
     options_json: str,
 ) -> Dict[str, Any]: ...
 def read_file(path: str) -> Tuple[List[Dict[str, Any]], List[str]]: ...
