@@ -46,13 +46,23 @@ fn checks(o: &FrfOutcome, truth: &Truth) -> Vec<(String, Interval, f64)> {
                 out.push(("ζ".into(), u.damping_ratio, mode.damping_ratio));
             }
         }
-        FrfFit::Modes(_) | FrfFit::Set(_) if o.fit.poles().len() == truth.modes.len() => {
-            for (r, ((f, z), t)) in o.fit.poles().into_iter().zip(&truth.modes).enumerate() {
+        FrfFit::Modes(_) | FrfFit::Set(_) => {
+            // Each true mode against the fitted mode nearest in frequency: a spurious
+            // extra mode is left out, a missing one compared with its neighbour.
+            let poles = o.fit.poles();
+            for (r, t) in truth.modes.iter().enumerate() {
+                let distance =
+                    |p: &(Interval, Interval)| (p.0.value - t.natural_frequency_hz).abs();
+                let Some(&(f, z)) = poles
+                    .iter()
+                    .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+                else {
+                    continue;
+                };
                 out.push((format!("fn{}", r + 1), f, t.natural_frequency_hz));
                 out.push((format!("ζ{}", r + 1), z, t.damping_ratio));
             }
         }
-        FrfFit::Modes(_) | FrfFit::Set(_) => {}
     }
     out
 }

@@ -49,6 +49,12 @@ fn assert_honest(config: Config, label: &str) {
             poles.len()
         );
         extra += usize::from(poles.len() > 2);
+        // The summary compares every true mode, a spurious extra mode or not.
+        let summary = outcome.to_string();
+        assert!(
+            summary.contains("inside the 95 % intervals: ") && summary.contains(" of 4 ("),
+            "{label}, seed {seed}: {summary}"
+        );
         for (m, mode) in truth.iter().enumerate() {
             let want = [mode.natural_frequency_hz, mode.damping_ratio];
             let distance =
