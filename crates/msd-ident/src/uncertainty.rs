@@ -106,33 +106,55 @@ pub(crate) fn from_jacobian(
     columns: ParameterColumns,
 ) -> Result<Uncertainty> {
     let normal = jacobian.transpose() * jacobian;
-    let rows = jacobian.nrows();
-    from_normal_matrix(&normal, rows, sse, names, values, parameters, columns)
+    let (rows, p) = jacobian.shape();
+    let noise = ResidualNoise::independent(sse, rows, p)?;
+    from_normal_matrix(&normal, noise, names, values, parameters, columns)
 }
 
-/// The same from the normal matrix JᵀJ of a Jacobian of `n` rows.
+/// The residuals' sum of squares and the degrees of freedom it is spread over:
+/// s² = SSE/dof.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ResidualNoise {
+    pub sse: f64,
+    /// Rows − p for independent errors; rows − tr((JᵀJ)⁻¹JᵀCJ) for errors correlated by
+    /// C (what the fit's residuals actually lose to the parameters).
+    pub dof: f64,
+}
+
+impl ResidualNoise {
+    /// Independent errors: `rows` − `p` degrees of freedom, an error when there are none.
+    pub(crate) fn independent(sse: f64, rows: usize, p: usize) -> Result<Self> {
+        if rows <= p {
+            return Err(IdentError::TooFewSamples {
+                got: rows,
+                needed: p + 1,
+                why: "confidence intervals need more samples than parameters",
+            });
+        }
+        Ok(Self {
+            sse,
+            dof: (rows - p) as f64,
+        })
+    }
+}
+
+/// The same from a normal matrix (JᵀJ, or the sandwich's for correlated errors) and the
+/// residual noise it is scaled by. The intervals use Student's t with ⌊dof⌋ degrees of
+/// freedom.
 pub(crate) fn from_normal_matrix(
     normal: &DMatrix<f64>,
-    n: usize,
-    sse: f64,
+    noise: ResidualNoise,
     names: Vec<&'static str>,
     values: Vec<f64>,
     parameters: &Parameters,
     columns: ParameterColumns,
 ) -> Result<Uncertainty> {
     let p = normal.nrows();
-    if n <= p {
-        return Err(IdentError::TooFewSamples {
-            got: n,
-            needed: p + 1,
-            why: "confidence intervals need more samples than parameters",
-        });
-    }
     let linearization =
         Linearization::from_normal_matrix(normal).map_err(|e| e.error("the output", &names))?;
     let condition_number = linearization.condition_number;
-    let dof = n - p;
-    let sigma2 = sse / dof as f64;
+    let dof = noise.dof.floor().max(1.0) as usize;
+    let sigma2 = noise.sse / noise.dof;
     let covariance = linearization.covariance(sigma2);
     let se: Vec<f64> = (0..p).map(|j| covariance[(j, j)].max(0.0).sqrt()).collect();
     let correlation = correlation(&covariance);

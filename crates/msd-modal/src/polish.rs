@@ -122,11 +122,13 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     let (rows, p) = fit.jacobian.shape();
     // J in θ: the solver's J (in x) with each column divided by its scale.
     let jacobian = DMatrix::from_fn(rows, p, |i, j| fit.jacobian[(i, j)] / scale[j]);
-    let degrees_of_freedom = rows - p;
     // Errors correlated from line to line: the sandwich, as a normal matrix, and the
-    // residual's variance from the degrees of freedom the fit leaves it.
+    // residual's variance from the degrees of freedom the fit leaves it (rows − p for
+    // independent lines).
     let (normal, taken) = lines.effective_normal(&jacobian);
-    let s2 = fit.cost / (rows as f64 - taken);
+    let residual_dof = (rows as f64 - taken).max(1.0);
+    let s2 = fit.cost / residual_dof;
+    let degrees_of_freedom = residual_dof.floor() as usize;
     let covariance = covariance(&normal, s2)?;
     Ok(Polished {
         theta,

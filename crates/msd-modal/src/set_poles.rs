@@ -78,13 +78,21 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
             why: "lines (summed over the set) for the modal parameters of every mode",
         });
     }
-    let degrees_of_freedom = residuals - parameters;
-    let s2 = at.sse / degrees_of_freedom as f64;
     // The lines' correlated errors: the sandwich where every member's correlation is
-    // known, else the first member's correlation length for all.
-    let normal = error_information(lines, &poles)
-        .and_then(|g| sandwich(&at.normal, &g))
-        .map_or_else(|| &at.normal / lines[0].correlated_lines, |(n, _)| n);
+    // known (s² over the degrees of freedom the fit leaves the correlated residuals),
+    // else the first member's correlation length for all.
+    let (normal, residual_dof) = error_information(lines, &poles)
+        .and_then(|(g, constants_taken)| {
+            let (normal, poles_taken) = sandwich(&at.normal, &g)?;
+            Some((normal, residuals as f64 - constants_taken - poles_taken))
+        })
+        .unwrap_or_else(|| {
+            let normal = &at.normal / lines[0].correlated_lines;
+            (normal, (residuals - parameters) as f64)
+        });
+    let residual_dof = residual_dof.max(1.0);
+    let s2 = at.sse / residual_dof;
+    let degrees_of_freedom = residual_dof.floor() as usize;
     let covariance = Linearization::from_normal_matrix(&normal)
         .map(|l| l.covariance(s2))
         .map_err(|e| not_identifiable(e, "the set's lines", &[]))?;
@@ -151,14 +159,19 @@ impl Member {
 
 /// Σ_o J_oᵀC_oJ_o over the members, the information their correlated lines' errors
 /// carry about the poles (each member's errors correlated as its own lines say, the
-/// members' taken as independent of one another); `None` when a member's correlation
-/// is not known.
-fn error_information(lines: &[Lines], poles: &[(f64, f64)]) -> Option<DMatrix<f64>> {
+/// members' taken as independent of one another), and Σ_o tr(P_o·C_o), the degrees of
+/// freedom the members' modal constants take from the correlated residuals (P_o the
+/// projection on member o's LSFD columns); `None` when a member's correlation is not
+/// known.
+fn error_information(lines: &[Lines], poles: &[(f64, f64)]) -> Option<(DMatrix<f64>, f64)> {
     let mut sum = DMatrix::zeros(2 * poles.len(), 2 * poles.len());
+    let mut taken = 0.0;
     for l in lines {
-        sum += l.error_information(&Member::at(l, poles)?.projected())?;
+        let member = Member::at(l, poles)?;
+        sum += l.error_information(&member.projected())?;
+        taken += member.gram.solve(&l.error_information(&member.a)?).trace();
     }
-    Some(sum)
+    Some((sum, taken))
 }
 
 /// D = ∂(weighted model)/∂(ωn_r, ζ_r) at the scaled LSFD solution `x` (column norms

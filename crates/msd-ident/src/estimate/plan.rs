@@ -2,7 +2,7 @@
 
 use super::layout::Layout;
 use super::problem::output_jacobian;
-use crate::uncertainty::from_normal_matrix;
+use crate::uncertainty::{ResidualNoise, from_normal_matrix};
 use crate::{
     data::Excitation,
     error::{IdentError, Result},
@@ -162,11 +162,11 @@ impl PlannedInformation {
     /// `sigma`: σ²(JᵀJ)⁻¹ and the intervals that follow (see [`predicted_uncertainty`]).
     pub fn uncertainty(&self, sigma: f64) -> Result<Uncertainty> {
         check_sigma(sigma)?;
-        let dof = self.samples.saturating_sub(self.normal.ncols());
+        let mut noise = ResidualNoise::independent(0.0, self.samples, self.normal.ncols())?;
+        noise.sse = sigma * sigma * noise.dof;
         from_normal_matrix(
             &self.normal,
-            self.samples,
-            sigma * sigma * dof as f64,
+            noise,
             self.layout.names(),
             self.values.clone(),
             &self.plant,

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{IdentError, Result};
 use crate::params::{PARAMETER_NAMES, Parameters};
-use crate::uncertainty::{Uncertainty, from_normal_matrix};
+use crate::uncertainty::{ResidualNoise, Uncertainty, from_normal_matrix};
 use msd_modal::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
 use msd_modal::{DominantPeak, HalfPower, InputNoise, WindowCorrection, dominant_peak, half_power};
 use msd_opt::statistics::{Interval, t_975};
@@ -320,14 +320,17 @@ fn fit_in_band(
     // covariance, as the normal matrix it is the inverse of.
     let jacobian = jacobian_at(&lines, &fitted) * window_map(a);
     let (normal, taken) = lines.effective_normal(&jacobian);
-    let rows = jacobian.nrows();
-    let names = PARAMETER_NAMES.to_vec();
+    let (rows, p) = jacobian.shape();
+    // The residuals lose tr((JᵀJ)⁻¹JᵀCJ) degrees of freedom to the fit (p when the lines
+    // are independent).
+    let noise = ResidualNoise {
+        dof: ResidualNoise::independent(fit.cost, rows, p)?.dof + p as f64 - taken,
+        sse: fit.cost,
+    };
     let uncertainty = from_normal_matrix(
         &normal,
-        rows,
-        // s² = SSE/(rows − taken), passed as the SSE that gives it over rows − p.
-        fit.cost * (rows - PARAMETER_NAMES.len()) as f64 / (rows as f64 - taken),
-        names,
+        noise,
+        PARAMETER_NAMES.to_vec(),
         theta.to_vec(),
         &parameters,
         [Some(0), Some(1), Some(2)],
