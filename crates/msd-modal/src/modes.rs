@@ -310,8 +310,9 @@ fn fit_as_given(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Resu
 
 /// LSFD and the polish on the diagram's modes; a mode the polish moves by more than
 /// its half-power bandwidth, or nearer to another selected mode than to its own column,
-/// is refused and the rest fitted again. Returns the polish, the lines as weighted for
-/// it, the modes kept and those refused.
+/// is refused and the rest fitted again; so, one at a time, is a mode whose modal
+/// constant the fit cannot tell from zero (while another mode is left). Returns the
+/// polish, the lines as weighted for it, the modes kept and those refused.
 fn polish_selected(
     lines: Lines,
     diagram: &StabilizationDiagram,
@@ -355,11 +356,45 @@ fn polish_selected(
         let moved: Vec<RefusedMode> = (0..selected.len())
             .filter_map(|r| moved(&polished.theta, &selected, r, &lines))
             .collect();
-        if moved.is_empty() {
-            return Ok((polished, weighted, selected, refused));
+        if !moved.is_empty() {
+            drop_moved(&mut selected, &mut refused, moved)?;
+            continue;
         }
-        drop_moved(&mut selected, &mut refused, moved)?;
+        match insignificant(&polished, &selected) {
+            Some(mode) if selected.len() > 1 => {
+                drop_moved(&mut selected, &mut refused, vec![mode])?
+            }
+            _ => return Ok((polished, weighted, selected, refused)),
+        }
     }
+}
+
+/// χ²₂ at 0.95: the Wald statistic of a complex modal constant below which it is not
+/// told apart from zero.
+const CHI2_2_95: f64 = 5.991_464_547_107_979;
+
+/// The selected mode whose modal constant (A, B) the data tell least from zero, if its
+/// Wald statistic (A, B)·Cov⁻¹·(A, B)ᵀ is under χ²₂(0.95): a column of noise (the
+/// stabilization diagram's poles can stabilise on it) rather than a mode of the FRF.
+fn insignificant(polished: &Polished, selected: &[StableColumn]) -> Option<RefusedMode> {
+    let (theta, c) = (&polished.theta, &polished.covariance);
+    let wald = |r: usize| {
+        let j = PER_MODE * r + 2;
+        let (a, b) = (theta[j], theta[j + 1]);
+        let (saa, sab, sbb) = (c[(j, j)], c[(j, j + 1)], c[(j + 1, j + 1)]);
+        let det = saa * sbb - sab * sab;
+        (det > 0.0).then(|| (a * a * sbb - 2.0 * a * b * sab + b * b * saa) / det)
+    };
+    let (r, w) = (0..selected.len())
+        .filter_map(|r| Some((r, wald(r)?)))
+        .min_by(|x, y| x.1.total_cmp(&y.1))?;
+    (w < CHI2_2_95).then(|| RefusedMode {
+        natural_frequency_hz: selected[r].natural_frequency_hz,
+        fitted_hz: theta[PER_MODE * r] / TAU,
+        reason: format!(
+            "its modal constant is not told apart from zero (Wald statistic {w:.2} < χ²₂(0.95) = 5.99): the FRF's noise, not a mode"
+        ),
+    })
 }
 
 /// The selected mode stable at the fewest orders (the highest of those tied): the one

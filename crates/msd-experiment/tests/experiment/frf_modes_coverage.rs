@@ -69,12 +69,11 @@ fn assert_honest(config: Config, label: &str) {
             }
         }
     }
-    // A spurious third mode (noise the diagram found stable) in at most 2 % of seeds.
+    // A spurious third mode (noise the diagram found stable) in at most one seed: its
+    // modal constant is tested against zero and the mode refused (without that test,
+    // two of the 200 seeds without hammer noise kept one).
     eprintln!("{label}: a third mode in {extra} of {SEEDS} seeds");
-    assert!(
-        extra as f64 <= 0.02 * SEEDS as f64,
-        "{label}: {extra} extra modes"
-    );
+    assert!(extra <= 1, "{label}: {extra} extra modes");
     // Over 200 seeds: the spread of z within 3 of its standard errors (1/√400 = 0.05)
     // of 1, the coverage within 3 binomial standard errors (0.046) of 0.95, the mean
     // of z within 3/√200 of 0.
