@@ -94,6 +94,25 @@ impl Lines {
     }
 }
 
+impl Lines {
+    /// The variance s² by which the fit's covariance scales the lines' σ², from the
+    /// residuals' `sse` over `dof`, the degrees of freedom the fit leaves them: where the
+    /// σ are the coherence's absolute variances (its noise model, two or more
+    /// averages), at least 1 — the residuals may show more than the coherence does (a
+    /// misfit, leakage) but, their errors correlated over many lines (the force
+    /// window's), can show much less by chance: their SSE then holds only a few
+    /// independent squares, and an s² from it alone would make some intervals many
+    /// times too narrow.
+    pub fn residual_variance(&self, sse: f64, dof: f64) -> f64 {
+        let s2 = sse / dof;
+        if self.noise_model.is_some() && self.averages >= 2 {
+            s2.max(1.0)
+        } else {
+            s2
+        }
+    }
+}
+
 /// (A·G⁻¹·A, tr(A⁻¹G)) for a normal matrix A = JᵀJ and the errors' information
 /// G = JᵀCJ, in columns scaled to unit norm; `None` when either is not positive definite.
 pub(crate) fn sandwich(
@@ -106,9 +125,69 @@ pub(crate) fn sandwich(
         .collect();
     let scaled =
         |m: &DMatrix<f64>| DMatrix::from_fn(p, p, |r, c| m[(r, c)] / (norms[r] * norms[c]));
-    let (a, g) = (scaled(normal), scaled(information));
+    let (a, g) = (scaled(normal), positive_part(scaled(information))?);
     let taken = a.clone().cholesky()?.solve(&g).trace();
     let inner = &a * g.cholesky()?.solve(&a);
     let normal = DMatrix::from_fn(p, p, |r, c| inner[(r, c)] * norms[r] * norms[c]);
     Some((normal, taken))
+}
+
+/// The symmetric `g` with its eigenvalues raised to at least 1e-12 of the largest: JᵀCJ
+/// is positive semi-definite in exact arithmetic, but a correlation kernel cut at
+/// [`MAX_LAG`](msd_signal::frf::MAX_LAG) and errors correlated over many lines (a force
+/// window's, where the force's noise makes nearly all of it) can leave it singular or
+/// slightly indefinite in some direction the parameters barely move. `None` when `g`
+/// has no positive eigenvalue.
+fn positive_part(g: DMatrix<f64>) -> Option<DMatrix<f64>> {
+    if g.clone().cholesky().is_some() {
+        return Some(g);
+    }
+    let eigen = g.symmetric_eigen();
+    let largest = eigen.eigenvalues.max();
+    if largest.is_nan() || largest <= 0.0 {
+        return None;
+    }
+    let floor = 1e-12 * largest;
+    let values = eigen.eigenvalues.map(|v| v.max(floor));
+    Some(&eigen.eigenvectors * DMatrix::from_diagonal(&values) * eigen.eigenvectors.transpose())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lines::CoherenceNoise;
+
+    /// A positive definite matrix is kept as it is; an indefinite one gets its negative
+    /// eigenvalue raised to 1e-12 of the largest, its eigenvectors kept.
+    #[test]
+    fn positive_part_raises_only_what_is_not_positive() {
+        let pd = DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0]);
+        assert_eq!(positive_part(pd.clone()), Some(pd));
+        // Eigenvalues 3 and −1, eigenvectors (1, 1)/√2 and (1, −1)/√2.
+        let indefinite = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 1.0]);
+        let fixed = positive_part(indefinite).expect("a positive eigenvalue");
+        let (big, small) = (3e-12 / 2.0, 3.0 / 2.0);
+        let want =
+            DMatrix::from_row_slice(2, 2, &[small + big, small - big, small - big, small + big]);
+        assert!((fixed - want).abs().max() < 1e-12);
+        assert_eq!(positive_part(-DMatrix::<f64>::identity(2, 2)), None);
+    }
+
+    /// s² from the residuals alone without a noise model; with one (absolute variances
+    /// from two or more averages), at least 1.
+    #[test]
+    fn residual_variance_is_floored_by_the_coherences_own() {
+        let mut lines = Lines::for_tests(vec![1.0, 2.0], vec![Complex64::new(1.0, 0.0); 2]);
+        assert_eq!(lines.residual_variance(0.5, 2.0), 0.25);
+        lines.noise_model = Some(CoherenceNoise {
+            force: 1e-5,
+            response: 1e-6,
+            force_standard_error: 1e-6,
+        });
+        lines.averages = 5;
+        assert_eq!(lines.residual_variance(0.5, 2.0), 1.0);
+        assert_eq!(lines.residual_variance(8.0, 2.0), 4.0);
+        lines.averages = 1;
+        assert_eq!(lines.residual_variance(0.5, 2.0), 0.25);
+    }
 }

@@ -127,7 +127,7 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
     // independent lines).
     let (normal, taken) = lines.effective_normal(&jacobian);
     let residual_dof = (rows as f64 - taken).max(1.0);
-    let s2 = fit.cost / residual_dof;
+    let s2 = lines.residual_variance(fit.cost, residual_dof);
     let degrees_of_freedom = residual_dof.floor() as usize;
     let covariance = covariance(&normal, s2)?;
     Ok(Polished {

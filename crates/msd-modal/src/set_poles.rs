@@ -91,7 +91,7 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
             (normal, (residuals - parameters) as f64)
         });
     let residual_dof = residual_dof.max(1.0);
-    let s2 = at.sse / residual_dof;
+    let s2 = lines[0].residual_variance(at.sse, residual_dof);
     let degrees_of_freedom = residual_dof.floor() as usize;
     let covariance = Linearization::from_normal_matrix(&normal)
         .map(|l| l.covariance(s2))

@@ -1,7 +1,9 @@
 //! Time records simulated on a known plant and turned into a frequency response: hammer
 //! hits (half-sine pulses from rest) and a shaker's run (any force signal, the start
-//! transient left out). The response is exact (the force linear between samples) and of
-//! the quantity of `estimator.kind`; the records are kept for the time-domain fit.
+//! transient left out). The response is simulated with the force linear between points
+//! `SUBSTEPS`× denser than the samples (the hammer's through an anti-aliasing filter
+//! first) and is of the quantity of `estimator.kind`; the records are kept for the
+//! time-domain fit.
 
 use super::source::{Loaded, run_error};
 use super::time_domain::TimeRecords;
@@ -57,18 +59,63 @@ fn estimate(
     })
 }
 
-/// One hit: a half-sine pulse of `peak` N starting at `h.trigger`.
+/// One hit as the acquisition sees it: a half-sine pulse of `peak` N starting at
+/// `h.trigger`, at `SUBSTEPS` points per sample of `n`, through the anti-aliasing
+/// filter ([`anti_aliasing`]).
 fn pulse(h: &HammerSource, peak: f64, n: usize) -> Vec<f64> {
-    (0..n)
+    let rate = h.sample_rate * SUBSTEPS as f64;
+    let first = ((h.trigger * rate).floor() as usize).min(n * SUBSTEPS);
+    let last = (((h.trigger + h.pulse_width) * rate).ceil() as usize + 1).min(n * SUBSTEPS);
+    let raw: Vec<(usize, f64)> = (first..last)
         .map(|i| {
-            let t = i as f64 / h.sample_rate - h.trigger;
-            if (0.0..=h.pulse_width).contains(&t) {
+            let t = i as f64 / rate - h.trigger;
+            let inside = (0.0..=h.pulse_width).contains(&t);
+            let value = if inside {
                 peak * (std::f64::consts::PI * t / h.pulse_width).sin()
             } else {
                 0.0
-            }
+            };
+            (i, value)
         })
-        .collect()
+        .collect();
+    let taps = anti_aliasing();
+    let half = taps.len() / 2;
+    let mut out = vec![0.0; n * SUBSTEPS];
+    for (i, value) in raw {
+        let start = i.saturating_sub(half);
+        for (j, o) in out.iter_mut().enumerate().take(i + half + 1).skip(start) {
+            *o += value * taps[j + half - i];
+        }
+    }
+    out
+}
+
+/// The acquisition's anti-aliasing filter at `SUBSTEPS` points per sample: a
+/// windowed-sinc low-pass (Blackman window, 1025 taps, zero phase, unit gain at 0 Hz)
+/// cut at 0.4 of the sample rate and below 1e-4 from half of it. A lab's filter acts
+/// on both channels alike and so leaves H = X/F as the plant's; here it acts on the
+/// force before the plant (the same, the plant being linear), so that the force's
+/// samples are not aliased (a 5 ms half-sine keeps 1 % of its low-frequency spectrum at
+/// the sample rate) and the response is that of a smooth force, simulated `SUBSTEPS`×
+/// finer than sampled.
+fn anti_aliasing() -> Vec<f64> {
+    const TAPS: usize = 1025;
+    let cut = 0.4 / SUBSTEPS as f64;
+    let middle = (TAPS / 2) as f64;
+    let taps: Vec<f64> = (0..TAPS)
+        .map(|i| {
+            let x = i as f64 - middle;
+            let sinc = if x == 0.0 {
+                2.0 * cut
+            } else {
+                (std::f64::consts::TAU * cut * x).sin() / (std::f64::consts::PI * x)
+            };
+            let phase = std::f64::consts::TAU * i as f64 / (TAPS - 1) as f64;
+            sinc * (0.42 - 0.5 * phase.cos() + 0.08 * (2.0 * phase).cos())
+        })
+        .collect();
+    let gain: f64 = taps.iter().sum();
+    taps.into_iter().map(|t| t / gain).collect()
 }
 
 /// `h.hits` hits from rest, each its own record; the response noise is a share of each
@@ -83,11 +130,16 @@ pub(super) fn hammer(
     let spread =
         gaussian_noise(seed, "hammer.force_peak", h.force_spread, h.hits).map_err(run_error)?;
     let mut channels = Vec::with_capacity(h.hits);
+    let dt = 1.0 / (h.sample_rate * SUBSTEPS as f64);
+    let sampled = |v: Vec<f64>| -> Vec<f64> { v.into_iter().step_by(SUBSTEPS).collect() };
     for (i, s) in spread.iter().enumerate() {
-        let force = pulse(h, h.force_peak * (1.0 + s).max(0.1), n);
-        let response = plant
-            .sampled_response(&force, 1.0 / h.sample_rate, options.kind)
-            .map_err(run_error)?;
+        let fine = pulse(h, h.force_peak * (1.0 + s).max(0.1), n);
+        let response = sampled(
+            plant
+                .sampled_response(&fine, dt, options.kind)
+                .map_err(run_error)?,
+        );
+        let force = sampled(fine);
         let peak = response.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         channels.push([
             noisy(&force, seed, &format!("hammer.force.{i}"), h.force_noise)?,
@@ -110,13 +162,12 @@ pub(super) fn hammer(
         h.force_noise,
         100.0 * h.response_noise
     );
-    // Simulated with the force linear between samples: a fit that holds it the same way
-    // has no model error.
+    // The force between samples is a band-limited signal, not a line.
     estimate(
         channels,
         h.sample_rate,
         options,
-        Hold::First,
+        Hold::Cubic,
         description,
         "hammer",
     )

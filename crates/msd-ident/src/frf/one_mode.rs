@@ -323,9 +323,11 @@ fn fit_in_band(
     let (rows, p) = jacobian.shape();
     // The residuals lose tr((JᵀJ)⁻¹JᵀCJ) degrees of freedom to the fit (p when the lines
     // are independent).
+    let dof = ResidualNoise::independent(fit.cost, rows, p)?.dof + p as f64 - taken;
     let noise = ResidualNoise {
-        dof: ResidualNoise::independent(fit.cost, rows, p)?.dof + p as f64 - taken,
-        sse: fit.cost,
+        // At least the coherence's own variance, where it gives one.
+        sse: lines.residual_variance(fit.cost, dof) * dof,
+        dof,
     };
     let uncertainty = from_normal_matrix(
         &normal,
