@@ -79,7 +79,7 @@ pub mod spectral;
 pub use error::{Result, SignalError};
 pub use frf::{
     Estimator, FrfKind, FrfOptions, ImpactWindows, LineCorrelation, REPEATING, Record, UNEXCITED,
-    frf_estimate, resolve_window,
+    force_channel_noise, frf_estimate, resolve_window,
 };
 pub use lowpass::{central_difference, lowpass_zero_phase};
 pub use noise::{NoiseStream, gaussian_noise, stream_id, stream_rng};

@@ -26,6 +26,10 @@
 //! - a *force window* on the hammer channel: 1 for the first `force_width` seconds of
 //!   the record (pre-trigger and pulse), 0 after, which removes the force channel's
 //!   noise after the hit;
+//!   that noise, measured there ([`force_channel_noise`]), is the noise the window
+//!   keeps under the pulse: it gives each line's share of H's error from the force
+//!   ([`FrequencyResponseEstimate::input_noise_variance`]), which the coherence alone
+//!   confounds with the response's noise;
 //! - an *exponential window* w(t) = e^(−t/τ), t from the start of the record, on the
 //!   response, so that a response that has not died out by the end of the record does
 //!   not leak. The same exponential multiplies the force channel too (where it is ≈ 1
@@ -188,15 +192,22 @@ impl ImpactWindows {
     /// The two windows for records of `l` samples at `fs` Hz, and τ.
     fn coefficients(&self, l: usize, fs: f64) -> (Vec<f64>, Vec<f64>, f64) {
         let seconds = l as f64 / fs;
-        let width = self.force_width.unwrap_or(seconds / 10.0);
         let tau = self.decay_time.unwrap_or(seconds / 4.0);
         let exponential: Vec<f64> = (0..l).map(|i| (-(i as f64) / fs / tau).exp()).collect();
+        let cut = self.first_cut(l, fs);
         let force = exponential
             .iter()
             .enumerate()
-            .map(|(i, e)| if i as f64 / fs <= width { *e } else { 0.0 })
+            .map(|(i, e)| if i < cut { *e } else { 0.0 })
             .collect();
         (force, exponential, tau)
+    }
+
+    /// The first sample the force window sets to 0 in records of `l` samples at `fs` Hz
+    /// (samples at t ≤ the width are kept).
+    fn first_cut(&self, l: usize, fs: f64) -> usize {
+        let width = self.force_width.unwrap_or(l as f64 / fs / 10.0);
+        (0..l).find(|&i| i as f64 / fs > width).unwrap_or(l)
     }
 }
 
@@ -311,6 +322,14 @@ pub struct FrequencyResponseEstimate {
     /// How the errors of neighbouring lines are correlated by the windows (empty for a
     /// measured table: independent lines as far as is known).
     pub line_correlation: LineCorrelation,
+    /// Per line, the variance of the response's relative error that the input's noise
+    /// makes, v_k = E|ΔĤ_k|²/|H_k|² = N_x/(K·S_xx,k) (N_x the input noise's one-sided
+    /// density in the spectra's scale), where that noise was measured: an impact test's
+    /// force channel after the force window holds nothing but its noise
+    /// ([`force_channel_noise`]). H1 is then low by K·v_k at line k. 0 at unexcited
+    /// lines; `None` where not measured (random excitation, a table, a force channel
+    /// without noise after the window — a record exported already windowed).
+    pub input_noise_variance: Option<Vec<f64>>,
 }
 
 /// The input power, relative to its largest line, below which [`frf_estimate`] counts a
@@ -372,7 +391,7 @@ pub fn frf_estimate(
     }
     let pairs: Vec<(&[f64], Option<&[f64]>)> =
         records.iter().map(|r| (r.input, Some(r.output))).collect();
-    let (welch, decay) = match &options.impact {
+    let (welch, decay, noise) = match &options.impact {
         Some(impact) => {
             let (force, exponential, tau) = impact.coefficients(l, fs);
             let segmenting = Segmenting {
@@ -382,7 +401,10 @@ pub fn frf_estimate(
                 output_window: &exponential,
                 detrend: Detrend::None,
             };
-            (welch_records(&pairs, fs, &segmenting), Some(tau))
+            let welch = welch_records(&pairs, fs, &segmenting);
+            let sigma = force_channel_noise(records, impact.first_cut(l, fs));
+            let noise = sigma.map(|sigma| input_noise_variance(&welch, l, fs, sigma));
+            (welch, Some(tau), noise)
         }
         None => {
             let window = resolve_window(options.welch.window, records, l).coefficients(l);
@@ -393,13 +415,91 @@ pub fn frf_estimate(
                 output_window: &window,
                 detrend: options.welch.detrend,
             };
-            (welch_records(&pairs, fs, &segmenting), None)
+            (welch_records(&pairs, fs, &segmenting), None, None)
         }
     };
     let mut frf = estimate_from(welch, options.estimator, UNEXCITED)?;
     frf.kind = options.kind;
     frf.exponential_decay = decay;
+    frf.input_noise_variance = noise.map(|mut v| {
+        v.truncate(frf.h.len());
+        for (v, h) in v.iter_mut().zip(&frf.h) {
+            if h.norm_sqr() == 0.0 {
+                *v = 0.0;
+            }
+        }
+        v
+    });
     Ok(frf)
+}
+
+/// The fewest samples after the force windows from which [`force_channel_noise`]
+/// takes the channel's noise.
+const NOISE_SAMPLES: usize = 64;
+
+/// The standard deviation of an impact test's force channel where the force window has
+/// cut it off (samples `first` onward of every record): after the hit the channel
+/// holds only its noise, the same noise the window keeps under the pulse. Robust: the
+/// median absolute deviation of every record's samples from that record's median
+/// (× 1.4826, the standard deviation of Gaussian noise), so that an offset, a second
+/// touch of the hammer or a spike moves it little. `None` with fewer than
+/// [`NOISE_SAMPLES`] samples or a deviation of 0 (a channel without noise there: a
+/// record exported already windowed, or quantised flat).
+///
+/// ```
+/// use msd_signal::{force_channel_noise, gaussian_noise, Record};
+/// // A hit, then noise of 0.5 N on a 2 N offset, for 4000 samples.
+/// let noise = gaussian_noise(3, "force", 0.5, 4096)?;
+/// let force: Vec<f64> = (0..4096)
+///     .map(|i| 2.0 + noise[i] + if (10..20).contains(&i) { 100.0 } else { 0.0 })
+///     .collect();
+/// let record = Record { input: &force, output: &force };
+/// let sigma = force_channel_noise(&[record], 96).expect("measured");
+/// assert!((sigma / 0.5 - 1.0).abs() < 0.06); // about 1.17/√(2·4000) relative
+/// let flat = vec![0.0; 4096];
+/// assert_eq!(force_channel_noise(&[Record { input: &flat, output: &flat }], 96), None);
+/// # Ok::<(), msd_signal::SignalError>(())
+/// ```
+pub fn force_channel_noise(records: &[Record<'_>], first: usize) -> Option<f64> {
+    let mut deviations = Vec::new();
+    for r in records {
+        let Some(tail) = r.input.get(first..) else {
+            continue;
+        };
+        let median = median_of(tail.to_vec())?;
+        deviations.extend(tail.iter().map(|x| (x - median).abs()));
+    }
+    if deviations.len() < NOISE_SAMPLES {
+        return None;
+    }
+    let mad = median_of(deviations)?;
+    (mad > 0.0).then_some(1.4826 * mad)
+}
+
+/// The median of `values` (`None` when empty).
+fn median_of(mut values: Vec<f64>) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mid = values.len() / 2;
+    let (_, m, _) = values.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
+}
+
+/// v_k = N_x/(K·S_xx,k) for input noise of standard deviation `sigma` at `fs` Hz:
+/// N_x = (2 or 1)·σ²/fs, the one-sided density in the scale of `welch`'s spectra
+/// (whose S_xx is (2 or 1)·Σ|X|²/(fs·Σw²·K) with the force window w), so that
+/// v_k = σ²·Σw²/Σ|X_k|², the windowed noise's power over the hits' power.
+fn input_noise_variance(welch: &Welch, l: usize, fs: f64, sigma: f64) -> Vec<f64> {
+    let k = welch.averages as f64;
+    (welch.sxx.iter().enumerate())
+        .map(|(i, &sxx)| {
+            let nyquist = l.is_multiple_of(2) && i == l / 2;
+            let one_sided = if i == 0 || nyquist { 1.0 } else { 2.0 };
+            let v = one_sided * sigma * sigma / (fs * k * sxx);
+            if v.is_finite() { v } else { 0.0 }
+        })
+        .collect()
 }
 
 /// The window that [`Window::Auto`] stands for on these records cut into segments of
@@ -527,6 +627,7 @@ pub(crate) fn estimate_from(
         noise_bandwidth: w.noise_bandwidth,
         estimator: Some(estimator),
         line_correlation: w.line_correlation,
+        input_noise_variance: None,
     })
 }
 

@@ -60,6 +60,7 @@ impl FrequencyResponseEstimate {
             noise_bandwidth: 1.0,
             estimator: None,
             line_correlation: LineCorrelation::default(),
+            input_noise_variance: None,
         })
     }
 

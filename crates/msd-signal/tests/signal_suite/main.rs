@@ -2,6 +2,7 @@
 
 mod errors;
 mod frf;
+mod input_noise;
 mod limits;
 mod line_correlation;
 mod multisine_prbs;
