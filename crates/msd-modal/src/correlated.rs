@@ -183,6 +183,7 @@ mod tests {
             force: 1e-5,
             response: 1e-6,
             force_standard_error: 1e-6,
+            force_measured: false,
         });
         lines.averages = 5;
         assert_eq!(lines.residual_variance(0.5, 2.0), 1.0);

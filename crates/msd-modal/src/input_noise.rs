@@ -19,6 +19,13 @@
 //! noise model's weights already make (a force of even power over the band, white noise
 //! on both channels). On the shipped shaker config with 10 % force noise (150 seeds) it
 //! takes m's bias from +0.68 to −0.13 standard errors and its coverage from 0.89 to 0.93.
+//!
+//! Where the force's noise was measured — an impact test's force channel after the force
+//! window ([`msd_signal::force_channel_noise`]) — each line's share v_k is known, and
+//! each line is raised by its own (K − 1)·v_k = 2K·a_k under any window: the leakage
+//! that makes the coherence's a ambiguous does not enter a measurement of the channel.
+//! (K − 1), not K: the hits' spectra have the same shape, and the noise's correlation
+//! with them gives one part in K back (to second order; simulated in msd-signal's tests).
 
 use serde::Serialize;
 
@@ -30,7 +37,7 @@ use msd_signal::Estimator;
 ///
 /// ```
 /// use msd_modal::InputNoise;
-/// let n = InputNoise { h1_bias: 0.004, corrected: true };
+/// let n = InputNoise { h1_bias: 0.004, corrected: true, measured: false };
 /// assert_eq!(
 ///     n.to_string(),
 ///     "the force's noise biased H1 low by 0.40 % (its share of the coherence's noise model): the lines were raised by as much"
@@ -49,12 +56,21 @@ pub struct InputNoise {
     /// standard errors on a noise-free random test (K = 31); the bias is then said, not
     /// taken off.
     pub corrected: bool,
+    /// Whether the force's noise was measured (an impact test's force channel after the
+    /// force window): then each line is raised by its own 2K·a_k = (K − 1)·v_k, under
+    /// any window, and `h1_bias` is their mean over the lines in the fit's weights.
+    pub measured: bool,
 }
 
 impl std::fmt::Display for InputNoise {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let percent = 100.0 * self.h1_bias;
-        if self.corrected {
+        if self.measured {
+            write!(
+                f,
+                "the force's noise, measured on the force channel after the force window, biased H1 low by {percent:.3} % (in the fit's weights): each line was raised by its own share"
+            )
+        } else if self.corrected {
             write!(
                 f,
                 "the force's noise biased H1 low by {percent:.2} % (its share of the coherence's noise model): the lines were raised by as much"
@@ -82,6 +98,24 @@ impl Lines {
     pub fn correct_input_noise(&mut self) -> Option<InputNoise> {
         let noise = self.noise_model?;
         let a = noise.force;
+        let k = self.averages as f64;
+        if noise.force_measured && self.estimator == Some(Estimator::H1) {
+            // (K − 1)·v_k at each line, known: no leakage to confound it with.
+            for ((h, s), a) in self
+                .h
+                .iter_mut()
+                .zip(&mut self.sigma)
+                .zip(&self.force_noise)
+            {
+                *h *= 1.0 + 2.0 * k * a;
+                *s *= 1.0 + 2.0 * k * a;
+            }
+            return Some(InputNoise {
+                h1_bias: 2.0 * k * a,
+                corrected: true,
+                measured: true,
+            });
+        }
         if self.estimator != Some(Estimator::H1)
             || self.weighting != FrfWeighting::Coherence
             || self.averages < 2
@@ -99,6 +133,7 @@ impl Lines {
             return Some(InputNoise {
                 h1_bias,
                 corrected: false,
+                measured: false,
             });
         }
         for h in &mut self.h {
@@ -110,12 +145,15 @@ impl Lines {
         Some(InputNoise {
             h1_bias,
             corrected: true,
+            measured: false,
         })
     }
 }
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::TAU;
+
     use crate::lines::{FrfWeighting, prepare};
     use msd_signal::{Complex64, Estimator, FrequencyResponseEstimate};
 
@@ -167,6 +205,45 @@ mod tests {
         for estimator in [Some(Estimator::H2), Some(Estimator::Hv), None] {
             frf.estimator = estimator;
             assert_eq!(lines(&frf).correct_input_noise(), None);
+        }
+    }
+
+    /// A measured force noise v_k that varies over the band (a hammer's spectrum falls
+    /// off) and a coherence that shows it and the response's noise b exactly: the weights
+    /// take a_k = (K − 1)/(2K)·v_k as given and b back, each line's variance is
+    /// v_k/2·|H|² + K/(K − 1)·b·u_k, and H1 is raised line by line by (K − 1)·v_k.
+    #[test]
+    fn a_measured_force_noise_is_taken_line_by_line() {
+        let (b, k) = (3e-7, 5usize);
+        let kf = k as f64;
+        let f: Vec<f64> = (1..=80).map(|i| 0.025 * f64::from(i)).collect();
+        let v: Vec<f64> = f.iter().map(|f| 1e-4 * (1.0 + 2.0 * f)).collect();
+        let biased = |i: usize| mode(f[i]) / (1.0 + (kf - 1.0) * v[i]);
+        let h: Vec<Complex64> = (0..f.len()).map(biased).collect();
+        let mut frf = FrequencyResponseEstimate::new(f.clone(), h).unwrap();
+        frf.coherence = (0..f.len())
+            .map(|i| 1.0 / (1.0 + (kf - 1.0) * v[i] + 2.0 * kf * b / biased(i).norm_sqr()))
+            .collect();
+        frf.averages = k;
+        frf.estimator = Some(Estimator::H1);
+        frf.noise_bandwidth = 3.0;
+        frf.exponential_decay = Some(2.0);
+        frf.input_noise_variance = Some(v.clone());
+        let mut l = prepare(&frf, None, FrfWeighting::Coherence, 4).unwrap();
+        let lookup = |w: f64| f.iter().position(|f| (TAU * f - w).abs() < 1e-9).unwrap();
+        assert!(l.smooth_coherence_weights(|w| biased(lookup(w))));
+        let noise = l.noise_model.expect("fitted");
+        assert!(noise.force_measured && (noise.response / b - 1.0).abs() < 1e-9);
+        for (i, s) in l.sigma.iter().enumerate() {
+            let m = biased(i).norm_sqr();
+            let expected = v[i] / 2.0 * m + kf / (kf - 1.0) * b;
+            assert!((s * s / expected - 1.0).abs() < 1e-9, "line {i}");
+        }
+        let found = l.correct_input_noise().expect("measured");
+        assert!(found.corrected && found.measured, "{found:?}");
+        assert!(found.to_string().contains("measured on the force channel"));
+        for (i, h) in l.h.iter().enumerate() {
+            assert!((h / mode(f[i]) - 1.0).norm() < 1e-12, "line {i}: {h}");
         }
     }
 }

@@ -101,19 +101,32 @@ pub struct Lines {
     /// The coherence's noise model, once
     /// [`smooth_coherence_weights`](Self::smooth_coherence_weights) has fitted it.
     pub noise_model: Option<CoherenceNoise>,
+    /// Each line's variance of H's relative error from the force's noise, where it was
+    /// measured ([`FrequencyResponseEstimate::input_noise_variance`]); empty otherwise.
+    pub input_noise: Vec<f64>,
+    /// The force's term a_k of each line in the coherence's noise model (see
+    /// [`CoherenceNoise`]), once [`smooth_coherence_weights`](Self::smooth_coherence_weights)
+    /// has set it: the fitted a on every line, or (K − 1)/(2K)·v_k from the measured
+    /// [`input_noise`](Self::input_noise).
+    pub force_noise: Vec<f64>,
 }
 
 /// The noise model fitted to the lines' coherence: q_k = (1 − γ̂_k²)/(2K·γ̂_k²)·|Ĥ_k|²
 /// ≈ a·|H(ω_k)|² + b·ω_k^(−2p), a the force's noise and b the response's (each relative
-/// to the force's power).
+/// to the force's power). Where the force's noise was measured (an impact test's force
+/// channel after its window), a_k = (K − 1)/(2K)·v_k is known at every line and only b
+/// is fitted.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct CoherenceNoise {
-    /// a: the force's noise.
+    /// a: the force's noise (where measured, the a that fits a_k·|H_k|² best).
     pub force: f64,
     /// b: the response's noise (flat in the measured quantity).
     pub response: f64,
-    /// The standard error of a, from the scatter of q about the model.
+    /// The standard error of a, from the scatter of q about the model (0 where a was
+    /// measured).
     pub force_standard_error: f64,
+    /// Whether the force's noise was measured rather than fitted to the coherence.
+    pub force_measured: bool,
 }
 
 /// Checks that the estimate's arrays have one entry per line.
@@ -122,6 +135,9 @@ fn check_shape(frf: &FrequencyResponseEstimate) -> Result<()> {
     let mut arrays = vec![("h", frf.h.len()), ("coherence", frf.coherence.len())];
     if let Some(v) = &frf.variance {
         arrays.push(("variance", v.len()));
+    }
+    if let Some(v) = &frf.input_noise_variance {
+        arrays.push(("input_noise_variance", v.len()));
     }
     for (what, got) in arrays {
         if got != lines {
@@ -206,6 +222,8 @@ pub fn prepare(
         averages: frf.averages,
         estimator: frf.estimator,
         noise_model: None,
+        input_noise: Vec::new(),
+        force_noise: Vec::new(),
     };
     for (k, &f) in receptance.frequency.iter().enumerate() {
         if !inside(f) {
@@ -242,6 +260,9 @@ pub fn prepare(
         });
         if relative.is_finite() {
             lines.relative_sigma.push(relative);
+        }
+        if let Some(v) = &receptance.input_noise_variance {
+            lines.input_noise.push(v[k]);
         }
     }
     if lines.omega.len() < min_lines {
@@ -312,32 +333,52 @@ impl Lines {
         let u: Vec<f64> = (self.omega.iter())
             .map(|&w| w.powi(-2 * self.measured_power))
             .collect();
-        let Some([a, b]) = noise_model(&m, &u, &q) else {
+        let k = self.averages as f64;
+        let measured = self.averages >= 2 && self.input_noise.len() == self.h.len();
+        let fitted = if measured {
+            let a: Vec<f64> = (self.input_noise.iter())
+                .map(|v| v * (k - 1.0) / (2.0 * k))
+                .collect();
+            response_noise(&m, &u, &q, &a).map(|b| (a, b))
+        } else {
+            noise_model(&m, &u, &q).map(|[a, b]| (vec![a; m.len()], b))
+        };
+        let Some((a, b)) = fitted else {
             self.reweight(model);
             return false;
         };
-        self.noise_model = Some(CoherenceNoise {
-            force: a,
-            response: b,
-            force_standard_error: standard_error_of_a(&m, &u, &q, [a, b]),
+        self.noise_model = Some(if measured {
+            CoherenceNoise {
+                force: equivalent_force_noise(&m, &u, &a, b),
+                response: b,
+                force_standard_error: 0.0,
+                force_measured: true,
+            }
+        } else {
+            CoherenceNoise {
+                force: a[0],
+                response: b,
+                force_standard_error: standard_error_of_a(&m, &u, &q, [a[0], b]),
+                force_measured: false,
+            }
         });
         // K/(K − 1) for the one response the coherence was taken about; with K unknown
         // the weights are relative only (the fit's s² sets their scale).
-        let k = self.averages as f64;
-        self.force_share = (m.iter().zip(&u))
-            .map(|(&m, &u)| match a * m + b * u {
-                total if total > 0.0 => (a * m / total).clamp(0.0, 1.0),
+        let variance = |i: usize| a[i] * m[i] + b * u[i];
+        self.force_share = (0..m.len())
+            .map(|i| match variance(i) {
+                total if total > 0.0 => (a[i] * m[i] / total).clamp(0.0, 1.0),
                 _ => 0.0,
             })
             .collect();
-        for ((s, &m), &u) in self.sigma.iter_mut().zip(&m).zip(&u) {
-            let variance = a * m + b * u;
+        for (i, s) in self.sigma.iter_mut().enumerate() {
             *s = if self.averages >= 2 {
-                (variance * k / (k - 1.0)).sqrt()
+                (variance(i) * k / (k - 1.0)).sqrt()
             } else {
-                variance.sqrt()
+                variance(i).sqrt()
             };
         }
+        self.force_noise = a;
         self.averages >= 2
     }
 
@@ -460,6 +501,8 @@ impl Lines {
             averages: 1,
             estimator: None,
             noise_model: None,
+            input_noise: Vec::new(),
+            force_noise: Vec::new(),
         }
     }
 }
@@ -553,6 +596,46 @@ fn noise_model(m: &[f64], u: &[f64], q: &[f64]) -> Option<[f64; 2]> {
         }
     }
     ab
+}
+
+/// b ≥ 0 of q_k ≈ a_k·m_k + b·u_k with every a_k known, each line weighted by the
+/// inverse square of its predicted q (iterated, as [`noise_model`]); `None` when no line
+/// has a positive prediction.
+fn response_noise(m: &[f64], u: &[f64], q: &[f64], a: &[f64]) -> Option<f64> {
+    let mut b: f64 = 0.0;
+    let mut found = None;
+    for round in 0..4 {
+        let (mut suu, mut sur) = (0.0, 0.0);
+        for i in 0..m.len() {
+            let p = a[i] * m[i] + b * u[i];
+            let w = match round {
+                0 => 1.0,
+                _ if p > 0.0 => 1.0 / (p * p),
+                _ => 0.0,
+            };
+            suu += w * u[i] * u[i];
+            sur += w * u[i] * (q[i] - a[i] * m[i]);
+        }
+        b = (sur / suu).max(0.0);
+        if !b.is_finite() || (0..m.len()).all(|i| a[i] * m[i] + b * u[i] <= 0.0) {
+            return found;
+        }
+        found = Some(b);
+    }
+    found
+}
+
+/// The one a that fits the known a_k·m_k best in the fit's weights (for the report).
+fn equivalent_force_noise(m: &[f64], u: &[f64], a: &[f64], b: f64) -> f64 {
+    let (mut smm, mut sma) = (0.0, 0.0);
+    for i in 0..m.len() {
+        let p = a[i] * m[i] + b * u[i];
+        if p > 0.0 {
+            smm += m[i] * m[i] / (p * p);
+            sma += m[i] * a[i] * m[i] / (p * p);
+        }
+    }
+    if smm > 0.0 { sma / smm } else { 0.0 }
 }
 
 /// The standard error of a in q ≈ a·m + b·u fitted with weights 1/(a·m + b·u)²:
