@@ -81,6 +81,10 @@ fn estimate_dict(py: Python<'_>, e: FrequencyResponseEstimate) -> PyResult<Bound
         ),
     )?;
     d.set_item("estimator", e.estimator.map(estimator_name))?;
+    d.set_item(
+        "input_noise_variance",
+        e.input_noise_variance.map(|v| array(py, v)),
+    )?;
     Ok(d)
 }
 
@@ -94,13 +98,15 @@ fn estimator_name(e: Estimator) -> &'static str {
 }
 
 /// How an FRF was made, where known: K segments averaged and the estimator, which a
-/// fit needs to take the coherence's noise apart (and H1's bias off), and how the
-/// windows correlate the lines' errors.
+/// fit needs to take the coherence's noise apart (and H1's bias off), how the windows
+/// correlate the lines' errors, and each line's variance from the force's noise where
+/// it was measured (an impact test's force channel after the force window).
 struct Made {
     averages: usize,
     estimator: Option<Estimator>,
     noise_bandwidth: f64,
     line_correlation: LineCorrelation,
+    input_noise_variance: Option<Vec<f64>>,
 }
 
 /// The lines' correlation as Python gives it: (response, force) kernels, or None.
@@ -138,6 +144,7 @@ impl Made {
         estimator: Option<&str>,
         noise_bandwidth: f64,
         line_correlation: PyCorrelation<'_>,
+        input_noise_variance: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         if !(noise_bandwidth.is_finite() && noise_bandwidth >= 1.0) {
             return Err(PyValueError::new_err(format!(
@@ -163,11 +170,20 @@ impl Made {
                 force: kernel("force", &force)?,
             },
         };
+        let input_noise_variance = input_noise_variance.map(|v| vec_f64(&v));
+        if let Some((i, v)) = (input_noise_variance.iter().flatten().enumerate())
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(PyValueError::new_err(format!(
+                "input_noise_variance line {i} is {v}: expected a variance ≥ 0"
+            )));
+        }
         Ok(Self {
             averages,
             estimator,
             noise_bandwidth,
             line_correlation,
+            input_noise_variance,
         })
     }
 }
@@ -186,6 +202,16 @@ fn measured(
     e.estimator = made.estimator;
     e.noise_bandwidth = made.noise_bandwidth;
     e.line_correlation = made.line_correlation.clone();
+    if let Some(v) = &made.input_noise_variance {
+        if v.len() != frequency.len() {
+            return Err(PyValueError::new_err(format!(
+                "length mismatch: input_noise_variance has {} lines, expected {}",
+                v.len(),
+                frequency.len()
+            )));
+        }
+        e.input_noise_variance = Some(v.clone());
+    }
     if let Some(c) = coherence {
         if c.len() != frequency.len() {
             return Err(PyValueError::new_err(format!(
@@ -217,7 +243,7 @@ fn measured(
     Ok(e)
 }
 
-/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, averages, estimator, noise_bandwidth, line_correlation, dofs, options_json)
+/// modal_fit(frequency, frfs, coherences, kind, exponential_decay, averages, estimator, noise_bandwidth, line_correlation, input_noise_variance, dofs, options_json)
 /// --
 ///
 /// msd-ident's `fit_modes` on one FRF (dofs None) or `fit_mode_set` on a set, each
@@ -235,11 +261,18 @@ pub fn modal_fit<'py>(
     estimator: Option<&str>,
     noise_bandwidth: f64,
     line_correlation: PyCorrelation<'py>,
+    input_noise_variance: Option<PyReadonlyArray1<'py, f64>>,
     dofs: Option<Vec<(PyDof<'py>, PyDof<'py>)>>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: ModalOptions = options("modal_fit options", options_json)?;
-    let made = Made::new(averages, estimator, noise_bandwidth, line_correlation)?;
+    let made = Made::new(
+        averages,
+        estimator,
+        noise_bandwidth,
+        line_correlation,
+        input_noise_variance,
+    )?;
     let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
     let frequency = vec_f64(&frequency);
     if frfs.is_empty() {
@@ -310,7 +343,7 @@ pub fn modal_fit<'py>(
     }
 }
 
-/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, averages, estimator, noise_bandwidth, line_correlation, options_json)
+/// one_mode_fit(frequency, h, coherence, kind, exponential_decay, averages, estimator, noise_bandwidth, line_correlation, input_noise_variance, options_json)
 /// --
 ///
 /// msd-ident's `fit_one_mode`: m, c, k (with fn and ζ) of one FRF with 95 % intervals.
@@ -327,10 +360,17 @@ pub fn one_mode_fit<'py>(
     estimator: Option<&str>,
     noise_bandwidth: f64,
     line_correlation: PyCorrelation<'py>,
+    input_noise_variance: Option<PyReadonlyArray1<'py, f64>>,
     options_json: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts: OneModeOptions = options("one_mode_fit options", options_json)?;
-    let made = Made::new(averages, estimator, noise_bandwidth, line_correlation)?;
+    let made = Made::new(
+        averages,
+        estimator,
+        noise_bandwidth,
+        line_correlation,
+        input_noise_variance,
+    )?;
     let kind: FrfKind = options("kind", &serde_json::Value::from(kind).to_string())?;
     let h: Vec<Complex64> = h.as_array().iter().copied().collect();
     let e = measured(

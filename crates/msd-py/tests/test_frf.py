@@ -222,3 +222,34 @@ def test_an_impact_frf_carries_its_line_correlation_into_the_fits():
     )
     assert independent.damping_ratio.value == fit.damping_ratio.value
     assert independent.damping_ratio.standard_error != fit.damping_ratio.standard_error
+
+
+def test_an_impact_frf_carries_its_measured_force_noise_into_the_fits():
+    """Hits with noise on the force channel: the estimate measures that noise after the
+    force window and gives each line's variance from it (about σ²·Σw²/Σ|F_k|²); the
+    array survives a JSON round trip and a fit of the FrequencyResponse takes it (the
+    force's noise said as measured), where the same lines without it do not."""
+    rng = np.random.default_rng(5)
+    t = np.arange(8 * 128) / 128.0
+    pulse = np.where((t >= 0.1) & (t < 0.12), 100 * np.sin(np.pi * (t - 0.1) / 0.02), 0.0)
+    clean = np.vstack([a * pulse for a in 1.0 + 0.2 * rng.normal(size=5)])
+    responses = np.vstack([msd.simulate((2.5, 1.8, 120.0), t, f) for f in clean])
+    responses += 0.002 * np.abs(responses).max() * rng.normal(size=responses.shape)
+    forces = clean + 0.5 * rng.normal(size=clean.shape)
+    fr = msd.frf(t, forces, responses, "H1", impact={"force_width": 0.5, "decay_time": 2.0})
+    v = fr.data["input_noise_variance"]
+    assert v.shape == fr.frequency.shape
+    # At 1 Hz: σ² = 0.25 over the force window's 65 samples, against Σ|F|² of five hits.
+    k = int(np.argmin(np.abs(fr.frequency - 1.0)))
+    power = sum(abs(np.fft.rfft(f * np.where(t <= 0.5, np.exp(-t / 2.0), 0.0))[k]) ** 2 for f in forces)
+    window = np.where(t <= 0.5, np.exp(-t / 2.0), 0.0)
+    assert abs(v[k] / (0.25 * np.sum(window**2) / power) - 1) < 0.15, v[k]
+    back = msd.FrequencyResponse.from_dict(fr.to_dict())
+    np.testing.assert_array_equal(back.data["input_noise_variance"], v)
+    fit = msd.one_mode_fit(fr)
+    assert fit.input_noise is not None and fit.input_noise["measured"], fit.input_noise
+    assert "measured on the force channel" in str(fit)
+    without = dict(fr.data)
+    without["input_noise_variance"] = None
+    other = msd.one_mode_fit(msd.FrequencyResponse(without))
+    assert other.input_noise is None or not other.input_noise["measured"]

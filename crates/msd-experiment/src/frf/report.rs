@@ -183,6 +183,14 @@ fn data_section(w: &mut String, o: &FrfOutcome) -> std::fmt::Result {
             " An exponential window e^(−t/τ), τ = {tau} s, was applied: it adds the damping ratio 1/(ωn·τ) to a mode, which the fit takes off (below)."
         )?;
     }
+    if let Some([low, high]) = force_noise_range(o) {
+        write!(
+            w,
+            " The force channel's noise was measured after the force window: it makes each line's error {}–{} % of |H| in the fitted band (σ²·Σw²/Σ|F_k|² over the hits), which the weights take as known; the coherence sets only the response's noise.",
+            sig(100.0 * low, 2),
+            sig(100.0 * high, 2)
+        )?;
+    }
     writeln!(w, "\n")?;
     Ok(())
 }
@@ -438,6 +446,20 @@ pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
         .filter(|&k| (from..=to).contains(&d.frequency[k]) && !unexcited(k))
         .fold(1.0, |low, k| d.coherence[k].min(low));
     ([from, to], low)
+}
+
+/// The smallest and largest relative standard deviation √v_k of a line from the force's
+/// noise in the fitted band, where that noise was measured (an impact test).
+pub(super) fn force_noise_range(o: &FrfOutcome) -> Option<[f64; 2]> {
+    let v = o.data.input_noise_variance.as_ref()?;
+    let [from, to] = o.fit.band_hz();
+    let inside = (o.data.frequency.iter().zip(v))
+        .filter(|&(f, &v)| (from..=to).contains(f) && v > 0.0)
+        .map(|(_, v)| v.sqrt());
+    inside.fold(None, |range, s| match range {
+        None => Some([s, s]),
+        Some([low, high]) => Some([s.min(low), s.max(high)]),
+    })
 }
 
 /// The verdict on a one-mode fit whose lines are weighted by the FRF's own noise: its

@@ -85,6 +85,10 @@ struct Data<'a> {
     /// Lines without force, left out of the fit (from time records).
     #[serde(skip_serializing_if = "is_zero")]
     unexcited_lines: usize,
+    /// The smallest and largest relative standard deviation of a line in the fitted band
+    /// from the force's noise, where it was measured (an impact test's force channel).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force_noise_relative_sd: Option<[f64; 2]>,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -199,6 +203,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             noise_bandwidth: o.data.noise_bandwidth,
             min_coherence: super::report::fitted_band_coherence(o).1,
             unexcited_lines: o.unexcited_lines(),
+            force_noise_relative_sd: super::report::force_noise_range(o),
         },
         estimate: one_mode(o),
         modes: match &o.fit {

@@ -336,16 +336,18 @@ def _unpacked(name: str, frequencies: Any, frf: Any, coherence: Any, kind: Optio
 
 def _made(
     frequencies: Any, averages: Any, estimator: Optional[str]
-) -> Tuple[int, Optional[str], float, Optional[Tuple[Any, Any]]]:
+) -> Tuple[int, Optional[str], float, Optional[Tuple[Any, Any]], Any]:
     """How the FRF was made: the segments averaged (1 when not known), the estimator
     ("H1", "H2", "Hv"; None for a measured table), the window's noise bandwidth in
-    lines (1 rectangular, 1.5 Hann) and how the windows correlate the lines' errors
-    (the response's and the force's kernels), from a `FrequencyResponse` unless given by
-    name. With them a coherence-weighted fit takes the force's noise apart from the
-    response's, corrects an H1 for it where the window does not leak, and gives
+    lines (1 rectangular, 1.5 Hann), how the windows correlate the lines' errors
+    (the response's and the force's kernels) and each line's variance from the force's
+    noise where it was measured (an impact test's force channel after the force window),
+    from a `FrequencyResponse` unless given by name. With them a coherence-weighted fit
+    takes the force's noise apart from the response's, corrects an H1 for it, and gives
     intervals that hold on lines whose errors the windows correlate."""
     noise_bandwidth = 1.0
     line_correlation = None
+    input_noise_variance = None
     if isinstance(frequencies, FrequencyResponse):
         if averages is None:
             averages = frequencies.averages
@@ -353,9 +355,12 @@ def _made(
             estimator = frequencies.estimator
         noise_bandwidth = float(frequencies.data.get("noise_bandwidth", 1.0))
         line_correlation = frequencies.data.get("line_correlation")
+        input_noise_variance = frequencies.data.get("input_noise_variance")
     k = 1 if averages is None else integer("averages", averages, low=1)
     name = None if estimator is None else text("estimator", estimator)
-    return k, name, noise_bandwidth, line_correlation
+    if input_noise_variance is not None:
+        input_noise_variance = vector("input_noise_variance", input_noise_variance)
+    return k, name, noise_bandwidth, line_correlation, input_noise_variance
 
 
 def modal_fit(

@@ -53,6 +53,7 @@ def modal_fit(
     estimator: Optional[str],
     noise_bandwidth: float,
     line_correlation: Optional[Tuple[Any, Any]],
+    input_noise_variance: Optional[_F64],
     dofs: Optional[Sequence[Tuple[Tuple[int, int], Tuple[int, int]]]],
     options_json: str,
 ) -> Dict[str, Any]: ...
@@ -78,6 +79,7 @@ def one_mode_fit(
     estimator: Optional[str],
     noise_bandwidth: float,
     line_correlation: Optional[Tuple[Any, Any]],
+    input_noise_variance: Optional[_F64],
     options_json: str,
 ) -> Dict[str, Any]: ...
 def read_file(path: str) -> Tuple[List[Dict[str, Any]], List[str]]: ...

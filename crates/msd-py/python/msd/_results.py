@@ -327,6 +327,8 @@ class FrequencyResponse(Result):
         data["h"] = np.array(re, dtype=float) + 1j * np.array(im, dtype=float)
         if data.get("variance") is not None:
             data["variance"] = np.array(data["variance"], dtype=float)
+        if data.get("input_noise_variance") is not None:
+            data["input_noise_variance"] = np.array(data["input_noise_variance"], dtype=float)
         if data.get("line_correlation") is not None:
             kernels = _key(owner, data, "line_correlation", "the (response, force) kernels")
             data["line_correlation"] = tuple(
