@@ -18,42 +18,58 @@ impl Lines {
     /// z_k = J_re,k + j·J_im,k per column, (JᵀCJ)_ab = Re Σ_kl z̄_ka·R_kl·z_lb for
     /// circular errors. `None` when the correlation is not known.
     pub fn error_information(&self, jacobian: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+        let (z, correlated) = self.correlated_columns(jacobian)?;
+        Some(DMatrix::from_fn(z.len(), z.len(), |a, b| {
+            complex_inner(&z[a], &correlated[b])
+        }))
+    }
+
+    /// Each column of the weighted Jacobian as complex z_k = J_re,k + j·J_im,k, and R·z
+    /// (see [`error_information`](Self::error_information)); `None` when the
+    /// correlation is not known.
+    pub(crate) fn correlated_columns(&self, jacobian: &DMatrix<f64>) -> Option<ComplexColumns> {
         if self.correlation.is_empty() {
             return None;
         }
         let n = self.omega.len();
         debug_assert_eq!(jacobian.nrows(), 2 * n);
-        let p = jacobian.ncols();
-        let share = |k: usize| self.force_share.get(k).copied().unwrap_or(0.0);
-        let response: Vec<f64> = (0..n).map(|k| (1.0 - share(k)).sqrt()).collect();
-        let force: Vec<Complex64> = (0..n)
-            .map(|k| match self.h[k].norm() {
-                0.0 => Complex64::new(0.0, 0.0),
-                norm => self.h[k] / norm * share(k).sqrt(),
-            })
-            .collect();
-        let z: Vec<Vec<Complex64>> = (0..p)
+        let (response, force) = self.shares();
+        let z: Vec<Vec<Complex64>> = (0..jacobian.ncols())
             .map(|b| {
                 (0..n)
                     .map(|k| Complex64::new(jacobian[(k, b)], jacobian[(n + k, b)]))
                     .collect()
             })
             .collect();
-        let correlated: Vec<Vec<Complex64>> = z
-            .iter()
+        let correlated = (z.iter())
             .map(|zb| self.correlate(zb, &response, &force))
             .collect();
-        Some(DMatrix::from_fn(p, p, |a, b| {
-            let sum: Complex64 = (z[a].iter().zip(&correlated[b]))
-                .map(|(za, wb)| za.conj() * wb)
-                .sum();
-            sum.re
-        }))
+        Some((z, correlated))
+    }
+
+    /// r_k = √(1 − f_k²) and f_k·φ_k of every line: the response's and the force's parts
+    /// of its weighted error (see [`error_information`](Self::error_information)).
+    pub(crate) fn shares(&self) -> (Vec<f64>, Vec<Complex64>) {
+        let n = self.omega.len();
+        let share = |k: usize| self.force_share.get(k).copied().unwrap_or(0.0);
+        let response = (0..n).map(|k| (1.0 - share(k)).sqrt()).collect();
+        let force = (0..n)
+            .map(|k| match self.h[k].norm() {
+                0.0 => Complex64::new(0.0, 0.0),
+                norm => self.h[k] / norm * share(k).sqrt(),
+            })
+            .collect();
+        (response, force)
     }
 
     /// R·z for one column z of the complex Jacobian (see
     /// [`error_information`](Self::error_information)).
-    fn correlate(&self, z: &[Complex64], response: &[f64], force: &[Complex64]) -> Vec<Complex64> {
+    pub(crate) fn correlate(
+        &self,
+        z: &[Complex64],
+        response: &[f64],
+        force: &[Complex64],
+    ) -> Vec<Complex64> {
         let kernels = [&self.correlation.response, &self.correlation.force];
         let reach = kernels.iter().map(|k| k.len()).max().unwrap_or(1).max(1) - 1;
         let n = z.len();
@@ -111,6 +127,14 @@ impl Lines {
             s2
         }
     }
+}
+
+/// Columns of a Jacobian in complex form, and the same columns times R.
+pub(crate) type ComplexColumns = (Vec<Vec<Complex64>>, Vec<Vec<Complex64>>);
+
+/// Re Σ_k conj(a_k)·b_k: the real inner product of two columns in complex form.
+pub(crate) fn complex_inner(a: &[Complex64], b: &[Complex64]) -> f64 {
+    a.iter().zip(b).map(|(a, b)| (a.conj() * b).re).sum()
 }
 
 /// (A·G⁻¹·A, tr(A⁻¹G)) for a normal matrix A = JᵀJ and the errors' information

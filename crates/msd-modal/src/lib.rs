@@ -59,6 +59,7 @@ mod lscf;
 mod modal;
 mod mode;
 mod modes;
+mod noise_check;
 mod oma;
 mod options;
 mod peak;
@@ -80,6 +81,7 @@ pub use modal::ModalParameters;
 pub use mode::{Dof, Mode, ShapeEntry};
 pub use modes::{ModalFit, RefusedMode, fit_modes};
 pub use msd_signal::FrequencyResponseEstimate;
+pub use noise_check::{NOISE_CHECK_LEVEL, NoiseCheck};
 pub use oma::{
     FddOptions, MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity,
     Setup, ShearBuilding, SingularSpectrum, direction_from_angles, efdd, merge_setups,

@@ -13,6 +13,7 @@ use crate::error::{ModalError, Result};
 use crate::lines::Lines;
 use crate::lines::{FrfWeighting, prepare};
 use crate::mode::{Dof, Mode, ShapeEntry};
+use crate::noise_check::NoiseCheck;
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, Polished, lsfd, model, polish};
 use crate::stabilization::diagram_of;
@@ -78,6 +79,9 @@ pub struct ModalFit {
     pub exit: LmExit,
     /// Modes the diagram selected that the final fit moved away (not in `modes`).
     pub refused: Vec<RefusedMode>,
+    /// The residuals against the FRF's own noise, where the coherence gives each line's
+    /// absolute variance (two or more averages); `None` otherwise.
+    pub noise_check: Option<NoiseCheck>,
 }
 
 impl ModalFit {
@@ -165,7 +169,11 @@ impl std::fmt::Display for ModalFit {
             "\nlower residual L = {}, upper residual U = {}",
             scientific(&self.lower_residual),
             scientific(&self.upper_residual)
-        )
+        )?;
+        if let Some(check) = &self.noise_check {
+            write!(f, "\n{check}")?;
+        }
+        Ok(())
     }
 }
 
@@ -305,6 +313,7 @@ fn fit_as_given(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Resu
         exit: polished.fit.exit,
         refused,
         diagram,
+        noise_check: polished.noise_check,
     })
 }
 

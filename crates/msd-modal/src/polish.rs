@@ -15,6 +15,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::error::{ModalError, Result, not_identifiable};
 use crate::lines::Lines;
 use crate::modal::{term, term_with_gradient};
+use crate::noise_check::NoiseCheck;
 use msd_opt::statistics::Linearization;
 
 /// Parameters per mode.
@@ -100,6 +101,8 @@ pub(crate) struct Polished {
     pub sigma: f64,
     pub degrees_of_freedom: usize,
     pub fit: LevenbergMarquardtResult,
+    /// The residuals against the lines' own noise, where their σ are absolute.
+    pub noise_check: Option<NoiseCheck>,
 }
 
 /// Levenberg–Marquardt on every parameter from `start`, and the covariance s²N⁻¹ with
@@ -135,6 +138,7 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
         covariance,
         sigma: s2.sqrt(),
         degrees_of_freedom,
+        noise_check: lines.noise_check(fit.cost, &jacobian),
         fit,
     })
 }

@@ -248,6 +248,9 @@ def test_an_impact_frf_carries_its_measured_force_noise_into_the_fits():
     np.testing.assert_array_equal(back.data["input_noise_variance"], v)
     fit = msd.one_mode_fit(fr)
     assert fit.input_noise is not None and fit.input_noise["measured"], fit.input_noise
+    modes = msd.modal_fit(fr, band_hz=[0.5, 6.0], orders=[2, 20])
+    check = modes.noise_check
+    assert check is not None and check["degrees_of_freedom"] > 1, check
     assert "measured on the force channel" in str(fit)
     without = dict(fr.data)
     without["input_noise_variance"] = None

@@ -187,7 +187,8 @@ pub struct HammerSource {
     /// Noise on the force channel, N (standard deviation). By default 0.5.
     #[serde(default = "half")]
     pub force_noise: f64,
-    /// Noise on the response channel, as a share of the response's peak. By default 0.02.
+    /// Noise on the response channel, as a share of the peak response to a hit of
+    /// `force_peak`: one sensor noise on every record. By default 0.02.
     #[serde(default = "two_percent")]
     pub response_noise: f64,
 }

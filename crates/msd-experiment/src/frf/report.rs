@@ -294,6 +294,18 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
         w.push('\n');
     }
     unreliable_note(w, o.classroom.iter().flatten())?;
+    if let Some(check) = &m.noise_check {
+        writeln!(
+            w,
+            "\nEach line is weighted by its own standard deviation, from a noise model of the coherence (white noise on the force and on the response). {}{}.",
+            crate::fmt::capitalised(&check.to_string()),
+            if check.passed {
+                ": the modes leave only the noise the coherence shows"
+            } else {
+                ""
+            }
+        )?;
+    }
     writeln!(
         w,
         "\nResidual terms: lower L = {} (the modes below the band, −L/ω²), upper U = {} (those above).\n",
@@ -462,29 +474,39 @@ pub(super) fn force_noise_range(o: &FrfOutcome) -> Option<[f64; 2]> {
     })
 }
 
-/// The verdict on a one-mode fit whose lines are weighted by the FRF's own noise: its
-/// residuals against that noise (the χ² check) and the coherence it rests on; `None` for
-/// the other fits (their checks are in their sections).
+/// The verdict on a fit whose lines are weighted by the FRF's own noise (one mode, or
+/// several modes of one FRF): its residuals against that noise and the coherence it
+/// rests on (and, for one mode, the force's noise); `None` for the other fits (their
+/// checks are in their sections).
 pub(crate) fn verdict(o: &FrfOutcome) -> Option<Verdict> {
-    let FrfFit::OneMode(f) = &o.fit else {
-        return None;
+    let (check, model, missing) = match &o.fit {
+        FrfFit::OneMode(f) => (
+            f.noise_check.as_ref()?,
+            "the one-mode model",
+            "another mode",
+        ),
+        FrfFit::Modes(m) => (m.noise_check.as_ref()?, "the modes", "a mode missed"),
+        FrfFit::Set(_) => return None,
     };
-    let check = f.noise_check.as_ref()?;
     let numbers = format!(
-        "SSE/dof {}, p = {}",
+        "SSE/E[SSE] {} on {} effective dof, p = {}",
         sig(check.variance_ratio, 3),
+        sig(check.degrees_of_freedom, 3),
         sig(check.p_value, 2)
     );
     let mut findings = vec![if check.passed {
         verdict::pass(format!(
-            "the one-mode model leaves only the noise the FRF's coherence shows ({numbers})"
+            "{model} leave{} only the noise the FRF's coherence shows ({numbers})",
+            if model == "the modes" { "" } else { "s" }
         ))
     } else {
         verdict::fail(format!(
-            "the residual exceeds the FRF's own noise ({numbers}): another mode, a nonlinearity or leakage in the band, and the intervals may be too narrow"
+            "the residual exceeds the FRF's own noise ({numbers}): {missing}, a nonlinearity or leakage in the band, and the intervals may be too narrow"
         ))
     }];
-    if let Some(noise) = &f.input_noise {
+    if let FrfFit::OneMode(f) = &o.fit
+        && let Some(noise) = &f.input_noise
+    {
         findings.push(input_noise_finding(noise, &f.uncertainty.mass));
     }
     let ([from, to], low) = fitted_band_coherence(o);

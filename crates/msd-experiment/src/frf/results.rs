@@ -114,7 +114,7 @@ struct Estimate {
     degrees_of_freedom: usize,
     relative_error: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
-    noise_check: Option<msd_ident::frf::NoiseCheck>,
+    noise_check: Option<msd_modal::NoiseCheck>,
     /// The force's noise the coherence showed on an H1 estimate, taken off the lines.
     #[serde(skip_serializing_if = "Option::is_none")]
     input_noise: Option<msd_modal::InputNoise>,
@@ -146,6 +146,9 @@ struct ModalSummary<'a> {
     noise_sigma: f64,
     degrees_of_freedom: usize,
     relative_error: f64,
+    /// The residuals against the FRF's own noise (coherence from two or more averages).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise_check: Option<msd_modal::NoiseCheck>,
     iterations: usize,
     evaluations: usize,
     exit: LmExit,
@@ -299,6 +302,7 @@ fn modal(o: &FrfOutcome) -> Option<ModalSummary<'_>> {
         noise_sigma: m.sigma,
         degrees_of_freedom: m.degrees_of_freedom,
         relative_error: m.relative_error,
+        noise_check: m.noise_check,
         iterations: m.iterations,
         evaluations: m.evaluations,
         exit: m.exit,

@@ -118,6 +118,11 @@ fn modes(s: &mut String, f: &ModalFit) {
     for r in &f.refused {
         summary::labelled(s, "refused", &r.to_string());
     }
+    if let Some(check) = &f.noise_check {
+        let check = check.to_string();
+        let against = check.strip_prefix("residuals ").unwrap_or(&check);
+        summary::labelled(s, "residuals", against);
+    }
     summary::labelled(
         s,
         "residuals",

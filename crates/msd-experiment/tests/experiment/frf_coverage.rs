@@ -166,7 +166,7 @@ fn a_mode_the_model_lacks_fails_the_noise_check() {
     assert!(!check.passed && check.variance_ratio > 10.0, "{check}");
     assert!(
         fit.to_string()
-            .contains("warning: the one-mode model leaves more than the noise")
+            .contains("warning: the model leaves more than the noise")
     );
     // The run's verdict comes first and says so.
     let verdict = outcome.verdict.as_ref().expect("a verdict");

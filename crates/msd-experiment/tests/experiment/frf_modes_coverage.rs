@@ -59,6 +59,40 @@ fn several_modes_from_an_impact_test_hold_their_coverage() {
     assert_honest(loud, "hammer noise dominant", [Conservative; 8]);
 }
 
+/// Two modes in the band and one fitted (`mode_count = 1`): the fit still runs, and its
+/// residuals against the FRF's own noise say that the data contradict the model, first
+/// in the verdict.
+#[test]
+fn a_mode_the_fit_lacks_fails_the_noise_check() {
+    let mut config = Config::load(CONFIG.as_ref()).expect("valid");
+    let modes = (config.frequency_response.as_mut())
+        .and_then(|f| f.modes.as_mut())
+        .expect("a modes section");
+    modes.mode_count = Some(1);
+    let outcome = frf::run(
+        Spec::new(config).expect("an FRF config"),
+        &RunOptions::default(),
+    )
+    .expect("fits");
+    let FrfFit::Modes(fit) = &outcome.fit else {
+        panic!("several modes expected")
+    };
+    assert_eq!(fit.modes.len(), 1);
+    let check = fit.noise_check.expect("a coherence from five hits");
+    assert!(!check.passed && check.variance_ratio > 10.0, "{check}");
+    assert!(
+        fit.to_string()
+            .contains("warning: the model leaves more than the noise")
+    );
+    let verdict = outcome.verdict.as_ref().expect("a verdict");
+    assert!(!verdict.trustworthy, "{verdict}");
+    assert!(
+        (verdict.to_string())
+            .starts_with("use with care: the residual exceeds the FRF's own noise"),
+        "{verdict}"
+    );
+}
+
 /// `config` with `force_noise` on the hammer and, if given, `response_noise`.
 fn with_noise(config: &Config, force_noise: f64, response_noise: Option<f64>) -> Config {
     let mut config = config.clone();
@@ -77,6 +111,7 @@ fn assert_honest(config: Config, label: &str, checks: [Check; 8]) {
     let mut z: [Vec<f64>; 8] = Default::default();
     let mut inside = [0usize; 8];
     let mut extra = 0;
+    let mut checks_seen = Vec::new();
     for seed in 1..=SEEDS {
         let options = RunOptions {
             seed: Some(seed),
@@ -93,6 +128,7 @@ fn assert_honest(config: Config, label: &str, checks: [Check; 8]) {
             fit.modes.len()
         );
         extra += usize::from(fit.modes.len() > 2);
+        checks_seen.push(fit.noise_check.expect("a coherence from five hits"));
         // The summary compares every true mode, a spurious extra mode or not.
         let summary = outcome.to_string();
         assert!(
@@ -111,6 +147,7 @@ fn assert_honest(config: Config, label: &str, checks: [Check; 8]) {
     // modal constant is tested against zero and the mode refused (without that test,
     // two of the 200 seeds without hammer noise kept one).
     eprintln!("{label}: a third mode in {extra} of {SEEDS} seeds");
+    assert_noise_checks(&checks_seen, label);
     assert!(extra <= 1, "{label}: {extra} extra modes");
     for (j, check) in checks.into_iter().enumerate() {
         assert_statistics(&z[j], inside[j], check, &format!("{label}, {}", NAMES[j]));
@@ -192,4 +229,39 @@ fn assert_statistics(z: &[f64], inside: usize, check: Check, name: &str) {
             );
         }
     }
+}
+
+/// The residuals' check against the FRF's own noise, where the model is right: SSE/E[SSE]
+/// averages 1 within 3 of its standard errors (each ratio's variance 2/h, h the
+/// effective degrees of freedom), and the check fails (p < 0.01) in at most 7 of 200
+/// seeds (P(X ≥ 8) ≈ 1e-3 for X ~ Binomial(200, 0.01)).
+fn assert_noise_checks(checks: &[msd_modal::NoiseCheck], label: &str) {
+    let n = checks.len() as f64;
+    let mean = checks.iter().map(|c| c.variance_ratio).sum::<f64>() / n;
+    let se = (checks
+        .iter()
+        .map(|c| 2.0 / c.degrees_of_freedom)
+        .sum::<f64>())
+    .sqrt()
+        / n;
+    let failed = checks.iter().filter(|c| !c.passed).count();
+    let h = checks.iter().map(|c| c.degrees_of_freedom).sum::<f64>() / n;
+    let spread = (checks
+        .iter()
+        .map(|c| (c.variance_ratio - mean).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    eprintln!(
+        "{label}: SSE/E[SSE] mean {mean:.3} (± {se:.3}), spread {spread:.3} against √(2/h) {:.3}, h {h:.1}, failed {failed}",
+        (2.0 / h).sqrt()
+    );
+    assert!(
+        (mean - 1.0).abs() < 3.0 * se,
+        "{label}: SSE/E[SSE] {mean:.3}"
+    );
+    assert!(
+        failed <= 7,
+        "{label}: the noise check failed in {failed} seeds"
+    );
 }

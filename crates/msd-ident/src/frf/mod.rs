@@ -33,4 +33,4 @@
 
 mod one_mode;
 
-pub use one_mode::{LowCoherence, NoiseCheck, OneModeFit, OneModeOptions, fit_one_mode};
+pub use one_mode::{LowCoherence, OneModeFit, OneModeOptions, fit_one_mode};

@@ -13,7 +13,9 @@ use crate::error::{IdentError, Result};
 use crate::params::{PARAMETER_NAMES, Parameters};
 use crate::uncertainty::{ResidualNoise, Uncertainty, from_normal_matrix};
 use msd_modal::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
-use msd_modal::{DominantPeak, HalfPower, InputNoise, WindowCorrection, dominant_peak, half_power};
+use msd_modal::{
+    DominantPeak, HalfPower, InputNoise, NoiseCheck, WindowCorrection, dominant_peak, half_power,
+};
 use msd_opt::statistics::{Interval, t_975};
 
 /// Options of [`fit_one_mode`] (in TOML: a table with any of these fields).
@@ -292,7 +294,7 @@ fn fit_in_band(
     // Noise on the force biases H1 low: the lines become H_s, between H1 and H2.
     let input_noise = lines.correct_input_noise();
     let (fitted, fit) = least_squares(&lines, first.0)?;
-    let noise_check = own_noise.then(|| NoiseCheck::of(&lines, &fitted));
+    let noise_check = (own_noise.then(|| lines.noise_check(fit.cost, &fit.jacobian))).flatten();
     let a = lines.exponential_decay.map_or(0.0, |tau| 1.0 / tau);
     // A negative modal constant: m, c, k all negative, the mode of −H. J is the same at
     // ±θ (H² is), so the covariance of |θ| is that of θ.
@@ -461,65 +463,6 @@ impl std::fmt::Display for LowCoherence {
             "warning: the coherence is only γ² = {:.2}–{:.2} (median {:.2}) within the mode's half-power band {:.4}–{:.4} Hz: the lines that decide fn and ζ are noisy there, and the intervals are as wide as they make them. Where the noise is on the force (a shaker's force drops at resonance), H1 underestimates the peak and overestimates ζ: estimate H2 or Hv from the records, or average more",
             self.lowest, self.highest, self.median, self.band_hz[0], self.band_hz[1]
         )
-    }
-}
-
-/// A one-mode fit's residuals against the frequency response's own noise: each line
-/// weighted by its standard deviation from the coherence's noise model
-/// ([`Lines::smooth_coherence_weights`]), the SSE is χ² on 2L − 3 degrees of freedom
-/// when the model leaves only noise (approximately where a window correlates
-/// neighbouring lines). A small p says the data hold more than one mode and noise:
-/// another mode in the band, a nonlinearity, leakage.
-///
-/// ```
-/// use msd_ident::frf::NoiseCheck;
-/// let check = NoiseCheck { variance_ratio: 1.02, degrees_of_freedom: 195, p_value: 0.41, passed: true };
-/// assert!(check.to_string().starts_with("residuals against the FRF's own noise"));
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct NoiseCheck {
-    /// SSE/(2L − 3): about 1 when the model leaves only the noise the coherence shows.
-    pub variance_ratio: f64,
-    /// 2L − 3.
-    pub degrees_of_freedom: usize,
-    /// P(χ² ≥ SSE).
-    pub p_value: f64,
-    /// p ≥ 0.01.
-    pub passed: bool,
-}
-
-impl NoiseCheck {
-    fn of(lines: &Lines, theta: &[f64; 3]) -> Self {
-        let mut r = vec![0.0; 2 * lines.omega.len()];
-        lines.weighted_residuals(|w| receptance(theta, w), &mut r);
-        let sse: f64 = r.iter().map(|v| v * v).sum();
-        let dof = r.len().saturating_sub(3).max(1);
-        let p_value = statrs::distribution::ChiSquared::new(dof as f64).map_or(f64::NAN, |d| {
-            statrs::distribution::ContinuousCDF::sf(&d, sse)
-        });
-        NoiseCheck {
-            variance_ratio: sse / dof as f64,
-            degrees_of_freedom: dof,
-            p_value,
-            passed: p_value >= 0.01,
-        }
-    }
-}
-
-impl std::fmt::Display for NoiseCheck {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "residuals against the FRF's own noise (coherence): SSE/dof = {:.3} on {} dof, p = {:.3}",
-            self.variance_ratio, self.degrees_of_freedom, self.p_value
-        )?;
-        if !self.passed {
-            write!(
-                f,
-                "; warning: the one-mode model leaves more than the noise (another mode in the band, a nonlinearity, leakage): the intervals rest on a model the data contradict"
-            )?;
-        }
-        Ok(())
     }
 }
 

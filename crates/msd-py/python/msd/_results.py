@@ -475,6 +475,13 @@ class ModalFit(Result):
         """The auto-MAC of the shapes (a set only)."""
         return np.array(self.data["mac"]) if self.is_set else None
 
+    @property
+    def noise_check(self) -> Optional[Dict[str, Any]]:
+        """The residuals against the FRF's own noise (one FRF whose coherence comes from
+        two or more averages): ``{"variance_ratio": SSE/E[SSE], "degrees_of_freedom":
+        the effective h, "p_value", "passed"}``; None otherwise."""
+        return self.data.get("noise_check")
+
     def _repr_html_(self) -> str:
         return _modes_table("msd.modal_fit", self.modes)
 
