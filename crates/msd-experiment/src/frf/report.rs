@@ -227,13 +227,8 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
     if let Some(check) = &f.noise_check {
         writeln!(
             w,
-            "Each line is weighted by its own standard deviation, from a noise model fitted to every line's coherence (white noise on the force and on the response). {}{}.\n",
-            crate::fmt::capitalised(&check.to_string()),
-            if check.passed {
-                ": the one-mode model leaves only the noise the coherence shows"
-            } else {
-                ""
-            }
+            "{}\n",
+            weights_sentence(check, "the one-mode model leaves")
         )?;
     }
     if let Some(noise) = &f.input_noise {
@@ -295,16 +290,7 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
     }
     unreliable_note(w, o.classroom.iter().flatten())?;
     if let Some(check) = &m.noise_check {
-        writeln!(
-            w,
-            "\nEach line is weighted by its own standard deviation, from a noise model of the coherence (white noise on the force and on the response). {}{}.",
-            crate::fmt::capitalised(&check.to_string()),
-            if check.passed {
-                ": the modes leave only the noise the coherence shows"
-            } else {
-                ""
-            }
-        )?;
+        writeln!(w, "\n{}", weights_sentence(check, "the modes leave"))?;
     }
     writeln!(
         w,
@@ -458,6 +444,20 @@ pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
         .filter(|&k| (from..=to).contains(&d.frequency[k]) && !unexcited(k))
         .fold(1.0, |low, k| d.coherence[k].min(low));
     ([from, to], low)
+}
+
+/// How the lines were weighted and what their residuals say against that noise
+/// (`model` the subject of "… only the noise the coherence shows").
+fn weights_sentence(check: &msd_modal::NoiseCheck, model: &str) -> String {
+    format!(
+        "Each line is weighted by its own standard deviation, from a noise model fitted to every line's coherence (white noise on the force and on the response). {}{}.",
+        crate::fmt::capitalised(&check.to_string()),
+        if check.passed {
+            format!(": {model} only the noise the coherence shows")
+        } else {
+            String::new()
+        }
+    )
 }
 
 /// The smallest and largest relative standard deviation √v_k of a line from the force's
