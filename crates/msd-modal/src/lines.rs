@@ -311,6 +311,10 @@ impl Lines {
     /// two numbers fitted to every line are not. Falls back to
     /// [`reweight`](Self::reweight) where the model cannot be fitted (no coherence
     /// weighting, too few lines). Assumes the input's power varies slowly over the band.
+    /// Where the force's noise was measured ([`input_noise`](Self::input_noise), K ≥ 2),
+    /// each line's a_k = (K − 1)/(2K)·v_k is taken as known and only b is fitted: the
+    /// force's term then needs no lines where it dominates (under mixed noise, a few at
+    /// the resonances, from which a fitted a came out ten times too small in some tests).
     ///
     /// Returns whether σ_k are then each line's own standard deviation (per real and
     /// imaginary part): the noise model applied with K ≥ 2 known, the coherence's

@@ -10,6 +10,7 @@ use serde::Serialize;
 
 use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::error::{ModalError, Result};
+use crate::input_noise::InputNoise;
 use crate::lines::Lines;
 use crate::lines::{FrfWeighting, prepare};
 use crate::mode::{Dof, Mode, ShapeEntry};
@@ -82,6 +83,9 @@ pub struct ModalFit {
     /// The residuals against the FRF's own noise, where the coherence gives each line's
     /// absolute variance (two or more averages); `None` otherwise.
     pub noise_check: Option<NoiseCheck>,
+    /// The force's noise on an H1 estimate: measured (an impact test's force channel)
+    /// and taken off the lines, or the coherence's sign of it; `None` when none.
+    pub input_noise: Option<InputNoise>,
 }
 
 impl ModalFit {
@@ -172,6 +176,9 @@ impl std::fmt::Display for ModalFit {
         )?;
         if let Some(check) = &self.noise_check {
             write!(f, "\n{check}")?;
+        }
+        if let Some(noise) = &self.input_noise {
+            write!(f, "\n{noise}")?;
         }
         Ok(())
     }
@@ -314,6 +321,7 @@ fn fit_as_given(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Resu
         refused,
         diagram,
         noise_check: polished.noise_check,
+        input_noise: polished.input_noise,
     })
 }
 
@@ -346,7 +354,9 @@ fn polish_selected(
         // few averages is a noisy weight), which also splits each line's variance
         // between the force's noise and the response's for the covariance.
         weighted.smooth_coherence_weights(|w| model(&start, w));
-        let polished = match polish(&weighted, lsfd(&weighted, &poles)?) {
+        // Noise on the force biases H1 low: raised where the force's noise is known.
+        let input_noise = weighted.correct_input_noise();
+        let mut polished = match polish(&weighted, lsfd(&weighted, &poles)?) {
             Err(ModalError::EstimationFailed { reason }) if selected.len() > 1 => {
                 let r = least_stable(&selected);
                 refused.push(RefusedMode {
@@ -362,6 +372,7 @@ fn polish_selected(
             }
             result => result?,
         };
+        polished.input_noise = input_noise;
         let moved: Vec<RefusedMode> = (0..selected.len())
             .filter_map(|r| moved(&polished.theta, &selected, r, &lines))
             .collect();

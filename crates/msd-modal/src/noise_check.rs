@@ -2,7 +2,7 @@
 //! line's σ is its absolute standard deviation (the coherence's noise model with two or
 //! more averages), the residuals' SSE under the noise alone is a sum of squares of
 //! correlated errors, SSE = eᵀMe with M = I − J(JᵀJ)⁻¹Jᵀ and e's correlation C (the
-//! windows', [`Lines::error_information`]): E[SSE] = tr(MC), Var[SSE] = 2·tr(MCMC).
+//! windows', [`Lines::error_information`]): E\[SSE\] = tr(MC), Var\[SSE\] = 2·tr(MCMC).
 //! Satterthwaite's g·χ²_h with the same two moments (h = 2E²/Var, g = Var/(2E)) gives
 //! the p value; for independent lines (C = I) that is χ² on rows − p degrees of
 //! freedom. A force window correlates the force noise's errors over T/T_f lines, and
@@ -19,8 +19,10 @@ use crate::lines::Lines;
 /// The p value below which the residuals are taken to hold more than the noise.
 pub const NOISE_CHECK_LEVEL: f64 = 0.01;
 
-/// A fit's residuals against the frequency response's own noise (see the
-/// [module docs](self)). A small p says the data hold more than the model and the
+/// A fit's residuals against the frequency response's own noise: where each line's σ
+/// is its absolute standard deviation, the SSE of the weighted residuals against
+/// Satterthwaite's g·χ²_h with the mean tr(MC) and variance 2·tr(MCMC) of the lines'
+/// correlated errors (M the fit's residual projector, C their correlation). A small p says the data hold more than the model and the
 /// noise: a mode the model lacks, a nonlinearity, leakage.
 ///
 /// ```
@@ -34,7 +36,7 @@ pub const NOISE_CHECK_LEVEL: f64 = 0.01;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct NoiseCheck {
-    /// SSE/E[SSE]: about 1 when the model leaves only the noise the coherence shows.
+    /// SSE/E\[SSE\]: about 1 when the model leaves only the noise the coherence shows.
     pub variance_ratio: f64,
     /// h, the effective degrees of freedom of SSE ≈ g·χ²_h: rows − p for independent
     /// lines, fewer where the windows correlate neighbouring lines' errors.
@@ -93,7 +95,7 @@ impl Lines {
         NoiseCheck::from_moments(sse, mean, variance)
     }
 
-    /// E[SSE] and Var[SSE] under the noise alone (see the [module docs](self)), with
+    /// E\[SSE\] and Var\[SSE\] under the noise alone (see the module docs), with
     /// A = JᵀJ, G = JᵀCJ and H = JᵀC²J: tr(MC) = tr C − tr(A⁻¹G) and
     /// tr(MCMC) = tr C² − 2·tr(A⁻¹H) + tr((A⁻¹G)²); tr C = rows (every weighted error
     /// of unit variance). Formed with the columns scaled to unit norm.

@@ -13,6 +13,7 @@ use msd_signal::Complex64;
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::{ModalError, Result, not_identifiable};
+use crate::input_noise::InputNoise;
 use crate::lines::Lines;
 use crate::modal::{term, term_with_gradient};
 use crate::noise_check::NoiseCheck;
@@ -103,6 +104,8 @@ pub(crate) struct Polished {
     pub fit: LevenbergMarquardtResult,
     /// The residuals against the lines' own noise, where their σ are absolute.
     pub noise_check: Option<NoiseCheck>,
+    /// The force's noise the lines were corrected for (or that was said), where known.
+    pub input_noise: Option<InputNoise>,
 }
 
 /// Levenberg–Marquardt on every parameter from `start`, and the covariance s²N⁻¹ with
@@ -139,6 +142,7 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
         sigma: s2.sqrt(),
         degrees_of_freedom,
         noise_check: lines.noise_check(fit.cost, &jacobian),
+        input_noise: None,
         fit,
     })
 }

@@ -292,6 +292,9 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
     if let Some(check) = &m.noise_check {
         writeln!(w, "\n{}", weights_sentence(check, "the modes leave"))?;
     }
+    if let Some(noise) = &m.input_noise {
+        writeln!(w, "\n{}.", crate::fmt::capitalised(&noise.to_string()))?;
+    }
     writeln!(
         w,
         "\nResidual terms: lower L = {} (the modes below the band, −L/ω²), upper U = {} (those above).\n",

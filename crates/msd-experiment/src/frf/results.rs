@@ -149,6 +149,9 @@ struct ModalSummary<'a> {
     /// The residuals against the FRF's own noise (coherence from two or more averages).
     #[serde(skip_serializing_if = "Option::is_none")]
     noise_check: Option<msd_modal::NoiseCheck>,
+    /// The force's noise on an H1 estimate: measured and taken off the lines, or said.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    input_noise: Option<msd_modal::InputNoise>,
     iterations: usize,
     evaluations: usize,
     exit: LmExit,
@@ -303,6 +306,7 @@ fn modal(o: &FrfOutcome) -> Option<ModalSummary<'_>> {
         degrees_of_freedom: m.degrees_of_freedom,
         relative_error: m.relative_error,
         noise_check: m.noise_check,
+        input_noise: m.input_noise,
         iterations: m.iterations,
         evaluations: m.evaluations,
         exit: m.exit,

@@ -123,6 +123,9 @@ fn modes(s: &mut String, f: &ModalFit) {
         let against = check.strip_prefix("residuals ").unwrap_or(&check);
         summary::labelled(s, "residuals", against);
     }
+    if let Some(noise) = &f.input_noise {
+        summary::labelled(s, "force noise", &noise.to_string());
+    }
     summary::labelled(
         s,
         "residuals",

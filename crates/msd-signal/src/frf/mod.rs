@@ -443,7 +443,7 @@ const NOISE_SAMPLES: usize = 64;
 /// median absolute deviation of every record's samples from that record's median
 /// (× 1.4826, the standard deviation of Gaussian noise), so that an offset, a second
 /// touch of the hammer or a spike moves it little. `None` with fewer than
-/// [`NOISE_SAMPLES`] samples or a deviation of 0 (a channel without noise there: a
+/// 64 samples or a deviation of 0 (a channel without noise there: a
 /// record exported already windowed, or quantised flat).
 ///
 /// ```
