@@ -252,6 +252,13 @@ def test_an_impact_frf_carries_its_measured_force_noise_into_the_fits():
     check = modes.noise_check
     assert check is not None and check["degrees_of_freedom"] > 1, check
     assert "measured on the force channel" in str(fit)
+    given = msd.one_mode_fit(
+        fr.frequency, fr.h, coherence=fr.coherence, exponential_decay=2.0, averages=5,
+        estimator="H1", input_noise_variance=v,
+    )
+    assert given.input_noise is not None and given.input_noise["measured"]
+    with pytest.raises(ValueError, match="input_noise_variance"):
+        msd.one_mode_fit(fr, input_noise_variance=v[:-1])
     without = dict(fr.data)
     without["input_noise_variance"] = None
     other = msd.one_mode_fit(msd.FrequencyResponse(without))

@@ -335,7 +335,7 @@ def _unpacked(name: str, frequencies: Any, frf: Any, coherence: Any, kind: Optio
 
 
 def _made(
-    frequencies: Any, averages: Any, estimator: Optional[str]
+    frequencies: Any, averages: Any, estimator: Optional[str], input_noise_variance: Any = None
 ) -> Tuple[int, Optional[str], float, Optional[Tuple[Any, Any]], Any]:
     """How the FRF was made: the segments averaged (1 when not known), the estimator
     ("H1", "H2", "Hv"; None for a measured table), the window's noise bandwidth in
@@ -347,7 +347,6 @@ def _made(
     intervals that hold on lines whose errors the windows correlate."""
     noise_bandwidth = 1.0
     line_correlation = None
-    input_noise_variance = None
     if isinstance(frequencies, FrequencyResponse):
         if averages is None:
             averages = frequencies.averages
@@ -355,7 +354,8 @@ def _made(
             estimator = frequencies.estimator
         noise_bandwidth = float(frequencies.data.get("noise_bandwidth", 1.0))
         line_correlation = frequencies.data.get("line_correlation")
-        input_noise_variance = frequencies.data.get("input_noise_variance")
+        if input_noise_variance is None:
+            input_noise_variance = frequencies.data.get("input_noise_variance")
     k = 1 if averages is None else integer("averages", averages, low=1)
     name = None if estimator is None else text("estimator", estimator)
     if input_noise_variance is not None:
@@ -373,6 +373,7 @@ def modal_fit(
     dofs: Optional[Sequence[Any]] = None,
     averages: Optional[int] = None,
     estimator: Optional[str] = None,
+    input_noise_variance: Any = None,
     **options: Any,
 ) -> ModalFit:
     """Modes (fn, ζ with intervals) of one FRF, or modes with shapes of a set of FRFs.
@@ -389,11 +390,12 @@ def modal_fit(
     ``order_step``, ``frequency_tolerance``, ``damping_tolerance``,
     ``max_damping_ratio``, ``min_stable_share``, ``mode_count``).
 
-    `averages` and `estimator`: how the FRFs were made (see `one_mode_fit`).
+    `averages`, `estimator` and `input_noise_variance`: how the FRFs were made (see
+    `one_mode_fit`).
 
     Raises `IdentificationError` when no mode can be selected.
     """
-    made = _made(frequencies, averages, estimator)
+    made = _made(frequencies, averages, estimator, input_noise_variance)
     frequencies, frfs, coherence, kind, exponential_decay = _unpacked(
         "frfs", frequencies, frfs, coherence, kind, exponential_decay
     )
@@ -574,6 +576,7 @@ def one_mode_fit(
     weighting: Optional[str] = None,
     averages: Optional[int] = None,
     estimator: Optional[str] = None,
+    input_noise_variance: Any = None,
 ) -> OneModeFit:
     """m, c, k (with fn, ζ and 95 % intervals) of a single mode's frequency response:
     msd-ident's `fit_one_mode` (weighted Levenberg–Marquardt from Levy's linear start,
@@ -586,8 +589,12 @@ def one_mode_fit(
     "H2", "Hv") how the FRF was formed (a `FrequencyResponse` carries both): with them
     the lines are weighted by the coherence's noise model, and an H1 whose coherence
     shows noise on the force is corrected for it (`OneModeFit.input_noise`).
+    `input_noise_variance`: each line's variance of H's relative error from the force's
+    noise, where it was measured (an impact test's force channel after the force window;
+    a `FrequencyResponse` from impact records carries it): the weights then take the
+    force's share as known, and H1 is raised line by line.
     """
-    made = _made(frequencies, averages, estimator)
+    made = _made(frequencies, averages, estimator, input_noise_variance)
     frequencies, frf, coherence, kind, exponential_decay = _unpacked(
         "frf", frequencies, frf, coherence, kind, exponential_decay
     )

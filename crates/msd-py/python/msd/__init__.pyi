@@ -303,6 +303,7 @@ def modal_fit(
     dofs: Optional[Sequence[Any]] = ...,
     averages: Optional[int] = ...,
     estimator: Optional[str] = ...,
+    input_noise_variance: Any = ...,
     **options: Any,
 ) -> ModalFit: ...
 def oma(
@@ -329,6 +330,7 @@ def one_mode_fit(
     weighting: Optional[str] = ...,
     averages: Optional[int] = ...,
     estimator: Optional[str] = ...,
+    input_noise_variance: Any = ...,
 ) -> OneModeFit: ...
 def fit_records(
     records: Union[Mapping[str, Any], Iterable[Mapping[str, Any]]],
