@@ -228,7 +228,7 @@ fn one_mode_section(w: &mut String, o: &FrfOutcome, f: &OneModeFit) -> std::fmt:
         writeln!(
             w,
             "{}\n",
-            weights_sentence(check, "the one-mode model leaves")
+            weights_sentence(check, "the one-mode model leaves", o)
         )?;
     }
     if let Some(noise) = &f.input_noise {
@@ -290,7 +290,7 @@ fn modes_section(w: &mut String, o: &FrfOutcome, m: &ModalFit) -> std::fmt::Resu
     }
     unreliable_note(w, o.classroom.iter().flatten())?;
     if let Some(check) = &m.noise_check {
-        writeln!(w, "\n{}", weights_sentence(check, "the modes leave"))?;
+        writeln!(w, "\n{}", weights_sentence(check, "the modes leave", o))?;
     }
     if let Some(noise) = &m.input_noise {
         writeln!(w, "\n{}.", crate::fmt::capitalised(&noise.to_string()))?;
@@ -451,9 +451,15 @@ pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
 
 /// How the lines were weighted and what their residuals say against that noise
 /// (`model` the subject of "… only the noise the coherence shows").
-fn weights_sentence(check: &msd_modal::NoiseCheck, model: &str) -> String {
+fn weights_sentence(check: &msd_modal::NoiseCheck, model: &str, o: &FrfOutcome) -> String {
+    let source = match o.data.input_noise_variance {
+        Some(_) => {
+            "the force's noise measured on its channel, the response's fitted to every line's coherence"
+        }
+        None => "fitted to every line's coherence",
+    };
     format!(
-        "Each line is weighted by its own standard deviation, from a noise model fitted to every line's coherence (white noise on the force and on the response). {}{}.",
+        "Each line is weighted by its own standard deviation, from a noise model ({source}; white noise on the force and on the response). {}{}.",
         crate::fmt::capitalised(&check.to_string()),
         if check.passed {
             format!(": {model} only the noise the coherence shows")
