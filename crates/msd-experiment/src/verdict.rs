@@ -14,46 +14,112 @@ const DETECTED: f64 = 0.01;
 
 /// Whether the estimates can be trusted, with one finding per check.
 ///
-/// Displays one line: "trustworthy" or "use with care", then the findings that failed
-/// (or, when none did, every finding).
+/// Displays one line: "trustworthy", "unchecked" (nothing failed, but a check the
+/// intervals rest on could not be made) or "use with care", then the findings that
+/// failed (or, when none did, every finding).
 ///
 /// ```
 /// use msd_experiment::verdict::{Finding, Verdict};
-/// let v = Verdict { trustworthy: true,
-///     findings: vec![Finding { passed: true, text: "the residuals are white".into() }] };
-/// assert_eq!(v.to_string(), "trustworthy: the residuals are white");
+/// let white = Finding::passed("the residuals are white");
+/// assert_eq!(Verdict::of(vec![white.clone()]).to_string(), "trustworthy: the residuals are white");
+/// let v = Verdict::of(vec![white, Finding::unchecked("no coherence to test the residual against")]);
+/// assert!(!v.trustworthy && v.unchecked);
+/// assert_eq!(v.to_string(), "unchecked: no coherence to test the residual against; the residuals are white");
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Verdict {
-    /// Every check passed.
+    /// Every check passed, and every check the intervals rest on was made.
     pub trustworthy: bool,
-    /// One sentence per check, the failed ones first.
+    /// No check failed, but one the intervals rest on could not be made (its finding
+    /// says which and why).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub unchecked: bool,
+    /// One sentence per check, the failed ones first, then those not made.
     pub findings: Vec<Finding>,
 }
 
 /// One check's outcome, in words.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Finding {
-    /// The check passed (or only informs).
+    /// The check passed (or only informs, or could not be made).
     pub passed: bool,
     /// What it found and, when it failed, what to do.
     pub text: String,
+    /// False where the check could not be made (the data lack what it needs).
+    #[serde(skip_serializing_if = "std::clone::Clone::clone")]
+    pub checked: bool,
+}
+
+impl Finding {
+    /// A check that passed (or only informs).
+    pub fn passed(text: impl Into<String>) -> Self {
+        Self {
+            passed: true,
+            text: text.into(),
+            checked: true,
+        }
+    }
+
+    /// A check that failed.
+    pub fn failed(text: impl Into<String>) -> Self {
+        Self {
+            passed: false,
+            ..Self::passed(text)
+        }
+    }
+
+    /// A check that could not be made, and why.
+    pub fn unchecked(text: impl Into<String>) -> Self {
+        Self {
+            checked: false,
+            ..Self::passed(text)
+        }
+    }
+
+    /// 0 failed, 1 not made, 2 passed: the order the findings are told in.
+    fn rank(&self) -> u8 {
+        match (self.passed, self.checked) {
+            (false, _) => 0,
+            (true, false) => 1,
+            (true, true) => 2,
+        }
+    }
+}
+
+impl Verdict {
+    /// The verdict of `findings`: trustworthy when every one passed and was made; the
+    /// failed ones first, then those not made.
+    pub fn of(mut findings: Vec<Finding>) -> Self {
+        findings.sort_by_key(Finding::rank);
+        let ranks = findings.iter().map(Finding::rank);
+        let worst = ranks.min().unwrap_or(2);
+        Verdict {
+            trustworthy: worst == 2,
+            unchecked: worst == 1,
+            findings,
+        }
+    }
+
+    /// The verdict's word: "trustworthy", "unchecked" or "use with care".
+    pub fn word(&self) -> &'static str {
+        match (self.trustworthy, self.unchecked) {
+            (true, _) => "trustworthy",
+            (false, true) => "unchecked",
+            (false, false) => "use with care",
+        }
+    }
 }
 
 impl std::fmt::Display for Verdict {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let failed = !(self.trustworthy || self.unchecked);
         let shown: Vec<&str> = self
             .findings
             .iter()
-            .filter(|x| self.trustworthy || !x.passed)
+            .filter(|x| !failed || !x.passed)
             .map(|x| x.text.as_str())
             .collect();
-        let word = if self.trustworthy {
-            "trustworthy"
-        } else {
-            "use with care"
-        };
-        write!(f, "{word}: {}", shown.join("; "))
+        write!(f, "{}: {}", self.word(), shown.join("; "))
     }
 }
 
@@ -112,26 +178,19 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
     from_findings(findings)
 }
 
-/// The verdict of `findings`: trustworthy when every one passed; the failed ones first.
-pub(crate) fn from_findings(mut findings: Vec<Finding>) -> Verdict {
-    findings.sort_by_key(|f| f.passed);
-    Verdict {
-        trustworthy: findings.iter().all(|f| f.passed),
-        findings,
-    }
+/// The verdict of `findings` ([`Verdict::of`]).
+pub(crate) fn from_findings(findings: Vec<Finding>) -> Verdict {
+    Verdict::of(findings)
 }
 
 /// A check that passed (or only informs).
 pub(crate) fn pass(text: String) -> Finding {
-    Finding { passed: true, text }
+    Finding::passed(text)
 }
 
 /// A check that failed.
 pub(crate) fn fail(text: String) -> Finding {
-    Finding {
-        passed: false,
-        text,
-    }
+    Finding::failed(text)
 }
 
 /// The fresh data's findings: the worst prediction, and each channel correlated with
@@ -204,7 +263,8 @@ pub(crate) fn section(s: &mut String, v: &Verdict) -> std::fmt::Result {
     };
     writeln!(s, "## In short\n")?;
     if failed.is_empty() {
-        writeln!(s, "**Trustworthy.** {}.\n", sentence(&passed))
+        let word = crate::fmt::capitalised(v.word());
+        writeln!(s, "**{word}.** {}.\n", sentence(&passed))
     } else if passed.is_empty() {
         writeln!(s, "**Use with care.** {}.\n", sentence(&failed))
     } else {

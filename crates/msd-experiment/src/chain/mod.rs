@@ -150,10 +150,7 @@ pub fn run(
         band,
         validation,
         timings,
-        verdict: crate::verdict::Verdict {
-            trustworthy: false,
-            findings: Vec::new(),
-        },
+        verdict: crate::verdict::Verdict::of(Vec::new()),
     };
     outcome.verdict = validation::verdict(&outcome);
     Ok(outcome)

@@ -46,6 +46,7 @@ mod summary;
 mod time_domain;
 mod uff;
 pub(crate) mod uff_out;
+mod verdict;
 
 use crate::config::{ChainPlant, Config, FrequencyResponseSection, Spec};
 use crate::{
@@ -154,9 +155,8 @@ pub struct FrfOutcome {
     pub time_domain: Option<TimeDomain>,
     /// Wall time of each stage.
     pub timings: Vec<(&'static str, Duration)>,
-    /// Whether the estimates can be trusted, and why (a one-mode fit weighted by the
-    /// FRF's own noise; `None` for the others).
-    pub verdict: Option<crate::verdict::Verdict>,
+    /// Whether the estimates can be trusted, and why.
+    pub verdict: crate::verdict::Verdict,
 }
 
 /// Reads or simulates the frequency response of `config`'s `[frequency_response]`
@@ -292,9 +292,9 @@ pub(crate) fn run_keeping(
         truth,
         time_domain,
         timings,
-        verdict: None,
+        verdict: crate::verdict::Verdict::of(Vec::new()),
     };
-    outcome.verdict = report::verdict(&outcome);
+    outcome.verdict = verdict::verdict(&outcome);
     Ok(outcome)
 }
 

@@ -3,7 +3,7 @@
 
 use super::{FrfFit, FrfOutcome, Truth};
 use crate::fmt::{count, sig};
-use crate::verdict::{self, Verdict};
+use crate::verdict;
 use msd_ident::{Interval, OneModeFit};
 use msd_modal::{HalfPower, ModalFit, ModalParameters};
 use std::fmt::Write;
@@ -86,9 +86,7 @@ fn page(w: &mut String, o: &FrfOutcome, figures: &[&str]) -> std::fmt::Result {
     let run = (&o.config, o.config_path.as_path(), o.command.as_str());
     let what = format!("frequency-domain identification from {}", o.source);
     crate::results::report_head(w, run, &what, Some(o.seed), &[])?;
-    if let Some(v) = &o.verdict {
-        verdict::section(w, v)?;
-    }
+    verdict::section(w, &o.verdict)?;
     data_section(w, o)?;
     match &o.fit {
         FrfFit::OneMode(f) => one_mode_section(w, o, f)?,
@@ -481,77 +479,6 @@ pub(super) fn force_noise_range(o: &FrfOutcome) -> Option<[f64; 2]> {
         None => Some([s, s]),
         Some([low, high]) => Some([s.min(low), s.max(high)]),
     })
-}
-
-/// The verdict on a fit whose lines are weighted by the FRF's own noise (one mode, or
-/// several modes of one FRF): its residuals against that noise and the coherence it
-/// rests on (and, for one mode, the force's noise); `None` for the other fits (their
-/// checks are in their sections).
-pub(crate) fn verdict(o: &FrfOutcome) -> Option<Verdict> {
-    let (check, model, missing) = match &o.fit {
-        FrfFit::OneMode(f) => (
-            f.noise_check.as_ref()?,
-            "the one-mode model",
-            "another mode",
-        ),
-        FrfFit::Modes(m) => (m.noise_check.as_ref()?, "the modes", "a mode missed"),
-        FrfFit::Set(_) => return None,
-    };
-    let numbers = format!(
-        "SSE/E[SSE] {} on {} effective dof, p = {}",
-        sig(check.variance_ratio, 3),
-        sig(check.degrees_of_freedom, 3),
-        sig(check.p_value, 2)
-    );
-    let mut findings = vec![if check.passed {
-        verdict::pass(format!(
-            "{model} leave{} only the noise the FRF's coherence shows ({numbers})",
-            if model == "the modes" { "" } else { "s" }
-        ))
-    } else {
-        verdict::fail(format!(
-            "the residual exceeds the FRF's own noise ({numbers}): {missing}, a nonlinearity or leakage in the band, and the intervals may be too narrow"
-        ))
-    }];
-    if let FrfFit::OneMode(f) = &o.fit
-        && let Some(noise) = &f.input_noise
-    {
-        findings.push(input_noise_finding(noise, &f.uncertainty.mass));
-    }
-    let ([from, to], low) = fitted_band_coherence(o);
-    if low < 0.5 {
-        findings.push(verdict::pass(format!(
-            "the coherence falls to {} between {} and {} Hz: each line is weighted by what it is worth",
-            sig(low, 2),
-            sig(from, 4),
-            sig(to, 4)
-        )));
-    }
-    Some(verdict::from_findings(findings))
-}
-
-/// The force's noise in the verdict: taken off, or a possible bias of H1 in standard
-/// errors of m (m and k are high by H1's relative bias). A bias over one standard error
-/// takes a 95 % interval's coverage below 83 %: the estimates are then to be used with
-/// care.
-fn input_noise_finding(noise: &msd_modal::InputNoise, mass: &Interval) -> verdict::Finding {
-    let percent = sig(100.0 * noise.h1_bias, 2);
-    let in_se = noise.h1_bias * mass.value / mass.standard_error;
-    if noise.corrected {
-        verdict::pass(format!(
-            "the force's noise biased H1 low by {percent} % ({} standard errors of m): the lines were corrected",
-            sig(in_se, 2)
-        ))
-    } else if in_se > 1.0 {
-        verdict::fail(format!(
-            "the coherence shows noise on the force, or the window's leakage: H1 may be low by up to {percent} %, {} standard errors of m and k, not corrected under this window — use a force that repeats over whole records (rectangular window), or compare with H2",
-            sig(in_se, 2)
-        ))
-    } else {
-        verdict::pass(format!(
-            "the coherence shows at most {percent} % of force noise or leakage, under a standard error of m"
-        ))
-    }
 }
 
 /// A one-mode fit's quantities: (name with unit, estimate, the half-power or peak

@@ -18,8 +18,7 @@ use std::time::Duration;
 #[derive(Serialize)]
 struct Results<'a> {
     experiment: Header<'a>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    verdict: Option<&'a crate::verdict::Verdict>,
+    verdict: &'a crate::verdict::Verdict,
     config: &'a Config,
     data: Data<'a>,
     /// One mode.
@@ -194,7 +193,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             o.seed,
             None,
         ),
-        verdict: o.verdict.as_ref(),
+        verdict: &o.verdict,
         config: &o.config,
         data: Data {
             source: &o.source,

@@ -22,9 +22,7 @@ pub(crate) fn text(o: &FrfOutcome) -> String {
         &o.config.name,
         &format!("a frequency response: {headline}"),
     );
-    if let Some(v) = &o.verdict {
-        summary::verdict(&mut s, v);
-    }
+    summary::verdict(&mut s, &o.verdict);
     s.push('\n');
     match &o.fit {
         FrfFit::OneMode(fit) => one_mode(&mut s, o, fit),

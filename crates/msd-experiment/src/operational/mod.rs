@@ -151,6 +151,7 @@ fn verdict(
     let mut findings = Vec::new();
     let found = !fit.modes.is_empty();
     findings.push(Finding {
+        checked: true,
         passed: found,
         text: match (found, fit.method) {
             (true, OmaMethod::SsiCov | OmaMethod::SsiDat) => format!("{} modes stable across the model orders, each with 95 % intervals from the record's own scatter (jackknife over {} blocks)", fit.modes.len(), fit.blocks),
@@ -166,6 +167,7 @@ fn verdict(
             .map(|c| format!("{:.4} Hz", c.natural_frequency_hz))
             .collect();
         findings.push(Finding {
+            checked: true,
             passed: true,
             text: format!("{} more columns of the diagram ({}) are not reported as modes: the record less one block lost them, or they split a reported mode (within 1 % and MAC ≥ 0.9 of it)", list.len(), list.join(", ")),
         });
@@ -176,6 +178,7 @@ fn verdict(
             .map(|(n, why)| format!("{n} ({why})"))
             .collect();
         findings.push(Finding {
+            checked: true,
             passed: false,
             text: format!(
                 "dead channels left out: {}; their DOFs have no shape entries",
@@ -194,6 +197,7 @@ fn verdict(
             .map(|(f, _)| format!("{f:.4} Hz"))
             .collect();
         findings.push(Finding {
+            checked: true,
             passed: missed.is_empty(),
             text: if missed.is_empty() {
                 format!(
@@ -205,11 +209,7 @@ fn verdict(
             },
         });
     }
-    findings.sort_by_key(|f| f.passed);
-    Verdict {
-        trustworthy: findings.iter().all(|f| f.passed),
-        findings,
-    }
+    Verdict::of(findings)
 }
 
 #[derive(Serialize)]

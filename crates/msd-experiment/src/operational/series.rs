@@ -134,6 +134,7 @@ pub(crate) fn lowest_reference_mac(merged: &MergedFit, mode: usize) -> Option<f6
 fn verdict(records: &[AnalysedRecord], merged: &MergedFit) -> Verdict {
     let n = records.len();
     let mut findings = vec![Finding {
+        checked: true,
         passed: !merged.modes.is_empty(),
         text: format!(
             "{} records analysed one by one ({}), {} modes over them",
@@ -150,6 +151,7 @@ fn verdict(records: &[AnalysedRecord], merged: &MergedFit) -> Verdict {
         .collect();
     if !once.is_empty() {
         findings.push(Finding {
+            checked: true,
             passed: false,
             text: format!(
                 "found in one record only (its interval is that record's own; no other confirms it): {}",
@@ -169,6 +171,7 @@ fn verdict(records: &[AnalysedRecord], merged: &MergedFit) -> Verdict {
         })
         .collect();
     findings.push(Finding {
+        checked: true,
         passed: poor.is_empty(),
         text: if poor.is_empty() {
             "every mode's reference entries agree between the records (MAC ≥ 0.9): the shapes join and the modes track".into()
@@ -189,13 +192,10 @@ fn verdict(records: &[AnalysedRecord], merged: &MergedFit) -> Verdict {
         .collect();
     if !dead.is_empty() {
         findings.push(Finding {
+            checked: true,
             passed: false,
             text: format!("dead channels left out: {}", dead.join(", ")),
         });
     }
-    findings.sort_by_key(|f| f.passed);
-    Verdict {
-        trustworthy: findings.iter().all(|f| f.passed),
-        findings,
-    }
+    Verdict::of(findings)
 }

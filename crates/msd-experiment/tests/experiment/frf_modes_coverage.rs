@@ -84,7 +84,7 @@ fn a_mode_the_fit_lacks_fails_the_noise_check() {
         fit.to_string()
             .contains("warning: the model leaves more than the noise")
     );
-    let verdict = outcome.verdict.as_ref().expect("a verdict");
+    let verdict = &outcome.verdict;
     assert!(!verdict.trustworthy, "{verdict}");
     assert!(
         (verdict.to_string())

@@ -68,6 +68,15 @@ fn a_set_of_tables_gives_the_modes_and_their_shapes() {
     assert_eq!(json["modes"][1]["shape"][2]["node"], 3);
     assert_eq!(json["mac"].as_array().map(Vec::len), Some(2));
     assert_eq!(json["fit_error"].as_array().map(Vec::len), Some(3));
+    // Tables without coherence: unchecked, and how well the worst member is reproduced.
+    let v = &outcome.verdict;
+    assert!(v.unchecked && !v.trustworthy, "{v}");
+    let text = v.to_string();
+    assert!(text.contains("the set's FRFs carry no coherence"), "{text}");
+    assert!(
+        text.contains("2 modes common to the 3 FRFs reproduce each within"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -44,6 +44,18 @@ fn the_table_config_fits_the_plant_it_was_simulated_on() {
     ] {
         assert!(interval.contains(truth), "{name}: {interval:?}");
     }
+    // No coherence: the residual check cannot be made, and the verdict says so
+    // instead of calling the intervals trustworthy (or saying nothing).
+    let v = &outcome.verdict;
+    assert!(!v.trustworthy && v.unchecked, "{v}");
+    assert!(
+        v.to_string()
+            .starts_with("unchecked: the FRF carries no coherence"),
+        "{v}"
+    );
+    let json = frf::to_json(&outcome, &[], Default::default());
+    assert_eq!(json["verdict"]["unchecked"], true, "{}", json["verdict"]);
+    assert_eq!(json["verdict"]["findings"][0]["checked"], false);
 }
 
 /// Issue 31, class 3: what the config or the data get wrong is exit 2, naming the key
