@@ -99,7 +99,7 @@ impl Lines {
     /// A = JᵀJ, G = JᵀCJ and H = JᵀC²J: tr(MC) = tr C − tr(A⁻¹G) and
     /// tr(MCMC) = tr C² − 2·tr(A⁻¹H) + tr((A⁻¹G)²); tr C = rows (every weighted error
     /// of unit variance). Formed with the columns scaled to unit norm.
-    fn residual_moments(&self, jacobian: &DMatrix<f64>) -> Option<(f64, f64)> {
+    pub(crate) fn residual_moments(&self, jacobian: &DMatrix<f64>) -> Option<(f64, f64)> {
         let (rows, p) = jacobian.shape();
         let norms: Vec<f64> = (0..p)
             .map(|j| jacobian.column(j).norm().max(f64::MIN_POSITIVE))

@@ -11,6 +11,7 @@ use crate::error::{ModalError, Result};
 use crate::lines::{FrfWeighting, Lines, prepare};
 use crate::mode::{Dof, Mode, ShapeEntry};
 use crate::modes::{RefusedMode, drop_moved, moved_from_column, or_conjugated, pole_intervals};
+use crate::noise_check::NoiseCheck;
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, lsfd, model};
 use crate::set_poles::refine_poles;
@@ -93,6 +94,10 @@ pub struct ModeSetFit {
     /// Whether the data's phase rises through their resonances: the fit was made on
     /// their complex conjugate (see [`ModalFit::conjugated`](crate::ModalFit::conjugated)).
     pub conjugated: bool,
+    /// The residuals of every member against its own noise, where the coherence gives
+    /// each line's absolute variance in every member (two or more averages); `None`
+    /// otherwise. The members' errors are taken as independent of one another.
+    pub noise_check: Option<NoiseCheck>,
 }
 
 impl ModeSetFit {
@@ -153,6 +158,9 @@ impl std::fmt::Display for ModeSetFit {
             if let Some(mass) = m.modal_mass {
                 write!(f, ", modal mass {mass:.4e}")?;
             }
+        }
+        if let Some(check) = &self.noise_check {
+            write!(f, "\n{check}")?;
         }
         Ok(())
     }
@@ -304,8 +312,10 @@ fn set_as_given(members: &[SetMember], options: &ModalOptions) -> Result<ModeSet
             .collect();
         let mut weighted = lines.clone();
         for l in &mut weighted {
+            // Each member's weights from its coherence's noise model, as one FRF's
+            // (relative to the model where there is none).
             let theta = lsfd(l, &start)?;
-            l.reweight(|w| model(&theta, w));
+            l.smooth_coherence_weights(|w| model(&theta, w));
         }
         let poles = refine_poles(&weighted, start)?;
         let moved: Vec<RefusedMode> = (0..selected.len())
@@ -431,6 +441,7 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
         diagram,
         kind: members[0].frf.kind,
         conjugated: false,
+        noise_check: poles.noise_check,
     })
 }
 

@@ -8,24 +8,38 @@
 //! J_oᵀJ_o = D_oᵀD_o − D_oᵀA_o(A_oᵀA_o)⁻¹A_oᵀD_o and J_oᵀr_o = D_oᵀr_o (r_o ⊥ A_o).
 //! Summed over the members these are the normal equations of the 2M pole parameters,
 //! and σ̂²(Σ J_oᵀJ_o)⁻¹ is the poles' block of the full covariance.
+//!
+//! ## The residuals against the members' own noise
+//! Where every member's σ are absolute (the coherence's noise model, two or more
+//! averages), the set's SSE is checked as one fit's is ([`NoiseCheck`]): the residual
+//! projector of the whole fit is M = Q − J·N⁻¹·Jᵀ with Q = diag(I − P_o), J the stacked
+//! J_o and N = Σ J_oᵀJ_o. With the members' errors independent of one another, each
+//! correlated as its lines say (C = diag C_o),
+//! E\[SSE\] = tr(MC) = Σ_o (rows_o − tr(P_oC_o)) − tr(N⁻¹G), G = Σ J_oᵀC_oJ_o, and
+//! Var\[SSE\]/2 = tr(MCMC) = Σ_o tr(Q_oC_oQ_oC_o) − 2·tr(N⁻¹·Σ_o J_oᵀC_oQ_oC_oJ_o) +
+//! tr((N⁻¹G)²) (Q·J = J). A fixed force channel read with several responses shares its
+//! noise between those members; the check takes them as independent.
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::correlated::sandwich;
+use crate::correlated::{complex_inner, sandwich};
 use crate::error::{ModalError, Result, not_identifiable};
 use crate::lines::Lines;
 use crate::modal::term_with_gradient;
+use crate::noise_check::NoiseCheck;
 use crate::polish::lsfd_system;
 use msd_opt::statistics::Linearization;
 
 /// The refined poles (ωn, ζ), their covariance (rows ωn₁, ζ₁, ωn₂, …), σ̂ and the
-/// degrees of freedom, and the iterations taken.
+/// degrees of freedom, the iterations taken, and the residuals against the members'
+/// own noise where their σ are absolute.
 pub(crate) struct RefinedPoles {
     pub poles: Vec<(f64, f64)>,
     pub covariance: DMatrix<f64>,
     pub sigma: f64,
     pub degrees_of_freedom: usize,
     pub iterations: usize,
+    pub noise_check: Option<NoiseCheck>,
 }
 
 /// The sum of squares and the reduced normal equations at some poles.
@@ -97,12 +111,75 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
         .map(|l| l.covariance(s2))
         .map_err(|e| not_identifiable(e, "the set's lines", &[]))?;
     Ok(RefinedPoles {
+        noise_check: noise_check(lines, &poles, at.sse),
         poles,
         covariance,
         sigma: s2.sqrt(),
         degrees_of_freedom,
         iterations,
     })
+}
+
+/// The set's SSE against its members' own noise (see the module docs); `None` where a
+/// member's σ are not absolute or the moments cannot be formed.
+fn noise_check(lines: &[Lines], poles: &[(f64, f64)], sse: f64) -> Option<NoiseCheck> {
+    if lines
+        .iter()
+        .any(|l| l.noise_model.is_none() || l.averages < 2)
+    {
+        return None;
+    }
+    let (mean, variance) = set_moments(lines, poles)?;
+    NoiseCheck::from_moments(sse, mean, variance)
+}
+
+/// E\[SSE\] and Var\[SSE\] of the set under its members' noise alone (the module docs).
+fn set_moments(lines: &[Lines], poles: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let members: Vec<Member> = (lines.iter())
+        .map(|l| Member::at(l, poles))
+        .collect::<Option<_>>()?;
+    let mut reduced: Vec<DMatrix<f64>> = members.iter().map(Member::projected).collect();
+    // One column scaling for every member (N sums them); the traces do not depend on it.
+    let m2 = 2 * poles.len();
+    for j in 0..m2 {
+        let norm = (reduced.iter())
+            .map(|d| d.column(j).norm_squared())
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        reduced
+            .iter_mut()
+            .for_each(|d| d.column_mut(j).scale_mut(1.0 / norm));
+    }
+    let (mut mean, mut half) = (0.0, 0.0);
+    let (mut normal, mut g, mut middle) = (
+        DMatrix::zeros(m2, m2),
+        DMatrix::zeros(m2, m2),
+        DMatrix::zeros(m2, m2),
+    );
+    for ((l, m), j) in lines.iter().zip(&members).zip(&reduced) {
+        let (mean_o, variance_o) = l.residual_moments(&m.a)?;
+        mean += mean_o;
+        half += variance_o / 2.0;
+        normal += j.transpose() * j;
+        let Some((z, cz)) = l.correlated_columns(j) else {
+            // Independent lines: C_o = I, so G_o = J_oᵀJ_o and J_oᵀC_oQ_oC_oJ_o = G_o.
+            g += j.transpose() * j;
+            middle += j.transpose() * j;
+            continue;
+        };
+        let (za, _) = l.correlated_columns(&m.a)?;
+        g += DMatrix::from_fn(m2, m2, |a, b| complex_inner(&z[a], &cz[b]));
+        // J_oᵀC_oQ_oC_oJ_o = (CJ)ᵀ(CJ) − (AᵀCJ)ᵀ(AᵀA)⁻¹(AᵀCJ).
+        let h = DMatrix::from_fn(m2, m2, |a, b| complex_inner(&cz[a], &cz[b]));
+        let acj = DMatrix::from_fn(za.len(), m2, |i, b| complex_inner(&za[i], &cz[b]));
+        middle += h - acj.transpose() * m.gram.solve(&acj);
+    }
+    let normal = normal.cholesky()?;
+    let (ng, nm) = (normal.solve(&g), normal.solve(&middle));
+    mean -= ng.trace();
+    let variance = 2.0 * (half - 2.0 * nm.trace() + (&ng * &ng).trace());
+    Some((mean, variance))
 }
 
 /// The reduced problem at `poles`: Σ SSE, Σ J_oᵀJ_o and Σ J_oᵀr_o.

@@ -263,3 +263,32 @@ def test_an_impact_frf_carries_its_measured_force_noise_into_the_fits():
     without["input_noise_variance"] = None
     other = msd.one_mode_fit(msd.FrequencyResponse(without))
     assert other.input_noise is None or not other.input_noise["measured"]
+
+
+def test_a_set_with_coherence_checks_its_residual_against_its_members_noise():
+    """Three FRFs of two modes with flat noise on the response and the coherence it
+    gives over 20 averages: the set's residual passes its check against that noise; fitted
+    with one mode too few it fails it."""
+    rng = np.random.default_rng(3)
+    f = np.arange(1, 601) * 0.05
+    s = 2j * np.pi * f
+    shapes = np.array([[1.0, 0.8, 0.4], [1.0, -0.5, -1.0]])
+    poles = [(10.0, 0.01), (24.0, 0.02)]
+    sigma, k = 2e-6, 20
+    frfs, coherences = [], []
+    for point in range(3):
+        h = np.zeros_like(s)
+        for r, (fn, zeta) in enumerate(poles):
+            wn = 2 * np.pi * fn
+            h += shapes[r][0] * shapes[r][point] / (s**2 + 2 * zeta * wn * s + wn**2)
+        h += sigma / np.sqrt(2) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
+        power = np.abs(h) ** 2
+        frfs.append(h)
+        coherences.append(power / (power + (k - 1) * sigma**2))
+    dofs = [((p + 1, 3), (1, 3)) for p in range(3)]
+    fit = msd.modal_fit(f, frfs, coherence=coherences, averages=k, dofs=dofs)
+    assert fit.is_set and len(fit.modes) == 2
+    assert fit.noise_check is not None and fit.noise_check["passed"], fit.noise_check
+    short = msd.modal_fit(f, frfs, coherence=coherences, averages=k, dofs=dofs, mode_count=1)
+    assert not short.noise_check["passed"], short.noise_check
+    assert msd.modal_fit(f, frfs, dofs=dofs).noise_check is None

@@ -449,7 +449,11 @@ pub(super) fn fitted_band_coherence(o: &FrfOutcome) -> ([f64; 2], f64) {
 
 /// How the lines were weighted and what their residuals say against that noise
 /// (`model` the subject of "… only the noise the coherence shows").
-fn weights_sentence(check: &msd_modal::NoiseCheck, model: &str, o: &FrfOutcome) -> String {
+pub(super) fn weights_sentence(
+    check: &msd_modal::NoiseCheck,
+    model: &str,
+    o: &FrfOutcome,
+) -> String {
     let source = match o.data.input_noise_variance {
         Some(_) => {
             "the force's noise measured on its channel, the response's fitted to every line's coherence"

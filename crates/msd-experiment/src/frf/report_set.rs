@@ -60,6 +60,13 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
     if let Some(note) = &m.modal_mass_note {
         writeln!(w, "\nModal masses: {note}.")?;
     }
+    if let Some(check) = &m.noise_check {
+        let sentence = super::report::weights_sentence(check, "the modes leave", o);
+        writeln!(
+            w,
+            "\n{sentence} The members' errors are taken as independent of one another."
+        )?;
+    }
     writeln!(
         w,
         "\n### Fit of each FRF\n\n| response | reference | fit error (measured quantity) | lower residual L | upper residual U |\n|---|---|---|---|---|"

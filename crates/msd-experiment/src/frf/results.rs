@@ -68,6 +68,9 @@ struct SetSummary<'a> {
     #[serde(skip_serializing_if = "is_false")]
     conjugated: bool,
     stabilization: &'a StabilizationDiagram,
+    /// The residuals against the members' own noise (absent without coherence).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    noise_check: Option<msd_modal::NoiseCheck>,
 }
 
 #[derive(Serialize)]
@@ -234,6 +237,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             iterations: m.iterations,
             conjugated: m.conjugated,
             stabilization: &m.diagram,
+            noise_check: m.noise_check,
         }),
         modal_fit: modal(o),
         classroom: &o.classroom,

@@ -113,14 +113,7 @@ fn modes(s: &mut String, f: &ModalFit) {
         .collect();
     summary::modes(s, &rows);
     s.push('\n');
-    for r in &f.refused {
-        summary::labelled(s, "refused", &r.to_string());
-    }
-    if let Some(check) = &f.noise_check {
-        let check = check.to_string();
-        let against = check.strip_prefix("residuals ").unwrap_or(&check);
-        summary::labelled(s, "residuals", against);
-    }
+    checks(s, &f.refused, f.noise_check.as_ref());
     if let Some(noise) = &f.input_noise {
         summary::labelled(s, "force noise", &noise.to_string());
     }
@@ -157,4 +150,24 @@ fn set(s: &mut String, f: &ModeSetFit) {
         })
         .collect();
     summary::modes(s, &rows);
+    if !f.refused.is_empty() || f.noise_check.is_some() {
+        s.push('\n');
+        checks(s, &f.refused, f.noise_check.as_ref());
+    }
+}
+
+/// The modes a several-mode fit refused, and its residuals against the FRF's own noise.
+fn checks(
+    s: &mut String,
+    refused: &[msd_modal::RefusedMode],
+    check: Option<&msd_modal::NoiseCheck>,
+) {
+    for r in refused {
+        summary::labelled(s, "refused", &r.to_string());
+    }
+    if let Some(check) = check {
+        let check = check.to_string();
+        let against = check.strip_prefix("residuals ").unwrap_or(&check);
+        summary::labelled(s, "residuals", against);
+    }
 }

@@ -16,7 +16,7 @@ pub(crate) fn verdict(o: &FrfOutcome) -> Verdict {
     let (check, model, missing) = match &o.fit {
         FrfFit::OneMode(f) => (f.noise_check.as_ref(), "the one-mode model", "another mode"),
         FrfFit::Modes(m) => (m.noise_check.as_ref(), "the modes", "a mode missed"),
-        FrfFit::Set(_) => (None, "the modes", "a mode missed"),
+        FrfFit::Set(m) => (m.noise_check.as_ref(), "the modes", "a mode missed"),
     };
     findings.push(match check {
         Some(check) => residual_finding(check, model, missing),
@@ -86,8 +86,6 @@ fn unchecked_because(o: &FrfOutcome) -> String {
         format!("{what} no coherence")
     } else if o.data.averages == 0 {
         "the coherence does not say over how many averages it was estimated (frequency_response.table.averages)".into()
-    } else if !o.members.is_empty() {
-        "a set's residual is not yet tested against its members' coherence".into()
     } else if !matches!(weighting, FrfWeighting::Coherence) {
         format!("the lines are weighted {weighting}, not by the coherence's noise")
     } else {

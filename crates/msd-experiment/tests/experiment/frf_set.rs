@@ -148,3 +148,81 @@ fn the_shapes_and_the_synthesized_frfs_are_written_as_uff() {
     assert_eq!(synthesized.functions[2].response_node, 3);
     assert_eq!(synthesized.functions[2].len(), 600);
 }
+
+/// The table of `write_table` (600 lines) with complex noise σ = 2e-6 flat in receptance
+/// from `seed`, and the coherence such noise gives over 20 averages (its
+/// (1 − γ²)/(K·γ²)·|Ĥ|² is (K − 1)/K·σ², as a coherence estimated from the K averages
+/// gives it on average).
+fn write_noisy_table(dir: &Path, point: usize, seed: u64) {
+    const SIGMA: f64 = 2e-6;
+    const K: f64 = 20.0;
+    write_table(dir, point, 600);
+    let file = dir.join(format!("h{point}.csv"));
+    let text = std::fs::read_to_string(&file).expect("written");
+    let noise = |name: &str| {
+        msd_signal::gaussian_noise(seed * 10 + point as u64, name, SIGMA / 2f64.sqrt(), 600)
+            .expect("noise")
+    };
+    let (re, im) = (noise("re"), noise("im"));
+    let mut out = String::from("f,re,im,coh\n");
+    for (i, line) in text.lines().skip(1).enumerate() {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|x| x.parse().expect("a number"))
+            .collect();
+        let (hr, hi) = (v[1] + re[i], v[2] + im[i]);
+        let power = hr * hr + hi * hi;
+        let coherence = power / (power + (K - 1.0) * SIGMA * SIGMA);
+        writeln!(out, "{},{hr},{hi},{coherence}", v[0]).expect("a string");
+    }
+    std::fs::write(&file, out).expect("written");
+}
+
+/// A set whose tables carry their coherence (and its count of averages): its residual is
+/// checked against the members' own noise, and the verdict rests on it — trustworthy
+/// with the model complete, "use with care" with a mode too few.
+#[test]
+fn a_set_with_coherence_checks_its_residual_against_its_noise() {
+    let dir = tempfile::tempdir().expect("a folder");
+    for point in 1..=3 {
+        write_noisy_table(dir.path(), point, 7);
+    }
+    let body: String = (1..=3)
+        .map(|p| member(p, p) + "coherence = \"coh\"\naverages = 20\n")
+        .collect();
+    let outcome = run(dir.path(), &body).expect("a fit");
+    let FrfFit::Set(fit) = &outcome.fit else {
+        panic!("a set fit")
+    };
+    let check = fit.noise_check.expect("coherence from 20 averages");
+    assert!(check.passed, "{check}");
+    assert!(outcome.verdict.trustworthy, "{}", outcome.verdict);
+    assert!(
+        (outcome.verdict.to_string())
+            .contains("the modes leave only the noise the FRF's coherence shows"),
+        "{}",
+        outcome.verdict
+    );
+    let json = frf::to_json(&outcome, &[], Default::default());
+    assert_eq!(json["modal_set"]["noise_check"]["passed"], true);
+    assert!(
+        outcome
+            .to_string()
+            .contains("\n  residuals      against the FRF's own noise"),
+        "{outcome}"
+    );
+
+    let one_mode = format!("[frequency_response.modes]\nmode_count = 1\n{body}");
+    let outcome = run(dir.path(), &one_mode).expect("a fit");
+    assert!(
+        !outcome.verdict.trustworthy && !outcome.verdict.unchecked,
+        "{}",
+        outcome.verdict
+    );
+    assert!(
+        (outcome.verdict.to_string())
+            .starts_with("use with care: the residual exceeds the FRF's own noise"),
+        "{}",
+        outcome.verdict
+    );
+}

@@ -8,3 +8,4 @@ mod efdd;
 mod modes;
 mod oma;
 mod real_hammer;
+mod set_noise;

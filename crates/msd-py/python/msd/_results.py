@@ -477,9 +477,10 @@ class ModalFit(Result):
 
     @property
     def noise_check(self) -> Optional[Dict[str, Any]]:
-        """The residuals against the FRF's own noise (one FRF whose coherence comes from
-        two or more averages): ``{"variance_ratio": SSE/E[SSE], "degrees_of_freedom":
-        the effective h, "p_value", "passed"}``; None otherwise."""
+        """The residuals against the FRF's own noise (one FRF, or every FRF of a set,
+        whose coherence comes from two or more averages): ``{"variance_ratio":
+        SSE/E[SSE], "degrees_of_freedom": the effective h, "p_value", "passed"}``; None
+        otherwise."""
         return self.data.get("noise_check")
 
     def _repr_html_(self) -> str:

@@ -1,0 +1,147 @@
+//! A set's residuals against its members' own noise: the simulated beam of `beam.rs`
+//! measured as accelerance with flat noise on the response, each member carrying the
+//! coherence that noise gives over K averages. Where the model is complete the check's
+//! SSE/E\[SSE\] averages 1 and it fails about 1 % of the time, with independent lines
+//! and with lines whose errors are correlated (a moving average, as a window makes
+//! them); a set fitted with a mode too few fails it.
+
+use msd_modal::{Dof, ModalOptions, ModalParameters, NoiseCheck, SetMember, fit_mode_set};
+use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind, LineCorrelation, gaussian_noise};
+
+const POINTS: usize = 6;
+const RESPONSE: usize = 2;
+const MODES: [(f64, f64); 3] = [(20.0, 0.01), (80.0, 0.005), (180.0, 0.003)];
+const AVERAGES: usize = 20;
+/// The response's noise, flat in accelerance: E|e|² = σ² at every line.
+const SIGMA: f64 = 0.02;
+
+/// sin(rπx_i/L) at the points x_i = i·L/(POINTS + 1).
+fn shape(r: usize) -> Vec<f64> {
+    (1..=POINTS)
+        .map(|i| ((r + 1) as f64 * std::f64::consts::PI * i as f64 / (POINTS + 1) as f64).sin())
+        .collect()
+}
+
+/// The set from `seed`, its lines' errors a moving average u_k + θ·u_(k−1) (θ = 0:
+/// independent), each member's coherence the one its noise gives over K averages.
+fn beam(seed: u64, theta: f64) -> Vec<SetMember> {
+    let f: Vec<f64> = (5..=300).map(|i| i as f64).collect();
+    let n = f.len();
+    (1..=POINTS)
+        .map(|hammer| {
+            let terms: Vec<ModalParameters> = (MODES.iter().enumerate())
+                .map(|(r, &(fn_hz, zeta))| ModalParameters {
+                    natural_frequency_hz: fn_hz,
+                    damping_ratio: zeta,
+                    modal_constant: 2.0 * shape(r)[RESPONSE - 1] * shape(r)[hammer - 1],
+                    modal_constant_imaginary: 0.0,
+                })
+                .collect();
+            let stream = seed * 100 + hammer as u64;
+            let part = |name: &str| gaussian_noise(stream, name, 1.0, n + 1).expect("noise");
+            let (re, im) = (part("re"), part("im"));
+            let scale = SIGMA / (2.0 * (1.0 + theta * theta)).sqrt();
+            let mut h = Vec::with_capacity(n);
+            let mut coherence = Vec::with_capacity(n);
+            for (k, &fk) in f.iter().enumerate() {
+                let w = std::f64::consts::TAU * fk;
+                let exact: Complex64 =
+                    -w * w * terms.iter().map(|m| m.receptance(fk)).sum::<Complex64>();
+                let u = |i: usize| Complex64::new(re[i], im[i]);
+                let measured = exact + scale * (u(k + 1) + theta * u(k));
+                h.push(measured);
+                // The coherence whose (1 − γ²)/(K·γ²)·|Ĥ|² is (K − 1)/K·σ² at every line,
+                // as a coherence estimated from the same K averages gives it on average
+                // (the fit scales it back by K/(K − 1)): the check is tested given the
+                // noise's level.
+                let power = measured.norm_sqr();
+                let k = AVERAGES as f64;
+                coherence.push(power / (power + (k - 1.0) * SIGMA * SIGMA));
+            }
+            let mut frf = FrequencyResponseEstimate::new(f.clone(), h).expect("an FRF");
+            frf.kind = FrfKind::Accelerance;
+            frf.coherence = coherence;
+            frf.averages = AVERAGES;
+            if theta != 0.0 {
+                let rho = theta / (1.0 + theta * theta);
+                frf.line_correlation = LineCorrelation {
+                    response: vec![Complex64::new(1.0, 0.0), Complex64::new(rho, 0.0)],
+                    force: Vec::new(),
+                };
+            }
+            let dof = |node: usize| Dof {
+                node: node as u32,
+                direction: 3,
+            };
+            SetMember {
+                frf,
+                response: dof(RESPONSE),
+                reference: dof(hammer),
+            }
+        })
+        .collect()
+}
+
+fn check(members: &[SetMember], options: &ModalOptions) -> NoiseCheck {
+    let fit = fit_mode_set(members, options).expect("a fit");
+    fit.noise_check
+        .expect("every member's coherence from 20 averages")
+}
+
+/// Over 150 seeds: the mean of SSE/E\[SSE\] within 3 of its standard errors of 1, its
+/// spread Satterthwaite's, and at most 6 failures at the 1 % level (1.5 expected; P(≥ 6) ≈ 0.4 %).
+fn calibrated(theta: f64) {
+    let options = ModalOptions::default();
+    let checks: Vec<NoiseCheck> = (0..150)
+        .map(|seed| check(&beam(seed, theta), &options))
+        .collect();
+    let ratios: Vec<f64> = checks.iter().map(|c| c.variance_ratio).collect();
+    let n = ratios.len() as f64;
+    let mean = ratios.iter().sum::<f64>() / n;
+    let sd = (ratios.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    let failed = checks.iter().filter(|c| !c.passed).count();
+    let h = checks[0].degrees_of_freedom;
+    eprintln!(
+        "θ = {theta}: SSE/E[SSE] {mean:.4} ± {:.4}, spread {sd:.4} (√(2/h) {:.4}, h {h:.1}), {failed} of 150 failed",
+        sd / n.sqrt(),
+        (2.0 / h).sqrt()
+    );
+    assert!(
+        (mean - 1.0).abs() < 3.0 * sd / n.sqrt(),
+        "mean {mean}, sd {sd}"
+    );
+    // The spread is Satterthwaite's √(2/h), within 3 of its standard errors (1/√(2(n − 1))).
+    let spread = sd / (2.0 / h).sqrt();
+    assert!(
+        (spread - 1.0).abs() < 3.0 / (2.0 * (n - 1.0)).sqrt(),
+        "spread {spread}"
+    );
+    assert!(failed <= 6, "{failed} of 150 failed");
+}
+
+#[test]
+fn a_complete_set_leaves_only_its_members_noise() {
+    calibrated(0.0);
+}
+
+#[test]
+fn with_correlated_lines_too() {
+    calibrated(0.5);
+}
+
+#[test]
+fn a_set_fitted_with_a_mode_too_few_fails_the_check() {
+    let options = ModalOptions {
+        mode_count: Some(2),
+        ..ModalOptions::default()
+    };
+    let fit = fit_mode_set(&beam(1, 0.0), &options).expect("a fit");
+    assert_eq!(fit.modes.len(), 2, "{fit}");
+    let check = fit.noise_check.expect("a check");
+    assert!(!check.passed && check.variance_ratio > 2.0, "{check}");
+    assert!(
+        fit.to_string()
+            .contains("warning: the model leaves more than the noise"),
+        "{fit}"
+    );
+}
