@@ -8,6 +8,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{ModalError, Result};
 
+/// The largest coherence γ² a line is weighted by: 1 − 10⁻⁶ (60 dB of signal over
+/// noise). Above it the weight would grow without bound; a coherence there says only
+/// that the line's noise is smaller still.
+pub const COHERENCE_CEILING: f64 = 1.0 - 1e-6;
+
 /// How the lines of a frequency response are weighted in a fit: each line's residual is
 /// divided by the standard deviation σ_k this gives (up to a common factor, which the
 /// fit estimates from the residuals).
@@ -233,7 +238,7 @@ pub fn prepare(
         // Each part carries half the complex variance.
         let relative = match weighting {
             FrfWeighting::Coherence => {
-                let g = receptance.coherence[k].clamp(1e-6, 1.0 - 1e-6);
+                let g = receptance.coherence[k].clamp(1e-6, COHERENCE_CEILING);
                 ((1.0 - g) / (averages * g) / 2.0).sqrt()
             }
             FrfWeighting::Relative => 0.5f64.sqrt(),
@@ -338,14 +343,23 @@ impl Lines {
             .map(|&w| w.powi(-2 * self.measured_power))
             .collect();
         let k = self.averages as f64;
+        // A coherence at the ceiling says only that the line's noise is below what it
+        // can express: such lines (the peaks of a very clean FRF) are left out of the
+        // fit of the noise model, which their clamped value would raise there.
+        let ceiling = (1.0 - COHERENCE_CEILING) / (k.max(1.0) * COHERENCE_CEILING) / 2.0;
+        let kept: Vec<usize> = (0..m.len())
+            .filter(|&i| self.relative_sigma[i].powi(2) > ceiling * (1.0 + 1e-9))
+            .collect();
+        let pick = |v: &[f64]| kept.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let (km, ku, kq) = (pick(&m), pick(&u), pick(&q));
         let measured = self.averages >= 2 && self.input_noise.len() == self.h.len();
         let fitted = if measured {
             let a: Vec<f64> = (self.input_noise.iter())
                 .map(|v| v * (k - 1.0) / (2.0 * k))
                 .collect();
-            response_noise(&m, &u, &q, &a).map(|b| (a, b))
+            response_noise(&km, &ku, &kq, &pick(&a)).map(|b| (a, b))
         } else {
-            noise_model(&m, &u, &q).map(|[a, b]| (vec![a; m.len()], b))
+            noise_model(&km, &ku, &kq).map(|[a, b]| (vec![a; m.len()], b))
         };
         let Some((a, b)) = fitted else {
             self.reweight(model);
@@ -362,7 +376,7 @@ impl Lines {
             CoherenceNoise {
                 force: a[0],
                 response: b,
-                force_standard_error: standard_error_of_a(&m, &u, &q, [a[0], b]),
+                force_standard_error: standard_error_of_a(&km, &ku, &kq, [a[0], b]),
                 force_measured: false,
             }
         });
