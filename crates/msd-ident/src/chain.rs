@@ -246,15 +246,11 @@ impl ChainPlant {
     }
 }
 
-/// The state matrix [[0, I], [−M⁻¹K, −M⁻¹C]] of a diagonal M.
+/// The state matrix [[0, I], [−M⁻¹K, −M⁻¹C]] of a diagonal M (the plant's
+/// [`state_space`](crate::plant::state_space)).
 pub(crate) fn state_matrix(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>) -> DMatrix<f64> {
-    let n = m.nrows();
-    let m_inv = DMatrix::from_diagonal(&m.diagonal().map(|v| 1.0 / v));
-    let mut a = DMatrix::zeros(2 * n, 2 * n);
-    a.view_mut((0, n), (n, n)).fill_with_identity();
-    a.view_mut((n, 0), (n, n)).copy_from(&(-&m_inv * k));
-    a.view_mut((n, n), (n, n)).copy_from(&(-&m_inv * c));
-    a
+    let w: Vec<f64> = m.diagonal().iter().map(|v| 1.0 / v).collect();
+    crate::plant::state_space(&w, c, k, crate::plant::Input::None).0
 }
 
 /// The poles λ with Im λ > 0 among the eigenvalues of `a`, by |λ| (overdamped, real

@@ -17,6 +17,7 @@
 //! θ = ln p the fit's parameters, ∂/∂ln k_j = k_j·∂/∂k_j and ∂/∂ln m_j = −w_j·∂/∂w_j.
 
 use super::setup::{ChainDrive, ChainSetup};
+use crate::plant::{Input, state_space};
 use msd_signal::ResponseQuantity;
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::TAU;
@@ -99,19 +100,17 @@ pub(crate) fn system(setup: &ChainSetup, values: &Values) -> System {
         kk[(i, i)] += values.kg[i];
         cc[(i, i)] += values.cg[i];
     }
+    let input = match setup.drive {
+        ChainDrive::Force => Input::Force {
+            at: setup.force_at - 1,
+        },
+        ChainDrive::BaseAcceleration => Input::BaseAcceleration,
+    };
+    let (plant_a, plant_b) = state_space(&values.w, &cc, &kk, input);
     let mut a = DMatrix::zeros(ns, ns);
     let mut b = DVector::zeros(ns);
-    for i in 0..n {
-        a[(i, n + i)] = 1.0;
-        for j in 0..n {
-            a[(n + i, j)] = -values.w[i] * kk[(i, j)];
-            a[(n + i, n + j)] = -values.w[i] * cc[(i, j)];
-        }
-    }
-    match setup.drive {
-        ChainDrive::Force => b[n + setup.force_at - 1] = values.w[setup.force_at - 1],
-        ChainDrive::BaseAcceleration => b.rows_mut(n, n).fill(-1.0),
-    }
+    a.view_mut((0, 0), (2 * n, 2 * n)).copy_from(&plant_a);
+    b.rows_mut(0, 2 * n).copy_from(&plant_b);
     let base = f64::from(u8::from(setup.drive == ChainDrive::BaseAcceleration));
     let mut c = DMatrix::zeros(setup.sensors.len(), ns);
     let mut d = DVector::zeros(setup.sensors.len());
