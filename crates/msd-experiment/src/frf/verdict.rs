@@ -85,7 +85,12 @@ fn unchecked_because(o: &FrfOutcome) -> String {
     if low >= 1.0 {
         format!("{what} no coherence")
     } else if o.data.averages == 0 {
-        "the coherence does not say over how many averages it was estimated (frequency_response.table.averages)".into()
+        let key = if o.members.is_empty() {
+            "frequency_response.table.averages"
+        } else {
+            "averages in each [[frequency_response.set]]"
+        };
+        format!("the coherence does not say over how many averages it was estimated ({key})")
     } else if !matches!(weighting, FrfWeighting::Coherence) {
         format!("the lines are weighted {weighting}, not by the coherence's noise")
     } else {

@@ -212,6 +212,18 @@ fn a_set_with_coherence_checks_its_residual_against_its_noise() {
         "{outcome}"
     );
 
+    // The coherence without its count of averages: relative weights only, said.
+    let relative: String = (1..=3)
+        .map(|p| member(p, p) + "coherence = \"coh\"\n")
+        .collect();
+    let outcome = run(dir.path(), &relative).expect("a fit");
+    let text = outcome.verdict.to_string();
+    assert!(outcome.verdict.unchecked, "{text}");
+    assert!(
+        text.contains("averages in each [[frequency_response.set]]"),
+        "{text}"
+    );
+
     let one_mode = format!("[frequency_response.modes]\nmode_count = 1\n{body}");
     let outcome = run(dir.path(), &one_mode).expect("a fit");
     assert!(
