@@ -101,14 +101,14 @@ impl Lines {
         let k = self.averages as f64;
         if noise.force_measured && self.estimator == Some(Estimator::H1) {
             // (K − 1)·v_k at each line, known: no leakage to confound it with.
-            for ((h, s), a) in self
+            for ((h, s), v) in self
                 .h
                 .iter_mut()
                 .zip(&mut self.sigma)
-                .zip(&self.force_noise)
+                .zip(&self.input_noise)
             {
-                *h *= 1.0 + 2.0 * k * a;
-                *s *= 1.0 + 2.0 * k * a;
+                *h *= 1.0 + (k - 1.0) * v;
+                *s *= 1.0 + (k - 1.0) * v;
             }
             return Some(InputNoise {
                 h1_bias: 2.0 * k * a,
@@ -210,8 +210,9 @@ mod tests {
 
     /// A measured force noise v_k that varies over the band (a hammer's spectrum falls
     /// off) and a coherence that shows it and the response's noise b exactly: the weights
-    /// take a_k = (K − 1)/(2K)·v_k as given and b back, each line's variance is
-    /// v_k/2·|H|² + K/(K − 1)·b·u_k, and H1 is raised line by line by (K − 1)·v_k.
+    /// take a_k = (K − 1)/(2K)·v_k·c_k² as given (c_k = 1 + (K − 1)·v_k, the lines low by
+    /// it while the force's noise scatters about the true H) and b back, each line's
+    /// variance is v_k/2·c_k²·|Ĥ|² + K/(K − 1)·b·u_k, and H1 is raised line by line by c_k.
     #[test]
     fn a_measured_force_noise_is_taken_line_by_line() {
         let (b, k) = (3e-7, 5usize);
@@ -221,8 +222,11 @@ mod tests {
         let biased = |i: usize| mode(f[i]) / (1.0 + (kf - 1.0) * v[i]);
         let h: Vec<Complex64> = (0..f.len()).map(biased).collect();
         let mut frf = FrequencyResponseEstimate::new(f.clone(), h).unwrap();
+        let c = |i: usize| 1.0 + (kf - 1.0) * v[i];
         frf.coherence = (0..f.len())
-            .map(|i| 1.0 / (1.0 + (kf - 1.0) * v[i] + 2.0 * kf * b / biased(i).norm_sqr()))
+            .map(|i| {
+                1.0 / (1.0 + (kf - 1.0) * v[i] * c(i).powi(2) + 2.0 * kf * b / biased(i).norm_sqr())
+            })
             .collect();
         frf.averages = k;
         frf.estimator = Some(Estimator::H1);
@@ -236,7 +240,7 @@ mod tests {
         assert!(noise.force_measured && (noise.response / b - 1.0).abs() < 1e-9);
         for (i, s) in l.sigma.iter().enumerate() {
             let m = biased(i).norm_sqr();
-            let expected = v[i] / 2.0 * m + kf / (kf - 1.0) * b;
+            let expected = v[i] / 2.0 * c(i).powi(2) * m + kf / (kf - 1.0) * b;
             assert!((s * s / expected - 1.0).abs() < 1e-9, "line {i}");
         }
         let found = l.correct_input_noise().expect("measured");

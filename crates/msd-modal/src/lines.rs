@@ -111,8 +111,9 @@ pub struct Lines {
     pub input_noise: Vec<f64>,
     /// The force's term a_k of each line in the coherence's noise model (see
     /// [`CoherenceNoise`]), once [`smooth_coherence_weights`](Self::smooth_coherence_weights)
-    /// has set it: the fitted a on every line, or (K − 1)/(2K)·v_k from the measured
-    /// [`input_noise`](Self::input_noise).
+    /// has set it: the fitted a on every line, or (K − 1)/(2K)·v_k·(1 + (K − 1)·v_k)²
+    /// from the measured [`input_noise`](Self::input_noise) (its scatter about the true H,
+    /// which the lines show low by 1 + (K − 1)·v_k).
     pub force_noise: Vec<f64>,
 }
 
@@ -353,9 +354,15 @@ impl Lines {
         let pick = |v: &[f64]| kept.iter().map(|&i| v[i]).collect::<Vec<f64>>();
         let (km, ku, kq) = (pick(&m), pick(&u), pick(&q));
         let measured = self.averages >= 2 && self.input_noise.len() == self.h.len();
+        // The force's noise scatters H1 by v_k·|H|² about the true H, which the lines
+        // (and the model fitted to them) show low by 1 + (K − 1)·v_k: in the model's
+        // |H|² its share is a_k = (K − 1)/(2K)·v_k·(1 + (K − 1)·v_k)².
+        let plain: Vec<f64> = (self.input_noise.iter())
+            .map(|v| v * (k - 1.0) / (2.0 * k))
+            .collect();
         let fitted = if measured {
-            let a: Vec<f64> = (self.input_noise.iter())
-                .map(|v| v * (k - 1.0) / (2.0 * k))
+            let a: Vec<f64> = (plain.iter().zip(&self.input_noise))
+                .map(|(a, v)| a * (1.0 + (k - 1.0) * v).powi(2))
                 .collect();
             response_noise(&km, &ku, &kq, &pick(&a)).map(|b| (a, b))
         } else {
@@ -367,7 +374,7 @@ impl Lines {
         };
         self.noise_model = Some(if measured {
             CoherenceNoise {
-                force: equivalent_force_noise(&m, &u, &a, b),
+                force: equivalent_force_noise(&m, &u, &plain, b),
                 response: b,
                 force_standard_error: 0.0,
                 force_measured: true,

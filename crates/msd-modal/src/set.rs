@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::diagram::{StabilizationDiagram, StableColumn};
 use crate::error::{ModalError, Result};
+use crate::input_noise::InputNoise;
 use crate::lines::{FrfWeighting, Lines, prepare};
 use crate::mode::{Dof, Mode, ShapeEntry};
 use crate::modes::{RefusedMode, drop_moved, moved_from_column, or_conjugated, pole_intervals};
@@ -55,6 +56,11 @@ pub struct MemberFit {
     pub lower_residual: f64,
     /// Its upper residual term U.
     pub upper_residual: f64,
+    /// The force's noise on its H1 estimate (measured, or the coherence's sign of it)
+    /// and whether its lines were raised for it, as for one FRF
+    /// ([`ModalFit::input_noise`](crate::ModalFit::input_noise)); `None` when none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub input_noise: Option<InputNoise>,
 }
 
 /// The result of [`fit_mode_set`]: the modes with their shapes, the auto-MAC, the fit of
@@ -101,6 +107,13 @@ pub struct ModeSetFit {
 }
 
 impl ModeSetFit {
+    /// The member's force noise that biased its H1 most, if any member's did.
+    pub fn largest_input_noise(&self) -> Option<InputNoise> {
+        (self.members.iter())
+            .filter_map(|m| m.input_noise)
+            .max_by(|a, b| a.h1_bias.total_cmp(&b.h1_bias))
+    }
+
     /// The receptance of the model of member `member` at `frequency_hz` (with an
     /// exponential window: the windowed response, which the data show).
     pub fn response(&self, member: usize, frequency_hz: f64) -> Complex64 {
@@ -161,6 +174,9 @@ impl std::fmt::Display for ModeSetFit {
         }
         if let Some(check) = &self.noise_check {
             write!(f, "\n{check}")?;
+        }
+        if let Some(noise) = self.largest_input_noise() {
+            write!(f, "\n{noise} (the largest of the members)")?;
         }
         Ok(())
     }
@@ -311,11 +327,14 @@ fn set_as_given(members: &[SetMember], options: &ModalOptions) -> Result<ModeSet
             .map(|m| (TAU * m.natural_frequency_hz, m.damping_ratio))
             .collect();
         let mut weighted = lines.clone();
+        let mut input_noise = Vec::with_capacity(weighted.len());
         for l in &mut weighted {
             // Each member's weights from its coherence's noise model, as one FRF's
-            // (relative to the model where there is none).
+            // (relative to the model where there is none), and its H1 raised where the
+            // force's noise is known.
             let theta = lsfd(l, &start)?;
             l.smooth_coherence_weights(|w| model(&theta, w));
+            input_noise.push(l.correct_input_noise());
         }
         let poles = refine_poles(&weighted, start)?;
         let moved: Vec<RefusedMode> = (0..selected.len())
@@ -333,6 +352,7 @@ fn set_as_given(members: &[SetMember], options: &ModalOptions) -> Result<ModeSet
                 diagram,
                 roving,
                 driving_point,
+                input_noise,
             };
             return assemble(members, &weighted, parts);
         }
@@ -348,6 +368,7 @@ struct Parts {
     diagram: StabilizationDiagram,
     roving: Roving,
     driving_point: Option<Dof>,
+    input_noise: Vec<Option<InputNoise>>,
 }
 
 /// The result from the refined poles: every member's modal constants, the shapes, MAC.
@@ -359,6 +380,7 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
         diagram,
         roving,
         driving_point,
+        input_noise,
     } = parts;
     let thetas = lines
         .iter()
@@ -413,12 +435,14 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
         .iter()
         .zip(lines)
         .zip(&thetas)
-        .map(|((m, l), th)| MemberFit {
+        .zip(input_noise)
+        .map(|(((m, l), th), input_noise)| MemberFit {
             response: m.response,
             reference: m.reference,
             relative_error: l.relative_error(|w| model(th, w)),
             lower_residual: th[th.len() - 2],
             upper_residual: th[th.len() - 1],
+            input_noise,
         })
         .collect();
     if driving.is_none() {

@@ -60,6 +60,10 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
     if let Some(note) = &m.modal_mass_note {
         writeln!(w, "\nModal masses: {note}.")?;
     }
+    if let Some(noise) = m.largest_input_noise() {
+        let text = crate::fmt::capitalised(&noise.to_string());
+        writeln!(w, "\n{text} (the largest of the members).")?;
+    }
     if let Some(check) = &m.noise_check {
         let sentence = super::report::weights_sentence(check, "the modes leave", o);
         writeln!(

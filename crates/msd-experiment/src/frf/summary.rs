@@ -150,9 +150,14 @@ fn set(s: &mut String, f: &ModeSetFit) {
         })
         .collect();
     summary::modes(s, &rows);
-    if !f.refused.is_empty() || f.noise_check.is_some() {
+    let noise = f.largest_input_noise();
+    if !f.refused.is_empty() || f.noise_check.is_some() || noise.is_some() {
         s.push('\n');
         checks(s, &f.refused, f.noise_check.as_ref());
+    }
+    if let Some(noise) = noise {
+        let text = format!("{noise} (the largest of the members)");
+        summary::labelled(s, "force noise", &text);
     }
 }
 
