@@ -62,6 +62,7 @@ pub fn frequency_domain(budget: &Budget) -> Result<Vec<Row>> {
             ],
             [2, 120],
             30e-3,
+            None,
         )?,
         set_row(
             budget,
@@ -70,6 +71,16 @@ pub fn frequency_domain(budget: &Budget) -> Result<Vec<Row>> {
             &[(40.0, 0.01), (160.0, 0.005), (360.0, 0.003), (640.0, 0.002)],
             [2, 40],
             300e-3,
+            None,
+        )?,
+        set_row(
+            budget,
+            30,
+            (1..=2000).map(|i| 0.5 * f64::from(i)).collect(),
+            &[(40.0, 0.01), (160.0, 0.005), (360.0, 0.003), (640.0, 0.002)],
+            [2, 40],
+            300e-3,
+            Some(20),
         )?,
     ])
 }
@@ -104,7 +115,9 @@ fn impact_row(budget: &Budget) -> Result<Row> {
 
 /// A roving-hammer set on a simply supported beam: `points` hammer points (shapes
 /// sin(rπx/L) at x = (i + 0.7)L/(points + 1), off the modes' nodes), the response at the
-/// first, `modes` (fn, ζ), 1 % noise; fitted at `orders`.
+/// first, `modes` (fn, ζ), 1 % noise; fitted at `orders`. With `averages` K, each member
+/// carries the coherence its noise gives over K averages: the members weighted by their
+/// noise models and the set's residual checked against them.
 fn set_row(
     budget: &Budget,
     points: usize,
@@ -112,6 +125,7 @@ fn set_row(
     modes: &[(f64, f64)],
     orders: [usize; 2],
     target: f64,
+    averages: Option<usize>,
 ) -> Result<Row> {
     let shape = |r: usize, i: usize| {
         ((r + 1) as f64 * std::f64::consts::PI * (i as f64 + 0.7) / (points + 1) as f64).sin()
@@ -128,9 +142,14 @@ fn set_row(
                     modal_constant_imaginary: 0.0,
                 })
                 .collect();
-            let frf = synthetic_frequency_response(&f, 0.01, j as u64 + 1, |f| {
+            let mut frf = synthetic_frequency_response(&f, 0.01, j as u64 + 1, |f| {
                 terms.iter().map(|m| m.receptance(f)).sum()
             })?;
+            if let Some(k) = averages {
+                // (1 − γ²)/(K·γ²) = (K − 1)/K·1e-4, the relative variance of 1 % noise.
+                frf.coherence = vec![1.0 / (1.0 + (k as f64 - 1.0) * 1e-4); f.len()];
+                frf.averages = k;
+            }
             let dof = |node: usize| Dof {
                 node: node as u32 + 1,
                 direction: 3,
@@ -149,10 +168,16 @@ fn set_row(
     };
     let fit = fit_mode_set(&members, &options).map_err(fail("bench: set fit"))?;
     let samples = measure(budget, || fit_mode_set(&members, &options).ok());
+    let coherence = averages.map_or(String::new(), |k| {
+        format!(" with coherence ({k} averages): noise models and the residual check")
+    });
+    let check = fit.noise_check.map_or(String::new(), |c| {
+        format!(", SSE/E[SSE] {:.3}", c.variance_ratio)
+    });
     Ok(Row::new(
         "frequency domain",
         format!(
-            "set of {points} FRFs × {} lines: diagram orders {}–{}, selection, common poles, residues",
+            "set of {points} FRFs × {} lines{coherence}: diagram orders {}–{}, selection, common poles, residues",
             f.len(),
             orders[0],
             orders[1]
@@ -161,7 +186,7 @@ fn set_row(
     )
     .target(Target::Seconds(target))
     .note(format!(
-        "{} of {} modes found, {} pole iterations",
+        "{} of {} modes found, {} pole iterations{check}",
         fit.modes.len(),
         modes.len(),
         fit.iterations
