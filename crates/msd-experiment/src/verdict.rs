@@ -153,8 +153,8 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
     let mut findings = Vec::new();
     match e.unidentified.as_slice() {
         [] => {}
-        [reason] => findings.push(fail(format!("not everything is identified: {reason}"))),
-        reasons => findings.push(fail(format!(
+        [reason] => findings.push(Finding::failed(format!("not everything is identified: {reason}"))),
+        reasons => findings.push(Finding::failed(format!(
             "not everything is identified: {} combinations of the parameters leave the records unchanged (listed with the estimates)",
             reasons.len()
         ))),
@@ -164,9 +164,9 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
         .map(|c| format!("`{}`", c.channel))
         .collect();
     findings.push(if coloured.is_empty() {
-        pass("the residuals are white under the noise model the intervals assume".into())
+        Finding::passed("the residuals are white under the noise model the intervals assume")
     } else {
-        fail(format!(
+        Finding::failed(format!(
             "the residual of {} is not white under the noise model: the model leaves structure unexplained (a missing mode, a delay, a nonlinearity) and the intervals may be too narrow",
             coloured.join(", ")
         ))
@@ -175,22 +175,7 @@ pub(crate) fn verdict(e: &Evidence<'_>) -> Verdict {
     if let Some(finding) = drive_noise(e.noise_model) {
         findings.push(finding);
     }
-    from_findings(findings)
-}
-
-/// The verdict of `findings` ([`Verdict::of`]).
-pub(crate) fn from_findings(findings: Vec<Finding>) -> Verdict {
     Verdict::of(findings)
-}
-
-/// A check that passed (or only informs).
-pub(crate) fn pass(text: String) -> Finding {
-    Finding::passed(text)
-}
-
-/// A check that failed.
-pub(crate) fn fail(text: String) -> Finding {
-    Finding::failed(text)
 }
 
 /// The fresh data's findings: the worst prediction, and each channel correlated with
@@ -198,7 +183,11 @@ pub(crate) fn fail(text: String) -> Finding {
 fn fresh(fresh: &Result<Fresh, String>) -> Vec<Finding> {
     let f = match fresh {
         Ok(f) => f,
-        Err(reason) => return vec![pass(format!("not checked on fresh data: {reason}"))],
+        Err(reason) => {
+            return vec![Finding::passed(format!(
+                "not checked on fresh data: {reason}"
+            ))];
+        }
     };
     let mut out = Vec::new();
     if let Some((r2, fit)) = f.worst {
@@ -208,16 +197,16 @@ fn fresh(fresh: &Result<Fresh, String>) -> Vec<Finding> {
             sig(r2, 4),
             sig(fit, 3)
         );
-        out.push(pass(text));
+        out.push(Finding::passed(text));
     }
     if !f.unpredicted.is_empty() {
-        out.push(fail(format!(
+        out.push(Finding::failed(format!(
             "on fresh data the plant does not predict {}: its error is well above the channel's noise",
             f.unpredicted.join(", ")
         )));
     }
     if !f.correlated.is_empty() {
-        out.push(fail(format!(
+        out.push(Finding::failed(format!(
             "on fresh data the residual of {} correlates with the drive: part of its effect is not explained",
             f.correlated.join(", ")
         )));
@@ -250,7 +239,7 @@ fn drive_noise(m: &NoiseModelFit) -> Option<Finding> {
             sig((1.0 / low).sqrt(), 2)
         );
     }
-    Some(pass(text))
+    Some(Finding::passed(text))
 }
 
 /// The report's "In short" section: the verdict in bold, then its findings.

@@ -6,7 +6,7 @@
 use super::report::fitted_band_coherence;
 use super::{FrfFit, FrfOutcome};
 use crate::fmt::sig;
-use crate::verdict::{self, Finding, Verdict};
+use crate::verdict::{Finding, Verdict};
 use msd_ident::Interval;
 use msd_modal::{FrfWeighting, NoiseCheck, RefusedMode};
 
@@ -39,7 +39,7 @@ pub(crate) fn verdict(o: &FrfOutcome) -> Verdict {
     }
     let ([from, to], low) = fitted_band_coherence(o);
     if low < 0.5 {
-        findings.push(verdict::pass(format!(
+        findings.push(Finding::passed(format!(
             "the coherence falls to {} between {} and {} Hz: each line is weighted by what it is worth",
             sig(low, 2),
             sig(from, 4),
@@ -58,12 +58,12 @@ fn residual_finding(check: &NoiseCheck, model: &str, missing: &str) -> Finding {
         sig(check.p_value, 2)
     );
     if check.passed {
-        verdict::pass(format!(
+        Finding::passed(format!(
             "{model} leave{} only the noise the FRF's coherence shows ({numbers})",
             if model == "the modes" { "" } else { "s" }
         ))
     } else {
-        verdict::fail(format!(
+        Finding::failed(format!(
             "the residual exceeds the FRF's own noise ({numbers}): {missing}, a nonlinearity or leakage in the band, and the intervals may be too narrow"
         ))
     }
@@ -112,7 +112,7 @@ fn members_finding(m: &msd_modal::ModeSetFit) -> Finding {
         ),
         None => format!("{} modes common to the set", m.modes.len()),
     };
-    verdict::pass(text)
+    Finding::passed(text)
 }
 
 /// The columns of the diagram the fit moved away and dropped, when there are any.
@@ -122,7 +122,7 @@ fn refused_finding(refused: &[RefusedMode]) -> Option<Finding> {
         .map(|r| format!("{:.4} Hz", r.natural_frequency_hz))
         .collect();
     (!list.is_empty()).then(|| {
-        verdict::pass(format!(
+        Finding::passed(format!(
             "{} more columns of the stabilization diagram ({}) moved away in the fit and were dropped (listed with the modes)",
             list.len(),
             list.join(", ")
@@ -138,17 +138,17 @@ fn input_noise_finding(noise: &msd_modal::InputNoise, mass: &Interval) -> Findin
     let percent = sig(100.0 * noise.h1_bias, 2);
     let in_se = noise.h1_bias * mass.value / mass.standard_error;
     if noise.corrected {
-        verdict::pass(format!(
+        Finding::passed(format!(
             "the force's noise biased H1 low by {percent} % ({} standard errors of m): the lines were corrected",
             sig(in_se, 2)
         ))
     } else if in_se > 1.0 {
-        verdict::fail(format!(
+        Finding::failed(format!(
             "the coherence shows noise on the force, or the window's leakage: H1 may be low by up to {percent} %, {} standard errors of m and k, not corrected under this window — use a force that repeats over whole records (rectangular window), or compare with H2",
             sig(in_se, 2)
         ))
     } else {
-        verdict::pass(format!(
+        Finding::passed(format!(
             "the coherence shows at most {percent} % of force noise or leakage, under a standard error of m"
         ))
     }

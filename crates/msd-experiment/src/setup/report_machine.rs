@@ -2,7 +2,7 @@
 //! ranked by BIC.
 
 use crate::fmt::sig;
-use crate::verdict::{self, Verdict};
+use crate::verdict::{Finding, Verdict};
 use msd_ident::dynamometer::Dynamometer;
 use std::fmt::Write;
 
@@ -100,7 +100,7 @@ pub(crate) fn verdict(m: &Dynamometer) -> Verdict {
     let best = m.best_law();
     let mut findings = Vec::new();
     let runner = m.laws.iter().find(|l| l.rank == 2);
-    findings.push(verdict::pass(match runner {
+    findings.push(Finding::passed(match runner {
         Some(r) => format!(
             "the law {} ranks first, ΔBIC {} over {} (on Kass & Raftery's scale, > 10 is very strong evidence)",
             best.law.formula(),
@@ -112,7 +112,7 @@ pub(crate) fn verdict(m: &Dynamometer) -> Verdict {
     if let Some(predictions) = &m.leave_one_out {
         let worst = (predictions.iter()).min_by(|a, b| a.fit.r_squared.total_cmp(&b.fit.r_squared));
         if let Some(p) = worst {
-            findings.push(verdict::pass(format!(
+            findings.push(Finding::passed(format!(
                 "each condition predicted by the law fitted to the others: worst R² {} ({})",
                 sig(p.fit.r_squared, 4),
                 p.condition
@@ -123,11 +123,11 @@ pub(crate) fn verdict(m: &Dynamometer) -> Verdict {
             .map(|p| format!("`{}`", p.condition))
             .collect();
         if !missed.is_empty() {
-            findings.push(verdict::fail(format!(
+            findings.push(Finding::failed(format!(
                 "the law fitted to the other conditions does not predict {}: its force error is well above the fit's noise",
                 missed.join(", ")
             )));
         }
     }
-    verdict::from_findings(findings)
+    Verdict::of(findings)
 }

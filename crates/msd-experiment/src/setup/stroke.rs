@@ -6,7 +6,7 @@ use super::{SetupData, SetupRecord};
 use crate::config::SetupSection;
 use crate::config::setup::StrokeAnalysis;
 use crate::fmt::sig;
-use crate::verdict::{self, Verdict};
+use crate::verdict::{Finding, Verdict};
 use msd_ident::dynamometer::{
     ForcePrediction, InverseDynamics, InverseOptions, StrokeRecord, fundamental_share,
     inverse_dynamics,
@@ -197,7 +197,7 @@ pub(crate) fn summary(s: &mut String, f: &StrokeFit) {
 
 /// The verdict: the best law's standing, and the force predicted on fresh records.
 pub(crate) fn verdict(f: &StrokeFit) -> Verdict {
-    let mut findings = vec![verdict::pass(f.inverse.verdict.clone())];
+    let mut findings = vec![Finding::passed(f.inverse.verdict.clone())];
     let error = |p: &RecordPrediction| p.force.rms_error / p.force.rms_force;
     let fitted = f
         .predictions
@@ -213,12 +213,12 @@ pub(crate) fn verdict(f: &StrokeFit) -> Verdict {
             sig(100.0 * fitted, 3)
         );
         findings.push(if error(p) <= 2.0 * fitted.max(0.01) {
-            verdict::pass(text)
+            Finding::passed(text)
         } else {
-            verdict::fail(format!(
+            Finding::failed(format!(
                 "{text}: more than twice the fitted records' error — the model misses what this record holds"
             ))
         });
     }
-    verdict::from_findings(findings)
+    Verdict::of(findings)
 }
