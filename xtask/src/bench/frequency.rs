@@ -64,24 +64,8 @@ pub fn frequency_domain(budget: &Budget) -> Result<Vec<Row>> {
             30e-3,
             None,
         )?,
-        set_row(
-            budget,
-            30,
-            (1..=2000).map(|i| 0.5 * f64::from(i)).collect(),
-            &[(40.0, 0.01), (160.0, 0.005), (360.0, 0.003), (640.0, 0.002)],
-            [2, 40],
-            300e-3,
-            None,
-        )?,
-        set_row(
-            budget,
-            30,
-            (1..=2000).map(|i| 0.5 * f64::from(i)).collect(),
-            &[(40.0, 0.01), (160.0, 0.005), (360.0, 0.003), (640.0, 0.002)],
-            [2, 40],
-            300e-3,
-            Some(20),
-        )?,
+        large_set(budget, None)?,
+        large_set(budget, Some(20))?,
     ])
 }
 
@@ -111,6 +95,13 @@ fn impact_row(budget: &Budget) -> Result<Row> {
         timing("data"),
         timing("fit")
     )))
+}
+
+/// The 30 × 2000-line set, its members with the coherence of `averages` or without.
+fn large_set(budget: &Budget, averages: Option<usize>) -> Result<Row> {
+    let f = (1..=2000).map(|i| 0.5 * f64::from(i)).collect();
+    let modes = [(40.0, 0.01), (160.0, 0.005), (360.0, 0.003), (640.0, 0.002)];
+    set_row(budget, 30, f, &modes, [2, 40], 300e-3, averages)
 }
 
 /// A roving-hammer set on a simply supported beam: `points` hammer points (shapes
