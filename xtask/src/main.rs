@@ -165,6 +165,9 @@ fn try_main() -> Result<(), ExperimentError> {
                 let levels: Vec<String> = args.levels.iter().map(f64::to_string).collect();
                 forwarded.push(format!("--levels={}", levels.join(",")));
             }
+            if !args.setups.is_empty() {
+                forwarded.push(format!("--setups={}", args.setups.join(",")));
+            }
             in_release("noise-study-run", &forwarded)
         }
         Some(Command::NoiseStudyRun(args)) => noise_study(&args),

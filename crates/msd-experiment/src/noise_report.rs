@@ -29,12 +29,17 @@ pub(crate) fn summary(
             ),
         );
         if let Some(low) = m.output_error_efficiency.values().copied().reduce(f64::min) {
+            let gain = (1.0 / low).sqrt();
+            let compared = if gain < 1.05 {
+                "within 5 % of these".to_string()
+            } else {
+                format!("up to ×{} wider", sig(gain, 2))
+            };
             labelled(
                 s,
                 "",
                 &format!(
-                    "estimate weighted by each frequency line's noise (frequency-domain maximum likelihood): the output-error fit's intervals were up to ×{} wider (report.md, Noise)",
-                    sig((1.0 / low).sqrt(), 2)
+                    "estimate weighted by each frequency line's noise (frequency-domain maximum likelihood): the output-error fit's intervals were {compared} (report.md, Noise)"
                 ),
             );
         } else if let Some(low) = m.efficiency.values().copied().reduce(f64::min) {

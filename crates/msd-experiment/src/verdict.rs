@@ -226,10 +226,15 @@ fn drive_noise(m: &NoiseModelFit) -> Option<Finding> {
         sig(m.interval_ratio, 3)
     );
     if let Some(low) = m.output_error_efficiency.values().copied().reduce(f64::min) {
-        text += &format!(
-            "; the estimate weights each frequency line by that noise, with intervals up to {}× narrower than the output-error fit's",
-            sig((1.0 / low).sqrt(), 2)
-        );
+        let gain = (1.0 / low).sqrt();
+        text += &if gain < 1.05 {
+            "; the estimate weights each frequency line by that noise, its intervals within 5 % of the output-error fit's".to_string()
+        } else {
+            format!(
+                "; the estimate weights each frequency line by that noise, with intervals up to {}× narrower than the output-error fit's",
+                sig(gain, 2)
+            )
+        };
     } else if let Some(low) = (m.efficiency.values().copied())
         .reduce(f64::min)
         .filter(|low| *low < 0.5)
@@ -336,6 +341,35 @@ mod tests {
                 "passed findings are not repeated: {v}"
             );
         }
+    }
+
+    /// The weighted estimate's gain over the output-error one is given as a factor only
+    /// where it is one: an efficiency near 1 reads as "within 5 %", not "1.0× narrower".
+    #[test]
+    fn the_weighted_estimates_gain_is_said_as_it_is() {
+        for (efficiency, expected) in [
+            (
+                0.25,
+                "with intervals up to 2.0× narrower than the output-error fit's",
+            ),
+            (0.95, "its intervals within 5 % of the output-error fit's"),
+        ] {
+            let model = NoiseModelFit {
+                input_noise_fraction: Some(0.003),
+                p_value: Some(1e-4),
+                interval_ratio: 1.8,
+                output_error_efficiency: [("damping".to_string(), efficiency)].into(),
+                ..NoiseModelFit::white()
+            };
+            let text = drive_noise(&model).expect("the drive's noise shows").text;
+            assert!(text.ends_with(expected), "{text}");
+        }
+        let quiet = NoiseModelFit {
+            input_noise_fraction: Some(0.003),
+            p_value: Some(0.2),
+            ..NoiseModelFit::white()
+        };
+        assert!(drive_noise(&quiet).is_none());
     }
 
     #[test]

@@ -173,6 +173,8 @@ fn noise_fit(
                     .collect()
             })
             .collect(),
+        // A chain's records start from rest: no initial state projected out.
+        nuisance: Vec::new(),
         weights: vec![1.0; channels],
     };
     restricted_fit(

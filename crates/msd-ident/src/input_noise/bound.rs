@@ -11,7 +11,7 @@
 //! Under white noise (σ_u = 0) F is the white-noise fit's own normal matrix (Parseval):
 //! the output-error estimate is efficient there.
 
-use super::restricted::{Sensitivity, all_line_sensitivities, expected};
+use super::restricted::{Hats, Sensitivity, all_line_sensitivities, expected};
 use super::scoring::maximise;
 use super::spectral::{Lines, SpectralModel, likelihood_lines};
 use nalgebra::DMatrix;
@@ -35,30 +35,26 @@ pub(crate) fn restricted_fit(
 }
 
 /// F = Σ_k 2·Re(Ĵ_kᴴ·S_k⁻¹·Ĵ_k) over every record's likelihood lines (p parameters).
-fn information(
-    lines: &[Lines],
-    hats: &[Vec<Complex64>],
-    model: &SpectralModel,
-    p: usize,
-) -> DMatrix<f64> {
+fn information(lines: &[Lines], hats: &[Hats], model: &SpectralModel, p: usize) -> DMatrix<f64> {
     let mut f = DMatrix::<f64>::zeros(p, p);
     let d = &model.sensor_variance;
     for (l, hat) in lines.iter().zip(hats) {
         let c = l.groups.len();
         for k in likelihood_lines(l.size) {
-            let j = &hat[k * c * p..(k + 1) * c * p];
+            // θ's columns come first in each row of the line's block (width w).
+            let (j, w) = (hat.line(k, c), hat.width);
             // S⁻¹ = D⁻¹ − σ²_u·D⁻¹·g·gᴴ·D⁻¹ / (1 + σ²_u·gᴴ·D⁻¹·g) (Woodbury).
             let dg: Vec<Complex64> = (0..c).map(|a| l.transfer[a][k] / d[l.groups[a]]).collect();
             let a: f64 = (0..c).map(|e| (l.transfer[e][k].conj() * dg[e]).re).sum();
             let shrink = model.input_variance / (1.0 + model.input_variance * a);
             // u = gᴴ·D⁻¹·Ĵ (1×p), then Ĵᴴ·S⁻¹·Ĵ = Ĵᴴ·D⁻¹·Ĵ − shrink·uᴴ·u.
             let u: Vec<Complex64> = (0..p)
-                .map(|r| (0..c).map(|e| dg[e].conj() * j[e * p + r]).sum())
+                .map(|r| (0..c).map(|e| dg[e].conj() * j[e * w + r]).sum())
                 .collect();
             for r in 0..p {
                 for t in r..p {
                     let plain: f64 = (0..c)
-                        .map(|e| (j[e * p + r].conj() * j[e * p + t]).re / d[l.groups[e]])
+                        .map(|e| (j[e * w + r].conj() * j[e * w + t]).re / d[l.groups[e]])
                         .sum();
                     let x = 2.0 * (plain - shrink * (u[r].conj() * u[t]).re);
                     f[(r, t)] += x;
@@ -109,6 +105,7 @@ mod tests {
         };
         let fit = Sensitivity {
             columns: vec![columns.clone()],
+            nuisance: Vec::new(),
             weights: vec![1.0],
         };
         let model = SpectralModel {

@@ -295,6 +295,7 @@ fn fit_spectral_model(
                         .collect()
                 })
                 .collect(),
+            nuisance: nuisance_columns(problem, rec),
             weights: rec.weights.clone(),
         })
         .collect();
@@ -305,6 +306,32 @@ fn fit_spectral_model(
         &linearised.inverse,
         groups,
     )))
+}
+
+/// Per channel, the record's initial-state responses that the fit projected θ's
+/// columns against (each channel's mean removed where its offset is estimated: the
+/// offsets live on the mean line alone); none where the initial state is not estimated.
+fn nuisance_columns(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<Vec<Vec<f64>>> {
+    if !problem.state {
+        return Vec::new();
+    }
+    (0..rec.maps.len())
+        .map(|ch| {
+            let rows = rec.start + ch * rec.len..rec.start + (ch + 1) * rec.len;
+            (0..2)
+                .map(|i| {
+                    let column: Vec<f64> =
+                        problem.basis[rows.clone()].iter().map(|b| b[i]).collect();
+                    let mean = if problem.offset {
+                        column.iter().sum::<f64>() / column.len() as f64
+                    } else {
+                        0.0
+                    };
+                    column.iter().map(|x| x - mean).collect()
+                })
+                .collect()
+        })
+        .collect()
 }
 
 fn record_lines(
