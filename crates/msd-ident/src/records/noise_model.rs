@@ -10,12 +10,13 @@ use crate::error::Result;
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
     WHITENESS_LEVEL, efficiency, impulse_spectrum, middle_matrix, residual_spectrum,
-    restricted_fit, satterthwaite, whitened_ljung_box,
+    restricted_fit, satterthwaite, spectrum, whitened_ljung_box,
 };
 use crate::plant::{Drive, Plant};
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_ode::{SVector, SampledInput};
 use nalgebra::{DMatrix, DVector, Matrix3};
+use rustfft::num_complex::Complex64;
 use std::collections::BTreeMap;
 
 /// What [`covariance`] gives: the estimate reported with its Cov(ln θ), the output-error
@@ -224,7 +225,9 @@ fn whiteness(
                 .map(|i| rec.record.channels[ch].samples[i] - problem.model(rec, ch, i))
                 .collect();
             let raw_test = ljung_box(&autocorrelation(&raw, lags), rec.len);
-            let whitened = model.map(|m| whitened_ljung_box(&lines, ch, m, lags, rec.len));
+            let transient = free_responses(problem, rec, ch);
+            let whitened =
+                model.map(|m| whitened_ljung_box(&lines, ch, m, lags, rec.len, &transient));
             let judged = whitened.unwrap_or(raw_test);
             let input_correlation = (problem.drive != Drive::None)
                 .then(|| {
@@ -244,6 +247,22 @@ fn whiteness(
         }
     }
     Ok(checks)
+}
+
+/// The DFTs (scaled as the residual's) of channel `ch`'s free responses from a unit
+/// initial displacement and velocity, at the prepared θ.
+fn free_responses(problem: &Joint<'_>, rec: &RecordRows<'_>, ch: usize) -> Vec<Vec<Complex64>> {
+    let rows = rec.start + ch * rec.len..rec.start + (ch + 1) * rec.len;
+    let scale = 1.0 / (rec.len as f64).sqrt();
+    (0..2)
+        .map(|i| {
+            spectrum(
+                problem.basis[rows.clone()].iter().map(|b| b[i]),
+                rec.len,
+                scale,
+            )
+        })
+        .collect()
 }
 
 /// The rms of every record's drive samples.

@@ -32,7 +32,7 @@
 use super::noise_model::impulse_responses;
 use super::problem::Joint;
 use crate::input_noise::{
-    SpectralModel, impulse_spectrum, likelihood_lines, residual_spectrum, spectrum,
+    SpectralModel, concentrate, impulse_spectrum, likelihood_lines, residual_spectrum, spectrum,
 };
 use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
@@ -385,28 +385,6 @@ fn columns(spectra: &[Vec<Complex64>], metric: impl Fn(usize, &mut [Complex64]))
         out.extend_from_slice(&z);
     }
     out
-}
-
-/// ε_R − ε_B·x̂₀ with x̂₀ real, by least squares on the whitened lines, and x̂₀.
-fn concentrate(
-    mut e: Vec<Complex64>,
-    [b0, b1]: &[Vec<Complex64>; 2],
-) -> (Vec<Complex64>, [f64; 2]) {
-    let dot = |a: &[Complex64], b: &[Complex64]| -> f64 {
-        a.iter().zip(b).map(|(x, y)| (x.conj() * y).re).sum()
-    };
-    let (a00, a01, a11) = (dot(b0, b0), dot(b0, b1), dot(b1, b1));
-    let (r0, r1) = (dot(b0, &e), dot(b1, &e));
-    let det = a00 * a11 - a01 * a01;
-    if det <= 0.0 {
-        return (e, [0.0; 2]);
-    }
-    let x0 = (a11 * r0 - a01 * r1) / det;
-    let x1 = (a00 * r1 - a01 * r0) / det;
-    for ((v, p), q) in e.iter_mut().zip(b0).zip(b1) {
-        *v -= p * x0 + q * x1;
-    }
-    (e, [x0, x1])
 }
 
 /// Whitens the channels' values `z` at line k of `record`: S_k^(−1/2)·z with
