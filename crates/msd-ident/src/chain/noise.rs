@@ -11,11 +11,12 @@ use crate::correlation::autocorrelation;
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
     WHITENESS_LEVEL, efficiency, impulse_spectrum, middle_matrix, residual_spectrum,
-    restricted_fit, satterthwaite, whitened_ljung_box,
+    restricted_fit, satterthwaite, spectrum, whitened_ljung_box,
 };
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_opt::statistics::Linearization;
 use nalgebra::{DMatrix, DVector};
+use rustfft::num_complex::Complex64;
 
 /// What [`treat`] gives: the covariance of θ to report (`None`: the white one), what
 /// the noise model found, each sensor's whiteness, and the t's degrees of freedom.
@@ -53,12 +54,20 @@ pub(super) fn treat(
         Ok(lin) => lin.covariance(1.0),
         Err(_) => return white,
     };
-    let Some(impulse) = (choice == NoiseModel::InputNoise)
-        .then(|| impulse_responses(problem, theta))
+    let free = free_count(problem);
+    let Some(mut impulse) = (choice == NoiseModel::InputNoise)
+        .then(|| impulse_responses(problem, theta, free + FREE_AFTER))
         .flatten()
     else {
         return white;
     };
+    let transient: Vec<Vec<Vec<Complex64>>> = impulse
+        .iter()
+        .map(|g| free_responses(g, len, free))
+        .collect();
+    for g in &mut impulse {
+        g.truncate(len);
+    }
     let lines = Lines {
         size: len,
         groups: (0..channels).collect(),
@@ -106,9 +115,7 @@ pub(super) fn treat(
         .fold(0.0, f64::max);
     let sigma_u = (model.input_variance * inflation).sqrt();
     for (check, ch) in whiteness.iter_mut().zip(0..channels) {
-        // A chain starts from rest: no free responses to project out (its end state's
-        // wrap-round stays in the test).
-        let test = whitened_ljung_box(&lines, ch, &model, lags, len, &[]);
+        let test = whitened_ljung_box(&lines, ch, &model, lags, len, &transient[ch]);
         check.ljung_box_under_noise_model = Some(test);
         check.passed = test.p_value >= 1.0 - tests.confidence;
     }
@@ -217,8 +224,37 @@ fn as_fitted(
 /// drive is linear between samples, so one sample's drive is a triangle over two
 /// intervals: the unit sample stands at the second instant, and the response is read
 /// from there.
-fn impulse_responses(problem: &ChainProblem<'_>, theta: &[f64]) -> Option<Vec<Vec<f64>>> {
-    let len = problem.record.len();
+/// The samples after an impulse from which its response is a free one (the hold's ramp
+/// up and down has passed).
+const FREE_AFTER: usize = 2;
+
+/// How many free responses span a chain's end state: two per mass, and a margin for the
+/// sensors' filters.
+fn free_count(problem: &ChainProblem<'_>) -> usize {
+    2 * problem.setup.masses + 4
+}
+
+/// The DFTs (scaled as a residual's) of `count` free responses of one channel, its
+/// impulse response `g` shifted by FREE_AFTER, FREE_AFTER + 1, …: the states an impulse
+/// reaches span the chain's state space, so these span the wrap-round of the state the
+/// drive's noise leaves at the record's end (`whitened_ljung_box`).
+fn free_responses(g: &[f64], len: usize, count: usize) -> Vec<Vec<Complex64>> {
+    let scale = 1.0 / (len as f64).sqrt();
+    (0..count)
+        .map(|j| {
+            let start = FREE_AFTER + j;
+            spectrum(g[start..start + len].iter().copied(), len, scale)
+        })
+        .collect()
+}
+
+/// Each sensor's weighted response to a unit drive sample, `len + extra` samples.
+fn impulse_responses(
+    problem: &ChainProblem<'_>,
+    theta: &[f64],
+    extra: usize,
+) -> Option<Vec<Vec<f64>>> {
+    let len = problem.record.len() + extra;
     let mut input = vec![0.0; len + 1];
     input[1] = 1.0;
     let record = ChainRecord {
@@ -306,7 +342,7 @@ mod tests {
             delays: &delays,
             noise: vec![0.5, 2.0],
         };
-        let g = impulse_responses(&problem, &theta).expect("impulse responses");
+        let g = impulse_responses(&problem, &theta, 0).expect("impulse responses");
         for (ch, sigma) in [0.5, 2.0].iter().enumerate() {
             let scale = response[ch].iter().fold(0.0f64, |a, v| a.max(v.abs()));
             for t in 0..n {

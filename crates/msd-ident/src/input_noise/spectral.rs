@@ -61,8 +61,9 @@ pub(crate) fn likelihood_lines(size: usize) -> std::ops::Range<usize> {
 /// Ljung–Box (`lags` lags) on channel `ch` of `lines` whitened by `model`:
 /// S_aa(ω)^(−1/2) applied line by line, the mean dropped; `len` samples.
 ///
-/// `transient` holds the channel's free responses from a unit initial displacement and
-/// velocity (their DFTs, scaled as the residual's), or nothing. The DFT takes the record
+/// `transient` holds the DFTs (scaled as the residual's) of the channel's free
+/// responses: from a unit initial displacement and velocity for one mass, from the
+/// states an impulse reaches for a chain, or nothing. The DFT takes the record
 /// as one period of a periodic series, so the state the noise leaves at its end, x_N,
 /// wraps round to its start: a term C·(I − e^(−iω)·A)⁻¹·(x₀ − x_N) at every line,
 /// which lies in the span of those two free responses and which S does not hold. It
@@ -95,10 +96,35 @@ pub(crate) fn whitened_ljung_box(
     let mut z = whiten(&lines.residual[ch]);
     if let [b0, b1] = transient {
         z = concentrate(z, &[whiten(b0), whiten(b1)]).0;
+    } else if !transient.is_empty() {
+        let columns: Vec<Vec<Complex64>> = transient.iter().map(|b| whiten(b)).collect();
+        project_out(&mut z, &columns);
     }
     fft::inverse(lines.size).process(&mut z);
     let series: Vec<f64> = z.iter().map(|v| v.re).collect();
     ljung_box(&autocorrelation(&series, lags), len)
+}
+
+/// z − B·β̂ with β̂ real, by least squares on the lines: any number of `columns` (a
+/// chain's free responses, more than its states: dependent directions, below 1e-10 of
+/// the largest singular value of their Gram matrix, are dropped) projected out.
+fn project_out(z: &mut [Complex64], columns: &[Vec<Complex64>]) {
+    let dot = |a: &[Complex64], b: &[Complex64]| -> f64 {
+        a.iter().zip(b).map(|(x, y)| (x.conj() * y).re).sum()
+    };
+    let q = columns.len();
+    let gram = DMatrix::from_fn(q, q, |i, j| dot(&columns[i], &columns[j]));
+    let right = nalgebra::DVector::from_fn(q, |i, _| dot(&columns[i], z));
+    let svd = gram.svd(true, true);
+    let largest = svd.singular_values.max();
+    let Ok(beta) = svd.solve(&right, 1e-10 * largest) else {
+        return;
+    };
+    for (b, column) in beta.iter().zip(columns) {
+        for (v, x) in z.iter_mut().zip(column) {
+            *v -= x * b;
+        }
+    }
 }
 
 /// ε_R − ε_B·x̂ with x̂ real, by least squares on the whitened lines, and x̂: the two
