@@ -219,11 +219,6 @@ fn as_fitted(
         .collect()
 }
 
-/// Each sensor's response to one unit drive sample, from rest, divided by its noise
-/// level (the fit's weighted units); `None` where the chain cannot be simulated. The
-/// drive is linear between samples, so one sample's drive is a triangle over two
-/// intervals: the unit sample stands at the second instant, and the response is read
-/// from there.
 /// The samples after an impulse from which its response is a free one (the hold's ramp
 /// up and down has passed).
 const FREE_AFTER: usize = 2;
@@ -248,7 +243,11 @@ fn free_responses(g: &[f64], len: usize, count: usize) -> Vec<Vec<Complex64>> {
         .collect()
 }
 
-/// Each sensor's weighted response to a unit drive sample, `len + extra` samples.
+/// Each sensor's response to one unit drive sample, from rest, divided by its noise
+/// level (the fit's weighted units), the record's length and `extra` samples more;
+/// `None` where the chain cannot be simulated. The drive is linear between samples, so
+/// one sample's drive is a triangle over two intervals: the unit sample stands at the
+/// second instant, and the response is read from there.
 fn impulse_responses(
     problem: &ChainProblem<'_>,
     theta: &[f64],

@@ -225,9 +225,10 @@ fn whiteness(
                 .map(|i| rec.record.channels[ch].samples[i] - problem.model(rec, ch, i))
                 .collect();
             let raw_test = ljung_box(&autocorrelation(&raw, lags), rec.len);
-            let transient = free_responses(problem, rec, ch);
-            let whitened =
-                model.map(|m| whitened_ljung_box(&lines, ch, m, lags, rec.len, &transient));
+            let whitened = model.map(|m| {
+                let transient = free_responses(problem, rec, ch);
+                whitened_ljung_box(&lines, ch, m, lags, rec.len, &transient)
+            });
             let judged = whitened.unwrap_or(raw_test);
             let input_correlation = (problem.drive != Drive::None)
                 .then(|| {
