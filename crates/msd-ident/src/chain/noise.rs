@@ -54,20 +54,12 @@ pub(super) fn treat(
         Ok(lin) => lin.covariance(1.0),
         Err(_) => return white,
     };
-    let free = free_count(problem);
-    let Some(mut impulse) = (choice == NoiseModel::InputNoise)
-        .then(|| impulse_responses(problem, theta, free + FREE_AFTER))
+    let Some(Responses { impulse, free }) = (choice == NoiseModel::InputNoise)
+        .then(|| impulse_and_free(problem, theta))
         .flatten()
     else {
         return white;
     };
-    let transient: Vec<Vec<Vec<Complex64>>> = impulse
-        .iter()
-        .map(|g| free_responses(g, len, free))
-        .collect();
-    for g in &mut impulse {
-        g.truncate(len);
-    }
     let lines = Lines {
         size: len,
         groups: (0..channels).collect(),
@@ -115,7 +107,7 @@ pub(super) fn treat(
         .fold(0.0, f64::max);
     let sigma_u = (model.input_variance * inflation).sqrt();
     for (check, ch) in whiteness.iter_mut().zip(0..channels) {
-        let test = whitened_ljung_box(&lines, ch, &model, lags, len, &transient[ch]);
+        let test = whitened_ljung_box(&lines, ch, &model, lags, len, &free[ch]);
         check.ljung_box_under_noise_model = Some(test);
         check.passed = test.p_value >= 1.0 - tests.confidence;
     }
@@ -217,6 +209,25 @@ fn as_fitted(
             }
         })
         .collect()
+}
+
+/// Each sensor's impulse response over the record and the DFTs of its free responses.
+struct Responses {
+    impulse: Vec<Vec<f64>>,
+    free: Vec<Vec<Vec<Complex64>>>,
+}
+
+/// [`impulse_responses`] over the record, and the [`free_responses`] from their tails.
+fn impulse_and_free(problem: &ChainProblem<'_>, theta: &[f64]) -> Option<Responses> {
+    let (len, count) = (problem.record.len(), free_count(problem));
+    let mut impulse = impulse_responses(problem, theta, count + FREE_AFTER)?;
+    let free = (impulse.iter())
+        .map(|g| free_responses(g, len, count))
+        .collect();
+    for g in &mut impulse {
+        g.truncate(len);
+    }
+    Some(Responses { impulse, free })
 }
 
 /// The samples after an impulse from which its response is a free one (the hold's ramp
