@@ -56,6 +56,6 @@ pub use error::OdeError;
 pub use lti::{
     Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, RampStep, SampledInput,
 };
-pub use nalgebra::{SMatrix, SVector};
+pub use nalgebra::{Complex, SMatrix, SVector};
 pub use options::{Ode45Options, Stats};
 pub use system::{OdeSystem, SliceSystem};

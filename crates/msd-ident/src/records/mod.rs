@@ -18,6 +18,7 @@ mod plan;
 mod problem;
 mod result;
 mod setup;
+mod spectra;
 mod validate;
 mod weighted;
 

@@ -29,11 +29,10 @@
 //! simulated load-cell records of `cargo xtask noise-study` they agree to three
 //! digits), and the estimate's spread over 400 seeds is 0.91–1.13 of it.
 
-use super::noise_model::impulse_responses;
 use super::problem::Joint;
-use crate::input_noise::{
-    SpectralModel, concentrate, impulse_spectrum, likelihood_lines, residual_spectrum, spectrum,
-};
+use super::spectra::{free_spectra, line_points, transfer_spectra};
+use crate::input_noise::{SpectralModel, concentrate, likelihood_lines, residual_spectrum};
+use crate::plant::Plant;
 use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 
@@ -68,7 +67,7 @@ pub(super) fn refit(
     theta0: [f64; 3],
     model: &SpectralModel,
 ) -> Option<Weighted> {
-    let variances = Variances::of(model);
+    let variances = Variances::of(model, problem);
     let mut x = problem.pack(theta0);
     let (mut e, mut states) = whitened(problem, &x, &variances)?;
     let mut cost = e.norm_squared();
@@ -107,7 +106,7 @@ pub(super) fn refit(
             break;
         }
     }
-    let sensitivities = sensitivities(problem, &x, &states)?;
+    let sensitivities = sensitivities(problem, &x, &states, &variances)?;
     let (f, columns) = information(&sensitivities, &variances);
     let inverse = f.try_inverse()?;
     let weights = score_weights(problem, &sensitivities, &columns, &variances);
@@ -128,17 +127,20 @@ pub(super) fn refit(
     })
 }
 
-/// The noise variances of the model: the drive's and each sensor group's.
+/// The noise variances of the model: the drive's and each sensor group's; with each
+/// record's DFT points, where the spectra are evaluated.
 struct Variances {
     input: f64,
     sensors: Vec<f64>,
+    points: Vec<Vec<Complex64>>,
 }
 
 impl Variances {
-    fn of(model: &SpectralModel) -> Self {
+    fn of(model: &SpectralModel, problem: &Joint<'_>) -> Self {
         Self {
             input: model.input_variance,
             sensors: model.sensor_variance.clone(),
+            points: problem.records.iter().map(|r| line_points(r.len)).collect(),
         }
     }
 }
@@ -154,44 +156,51 @@ struct RecordSpectra {
 }
 
 /// Every record's spectra at ln θ = `x` (`prepare`s the problem there).
-fn spectra(problem: &mut Joint<'_>, x: &[f64]) -> Option<Vec<RecordSpectra>> {
+fn spectra(
+    problem: &mut Joint<'_>,
+    x: &[f64],
+    variances: &Variances,
+) -> Option<Vec<RecordSpectra>> {
     let theta = problem.theta(x);
     if !theta.iter().all(|v| v.is_finite() && *v > 0.0) || !problem.prepare(theta) {
         return None;
     }
-    (0..problem.records.len())
-        .map(|r| record_spectra(problem, r, theta))
-        .collect()
-}
-
-fn record_spectra(problem: &Joint<'_>, r: usize, theta: [f64; 3]) -> Option<RecordSpectra> {
-    let rec = &problem.records[r];
-    let n = rec.len;
-    let lines = |v: Vec<Complex64>| v[likelihood_lines(n)].to_vec();
-    let scale = 1.0 / (n as f64).sqrt();
-    let mut out = RecordSpectra {
-        groups: rec.groups.clone(),
-        residual: Vec::new(),
-        basis: [Vec::new(), Vec::new()],
-        transfer: Vec::new(),
+    let plant = Plant {
+        theta,
+        drive: problem.drive,
     };
-    for (ch, channel) in rec.record.channels.iter().enumerate() {
-        let rows = Joint::rows_of(rec, ch);
-        let from_rest = channel.samples.iter().zip(&problem.forced[rows.clone()]);
-        out.residual
-            .push(lines(residual_spectrum(from_rest.map(|(y, f)| y - f), n)));
-        if problem.state {
-            for (i, b) in out.basis.iter_mut().enumerate() {
-                let column = problem.basis[rows.clone()].iter().map(|g| g[i]);
-                b.push(lines(spectrum(column, n, scale)));
+    let sim = plant.response(problem.dt, problem.hold).ok()?;
+    (problem.records.iter().zip(&variances.points))
+        .map(|(rec, points)| {
+            let n = rec.len;
+            let lines = |v: &[Complex64]| v[likelihood_lines(n)].to_vec();
+            // The half spectra hold the lines 0..=N/2: the likelihood's start at 1.
+            let half = |v: Vec<Complex64>| v[likelihood_lines(n)].to_vec();
+            let residual = (rec.record.channels.iter().enumerate())
+                .map(|(ch, channel)| {
+                    let from_rest = channel
+                        .samples
+                        .iter()
+                        .zip(&problem.forced[Joint::rows_of(rec, ch)]);
+                    lines(&residual_spectrum(from_rest.map(|(y, f)| y - f), n))
+                })
+                .collect();
+            let mut basis = [Vec::new(), Vec::new()];
+            if problem.state {
+                for [b0, b1] in free_spectra(&sim, &rec.maps, points, n) {
+                    basis[0].push(half(b0));
+                    basis[1].push(half(b1));
+                }
             }
-        }
-    }
-    let impulse = impulse_responses(problem, rec, theta).ok()?;
-    out.transfer = (impulse.into_iter())
-        .map(|g| lines(impulse_spectrum(g.into_iter(), n)))
-        .collect();
-    Some(out)
+            let transfer = transfer_spectra(&sim, &rec.maps, points)?;
+            Some(RecordSpectra {
+                groups: rec.groups.clone(),
+                residual,
+                basis,
+                transfer: transfer.into_iter().map(half).collect(),
+            })
+        })
+        .collect()
 }
 
 /// ε at ln θ = `x`: every record's lines whitened by S_k(θ), √2·Re then √2·Im of each
@@ -204,7 +213,7 @@ fn whitened(
 ) -> Option<(DVector<f64>, Vec<[f64; 2]>)> {
     let mut out = Vec::new();
     let mut states = Vec::new();
-    for record in spectra(problem, x)? {
+    for record in spectra(problem, x, variances)? {
         let metric = |k: usize, v: &mut [Complex64]| whiten(&record, k, variances, v);
         let residual = columns(&record.residual, metric);
         let (e, state) = if problem.state {
@@ -248,6 +257,7 @@ fn sensitivities(
     problem: &mut Joint<'_>,
     x: &[f64],
     states: &[[f64; 2]],
+    variances: &Variances,
 ) -> Option<Vec<Sensitivities>> {
     let total = |s: &RecordSpectra, state: &[f64; 2]| -> Vec<Vec<Complex64>> {
         let mut r = s.residual.clone();
@@ -264,9 +274,9 @@ fn sensitivities(
     for p in 0..x.len() {
         let mut shifted = x.to_vec();
         shifted[p] = x[p] + STEP;
-        let up = spectra(problem, &shifted)?;
+        let up = spectra(problem, &shifted, variances)?;
         shifted[p] = x[p] - STEP;
-        let down = spectra(problem, &shifted)?;
+        let down = spectra(problem, &shifted, variances)?;
         for (r, (u, d)) in up.iter().zip(&down).enumerate() {
             let (u, d) = (total(u, &states[r]), total(d, &states[r]));
             let column = u.iter().zip(&d).map(|(u, d)| {
@@ -277,7 +287,7 @@ fn sensitivities(
             derivatives[r].push(column.collect());
         }
     }
-    let at = spectra(problem, x)?;
+    let at = spectra(problem, x, variances)?;
     Some(
         at.into_iter()
             .zip(derivatives)
@@ -457,6 +467,7 @@ mod tests {
         let variances = Variances {
             input,
             sensors: d.to_vec(),
+            points: Vec::new(),
         };
         let mut z = z0;
         whiten(&record, 0, &variances, &mut z);

@@ -1,7 +1,10 @@
 //! The exact LTI simulator against analytic solutions and against DP5(4).
 
 use crate::common::{Plant, paper_grid, paper_input, paper_input_left};
-use msd_ode::{Breakpoint, ExactSimulator, Hold, Ode45Options, SVector, SampledInput, ode45};
+use msd_ode::{
+    Breakpoint, Complex, ExactSimulator, Hold, LtiModel, Ode45Options, SMatrix, SVector,
+    SampledInput, ode45,
+};
 
 const DT: f64 = 0.002;
 
@@ -397,4 +400,66 @@ fn hold_polynomials_interpolate_and_reproduce_their_degree() {
         err,
         msd_ode::OdeError::InvalidInput { index: 1, .. }
     ));
+}
+
+/// The frequency response is the DFT of the response to one unit input sample placed
+/// where no one-sided stencil reaches it (sample 4), for every hold, at lines from the
+/// lowest to near Nyquist: the impulse response decays to 1e-15 of its peak within the
+/// record, so they agree to rounding (a DFT's: n·ε·Σ|x|).
+#[test]
+fn the_frequency_response_is_the_impulse_responses_dft() {
+    let plant = Plant::PAPER;
+    for hold in [Hold::Zero, Hold::First, Hold::Cubic] {
+        let sim = ExactSimulator::new(&plant.model(), DT, hold).expect("valid model");
+        impulse_against_response(&sim, hold);
+    }
+    // Three states (elimination, where two take the adjugate): the plant behind a
+    // first-order sensor filter at 50 rad/s.
+    let two = plant.model();
+    let (a, b) = (two.a, two.b);
+    #[rustfmt::skip]
+    let filtered = LtiModel {
+        a: SMatrix::<f64, 3, 3>::new(
+            a[(0, 0)], a[(0, 1)], 0.0,
+            a[(1, 0)], a[(1, 1)], 0.0,
+            50.0, 0.0, -50.0,
+        ),
+        b: SVector::<f64, 3>::new(b[0], b[1], 0.0),
+    };
+    let sim = ExactSimulator::new(&filtered, DT, Hold::Cubic).expect("valid model");
+    impulse_against_response(&sim, Hold::Cubic);
+}
+
+fn impulse_against_response<const N: usize>(sim: &ExactSimulator<N>, hold: Hold) {
+    let n = 40_000; // 80 s: e^(−ζωn·t) < 1e-15
+    let mut unit = vec![0.0; n];
+    unit[4] = 1.0;
+    let x = sim
+        .simulate(&SVector::zeros(), &SampledInput::smooth(&unit))
+        .expect("simulates");
+    for line in [1usize, 37, 400, 5_000, 19_999] {
+        let z = Complex::from_polar(1.0, 2.0 * std::f64::consts::PI * line as f64 / n as f64);
+        let mut dft = [Complex::new(0.0, 0.0); N];
+        for (t, s) in x.iter().enumerate() {
+            // The phase reduced in integers: w·t rounds to 1e-11 rad at t = 40 000.
+            let turns = (line * (t + n - 4)) % n;
+            let e = Complex::from_polar(1.0, -2.0 * std::f64::consts::PI * turns as f64 / n as f64);
+            for (d, v) in dft.iter_mut().zip(s.iter()) {
+                *d += e * v;
+            }
+        }
+        let response = sim.frequency_response(z).expect("regular");
+        for i in 0..N {
+            // Near Nyquist the sum cancels to 1e-4 of its terms: its rounding, about
+            // n·ε·Σ|x|, is the floor.
+            let floor = n as f64 * f64::EPSILON * x.iter().map(|s| s[i].abs()).sum::<f64>();
+            let scale = dft[i].norm() + floor / 1e-9;
+            assert!(
+                (response[i] - dft[i]).norm() < 1e-9 * scale,
+                "{hold:?}, {N} states, line {line}, state {i}: {} against {}",
+                response[i],
+                dft[i]
+            );
+        }
+    }
 }
