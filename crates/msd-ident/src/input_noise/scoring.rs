@@ -233,6 +233,9 @@ fn noise_matrices(l: &Lines, k: usize, matrices: &mut [Vec<Complex64>]) {
 /// `work.residual`); false, adding nothing, where Σ is not positive definite.
 fn accumulate(v: &[f64], work: &mut Work, out: &mut Evaluation) -> bool {
     let c = work.residual.len();
+    if c == 1 {
+        return accumulate_scalar(v, work, out);
+    }
     let zero = Complex64::new(0.0, 0.0);
     work.factor.clear();
     work.factor.resize(c * c, zero);
@@ -283,6 +286,36 @@ fn accumulate(v: &[f64], work: &mut Work, out: &mut Evaluation) -> bool {
                 m[(qi, qj)] += value;
                 if qi != qj {
                     m[(qj, qi)] += value;
+                }
+            }
+        }
+    }
+    true
+}
+
+/// [`accumulate`] for one channel, where every matrix is a positive number: with
+/// Σ = Σ_q v_q·m_q and e = |R|²/Σ, the score is (m_q/Σ)·(e − 1), the Fisher information
+/// m_q·m_r/Σ² and the observed one (m_q·m_r/Σ²)·(2e − 1).
+fn accumulate_scalar(v: &[f64], work: &Work, out: &mut Evaluation) -> bool {
+    let sigma: f64 = work.matrices.iter().zip(v).map(|(m, x)| m[0].re * x).sum();
+    if sigma.is_nan() || sigma <= 0.0 {
+        return false;
+    }
+    let excess = work.residual[0].norm_sqr() / sigma;
+    out.log_likelihood -= sigma.ln() + excess;
+    let q = v.len();
+    for a in 0..q {
+        let pa = work.matrices[a][0].re / sigma;
+        out.score[a] += pa * (excess - 1.0);
+        for b in a..q {
+            let t = pa * work.matrices[b][0].re / sigma;
+            for (m, value) in [
+                (&mut out.fisher, t),
+                (&mut out.observed, t * (2.0 * excess - 1.0)),
+            ] {
+                m[(a, b)] += value;
+                if a != b {
+                    m[(b, a)] += value;
                 }
             }
         }

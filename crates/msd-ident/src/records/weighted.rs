@@ -214,7 +214,8 @@ fn whitened(
     let mut out = Vec::new();
     let mut states = Vec::new();
     for record in spectra(problem, x, variances)? {
-        let metric = |k: usize, v: &mut [Complex64]| whiten(&record, k, variances, v);
+        let whitening = Whitening::of(&record, variances);
+        let metric = |k: usize, v: &mut [Complex64]| whitening.apply(k, v);
         let residual = columns(&record.residual, metric);
         let (e, state) = if problem.state {
             let basis = record.basis.each_ref().map(|b| columns(b, metric));
@@ -307,7 +308,8 @@ fn information(
     let mut f = DMatrix::<f64>::zeros(p, p);
     let mut concentrated = Vec::with_capacity(records.len());
     for record in records {
-        let metric = |k: usize, v: &mut [Complex64]| whiten(&record.at, k, variances, v);
+        let whitening = Whitening::of(&record.at, variances);
+        let metric = |k: usize, v: &mut [Complex64]| whitening.apply(k, v);
         let mut all: Vec<Vec<Complex64>> = (record.derivatives.iter())
             .map(|d| columns(d, metric))
             .collect();
@@ -360,12 +362,13 @@ fn score_weights(
         let (n, c) = (rec.len, rec.maps.len());
         let first = likelihood_lines(n).start;
         let inverse = crate::fft::inverse(n);
+        let whitening = Whitening::of(&record.at, variances);
         for (col, values) in columns.iter().enumerate() {
             let mut per_channel = vec![vec![Complex64::new(0.0, 0.0); n]; c];
             let mut z = vec![Complex64::new(0.0, 0.0); c];
             for (j, line) in values.chunks(c).enumerate() {
                 z.copy_from_slice(line);
-                whiten_adjoint(&record.at, j, variances, &mut z);
+                whitening.adjoint(j, &mut z);
                 for (buffer, v) in per_channel.iter_mut().zip(&z) {
                     buffer[first + j] = *v;
                 }
@@ -397,53 +400,70 @@ fn columns(spectra: &[Vec<Complex64>], metric: impl Fn(usize, &mut [Complex64]))
     out
 }
 
-/// Whitens the channels' values `z` at line k of `record`: S_k^(−1/2)·z with
-/// S_k = D + σ²_u·g·gᴴ, as (I − α·v·vᴴ)·D^(−1/2)·z, v = h/‖h‖ for h = D^(−1/2)·g,
+/// S_k^(−1/2) at each line of one record, factored once per θ: S_k = D + σ²_u·g·gᴴ
+/// whitens as (I − α·v·vᴴ)·D^(−1/2)·z, v = h/‖h‖ for h = D^(−1/2)·g,
 /// α = 1 − 1/√(1 + σ²_u·‖h‖²) (then (I − α·v·vᴴ)² = (I + σ²_u·h·hᴴ)⁻¹).
-fn whiten(record: &RecordSpectra, k: usize, variances: &Variances, z: &mut [Complex64]) {
-    let (roots, h) = scaled_transfer(record, k, variances);
-    for (z, root) in z.iter_mut().zip(&roots) {
-        *z /= root;
-    }
-    shrink(&h, variances.input, z);
+struct Whitening {
+    /// Each channel's 1/√σ²_a.
+    inverse_roots: Vec<f64>,
+    /// h at each line, line-major.
+    h: Vec<Complex64>,
+    /// α/‖h‖² at each line (0 where the drive's noise is nil there).
+    shrink: Vec<f64>,
 }
 
-/// The adjoint of [`whiten`]: D^(−1/2)·(I − α·v·vᴴ)·z, so that whitening then this
-/// gives S_k⁻¹.
-fn whiten_adjoint(record: &RecordSpectra, k: usize, variances: &Variances, z: &mut [Complex64]) {
-    let (roots, h) = scaled_transfer(record, k, variances);
-    shrink(&h, variances.input, z);
-    for (z, root) in z.iter_mut().zip(&roots) {
-        *z /= root;
+impl Whitening {
+    fn of(record: &RecordSpectra, variances: &Variances) -> Self {
+        let inverse_roots: Vec<f64> = (record.groups.iter())
+            .map(|&g| 1.0 / variances.sensors[g].sqrt())
+            .collect();
+        let lines = record.transfer.first().map_or(0, Vec::len);
+        let mut h = Vec::with_capacity(lines * inverse_roots.len());
+        let mut shrink = Vec::with_capacity(lines);
+        for k in 0..lines {
+            let start = h.len();
+            h.extend((record.transfer.iter().zip(&inverse_roots)).map(|(g, r)| g[k] * r));
+            let norm2: f64 = h[start..].iter().map(|v| v.norm_sqr()).sum();
+            let s = variances.input * norm2;
+            shrink.push(if norm2 > 0.0 && s > 0.0 {
+                (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2
+            } else {
+                0.0
+            });
+        }
+        Self {
+            inverse_roots,
+            h,
+            shrink,
+        }
     }
-}
 
-/// Each channel's √σ²_a and h = D^(−1/2)·g at line k.
-fn scaled_transfer(
-    record: &RecordSpectra,
-    k: usize,
-    variances: &Variances,
-) -> (Vec<f64>, Vec<Complex64>) {
-    let roots: Vec<f64> = (record.groups.iter())
-        .map(|&g| variances.sensors[g].sqrt())
-        .collect();
-    let h = (roots.iter().enumerate())
-        .map(|(a, root)| record.transfer[a][k] / root)
-        .collect();
-    (roots, h)
-}
-
-/// z ← (I − α·v·vᴴ)·z, v = h/‖h‖, α = 1 − 1/√(1 + σ²_u·‖h‖²).
-fn shrink(h: &[Complex64], input_variance: f64, z: &mut [Complex64]) {
-    let norm2: f64 = h.iter().map(|v| v.norm_sqr()).sum();
-    let s = input_variance * norm2;
-    if norm2 <= 0.0 || s <= 0.0 {
-        return;
+    /// S_k^(−1/2)·z for the channels' values `z` at line k.
+    fn apply(&self, k: usize, z: &mut [Complex64]) {
+        for (z, r) in z.iter_mut().zip(&self.inverse_roots) {
+            *z *= r;
+        }
+        self.shrink_at(k, z);
     }
-    let dot: Complex64 = h.iter().zip(z.iter()).map(|(h, z)| h.conj() * z).sum();
-    let coefficient = (1.0 - 1.0 / (1.0 + s).sqrt()) / norm2 * dot;
-    for (z, h) in z.iter_mut().zip(h) {
-        *z -= h * coefficient;
+
+    /// The adjoint of [`apply`](Self::apply): D^(−1/2)·(I − α·v·vᴴ)·z, so that
+    /// whitening then this gives S_k⁻¹.
+    fn adjoint(&self, k: usize, z: &mut [Complex64]) {
+        self.shrink_at(k, z);
+        for (z, r) in z.iter_mut().zip(&self.inverse_roots) {
+            *z *= r;
+        }
+    }
+
+    /// z ← (I − α·v·vᴴ)·z at line k.
+    fn shrink_at(&self, k: usize, z: &mut [Complex64]) {
+        let c = self.inverse_roots.len();
+        let h = &self.h[k * c..(k + 1) * c];
+        let dot: Complex64 = h.iter().zip(z.iter()).map(|(h, z)| h.conj() * z).sum();
+        let coefficient = self.shrink[k] * dot;
+        for (z, h) in z.iter_mut().zip(h) {
+            *z -= h * coefficient;
+        }
     }
 }
 
@@ -451,7 +471,7 @@ fn shrink(h: &[Complex64], input_variance: f64, z: &mut [Complex64]) {
 mod tests {
     use super::*;
 
-    /// The whitening is S^(−1/2): ‖whiten(z)‖² = zᴴ·S⁻¹·z, by Sherman–Morrison
+    /// The whitening is S^(−1/2): ‖S^(−1/2)·z‖² = zᴴ·S⁻¹·z, by Sherman–Morrison
     /// zᴴD⁻¹z − σ²_u·|gᴴD⁻¹z|² / (1 + σ²_u·gᴴD⁻¹g).
     #[test]
     fn the_whitening_squares_to_the_inverse_spectrum() {
@@ -470,7 +490,8 @@ mod tests {
             points: Vec::new(),
         };
         let mut z = z0;
-        whiten(&record, 0, &variances, &mut z);
+        let whitening = Whitening::of(&record, &variances);
+        whitening.apply(0, &mut z);
         let whitened: f64 = z.iter().map(|v| v.norm_sqr()).sum();
         let plain: f64 = (0..2).map(|a| z0[a].norm_sqr() / d[a]).sum();
         let dot: Complex64 = (0..2).map(|a| g[a].conj() * z0[a] / d[a]).sum();
@@ -481,7 +502,7 @@ mod tests {
             "{whitened} {expected}"
         );
         // The adjoint after the whitening is S⁻¹: z₀ᴴ·S⁻¹·z₀ again.
-        whiten_adjoint(&record, 0, &variances, &mut z);
+        whitening.adjoint(0, &mut z);
         let quadratic: Complex64 = z0.iter().zip(&z).map(|(a, b)| a.conj() * b).sum();
         assert!(
             (quadratic.re - expected).abs() < 1e-12 * expected,
