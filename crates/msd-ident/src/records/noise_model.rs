@@ -15,7 +15,7 @@ use crate::input_noise::{
 };
 use crate::plant::{Drive, Plant};
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
-use msd_ode::{SVector, SampledInput};
+use msd_ode::{ExactSimulator, SVector, SampledInput};
 use nalgebra::{DMatrix, DVector, Matrix3};
 use rustfft::num_complex::Complex64;
 use std::collections::BTreeMap;
@@ -220,9 +220,10 @@ fn whiteness(
     let lags = tests.max_lag;
     let mut checks = Vec::new();
     for rec in &problem.records {
-        let lines = record_lines(problem, rec, theta, model.is_some())?;
-        let free = match model {
-            Some(_) => free_responses(problem, rec, theta)?,
+        let closed = (model.map(|_| closed_form(problem, rec, theta))).transpose()?;
+        let lines = record_lines(problem, rec, closed.as_ref())?;
+        let free = match &closed {
+            Some(closed) => free_responses(rec, closed),
             None => vec![Vec::new(); rec.groups.len()],
         };
         for (ch, transient) in free.iter().enumerate() {
@@ -253,18 +254,27 @@ fn whiteness(
     Ok(checks)
 }
 
+/// A record's plant at θ as the simulator discretises it, with its DFT's points
+/// (lines 0..=N/2): what the closed-form spectra are taken from.
+struct ClosedForm {
+    sim: ExactSimulator<2>,
+    points: Vec<Complex64>,
+}
+
+fn closed_form(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> Result<ClosedForm> {
+    Ok(ClosedForm {
+        sim: plant(problem, theta).response(problem.dt, problem.hold)?,
+        points: line_points(rec.len),
+    })
+}
+
 /// The DFTs (scaled as the residual's, every line) of each channel's free responses
-/// from a unit initial displacement and velocity, at θ.
-fn free_responses(
-    problem: &Joint<'_>,
-    rec: &RecordRows<'_>,
-    theta: [f64; 3],
-) -> Result<Vec<Vec<Vec<Complex64>>>> {
-    let sim = plant(problem, theta).response(problem.dt, problem.hold)?;
-    let free = free_spectra(&sim, &rec.maps, &line_points(rec.len), rec.len);
-    Ok((free.into_iter())
+/// from a unit initial displacement and velocity.
+fn free_responses(rec: &RecordRows<'_>, closed: &ClosedForm) -> Vec<Vec<Vec<Complex64>>> {
+    let free = free_spectra(&closed.sim, &rec.maps, &closed.points, rec.len);
+    (free.into_iter())
         .map(|pair| pair.into_iter().map(|b| mirrored(b, rec.len)).collect())
-        .collect())
+        .collect()
 }
 
 /// The plant at θ under the problem's drive.
@@ -307,7 +317,7 @@ fn fit_spectral_model(
     let lines = problem
         .records
         .iter()
-        .map(|rec| record_lines(problem, rec, theta, true))
+        .map(|rec| record_lines(problem, rec, Some(&closed_form(problem, rec, theta)?)))
         .collect::<Result<Vec<_>>>()?;
     let j = &linearised.jacobian;
     // The residual's sensitivities in the channels' own units: the fit's weighted,
@@ -363,11 +373,12 @@ fn nuisance_columns(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Vec<Vec<Vec<f6
         .collect()
 }
 
+/// A record's residual lines at the prepared θ, with each channel's transfer from
+/// `closed` (none without it).
 fn record_lines(
     problem: &Joint<'_>,
     rec: &RecordRows<'_>,
-    theta: [f64; 3],
-    transfer: bool,
+    closed: Option<&ClosedForm>,
 ) -> Result<Lines> {
     let size = rec.len;
     let residual = (0..rec.maps.len())
@@ -377,9 +388,8 @@ fn record_lines(
             residual_spectrum(r, size)
         })
         .collect();
-    let transfer = if transfer {
-        let sim = plant(problem, theta).response(problem.dt, problem.hold)?;
-        let half = transfer_spectra(&sim, &rec.maps, &line_points(size));
+    let transfer = if let Some(closed) = closed {
+        let half = transfer_spectra(&closed.sim, &rec.maps, &closed.points);
         let singular = || IdentError::EstimationFailed {
             reason: "the plant's frequency response is singular on the record's lines".into(),
         };
@@ -539,7 +549,8 @@ mod tests {
         problem.solve_linear();
         let rec = &problem.records[0];
         let g = impulse_responses(&problem, rec, theta).expect("impulse");
-        let lines = record_lines(&problem, rec, theta, true).expect("lines");
+        let closed = closed_form(&problem, rec, theta).expect("discretised");
+        let lines = record_lines(&problem, rec, Some(&closed)).expect("lines");
         for (ch, g) in g.iter().enumerate() {
             let dft = spectrum(g.iter().copied(), n, 1.0);
             let peak = dft.iter().map(|v| v.norm()).fold(0.0, f64::max);

@@ -173,9 +173,8 @@ fn spectra(
     (problem.records.iter().zip(&variances.points))
         .map(|(rec, points)| {
             let n = rec.len;
+            // Full and half (0..=N/2) spectra alike: the likelihood's lines start at 1.
             let lines = |v: &[Complex64]| v[likelihood_lines(n)].to_vec();
-            // The half spectra hold the lines 0..=N/2: the likelihood's start at 1.
-            let half = |v: Vec<Complex64>| v[likelihood_lines(n)].to_vec();
             let residual = (rec.record.channels.iter().enumerate())
                 .map(|(ch, channel)| {
                     let from_rest = channel
@@ -188,8 +187,8 @@ fn spectra(
             let mut basis = [Vec::new(), Vec::new()];
             if problem.state {
                 for [b0, b1] in free_spectra(&sim, &rec.maps, points, n) {
-                    basis[0].push(half(b0));
-                    basis[1].push(half(b1));
+                    basis[0].push(lines(&b0));
+                    basis[1].push(lines(&b1));
                 }
             }
             let transfer = transfer_spectra(&sim, &rec.maps, points)?;
@@ -197,7 +196,7 @@ fn spectra(
                 groups: rec.groups.clone(),
                 residual,
                 basis,
-                transfer: transfer.into_iter().map(half).collect(),
+                transfer: transfer.iter().map(|g| lines(g)).collect(),
             })
         })
         .collect()
