@@ -8,6 +8,12 @@ use msd_ident::Interval;
 use msd_ident::records::{NoiseModelFit, ResidualWhiteness};
 use std::fmt::Write;
 
+/// The noise-spectrum figure's alt text and caption, in every kind's report.
+pub(crate) const SPECTRUM_FIGURE: (&str, &str) = (
+    "Residual spectra against the noise model",
+    "Each channel's residual (blue), averaged over bands of DFT lines, against the noise model's spectrum (red: the sensor's white noise plus the drive's noise through the plant, dashed; under the white treatment the flat level the intervals assume) and the 95 % range of a band's mean under the model (grey). A run of bands outside the range is colour the model leaves unexplained; at the resonance the residual may dip below the model where the fit absorbed part of the noise.",
+);
+
 /// The noise model's line and a warning per channel left coloured, for the summary;
 /// `unit` is the drive's.
 pub(crate) fn summary(

@@ -283,6 +283,7 @@ mod tests {
             ljung_box: ljung_box(&[1.0, 0.0], 1000),
             ljung_box_under_noise_model: None,
             input_correlation: None,
+            spectrum: None,
             passed,
         }
     }

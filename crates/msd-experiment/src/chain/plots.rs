@@ -1,14 +1,16 @@
-//! The figure of a chain run, PNG and SVG in the house style: `chain_fit`, the drive and
-//! each sensor, measured and as fitted.
+//! The figures of a chain run, PNG and SVG in the house style: `chain_fit`, the drive
+//! and each sensor, measured and as fitted; `chain_noise_spectrum`, each sensor's
+//! residual spectrum against the noise model's.
 
 use super::{ChainOutcome, channel_names};
 use crate::error::Result;
 use crate::plots::panel::{Band, Curve, Panel, Stack, Style};
-use crate::plots::{BLUE, RED, register_fonts, save};
+use crate::plots::spectrum::{NoiseSpectra, SpectrumPanel};
+use crate::plots::{BLUE, Drawable, RED, register_fonts, save_all};
 use plotters::prelude::SeriesLabelPosition;
 use std::path::Path;
 
-/// Writes the figure; returns its base name.
+/// Writes the figures; returns their base names.
 pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
     let time: Vec<f64> = (0..o.record.len())
@@ -95,8 +97,34 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
         title,
         panels,
     };
-    save(&figure, dir)?;
-    Ok(vec![figure.name])
+    let spectra = noise_spectra(o);
+    let drawn: Vec<&dyn Drawable> = std::iter::once(&figure as &dyn Drawable)
+        .chain(spectra.iter().map(|f| f as &dyn Drawable))
+        .collect();
+    save_all(&drawn, dir)?;
+    Ok(drawn.iter().map(|f| f.file_name()).collect())
+}
+
+/// Each sensor's residual spectrum against the noise model's.
+fn noise_spectra(o: &ChainOutcome) -> Option<NoiseSpectra<'_>> {
+    let panels: Vec<SpectrumPanel<'_>> = (o.fit.whiteness.iter())
+        .zip(channel_names(o))
+        .filter_map(|(check, name)| {
+            Some(SpectrumPanel {
+                title: name.replace('_', " on mass "),
+                unit: unit(&name).into(),
+                spectrum: check.spectrum.as_ref()?,
+            })
+        })
+        .collect();
+    (!panels.is_empty()).then(|| NoiseSpectra {
+        name: "chain_noise_spectrum",
+        title: format!(
+            "Residual spectra against the noise model — {}",
+            o.config.name
+        ),
+        panels,
+    })
 }
 
 /// Periods of the chain's first mode past which a record is drawn in a window.
@@ -119,10 +147,14 @@ fn zoom_window(o: &ChainOutcome, end: f64) -> Option<(f64, f64)> {
 /// "acceleration [m/s²]" for a channel named "acceleration_2".
 fn axis(name: &str) -> String {
     let quantity = name.split('_').next().unwrap_or("response");
-    let unit = match quantity {
-        "displacement" => "m",
-        "velocity" => "m/s",
+    format!("{quantity} [{}]", unit(name))
+}
+
+/// "m/s²" for a channel named "acceleration_2".
+fn unit(name: &str) -> &'static str {
+    match name.split('_').next() {
+        Some("displacement") => "m",
+        Some("velocity") => "m/s",
         _ => "m/s²",
-    };
-    format!("{quantity} [{unit}]")
+    }
 }

@@ -176,10 +176,14 @@ fn page(s: &mut String, o: &ChainOutcome, figures: &[&str]) -> std::fmt::Result 
     fit_section(s, o)?;
     writeln!(s, "## Figures\n")?;
     for f in figures {
-        writeln!(
-            s,
-            "![The chain's fit]({f}.png)\n\n*The drive, then each sensor measured (blue points) and as the fitted chain predicts it (red line), with the Monte Carlo band (grey).*\n"
-        )?;
+        let (alt, caption) = match *f {
+            "chain_noise_spectrum" => noise_report::SPECTRUM_FIGURE,
+            _ => (
+                "The chain's fit",
+                "The drive, then each sensor measured (blue points) and as the fitted chain predicts it (red line), with the Monte Carlo band (grey).",
+            ),
+        };
+        writeln!(s, "![{alt}]({f}.png)\n\n*{caption}*\n")?;
     }
     Ok(())
 }

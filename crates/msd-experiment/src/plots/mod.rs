@@ -2,7 +2,7 @@
 //! DejaVu Sans font (no system fonts or libraries needed): colours, text styles, the
 //! mesh, the legend box and the figure title (`house_mesh`, `draw_legend`, `suptitle`),
 //! the Bode phase panel, panels of time series (`panel`), the stabilization diagram
-//! (`diagram`), and `save` in both
+//! (`diagram`), the residuals' noise spectra (`spectrum`), and `save` in both
 //! formats. Each kind of experiment draws its own figures with them (the paper's in
 //! `crate::paper`); the design figure is `design`.
 //!
@@ -12,6 +12,7 @@
 pub(crate) mod design;
 pub(crate) mod diagram;
 pub(crate) mod panel;
+pub(crate) mod spectrum;
 
 use crate::error::{ExperimentError, Result};
 use plotters::chart::MeshStyle;

@@ -2,6 +2,8 @@
 //!
 //! - `setup_fit`: each channel of the first record, measured and predicted, with the
 //!   residuals (no excitation panel for a free decay; the drive on top otherwise);
+//! - `setup_noise_spectrum`: each channel of the first record, its residual's spectrum
+//!   against the noise model's (or the white level the intervals assume);
 //! - `setup_loops` (test machine): the force–stroke loop of each condition's last
 //!   cycle, measured and fitted;
 //! - `setup_force_velocity` (test machine): the damping force F − m·x″ − k·x against
@@ -11,7 +13,9 @@ use super::fit::models;
 use super::{SetupFit, SetupOutcome};
 use crate::error::Result;
 use crate::plots::panel::{Curve, Panel, Stack, Style};
+use crate::plots::spectrum::{NoiseSpectra, SpectrumPanel};
 use crate::plots::{BLUE, Drawable, RED, register_fonts, save_all};
+use msd_ident::RecordsFit;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -23,10 +27,13 @@ pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str
         SetupFit::Machine(_) => vec![loops(o), force_velocity(o)],
         SetupFit::Stroke(f) => vec![stroke_force(o, f)],
     };
-    let drawn: Vec<&dyn Drawable> = figures
-        .iter()
-        .flatten()
+    let spectra = match &o.fit {
+        SetupFit::Records { fit, .. } => noise_spectra(o, fit),
+        _ => None,
+    };
+    let drawn: Vec<&dyn Drawable> = (figures.iter().flatten())
         .map(|f| f as &dyn Drawable)
+        .chain(spectra.iter().map(|f| f as &dyn Drawable))
         .collect();
     save_all(&drawn, dir)?;
     Ok(drawn.iter().map(|f| f.file_name()).collect())
@@ -90,6 +97,30 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
     Some(Stack {
         name: "setup_fit",
         title: format!("Fit of the first record — {}", o.config.name),
+        panels,
+    })
+}
+
+/// The first record's channels: each residual's spectrum against the noise model's.
+fn noise_spectra<'a>(o: &'a SetupOutcome, fit: &'a RecordsFit) -> Option<NoiseSpectra<'a>> {
+    let first = &fit.whiteness.first()?.record;
+    let panels: Vec<SpectrumPanel<'_>> = (fit.whiteness.iter())
+        .filter(|c| &c.record == first)
+        .zip(&o.data.channels)
+        .filter_map(|(check, channel)| {
+            Some(SpectrumPanel {
+                title: format!("{} — {}", channel.channel_name(), check.record),
+                unit: channel.quantity.unit().to_string(),
+                spectrum: check.spectrum.as_ref()?,
+            })
+        })
+        .collect();
+    (!panels.is_empty()).then(|| NoiseSpectra {
+        name: "setup_noise_spectrum",
+        title: format!(
+            "Residual spectra against the noise model — {}",
+            o.config.name
+        ),
         panels,
     })
 }

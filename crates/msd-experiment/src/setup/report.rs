@@ -301,6 +301,7 @@ fn figure_caption(name: &str) -> (&'static str, &'static str) {
             "The fit of the first record",
             "The first record: the drive, then each channel measured (blue points) and as the fitted plant predicts it (red line).",
         ),
+        "setup_noise_spectrum" => crate::noise_report::SPECTRUM_FIGURE,
         "setup_loops" => (
             "Force–displacement loops",
             "Each condition's force against the imposed displacement: measured and as the best damping law predicts it.",

@@ -216,6 +216,13 @@ fn a_two_storey_rig_is_identified_within_its_intervals() {
         for s in &fit.noise {
             assert!((s / 0.02 - 1.0).abs() < 0.05, "{s}");
         }
+        // Each sensor's residual spectrum in its own unit (the fit's residuals are
+        // divided by σ̂): the white level 2·σ²·dt, to σ̂'s few per cent.
+        for check in &fit.whiteness {
+            let s = check.spectrum.as_ref().expect("computed");
+            let level = 2.0 * 0.02f64.powi(2) * 2e-3;
+            assert!((s.sensor / level - 1.0).abs() < 0.1, "{} {level}", s.sensor);
+        }
     }
 }
 

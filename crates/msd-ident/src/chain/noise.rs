@@ -11,7 +11,7 @@ use crate::correlation::autocorrelation;
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
     WHITENESS_LEVEL, efficiency, impulse_spectrum, middle_matrix, residual_spectrum,
-    restricted_fit, satterthwaite, spectrum, whitened_ljung_box,
+    residual_spectrum_bands, restricted_fit, satterthwaite, spectrum, whitened_ljung_box,
 };
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_opt::statistics::Linearization;
@@ -42,8 +42,7 @@ pub(super) fn treat(
     let len = record.len();
     let channels = record.outputs.len();
     let rows = |ch: usize| ch * len..(ch + 1) * len;
-    let lags = tests.max_lag;
-    let mut whiteness = as_fitted(record, residuals, tests);
+    let mut whiteness = as_fitted(record, residuals, &problem.noise, tests);
     let white = Treated {
         covariance: None,
         fit: NoiseModelFit::white(),
@@ -106,11 +105,12 @@ pub(super) fn treat(
         .map(|j| (reported[(j, j)] / (s2 * inverse[(j, j)])).max(0.0).sqrt())
         .fold(0.0, f64::max);
     let sigma_u = (model.input_variance * inflation).sqrt();
-    for (check, ch) in whiteness.iter_mut().zip(0..channels) {
-        let test = whitened_ljung_box(&lines, ch, &model, lags, len, &free[ch]);
-        check.ljung_box_under_noise_model = Some(test);
-        check.passed = test.p_value >= 1.0 - tests.confidence;
-    }
+    let under = Under {
+        lines: &lines,
+        model: &model,
+        free: &free,
+    };
+    under.judge(&mut whiteness, problem, tests);
     let fit = NoiseModelFit {
         treatment: "input_noise".into(),
         input_noise_sigma: Some(sigma_u),
@@ -150,6 +150,35 @@ pub(super) fn treat(
     }
 }
 
+/// A record's lines under the fitted model, with each sensor's free responses.
+struct Under<'a> {
+    lines: &'a Lines,
+    model: &'a SpectralModel,
+    free: &'a [Vec<Vec<Complex64>>],
+}
+
+impl Under<'_> {
+    /// Each sensor's whiteness under the model, which decides its verdict, and its
+    /// residual spectrum against the model's in the sensor's unit.
+    fn judge(
+        &self,
+        whiteness: &mut [ResidualWhiteness],
+        problem: &ChainProblem<'_>,
+        tests: &ResidualOptions,
+    ) {
+        let (len, dt) = (self.lines.size, problem.record.dt);
+        for (ch, check) in whiteness.iter_mut().enumerate() {
+            let (lines, model) = (self.lines, Some(self.model));
+            let test =
+                whitened_ljung_box(lines, ch, self.model, tests.max_lag, len, &self.free[ch]);
+            let scale = problem.noise[ch].powi(2);
+            check.spectrum = Some(residual_spectrum_bands(lines, ch, model, dt, scale));
+            check.ljung_box_under_noise_model = Some(test);
+            check.passed = test.p_value >= 1.0 - tests.confidence;
+        }
+    }
+}
+
 /// The spectral model fitted by the restricted likelihood to the record `lines` of a fit
 /// with the weighted `jacobian` (each sensor its own group) and normal-matrix inverse
 /// `inverse`, with the Fisher information of θ under it.
@@ -186,10 +215,13 @@ fn noise_fit(
     )
 }
 
-/// Each sensor's residual tested as fitted: Ljung–Box and the correlation with the drive.
+/// Each sensor's residual tested as fitted: Ljung–Box, the correlation with the drive
+/// and its spectrum against the white level (`noise`: each sensor's σ̂, the residuals'
+/// unit).
 fn as_fitted(
     record: &ChainRecord,
     residuals: &[f64],
+    noise: &[f64],
     tests: &ResidualOptions,
 ) -> Vec<ResidualWhiteness> {
     let len = record.len();
@@ -197,6 +229,13 @@ fn as_fitted(
         .map(|ch| {
             let r = &residuals[ch * len..(ch + 1) * len];
             let ljung = ljung_box(&autocorrelation(r, tests.max_lag), len);
+            let lines = Lines {
+                size: len,
+                groups: vec![0],
+                residual: vec![residual_spectrum(r.iter().copied(), len)],
+                transfer: Vec::new(),
+            };
+            let spectrum = residual_spectrum_bands(&lines, 0, None, record.dt, noise[ch].powi(2));
             ResidualWhiteness {
                 record: "record".into(),
                 channel: format!("sensor {}", ch + 1),
@@ -205,6 +244,7 @@ fn as_fitted(
                 input_correlation: residual_analysis(r, &record.input, tests)
                     .ok()
                     .map(|a| a.cross_correlation),
+                spectrum: Some(spectrum),
                 passed: ljung.p_value >= 1.0 - tests.confidence,
             }
         })

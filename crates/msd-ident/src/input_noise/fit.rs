@@ -1,5 +1,6 @@
 //! What the noise model found, and each channel's whiteness under it.
 
+use super::psd::ResidualSpectrum;
 use crate::residuals::{CorrelationTest, LjungBox};
 use serde::{Deserialize, Serialize};
 
@@ -118,7 +119,8 @@ impl std::fmt::Display for NoiseModelFit {
 /// use msd_ident::{records::ResidualWhiteness, residuals::ljung_box};
 /// let lb = ljung_box(&[1.0, 0.01, -0.02], 10_000);
 /// let check = ResidualWhiteness { record: "run 1".into(), channel: "acc".into(),
-///     ljung_box: lb, ljung_box_under_noise_model: Some(lb), input_correlation: None, passed: true };
+///     ljung_box: lb, ljung_box_under_noise_model: Some(lb), input_correlation: None, spectrum: None,
+///     passed: true };
 /// assert_eq!(serde_json::to_value(&check)?["passed"], true);
 /// # Ok::<(), serde_json::Error>(())
 /// ```
@@ -140,6 +142,9 @@ pub struct ResidualWhiteness {
     /// delay, a nonlinearity); the drive's own noise adds a correlation of about
     /// −σ²_u·g(τ) that is small unless that noise is large.
     pub input_correlation: Option<CorrelationTest>,
+    /// The residual's spectrum against the noise model's (the white level under the
+    /// white treatment); `None` where it was not computed.
+    pub spectrum: Option<ResidualSpectrum>,
     /// The residual is white under the model the intervals assume (p ≥ 0.01): when
     /// false, the model leaves colour unexplained (a missing dynamic, a nonlinearity, a
     /// coloured sensor noise) and the intervals may be too narrow.

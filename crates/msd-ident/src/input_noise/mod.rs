@@ -49,6 +49,7 @@
 mod bound;
 mod fit;
 mod middle;
+mod psd;
 mod restricted;
 mod satterthwaite;
 mod scoring;
@@ -58,6 +59,8 @@ pub(crate) use bound::{efficiency, restricted_fit};
 pub(crate) use fit::notes;
 pub use fit::{NoiseModel, NoiseModelFit, ResidualWhiteness};
 pub(crate) use middle::{MiddleRecord, middle_matrix};
+pub use psd::ResidualSpectrum;
+pub(crate) use psd::residual_spectrum_bands;
 pub(crate) use restricted::Sensitivity;
 pub(crate) use satterthwaite::satterthwaite;
 pub(crate) use spectral::{

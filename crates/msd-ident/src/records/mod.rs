@@ -22,7 +22,7 @@ mod spectra;
 mod validate;
 mod weighted;
 
-pub use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness};
+pub use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualSpectrum, ResidualWhiteness};
 pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};

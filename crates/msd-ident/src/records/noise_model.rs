@@ -10,8 +10,8 @@ use crate::correlation::autocorrelation;
 use crate::error::{IdentError, Result};
 use crate::input_noise::{
     Lines, MiddleRecord, NoiseModel, NoiseModelFit, ResidualWhiteness, Sensitivity, SpectralModel,
-    WHITENESS_LEVEL, efficiency, middle_matrix, residual_spectrum, restricted_fit, satterthwaite,
-    whitened_ljung_box,
+    WHITENESS_LEVEL, efficiency, middle_matrix, residual_spectrum, residual_spectrum_bands,
+    restricted_fit, satterthwaite, whitened_ljung_box,
 };
 use crate::plant::{Drive, Plant};
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
@@ -247,6 +247,7 @@ fn whiteness(
                 ljung_box: raw_test,
                 ljung_box_under_noise_model: whitened,
                 input_correlation,
+                spectrum: Some(residual_spectrum_bands(&lines, ch, model, problem.dt, 1.0)),
                 passed: judged.p_value >= 1.0 - tests.confidence,
             });
         }

@@ -170,6 +170,55 @@ fn a_noisy_load_cell_is_found_and_widens_the_intervals() {
     }
 }
 
+/// What the model found, to be seen: the residual's spectrum follows σ²_a plus the
+/// drive's noise through the plant, peaked at the resonance, inside each band's 95 %
+/// range; the white level alone leaves the resonance's bands far above it.
+#[test]
+fn the_residual_spectrum_follows_the_noise_model() {
+    let natural = (PLANT.stiffness / PLANT.mass).sqrt() / std::f64::consts::TAU;
+    let inside = |s: &msd_ident::records::ResidualSpectrum| {
+        (s.residual.iter().zip(s.lower.iter().zip(&s.upper)))
+            .filter(|(r, (lo, hi))| lo <= r && r <= hi)
+            .count()
+    };
+    let (mut held, mut bands) = (0, 0);
+    for seed in 1..=4 {
+        let f = fit(
+            load_cell_record(seed, 0.01, &[ACCELEROMETER]),
+            NoiseModel::InputNoise,
+        );
+        let s = f.whiteness[0].spectrum.as_ref().expect("computed");
+        // Far above the resonance an accelerometer sees the force's noise as 1/m of it:
+        // the level 2·(σ²_a + σ²_u/m²)·dt (σ_a 0.05 m/s², σ_u 0.05 N, dt 1 ms), which
+        // the ten thousand lines there fix to about 1 %.
+        let sigma_u = 0.01 * FORCE_RMS;
+        let level = 2.0 * (ACCELEROMETER.1.powi(2) + (sigma_u / PLANT.mass).powi(2)) * 1e-3;
+        let high = s.model()[s.drive.len() - 1];
+        assert!((high / level - 1.0).abs() < 0.05, "{high} {level}");
+        let peak = (0..s.drive.len())
+            .max_by(|&a, &b| s.drive[a].total_cmp(&s.drive[b]))
+            .expect("bands");
+        assert!((s.frequency_hz[peak] / natural - 1.0).abs() < 0.1, "{peak}");
+        held += inside(s);
+        bands += s.residual.len();
+    }
+    // 95 % expected, a little less where the fit absorbed its degrees of freedom at
+    // the resonance (its band's residual about half the model); 268 bands, standard
+    // error 0.013: 0.88 is five of them below.
+    let fraction = held as f64 / bands as f64;
+    assert!(fraction > 0.88, "{fraction} of {bands} bands");
+    let white = fit(
+        load_cell_record(1, 0.01, &[ACCELEROMETER]),
+        NoiseModel::White,
+    );
+    let w = white.whiteness[0].spectrum.as_ref().expect("computed");
+    assert!(w.drive.iter().all(|d| *d == 0.0));
+    let above = (w.frequency_hz.iter().zip(w.residual.iter().zip(&w.upper)))
+        .filter(|(f, (r, hi))| (*f / natural - 1.0).abs() < 0.1 && r > hi)
+        .count();
+    assert!(above >= 1, "the resonance stands above the white level");
+}
+
 /// The white model says what it assumed, and the whiteness test flags the colour it
 /// leaves, with the hint to the model that explains it.
 #[test]
