@@ -33,6 +33,13 @@ fn the_two_storey_rig_and_the_tuned_mass_damper_are_identified() {
             // 4 SE: a miss has probability 6e-5 per parameter.
             assert!(z < 4.0, "{name} seed {seed}: {z}");
             assert!(run.out().join("chain_fit.png").exists());
+            for ext in ["png", "svg"] {
+                assert!(
+                    run.out()
+                        .join(format!("chain_noise_spectrum.{ext}"))
+                        .exists()
+                );
+            }
             assert!(run.out().join("record.csv").exists());
             let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
             assert!(report.contains("## Modes"));

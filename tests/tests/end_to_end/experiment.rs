@@ -683,6 +683,32 @@ fn an_acceleration_in_the_displacement_template_names_the_accelerometer_template
     }
 }
 
+/// Issue 42: what the noise model found is shown, each channel's residual spectrum
+/// against the model's, in results.json and as a figure (PNG and SVG) in the report.
+#[test]
+fn a_setup_shows_each_channels_residual_spectrum_against_the_noise_model() {
+    let run = run_in_temp(&config("accelerometer.toml"), None, None).expect("runs");
+    let whiteness = run.summary.results["whiteness"].as_array().unwrap().clone();
+    assert!(!whiteness.is_empty());
+    for check in &whiteness {
+        let s = &check["spectrum"];
+        let bands = s["frequency_hz"].as_array().unwrap().len();
+        assert!(bands > 20, "{bands} bands");
+        for key in ["lines", "residual", "drive", "lower", "upper"] {
+            assert_eq!(s[key].as_array().unwrap().len(), bands, "{key}");
+        }
+        assert!(s["sensor"].as_f64().unwrap() > 0.0);
+    }
+    // One panel per channel of the first record.
+    let (w, h) = decode_png(&run.out().join("setup_noise_spectrum.png"));
+    let first = &whiteness[0]["record"];
+    let channels = whiteness.iter().filter(|c| &c["record"] == first).count();
+    assert!(w >= 800 && h as usize >= 400 * channels, "{w}×{h}");
+    assert!(run.out().join("setup_noise_spectrum.svg").exists());
+    let report = std::fs::read_to_string(run.out().join("report.md")).unwrap();
+    assert!(report.contains("](setup_noise_spectrum.png)"));
+}
+
 /// Round three: an `initial_guess` 100× (or 1/100×) the plant in the accelerometer
 /// setup was refused ("does not depend on damping": the search ran c to zero) where
 /// the paper's kind converges from it. The guess's gain is matched to the records: the
