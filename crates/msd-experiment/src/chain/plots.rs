@@ -78,25 +78,16 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
             legend: Some(SeriesLabelPosition::UpperRight),
         });
     }
-    let mut title = format!("Chain fit — {}", o.config.name);
-    if let Some((from, to)) = zoom_window(o, end) {
-        // A long broadband record drawn whole is a solid mass of lines: a window of it.
-        panels = panels
-            .iter()
-            .map(|p| p.zoomed((from, to), p.title.clone()))
-            .collect();
-        title = format!(
-            "{title}: t = {}–{} s of the {} s record",
-            crate::fmt::sig(from, 3),
-            crate::fmt::sig(to, 3),
-            crate::fmt::sig(end, 3)
-        );
-    }
+    let lowest = (o.fit.parameters.modes().iter())
+        .map(|m| m.natural_frequency_hz.value)
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .fold(f64::INFINITY, f64::min);
     let figure = Stack {
         name: "chain_fit",
-        title,
+        title: format!("Chain fit — {}", o.config.name),
         panels,
-    };
+    }
+    .windowed(range, lowest);
     let spectra = noise_spectra(o);
     let drawn: Vec<&dyn Drawable> = std::iter::once(&figure as &dyn Drawable)
         .chain(spectra.iter().map(|f| f as &dyn Drawable))
@@ -124,23 +115,6 @@ fn noise_spectra(o: &ChainOutcome) -> Option<NoiseSpectra<'_>> {
             o.config.name
         ),
         panels,
-    })
-}
-
-/// Periods of the chain's first mode past which a record is drawn in a window.
-const WINDOW_PERIODS: f64 = 25.0;
-
-/// The window drawn of a record `end` seconds long: 25 periods of the first mode, from
-/// 40 % of the record, when the record holds more; else `None` (drawn whole).
-fn zoom_window(o: &ChainOutcome, end: f64) -> Option<(f64, f64)> {
-    let lowest = (o.fit.parameters.modes().iter())
-        .map(|m| m.natural_frequency_hz.value)
-        .filter(|f| f.is_finite() && *f > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let length = WINDOW_PERIODS / lowest;
-    (length.is_finite() && length < 0.5 * end).then(|| {
-        let from = 0.4 * end;
-        (from, (from + length).min(end))
     })
 }
 

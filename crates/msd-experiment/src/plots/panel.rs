@@ -326,6 +326,36 @@ pub(crate) struct Stack<'a> {
     pub panels: Vec<Panel<'a>>,
 }
 
+/// Periods of the lowest mode past which a record is drawn in a window.
+const WINDOW_PERIODS: f64 = 25.0;
+
+impl Stack<'_> {
+    /// The stack drawn over a window of a long record, its title saying so: 25 periods
+    /// of the lowest natural frequency `lowest_hz`, from 40 % of the record's `span` (a
+    /// long broadband record drawn whole is a solid mass of lines, the data hidden
+    /// under the model). Unchanged when the record holds fewer than 50 periods.
+    pub(crate) fn windowed(mut self, span: (f64, f64), lowest_hz: f64) -> Self {
+        let (start, end) = span;
+        let length = WINDOW_PERIODS / lowest_hz;
+        if !(length.is_finite() && length > 0.0 && length < 0.5 * (end - start)) {
+            return self;
+        }
+        let from = start + 0.4 * (end - start);
+        let to = (from + length).min(end);
+        self.panels = (self.panels.iter())
+            .map(|p| p.zoomed((from, to), p.title.clone()))
+            .collect();
+        self.title = format!(
+            "{}: t = {}–{} s of the {} s record",
+            self.title,
+            crate::fmt::sig(from, 3),
+            crate::fmt::sig(to, 3),
+            crate::fmt::sig(end - start, 3)
+        );
+        self
+    }
+}
+
 impl Figure for Stack<'_> {
     fn name(&self) -> &'static str {
         self.name
@@ -362,6 +392,27 @@ mod tests {
             band: None,
             legend: Some(SeriesLabelPosition::UpperRight),
         }
+    }
+
+    /// A long record is drawn over 25 periods of its lowest mode from 40 % of it, the
+    /// title saying which; a short one whole.
+    #[test]
+    fn a_long_record_is_drawn_over_a_window() {
+        let x: Vec<f64> = (0..10_001).map(|i| i as f64 / 100.0).collect();
+        let stack = |x| Stack {
+            name: "fit",
+            title: "Fit".into(),
+            panels: vec![panel(x, x.to_vec())],
+        };
+        let long = stack(&x).windowed((0.0, 100.0), 10.0);
+        assert_eq!(long.panels[0].x_range, (40.0, 42.5));
+        let shown = &long.panels[0].curves[0].x;
+        assert!(shown.len() == 251 && shown[0] == 40.0, "{}", shown.len());
+        assert_eq!(long.title, "Fit: t = 40.0–42.5 s of the 100 s record");
+        // 50 periods or fewer: whole.
+        let short = stack(&x).windowed((0.0, 100.0), 0.5);
+        assert_eq!(short.panels[0].x_range, (0.0, 100.0));
+        assert_eq!(short.title, "Fit");
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! The figures of a setup run, PNG and SVG in the house style:
 //!
 //! - `setup_fit`: each channel of the first record, measured and predicted, with the
-//!   residuals (no excitation panel for a free decay; the drive on top otherwise);
+//!   residuals (no excitation panel for a free decay; the drive on top otherwise), over
+//!   a window of 25 periods of fn when the record holds more than 50;
 //! - `setup_noise_spectrum`: each channel of the first record, its residual's spectrum
 //!   against the noise model's (or the white level the intervals assume);
 //! - `setup_loops` (test machine): the force–stroke loop of each condition's last
@@ -94,10 +95,16 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
             legend: Some(SeriesLabelPosition::UpperRight),
         });
     }
-    Some(Stack {
+    let stack = Stack {
         name: "setup_fit",
         title: format!("Fit of the first record — {}", o.config.name),
         panels,
+    };
+    Some(match &o.fit {
+        SetupFit::Records { fit, .. } => {
+            stack.windowed(range, fit.plant.natural_frequency_hz.value)
+        }
+        _ => stack,
     })
 }
 
