@@ -18,8 +18,8 @@
 
 use crate::{error::Result, params::Parameters};
 use msd_ode::{ExactSimulator, Hold, SMatrix, SVector};
+use rustfft::Fft;
 use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
 
 /// The outputs read from the 8 states: x, m·x_m, c·x_c, k·x_k (relative sensitivities).
@@ -207,7 +207,7 @@ pub(crate) struct Transform {
 impl Transform {
     /// For a grid of period `m` samples.
     pub fn new(m: usize) -> Self {
-        let fft = FftPlanner::new().plan_fft_inverse(m);
+        let fft = crate::fft::inverse(m);
         let scratch = vec![Complex64::default(); fft.get_inplace_scratch_len()];
         Self {
             fft,
