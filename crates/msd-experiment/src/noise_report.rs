@@ -120,6 +120,12 @@ pub(crate) fn section(
         )?;
     }
     s.push('\n');
+    if whiteness.iter().any(|c| c.spectrum.is_some()) {
+        writeln!(
+            s,
+            "The residual spectra against the noise model's are drawn in the noise-spectrum figure (Figures): where the residual leaves the model's 95 % range over a stretch of frequency, the model misses something there.\n"
+        )?;
+    }
     Ok(())
 }
 
