@@ -11,11 +11,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The library crates and the workspace's other libraries.
-const CRATES: [&str; 11] = [
+const CRATES: [&str; 13] = [
     "crates/msd-ode/src",
     "crates/msd-signal/src",
     "crates/msd-opt/src",
     "crates/msd-uff/src",
+    "crates/msd-files/src",
+    "crates/msd-modal-core/src",
     "crates/msd-modal/src",
     "crates/msd-ident/src",
     "crates/msd-mc/src",

@@ -3,7 +3,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use msd_ident::{OneModeOptions, Parameters, fit_one_mode, frequency::model_response};
-use msd_modal::synthetic_frequency_response;
+use msd_modal_core::synthetic_frequency_response;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

@@ -27,7 +27,7 @@ pub use setup::{LEVELS, MAX_MASSES};
 pub use uncertainty::{ChainIntervals, ChainUncertainty};
 pub use validate::{ChainPrediction, ChainValidation, hold_out_chain};
 
-use msd_modal::ModalParameters;
+use msd_modal_core::ModalParameters;
 use msd_signal::{Complex64, FrfKind, ResponseQuantity};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,6 @@
 //! The one error type of this crate; errors of the layers below convert into it.
 
-use msd_modal::ModalError;
+use msd_modal_core::ModalError;
 use msd_ode::OdeError;
 use msd_opt::OptError;
 use msd_signal::SignalError;

@@ -1,9 +1,9 @@
 //! Mode indicator functions of a set of frequency responses: where the modes are, before
 //! any model is fitted.
 
-use crate::error::{ModalError, Result};
-use crate::mode::Dof;
 use crate::set::SetMember;
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::mode::Dof;
 use msd_signal::{Complex64, FrfKind};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -144,7 +144,7 @@ fn receptance_turn(kind: FrfKind) -> Complex64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::modal::ModalParameters;
+    use msd_modal_core::modal::ModalParameters;
     use msd_signal::FrequencyResponseEstimate;
 
     fn member(response: u32, reference: u32, h: Vec<Complex64>, f: &[f64]) -> SetMember {

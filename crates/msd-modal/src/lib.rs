@@ -19,7 +19,7 @@
 //!   (MPC), [`mean_phase_deviation`] (MPD); [`mode_indicator`] (CMIF and MIF);
 //! - [`dominant_peak`]: the dominant resonance and the band a one-mode fit takes around
 //!   it;
-//! - the classroom [`half_power`] estimate, the exponential window's correction
+//! - the classroom [`half_power()`] estimate, the exponential window's correction
 //!   ([`WindowCorrection`]) and [`synthetic_frequency_response`] for tests and teaching;
 //! - [`lines`]: a frequency response's lines prepared for any fit, weighted by
 //!   [`FrfWeighting`] (coherence, variance, relative, uniform);
@@ -48,52 +48,34 @@
 //! # Ok::<(), msd_modal::ModalError>(())
 //! ```
 
-mod correlated;
-mod diagram;
-pub mod error;
-mod half_power;
 mod indicator;
-mod input_noise;
-pub mod lines;
 mod lscf;
-mod modal;
-mod mode;
 mod modes;
-mod noise_check;
 mod oma;
 mod options;
-mod peak;
 mod polish;
 mod set;
 mod set_poles;
 mod shapes;
 mod stabilization;
-mod synthetic;
-mod window;
 
-pub use diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableColumn};
-pub use error::{ModalError, Result};
-pub use half_power::{HalfPower, half_power};
 pub use indicator::{ModeIndicator, mode_indicator};
-pub use input_noise::InputNoise;
-pub use lines::FrfWeighting;
-pub use modal::ModalParameters;
-pub use mode::{Dof, Mode, ShapeEntry};
 pub use modes::{ModalFit, RefusedMode, fit_modes};
-pub use msd_signal::FrequencyResponseEstimate;
-pub use noise_check::{NOISE_CHECK_LEVEL, NoiseCheck};
+// The ground this crate shares with msd-ident (the lines, the modal vocabulary, the
+// error), where a user of the modal analysis expects to find it.
+pub use msd_modal_core::{
+    BANDWIDTHS, DiagramOrder, DiagramPole, Dof, DominantPeak, FrequencyResponseEstimate,
+    FrfWeighting, HalfPower, InputNoise, ModalError, ModalParameters, Mode, NOISE_CHECK_LEVEL,
+    NoiseCheck, PROMINENCE, Result, ShapeEntry, StabilizationDiagram, StableColumn,
+    WindowCorrection, dominant_peak, error, half_power, lines, mean_phase_deviation,
+    modal_phase_collinearity, synthetic_frequency_response,
+};
 pub use oma::{
     FddOptions, MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity,
     Setup, ShearBuilding, SingularSpectrum, direction_from_angles, efdd, merge_setups,
     node_components, singular_spectrum, ssi_cov, ssi_dat,
 };
 pub use options::ModalOptions;
-pub use peak::{BANDWIDTHS, DominantPeak, PROMINENCE, dominant_peak};
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
-pub use shapes::{
-    ShapeComparison, compare_shapes, mac, mac_matrix, mean_phase_deviation,
-    modal_phase_collinearity, unit_normalised,
-};
-pub use stabilization::stabilization_diagram;
-pub use synthetic::synthetic_frequency_response;
-pub use window::WindowCorrection;
+pub use shapes::{ShapeComparison, compare_shapes, mac, mac_matrix, unit_normalised};
+pub use stabilization::{stabilization_diagram, why_too_few};

@@ -25,7 +25,7 @@ use std::f64::consts::TAU;
 use msd_signal::Complex64;
 use nalgebra::DMatrix;
 
-use crate::lines::Lines;
+use msd_modal_core::lines::Lines;
 
 /// The Toeplitz sums of one frequency response, up to a largest order.
 pub(crate) struct Lscf {
@@ -243,8 +243,8 @@ fn aberth(alpha: &[f64], mut z: Vec<Complex64>) -> Option<Vec<Complex64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::modal::term;
-    use crate::synthetic::synthetic_frequency_response;
+    use msd_modal_core::modal::term;
+    use msd_modal_core::synthetic::synthetic_frequency_response;
 
     #[test]
     fn two_exact_modes_give_their_poles_at_order_four() {
@@ -254,7 +254,7 @@ mod tests {
             .iter()
             .map(|&w| modes.iter().map(|m| term(m, w)).sum())
             .collect();
-        let lines = Lines::for_tests(omega, h);
+        let lines = Lines::uniform(omega, h);
         let lscf = Lscf::new(&lines, 8);
         let poles: Vec<Complex64> = lscf
             .roots(4, None)
@@ -294,7 +294,7 @@ mod tests {
             h
         })
         .expect("a valid table");
-        Lines::for_tests(f.iter().map(|f| TAU * f).collect(), frf.h)
+        Lines::uniform(f.iter().map(|f| TAU * f).collect(), frf.h)
     }
 
     #[test]
@@ -328,7 +328,7 @@ mod tests {
         // Ten lines: R has rank 20 at most, singular at order 30 but not at the lowest.
         let all = noisy_lines(1);
         let (omega, h) = all.omega.iter().zip(&all.h).step_by(100).unzip();
-        let lscf = Lscf::new(&Lines::for_tests(omega, h), 30);
+        let lscf = Lscf::new(&Lines::uniform(omega, h), 30);
         assert!(lscf.w.is_none());
         assert!(lscf.reduced(2).is_some() && lscf.reduced(30).is_none());
         for n in 1..=30 {

@@ -8,17 +8,17 @@ use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use crate::diagram::{StabilizationDiagram, StableColumn};
-use crate::error::{ModalError, Result};
-use crate::input_noise::InputNoise;
-use crate::lines::Lines;
-use crate::lines::{FrfWeighting, prepare};
-use crate::mode::{Dof, Mode, ShapeEntry};
-use crate::noise_check::NoiseCheck;
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, Polished, lsfd, model, polish};
-use crate::stabilization::diagram_of;
-use crate::window::{WindowCorrection, unshift_pole};
+use crate::stabilization::{diagram_of, why_too_few};
+use msd_modal_core::diagram::{StabilizationDiagram, StableColumn};
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::input_noise::InputNoise;
+use msd_modal_core::lines::Lines;
+use msd_modal_core::lines::{FrfWeighting, prepare};
+use msd_modal_core::mode::{Dof, Mode, ShapeEntry};
+use msd_modal_core::noise_check::NoiseCheck;
+use msd_modal_core::window::{WindowCorrection, unshift_pole};
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::t_975;
 
@@ -130,7 +130,7 @@ impl ModalFit {
                 self.upper_residual.value - self.lower_residual.value / (w * w),
                 0.0,
             );
-        crate::lines::as_measured(h, self.conjugated, self.kind)
+        msd_modal_core::lines::as_measured(h, self.conjugated, self.kind)
     }
 }
 
@@ -138,7 +138,7 @@ impl std::fmt::Display for ModalFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let what = format!("{} modes", self.modes.len());
         let (lines, band, iterations) = (self.lines, self.band_hz, self.iterations);
-        crate::lines::fit_line(
+        msd_modal_core::lines::fit_line(
             f,
             &what,
             lines,
@@ -149,7 +149,7 @@ impl std::fmt::Display for ModalFit {
         )?;
         write!(f, " in {}", self.kind)?;
         if self.conjugated {
-            write!(f, "\n{}", crate::lines::CONJUGATED)?;
+            write!(f, "\n{}", msd_modal_core::lines::CONJUGATED)?;
         }
         for (i, m) in self.modes.iter().enumerate() {
             write!(
@@ -226,6 +226,21 @@ fn scientific(i: &Interval) -> String {
 /// println!("{fit}");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+///
+/// With no mode in the data the error keeps the diagram, drawn as usual:
+///
+/// ```
+/// use msd_modal::{ModalError, ModalOptions, fit_modes};
+/// use msd_signal::{Complex64, FrequencyResponseEstimate};
+/// // A smooth response with no mode in it.
+/// let f: Vec<f64> = (1..=200).map(|i| i as f64).collect();
+/// let h = f.iter().map(|&f| Complex64::new(1.0 + 1e-3 * f, 0.0)).collect();
+/// let err = fit_modes(&FrequencyResponseEstimate::new(f, h)?, &ModalOptions::default()).unwrap_err();
+/// let ModalError::TooFewModes { diagram, .. } = &err else { panic!("{err}") };
+/// assert_eq!(diagram.orders.len(), 20); // orders 2, 4, …, 40, drawn as usual
+/// assert!(err.to_string().contains("no mode is stable"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn fit_modes(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Result<ModalFit> {
     options.validate()?;
     let mut fit = or_conjugated(
@@ -277,7 +292,7 @@ fn fit_as_given(frf: &FrequencyResponseEstimate, options: &ModalOptions) -> Resu
         return Err(ModalError::TooFewModes {
             reason: format!(
                 "no mode is stable in the stabilization diagram{}",
-                diagram.why_too_few(options)
+                why_too_few(&diagram, options)
             ),
             diagram: Box::new(diagram),
         });

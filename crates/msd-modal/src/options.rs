@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModalError, Result};
-use crate::lines::{FrfWeighting, check_band};
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::lines::{FrfWeighting, check_band};
 
 /// Options of [`fit_modes`](crate::fit_modes) and [`stabilization_diagram`](crate::stabilization_diagram)
 /// (in TOML: a table with any of these fields).

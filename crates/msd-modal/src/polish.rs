@@ -3,7 +3,7 @@
 //! least squares, and the Gauss–Newton covariance.
 //!
 //! The parameters θ are, per mode, (ωn, ζ, A, B) (see
-//! [`ModalParameters`](crate::modal::ModalParameters)), then the lower and upper residual terms
+//! [`ModalParameters`](msd_modal_core::modal::ModalParameters)), then the lower and upper residual terms
 //! (L, U) of H(ω) = Σ_r H_r(ω) − L/ω² + U.
 
 use msd_opt::{
@@ -12,11 +12,11 @@ use msd_opt::{
 use msd_signal::Complex64;
 use nalgebra::{DMatrix, DVector};
 
-use crate::error::{ModalError, Result, not_identifiable};
-use crate::input_noise::InputNoise;
-use crate::lines::Lines;
-use crate::modal::{term, term_with_gradient};
-use crate::noise_check::NoiseCheck;
+use msd_modal_core::error::{ModalError, Result, not_identifiable};
+use msd_modal_core::input_noise::InputNoise;
+use msd_modal_core::lines::Lines;
+use msd_modal_core::modal::{term, term_with_gradient};
+use msd_modal_core::noise_check::NoiseCheck;
 use msd_opt::statistics::Linearization;
 
 /// Parameters per mode.

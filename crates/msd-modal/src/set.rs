@@ -6,18 +6,19 @@ use std::f64::consts::TAU;
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use serde::{Deserialize, Serialize};
 
-use crate::diagram::{StabilizationDiagram, StableColumn};
-use crate::error::{ModalError, Result};
-use crate::input_noise::InputNoise;
-use crate::lines::{FrfWeighting, Lines, prepare};
-use crate::mode::{Dof, Mode, ShapeEntry};
 use crate::modes::{RefusedMode, drop_moved, moved_from_column, or_conjugated, pole_intervals};
-use crate::noise_check::NoiseCheck;
 use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, lsfd, model};
 use crate::set_poles::refine_poles;
-use crate::shapes::{mac_matrix, mean_phase_deviation, modal_phase_collinearity, unit_normalised};
-use crate::stabilization::diagram_of_set;
+use crate::shapes::{mac_matrix, unit_normalised};
+use crate::stabilization::{diagram_of_set, why_too_few};
+use msd_modal_core::diagram::{StabilizationDiagram, StableColumn};
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::input_noise::InputNoise;
+use msd_modal_core::lines::{FrfWeighting, Lines, prepare};
+use msd_modal_core::mode::{Dof, Mode, ShapeEntry};
+use msd_modal_core::noise_check::NoiseCheck;
+use msd_modal_core::phase::{mean_phase_deviation, modal_phase_collinearity};
 use msd_opt::statistics::t_975;
 
 /// One frequency response of a set, with where it was measured and where the force was.
@@ -129,9 +130,9 @@ impl ModeSetFit {
                 );
             }
             let a = m.modal_constants[member];
-            h += crate::modal::term(&[wn, zeta, a.re, a.im], w);
+            h += msd_modal_core::modal::term(&[wn, zeta, a.re, a.im], w);
         }
-        crate::lines::as_measured(h, self.conjugated, self.kind)
+        msd_modal_core::lines::as_measured(h, self.conjugated, self.kind)
     }
 }
 
@@ -155,7 +156,7 @@ impl std::fmt::Display for ModeSetFit {
         )?;
         write!(f, " in {}", self.kind)?;
         if self.conjugated {
-            write!(f, "\n{}", crate::lines::CONJUGATED)?;
+            write!(f, "\n{}", msd_modal_core::lines::CONJUGATED)?;
         }
         for (i, m) in self.modes.iter().enumerate() {
             write!(
@@ -314,7 +315,7 @@ fn set_as_given(members: &[SetMember], options: &ModalOptions) -> Result<ModeSet
         return Err(ModalError::TooFewModes {
             reason: format!(
                 "no mode is stable in the stabilization diagram of the set{}",
-                diagram.why_too_few(options)
+                why_too_few(&diagram, options)
             ),
             diagram: Box::new(diagram),
         });

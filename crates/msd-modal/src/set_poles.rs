@@ -22,12 +22,12 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::correlated::{complex_inner, sandwich};
-use crate::error::{ModalError, Result, not_identifiable};
-use crate::lines::Lines;
-use crate::modal::term_with_gradient;
-use crate::noise_check::NoiseCheck;
 use crate::polish::lsfd_system;
+use msd_modal_core::correlated::{complex_inner, sandwich};
+use msd_modal_core::error::{ModalError, Result, not_identifiable};
+use msd_modal_core::lines::Lines;
+use msd_modal_core::modal::term_with_gradient;
+use msd_modal_core::noise_check::NoiseCheck;
 use msd_opt::statistics::Linearization;
 
 /// The refined poles (ωn, ζ), their covariance (rows ωn₁, ζ₁, ωn₂, …), σ̂ and the

@@ -5,11 +5,11 @@ use std::f64::consts::TAU;
 
 use msd_signal::{Complex64, FrequencyResponseEstimate};
 
-use crate::diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableColumn};
-use crate::error::{ModalError, Result};
-use crate::lines::{Lines, prepare};
 use crate::lscf::{Lscf, roots_of};
 use crate::options::ModalOptions;
+use msd_modal_core::diagram::{DiagramOrder, DiagramPole, StabilizationDiagram, StableColumn};
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::lines::{Lines, prepare};
 
 /// The stabilization diagram of `frf` and the modes selected from it (see
 /// [`ModalOptions`] for the orders, the tolerances and the selection).
@@ -39,6 +39,43 @@ use crate::options::ModalOptions;
 /// assert_eq!(diagram.modes.len(), 2);
 /// assert!((diagram.modes[1].natural_frequency_hz / 17.0 - 1.0).abs() < 1e-3);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// Order by order, a pole of the diagram:
+///
+/// ```
+/// use msd_modal::{ModalOptions, stabilization_diagram, synthetic_frequency_response, ModalParameters};
+/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
+///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.0, 1, |f| mode.receptance(f))?;
+/// let diagram = stabilization_diagram(&frf, &ModalOptions { orders: [2, 10], ..ModalOptions::default() })?;
+/// // The z-domain model needs a little more than the mode's two poles: order 2 puts it
+/// // at 5.003 Hz (ζ = 0.0286), order 4 at 4.9997 Hz (ζ = 0.03002: stable in frequency,
+/// // not yet in damping), order 6 at 5.00002 Hz, the first stable in both.
+/// let order_6 = &diagram.orders[2];
+/// assert_eq!(order_6.order, 6);
+/// let pole = order_6.poles.iter().find(|p| p.stable).expect("the mode is stable");
+/// assert!((pole.natural_frequency_hz / 5.0 - 1.0).abs() < 1e-4);
+/// assert!(diagram.orders[1].poles.iter().all(|p| p.stable_frequency && !p.stable));
+/// assert_eq!(diagram.modes.len(), 1);
+/// assert_eq!(diagram.modes[0].stable_orders, 4); // stable in frequency at orders 4 to 10
+/// # Ok::<(), msd_modal::ModalError>(())
+/// ```
+///
+/// Displayed (one line per selected mode) and serialized with every order's poles:
+///
+/// ```
+/// use msd_modal::{ModalOptions, stabilization_diagram, synthetic_frequency_response, ModalParameters};
+/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
+///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
+/// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
+/// let frf = synthetic_frequency_response(&f, 0.01, 1, |f| mode.receptance(f))?;
+/// let diagram = stabilization_diagram(&frf, &ModalOptions::default())?;
+/// assert!(diagram.to_string().starts_with("stabilization diagram, orders 2–40"));
+/// let json = serde_json::to_value(&diagram).expect("serializable");
+/// assert_eq!(json["orders"].as_array().map(Vec::len), Some(20));
+/// # Ok::<(), msd_modal::ModalError>(())
 /// ```
 pub fn stabilization_diagram(
     frf: &FrequencyResponseEstimate,
@@ -348,23 +385,21 @@ fn summarise(group: &[(usize, DiagramPole)]) -> StableColumn {
     }
 }
 
-impl StabilizationDiagram {
-    /// Why no mode (or too few) was selected: the candidate columns, where they are, the
-    /// likely causes and the keys to change (for an error message).
-    ///
-    /// ```
-    /// use msd_modal::{ModalOptions, stabilization_diagram, ModalParameters};
-    /// use msd_signal::{Complex64, FrequencyResponseEstimate};
-    /// // A smooth response with no mode in it.
-    /// let f: Vec<f64> = (1..=200).map(|i| i as f64).collect();
-    /// let h = f.iter().map(|&f| Complex64::new(1.0 + 1e-3 * f, 0.0)).collect();
-    /// let options = ModalOptions::default();
-    /// let diagram = stabilization_diagram(&FrequencyResponseEstimate::new(f, h)?, &options)?;
-    /// assert!(diagram.modes.is_empty());
-    /// assert!(diagram.why_too_few(&options).contains("orders[1]"));
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    pub fn why_too_few(&self, options: &ModalOptions) -> String {
-        explain(&self.candidates, self.orders.len(), options)
-    }
+/// Why `diagram` selected no mode (or too few): the candidate columns, where they are,
+/// the likely causes and the keys to change (for an error message).
+///
+/// ```
+/// use msd_modal::{ModalOptions, stabilization_diagram};
+/// use msd_signal::{Complex64, FrequencyResponseEstimate};
+/// // A smooth response with no mode in it.
+/// let f: Vec<f64> = (1..=200).map(|i| i as f64).collect();
+/// let h = f.iter().map(|&f| Complex64::new(1.0 + 1e-3 * f, 0.0)).collect();
+/// let options = ModalOptions::default();
+/// let diagram = stabilization_diagram(&FrequencyResponseEstimate::new(f, h)?, &options)?;
+/// assert!(diagram.modes.is_empty());
+/// assert!(msd_modal::why_too_few(&diagram, &options).contains("orders[1]"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn why_too_few(diagram: &StabilizationDiagram, options: &ModalOptions) -> String {
+    explain(&diagram.candidates, diagram.orders.len(), options)
 }

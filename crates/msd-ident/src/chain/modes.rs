@@ -2,7 +2,7 @@
 
 use super::problem::Layout;
 use super::setup::ChainParameters;
-use msd_modal::{Dof, Mode, ShapeEntry};
+use msd_modal_core::{Dof, Mode, ShapeEntry};
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::delta_variance;
 use msd_signal::Complex64;

@@ -7,7 +7,7 @@ use super::modes::modes_with_intervals;
 use super::problem::Layout;
 use super::setup::{ChainParameters, ChainSetup};
 use crate::uncertainty::t_975;
-use msd_modal::Mode;
+use msd_modal_core::Mode;
 use msd_opt::statistics::Interval;
 use msd_opt::statistics::{Linearization, SINGULAR_CONDITION, correlation};
 use nalgebra::{DMatrix, DVector};

@@ -3,7 +3,8 @@
 //! and the classroom half-power estimate beside them.
 //!
 //! The modal fits (the stabilization diagram, several modes, sets of FRFs, shapes) are
-//! msd-modal's; this fit uses its weighted lines ([`msd_modal::lines`]) and reports the
+//! msd-modal's; this fit shares their ground, msd-modal-core (its weighted lines,
+//! [`msd_modal_core::lines`]), and reports the
 //! plant in this crate's [`Parameters`](crate::params::Parameters) and
 //! [`Uncertainty`](crate::uncertainty::Uncertainty).
 //!

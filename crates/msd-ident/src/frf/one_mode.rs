@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{IdentError, Result};
 use crate::params::{PARAMETER_NAMES, Parameters};
 use crate::uncertainty::{ResidualNoise, Uncertainty, from_normal_matrix};
-use msd_modal::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
-use msd_modal::{
+use msd_modal_core::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
+use msd_modal_core::{
     DominantPeak, HalfPower, InputNoise, NoiseCheck, WindowCorrection, dominant_peak, half_power,
 };
 use msd_opt::statistics::{Interval, t_975};
@@ -22,7 +22,7 @@ use msd_opt::statistics::{Interval, t_975};
 ///
 /// ```
 /// use msd_ident::OneModeOptions;
-/// use msd_modal::FrfWeighting;
+/// use msd_modal_core::FrfWeighting;
 /// let options: OneModeOptions = toml::from_str("band_hz = [0.5, 2.0]\nweighting = \"variance\"")?;
 /// assert_eq!(options.band_hz, Some([0.5, 2.0]));
 /// assert_eq!(options.weighting, FrfWeighting::Variance);
@@ -33,7 +33,7 @@ use msd_opt::statistics::{Interval, t_975};
 #[serde(default, deny_unknown_fields)]
 pub struct OneModeOptions {
     /// The band to fit in Hz. By default `None`: the band around the dominant resonance
-    /// ([`dominant_peak`](msd_modal::dominant_peak): the highest peak, coherence
+    /// ([`dominant_peak`](msd_modal_core::dominant_peak): the highest peak, coherence
     /// weighted, ± 10 half-power bandwidths, cut at a valley before another peak), or
     /// every line above 0 Hz when no peak stands 10 dB above the median line.
     #[serde(default, deserialize_with = "msd_signal::pair::optional")]
@@ -57,7 +57,7 @@ impl OneModeOptions {
 ///
 /// ```
 /// use msd_ident::{fit_one_mode, OneModeOptions, Parameters, frequency::model_response};
-/// use msd_modal::synthetic_frequency_response;
+/// use msd_modal_core::synthetic_frequency_response;
 /// let f: Vec<f64> = (0..40).map(|i| 0.25 + 0.0577 * i as f64).collect();
 /// let sweep = synthetic_frequency_response(&f, 0.01, 1, |f| {
 ///     model_response(&Parameters::PAPER, std::f64::consts::TAU * f)
@@ -165,7 +165,7 @@ impl OneModeFit {
 impl std::fmt::Display for OneModeFit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let (lines, band, iterations) = (self.lines, self.band_hz, self.iterations);
-        msd_modal::lines::fit_line(
+        msd_modal_core::lines::fit_line(
             f,
             "one mode",
             lines,
@@ -206,7 +206,7 @@ impl std::fmt::Display for OneModeFit {
 ///
 /// ## The algorithm
 /// Without `options.band_hz` the band is that of the dominant resonance
-/// ([`dominant_peak`](msd_modal::dominant_peak)), or every line when no peak stands out
+/// ([`dominant_peak`](msd_modal_core::dominant_peak)), or every line when no peak stands out
 /// 10 dB. Levy's linear least squares (1/H ≈ k − mω² + jcω, each line weighted by
 /// |H|²/σ so its error approximates the error in H) gives the start (or, when it finds
 /// no resonance on noisy lines, the highest line and its half-power width); Levenberg–Marquardt
@@ -217,7 +217,7 @@ impl std::fmt::Display for OneModeFit {
 /// and weighting by it favours the lines that came out low. Coherence weights are then
 /// those of a noise model fitted to every line's coherence (white noise on the force and
 /// on the response: Var Ĥ_k ∝ a·|H_k|² + b·ω_k^(−2p), see
-/// [`Lines::smooth_coherence_weights`](msd_modal::lines::Lines::smooth_coherence_weights)):
+/// [`Lines::smooth_coherence_weights`](msd_modal_core::lines::Lines::smooth_coherence_weights)):
 /// with four averages one line's coherence has 6 degrees of freedom, and weights taken
 /// from it line by line made the intervals 20 % too narrow. The covariance
 /// is Gauss–Newton's s²(JᵀJ)⁻¹ with s² = SSE/(2K − 3), the intervals Student's t with

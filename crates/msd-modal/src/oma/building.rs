@@ -7,8 +7,8 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::{Deserialize, Serialize};
 
 use super::record::{OutputChannel, OutputRecord, Quantity};
-use crate::error::{ModalError, Result};
-use crate::mode::Dof;
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::mode::Dof;
 
 /// Floors of mass `masses[j]` (kg) on storeys of stiffness `stiffnesses[j]` (N/m, storey
 /// j between floor j − 1 and floor j, floor −1 the ground), every mode damped at

@@ -15,9 +15,9 @@ use super::select::Physical;
 use super::spectrum::{Line, SingularSpectrum, decompose, default_lags, spectral_matrix};
 use super::uncertainty::{mode_with_errors, standard_errors};
 use super::{OmaFit, OmaMethod};
-use crate::diagram::{StabilizationDiagram, StableColumn};
-use crate::error::{ModalError, Result};
 use crate::shapes::mac;
+use msd_modal_core::diagram::{StabilizationDiagram, StableColumn};
+use msd_modal_core::error::{ModalError, Result};
 
 /// The modes of an output-only record by EFDD, the peaks picked automatically (or nearest
 /// the named frequencies), with 95 % intervals on fn, ζ and every shape entry.
@@ -333,7 +333,7 @@ fn column_of(p: &Physical) -> StableColumn {
     }
 }
 
-fn column_of_mode(m: &crate::mode::Mode) -> StableColumn {
+fn column_of_mode(m: &msd_modal_core::mode::Mode) -> StableColumn {
     StableColumn {
         natural_frequency_hz: m.natural_frequency_hz.value,
         damping_ratio: m.damping_ratio.value,

@@ -10,9 +10,9 @@ use serde::Serialize;
 use super::OmaFit;
 use super::record::OutputRecord;
 use super::select::aligned;
-use crate::error::{ModalError, Result};
-use crate::mode::{Dof, Mode, ShapeEntry};
 use crate::shapes::mac;
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::mode::{Dof, Mode, ShapeEntry};
 
 /// One setup: its record (the channels' DOFs and directions) and its fit.
 #[derive(Debug, Clone, Copy)]

@@ -33,8 +33,8 @@ pub use record::{OutputChannel, OutputRecord, Quantity, direction_from_angles};
 pub use spectrum::{SingularSpectrum, singular_spectrum};
 pub use ssi::{ssi_cov, ssi_dat};
 
-use crate::diagram::{StabilizationDiagram, StableColumn};
-use crate::mode::Mode;
+use msd_modal_core::diagram::{StabilizationDiagram, StableColumn};
+use msd_modal_core::mode::Mode;
 
 /// The method that found an [`OmaFit`]'s modes.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

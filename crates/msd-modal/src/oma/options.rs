@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModalError, Result};
 use crate::options::{check_fractions, check_orders};
+use msd_modal_core::error::{ModalError, Result};
 
 /// Options of [`ssi_cov`](crate::ssi_cov) (in TOML: a table with any of these fields).
 /// Every threshold of the automatic selection is here, with the reason for its default.
@@ -87,7 +87,7 @@ impl Default for OmaOptions {
 impl OmaOptions {
     /// Checks every option, naming the first out of range.
     pub fn validate(&self) -> Result<()> {
-        crate::lines::check_band(self.band_hz)?;
+        msd_modal_core::lines::check_band(self.band_hz)?;
         check_orders(self.orders, self.order_step)?;
         check_fractions(&[
             ("max_damping_ratio", self.max_damping_ratio),
@@ -192,7 +192,7 @@ impl Default for FddOptions {
 impl FddOptions {
     /// Checks every option, naming the first out of range.
     pub fn validate(&self) -> Result<()> {
-        crate::lines::check_band(self.band_hz)?;
+        msd_modal_core::lines::check_band(self.band_hz)?;
         check_fractions(&[
             ("bell_mac", self.bell_mac),
             ("min_correlation", self.min_correlation),

@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{ModalError, Result};
-use crate::mode::Dof;
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::mode::Dof;
 
 /// What a channel measures. Shapes are reported as displacement shapes: a velocity
 /// channel's entry divided by the pole λ, an acceleration's by λ².

@@ -7,9 +7,9 @@
 use msd_signal::Complex64;
 
 use super::options::OmaOptions;
-use crate::diagram::{DiagramOrder, DiagramPole, StableColumn};
-use crate::error::{ModalError, Result};
 use crate::shapes::mac;
+use msd_modal_core::diagram::{DiagramOrder, DiagramPole, StableColumn};
+use msd_modal_core::error::{ModalError, Result};
 
 /// A pole that passed the hard criteria, with its displacement shape.
 #[derive(Debug, Clone)]

@@ -14,7 +14,7 @@ use serde::Serialize;
 use super::covariance::{BlockCovariances, Lags};
 use super::horizon::lowest_peak_hz;
 use super::record::OutputRecord;
-use crate::error::{ModalError, Result};
+use msd_modal_core::error::{ModalError, Result};
 
 /// The singular values of a record's output spectral matrix by frequency (the complex
 /// mode indicator function): peaks of the first are modes, a second rising with it marks

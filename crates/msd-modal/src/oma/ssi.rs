@@ -14,10 +14,10 @@ use super::select::{
 use super::subspace::{Pole, Subspace};
 use super::uncertainty::{StandardErrors, Target, jackknife, mode_with_errors};
 use super::{OmaFit, OmaMethod};
-use crate::diagram::StabilizationDiagram;
-use crate::error::{ModalError, Result};
-use crate::mode::Mode;
-use crate::shapes::modal_phase_collinearity;
+use msd_modal_core::diagram::StabilizationDiagram;
+use msd_modal_core::error::{ModalError, Result};
+use msd_modal_core::mode::Mode;
+use msd_modal_core::phase::modal_phase_collinearity;
 use nalgebra::DMatrix;
 
 /// The modes of an output-only record by SSI-cov/ref, selected automatically (or at the
@@ -214,7 +214,7 @@ fn subspace_identification(
 
 /// Marks in the diagram each pole that formed a chosen cluster with that mode's index.
 fn mark_modes(
-    diagram: &mut [crate::diagram::DiagramOrder],
+    diagram: &mut [msd_modal_core::diagram::DiagramOrder],
     chosen: &[usize],
     found: &[super::select::Cluster],
     poles: &[Physical],

@@ -15,7 +15,7 @@ use super::covariance::BlockCovariances;
 use super::record::OutputRecord;
 use super::select::{Physical, aligned, distance, mean_pole};
 use super::subspace::{Pole, Subspace};
-use crate::mode::{Mode, ShapeEntry};
+use msd_modal_core::mode::{Mode, ShapeEntry};
 use nalgebra::DMatrix;
 
 /// The covariances (from lag 0) to the matrix whose SVD gives the observability matrix

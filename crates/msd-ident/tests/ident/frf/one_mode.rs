@@ -3,7 +3,7 @@
 
 use super::table;
 use msd_ident::{IdentError, OneModeOptions, Parameters, fit_one_mode, frequency::model_response};
-use msd_modal::{FrfWeighting, ModalError, half_power, synthetic_frequency_response};
+use msd_modal_core::{FrfWeighting, ModalError, half_power, synthetic_frequency_response};
 use msd_signal::{Complex64, FrequencyResponseEstimate, FrfKind};
 use std::f64::consts::TAU;
 

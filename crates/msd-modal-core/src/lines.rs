@@ -18,8 +18,10 @@ pub const COHERENCE_CEILING: f64 = 1.0 - 1e-6;
 /// fit estimates from the residuals).
 ///
 /// ```
-/// use msd_modal::{FrfWeighting, ModalOptions};
-/// let options: ModalOptions = toml::from_str(r#"weighting = "relative""#)?;
+/// use msd_modal_core::FrfWeighting;
+/// #[derive(serde::Deserialize)]
+/// struct Options { weighting: FrfWeighting }
+/// let options: Options = toml::from_str(r#"weighting = "relative""#)?;
 /// assert_eq!(options.weighting, FrfWeighting::Relative);
 /// assert_eq!(FrfWeighting::default(), FrfWeighting::Coherence);
 /// assert_eq!(FrfWeighting::Relative.to_string(), "relative");
@@ -431,7 +433,7 @@ impl Lines {
 
     /// These lines with the response replaced by the summed magnitudes of `all` (lines on
     /// the same axis): where a set's modes show as peaks.
-    pub(crate) fn summed_magnitudes(&self, all: &[Lines]) -> Lines {
+    pub fn summed_magnitudes(&self, all: &[Lines]) -> Lines {
         let mut out = self.clone();
         for (k, h) in out.h.iter_mut().enumerate() {
             *h = Complex64::new(all.iter().map(|l| l.h[k].norm()).sum(), 0.0);
@@ -445,7 +447,7 @@ impl Lines {
     /// at least two lines on each side) (as a
     /// mode's peak stands above its half-power points). A pole of the model alone (noise,
     /// or the skirt of another mode) has none.
-    pub(crate) fn has_peak(&self, natural_frequency_hz: f64, damping_ratio: f64) -> bool {
+    pub fn has_peak(&self, natural_frequency_hz: f64, damping_ratio: f64) -> bool {
         let n = self.omega.len();
         if n < 3 {
             return true;
@@ -504,10 +506,10 @@ impl Lines {
     }
 }
 
-#[cfg(test)]
 impl Lines {
-    /// Lines with uniform weights, for unit tests.
-    pub(crate) fn for_tests(omega: Vec<f64>, h: Vec<Complex64>) -> Self {
+    /// Lines at angular frequencies `omega` (rad/s, increasing) with uniform weights, as
+    /// receptance: for a fit's own tests on exact data.
+    pub fn uniform(omega: Vec<f64>, h: Vec<Complex64>) -> Self {
         let n = omega.len();
         Self {
             band_hz: [omega[0] / TAU, omega[n - 1] / TAU],
@@ -536,7 +538,7 @@ impl Lines {
 /// conjugate of h·(jω)^p when they are `conjugated` (r = (−1)^p·h̄), else h.
 ///
 /// ```
-/// use msd_modal::lines::as_measured;
+/// use msd_modal_core::lines::as_measured;
 /// use msd_signal::{Complex64, FrfKind};
 /// let h = Complex64::new(1.0, -2.0);
 /// assert_eq!(as_measured(h, false, FrfKind::Mobility), h);

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// ζ_added = ζ' − ζ ≈ 1/(ωn·τ).
 ///
 /// ```
-/// use msd_modal::WindowCorrection;
+/// use msd_modal_core::WindowCorrection;
 /// let c = WindowCorrection { decay_time: 0.5, natural_frequency_hz_windowed: 10.0,
 ///     damping_ratio_windowed: 0.05, damping_ratio_added: 0.03 };
 /// assert_eq!(c.to_string(),
@@ -40,7 +40,7 @@ impl std::fmt::Display for WindowCorrection {
 
 /// (ωn, ζ) of the pole of the windowed fit (ωn', ζ') moved right by `a`, and the
 /// Jacobian ∂(ωn, ζ)/∂(ωn', ζ') (rows ωn, ζ).
-pub(crate) fn unshift_pole(wn: f64, zeta: f64, a: f64) -> ([f64; 2], [[f64; 2]; 2]) {
+pub fn unshift_pole(wn: f64, zeta: f64, a: f64) -> ([f64; 2], [[f64; 2]; 2]) {
     let sigma = zeta * wn - a;
     let wn_true = (wn * wn - 2.0 * a * zeta * wn + a * a).sqrt();
     let dwn = [(wn - a * zeta) / wn_true, -a * wn / wn_true];

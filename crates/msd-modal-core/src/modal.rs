@@ -19,7 +19,7 @@ use serde::{Deserialize, Serialize};
 /// test the viscous form biased the lowest mode's ζ by 40–50 % against local fits).
 ///
 /// ```
-/// use msd_modal::ModalParameters;
+/// use msd_modal_core::ModalParameters;
 /// // The paper's plant, m = 2.5 kg, k = 120 N/m, c = 1.8 N·s/m: A = 1/m.
 /// let mode = ModalParameters {
 ///     natural_frequency_hz: (120.0f64 / 2.5).sqrt() / std::f64::consts::TAU,
@@ -62,14 +62,14 @@ impl ModalParameters {
 }
 
 /// The contribution of the mode θ = (ωn, ζ, A, B) at ω.
-pub(crate) fn term(theta: &[f64], w: f64) -> Complex64 {
+pub fn term(theta: &[f64], w: f64) -> Complex64 {
     let (wn, zeta, a, b) = (theta[0], theta[1], theta[2], theta[3]);
     Complex64::new(a, b) / Complex64::new(wn * wn - w * w, 2.0 * zeta * wn * w)
 }
 
 /// The contribution of the mode θ = (ωn, ζ, A, B) at ω and its derivatives with respect
 /// to ωn, ζ, A and B.
-pub(crate) fn term_with_gradient(theta: &[f64], w: f64) -> (Complex64, [Complex64; 4]) {
+pub fn term_with_gradient(theta: &[f64], w: f64) -> (Complex64, [Complex64; 4]) {
     let (wn, zeta, a, b) = (theta[0], theta[1], theta[2], theta[3]);
     let inv_d = Complex64::new(1.0, 0.0) / Complex64::new(wn * wn - w * w, 2.0 * zeta * wn * w);
     let n = Complex64::new(a, b);

@@ -14,7 +14,7 @@ use crate::error::Result;
 /// non-finite noise level, and a response that is not finite.
 ///
 /// ```
-/// use msd_modal::synthetic_frequency_response;
+/// use msd_modal_core::synthetic_frequency_response;
 /// use msd_signal::Complex64;
 /// // The paper's plant (m 2.5 kg, c 1.8 N·s/m, k 120 N/m) measured at 40 frequencies
 /// // with 1 % complex noise.
@@ -25,7 +25,7 @@ use crate::error::Result;
 /// })?;
 /// assert_eq!(sweep.h.len(), 40);
 /// assert!(sweep.variance.is_some());
-/// # Ok::<(), msd_modal::ModalError>(())
+/// # Ok::<(), msd_modal_core::ModalError>(())
 /// ```
 pub fn synthetic_frequency_response(
     frequency_hz: &[f64],

@@ -27,7 +27,7 @@ impl Lines {
     /// Each column of the weighted Jacobian as complex z_k = J_re,k + j·J_im,k, and R·z
     /// (see [`error_information`](Self::error_information)); `None` when the
     /// correlation is not known.
-    pub(crate) fn correlated_columns(&self, jacobian: &DMatrix<f64>) -> Option<ComplexColumns> {
+    pub fn correlated_columns(&self, jacobian: &DMatrix<f64>) -> Option<ComplexColumns> {
         if self.correlation.is_empty() {
             return None;
         }
@@ -49,7 +49,7 @@ impl Lines {
 
     /// r_k = √(1 − f_k²) and f_k·φ_k of every line: the response's and the force's parts
     /// of its weighted error (see [`error_information`](Self::error_information)).
-    pub(crate) fn shares(&self) -> (Vec<f64>, Vec<Complex64>) {
+    pub fn shares(&self) -> (Vec<f64>, Vec<Complex64>) {
         let n = self.omega.len();
         let share = |k: usize| self.force_share.get(k).copied().unwrap_or(0.0);
         let response = (0..n).map(|k| (1.0 - share(k)).sqrt()).collect();
@@ -64,7 +64,7 @@ impl Lines {
 
     /// R·z for one column z of the complex Jacobian (see
     /// [`error_information`](Self::error_information)).
-    pub(crate) fn correlate(
+    pub fn correlate(
         &self,
         z: &[Complex64],
         response: &[f64],
@@ -130,19 +130,16 @@ impl Lines {
 }
 
 /// Columns of a Jacobian in complex form, and the same columns times R.
-pub(crate) type ComplexColumns = (Vec<Vec<Complex64>>, Vec<Vec<Complex64>>);
+pub type ComplexColumns = (Vec<Vec<Complex64>>, Vec<Vec<Complex64>>);
 
 /// Re Σ_k conj(a_k)·b_k: the real inner product of two columns in complex form.
-pub(crate) fn complex_inner(a: &[Complex64], b: &[Complex64]) -> f64 {
+pub fn complex_inner(a: &[Complex64], b: &[Complex64]) -> f64 {
     a.iter().zip(b).map(|(a, b)| (a.conj() * b).re).sum()
 }
 
 /// (A·G⁻¹·A, tr(A⁻¹G)) for a normal matrix A = JᵀJ and the errors' information
 /// G = JᵀCJ, in columns scaled to unit norm; `None` when either is not positive definite.
-pub(crate) fn sandwich(
-    normal: &DMatrix<f64>,
-    information: &DMatrix<f64>,
-) -> Option<(DMatrix<f64>, f64)> {
+pub fn sandwich(normal: &DMatrix<f64>, information: &DMatrix<f64>) -> Option<(DMatrix<f64>, f64)> {
     let p = normal.nrows();
     let norms: Vec<f64> = (0..p)
         .map(|j| normal[(j, j)].sqrt().max(f64::MIN_POSITIVE))
@@ -201,7 +198,7 @@ mod tests {
     /// from two or more averages), at least 1.
     #[test]
     fn residual_variance_is_floored_by_the_coherences_own() {
-        let mut lines = Lines::for_tests(vec![1.0, 2.0], vec![Complex64::new(1.0, 0.0); 2]);
+        let mut lines = Lines::uniform(vec![1.0, 2.0], vec![Complex64::new(1.0, 0.0); 2]);
         assert_eq!(lines.residual_variance(0.5, 2.0), 0.25);
         lines.noise_model = Some(CoherenceNoise {
             force: 1e-5,

@@ -20,7 +20,7 @@ pub const PROMINENCE: f64 = 10.0;
 /// The dominant resonance of a frequency response (see [`dominant_peak`]).
 ///
 /// ```
-/// use msd_modal::{ModalParameters, dominant_peak};
+/// use msd_modal_core::{ModalParameters, dominant_peak};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let modes = [(40.0, 0.01, 1.0), (90.0, 0.01, 2.0)].map(|(f, z, a)| ModalParameters {
 ///     natural_frequency_hz: f, damping_ratio: z, modal_constant: a, modal_constant_imaginary: 0.0 });

@@ -6,26 +6,6 @@
 use serde::Serialize;
 
 /// One pole of one model order in the diagram.
-///
-/// ```
-/// use msd_modal::{ModalOptions, stabilization_diagram, synthetic_frequency_response, ModalParameters};
-/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
-///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
-/// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
-/// let frf = synthetic_frequency_response(&f, 0.0, 1, |f| mode.receptance(f))?;
-/// let diagram = stabilization_diagram(&frf, &ModalOptions { orders: [2, 10], ..ModalOptions::default() })?;
-/// // The z-domain model needs a little more than the mode's two poles: order 2 puts it
-/// // at 5.003 Hz (ζ = 0.0286), order 4 at 4.9997 Hz (ζ = 0.03002: stable in frequency,
-/// // not yet in damping), order 6 at 5.00002 Hz, the first stable in both.
-/// let order_6 = &diagram.orders[2];
-/// assert_eq!(order_6.order, 6);
-/// let pole = order_6.poles.iter().find(|p| p.stable).expect("the mode is stable");
-/// assert!((pole.natural_frequency_hz / 5.0 - 1.0).abs() < 1e-4);
-/// assert!(diagram.orders[1].poles.iter().all(|p| p.stable_frequency && !p.stable));
-/// assert_eq!(diagram.modes.len(), 1);
-/// assert_eq!(diagram.modes[0].stable_orders, 4); // stable in frequency at orders 4 to 10
-/// # Ok::<(), msd_modal::ModalError>(())
-/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DiagramPole {
     /// fn = |λ|/2π, Hz.
@@ -45,7 +25,7 @@ pub struct DiagramPole {
 }
 
 /// The physical poles of one model order (Im λ > 0, Re λ < 0, fn in the band,
-/// ζ ≤ `max_damping_ratio`), by frequency (see [`DiagramPole`] for an example).
+/// ζ ≤ `max_damping_ratio`), by frequency.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DiagramOrder {
     /// The order n of the common denominator (n poles, n/2 conjugate pairs at most).
@@ -55,8 +35,7 @@ pub struct DiagramOrder {
 }
 
 /// A column of the diagram: poles stable at several orders, at nearly one frequency (a
-/// candidate mode)
-/// (see [`DiagramPole`] for an example).
+/// candidate mode).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct StableColumn {
     /// The median fn of its stable poles, Hz.
@@ -73,20 +52,8 @@ pub struct StableColumn {
 /// The stabilization diagram of a frequency response and the modes selected from it.
 ///
 /// Displays one line per selected mode; serializes with every order's poles and flags,
-/// for a plot.
-///
-/// ```
-/// use msd_modal::{ModalOptions, stabilization_diagram, synthetic_frequency_response, ModalParameters};
-/// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.03,
-///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
-/// let f: Vec<f64> = (1..=200).map(|i| 0.05 * i as f64).collect();
-/// let frf = synthetic_frequency_response(&f, 0.01, 1, |f| mode.receptance(f))?;
-/// let diagram = stabilization_diagram(&frf, &ModalOptions::default())?;
-/// assert!(diagram.to_string().starts_with("stabilization diagram, orders 2–40"));
-/// let json = serde_json::to_value(&diagram).expect("serializable");
-/// assert_eq!(json["orders"].as_array().map(Vec::len), Some(20));
-/// # Ok::<(), msd_modal::ModalError>(())
-/// ```
+/// for a plot (`msd_modal::stabilization_diagram` fills one; its documentation shows
+/// both).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StabilizationDiagram {
     /// Every order, lowest first.

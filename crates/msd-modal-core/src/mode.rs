@@ -7,14 +7,14 @@ use msd_signal::Complex64;
 use serde::{Deserialize, Serialize};
 
 use crate::modal::ModalParameters;
-use crate::shapes::{mean_phase_deviation, modal_phase_collinearity};
+use crate::phase::{mean_phase_deviation, modal_phase_collinearity};
 use crate::window::WindowCorrection;
 
 /// A measurement point and direction (as UFF numbers them: direction 1, 2, 3 = +X, +Y,
 /// +Z, negative for the opposite sense). Displays as `node:direction`, e.g. `3:+2`.
 ///
 /// ```
-/// use msd_modal::Dof;
+/// use msd_modal_core::Dof;
 /// assert_eq!(Dof { node: 3, direction: -2 }.to_string(), "3:-2");
 /// ```
 #[derive(
@@ -31,7 +31,7 @@ impl Dof {
     /// Whether the direction is one UFF numbers: ±1 … ±6.
     ///
     /// ```
-    /// use msd_modal::Dof;
+    /// use msd_modal_core::Dof;
     /// assert!(Dof { node: 3, direction: -3 }.is_valid());
     /// assert!(!Dof { node: 3, direction: 0 }.is_valid());
     /// assert!(!Dof { node: 3, direction: 7 }.is_valid());
@@ -52,7 +52,7 @@ impl std::fmt::Display for Dof {
 /// imaginary parts.
 ///
 /// ```
-/// use msd_modal::{Dof, ShapeEntry};
+/// use msd_modal_core::{Dof, ShapeEntry};
 /// use msd_signal::Complex64;
 /// let e = ShapeEntry::new(Dof { node: 4, direction: 3 }, Complex64::new(0.5, -0.1));
 /// assert_eq!((e.node, e.direction, e.re, e.im, e.standard_error), (4, 3, 0.5, -0.1, None));
@@ -109,14 +109,14 @@ impl ShapeEntry {
 /// One mode: natural frequency and damping ratio with their 95 % intervals, the shape
 /// over named DOFs, the modal constants where a force was measured, and the quantities
 /// that judge a shape. Every method of the toolkit reports its modes as this type:
-/// [`fit_modes`](crate::fit_modes) (one FRF: one modal constant, no shape),
-/// [`fit_mode_set`](crate::fit_mode_set) (a set: constants, shape, MPC/MPD, modal mass),
+/// msd-modal's `fit_modes` (one FRF: one modal constant, no shape),
+/// `fit_mode_set` (a set: constants, shape, MPC/MPD, modal mass),
 /// msd-ident's chains (the shape over the masses with standard errors).
 ///
 /// Displays as one line: fn, ζ, then what the method measured.
 ///
 /// ```
-/// use msd_modal::{Dof, Mode, ShapeEntry};
+/// use msd_modal_core::{Dof, Mode, ShapeEntry};
 /// use msd_opt::statistics::Interval;
 /// use msd_signal::Complex64;
 /// let shape = [1.0, -0.62].iter().enumerate()

@@ -9,7 +9,7 @@
 //! [`Lines::smooth_coherence_weights`]) has the force's noise in a, the response's in b.
 //! With K averages, q_k = (1 − γ̂²)/(2K·γ̂²)·|Ĥ|², so the force's part of the mean
 //! (1 − γ̂²)/γ̂² is 2K·a, and that is H1's relative bias: simulated over 400,000 lines
-//! with K = 4, E[Ĥ1]/H − 1 = −N_x/S_uu and E[(1 − γ̂²)/γ̂²] = (N_x + N_y/|H|²)/S_uu for a
+//! with K = 4, E\[Ĥ1\]/H − 1 = −N_x/S_uu and E\[(1 − γ̂²)/γ̂²\] = (N_x + N_y/|H|²)/S_uu for a
 //! random force, and (K − 1)/K of both for a force that repeats from record to record.
 //! H1·(1 + 2K·a) is then consistent.
 //!
@@ -36,7 +36,7 @@ use msd_signal::Estimator;
 /// the lines were raised by it.
 ///
 /// ```
-/// use msd_modal::InputNoise;
+/// use msd_modal_core::InputNoise;
 /// let n = InputNoise { h1_bias: 0.004, corrected: true, measured: false };
 /// assert_eq!(
 ///     n.to_string(),

@@ -26,7 +26,7 @@ pub const NOISE_CHECK_LEVEL: f64 = 0.01;
 /// noise: a mode the model lacks, a nonlinearity, leakage.
 ///
 /// ```
-/// use msd_modal::NoiseCheck;
+/// use msd_modal_core::NoiseCheck;
 /// // SSE 520 where the noise alone gives 500 ± √(2·400·(500/400)) on 400 effective dof.
 /// let check = NoiseCheck::from_moments(520.0, 500.0, 1250.0).expect("valid moments");
 /// assert!((check.degrees_of_freedom - 400.0).abs() < 1e-9);
@@ -99,7 +99,7 @@ impl Lines {
     /// A = JᵀJ, G = JᵀCJ and H = JᵀC²J: tr(MC) = tr C − tr(A⁻¹G) and
     /// tr(MCMC) = tr C² − 2·tr(A⁻¹H) + tr((A⁻¹G)²); tr C = rows (every weighted error
     /// of unit variance). Formed with the columns scaled to unit norm.
-    pub(crate) fn residual_moments(&self, jacobian: &DMatrix<f64>) -> Option<(f64, f64)> {
+    pub fn residual_moments(&self, jacobian: &DMatrix<f64>) -> Option<(f64, f64)> {
         let (rows, p) = jacobian.shape();
         let norms: Vec<f64> = (0..p)
             .map(|j| jacobian.column(j).norm().max(f64::MIN_POSITIVE))

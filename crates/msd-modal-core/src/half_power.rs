@@ -75,7 +75,7 @@ impl std::fmt::Display for HalfPower {
 /// a half-power point lies outside it, and on a malformed band.
 ///
 /// ```
-/// use msd_modal::{half_power, ModalParameters};
+/// use msd_modal_core::{half_power, ModalParameters};
 /// use msd_signal::FrequencyResponseEstimate;
 /// let mode = ModalParameters { natural_frequency_hz: 5.0, damping_ratio: 0.02,
 ///     modal_constant: 1.0, modal_constant_imaginary: 0.0 };
