@@ -133,6 +133,7 @@ impl Lines {
 pub type ComplexColumns = (Vec<Vec<Complex64>>, Vec<Vec<Complex64>>);
 
 /// Re Σ_k conj(a_k)·b_k: the real inner product of two columns in complex form.
+#[inline]
 pub fn complex_inner(a: &[Complex64], b: &[Complex64]) -> f64 {
     a.iter().zip(b).map(|(a, b)| (a.conj() * b).re).sum()
 }

@@ -48,6 +48,7 @@ pub struct ModalParameters {
 
 impl ModalParameters {
     /// This mode's contribution to the receptance at `frequency_hz`.
+    #[inline]
     pub fn receptance(&self, frequency_hz: f64) -> Complex64 {
         term(
             &[
@@ -62,6 +63,7 @@ impl ModalParameters {
 }
 
 /// The contribution of the mode θ = (ωn, ζ, A, B) at ω.
+#[inline]
 pub fn term(theta: &[f64], w: f64) -> Complex64 {
     let (wn, zeta, a, b) = (theta[0], theta[1], theta[2], theta[3]);
     Complex64::new(a, b) / Complex64::new(wn * wn - w * w, 2.0 * zeta * wn * w)
@@ -69,6 +71,7 @@ pub fn term(theta: &[f64], w: f64) -> Complex64 {
 
 /// The contribution of the mode θ = (ωn, ζ, A, B) at ω and its derivatives with respect
 /// to ωn, ζ, A and B.
+#[inline]
 pub fn term_with_gradient(theta: &[f64], w: f64) -> (Complex64, [Complex64; 4]) {
     let (wn, zeta, a, b) = (theta[0], theta[1], theta[2], theta[3]);
     let inv_d = Complex64::new(1.0, 0.0) / Complex64::new(wn * wn - w * w, 2.0 * zeta * wn * w);
