@@ -643,7 +643,8 @@ pub struct DataSection {
     /// Sampling rate, Hz; give this or `time`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sample_rate: Option<f64>,
-    /// Field delimiter. By default `","`.
+    /// Field delimiter. By default `","`; `" "` for columns separated by runs of spaces
+    /// or tabs (NumPy's `savetxt`, MATLAB's `save -ascii`).
     #[serde(default = "default_delimiter")]
     pub delimiter: char,
     /// The decimal mark: `"."` (the default) or `","` (with a delimiter other than `","`,

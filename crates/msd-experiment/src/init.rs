@@ -18,7 +18,7 @@
 
 use crate::config::Quantity;
 use crate::error::{ExperimentError, Result};
-use crate::inspect::{Column, Survey, survey};
+use crate::inspect::{Column, Survey, config_lines, survey};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -92,6 +92,19 @@ struct Channel<'a> {
 /// ```
 pub fn init(path: &Path, options: &InitOptions) -> Result<Init> {
     let survey = survey(path)?;
+    if survey.columns.iter().any(|c| c.complex) {
+        // A frequency response measured line by line: a config of its own kind.
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "a column of complex numbers: a frequency response, which msd init does not write a config for (it writes those of time records); a config with these lines reads it (fill in what is marked …):\n{}",
+                config_lines(&survey.file_name, &survey.columns, &survey.keys)
+                    .trim()
+                    .split_once('\n')
+                    .map_or("", |(_, lines)| lines)
+            ),
+        ));
+    }
     let config_path = options
         .config
         .clone()
@@ -651,6 +664,7 @@ mod tests {
             range: None,
             step: None,
             rate: None,
+            complex: false,
         }
     }
 

@@ -2,9 +2,10 @@
 //! sampling rate, how a text file is written (encoding, delimiter, decimal mark,
 //! metadata and units lines, missing values) — and the config lines that read it.
 
-use crate::data::text::{self, Missing, TextFormat};
+use crate::data::text::{self, Missing, TextFormat, complex_cell};
 use crate::error::{ExperimentError, Result};
 use crate::fmt::short;
+use msd_signal::Complex64;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -79,6 +80,9 @@ pub(crate) struct Column {
     pub step: Option<f64>,
     /// The sampling rate the file gives, Hz.
     pub rate: Option<f64>,
+    /// Whether it holds complex numbers as text (`(a+bj)`, `a+bi`): a frequency
+    /// response measured line by line; `range` is then that of their magnitudes.
+    pub complex: bool,
 }
 
 impl Column {
@@ -102,7 +106,68 @@ impl Column {
             range,
             step,
             rate,
+            complex: false,
         }
+    }
+
+    /// A column of complex numbers, `range` that of their magnitudes.
+    fn complex(name: &str, unit: Option<String>, values: &[Complex64]) -> Self {
+        let magnitudes: Vec<f64> = values.iter().map(|z| z.norm()).collect();
+        Self {
+            complex: true,
+            step: None,
+            ..Self::of(name, unit, &magnitudes, None)
+        }
+    }
+}
+
+/// The cells of a text table as numbers (NaN where a cell is not one) and, where every
+/// cell of a column is a complex number as text, as complex numbers.
+struct Cells {
+    names: Vec<String>,
+    values: Vec<Vec<f64>>,
+    complex: Vec<Vec<Complex64>>,
+    rows: usize,
+}
+
+impl Cells {
+    fn read(path: &Path, bytes: &[u8], format: &TextFormat) -> Result<Self> {
+        let mut cells = Cells {
+            names: Vec::new(),
+            values: Vec::new(),
+            complex: Vec::new(),
+            rows: 0,
+        };
+        text::scan(
+            path,
+            bytes,
+            format,
+            |h| {
+                cells.names = h.map(|h| h.names.clone()).unwrap_or_default();
+                Ok(())
+            },
+            |_, _, r| {
+                let width = cells.values.len().max(r.len());
+                cells.values.resize(width, Vec::new());
+                cells.complex.resize(width, Vec::new());
+                for (k, cell) in r.iter().enumerate() {
+                    let v = text::parse_cell(cell, format.decimal, Missing::Interpolate)
+                        .unwrap_or(f64::NAN);
+                    cells.values[k].push(v);
+                    if let Some(z) = complex_cell(cell) {
+                        cells.complex[k].push(z);
+                    }
+                }
+                cells.rows += 1;
+                Ok(())
+            },
+        )?;
+        Ok(cells)
+    }
+
+    /// Whether column `k` holds complex numbers: every row one, none a plain number.
+    fn is_complex(&self, k: usize) -> bool {
+        self.rows > 0 && self.complex[k].len() == self.rows
     }
 }
 
@@ -110,7 +175,8 @@ impl Column {
 fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
     let (decoded, encoding) = text::decode(bytes);
     let (delimiter, decimal) = text::sniff(&decoded);
-    let format = TextFormat {
+    let decoded = text::whitespace_runs(decoded, delimiter);
+    let mut format = TextFormat {
         delimiter,
         decimal,
         header: true,
@@ -123,36 +189,31 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
         .filter_map(|(i, b)| (b == b'\n').then_some(i))
         .collect();
     let layout = text::layout(decoded.as_bytes(), &newlines, &format);
-    let mut names = Vec::new();
-    let mut values: Vec<Vec<f64>> = Vec::new();
-    let mut missing = 0usize;
-    let mut rows = 0usize;
-    text::scan(
-        path,
-        bytes,
-        &format,
-        |h| {
-            names = h.map(|h| h.names.clone()).unwrap_or_default();
-            Ok(())
-        },
-        |_, _, r| {
-            values.resize(values.len().max(r.len()), Vec::new());
-            for (k, cell) in r.iter().enumerate() {
-                let v = text::parse_cell(cell, decimal, Missing::Interpolate).unwrap_or(f64::NAN);
-                missing += usize::from(v.is_nan());
-                values[k].push(v);
-            }
-            rows += 1;
-            Ok(())
-        },
-    )?;
-    let columns: Vec<Column> = values
-        .iter()
-        .enumerate()
+    let mut cells = Cells::read(path, bytes, &format)?;
+    // A table of complex numbers with no header: its first line was taken for one.
+    let headless = (0..cells.values.len()).any(|k| cells.is_complex(k))
+        && cells
+            .names
+            .iter()
+            .all(|n| complex_cell(n).is_some() || text::number(n.trim(), decimal).is_some());
+    if headless {
+        format.header = false;
+        cells = Cells::read(path, bytes, &format)?;
+    }
+    let missing = (0..cells.values.len())
+        .filter(|&k| !cells.is_complex(k))
+        .map(|k| cells.values[k].iter().filter(|v| v.is_nan()).count())
+        .sum::<usize>();
+    let rows = cells.rows;
+    let columns: Vec<Column> = (cells.values.iter().enumerate())
         .map(|(k, v)| {
-            let name = names.get(k).cloned().unwrap_or_else(|| k.to_string());
+            let name = cells.names.get(k).cloned().unwrap_or_else(|| k.to_string());
             let unit = layout.units.get(k).cloned().filter(|u| !u.is_empty());
-            Column::of(&name, unit, v, None)
+            if cells.is_complex(k) {
+                Column::complex(&name, unit, &cells.complex[k])
+            } else {
+                Column::of(&name, unit, v, None)
+            }
         })
         .collect();
     let mut out = format!(
@@ -162,6 +223,12 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
     );
     for note in encoding.iter().chain(&layout.notes) {
         let _ = writeln!(out, "  {note}");
+    }
+    if headless {
+        let _ = writeln!(
+            out,
+            "  no header: the first line is data (complex numbers); the columns are read by number"
+        );
     }
     if missing > 0 {
         let _ = writeln!(
@@ -179,6 +246,9 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
     }
     if missing > 0 {
         keys.push("missing = \"interpolate\"".to_string());
+    }
+    if headless {
+        keys.push("header = false".to_string());
     }
     Ok(Survey {
         file_name,
@@ -201,7 +271,8 @@ pub(crate) fn column_table(columns: &[Column]) -> String {
     );
     for c in columns {
         let range = c.range.map_or("—".into(), |(a, b)| {
-            format!("{} … {}", short(a), short(b))
+            let of = if c.complex { "complex, |z| " } else { "" };
+            format!("{of}{} … {}", short(a), short(b))
         });
         let _ = writeln!(
             out,
@@ -221,7 +292,7 @@ pub(crate) fn column_table(columns: &[Column]) -> String {
 
 /// The `[data]` lines (or `[frequency_response.table]` lines for a table whose first
 /// column is a frequency) that read the file.
-fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
+pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
     let quoted = |c: &Column| format!("{:?}", c.name);
     let long: Vec<&Column> = columns.iter().filter(|c| c.rows > 1).collect();
     let time = long.iter().find(|c| c.step.is_some()).copied();
@@ -236,6 +307,34 @@ fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
         let n = t.name.to_ascii_lowercase();
         n.contains("freq") || n.contains("hz") || t.unit.as_deref() == Some("Hz")
     });
+    if let Some(z) = columns.iter().find(|c| c.complex) {
+        // A column of complex numbers: a frequency response measured line by line.
+        let refer = |c: &Column| match keys.iter().any(|k| k == "header = false") {
+            true => c.name.clone(),
+            false => quoted(c),
+        };
+        let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
+        for k in keys {
+            let _ = writeln!(out, "{k}");
+        }
+        match time {
+            Some(f) => {
+                let _ = writeln!(out, "frequency = {}", refer(f));
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "frequency_step_hz = …    # the file gives no frequencies: line i is at frequency_start_hz + i × this"
+                );
+            }
+        }
+        let _ = writeln!(
+            out,
+            "complex = {}\nkind = \"accelerance\"    # or receptance, mobility: what the response measures",
+            refer(z)
+        );
+        return out;
+    }
     if let Some(f) = frequency {
         let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
         for k in keys {

@@ -189,6 +189,82 @@ fn a_signalcalc_export_reads_with_one_key() {
     }
 }
 
+/// The lab record as NumPy's `savetxt` and MATLAB's `save -ascii` write it — columns
+/// separated by runs of spaces (here of one to three, and a tab), a leading space, no
+/// quotes — reads with `delimiter = " "` to the plain CSV's numbers bit for bit, and
+/// `msd inspect` finds that delimiter by itself.
+#[test]
+fn a_whitespace_separated_table_reads_as_the_plain_csv() {
+    let (dir, plain) = plain_run();
+    let mut text = String::from("time   force \t displacement\n");
+    for (i, [t, f, x]) in rows(dir.path()).into_iter().enumerate() {
+        let gap = " ".repeat(1 + i % 3);
+        text.push_str(&format!(" {t:e}{gap}{f:e}\t{x:e}\n"));
+    }
+    std::fs::write(dir.path().join("savetxt.txt"), &text).unwrap();
+    let columns = ["time", "force", "displacement"];
+    let (spaced, _) = estimates(dir.path(), "savetxt.txt", "delimiter = \" \"", columns);
+    assert_eq!(spaced, plain);
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("savetxt.txt")).unwrap();
+    for line in ["delimiter = \" \"", "time = \"time\"", "input = \"force\""] {
+        assert!(listing.contains(line), "{listing}");
+    }
+}
+
+/// One column of complex numbers in Python's notation with no header and no frequencies
+/// (as pyuff's example FRFs, or `numpy.savetxt` of a complex array): `msd inspect` says
+/// so and prints the `[frequency_response.table]` lines that read it, which run once
+/// the lines' spacing is filled in; the mode comes back where it was put.
+#[test]
+fn a_column_of_complex_numbers_is_found_and_its_config_lines_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let (m, k, zeta) = (1.0, (2.0 * std::f64::consts::PI * 80.0).powi(2), 0.02);
+    let c = 2.0 * zeta * (k * m).sqrt();
+    let mut text = String::new();
+    for i in 0..=400 {
+        let w = 2.0 * std::f64::consts::PI * 0.5 * i as f64;
+        let (re, im) = (k - m * w * w, c * w);
+        let d = re * re + im * im;
+        // Accelerance −ω²·H, written as Python writes a complex number.
+        let (a, b) = (-w * w * re / d, w * w * im / d);
+        text.push_str(&format!("({a:e}{b:+e}j)\n"));
+    }
+    std::fs::write(dir.path().join("frf.txt"), &text).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("frf.txt")).unwrap();
+    for said in [
+        "no header: the first line is data (complex numbers)",
+        "complex, |z|",
+        "[frequency_response.table]",
+        "header = false",
+        "complex = 0",
+        "frequency_step_hz = …",
+    ] {
+        assert!(listing.contains(said), "{listing}");
+    }
+    // `msd init` writes configs of time records: it gives the same lines instead.
+    let refused = msd_experiment::init::init(
+        &dir.path().join("frf.txt"),
+        &msd_experiment::init::InitOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(refused.contains("a column of complex numbers: a frequency response"));
+    assert!(
+        refused.contains("complex = 0\nkind = \"accelerance\""),
+        "{refused}"
+    );
+    let lines = &listing[listing.find("[frequency_response.table]").unwrap()..];
+    let config = format!(
+        "name = \"frf\"\n{}",
+        lines.replace("frequency_step_hz = …", "frequency_step_hz = 0.5")
+    );
+    std::fs::write(dir.path().join("frf.toml"), config).unwrap();
+    let run = run_in_temp(&dir.path().join("frf.toml"), None, None)
+        .expect("the lines msd inspect printed run");
+    let f = run.number("estimate.natural_frequency_hz.value");
+    assert!((f / 80.0 - 1.0).abs() < 1e-6, "fn = {f}");
+}
+
 /// A data file that is not what its extension says, or is cut short, is refused before
 /// anything is written: exit status 2, the file and the key named.
 #[test]

@@ -312,7 +312,8 @@ pub struct TableSource {
     /// In a `set`: the reference (force) DOF.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<Dof>,
-    /// Field delimiter. By default `","`.
+    /// Field delimiter. By default `","`; `" "` for columns separated by runs of spaces
+    /// or tabs (NumPy's `savetxt`, MATLAB's `save -ascii`).
     #[serde(default = "comma")]
     pub delimiter: char,
     /// Whether the first (non-skipped) line holds column names. By default true.
@@ -398,7 +399,8 @@ pub struct RecordsSource {
     pub force: Vec<Column>,
     /// The response column of each record.
     pub response: Vec<Column>,
-    /// Field delimiter. By default `","`.
+    /// Field delimiter. By default `","`; `" "` for columns separated by runs of spaces
+    /// or tabs (NumPy's `savetxt`, MATLAB's `save -ascii`).
     #[serde(default = "comma")]
     pub delimiter: char,
     /// Whether the first (non-skipped) line holds column names. By default true.

@@ -132,7 +132,8 @@ pub struct RecordSource {
     /// A CSV record's time column.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<Column>,
-    /// A CSV record's field delimiter. By default `","`.
+    /// A CSV record's field delimiter. By default `","`; `" "` for columns separated by
+    /// runs of spaces or tabs.
     #[serde(default = "comma")]
     pub delimiter: char,
     /// A CSV record's decimal mark: `"."` (the default) or `","`.

@@ -6,6 +6,7 @@
 //! 1-based line for messages.
 
 use crate::error::{ExperimentError, Result};
+use msd_signal::Complex64;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use std::path::Path;
@@ -78,6 +79,7 @@ pub(crate) fn scan<H>(
     }
     let (text, mut notes) = decode(bytes);
     let format = &with_delimiter(path, &text, format, &mut notes)?;
+    let text = whitespace_runs(text, format.delimiter);
     let text = text.as_bytes();
     let newlines: Vec<usize> = text
         .iter()
@@ -171,6 +173,36 @@ pub(crate) fn scan<H>(
     Ok(notes)
 }
 
+/// The text as the reader splits it: with the delimiter `" "` (columns separated by
+/// runs of spaces or tabs, as NumPy's `savetxt`, MATLAB's `save -ascii` and many loggers
+/// write them) each line trimmed and each run made one space; any other delimiter
+/// leaves it as it is. Lines stay where they were.
+pub(crate) fn whitespace_runs(text: Cow<'_, str>, delimiter: char) -> Cow<'_, str> {
+    if delimiter != ' ' {
+        return text;
+    }
+    let mut out = String::with_capacity(text.len());
+    for (i, line) in text.split('\n').enumerate() {
+        if i > 0 {
+            out.push('\n');
+        }
+        let (body, cr) = match line.strip_suffix('\r') {
+            Some(body) => (body, "\r"),
+            None => (line, ""),
+        };
+        let mut fields = body.split([' ', '\t']).filter(|f| !f.is_empty());
+        if let Some(first) = fields.next() {
+            out.push_str(first);
+            for f in fields {
+                out.push(' ');
+                out.push_str(f);
+            }
+        }
+        out.push_str(cr);
+    }
+    Cow::Owned(out)
+}
+
 /// `format` with its delimiter: with decimal commas and the default `,` delimiter, the
 /// one found in the file (`;` or a tab, as spreadsheets write them), said in a note.
 fn with_delimiter(
@@ -199,8 +231,9 @@ fn with_delimiter(
     }
 }
 
-/// The delimiter that splits the last data lines (no letters but an exponent's or a
-/// NaN's) into the same number (≥ 2) of fields, and the decimal mark their cells use.
+/// The delimiter that splits the last data lines (no letters but an exponent's, a
+/// NaN's or a complex number's imaginary unit) into the same number (≥ 2) of fields — `" "` for runs of spaces or tabs —
+/// and the decimal mark their cells use.
 pub(crate) fn sniff(text: &str) -> (char, char) {
     let tail: Vec<&str> = text
         .lines()
@@ -210,19 +243,38 @@ pub(crate) fn sniff(text: &str) -> (char, char) {
             !l.is_empty()
                 && !l.starts_with('#')
                 && l.chars()
-                    .all(|c| !c.is_alphabetic() || "eEnNaA".contains(c))
+                    .all(|c| !c.is_alphabetic() || "eEnNaAiIjJ".contains(c))
         })
         .take(20)
         .collect();
-    let delimiter = ['\t', ';', ',', '|']
+    // A cell of data: a number (either decimal mark), a complex number, or missing.
+    let cell = |c: &str| {
+        let c = c.trim();
+        is_missing(c)
+            || number(c, '.').is_some()
+            || number(c, ',').is_some()
+            || complex_cell(c).is_some()
+    };
+    // Every line split into the same number (≥ 2) of fields; all of them cells of data.
+    let alike = |split: &dyn Fn(&str) -> Vec<&str>| {
+        let fields: Vec<Vec<&str>> = tail.iter().map(|l| split(l)).collect();
+        let same = fields
+            .first()
+            .is_some_and(|first| first.len() >= 2 && fields.iter().all(|f| f.len() == first.len()));
+        (same, same && fields.iter().flatten().all(|c| cell(c)))
+    };
+    let counted = ['\t', ';', ',', '|']
         .into_iter()
-        .find(|&d| {
-            let counts: Vec<usize> = tail.iter().map(|l| l.split(d).count()).collect();
-            counts
-                .first()
-                .is_some_and(|&n| n >= 2 && counts.iter().all(|&c| c == n))
-        })
-        .unwrap_or(',');
+        .map(|d| (d, alike(&|l| l.split(d).collect())))
+        .find(|(_, (same, _))| *same);
+    // Runs of spaces or tabs where they split every line into cells of data and the
+    // single character found does not (a tab between cells that still hold spaces).
+    let (_, spaced) = alike(&|l| l.split_whitespace().collect());
+    let delimiter = match counted {
+        Some((d, (_, clean))) if clean || !spaced => d,
+        _ if spaced => ' ',
+        _ => ',',
+    };
     let commas = delimiter != ','
         && tail.iter().any(|l| {
             l.split(delimiter)
@@ -409,6 +461,65 @@ pub(crate) fn parse_cell(
     }
 }
 
+/// A finite number with a decimal point.
+fn parse(cell: &str) -> std::result::Result<f64, String> {
+    parse_cell(cell, '.', Missing::Refuse)
+}
+
+/// A complex number as text: `a+bj`, `(a+bj)`, `a-bi`, `bj`, `a` (spaces allowed
+/// around the sign), each part a finite number.
+pub(crate) fn parse_complex(cell: &str) -> std::result::Result<Complex64, String> {
+    let quoted = cell.trim_matches('"').trim();
+    if quoted.starts_with('(') != quoted.ends_with(')') {
+        return Err(format!(
+            "`{cell}` is not a complex number: its parenthesis is not closed (a line cut short, or a decimal comma read as the delimiter: then set decimal = \",\" and the file's own delimiter)"
+        ));
+    }
+    let text: String = quoted
+        .trim_start_matches('(')
+        .trim_end_matches(')')
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect();
+    let bad =
+        || format!("`{cell}` is not a complex number (expected e.g. `1.5-2e-3j` or `(1.5-2e-3j)`)");
+    if text.is_empty() {
+        return Err("empty cell: expected a complex number".into());
+    }
+    let Some(body) = text.strip_suffix(['j', 'i', 'J', 'I']) else {
+        return parse(&text).map(|re| Complex64::new(re, 0.0));
+    };
+    // The sign that starts the imaginary part: the last + or − not after an exponent's e.
+    let bytes = body.as_bytes();
+    let split = (1..bytes.len())
+        .rev()
+        .find(|&i| matches!(bytes[i], b'+' | b'-') && !matches!(bytes[i - 1], b'e' | b'E'))
+        .unwrap_or(0);
+    let (re, im) = body.split_at(split);
+    let part = |p: &str| match p {
+        "" | "+" => Ok(1.0),
+        "-" => Ok(-1.0),
+        _ => parse(p),
+    };
+    let re = if re.is_empty() { Ok(0.0) } else { parse(re) };
+    match (re, part(im)) {
+        (Ok(re), Ok(im)) => Ok(Complex64::new(re, im)),
+        _ => Err(bad()),
+    }
+}
+
+/// A cell that is a complex number with its imaginary unit (`(a+bj)`, `a-bi`): a plain
+/// number is not one here.
+pub(crate) fn complex_cell(cell: &str) -> Option<Complex64> {
+    let c = cell
+        .trim()
+        .trim_matches('"')
+        .trim_end_matches(')')
+        .trim_end();
+    let imaginary = c.ends_with(['j', 'i', 'J', 'I']);
+    imaginary.then(|| parse_complex(cell).ok()).flatten()
+}
+
 /// Applies `missing` to the columns read (NaN where a value was missing), rows at
 /// `lines`: `drop` removes every row with a missing value, `interpolate` fills each gap
 /// linearly between its neighbours (the nearest value at an end). Returns the note that
@@ -519,6 +630,59 @@ mod tests {
             header: true,
             skip_lines: 0,
             missing: Missing::Refuse,
+        }
+    }
+
+    /// Runs of spaces and tabs become one space, each line trimmed, CRLF kept: the
+    /// lines stay where they were (line numbers in messages hold).
+    #[test]
+    fn whitespace_runs_are_one_delimiter() {
+        let text = Cow::Borrowed(" t   x\tv \r\n 0  1.5\t\t2\r\n\n#c  d\n");
+        assert_eq!(
+            whitespace_runs(text.clone(), ' '),
+            "t x v\r\n0 1.5 2\r\n\n#c d\n"
+        );
+        assert_eq!(whitespace_runs(text.clone(), ','), text);
+    }
+
+    /// The delimiter is the one that splits every data line into cells of data: a
+    /// single tab is a tab, runs of spaces are `" "`, and a tab between cells that
+    /// still hold spaces is not taken.
+    #[test]
+    fn the_delimiter_is_found_among_the_usual_ones() {
+        assert_eq!(sniff("t\tx\n0\t1\n1\t2\n"), ('\t', '.'));
+        assert_eq!(sniff("t x\n 0.0   1e-3\n 1.0  -2e-3\n"), (' ', '.'));
+        assert_eq!(sniff("0  1\t2\n3  4\t5\n"), (' ', '.'));
+        assert_eq!(sniff("t;x\n0,5;1,5\n1,5;2,5\n"), (';', ','));
+        assert_eq!(sniff("(1+2j) (3-4j)\n(5+6j) (7+8j)\n"), (' ', '.'));
+        assert_eq!(sniff("1.0,(0.1+0.2j)\n2.0,(0.3-0.1j)\n"), (',', '.'));
+        // A column that is not a number (a time stamp) keeps the delimiter its count
+        // finds.
+        let stamped = "2026-11-30 12:30:01;1,5;2,5\n2026-11-30 12:30:02;1,6;2,4\n";
+        assert_eq!(sniff(stamped), (';', ','));
+    }
+
+    #[test]
+    fn complex_numbers_in_the_usual_notations() {
+        let c = |re, im| Ok(Complex64::new(re, im));
+        assert_eq!(
+            parse_complex("(-0.0774752256830106+2.6838208936737454e-08j)"),
+            c(-0.0774752256830106, 2.6838208936737454e-08)
+        );
+        assert_eq!(parse_complex("1.5e+3-2E-3i"), c(1500.0, -0.002));
+        assert_eq!(parse_complex(" 2 - 3 j "), c(2.0, -3.0));
+        assert_eq!(parse_complex("-4j"), c(0.0, -4.0));
+        assert_eq!(parse_complex("j"), c(0.0, 1.0));
+        assert_eq!(parse_complex("7"), c(7.0, 0.0));
+        for bad in ["1+xj", "(1+2k)", "nan+1j", "1+infj", "()"] {
+            assert!(parse_complex(bad).is_err(), "{bad}");
+        }
+        // Issue 46 §5: `(-0,077+2,6e-08j)` split at its decimal commas gave `(-0`, read
+        // as 0; a last line cut short gave a real number.
+        assert!(parse_complex("077+2").is_err());
+        for cut in ["(-0", "6e-08j)", "(-0.08208477"] {
+            let err = parse_complex(cut).unwrap_err();
+            assert!(err.contains("parenthesis is not closed"), "{err}");
         }
     }
 

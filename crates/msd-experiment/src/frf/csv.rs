@@ -5,7 +5,7 @@
 
 use crate::config::Column;
 use crate::data::csv::{column_index, pick};
-use crate::data::text::{self, Header, Missing, TextFormat};
+use crate::data::text::{self, Header, Missing, TextFormat, parse_complex};
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
 use msd_signal::Complex64;
@@ -137,53 +137,6 @@ fn numbering(column: &Column, fields: usize) -> String {
     }
 }
 
-/// A finite number with a decimal point.
-fn parse(cell: &str) -> std::result::Result<f64, String> {
-    text::parse_cell(cell, '.', Missing::Refuse)
-}
-
-/// A complex number as text: `a+bj`, `(a+bj)`, `a-bi`, `bj`, `a` (spaces allowed
-/// around the sign), each part a finite number.
-fn parse_complex(cell: &str) -> std::result::Result<Complex64, String> {
-    let quoted = cell.trim_matches('"').trim();
-    if quoted.starts_with('(') != quoted.ends_with(')') {
-        return Err(format!(
-            "`{cell}` is not a complex number: its parenthesis is not closed (a line cut short, or a decimal comma read as the delimiter: then set decimal = \",\" and the file's own delimiter)"
-        ));
-    }
-    let text: String = quoted
-        .trim_start_matches('(')
-        .trim_end_matches(')')
-        .chars()
-        .filter(|c| !c.is_whitespace())
-        .collect();
-    let bad =
-        || format!("`{cell}` is not a complex number (expected e.g. `1.5-2e-3j` or `(1.5-2e-3j)`)");
-    if text.is_empty() {
-        return Err("empty cell: expected a complex number".into());
-    }
-    let Some(body) = text.strip_suffix(['j', 'i', 'J', 'I']) else {
-        return parse(&text).map(|re| Complex64::new(re, 0.0));
-    };
-    // The sign that starts the imaginary part: the last + or − not after an exponent's e.
-    let bytes = body.as_bytes();
-    let split = (1..bytes.len())
-        .rev()
-        .find(|&i| matches!(bytes[i], b'+' | b'-') && !matches!(bytes[i - 1], b'e' | b'E'))
-        .unwrap_or(0);
-    let (re, im) = body.split_at(split);
-    let part = |p: &str| match p {
-        "" | "+" => Ok(1.0),
-        "-" => Ok(-1.0),
-        _ => parse(p),
-    };
-    let re = if re.is_empty() { Ok(0.0) } else { parse(re) };
-    match (re, part(im)) {
-        (Ok(re), Ok(im)) => Ok(Complex64::new(re, im)),
-        _ => Err(bad()),
-    }
-}
-
 /// The requested columns of a table given in memory (a complex column needs the text of
 /// a file: give the real and imaginary parts as columns instead).
 fn from_columns(request: &Request<'_>, given: &[(String, Vec<f64>)]) -> Result<Columns> {
@@ -221,33 +174,4 @@ fn from_columns(request: &Request<'_>, given: &[(String, Vec<f64>)]) -> Result<C
         lines: (1..=rows).collect(),
         notes: Vec::new(),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn complex_numbers_in_the_usual_notations() {
-        let c = |re, im| Ok(Complex64::new(re, im));
-        assert_eq!(
-            parse_complex("(-0.0774752256830106+2.6838208936737454e-08j)"),
-            c(-0.0774752256830106, 2.6838208936737454e-08)
-        );
-        assert_eq!(parse_complex("1.5e+3-2E-3i"), c(1500.0, -0.002));
-        assert_eq!(parse_complex(" 2 - 3 j "), c(2.0, -3.0));
-        assert_eq!(parse_complex("-4j"), c(0.0, -4.0));
-        assert_eq!(parse_complex("j"), c(0.0, 1.0));
-        assert_eq!(parse_complex("7"), c(7.0, 0.0));
-        for bad in ["1+xj", "(1+2k)", "nan+1j", "1+infj", "()"] {
-            assert!(parse_complex(bad).is_err(), "{bad}");
-        }
-        // Issue 46 §5: `(-0,077+2,6e-08j)` split at its decimal commas gave `(-0`, read
-        // as 0; a last line cut short gave a real number.
-        assert!(parse_complex("077+2").is_err());
-        for cut in ["(-0", "6e-08j)", "(-0.08208477"] {
-            let err = parse_complex(cut).unwrap_err();
-            assert!(err.contains("parenthesis is not closed"), "{err}");
-        }
-    }
 }
