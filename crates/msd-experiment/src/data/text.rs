@@ -361,15 +361,35 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
         .rev()
         .take_while(|&&i| fields(i).len() == width)
         .count();
-    let header = match (format.header, block) {
-        (false, _) => data,
-        (true, 0) => return Layout::default(),
-        (true, n) => above[pos - n],
+    // A header wider than the data whose extra names have no column (LabVIEW's `.lvm`
+    // names a `Comment` column its rows leave out) heads them all the same.
+    let wider = (format.header && block == 0 && pos > 0)
+        .then(|| above[pos - 1])
+        .filter(|&i| fields(i).len() > width);
+    let header = match (format.header, block, wider) {
+        (false, _, _) => data,
+        (true, 0, Some(i)) => i,
+        (true, 0, None) => return Layout::default(),
+        (true, n, _) => above[pos - n],
     };
     let mut out = Layout {
         skip: header,
         ..Layout::default()
     };
+    if let Some(i) = wider {
+        let names = fields(i);
+        let extra: Vec<&str> = (names[width..].iter())
+            .map(String::as_str)
+            .filter(|n| !n.is_empty())
+            .collect();
+        if !extra.is_empty() {
+            out.notes.push(format!(
+                "line {}: the header names columns the data do not hold ({}): passed over",
+                i + 1,
+                extra.join(", ")
+            ));
+        }
+    }
     if !format.header && block > 0 {
         let shown: String = String::from_utf8_lossy(line_text(above[pos - 1]))
             .chars()
@@ -705,6 +725,49 @@ mod tests {
             layout.notes
         );
         assert_eq!(layout.notes.len(), 2);
+    }
+
+    /// LabVIEW's `.lvm`: two header blocks of metadata, then a header that names a
+    /// `Comment` column the rows leave out. The header heads the data all the same and
+    /// every line above it is metadata; the scan reads the columns by name.
+    #[test]
+    fn a_labview_measurement_file_reads_by_its_names() {
+        let text = "LabVIEW Measurement\t\nWriter_Version\t2\n***End_of_Header***\t\n\t\n\
+                    Channels\t2\t\nDelta_X\t1.000000E-3\t1.000000E-3\t\n***End_of_Header***\t\n\
+                    X_Value\tForce\tDisplacement\tComment\n0.000\t1.5\t0.1\n0.001\t1.4\t0.2\n";
+        let format = TextFormat {
+            delimiter: '\t',
+            decimal: '.',
+            header: true,
+            skip_lines: 0,
+            missing: Missing::Refuse,
+        };
+        let l = layout_of(text, &format);
+        assert_eq!(l.skip, 7); // the header is line 8
+        assert!(
+            l.notes[0].contains("(Comment): passed over"),
+            "{:?}",
+            l.notes
+        );
+        assert!(
+            l.notes[1].starts_with("lines 1–7 read as metadata"),
+            "{:?}",
+            l.notes
+        );
+        let mut force = Vec::new();
+        let path = Path::new("run.lvm");
+        scan(
+            path,
+            text.as_bytes(),
+            &format,
+            |h| Ok(h.expect("a header").names.iter().position(|n| n == "Force")),
+            |column, _, r| {
+                force.push(r[column.expect("Force is named")].parse::<f64>().unwrap());
+                Ok(())
+            },
+        )
+        .unwrap();
+        assert_eq!(force, [1.5, 1.4]);
     }
 
     fn layout_of(text: &str, f: &TextFormat) -> Layout {
