@@ -18,7 +18,7 @@
 
 use crate::config::Quantity;
 use crate::error::{ExperimentError, Result};
-use crate::inspect::{Column, Survey, config_lines, survey};
+use crate::inspect::{Column, Survey, config_lines, rate_of_time, survey, unit};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -157,10 +157,10 @@ fn config_text(
                 format!("--sample-rate {rate}: expected a finite rate > 0 Hz"),
             ));
         }
-        (Some(rate), _) => Grid::Rate(rate, "as given to msd init"),
-        (None, Some(t)) => Grid::Time(t),
+        (Some(rate), _) => Grid::Rate(rate, "as given to msd init".into()),
+        (None, Some(t)) => time_grid(t),
         (None, None) => match survey.columns.iter().find_map(|c| c.rate) {
-            Some(rate) => Grid::Rate(rate, "as the file gives it"),
+            Some(rate) => Grid::Rate(rate, "as the file gives it".into()),
             None => {
                 return Err(ExperimentError::data(
                     path,
@@ -187,7 +187,16 @@ fn config_text(
 /// The record's time: a column, or a sampling rate and where it comes from.
 enum Grid<'a> {
     Time(&'a Column),
-    Rate(f64, &'static str),
+    Rate(f64, String),
+}
+
+/// The grid of a time column: the column itself in seconds (or with no unit), else the
+/// sampling rate its step gives in its unit.
+fn time_grid(t: &Column) -> Grid<'_> {
+    match rate_of_time(t) {
+        Some((rate, from)) => Grid::Rate(rate, from),
+        None => Grid::Time(t),
+    }
 }
 
 /// The experiment the columns describe.
@@ -282,26 +291,6 @@ fn role_of_name(name: &str) -> Option<Role> {
     } else {
         None
     }
-}
-
-/// The column's unit: the file's units line (or channel property), else a unit written
-/// in the column's name, `accel [g]` or `force (kN)`.
-fn unit(column: &Column) -> Option<&str> {
-    let given = column
-        .unit
-        .as_deref()
-        .map(str::trim)
-        .filter(|u| !u.is_empty());
-    given.or_else(|| {
-        let name = column.name.trim_end();
-        let (open, close) = match name.chars().last()? {
-            ']' => ('[', ']'),
-            ')' => ('(', ')'),
-            _ => return None,
-        };
-        let inner = &name[name.rfind(open)? + 1..name.len() - close.len_utf8()];
-        Some(inner.trim()).filter(|u| !u.is_empty())
-    })
 }
 
 /// The column's role with its reason, if its unit or name gives one.
@@ -601,7 +590,7 @@ fn write_data(
             let _ = writeln!(out, "time = {:?}    # s", t.name);
         }
         Grid::Rate(rate, from) => {
-            let _ = writeln!(out, "sample_rate = {}    # Hz, {from}", rate);
+            let _ = writeln!(out, "sample_rate = {rate}    # Hz, {from}");
         }
     }
     if let Some(input) = &chosen.input {
@@ -666,6 +655,34 @@ mod tests {
             rate: None,
             complex: false,
         }
+    }
+
+    /// A time column in ms (or µs, min) is read as the sampling rate its step gives:
+    /// read as seconds, `Time [ms]` would put every frequency 1000× low. In seconds, or
+    /// with no unit, it is the time.
+    #[test]
+    fn a_time_column_in_milliseconds_gives_the_rate() {
+        let timed = |name: &str, unit: Option<&str>, step: f64| Column {
+            step: Some(step),
+            ..column(name, unit)
+        };
+        let rate = |c: &Column| match time_grid(c) {
+            Grid::Rate(rate, from) => Some((rate, from)),
+            Grid::Time(_) => None,
+        };
+        let (r, from) = rate(&timed("Time [ms]", None, 1.0)).expect("a rate");
+        assert_eq!(r, 1000.0);
+        assert_eq!(from, "from the step of \"Time [ms]\", 1 ms");
+        assert_eq!(
+            rate(&timed("t", Some("us"), 50.0)).map(|r| r.0),
+            Some(20_000.0)
+        );
+        assert_eq!(
+            rate(&timed("t", Some("min"), 0.5)).map(|r| r.0),
+            Some(1.0 / 30.0)
+        );
+        assert!(rate(&timed("time (s)", None, 1e-3)).is_none());
+        assert!(rate(&timed("t", None, 1e-3)).is_none());
     }
 
     #[test]

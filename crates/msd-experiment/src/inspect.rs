@@ -290,6 +290,53 @@ pub(crate) fn column_table(columns: &[Column]) -> String {
     out
 }
 
+/// The column's unit: the file's units line (or channel property), else a unit written
+/// in the column's name, `accel [g]` or `force (kN)`.
+pub(crate) fn unit(column: &Column) -> Option<&str> {
+    let given = column
+        .unit
+        .as_deref()
+        .map(str::trim)
+        .filter(|u| !u.is_empty());
+    given.or_else(|| {
+        let name = column.name.trim_end();
+        let (open, close) = match name.chars().last()? {
+            ']' => ('[', ']'),
+            ')' => ('(', ')'),
+            _ => return None,
+        };
+        let inner = &name[name.rfind(open)? + 1..name.len() - close.len_utf8()];
+        Some(inner.trim()).filter(|u| !u.is_empty())
+    })
+}
+
+/// The sampling rate a time column gives when its unit is not seconds (`Time [ms]`,
+/// `t (us)`, `min`), with where it comes from; `None` in seconds or with no unit (the
+/// column is then read as the time).
+pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
+    let unit = unit(t)?;
+    let seconds = match unit {
+        "ms" => 1e-3,
+        "µs" | "μs" | "us" => 1e-6,
+        "min" => 60.0,
+        _ => return None,
+    };
+    let step = t.step?;
+    // A whole number of Hz where the step gives one to rounding: 1000 Hz, not
+    // 999.9999999999999.
+    let exact = 1.0 / (step * seconds);
+    let whole = exact.round();
+    let rate = if (whole - exact).abs() <= 1e-9 * exact {
+        whole
+    } else {
+        exact
+    };
+    Some((
+        rate,
+        format!("from the step of {:?}, {} {unit}", t.name, short(step)),
+    ))
+}
+
 /// The `[data]` lines (or `[frequency_response.table]` lines for a table whose first
 /// column is a frequency) that read the file.
 pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
@@ -359,7 +406,9 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
     for k in keys {
         let _ = writeln!(out, "{k}");
     }
-    if let Some(t) = time {
+    if let Some((rate, from)) = time.and_then(rate_of_time) {
+        let _ = writeln!(out, "sample_rate = {rate}    # Hz, {from}");
+    } else if let Some(t) = time {
         let _ = writeln!(out, "time = {}", quoted(t));
     } else {
         let rate = long.iter().find_map(|c| c.rate).map_or("…".into(), short);
