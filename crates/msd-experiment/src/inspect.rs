@@ -298,16 +298,7 @@ pub(crate) fn unit(column: &Column) -> Option<&str> {
         .as_deref()
         .map(str::trim)
         .filter(|u| !u.is_empty());
-    given.or_else(|| {
-        let name = column.name.trim_end();
-        let (open, close) = match name.chars().last()? {
-            ']' => ('[', ']'),
-            ')' => ('(', ')'),
-            _ => return None,
-        };
-        let inner = &name[name.rfind(open)? + 1..name.len() - close.len_utf8()];
-        Some(inner.trim()).filter(|u| !u.is_empty())
-    })
+    given.or_else(|| text::unit_in_name(&column.name))
 }
 
 /// The sampling rate a time column gives when its unit is not seconds (`Time [ms]`,
@@ -315,22 +306,9 @@ pub(crate) fn unit(column: &Column) -> Option<&str> {
 /// column is then read as the time).
 pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
     let unit = unit(t)?;
-    let seconds = match unit {
-        "ms" => 1e-3,
-        "µs" | "μs" | "us" => 1e-6,
-        "min" => 60.0,
-        _ => return None,
-    };
+    let seconds = text::seconds_per(unit).filter(|&s| s != 1.0)?;
     let step = t.step?;
-    // A whole number of Hz where the step gives one to rounding: 1000 Hz, not
-    // 999.9999999999999.
-    let exact = 1.0 / (step * seconds);
-    let whole = exact.round();
-    let rate = if (whole - exact).abs() <= 1e-9 * exact {
-        whole
-    } else {
-        exact
-    };
+    let rate = text::rate_of_step(step, seconds);
     Some((
         rate,
         format!("from the step of {:?}, {} {unit}", t.name, short(step)),

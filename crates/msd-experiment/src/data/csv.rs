@@ -133,6 +133,9 @@ pub fn read_columns(
         &mut lines,
         format.missing,
     )?);
+    if let Some(Column::Name(name)) = &d.time {
+        time_in_seconds(path, name, &time)?;
+    }
     if let Some(k) = time.windows(2).position(|w| w[1] <= w[0]) {
         return Err(ExperimentError::data(
             path,
@@ -216,6 +219,9 @@ fn from_columns(
         Some(c) => pick(path, given, c, "data.time")?.to_vec(),
         None => Vec::new(),
     };
+    if let Some(Column::Name(name)) = &d.time {
+        time_in_seconds(path, name, &time)?;
+    }
     if let Some(i) = time.windows(2).position(|w| w[1] <= w[0]) {
         return Err(ExperimentError::data(
             path,
@@ -457,4 +463,49 @@ pub(crate) fn pick<'a>(
         ));
     }
     Ok(values)
+}
+
+/// Refuses a time column whose name says it is not in seconds (`Time [ms]`): `data.time`
+/// is read in seconds, and read so every frequency would be off by the unit's factor.
+fn time_in_seconds(path: &Path, name: &str, time: &[f64]) -> Result<()> {
+    let Some(unit) = text::unit_in_name(name) else {
+        return Ok(());
+    };
+    let Some(seconds) = text::seconds_per(unit).filter(|&s| s != 1.0) else {
+        return Ok(());
+    };
+    let rate = match time {
+        [first, .., last] => {
+            let step = (last - first) / (time.len() - 1) as f64;
+            text::rate_of_step(step, seconds).to_string()
+        }
+        _ => "…".into(),
+    };
+    Err(ExperimentError::data(
+        path,
+        format!(
+            "data.time = {name:?}: its name says the time is in {unit}, and data.time is read in seconds: give sample_rate = {rate} (Hz, from its step) instead of time"
+        ),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A time column named in ms is refused with the rate its step gives; in seconds,
+    /// or with no unit, it is the time.
+    #[test]
+    fn a_time_column_in_milliseconds_is_refused_with_its_rate() {
+        let path = Path::new("run.csv");
+        let ms: Vec<f64> = (0..100).map(|i| 0.5 * i as f64).collect();
+        let err = time_in_seconds(path, "Time [ms]", &ms)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("data.time = \"Time [ms]\""), "{err}");
+        assert!(err.contains("give sample_rate = 2000 (Hz"), "{err}");
+        assert!(time_in_seconds(path, "time (s)", &ms).is_ok());
+        assert!(time_in_seconds(path, "t", &ms).is_ok());
+        assert!(time_in_seconds(path, "Time [us]", &ms).is_err());
+    }
 }

@@ -528,6 +528,41 @@ pub(crate) fn parse_complex(cell: &str) -> std::result::Result<Complex64, String
     }
 }
 
+/// The unit written at the end of a column's name, `accel [g]` or `force (kN)`.
+pub(crate) fn unit_in_name(name: &str) -> Option<&str> {
+    let name = name.trim_end();
+    let (open, close) = match name.chars().last()? {
+        ']' => ('[', ']'),
+        ')' => ('(', ')'),
+        _ => return None,
+    };
+    let inner = &name[name.rfind(open)? + 1..name.len() - close.len_utf8()];
+    Some(inner.trim()).filter(|u| !u.is_empty())
+}
+
+/// Seconds in one `unit` of time (s, ms, µs, min), `None` for any other unit.
+pub(crate) fn seconds_per(unit: &str) -> Option<f64> {
+    match unit {
+        "s" | "sec" => Some(1.0),
+        "ms" => Some(1e-3),
+        "µs" | "μs" | "us" => Some(1e-6),
+        "min" => Some(60.0),
+        _ => None,
+    }
+}
+
+/// The sampling rate, Hz, of a time step of `step` units of `seconds` each: a whole
+/// number where it is one to rounding (1000 Hz, not 999.9999999999999).
+pub(crate) fn rate_of_step(step: f64, seconds: f64) -> f64 {
+    let exact = 1.0 / (step * seconds);
+    let whole = exact.round();
+    if (whole - exact).abs() <= 1e-9 * exact {
+        whole
+    } else {
+        exact
+    }
+}
+
 /// A cell that is a complex number with its imaginary unit (`(a+bj)`, `a-bi`): a plain
 /// number is not one here.
 pub(crate) fn complex_cell(cell: &str) -> Option<Complex64> {
