@@ -245,14 +245,15 @@ impl Chosen<'_> {
 }
 
 /// The time column: uniform, named or measured as time when several are uniform.
+/// Else time stamps that vary (a sensor's own clock), named as time.
 fn time_column(columns: &[Column]) -> Option<&Column> {
     let uniform = || columns.iter().filter(|c| c.step.is_some() && c.rows > 2);
     uniform()
-        .find(|c| {
-            let n = c.name.to_ascii_lowercase();
-            n == "t" || n.contains("time") || unit(c) == Some("s")
-        })
+        .find(|c| c.is_time_named())
         .or_else(|| uniform().next())
+        .or_else(|| {
+            (columns.iter()).find(|c| c.stamps.is_some() && c.is_time_named() && c.rows > 2)
+        })
 }
 
 /// The role a column's unit gives it.
@@ -652,6 +653,7 @@ mod tests {
             rows: 10,
             range: None,
             step: None,
+            stamps: None,
             rate: None,
             complex: false,
         }

@@ -80,6 +80,10 @@ pub(crate) struct Column {
     pub step: Option<f64>,
     /// The sampling rate the file gives, Hz.
     pub rate: Option<f64>,
+    /// The median step of a column that increases with steps that vary by more than
+    /// 1 % and no gap (none over three times the median): time stamps of a sensor's
+    /// own clock, resampled onto this step when read as the time.
+    pub stamps: Option<f64>,
     /// Whether it holds complex numbers as text (`(a+bj)`, `a+bi`): a frequency
     /// response measured line by line; `range` is then that of their magnitudes.
     pub complex: bool,
@@ -104,10 +108,17 @@ impl Column {
             unit,
             rows: values.len(),
             range,
+            stamps: step.is_none().then(|| stamps(values)).flatten(),
             step,
             rate,
             complex: false,
         }
+    }
+
+    /// Whether its name or unit says it is time (`t`, `Time (s)`).
+    pub(crate) fn is_time_named(&self) -> bool {
+        let n = self.name.to_ascii_lowercase();
+        n == "t" || n.contains("time") || unit(self) == Some("s")
     }
 
     /// A column of complex numbers, `range` that of their magnitudes.
@@ -116,9 +127,22 @@ impl Column {
         Self {
             complex: true,
             step: None,
+            stamps: None,
             ..Self::of(name, unit, &magnitudes, None)
         }
     }
+}
+
+/// The median step of strictly increasing `values` with no gap (no step over three
+/// times the median).
+fn stamps(values: &[f64]) -> Option<f64> {
+    let mut steps: Vec<f64> = values.windows(2).map(|w| w[1] - w[0]).collect();
+    if values.len() < 3 || !steps.iter().all(|s| s.is_finite() && *s > 0.0) {
+        return None;
+    }
+    steps.sort_by(f64::total_cmp);
+    let median = steps[steps.len() / 2];
+    (steps[steps.len() - 1] <= 3.0 * median).then_some(median)
 }
 
 /// The cells of a text table as numbers (NaN where a cell is not one) and, where every
@@ -282,6 +306,10 @@ pub(crate) fn column_table(columns: &[Column]) -> String {
             c.rows,
             match (c.step, c.rate) {
                 (Some(dt), _) => format!("  (uniform step {})", short(dt)),
+                (None, _) if c.stamps.is_some() && c.is_time_named() => format!(
+                    "  (time stamps whose steps vary, median {}: resampled onto it when read)",
+                    short(c.stamps.unwrap_or_default())
+                ),
                 (None, Some(r)) => format!("  (sampled at {} Hz)", short(r)),
                 (None, None) => String::new(),
             }
@@ -320,7 +348,12 @@ pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
 pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
     let quoted = |c: &Column| format!("{:?}", c.name);
     let long: Vec<&Column> = columns.iter().filter(|c| c.rows > 1).collect();
-    let time = long.iter().find(|c| c.step.is_some()).copied();
+    let time = (long.iter().find(|c| c.step.is_some()))
+        .or_else(|| {
+            long.iter()
+                .find(|c| c.stamps.is_some() && c.is_time_named())
+        })
+        .copied();
     let others: Vec<&Column> = long
         .iter()
         .copied()

@@ -149,7 +149,7 @@ pub fn read_columns(
     }
     let rows = values.first().map_or(time.len(), Vec::len);
     check_rows(path, rows)?;
-    let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
+    let (time, dt) = time_grid(path, d.sample_rate, time, rows, &mut values, &mut notes)?;
     Ok(Table {
         time,
         columns: values,
@@ -263,12 +263,14 @@ fn from_columns(
             ),
         ));
     }
-    let (time, dt) = time_grid(path, d.sample_rate, time, rows)?;
+    let mut values = values;
+    let mut notes = Vec::new();
+    let (time, dt) = time_grid(path, d.sample_rate, time, rows, &mut values, &mut notes)?;
     Ok(Table {
         time,
         columns: values,
         dt,
-        notes: Vec::new(),
+        notes,
     })
 }
 
@@ -376,43 +378,60 @@ fn cell_value(
     Ok((value, scaled))
 }
 
-/// The time grid of `rows` samples: from the sample rate, or the time column's values
-/// checked for a uniform step (within 1 %) and regularised onto it.
+/// The record's uniform grid: `sample_rate`'s, or the time column's. Stamps within 1 %
+/// of a uniform step (printed with few digits) are put on it; stamps that wander
+/// further (a phone's or a logger's clock: phyphox, an Arduino) are resampled onto
+/// their median step by linear interpolation, every column alike, and a note says so;
+/// a gap (a step over three times the median) is refused.
 fn time_grid(
     path: &Path,
     sample_rate: Option<f64>,
-    mut time: Vec<f64>,
+    time: Vec<f64>,
     rows: usize,
+    values: &mut [Vec<f64>],
+    notes: &mut Vec<String>,
 ) -> Result<(Vec<f64>, f64)> {
-    let dt = match sample_rate {
-        Some(fs) => {
-            let dt = 1.0 / fs;
-            time = (0..rows).map(|i| i as f64 * dt).collect();
-            dt
-        }
-        None => {
-            let n = time.len();
-            let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
-            if let Some(i) = time
-                .windows(2)
-                .position(|w| ((w[1] - w[0]) - dt).abs() > 0.01 * dt)
-            {
-                return Err(ExperimentError::data(
-                    path,
-                    format!(
-                        "data row {} (0-based), time column: step {} s: expected a uniform step of {dt} s (within 1 %)",
-                        i + 1,
-                        time[i + 1] - time[i]
-                    ),
-                ));
-            }
-            // Regularise small jitter (e.g. printed with few digits) onto the uniform grid.
-            let t0 = time[0];
-            time = (0..n).map(|i| t0 + i as f64 * dt).collect();
-            dt
-        }
-    };
-    Ok((time, dt))
+    if let Some(fs) = sample_rate {
+        let dt = 1.0 / fs;
+        return Ok(((0..rows).map(|i| i as f64 * dt).collect(), dt));
+    }
+    let n = time.len();
+    let dt = (time[n - 1] - time[0]) / (n - 1) as f64;
+    let t0 = time[0];
+    let steps: Vec<f64> = time.windows(2).map(|w| w[1] - w[0]).collect();
+    if steps.iter().all(|s| (s - dt).abs() <= 0.01 * dt) {
+        // Regularise small jitter (e.g. printed with few digits) onto the uniform grid.
+        return Ok(((0..n).map(|i| t0 + i as f64 * dt).collect(), dt));
+    }
+    let mut sorted = steps.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    if let Some(i) = steps.iter().position(|&s| s > 3.0 * median) {
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "data row {} (0-based), time column: a gap of {} s where the median step is {} s: expected no step over three times the median (a record with samples lost; cut it with data.estimation, or give the parts as separate records)",
+                i + 1,
+                steps[i],
+                median
+            ),
+        ));
+    }
+    let mut grid = Vec::new();
+    for column in values.iter_mut() {
+        let (t, x) = msd_signal::resample_uniform(&time, column, median)
+            .map_err(|e| ExperimentError::data(path, format!("time column: {e}")))?;
+        *column = x;
+        grid = t;
+    }
+    notes.push(format!(
+        "the time column's steps vary ({}–{} s, median {} s, as a sensor's own clock stamps them): the {n} samples were resampled by linear interpolation onto a uniform grid of the median step ({} samples)",
+        crate::fmt::sig(sorted[0], 3),
+        crate::fmt::sig(sorted[sorted.len() - 1], 3),
+        crate::fmt::sig(median, 4),
+        grid.len()
+    ));
+    Ok((grid, median))
 }
 
 /// The largest magnitude a data value may have: the sums of squares that every fit and
@@ -507,5 +526,46 @@ mod tests {
         assert!(time_in_seconds(path, "time (s)", &ms).is_ok());
         assert!(time_in_seconds(path, "t", &ms).is_ok());
         assert!(time_in_seconds(path, "Time [us]", &ms).is_err());
+    }
+
+    /// Stamps of a sensor's own clock (steps 10 ms ± 15 %) are resampled onto their
+    /// median step, every column alike: a slow sine comes back on the grid within the
+    /// linear interpolation's error (ω·Δt)²/8; a gap is refused; stamps within 1 % are
+    /// put on their uniform grid untouched.
+    #[test]
+    fn wandering_time_stamps_are_resampled_and_a_gap_refused() {
+        let path = Path::new("phone.csv");
+        let time: Vec<f64> = (0..500)
+            .scan(0.0, |t, i| {
+                let now = *t;
+                *t += 0.01 * (1.0 + 0.15 * ((i * 7919 % 13) as f64 / 6.0 - 1.0));
+                Some(now)
+            })
+            .collect();
+        let w = std::f64::consts::TAU * 2.0;
+        let mut values = vec![time.iter().map(|t| (w * t).sin()).collect::<Vec<f64>>()];
+        let mut notes = Vec::new();
+        let (grid, dt) = time_grid(path, None, time.clone(), 500, &mut values, &mut notes).unwrap();
+        assert!((dt / 0.01 - 1.0).abs() < 0.15, "dt = {dt}");
+        assert_eq!(values[0].len(), grid.len());
+        let bound = (w * 0.0115).powi(2) / 8.0;
+        for (t, x) in grid.iter().zip(&values[0]) {
+            assert!((x - (w * t).sin()).abs() <= bound, "t = {t}: {x}");
+        }
+        assert!(
+            notes[0].contains("resampled by linear interpolation"),
+            "{notes:?}"
+        );
+        let mut gap = time.clone();
+        for t in &mut gap[300..] {
+            *t += 0.05;
+        }
+        let err = time_grid(path, None, gap, 500, &mut values.clone(), &mut Vec::new());
+        assert!(err.unwrap_err().to_string().contains("a gap of"));
+        let printed: Vec<f64> = (0..500)
+            .map(|i| (i as f64 * 0.01 * 1e4).round() / 1e4)
+            .collect();
+        let (grid, _) = time_grid(path, None, printed, 500, &mut values, &mut Vec::new()).unwrap();
+        assert_eq!(grid.len(), 500);
     }
 }
