@@ -92,6 +92,16 @@ struct Channel<'a> {
 /// ```
 pub fn init(path: &Path, options: &InitOptions) -> Result<Init> {
     let survey = survey(path)?;
+    if survey.columns.is_empty() {
+        // A file of functions (UFF): what reads it is in its description.
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "msd init writes configs of time records in columns, and this file holds none:\n{}",
+                survey.description.trim_end()
+            ),
+        ));
+    }
     if survey.columns.iter().any(|c| c.complex) {
         // A frequency response measured line by line: a config of its own kind.
         return Err(ExperimentError::data(

@@ -23,6 +23,10 @@ use std::path::Path;
 /// ```
 pub fn inspect(path: &Path) -> Result<String> {
     let survey = survey(path)?;
+    if survey.columns.is_empty() {
+        // A file of functions (UFF): its description says what reads it.
+        return Ok(survey.description);
+    }
     Ok(
         survey.description.clone()
             + &config_lines(&survey.file_name, &survey.columns, &survey.keys),
@@ -63,7 +67,47 @@ pub(crate) fn survey(path: &Path) -> Result<Survey> {
     }
     let bytes = std::fs::read(path)
         .map_err(|e| ExperimentError::data(path, format!("cannot read the file: {e}")))?;
+    let universal = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("uff") || e.eq_ignore_ascii_case("unv"));
+    if universal {
+        return universal_file(path, file_name, &bytes);
+    }
     text_table(path, file_name, &bytes)
+}
+
+/// A Universal File Format file (`.uff`, `.unv`): its datasets as msd-uff lists them,
+/// and the `[frequency_response.uff]` lines that read its frequency responses.
+fn universal_file(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
+    let uff = msd_uff::parse(bytes).map_err(|e| ExperimentError::data(path, e.to_string()))?;
+    let frfs = (uff.functions.iter())
+        .filter(|f| f.function_type == msd_uff::FunctionType::FrequencyResponse)
+        .count();
+    let mut description = format!(
+        "{}: a Universal File Format file\n{}\n",
+        path.display(),
+        uff.to_string().trim_end()
+    );
+    let _ = match frfs {
+        0 => writeln!(
+            description,
+            "\nNo frequency response function (dataset 58 of type 4) to fit: the modal fits read those."
+        ),
+        1 => writeln!(
+            description,
+            "\nConfig lines that read it:\n[frequency_response.uff]\npath = {file_name:?}"
+        ),
+        n => writeln!(
+            description,
+            "\nConfig lines that read it ({n} frequency response functions: all as one set of a test; or one of them with `function = N`, N the listing's number + 1):\n[frequency_response.uff]\npath = {file_name:?}\nset = true"
+        ),
+    };
+    Ok(Survey {
+        file_name,
+        description,
+        columns: Vec::new(),
+        keys: Vec::new(),
+    })
 }
 
 /// One column's summary.

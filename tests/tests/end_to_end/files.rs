@@ -265,6 +265,32 @@ fn a_column_of_complex_numbers_is_found_and_its_config_lines_run() {
     assert!((f / 80.0 - 1.0).abs() < 1e-6, "fn = {f}");
 }
 
+/// A Universal File Format file: `msd inspect` lists its functions and prints the
+/// `[frequency_response.uff]` lines that read it, which run as they are; `msd init`
+/// (which writes configs of time records) gives the same listing instead of a config.
+#[test]
+fn a_universal_file_is_listed_with_the_lines_that_read_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let uff = dir.path().join("frf-2dof.uff");
+    std::fs::copy(config("data/frf-2dof.uff"), &uff).unwrap();
+    let listing = msd_experiment::inspect::inspect(&uff).unwrap();
+    for said in [
+        "a Universal File Format file",
+        "0: frequency response function, response 2:+X, reference 1:+X, 200 complex points",
+        "[frequency_response.uff]\npath = \"frf-2dof.uff\"",
+    ] {
+        assert!(listing.contains(said), "{listing}");
+    }
+    let lines = &listing[listing.find("[frequency_response.uff]").unwrap()..];
+    std::fs::write(dir.path().join("u.toml"), format!("name = \"u\"\n{lines}")).unwrap();
+    let run = run_in_temp(&dir.path().join("u.toml"), None, None).expect("the lines run");
+    assert!(run.number("estimate.natural_frequency_hz.value") > 0.0);
+    let refused = msd_experiment::init::init(&uff, &Default::default())
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("holds none") && refused.contains("[frequency_response.uff]"));
+}
+
 /// A data file that is not what its extension says, or is cut short, is refused before
 /// anything is written: exit status 2, the file and the key named.
 #[test]
