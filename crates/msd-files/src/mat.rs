@@ -71,10 +71,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(Vec<Channel>, Vec<String>), String> 
             _ => continue, // not a variable (e.g. a subsystem's data): passed over
         }
         .map_err(|why| format!("the variable at byte {start}: {why}"))?;
-        match matrix.channels() {
-            Ok(found) => channels.extend(found),
-            Err(why) => skipped.push(format!("{}: {why}", matrix.name)),
-        }
+        matrix.collect(&mut channels, &mut skipped);
     }
     if channels.is_empty() {
         return Err(match skipped.is_empty() {
@@ -96,19 +93,37 @@ fn inflate(data: &[u8]) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-/// One variable: its name, class, dimensions and parts.
+/// One variable: its name, class, dimensions and parts; a structure's fields as
+/// variables named `s.field` (`s(k).field` in a structure array, k from 1).
 struct Variable {
     name: String,
     class: u8,
     dims: Vec<usize>,
     real: Vec<f64>,
     imag: Option<Vec<f64>>,
+    fields: Vec<Variable>,
 }
+
+/// How deep structures may nest (a damaged or hostile file stops there).
+const MAX_DEPTH: usize = 8;
+/// The most fields a structure (array) may hold in all.
+const MAX_FIELDS: usize = 1 << 16;
 
 impl Variable {
     /// A matrix element's sub-elements: array flags, dimensions, name, real and
     /// imaginary parts (numeric classes only).
     fn parse(data: &[u8], big: bool) -> Result<Self, String> {
+        Self::parse_at(data, big, 0, None)
+    }
+
+    /// [`Self::parse`] at a structure's `depth`, named `given` (a field's name with its
+    /// structure's) rather than by its own (empty) name element.
+    fn parse_at(
+        data: &[u8],
+        big: bool,
+        depth: usize,
+        given: Option<String>,
+    ) -> Result<Self, String> {
         let mut r = Reader {
             bytes: data,
             at: 0,
@@ -121,6 +136,7 @@ impl Variable {
                 dims: Vec::new(),
                 real: Vec::new(),
                 imag: None,
+                fields: Vec::new(),
             });
         }
         let flags = r.element()?.1;
@@ -142,14 +158,19 @@ impl Variable {
                 d.u32().map(|v| v as i32 as usize)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let name = String::from_utf8_lossy(r.element()?.1).into_owned();
+        let own = String::from_utf8_lossy(r.element()?.1).into_owned();
+        let name = given.unwrap_or(own);
         let mut v = Self {
             name,
             class,
             dims,
             real: Vec::new(),
             imag: None,
+            fields: Vec::new(),
         };
+        if class == 2 {
+            v.fields = v.struct_fields(&mut r, big, depth)?;
+        }
         if (6..=15).contains(&class) {
             let (kind, part) = r.element()?;
             v.real = numbers(kind, part, big)?;
@@ -159,6 +180,80 @@ impl Variable {
             }
         }
         Ok(v)
+    }
+
+    /// A structure's fields, element by element (MATLAB's order: each element's fields
+    /// in turn), each named after it.
+    fn struct_fields(
+        &self,
+        r: &mut Reader<'_>,
+        big: bool,
+        depth: usize,
+    ) -> Result<Vec<Variable>, String> {
+        if depth >= MAX_DEPTH {
+            return Err(format!(
+                "structures nested deeper than {MAX_DEPTH}: not read"
+            ));
+        }
+        let length = r.element()?.1;
+        let length = Reader {
+            bytes: length,
+            at: 0,
+            big,
+        }
+        .u32()? as usize;
+        let names = r.element()?.1;
+        let names: Vec<String> = match length {
+            0 => Vec::new(),
+            n => (names.chunks(n))
+                .map(|c| {
+                    let end = c.iter().position(|&b| b == 0).unwrap_or(c.len());
+                    String::from_utf8_lossy(&c[..end]).into_owned()
+                })
+                .collect(),
+        };
+        let count = (self.dims.iter()).try_fold(1usize, |a, &d| a.checked_mul(d));
+        let count = count
+            .filter(|c| c.saturating_mul(names.len()) <= MAX_FIELDS)
+            .ok_or_else(|| {
+                format!(
+                    "a structure of size {} with {} fields: more than {MAX_FIELDS} in all",
+                    size_text(&self.dims),
+                    names.len()
+                )
+            })?;
+        let mut fields = Vec::with_capacity(count * names.len());
+        for k in 0..count {
+            for field in &names {
+                let (kind, data) = r.element()?;
+                if kind != MI_MATRIX {
+                    return Err(format!(
+                        "field {field}: type {kind}, expected a matrix (14)"
+                    ));
+                }
+                let name = match count {
+                    1 => format!("{}.{field}", self.name),
+                    _ => format!("{}({}).{field}", self.name, k + 1),
+                };
+                fields.push(Variable::parse_at(data, big, depth + 1, Some(name))?);
+            }
+        }
+        Ok(fields)
+    }
+
+    /// Its channels into `out` (a structure's, field by field), or why not into
+    /// `skipped`.
+    fn collect(&self, out: &mut Vec<Channel>, skipped: &mut Vec<String>) {
+        if self.class == 2 {
+            for field in &self.fields {
+                field.collect(out, skipped);
+            }
+            return;
+        }
+        match self.channels() {
+            Ok(found) => out.extend(found),
+            Err(why) => skipped.push(format!("{}: {why}", self.name)),
+        }
     }
 
     /// The variable as channels, or why it is not one.

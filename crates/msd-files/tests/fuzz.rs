@@ -51,6 +51,7 @@ fn damaged(name: &str, seed: u64) {
 fn damaged_mat_files_are_refused_by_name() {
     damaged("record-v5.mat", 1);
     damaged("record-v7.mat", 2);
+    damaged("struct-v5.mat", 6);
 }
 
 #[test]

@@ -55,6 +55,41 @@ fn matlab_level_7_compressed_reads_as_level_5() {
     assert_series(&c.channel("force").unwrap().values, force, 1e-15);
 }
 
+/// A structure's fields are channels named `s.field` (nested: `s.a.b`; in a structure
+/// array `s(k).field`, k from 1), its text fields left out and said.
+#[test]
+fn matlab_structures_are_read_field_by_field() {
+    let c = read(&fixture("struct-v5.mat")).unwrap();
+    let names: Vec<&str> = c.channels.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "rec.t",
+            "rec.signals.values[0]",
+            "rec.signals.values[1]",
+            "runs(1).force",
+            "runs(1).x",
+            "runs(2).force",
+            "runs(2).x"
+        ]
+    );
+    assert_eq!(
+        c.skipped,
+        ["rec.signals.label: text: not read (expected numbers)"]
+    );
+    assert_series(&c.channel("rec.t").unwrap().values, t, 1e-15);
+    assert_series(
+        &c.channel("rec.signals.values[1]").unwrap().values,
+        x,
+        1e-15,
+    );
+    assert_series(
+        &c.channel("runs(2).force").unwrap().values,
+        |i| -force(i),
+        1e-15,
+    );
+}
+
 #[test]
 fn numpy_arrays_split_into_channels_along_the_shorter_dimension() {
     let c = read(&fixture("record.npy")).unwrap();
