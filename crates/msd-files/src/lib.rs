@@ -15,7 +15,8 @@
 //!   `name[0]`, `name[1]`, … (0-based, as every column index of the toolkit); a complex
 //!   variable gives `name.re` and `name.im`. A structure's fields are channels named
 //!   `s.field` (nested `s.a.b`, in a structure array `s(k).field`, k from 1), as labs and
-//!   Simulink save records. Text, cells and objects are listed as skipped. Level 7.3 files (HDF5) are refused with the advice to save with `-v7`.
+//!   Simulink save records; a cell array's cells `c{k}` (k from 1). Text and objects
+//!   are listed as skipped. Level 7.3 files (HDF5) are refused with the advice to save with `-v7`.
 //! - **NumPy**: a `.npy` array is named after its file; an `.npz` archive holds one array
 //!   per entry, named as `numpy.savez` named it. Matrices split as MATLAB's are.
 //! - **TDMS**: each channel, named `group/channel` (or `channel` where that name is unique

@@ -168,8 +168,10 @@ impl Variable {
             imag: None,
             fields: Vec::new(),
         };
-        if class == 2 {
-            v.fields = v.struct_fields(&mut r, big, depth)?;
+        match class {
+            1 => v.fields = v.cells(&mut r, big, depth)?,
+            2 => v.fields = v.struct_fields(&mut r, big, depth)?,
+            _ => {}
         }
         if (6..=15).contains(&class) {
             let (kind, part) = r.element()?;
@@ -241,10 +243,38 @@ impl Variable {
         Ok(fields)
     }
 
-    /// Its channels into `out` (a structure's, field by field), or why not into
-    /// `skipped`.
+    /// A cell array's cells, in MATLAB's (column-major) order, each named `c{k}` (k from
+    /// 1).
+    fn cells(&self, r: &mut Reader<'_>, big: bool, depth: usize) -> Result<Vec<Variable>, String> {
+        if depth >= MAX_DEPTH {
+            return Err(format!("cells nested deeper than {MAX_DEPTH}: not read"));
+        }
+        let count = (self.dims.iter()).try_fold(1usize, |a, &d| a.checked_mul(d));
+        let count = count.filter(|&c| c <= MAX_FIELDS).ok_or_else(|| {
+            format!(
+                "a cell array of size {}: more than {MAX_FIELDS} cells",
+                size_text(&self.dims)
+            )
+        })?;
+        (0..count)
+            .map(|k| {
+                let (kind, data) = r.element()?;
+                if kind != MI_MATRIX {
+                    return Err(format!(
+                        "cell {}: type {kind}, expected a matrix (14)",
+                        k + 1
+                    ));
+                }
+                let name = format!("{}{{{}}}", self.name, k + 1);
+                Variable::parse_at(data, big, depth + 1, Some(name))
+            })
+            .collect()
+    }
+
+    /// Its channels into `out` (a structure's field by field, a cell array's cell by
+    /// cell), or why not into `skipped`.
     fn collect(&self, out: &mut Vec<Channel>, skipped: &mut Vec<String>) {
-        if self.class == 2 {
+        if matches!(self.class, 1 | 2) {
             for field in &self.fields {
                 field.collect(out, skipped);
             }
@@ -260,8 +290,7 @@ impl Variable {
     fn channels(&self) -> Result<Vec<Channel>, String> {
         let what = match self.class {
             6..=15 => None,
-            1 => Some("a cell array"),
-            2 => Some("a structure"),
+            1 | 2 => Some("a cell array or structure (read by its parts)"),
             3 => Some("an object"),
             4 => Some("text"),
             5 => Some("a sparse matrix"),

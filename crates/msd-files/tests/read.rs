@@ -56,9 +56,9 @@ fn matlab_level_7_compressed_reads_as_level_5() {
 }
 
 /// A structure's fields are channels named `s.field` (nested: `s.a.b`; in a structure
-/// array `s(k).field`, k from 1), its text fields left out and said.
+/// array `s(k).field`, k from 1), a cell array's cells `c{k}`; text left out and said.
 #[test]
-fn matlab_structures_are_read_field_by_field() {
+fn matlab_structures_and_cells_are_read_part_by_part() {
     let c = read(&fixture("struct-v5.mat")).unwrap();
     let names: Vec<&str> = c.channels.iter().map(|c| c.name.as_str()).collect();
     assert_eq!(
@@ -70,13 +70,19 @@ fn matlab_structures_are_read_field_by_field() {
             "runs(1).force",
             "runs(1).x",
             "runs(2).force",
-            "runs(2).x"
+            "runs(2).x",
+            "cells{1}",
+            "cells{2}"
         ]
     );
     assert_eq!(
         c.skipped,
-        ["rec.signals.label: text: not read (expected numbers)"]
+        [
+            "rec.signals.label: text: not read (expected numbers)",
+            "cells{3}: text: not read (expected numbers)"
+        ]
     );
+    assert_series(&c.channel("cells{2}").unwrap().values, force, 1e-15);
     assert_series(&c.channel("rec.t").unwrap().values, t, 1e-15);
     assert_series(
         &c.channel("rec.signals.values[1]").unwrap().values,
