@@ -291,6 +291,57 @@ fn a_universal_file_is_listed_with_the_lines_that_read_it() {
     assert!(refused.contains("holds none") && refused.contains("[frequency_response.uff]"));
 }
 
+/// An analyser's export of magnitude in decibels and phase: refused as a linear
+/// magnitude (its name says dB; a negative value says so too), read with
+/// `magnitude_in_db = true`, the mode where it was put.
+#[test]
+fn a_magnitude_in_decibels_is_refused_until_the_key_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let (m, k, zeta) = (1.0, (2.0 * std::f64::consts::PI * 100.0).powi(2), 0.01);
+    let c = 2.0 * zeta * (k * m).sqrt();
+    let mut text = String::from("Frequency (Hz),Magnitude (dB),Phase (deg)\n");
+    for i in 1..=1600 {
+        let f = i as f64 * 0.3125;
+        let w = 2.0 * std::f64::consts::PI * f;
+        let h = 1.0 / msd_signal::Complex64::new(k - m * w * w, c * w);
+        let db = 20.0 * h.norm().log10();
+        text.push_str(&format!("{f:.4},{db:.9},{:.9}\n", h.arg().to_degrees()));
+    }
+    std::fs::write(dir.path().join("db.csv"), &text).unwrap();
+    let table = "name = \"db\"\n[frequency_response.table]\npath = \"db.csv\"\nfrequency = \"Frequency (Hz)\"\nmagnitude = \"Magnitude (dB)\"\nphase = \"Phase (deg)\"\n";
+    let config = dir.path().join("db.toml");
+    std::fs::write(&config, table).unwrap();
+    let refused = run_in_temp(&config, None, None)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        refused.contains("magnitude = `Magnitude (dB)`")
+            && refused.contains("magnitude_in_db = true"),
+        "{refused}"
+    );
+    std::fs::write(&config, format!("{table}magnitude_in_db = true\n")).unwrap();
+    let run = run_in_temp(&config, None, None).expect("read in decibels");
+    let f = run.number("estimate.natural_frequency_hz.value");
+    assert!((f / 100.0 - 1.0).abs() < 1e-4, "fn = {f}");
+    // Named otherwise, its negative values give it away.
+    let renamed = table.replace("Magnitude (dB)", "Mag");
+    std::fs::write(
+        dir.path().join("db.csv"),
+        text.replace("Magnitude (dB)", "Mag"),
+    )
+    .unwrap();
+    std::fs::write(&config, renamed).unwrap();
+    let refused = run_in_temp(&config, None, None)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        refused.contains("holds -") && refused.contains("at row 1"),
+        "{refused}"
+    );
+}
+
 /// A data file that is not what its extension says, or is cut short, is refused before
 /// anything is written: exit status 2, the file and the key named.
 #[test]

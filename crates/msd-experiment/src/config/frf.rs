@@ -285,6 +285,11 @@ pub struct TableSource {
     /// Whether the phase is in degrees (else radians). By default true.
     #[serde(default = "default_true")]
     pub phase_in_degrees: bool,
+    /// Whether the magnitude is in decibels, 20·log₁₀|H| (as analysers export it), else
+    /// linear. By default false; a magnitude column whose name says dB is refused
+    /// until this key says so.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub magnitude_in_db: bool,
     /// The real-part column (with `imaginary`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub real: Option<Column>,

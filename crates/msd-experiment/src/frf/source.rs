@@ -153,13 +153,14 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
     let (mut frf, what) = if t.complex.is_some() {
         let frf = FrequencyResponseEstimate::new(f.clone(), read.complex.clone()).map_err(fail)?;
         (frf, "complex numbers")
-    } else if t.magnitude.is_some() {
+    } else if let Some(column) = &t.magnitude {
         let phase: Vec<f64> = if t.phase_in_degrees {
             b.to_vec()
         } else {
             b.iter().map(|p| p.to_degrees()).collect()
         };
-        let frf = FrequencyResponseEstimate::from_magnitude_phase(&f, a, &phase).map_err(fail)?;
+        let a = linear_magnitude(path, column, t.magnitude_in_db, a)?;
+        let frf = FrequencyResponseEstimate::from_magnitude_phase(&f, &a, &phase).map_err(fail)?;
         (frf, "magnitude and phase")
     } else {
         let frf = FrequencyResponseEstimate::from_real_imaginary(&f, a, b).map_err(fail)?;
@@ -254,6 +255,31 @@ fn members(set: &[TableSource], sources: &Sources) -> Result<Loaded> {
         members,
         nodes: Vec::new(),
     })
+}
+
+/// The magnitude column as |H|: from decibels (20·log₁₀|H|) with `in_db`; without it, a
+/// column whose name says dB is refused, and so is a negative magnitude, which only a
+/// decibel column holds.
+fn linear_magnitude(path: &Path, column: &Column, in_db: bool, a: &[f64]) -> Result<Vec<f64>> {
+    if in_db {
+        return Ok(a.iter().map(|db| 10f64.powf(db / 20.0)).collect());
+    }
+    let key = "frequency_response.table.magnitude";
+    let named_db = matches!(column, Column::Name(n) if n.to_ascii_lowercase().split(|c: char| !c.is_ascii_alphanumeric()).any(|w| w == "db"));
+    let negative = a.iter().position(|&m| m < 0.0);
+    if named_db || negative.is_some() {
+        let why = match negative {
+            Some(i) => format!("holds {} at row {}", a[i], i + 1),
+            None => "is named in dB".to_string(),
+        };
+        return Err(ExperimentError::data(
+            path,
+            format!(
+                "{key} = {column}: the column {why}: a magnitude in decibels? set magnitude_in_db = true (20·log₁₀|H|), or give |H| itself"
+            ),
+        ));
+    }
+    Ok(a.to_vec())
 }
 
 /// The smallest non-zero magnitude a response value may have (the mirror of

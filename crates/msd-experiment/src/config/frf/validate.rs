@@ -292,6 +292,12 @@ fn check_table(t: &super::TableSource) -> Check {
                 .into(),
         );
     }
+    if t.magnitude_in_db && t.magnitude.is_none() {
+        return err(
+            "frequency_response.table.magnitude_in_db",
+            " = true: expected a `magnitude` column for it to apply to".into(),
+        );
+    }
     match (&t.frequency, t.frequency_step_hz) {
         (Some(_), Some(_)) | (None, None) => {
             return err(
