@@ -387,6 +387,13 @@ pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
     ))
 }
 
+/// A column name's words, lower case (`Magnitude (dB)`: "magnitude", "db").
+fn words_of(name: &str) -> impl Iterator<Item = String> + '_ {
+    (name.split(|c: char| !c.is_alphanumeric()))
+        .filter(|w| !w.is_empty())
+        .map(str::to_lowercase)
+}
+
 /// The `[data]` lines (or `[frequency_response.table]` lines for a table whose first
 /// column is a frequency) that read the file.
 pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
@@ -443,13 +450,32 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
             let _ = writeln!(out, "{k}");
         }
         let _ = writeln!(out, "frequency = {}", quoted(f));
-        if let [re, im, ..] = others.as_slice() {
-            let _ = writeln!(
-                out,
-                "real = {}\nimaginary = {}    # or magnitude = …, phase = …",
-                quoted(re),
-                quoted(im)
-            );
+        let named = |words: &[&str]| {
+            (others.iter()).find(|c| words.iter().any(|w| words_of(&c.name).any(|n| n == *w)))
+        };
+        match (
+            named(&["mag", "magnitude", "amplitude", "db"]),
+            named(&["phase", "deg"]),
+        ) {
+            (Some(m), Some(p)) => {
+                let _ = writeln!(out, "magnitude = {}\nphase = {}", quoted(m), quoted(p));
+                if words_of(&m.name).any(|w| w == "db") {
+                    let _ = writeln!(out, "magnitude_in_db = true");
+                }
+                if words_of(&p.name).any(|w| w == "rad") {
+                    let _ = writeln!(out, "phase_in_degrees = false");
+                }
+            }
+            _ => {
+                if let [re, im, ..] = others.as_slice() {
+                    let _ = writeln!(
+                        out,
+                        "real = {}\nimaginary = {}    # or magnitude = …, phase = …",
+                        quoted(re),
+                        quoted(im)
+                    );
+                }
+            }
         }
         let _ = writeln!(
             out,

@@ -291,9 +291,9 @@ fn a_universal_file_is_listed_with_the_lines_that_read_it() {
     assert!(refused.contains("holds none") && refused.contains("[frequency_response.uff]"));
 }
 
-/// An analyser's export of magnitude in decibels and phase: refused as a linear
-/// magnitude (its name says dB; a negative value says so too), read with
-/// `magnitude_in_db = true`, the mode where it was put.
+/// An analyser's export of magnitude in decibels and phase: `msd inspect` gives the
+/// lines with `magnitude_in_db = true`; without the key it is refused (its name says dB;
+/// a negative value says so too); with it the mode comes back where it was put.
 #[test]
 fn a_magnitude_in_decibels_is_refused_until_the_key_says_so() {
     let dir = tempfile::tempdir().unwrap();
@@ -308,6 +308,13 @@ fn a_magnitude_in_decibels_is_refused_until_the_key_says_so() {
         text.push_str(&format!("{f:.4},{db:.9},{:.9}\n", h.arg().to_degrees()));
     }
     std::fs::write(dir.path().join("db.csv"), &text).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("db.csv")).unwrap();
+    for line in [
+        "magnitude = \"Magnitude (dB)\"\nphase = \"Phase (deg)\"\nmagnitude_in_db = true",
+        "frequency = \"Frequency (Hz)\"",
+    ] {
+        assert!(listing.contains(line), "{listing}");
+    }
     let table = "name = \"db\"\n[frequency_response.table]\npath = \"db.csv\"\nfrequency = \"Frequency (Hz)\"\nmagnitude = \"Magnitude (dB)\"\nphase = \"Phase (deg)\"\n";
     let config = dir.path().join("db.toml");
     std::fs::write(&config, table).unwrap();
