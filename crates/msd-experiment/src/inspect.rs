@@ -387,13 +387,6 @@ pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
     ))
 }
 
-/// A column name's words, lower case (`Magnitude (dB)`: "magnitude", "db").
-fn words_of(name: &str) -> impl Iterator<Item = String> + '_ {
-    (name.split(|c: char| !c.is_alphanumeric()))
-        .filter(|w| !w.is_empty())
-        .map(str::to_lowercase)
-}
-
 /// The `[data]` lines (or `[frequency_response.table]` lines for a table whose first
 /// column is a frequency) that read the file.
 pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
@@ -451,7 +444,11 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         }
         let _ = writeln!(out, "frequency = {}", quoted(f));
         let named = |words: &[&str]| {
-            (others.iter()).find(|c| words.iter().any(|w| words_of(&c.name).any(|n| n == *w)))
+            (others.iter()).find(|c| {
+                words
+                    .iter()
+                    .any(|w| text::name_words(&c.name).any(|n| n == *w))
+            })
         };
         match (
             named(&["mag", "magnitude", "amplitude", "db"]),
@@ -459,10 +456,10 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         ) {
             (Some(m), Some(p)) => {
                 let _ = writeln!(out, "magnitude = {}\nphase = {}", quoted(m), quoted(p));
-                if words_of(&m.name).any(|w| w == "db") {
+                if text::name_words(&m.name).any(|w| w == "db") {
                     let _ = writeln!(out, "magnitude_in_db = true");
                 }
-                if words_of(&p.name).any(|w| w == "rad") {
+                if text::name_words(&p.name).any(|w| w == "rad") {
                     let _ = writeln!(out, "phase_in_degrees = false");
                 }
             }

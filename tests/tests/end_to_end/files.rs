@@ -344,7 +344,7 @@ fn a_magnitude_in_decibels_is_refused_until_the_key_says_so() {
         .expect("refused")
         .to_string();
     assert!(
-        refused.contains("holds -") && refused.contains("at row 1"),
+        refused.contains("holds -") && refused.contains("on line 2"),
         "{refused}"
     );
 }

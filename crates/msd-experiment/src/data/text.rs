@@ -540,6 +540,13 @@ pub(crate) fn unit_in_name(name: &str) -> Option<&str> {
     Some(inner.trim()).filter(|u| !u.is_empty())
 }
 
+/// A column name's words, lower case (`Magnitude (dB)`: "magnitude", "db").
+pub(crate) fn name_words(name: &str) -> impl Iterator<Item = String> + '_ {
+    (name.split(|c: char| !c.is_alphanumeric()))
+        .filter(|w| !w.is_empty())
+        .map(str::to_lowercase)
+}
+
 /// Seconds in one `unit` of time (s, ms, µs, min), `None` for any other unit.
 pub(crate) fn seconds_per(unit: &str) -> Option<f64> {
     match unit {

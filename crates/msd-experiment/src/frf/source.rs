@@ -9,6 +9,7 @@ use crate::config::{
     ChainPlant, Column, FrequencyResponseSection, RecordsSource, Spacing, SweepSource, TableSource,
     UffSource,
 };
+use crate::data::text::name_words;
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
 use msd_ident::Hold;
@@ -159,7 +160,7 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
         } else {
             b.iter().map(|p| p.to_degrees()).collect()
         };
-        let a = linear_magnitude(path, column, t.magnitude_in_db, a)?;
+        let a = linear_magnitude(path, column, t.magnitude_in_db, a, &read.lines)?;
         let frf = FrequencyResponseEstimate::from_magnitude_phase(&f, &a, &phase).map_err(fail)?;
         (frf, "magnitude and phase")
     } else {
@@ -260,16 +261,22 @@ fn members(set: &[TableSource], sources: &Sources) -> Result<Loaded> {
 /// The magnitude column as |H|: from decibels (20·log₁₀|H|) with `in_db`; without it, a
 /// column whose name says dB is refused, and so is a negative magnitude, which only a
 /// decibel column holds.
-fn linear_magnitude(path: &Path, column: &Column, in_db: bool, a: &[f64]) -> Result<Vec<f64>> {
+fn linear_magnitude(
+    path: &Path,
+    column: &Column,
+    in_db: bool,
+    a: &[f64],
+    lines: &[usize],
+) -> Result<Vec<f64>> {
     if in_db {
         return Ok(a.iter().map(|db| 10f64.powf(db / 20.0)).collect());
     }
     let key = "frequency_response.table.magnitude";
-    let named_db = matches!(column, Column::Name(n) if n.to_ascii_lowercase().split(|c: char| !c.is_ascii_alphanumeric()).any(|w| w == "db"));
+    let named_db = matches!(column, Column::Name(n) if name_words(n).any(|w| w == "db"));
     let negative = a.iter().position(|&m| m < 0.0);
     if named_db || negative.is_some() {
         let why = match negative {
-            Some(i) => format!("holds {} at row {}", a[i], i + 1),
+            Some(i) => format!("holds {} on line {}", a[i], lines[i]),
             None => "is named in dB".to_string(),
         };
         return Err(ExperimentError::data(
