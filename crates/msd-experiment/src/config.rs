@@ -55,8 +55,8 @@ pub mod setup;
 pub use chain::{ChainSection, ChainSensorSection};
 pub use experiment::{Experiment, ExperimentKind, Spec};
 pub use frf::{
-    ChainPlant, FrequencyResponseSection, HammerSource, RecordsSource, ReferenceMode, ShakerSource,
-    Spacing, SweepSource, TableSource, UffSource,
+    ChainPlant, FrequencyResponseSection, FrequencyUnit, HammerSource, RecordsSource,
+    ReferenceMode, ShakerSource, Spacing, SweepSource, TableSource, UffSource,
 };
 pub use nonlinear::{Candidates, NonlinearMultistartSection, NonlinearSection};
 pub use operational::{

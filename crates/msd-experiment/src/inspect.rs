@@ -2,6 +2,7 @@
 //! sampling rate, how a text file is written (encoding, delimiter, decimal mark,
 //! metadata and units lines, missing values) — and the config lines that read it.
 
+use crate::config::FrequencyUnit;
 use crate::data::text::{self, Missing, TextFormat, complex_cell};
 use crate::error::{ExperimentError, Result};
 use crate::fmt::short;
@@ -373,6 +374,67 @@ pub(crate) fn unit(column: &Column) -> Option<&str> {
     given.or_else(|| text::unit_in_name(&column.name))
 }
 
+/// The `[frequency_response.table]` lines of a table whose column `f` is a frequency:
+/// magnitude and phase by their names, else the first two other columns as real and
+/// imaginary parts.
+fn table_lines(out: &mut String, name: &str, keys: &[String], f: &Column, others: &[&Column]) {
+    let quoted = |c: &Column| format!("{:?}", c.name);
+    let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
+    for k in keys {
+        let _ = writeln!(out, "{k}");
+    }
+    let _ = writeln!(out, "frequency = {}{}", quoted(f), unit_line(f));
+    let named = |words: &[&str]| {
+        (others.iter()).find(|c| {
+            words
+                .iter()
+                .any(|w| text::name_words(&c.name).any(|n| n == *w))
+        })
+    };
+    match (
+        named(&["mag", "magnitude", "amplitude", "db"]),
+        named(&["phase", "deg"]),
+    ) {
+        (Some(m), Some(p)) => {
+            let _ = writeln!(out, "magnitude = {}\nphase = {}", quoted(m), quoted(p));
+            if text::name_words(&m.name).any(|w| w == "db") {
+                let _ = writeln!(out, "magnitude_in_db = true");
+            }
+            if text::name_words(&p.name).any(|w| w == "rad") {
+                let _ = writeln!(out, "phase_in_degrees = false");
+            }
+        }
+        _ => {
+            if let [re, im, ..] = others {
+                let _ = writeln!(
+                    out,
+                    "real = {}\nimaginary = {}    # or magnitude = …, phase = …",
+                    quoted(re),
+                    quoted(im)
+                );
+            }
+        }
+    }
+    let _ = writeln!(
+        out,
+        "kind = \"accelerance\"    # or receptance, mobility: what the response measures"
+    );
+}
+
+/// The `frequency_unit` line of a frequency column in kHz, rad/s or rpm (the fits work
+/// in Hz), with its newline before it; empty in Hz.
+fn unit_line(f: &Column) -> String {
+    match frequency_unit(f) {
+        Some(u) if !u.is_hertz() => format!("\nfrequency_unit = {:?}", u.name()),
+        _ => String::new(),
+    }
+}
+
+/// The frequency unit of a column's unit (units line or name), if it is one.
+fn frequency_unit(column: &Column) -> Option<FrequencyUnit> {
+    unit(column).and_then(FrequencyUnit::of)
+}
+
 /// The sampling rate a time column gives when its unit is not seconds (`Time [ms]`,
 /// `t (us)`, `min`), with where it comes from; `None` in seconds or with no unit (the
 /// column is then read as the time).
@@ -407,7 +469,7 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         String::from("\nConfig lines that read it (choose the columns among those above):\n");
     let frequency = time.filter(|t| {
         let n = t.name.to_ascii_lowercase();
-        n.contains("freq") || n.contains("hz") || t.unit.as_deref() == Some("Hz")
+        n.contains("freq") || n.contains("hz") || n.contains("omega") || frequency_unit(t).is_some()
     });
     if let Some(z) = columns.iter().find(|c| c.complex) {
         // A column of complex numbers: a frequency response measured line by line.
@@ -421,7 +483,7 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         }
         match time {
             Some(f) => {
-                let _ = writeln!(out, "frequency = {}", refer(f));
+                let _ = writeln!(out, "frequency = {}{}", refer(f), unit_line(f));
             }
             None => {
                 let _ = writeln!(
@@ -438,46 +500,7 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         return out;
     }
     if let Some(f) = frequency {
-        let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
-        for k in keys {
-            let _ = writeln!(out, "{k}");
-        }
-        let _ = writeln!(out, "frequency = {}", quoted(f));
-        let named = |words: &[&str]| {
-            (others.iter()).find(|c| {
-                words
-                    .iter()
-                    .any(|w| text::name_words(&c.name).any(|n| n == *w))
-            })
-        };
-        match (
-            named(&["mag", "magnitude", "amplitude", "db"]),
-            named(&["phase", "deg"]),
-        ) {
-            (Some(m), Some(p)) => {
-                let _ = writeln!(out, "magnitude = {}\nphase = {}", quoted(m), quoted(p));
-                if text::name_words(&m.name).any(|w| w == "db") {
-                    let _ = writeln!(out, "magnitude_in_db = true");
-                }
-                if text::name_words(&p.name).any(|w| w == "rad") {
-                    let _ = writeln!(out, "phase_in_degrees = false");
-                }
-            }
-            _ => {
-                if let [re, im, ..] = others.as_slice() {
-                    let _ = writeln!(
-                        out,
-                        "real = {}\nimaginary = {}    # or magnitude = …, phase = …",
-                        quoted(re),
-                        quoted(im)
-                    );
-                }
-            }
-        }
-        let _ = writeln!(
-            out,
-            "kind = \"accelerance\"    # or receptance, mobility: what the response measures"
-        );
+        table_lines(&mut out, name, keys, f, &others);
         return out;
     }
     let _ = writeln!(out, "[data]\npath = {name:?}");

@@ -349,6 +349,50 @@ fn a_magnitude_in_decibels_is_refused_until_the_key_says_so() {
     );
 }
 
+/// A frequency column in rad/s (or kHz) is refused when read as Hz — every mode would be
+/// 2π× off, silently — and read with `frequency_unit`, which `msd inspect` writes.
+#[test]
+fn a_frequency_column_in_radians_per_second_is_read_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let (m, k, zeta) = (1.0, (2.0 * std::f64::consts::PI * 40.0).powi(2), 0.02);
+    let c = 2.0 * zeta * (k * m).sqrt();
+    let mut text = String::from("w (rad/s),Re,Im\n");
+    for i in 1..=800 {
+        let w = i as f64 * 0.5;
+        let h = 1.0 / msd_signal::Complex64::new(k - m * w * w, c * w);
+        text.push_str(&format!("{w:.3},{:e},{:e}\n", h.re, h.im));
+    }
+    std::fs::write(dir.path().join("w.csv"), &text).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("w.csv")).unwrap();
+    assert!(
+        listing.contains("frequency = \"w (rad/s)\"\nfrequency_unit = \"rad/s\""),
+        "{listing}"
+    );
+    let lines = &listing[listing.find("[frequency_response.table]").unwrap()..];
+    let config = dir.path().join("w.toml");
+    let table = format!(
+        "name = \"w\"\n{}",
+        lines.replace("accelerance", "receptance")
+    );
+    std::fs::write(&config, &table).unwrap();
+    let run = run_in_temp(&config, None, None).expect("the lines msd inspect printed run");
+    let f = run.number("estimate.natural_frequency_hz.value");
+    assert!((f / 40.0 - 1.0).abs() < 1e-6, "fn = {f}");
+    std::fs::write(&config, table.replace("frequency_unit = \"rad/s\"\n", "")).unwrap();
+    let refused = run_in_temp(&config, None, None)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        refused.contains("its name says rad/s") && refused.contains("frequency_unit = \"rad/s\""),
+        "{refused}"
+    );
+    let khz = text.replace("w (rad/s)", "f [kHz]");
+    std::fs::write(dir.path().join("w.csv"), khz).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("w.csv")).unwrap();
+    assert!(listing.contains("frequency_unit = \"kHz\""), "{listing}");
+}
+
 /// A data file that is not what its extension says, or is cut short, is refused before
 /// anything is written: exit status 2, the file and the key named.
 #[test]

@@ -265,6 +265,11 @@ pub struct TableSource {
     /// The frequency column, Hz (increasing); or none, with `frequency_step_hz`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frequency: Option<Column>,
+    /// The frequency column's unit: `"Hz"` (the default), `"kHz"`, `"rad/s"` or `"rpm"`
+    /// (cycles per minute); the fits work in Hz. A column whose name states another
+    /// unit (`Frequency [kHz]`, `w (rad/s)`) is refused until this key says it.
+    #[serde(default, skip_serializing_if = "FrequencyUnit::is_hertz")]
+    pub frequency_unit: FrequencyUnit,
     /// Without a frequency column: line i (from 0) is at `frequency_start_hz` + i ×
     /// `frequency_step_hz`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -339,6 +344,70 @@ pub struct TableSource {
     /// `"interpolate"` it; the report says how many.
     #[serde(default, skip_serializing_if = "crate::data::text::Missing::is_refuse")]
     pub missing: crate::data::text::Missing,
+}
+
+/// The unit of a frequency column.
+///
+/// ```
+/// use msd_experiment::config::FrequencyUnit;
+/// assert_eq!(FrequencyUnit::of("kHz"), Some(FrequencyUnit::Kilohertz));
+/// assert_eq!(FrequencyUnit::of("rad/s").map(FrequencyUnit::hertz), Some(1.0 / std::f64::consts::TAU));
+/// assert_eq!(FrequencyUnit::of("m/s"), None);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum FrequencyUnit {
+    /// Hz.
+    #[default]
+    #[serde(rename = "Hz")]
+    Hertz,
+    /// kHz.
+    #[serde(rename = "kHz")]
+    Kilohertz,
+    /// rad/s (ω).
+    #[serde(rename = "rad/s")]
+    RadiansPerSecond,
+    /// Cycles per minute (rpm, cpm).
+    #[serde(rename = "rpm")]
+    PerMinute,
+}
+
+impl FrequencyUnit {
+    /// Hz in one of this unit.
+    pub fn hertz(self) -> f64 {
+        match self {
+            Self::Hertz => 1.0,
+            Self::Kilohertz => 1e3,
+            Self::RadiansPerSecond => 1.0 / std::f64::consts::TAU,
+            Self::PerMinute => 1.0 / 60.0,
+        }
+    }
+
+    /// The unit a column's name or units line writes (`Hz`, `kHz`, `rad/s`, `rpm`,
+    /// `cpm`, `1/min`; case aside but for the `k`), `None` for any other.
+    pub fn of(unit: &str) -> Option<Self> {
+        match unit.trim() {
+            "Hz" | "hz" | "HZ" | "1/s" => Some(Self::Hertz),
+            "kHz" | "khz" | "KHz" | "kHZ" => Some(Self::Kilohertz),
+            "rad/s" | "rad/sec" | "rad s^-1" => Some(Self::RadiansPerSecond),
+            "rpm" | "RPM" | "cpm" | "CPM" | "1/min" => Some(Self::PerMinute),
+            _ => None,
+        }
+    }
+
+    /// Whether it is Hz (the default, not written).
+    pub fn is_hertz(&self) -> bool {
+        *self == Self::Hertz
+    }
+
+    /// As a config writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Hertz => "Hz",
+            Self::Kilohertz => "kHz",
+            Self::RadiansPerSecond => "rad/s",
+            Self::PerMinute => "rpm",
+        }
+    }
 }
 
 fn comma() -> char {

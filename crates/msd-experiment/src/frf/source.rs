@@ -6,10 +6,10 @@ use super::csv::{self, Request};
 use super::simulate;
 use super::time_domain::TimeRecords;
 use crate::config::{
-    ChainPlant, Column, FrequencyResponseSection, RecordsSource, Spacing, SweepSource, TableSource,
-    UffSource,
+    ChainPlant, Column, FrequencyResponseSection, FrequencyUnit, RecordsSource, Spacing,
+    SweepSource, TableSource, UffSource,
 };
-use crate::data::text::name_words;
+use crate::data::text::{name_words, unit_in_name};
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
 use msd_ident::Hold;
@@ -135,9 +135,11 @@ fn table(t: &TableSource, sources: &Sources, path: &Path) -> Result<Loaded> {
     let mut values = read.values.iter().map(Vec::as_slice);
     let f: Vec<f64> = match (&t.frequency, t.frequency_step_hz) {
         (Some(column), _) => {
-            let f = values.next().unwrap_or_default().to_vec();
-            increasing(path, &f, &read.lines, column)?;
-            f
+            named_unit(path, column, t.frequency_unit)?;
+            let to_hz = t.frequency_unit.hertz();
+            let f: Vec<f64> = values.next().unwrap_or_default().to_vec();
+            increasing(path, &f, &read.lines, column, t.frequency_unit.name())?;
+            f.iter().map(|f| f * to_hz).collect()
         }
         (None, step) => {
             let step = step.unwrap_or(1.0);
@@ -342,13 +344,34 @@ fn checked_coherence(path: &Path, g: &[f64], lines: &[usize], column: &Column) -
     Ok(g.iter().map(|g| g.clamp(0.0, 1.0)).collect())
 }
 
+/// Refuses a frequency column whose name states a unit other than `unit` (a column in
+/// kHz or rad/s read as Hz puts every mode 1000× or 2π× off, silently).
+fn named_unit(path: &Path, column: &Column, unit: FrequencyUnit) -> Result<()> {
+    let Column::Name(name) = column else {
+        return Ok(());
+    };
+    let named = unit_in_name(name).and_then(FrequencyUnit::of);
+    match named {
+        Some(named) if named != unit => Err(ExperimentError::data(
+            path,
+            format!(
+                "frequency_response.table.frequency = {column}: its name says {}, frequency_unit is {:?}: set frequency_unit = {:?}",
+                named.name(),
+                unit.name(),
+                named.name()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Refuses frequencies that are negative or do not increase, naming the line.
-fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column) -> Result<()> {
+fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column, unit: &str) -> Result<()> {
     if f[0] < 0.0 {
         return Err(ExperimentError::data(
             path,
             format!(
-                "line {}, column {column}: {} Hz: expected a frequency >= 0",
+                "line {}, column {column}: {} {unit}: expected a frequency >= 0",
                 lines[0], f[0]
             ),
         ));
@@ -357,7 +380,7 @@ fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column) -> Resul
         Some(i) => Err(ExperimentError::data(
             path,
             format!(
-                "line {}, column {column} (frequency_response.table.frequency): {} Hz is not above the previous line's {} Hz: expected increasing frequencies, one row per line",
+                "line {}, column {column} (frequency_response.table.frequency): {} {unit} is not above the previous line's {} {unit}: expected increasing frequencies, one row per line",
                 lines[i + 1],
                 f[i + 1],
                 f[i]
