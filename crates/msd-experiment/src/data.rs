@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 
 pub(crate) mod csv;
 pub mod text;
+pub(crate) mod uff;
 pub use csv::{ColumnSpec, LARGEST_VALUE, Table, read_columns, read_csv};
 
 /// Both records of an experiment and what is known about them.

@@ -68,19 +68,34 @@ pub(crate) fn survey(path: &Path) -> Result<Survey> {
     }
     let bytes = std::fs::read(path)
         .map_err(|e| ExperimentError::data(path, format!("cannot read the file: {e}")))?;
-    let universal = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("uff") || e.eq_ignore_ascii_case("unv"));
-    if universal {
+    if crate::sources::is_universal(path) {
         return universal_file(path, file_name, &bytes);
     }
     text_table(path, file_name, &bytes)
 }
 
 /// A Universal File Format file (`.uff`, `.unv`): its datasets as msd-uff lists them,
-/// and the `[frequency_response.uff]` lines that read its frequency responses.
+/// and the `[frequency_response.uff]` lines that read its frequency responses; its time
+/// responses as columns (channels named by their DOFs), which the `[data]` lines read.
 fn universal_file(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
     let uff = msd_uff::parse(bytes).map_err(|e| ExperimentError::data(path, e.to_string()))?;
+    let (columns, times) = match crate::data::uff::time_channels(&uff) {
+        Ok(Some(channels)) => {
+            let columns: Vec<Column> = (channels.iter())
+                .map(|c| Column::of(&c.name, c.unit.clone(), &c.values, c.sample_rate_hz))
+                .collect();
+            let said = format!(
+                "\nIts {} time responses read as columns named by their DOFs (node:direction):\n",
+                columns.len()
+            );
+            (columns, said)
+        }
+        Ok(None) => (Vec::new(), String::new()),
+        Err(why) => (
+            Vec::new(),
+            format!("\nIts time responses cannot be read: {why}\n"),
+        ),
+    };
     let frfs = (uff.functions.iter())
         .filter(|f| f.function_type == msd_uff::FunctionType::FrequencyResponse)
         .count();
@@ -90,6 +105,7 @@ fn universal_file(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey
         uff.to_string().trim_end()
     );
     let _ = match frfs {
+        0 if !columns.is_empty() => Ok(()),
         0 => writeln!(
             description,
             "\nNo frequency response function (dataset 58 of type 4) to fit: the modal fits read those."
@@ -103,10 +119,14 @@ fn universal_file(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey
             "\nConfig lines that read it ({n} frequency response functions: all as one set of a test; or one of them with `function = N`, N the listing's number + 1):\n[frequency_response.uff]\npath = {file_name:?}\nset = true"
         ),
     };
+    description.push_str(&times);
+    if !columns.is_empty() {
+        description.push_str(&column_table(&columns));
+    }
     Ok(Survey {
         file_name,
         description,
-        columns: Vec::new(),
+        columns,
         keys: Vec::new(),
     })
 }

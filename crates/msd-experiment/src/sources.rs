@@ -13,6 +13,12 @@ use std::sync::Arc;
 /// A column of numbers and its name, as a table given in memory holds it.
 pub type NamedColumn = (String, Vec<f64>);
 
+/// Whether `path` names a Universal File Format file (`.uff`, `.unv`).
+pub(crate) fn is_universal(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("uff") || e.eq_ignore_ascii_case("unv"))
+}
+
 /// A data file given in memory.
 #[derive(Debug, Clone, PartialEq)]
 pub enum InMemory {
@@ -103,6 +109,21 @@ impl Sources {
     pub fn table(&self, path: &Path, key: &str) -> Result<Option<Cow<'_, [NamedColumn]>>> {
         if let Some(columns) = self.columns(path) {
             return Ok(Some(Cow::Borrowed(columns)));
+        }
+        if is_universal(path) {
+            let bytes = self.bytes(path, key)?;
+            let file = msd_uff::parse(&bytes)
+                .map_err(|e| ExperimentError::data(path, format!("{key}: {e}")))?;
+            let channels = (crate::data::uff::time_channels(&file))
+                .map_err(|e| ExperimentError::data(path, format!("{key}: {e}")))?
+                .ok_or_else(|| {
+                    ExperimentError::data(
+                        path,
+                        format!("{key}: a Universal File Format file with no time response (dataset 58 of function type 1) to read as columns; its frequency responses read with [frequency_response.uff]"),
+                    )
+                })?;
+            let columns = channels.into_iter().map(|c| (c.name, c.values)).collect();
+            return Ok(Some(Cow::Owned(columns)));
         }
         if msd_files::FileFormat::of(path).is_none() {
             return Ok(None);

@@ -8,8 +8,15 @@ use crate::{
     types::{Abscissa, ByteOrder, Encoding, Function58, Ordinate, Precision, UffFile},
 };
 
-/// `+X`, `-RZ`, `scalar`, … for a direction code (record 6, fields 7 and 10).
-fn direction(code: i32) -> String {
+/// `+X`, `-RZ`, `scalar`, … for a direction code (record 6, fields 7 and 10), as the
+/// listings write it.
+///
+/// ```
+/// assert_eq!(msd_uff::direction_name(3), "+Z");
+/// assert_eq!(msd_uff::direction_name(-6), "-RZ");
+/// assert_eq!(msd_uff::direction_name(0), "scalar");
+/// ```
+pub fn direction_name(code: i32) -> String {
     const AXES: [&str; 6] = ["X", "Y", "Z", "RX", "RY", "RZ"];
     match code {
         0 => "scalar".into(),
@@ -28,9 +35,9 @@ impl fmt::Display for Function58 {
             "{}, response {}:{}, reference {}:{}, {} {} points, ",
             self.function_type,
             self.response_node,
-            direction(self.response_direction),
+            direction_name(self.response_direction),
             self.reference_node,
-            direction(self.reference_direction),
+            direction_name(self.reference_direction),
             self.len(),
             match self.ordinate {
                 Ordinate::Real(_) => "real",

@@ -176,6 +176,7 @@ mod write55;
 
 use std::path::Path;
 
+pub use display::direction_name;
 pub use error::{Position, UffError};
 pub use function_type::FunctionType;
 pub use nodes::{Analysis55, Data55, Node};

@@ -8,7 +8,8 @@ use msd_tests::{config, run_in_temp};
 use std::path::Path;
 
 /// The lab template's estimates (mass, damping, stiffness, offset) on `data`, a file
-/// in `dir`, with `keys` added to its `[data]` section and its columns renamed.
+/// in `dir`, with `keys` added to its `[data]` section and its columns renamed (time,
+/// input, output; no time line for a time column named "").
 fn estimates(dir: &Path, data: &str, keys: &str, columns: [&str; 3]) -> (Vec<f64>, String) {
     let template = std::fs::read_to_string(config("lab-template.toml")).unwrap();
     // Each key replaces the template's line that sets it, or follows `path`.
@@ -39,7 +40,15 @@ fn estimates(dir: &Path, data: &str, keys: &str, columns: [&str; 3]) -> (Vec<f64
             &format!("output = {:?}", columns[2]),
             1,
         )
-        .replacen("time = \"t\"", &format!("time = {:?}", columns[0]), 1);
+        .replacen(
+            "time = \"t\"",
+            // No time column: the keys give `sample_rate`.
+            &match columns[0] {
+                "" => String::new(),
+                t => format!("time = {t:?}"),
+            },
+            1,
+        );
     let path = dir.join(format!("{data}.toml"));
     std::fs::write(&path, text).unwrap();
     let run = run_in_temp(&path, None, None).unwrap_or_else(|e| panic!("{data}: {e}"));
@@ -289,6 +298,51 @@ fn a_universal_file_is_listed_with_the_lines_that_read_it() {
         .unwrap_err()
         .to_string();
     assert!(refused.contains("holds none") && refused.contains("[frequency_response.uff]"));
+}
+
+/// The lab record as a test system exports a run, time responses in a Universal File
+/// Format file (the force and the displacement both at the driving point, 1:+Z): read
+/// by the same `[data]` section through their DOFs, the plain CSV's numbers bit for
+/// bit; `msd inspect` lists them as columns with the `[data]` lines, and `msd init`
+/// takes the one in newtons as the force.
+#[test]
+fn time_responses_in_a_universal_file_read_as_the_plain_csv() {
+    use msd_uff::{Abscissa, Function58, FunctionType, Ordinate};
+    let (dir, plain) = plain_run();
+    let mut file = msd_uff::UffFile::default();
+    let rows = rows(dir.path());
+    for (column, data_type, units) in [(1, 13, "N"), (2, 8, "NONE")] {
+        let values = rows.iter().map(|r| r[column]).collect();
+        let step = Abscissa::Even {
+            start: 0.0,
+            step: 0.002,
+        };
+        let mut f = Function58::new(FunctionType::TimeResponse, step, Ordinate::Real(values));
+        (f.response_node, f.response_direction) = (1, 3);
+        f.ordinate_axis.data_type = data_type;
+        f.ordinate_axis.units = units.into();
+        file.functions.push(f);
+    }
+    let bytes = msd_uff::to_bytes(&file, &Default::default()).unwrap();
+    let path = dir.path().join("run.uff");
+    std::fs::write(&path, bytes).unwrap();
+    let columns = ["", "1:+Z #1", "1:+Z #2"];
+    let (uff, _) = estimates(dir.path(), "run.uff", "sample_rate = 500.0", columns);
+    assert_eq!(uff, plain);
+    let listing = msd_experiment::inspect::inspect(&path).unwrap();
+    for said in [
+        "Its 2 time responses read as columns",
+        "1:+Z #2  m",
+        "[data]\npath = \"run.uff\"\nsample_rate = 500\ninput = \"1:+Z #1\"\noutput = \"1:+Z #2\"",
+    ] {
+        assert!(listing.contains(said), "{listing}");
+    }
+    let init = msd_experiment::init::init(&path, &Default::default()).unwrap();
+    assert!(
+        init.text.contains("excitation = \"force\""),
+        "{}",
+        init.text
+    );
 }
 
 /// An analyser's export of magnitude in decibels and phase: `msd inspect` gives the
