@@ -278,17 +278,23 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
         .filter_map(|(i, b)| (b == b'\n').then_some(i))
         .collect();
     let layout = text::layout(decoded.as_bytes(), &newlines, &format);
+    // A table with no header: its first line is data.
+    let numbers = layout.headless;
+    if numbers {
+        format.header = false;
+    }
     let mut cells = Cells::read(path, bytes, &format)?;
     // A table of complex numbers with no header: its first line was taken for one.
-    let headless = (0..cells.values.len()).any(|k| cells.is_complex(k))
+    let complex = (0..cells.values.len()).any(|k| cells.is_complex(k))
         && cells
             .names
             .iter()
             .all(|n| complex_cell(n).is_some() || text::number(n.trim(), decimal).is_some());
-    if headless {
+    if complex {
         format.header = false;
         cells = Cells::read(path, bytes, &format)?;
     }
+    let headless = numbers || complex;
     let missing = (0..cells.values.len())
         .filter(|&k| !cells.is_complex(k))
         .map(|k| cells.values[k].iter().filter(|v| v.is_nan()).count())
@@ -316,7 +322,8 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
     if headless {
         let _ = writeln!(
             out,
-            "  no header: the first line is data (complex numbers); the columns are read by number"
+            "  no header: the first line is data{}; the columns are read by number",
+            if complex { " (complex numbers)" } else { "" }
         );
     }
     if missing > 0 {
@@ -398,7 +405,7 @@ pub(crate) fn unit(column: &Column) -> Option<&str> {
 /// magnitude and phase by their names, else the first two other columns as real and
 /// imaginary parts.
 fn table_lines(out: &mut String, name: &str, keys: &[String], f: &Column, others: &[&Column]) {
-    let quoted = |c: &Column| format!("{:?}", c.name);
+    let quoted = |c: &Column| column_key(c, keys);
     let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
     for k in keys {
         let _ = writeln!(out, "{k}");
@@ -441,6 +448,15 @@ fn table_lines(out: &mut String, name: &str, keys: &[String], f: &Column, others
     );
 }
 
+/// How a config names the column: its name quoted, or without a header (`keys` say
+/// `header = false`) its 0-based number.
+fn column_key(c: &Column, keys: &[String]) -> String {
+    match keys.iter().any(|k| k == "header = false") {
+        true => c.name.clone(),
+        false => format!("{:?}", c.name),
+    }
+}
+
 /// The `frequency_unit` line of a frequency column in kHz, rad/s or rpm (the fits work
 /// in Hz), with its newline before it; empty in Hz.
 fn unit_line(f: &Column) -> String {
@@ -472,7 +488,7 @@ pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
 /// The `[data]` lines (or `[frequency_response.table]` lines for a table whose first
 /// column is a frequency) that read the file.
 pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
-    let quoted = |c: &Column| format!("{:?}", c.name);
+    let quoted = |c: &Column| column_key(c, keys);
     let long: Vec<&Column> = columns.iter().filter(|c| c.rows > 1).collect();
     let time = (long.iter().find(|c| c.step.is_some()))
         .or_else(|| {
@@ -493,17 +509,13 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
     });
     if let Some(z) = columns.iter().find(|c| c.complex) {
         // A column of complex numbers: a frequency response measured line by line.
-        let refer = |c: &Column| match keys.iter().any(|k| k == "header = false") {
-            true => c.name.clone(),
-            false => quoted(c),
-        };
         let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
         for k in keys {
             let _ = writeln!(out, "{k}");
         }
         match time {
             Some(f) => {
-                let _ = writeln!(out, "frequency = {}{}", refer(f), unit_line(f));
+                let _ = writeln!(out, "frequency = {}{}", quoted(f), unit_line(f));
             }
             None => {
                 let _ = writeln!(
@@ -515,7 +527,7 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         let _ = writeln!(
             out,
             "complex = {}\nkind = \"accelerance\"    # or receptance, mobility: what the response measures",
-            refer(z)
+            quoted(z)
         );
         return out;
     }

@@ -27,6 +27,11 @@ fn estimates(dir: &Path, data: &str, keys: &str, columns: [&str; 3]) -> (Vec<f64
             }
         }
     }
+    // A column by 0-based number (no header) is written bare.
+    let key = |c: &str| match c.parse::<usize>() {
+        Ok(n) => n.to_string(),
+        Err(_) => format!("{c:?}"),
+    };
     let text = lines
         .join("\n")
         .replacen(
@@ -34,10 +39,14 @@ fn estimates(dir: &Path, data: &str, keys: &str, columns: [&str; 3]) -> (Vec<f64
             &format!("path = {data:?}"),
             1,
         )
-        .replacen("input = \"force\"", &format!("input = {:?}", columns[1]), 1)
+        .replacen(
+            "input = \"force\"",
+            &format!("input = {}", key(columns[1])),
+            1,
+        )
         .replacen(
             "output = \"displacement\"",
-            &format!("output = {:?}", columns[2]),
+            &format!("output = {}", key(columns[2])),
             1,
         )
         .replacen(
@@ -45,7 +54,7 @@ fn estimates(dir: &Path, data: &str, keys: &str, columns: [&str; 3]) -> (Vec<f64
             // No time column: the keys give `sample_rate`.
             &match columns[0] {
                 "" => String::new(),
-                t => format!("time = {t:?}"),
+                t => format!("time = {}", key(t)),
             },
             1,
         );
@@ -218,6 +227,43 @@ fn a_whitespace_separated_table_reads_as_the_plain_csv() {
     for line in ["delimiter = \" \"", "time = \"time\"", "input = \"force\""] {
         assert!(listing.contains(line), "{listing}");
     }
+}
+
+/// The lab record with no header line (as `numpy.savetxt` writes it without `header=`):
+/// read with the default `header = true` it is refused (its first row would have named
+/// the columns and been lost); `msd inspect` says so and its lines, by column number,
+/// read the plain CSV's numbers bit for bit.
+#[test]
+fn a_table_without_a_header_is_read_by_column_number() {
+    let (dir, plain) = plain_run();
+    let text = std::fs::read_to_string(dir.path().join("my-measurement.csv")).unwrap();
+    let body: String = text.lines().skip(2).map(|l| format!("{l}\n")).collect();
+    std::fs::write(dir.path().join("bare.csv"), body).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("bare.csv")).unwrap();
+    for said in [
+        "no header: the first line is data; the columns are read by number",
+        "[data]\npath = \"bare.csv\"\nheader = false\ntime = 0\ninput = 1\noutput = 2",
+    ] {
+        assert!(listing.contains(said), "{listing}");
+    }
+    let (bare, _) = estimates(dir.path(), "bare.csv", "header = false", ["0", "1", "2"]);
+    assert_eq!(bare, plain);
+    let template = std::fs::read_to_string(config("lab-template.toml")).unwrap();
+    let config = dir.path().join("refused.toml");
+    std::fs::write(
+        &config,
+        template.replacen("my-measurement.csv", "bare.csv", 1),
+    )
+    .unwrap();
+    let refused = run_in_temp(&config, None, None)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        refused.contains("the first line is data, not column names")
+            && refused.contains("header = false"),
+        "{refused}"
+    );
 }
 
 /// One column of complex numbers in Python's notation with no header and no frequencies

@@ -87,6 +87,9 @@ pub(crate) fn scan<H>(
         .filter_map(|(i, &b)| (b == b'\n').then_some(i))
         .collect();
     let layout = layout(text, &newlines, format);
+    if format.header && layout.headless {
+        return Err(no_header(path, text, &newlines));
+    }
     notes.extend(layout.notes.iter().cloned());
     let lines = newlines.len() + usize::from(text.last().is_some_and(|&b| b != b'\n'));
     if format.skip_lines >= lines && lines > 0 {
@@ -171,6 +174,19 @@ pub(crate) fn scan<H>(
         on_row(&state, line, &r)?;
     }
     Ok(notes)
+}
+
+/// The refusal of a table whose first line is data read with `header = true`.
+fn no_header(path: &Path, text: &[u8], newlines: &[usize]) -> ExperimentError {
+    let first = &text[..newlines.first().copied().unwrap_or(text.len())];
+    let shown: String = String::from_utf8_lossy(first).chars().take(60).collect();
+    ExperimentError::data(
+        path,
+        format!(
+            "the first line is data, not column names (`{}`): set header = false and give the columns by 0-based number (`msd inspect` prints the lines)",
+            shown.trim()
+        ),
+    )
 }
 
 /// The text as the reader splits it: with the delimiter `" "` (columns separated by
@@ -313,6 +329,9 @@ pub(crate) struct Layout {
     pub units_lines: Vec<usize>,
     pub units: Vec<String>,
     pub notes: Vec<String>,
+    /// The first line of the file is data (every field a number): there is no header,
+    /// whatever `header` says.
+    pub headless: bool,
 }
 
 /// Finds the table in `text` when `format.skip_lines` is 0: the first line whose fields
@@ -369,7 +388,12 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
     let header = match (format.header, block, wider) {
         (false, _, _) => data,
         (true, 0, Some(i)) => i,
-        (true, 0, None) => return Layout::default(),
+        (true, 0, None) => {
+            return Layout {
+                headless: pos == 0,
+                ..Layout::default()
+            };
+        }
         (true, n, _) => above[pos - n],
     };
     let mut out = Layout {
@@ -767,6 +791,41 @@ mod tests {
             layout.notes
         );
         assert_eq!(layout.notes.len(), 2);
+    }
+
+    /// A table whose first line is data (`numpy.savetxt` without `header=`): read with
+    /// `header = true` its first row would name the columns and be lost; it is refused
+    /// with the key to set, and read whole with `header = false`.
+    #[test]
+    fn a_table_without_a_header_is_refused_until_header_false() {
+        let text = "0.000,1.5,2e-3\n0.001,1.4,3e-3\n";
+        let f = format(',', '.');
+        assert!(layout_of(text, &f).headless);
+        assert!(!layout_of(&format!("t,F,x\n{text}"), &f).headless);
+        let path = Path::new("run.csv");
+        let e = scan(path, text.as_bytes(), &f, |_| Ok(()), |_, _, _| Ok(()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(
+                "the first line is data, not column names (`0.000,1.5,2e-3`): set header = false"
+            ),
+            "{e}"
+        );
+        let headless = TextFormat { header: false, ..f };
+        let mut rows = 0;
+        scan(
+            path,
+            text.as_bytes(),
+            &headless,
+            |_| Ok(()),
+            |_, _, _| {
+                rows += 1;
+                Ok(())
+            },
+        )
+        .unwrap();
+        assert_eq!(rows, 2);
     }
 
     /// LabVIEW's `.lvm`: two header blocks of metadata, then a header that names a
