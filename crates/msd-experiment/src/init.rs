@@ -172,10 +172,15 @@ fn config_text(
         (None, None) => match survey.columns.iter().find_map(|c| c.rate) {
             Some(rate) => Grid::Rate(rate, "as the file gives it".into()),
             None => {
+                let why = match survey.columns.iter().find(|c| c.is_counter()) {
+                    Some(c) => format!("{:?} counts samples (it is not a time)", c.name),
+                    None => "no column rises by a uniform step".into(),
+                };
                 return Err(ExperimentError::data(
                     path,
-                    "no column rises by a uniform step and the file gives no sampling rate: \
-                     give it (--sample-rate HZ)",
+                    format!(
+                        "{why} and the file gives no sampling rate: give it (--sample-rate HZ)"
+                    ),
                 ));
             }
         },
@@ -241,10 +246,11 @@ impl Chosen<'_> {
             }
         }
         for c in &self.unused {
-            lines.push(format!(
-                "{:?} is not read: its unit and name say nothing of what it measures",
-                c.name
-            ));
+            let why = match c.is_counter() {
+                true => "it counts samples (the sampling rate gives the time)",
+                false => "its unit and name say nothing of what it measures",
+            };
+            lines.push(format!("{:?} is not read: {why}", c.name));
         }
         if self.excitation == "none" {
             lines
@@ -257,7 +263,7 @@ impl Chosen<'_> {
 /// The time column: uniform, named or measured as time when several are uniform.
 /// Else time stamps that vary (a sensor's own clock), named as time.
 fn time_column(columns: &[Column]) -> Option<&Column> {
-    let uniform = || columns.iter().filter(|c| c.step.is_some() && c.rows > 2);
+    let uniform = || (columns.iter()).filter(|c| c.step.is_some() && c.rows > 2 && !c.is_counter());
     uniform()
         .find(|c| c.is_time_named())
         .or_else(|| uniform().next())
@@ -695,6 +701,38 @@ mod tests {
         );
         assert!(rate(&timed("time (s)", None, 1e-3)).is_none());
         assert!(rate(&timed("t", None, 1e-3)).is_none());
+    }
+
+    /// A column counting samples (an oscilloscope's `X`, a logger's `Sample`) rises by
+    /// a uniform step of 1: taken as the time it would put every frequency at 1 Hz per
+    /// sample rate. It is passed over for the time, and the lines ask for the rate;
+    /// a time in seconds at 1 Hz named so stays the time.
+    #[test]
+    fn a_sample_counter_is_not_the_time() {
+        let counter = Column {
+            step: Some(1.0),
+            range: Some((0.0, 9.0)),
+            ..column("Sample", None)
+        };
+        let seconds = Column {
+            step: Some(1.0),
+            range: Some((0.0, 9.0)),
+            ..column("Time (s)", None)
+        };
+        assert!(counter.is_counter() && !seconds.is_counter());
+        let force = Column {
+            range: Some((-1.0, 1.0)),
+            ..column("Force", Some("N"))
+        };
+        let columns = [counter, force, column("Accel", Some("g"))];
+        assert!(time_column(&columns).is_none());
+        let lines = config_lines("run.csv", &columns, &[]);
+        assert!(
+            lines.contains(
+                "sample_rate = …    # Hz; \"Sample\" counts samples, it is not a time\ninput = \"Force\"\noutput = \"Accel\""
+            ),
+            "{lines}"
+        );
     }
 
     #[test]

@@ -180,6 +180,15 @@ impl Column {
         }
     }
 
+    /// Whether it counts samples (0, 1, 2, … or from 1: an oscilloscope's `X`, a
+    /// logger's `Sample`, an index) and its name or unit does not say time: not a time
+    /// axis, whose step of 1 would read as 1 s.
+    pub(crate) fn is_counter(&self) -> bool {
+        self.step == Some(1.0)
+            && self.range.is_some_and(|(first, _)| first.fract() == 0.0)
+            && !self.is_time_named()
+    }
+
     /// Whether its name or unit says it is time (`t`, `Time (s)`).
     pub(crate) fn is_time_named(&self) -> bool {
         let n = self.name.to_ascii_lowercase();
@@ -295,19 +304,23 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
         cells = Cells::read(path, bytes, &format)?;
     }
     let headless = numbers || complex;
+    // A column with no value at all (a trailing delimiter's) is no channel.
+    let empty = |k: usize| !cells.is_complex(k) && cells.values[k].iter().all(|v| v.is_nan());
     let missing = (0..cells.values.len())
-        .filter(|&k| !cells.is_complex(k))
+        .filter(|&k| !cells.is_complex(k) && !empty(k))
         .map(|k| cells.values[k].iter().filter(|v| v.is_nan()).count())
         .sum::<usize>();
     let rows = cells.rows;
+    let rate = sampling_interval(&layout.settings).map(|dt| text::rate_of_step(dt, 1.0));
     let columns: Vec<Column> = (cells.values.iter().enumerate())
+        .filter(|&(k, _)| !empty(k))
         .map(|(k, v)| {
             let name = cells.names.get(k).cloned().unwrap_or_else(|| k.to_string());
             let unit = layout.units.get(k).cloned().filter(|u| !u.is_empty());
             if cells.is_complex(k) {
                 Column::complex(&name, unit, &cells.complex[k])
             } else {
-                Column::of(&name, unit, v, None)
+                Column::of(&name, unit, v, rate)
             }
         })
         .collect();
@@ -448,6 +461,22 @@ fn table_lines(out: &mut String, name: &str, keys: &[String], f: &Column, others
     );
 }
 
+/// The sampling interval, s, an oscilloscope's settings give (Rigol's `Increment`,
+/// `XINC`, `Sample Interval`, `Delta_X`).
+fn sampling_interval(settings: &[(String, f64)]) -> Option<f64> {
+    const NAMES: [&str; 6] = [
+        "increment",
+        "xinc",
+        "x increment",
+        "sample interval",
+        "delta_x",
+        "dt",
+    ];
+    (settings.iter())
+        .find(|(n, v)| NAMES.contains(&n.trim().to_ascii_lowercase().as_str()) && *v > 0.0)
+        .map(|(_, v)| *v)
+}
+
 /// How a config names the column: its name quoted, or without a header (`keys` say
 /// `header = false`) its 0-based number.
 fn column_key(c: &Column, keys: &[String]) -> String {
@@ -490,6 +519,8 @@ pub(crate) fn rate_of_time(t: &Column) -> Option<(f64, String)> {
 pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> String {
     let quoted = |c: &Column| column_key(c, keys);
     let long: Vec<&Column> = columns.iter().filter(|c| c.rows > 1).collect();
+    let counter = long.iter().find(|c| c.is_counter()).copied();
+    let long: Vec<&Column> = long.into_iter().filter(|c| !c.is_counter()).collect();
     let time = (long.iter().find(|c| c.step.is_some()))
         .or_else(|| {
             long.iter()
@@ -545,7 +576,10 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         let _ = writeln!(out, "time = {}", quoted(t));
     } else {
         let rate = long.iter().find_map(|c| c.rate).map_or("…".into(), short);
-        let _ = writeln!(out, "sample_rate = {rate}");
+        let why = counter.map_or(String::new(), |c| {
+            format!("    # Hz; {:?} counts samples, it is not a time", c.name)
+        });
+        let _ = writeln!(out, "sample_rate = {rate}{why}");
     }
     let mut picks = others.iter();
     for role in ["input", "output"] {

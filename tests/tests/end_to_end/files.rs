@@ -266,6 +266,39 @@ fn a_table_without_a_header_is_read_by_column_number() {
     );
 }
 
+/// The lab record as a Rigol oscilloscope writes its CSV: names over units, the
+/// capture's `Start` and `Increment` beside them, a sample counter `X` and a trailing
+/// delimiter on every line. `msd inspect` takes the names as the header, the counter for
+/// no time (a step of 1 read as seconds would put every frequency 500× low) and the rate
+/// from `Increment`; its lines read the plain CSV's numbers bit for bit.
+#[test]
+fn an_oscilloscope_export_reads_by_its_channel_names() {
+    let (dir, plain) = plain_run();
+    let mut text =
+        String::from("X,CH1,CH2,Start,Increment,\nSequence,Volt,Volt,0.000000e+00,2.000000e-03\n");
+    let csv = std::fs::read_to_string(dir.path().join("my-measurement.csv")).unwrap();
+    for (i, line) in csv.lines().skip(2).enumerate() {
+        let (_, values) = line.split_once(',').unwrap();
+        text.push_str(&format!("{i},{values},\n"));
+    }
+    std::fs::write(dir.path().join("scope.csv"), text).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("scope.csv")).unwrap();
+    for said in [
+        "line 2: units Sequence, Volt, Volt; settings beside the columns: Start 0, Increment 0.002",
+        "sample_rate = 500    # Hz; \"X\" counts samples, it is not a time\ninput = \"CH1\"\noutput = \"CH2\"",
+    ] {
+        assert!(listing.contains(said), "{listing}");
+    }
+    assert!(!listing.contains("missing"), "{listing}");
+    let (scope, _) = estimates(
+        dir.path(),
+        "scope.csv",
+        "sample_rate = 500",
+        ["", "CH1", "CH2"],
+    );
+    assert_eq!(scope, plain);
+}
+
 /// One column of complex numbers in Python's notation with no header and no frequencies
 /// (as pyuff's example FRFs, or `numpy.savetxt` of a complex array): `msd inspect` says
 /// so and prints the `[frequency_response.table]` lines that read it, which run once

@@ -329,6 +329,9 @@ pub(crate) struct Layout {
     pub units_lines: Vec<usize>,
     pub units: Vec<String>,
     pub notes: Vec<String>,
+    /// Settings an oscilloscope writes beside its columns' names and units (Rigol's
+    /// `Start`, `Increment`), as (name, value).
+    pub settings: Vec<(String, f64)>,
     /// The first line of the file is data (every field a number): there is no header,
     /// whatever `header` says.
     pub headless: bool,
@@ -385,8 +388,18 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
     let wider = (format.header && block == 0 && pos > 0)
         .then(|| above[pos - 1])
         .filter(|&i| fields(i).len() > width);
+    // An oscilloscope's CSV (Rigol): the names, then their units with the capture's
+    // settings beyond the data's columns (`Start`, `Increment`): the names head it.
+    // `used`: the data's columns, a trailing delimiter's empty field aside.
+    let used = fields(data)
+        .iter()
+        .rposition(|c| !c.is_empty())
+        .map_or(0, |k| k + 1);
+    let scope = wider.and_then(|_| scope_header(&fields, above, pos, used, format.decimal));
+    let wider = wider.filter(|_| scope.is_none());
     let header = match (format.header, block, wider) {
         (false, _, _) => data,
+        (true, 0, _) if scope.is_some() => above[pos - 2],
         (true, 0, Some(i)) => i,
         (true, 0, None) => {
             return Layout {
@@ -401,28 +414,22 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
         ..Layout::default()
     };
     if let Some(i) = wider {
-        let names = fields(i);
-        let extra: Vec<&str> = (names[width..].iter())
-            .map(String::as_str)
-            .filter(|n| !n.is_empty())
-            .collect();
-        if !extra.is_empty() {
-            out.notes.push(format!(
-                "line {}: the header names columns the data do not hold ({}): passed over",
-                i + 1,
-                extra.join(", ")
-            ));
-        }
+        out.notes.extend(extra_names_note(i, &fields(i)[width..]));
     }
     if !format.header && block > 0 {
-        let shown: String = String::from_utf8_lossy(line_text(above[pos - 1]))
+        let line = above[pos - 1];
+        let shown: String = String::from_utf8_lossy(line_text(line))
             .chars()
             .take(60)
             .collect();
         out.notes.push(format!(
             "line {} looks like a header (`{shown}`: as many fields as the data, not all numbers) but header = false: it was skipped and the columns are read by number; set header = true to name them",
-            above[pos - 1] + 1
+            line + 1
         ));
+    }
+    if let Some(settings) = scope {
+        let units = above[pos - 1];
+        out.scope_units(units, fields(units)[..used].to_vec(), settings);
     }
     if format.header && block > 1 {
         out.units_lines = above[pos - block + 1..].iter().map(|i| i + 1).collect();
@@ -439,23 +446,81 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
         .filter(|&i| i < header && Some(i) != named)
         .collect();
     if let Some(&first) = metadata.first() {
-        let shown: String = String::from_utf8_lossy(line_text(first))
-            .chars()
-            .take(60)
-            .collect();
         // Every line above the header (or the header-like line), blank ones included.
-        let last = named.unwrap_or(header);
-        let lines = if last == 1 {
-            "line 1".to_string()
-        } else {
-            format!("lines 1–{last}")
-        };
-        out.notes.push(format!(
-            "{lines} read as metadata and skipped (line {}: `{shown}`); set skip_lines to choose",
-            first + 1
-        ));
+        let note = metadata_note(first, named.unwrap_or(header), line_text(first));
+        out.notes.push(note);
     }
     out
+}
+
+/// The note on a header's names beyond the data's columns (line `line`, 0-based),
+/// when there are any.
+fn extra_names_note(line: usize, extra: &[String]) -> Option<String> {
+    let extra: Vec<&str> = (extra.iter().map(String::as_str))
+        .filter(|n| !n.is_empty())
+        .collect();
+    (!extra.is_empty()).then(|| {
+        format!(
+            "line {}: the header names columns the data do not hold ({}): passed over",
+            line + 1,
+            extra.join(", ")
+        )
+    })
+}
+
+impl Layout {
+    /// An oscilloscope's units line `units` (0-based) with the capture's `settings`.
+    fn scope_units(&mut self, units: usize, names: Vec<String>, settings: Vec<(String, f64)>) {
+        self.units_lines = vec![units + 1];
+        self.units = names;
+        let shown: Vec<String> = (settings.iter()).map(|(n, v)| format!("{n} {v}")).collect();
+        self.notes.push(format!(
+            "line {}: units {}; settings beside the columns: {}",
+            units + 1,
+            self.units.join(", "),
+            shown.join(", ")
+        ));
+        self.settings = settings;
+    }
+}
+
+/// The note on the lines 1 to `last` (1-based) read as metadata, the first of them
+/// (0-based `first`, whose text is `text`) shown.
+fn metadata_note(first: usize, last: usize, text: &[u8]) -> String {
+    let shown: String = String::from_utf8_lossy(text).chars().take(60).collect();
+    let lines = if last == 1 {
+        "line 1".to_string()
+    } else {
+        format!("lines 1–{last}")
+    };
+    format!(
+        "{lines} read as metadata and skipped (line {}: `{shown}`); set skip_lines to choose",
+        first + 1
+    )
+}
+
+/// An oscilloscope's two header lines above the data at `pos` (Rigol: `X,CH1,Start,
+/// Increment` over `Sequence,Volt,-0.5,0.001`): the line just above the data is wider
+/// than it, its cells beyond the data's width are numbers, and the line above that
+/// names every column of the data. Returns the settings beyond the data's columns.
+fn scope_header(
+    fields: &dyn Fn(usize) -> Vec<String>,
+    above: &[usize],
+    pos: usize,
+    width: usize,
+    decimal: char,
+) -> Option<Vec<(String, f64)>> {
+    let (names, units) = (fields(above[pos.checked_sub(2)?]), fields(above[pos - 1]));
+    if names.len() < units.len() || units.len() <= width {
+        return None;
+    }
+    let word = |c: &String| !c.is_empty() && number(c, decimal).is_none();
+    let named = names[..width].iter().all(word);
+    let settings: Vec<(String, f64)> = (names[width..].iter().zip(&units[width..]))
+        .filter_map(|(n, v)| Some((n.clone(), number(v, decimal)?)))
+        .filter(|(n, _)| !n.is_empty())
+        .collect();
+    (named && units[..width].iter().all(word) && !settings.is_empty()).then_some(settings)
 }
 
 /// A cell as a number with `decimal` as its decimal mark, if it reads as one.
