@@ -15,6 +15,7 @@ use msd_ident::{
 };
 use std::path::{Path, PathBuf};
 
+mod clock;
 pub(crate) mod csv;
 pub mod text;
 pub(crate) mod uff;

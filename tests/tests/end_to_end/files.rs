@@ -299,6 +299,37 @@ fn an_oscilloscope_export_reads_by_its_channel_names() {
     assert_eq!(scope, plain);
 }
 
+/// The lab record as a data logger stamps its rows, with the date and the clock
+/// (`2024-05-01 12:00:07.314`): `msd inspect` takes the stamps for the time and the
+/// reader counts them from the first row. At 1.7e9 s since 1970 a stamp carries
+/// rounding of 2⁻²² s ≈ 2.4e-7 s, which puts the 15 s record's step within 4e-8 of
+/// the plain CSV's: the estimates (m, c, k scale at most as the step's square) agree
+/// within 1e-6.
+#[test]
+fn clock_time_stamps_read_as_seconds_from_the_first() {
+    let (dir, plain) = plain_run();
+    let csv = std::fs::read_to_string(dir.path().join("my-measurement.csv")).unwrap();
+    let mut text = String::from("Timestamp,Force,Displacement\n");
+    for line in csv.lines().skip(2) {
+        let (t, values) = line.split_once(',').unwrap();
+        let ms = (t.parse::<f64>().unwrap() * 1000.0).round() as u64;
+        let (s, ms) = (ms / 1000, ms % 1000);
+        text.push_str(&format!("2024-05-01 12:00:{s:02}.{ms:03},{values}\n"));
+    }
+    std::fs::write(dir.path().join("logger.csv"), text).unwrap();
+    let listing = msd_experiment::inspect::inspect(&dir.path().join("logger.csv")).unwrap();
+    assert!(listing.contains("time = \"Timestamp\""), "{listing}");
+    let columns = ["Timestamp", "Force", "Displacement"];
+    let (logged, report) = estimates(dir.path(), "logger.csv", "", columns);
+    for (a, b) in logged.iter().zip(&plain) {
+        assert!((a / b - 1.0).abs() < 1e-6, "{logged:?} against {plain:?}");
+    }
+    assert!(
+        report.contains("the time column holds clock times: read as seconds from its first, 2024-05-01 12:00:00.000 (0 s)"),
+        "{report}"
+    );
+}
+
 /// One column of complex numbers in Python's notation with no header and no frequencies
 /// (as pyuff's example FRFs, or `numpy.savetxt` of a complex array): `msd inspect` says
 /// so and prints the `[frequency_response.table]` lines that read it, which run once

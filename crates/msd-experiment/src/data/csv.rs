@@ -5,6 +5,7 @@
 //! line and the column.
 
 use super::Record;
+use super::clock::is_clock;
 use super::text::{self, Header, TextFormat};
 use crate::config::{Column, DataSection};
 use crate::error::{ExperimentError, Result};
@@ -107,6 +108,8 @@ pub fn read_columns(
             .map(|c| find(&c.role, &c.key, &c.column))
             .collect()
     };
+    // The first time cell when the time column holds clock times.
+    let mut clock = None;
     let mut notes = text::scan(path, &bytes, &format, indices, |indices, line, r| {
         for (slot, (spec, &index)) in columns
             .iter()
@@ -117,7 +120,13 @@ pub fn read_columns(
             let (value, scaled) = cell_value(path, line, r, spec, index, &format)?;
             match values.get_mut(slot) {
                 Some(column) => column.push(scaled),
-                None => time.push(value),
+                None => {
+                    let cell = r.get(index).unwrap_or_default();
+                    if time.is_empty() && is_clock(cell, format.decimal) {
+                        clock = Some(cell.trim().to_string());
+                    }
+                    time.push(value);
+                }
             }
         }
         lines.push(line);
@@ -135,6 +144,13 @@ pub fn read_columns(
     )?);
     if let Some(Column::Name(name)) = &d.time {
         time_in_seconds(path, name, &time)?;
+    }
+    if let Some(first) = clock {
+        let t0 = time.first().copied().unwrap_or_default();
+        time.iter_mut().for_each(|t| *t -= t0);
+        notes.push(format!(
+            "the time column holds clock times: read as seconds from its first, {first} (0 s)"
+        ));
     }
     if let Some(k) = time.windows(2).position(|w| w[1] <= w[0]) {
         return Err(ExperimentError::data(

@@ -525,6 +525,10 @@ fn scope_header(
 
 /// A cell as a number with `decimal` as its decimal mark, if it reads as one.
 pub(crate) fn number(cell: &str, decimal: char) -> Option<f64> {
+    if cell.contains(':') {
+        // A logger's clock time (`12:00:00.002`, with a date before it): its seconds.
+        return super::clock::clock_seconds(cell, decimal);
+    }
     if decimal == ',' && cell.contains('.') {
         return None; // "1.234,5": a thousands separator, not read
     }
