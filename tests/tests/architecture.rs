@@ -484,3 +484,16 @@ fn the_checks_find_what_they_look_for() {
         [("long".to_string(), 4, MAX_FUNCTION_LINES + 2)]
     );
 }
+
+/// The lock keeps pest below its stack guard, whose psm and stacker build C and an
+/// archive writer into the first build (Cargo.toml says why, and what replaces it).
+#[test]
+fn the_lock_holds_no_stack_guard_build() {
+    let lock = std::fs::read_to_string(workspace().join("Cargo.lock")).unwrap();
+    for name in ["psm", "stacker", "pest_stack_guard"] {
+        assert!(
+            !lock.contains(&format!("name = \"{name}\"")),
+            "Cargo.lock holds {name}: `cargo update` took pest past 2.9.2 (see Cargo.toml)"
+        );
+    }
+}

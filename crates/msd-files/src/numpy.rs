@@ -23,6 +23,7 @@ use std::path::Path;
 /// assert_eq!((shape, values), (vec![2, 2], vec![1.0, 2.0, 3.0, 4.0]));
 /// ```
 pub fn npy_array(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>), String> {
+    header_nesting(bytes)?;
     let npy = NpyFile::new(bytes).map_err(|e| format!("not a NumPy .npy array: {e}"))?;
     let shape: Vec<usize> = npy.shape().iter().map(|&d| d as usize).collect();
     let fortran = npy.order() == Order::Fortran;
@@ -42,6 +43,45 @@ pub fn npy_array(bytes: &[u8]) -> Result<(Vec<usize>, Vec<f64>), String> {
     }
     let values = values_of(npy, t.type_char(), t.size_field())?;
     Ok((shape.clone(), c_order(values, &shape, fortran)))
+}
+
+/// The deepest nesting of brackets a header may have: NumPy's own have two (the dict
+/// and its shape), a record dtype a few more.
+const MAX_NESTING: usize = 32;
+
+/// Refuses a header nested deeper than [`MAX_NESTING`] before its Python-literal parser
+/// (recursive) sees it: a crafted file would otherwise exhaust the stack.
+fn header_nesting(bytes: &[u8]) -> Result<(), String> {
+    let (Some(&major), true) = (bytes.get(6), bytes.starts_with(b"\x93NUMPY")) else {
+        return Ok(()); // not a .npy: npyz says what it is not
+    };
+    let (start, len) = match major {
+        1 => (
+            10,
+            bytes
+                .get(8..10)
+                .map(|b| u16::from_le_bytes([b[0], b[1]]) as usize),
+        ),
+        _ => (
+            12,
+            (bytes.get(8..12)).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize),
+        ),
+    };
+    let header = &bytes[start.min(bytes.len())..(start + len.unwrap_or(0)).min(bytes.len())];
+    let mut depth = 0usize;
+    for &b in header {
+        match b {
+            b'(' | b'[' | b'{' => depth += 1,
+            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        if depth > MAX_NESTING {
+            return Err(format!(
+                "its header nests brackets deeper than {MAX_NESTING}: not a NumPy .npy array's header"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn values_of(npy: NpyFile<&[u8]>, kind: TypeChar, size: u64) -> Result<Vec<f64>, String> {

@@ -64,3 +64,26 @@ fn damaged_npy_and_npz_files_are_refused_by_name() {
 fn damaged_tdms_files_are_refused_by_name() {
     damaged("record.tdms", 5);
 }
+
+/// A header nested 60 000 brackets deep (as only a crafted file is) is refused by name
+/// before the header's recursive parser could exhaust the stack; a record dtype's few
+/// levels read as before.
+#[test]
+fn a_header_nested_too_deep_is_refused_by_name() {
+    let header = format!(
+        "{{'descr': {}'<f8'{}, 'fortran_order': False, 'shape': (1,), }}",
+        "[".repeat(60_000),
+        "]".repeat(60_000)
+    );
+    let mut bytes = b"\x93NUMPY\x02\x00".to_vec();
+    bytes.extend((header.len() as u32 + 1).to_le_bytes());
+    bytes.extend(header.as_bytes());
+    bytes.push(b'\n');
+    bytes.extend(1.0f64.to_le_bytes());
+    let e = read_bytes("deep.npy", &bytes).unwrap_err().to_string();
+    assert!(
+        e.starts_with("deep.npy") && e.contains("nests brackets deeper than 32"),
+        "{e}"
+    );
+    read_bytes("record.npy", &fixture("record.npy")).unwrap();
+}
