@@ -719,7 +719,24 @@ mod tests {
             range: Some((0.0, 9.0)),
             ..column("Time (s)", None)
         };
-        assert!(counter.is_counter() && !seconds.is_counter());
+        // A frequency table's lines at 1 Hz, 2 Hz, …: the frequency, not a counter.
+        let lines = Column {
+            step: Some(1.0),
+            range: Some((1.0, 9.0)),
+            ..column("Frequency", None)
+        };
+        assert!(counter.is_counter() && !seconds.is_counter() && !lines.is_counter());
+        let frf = config_lines(
+            "frf.csv",
+            &[lines, column("Re", None), column("Im", None)],
+            &[],
+        );
+        assert!(
+            frf.contains(
+                "[frequency_response.table]\npath = \"frf.csv\"\nfrequency = \"Frequency\""
+            ),
+            "{frf}"
+        );
         let force = Column {
             range: Some((-1.0, 1.0)),
             ..column("Force", Some("N"))

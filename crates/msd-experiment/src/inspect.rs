@@ -187,6 +187,17 @@ impl Column {
         self.step == Some(1.0)
             && self.range.is_some_and(|(first, _)| first.fract() == 0.0)
             && !self.is_time_named()
+            && !self.is_frequency_named()
+    }
+
+    /// Whether its name or unit says it is a frequency (`Frequency`, `f [Hz]`, `omega`,
+    /// a unit in kHz, rad/s or rpm).
+    pub(crate) fn is_frequency_named(&self) -> bool {
+        let n = self.name.to_ascii_lowercase();
+        n.contains("freq")
+            || n.contains("hz")
+            || n.contains("omega")
+            || frequency_unit(self).is_some()
     }
 
     /// Whether its name or unit says it is time (`t`, `Time (s)`).
@@ -534,10 +545,7 @@ pub(crate) fn config_lines(name: &str, columns: &[Column], keys: &[String]) -> S
         .collect();
     let mut out =
         String::from("\nConfig lines that read it (choose the columns among those above):\n");
-    let frequency = time.filter(|t| {
-        let n = t.name.to_ascii_lowercase();
-        n.contains("freq") || n.contains("hz") || n.contains("omega") || frequency_unit(t).is_some()
-    });
+    let frequency = time.filter(|t| t.is_frequency_named());
     if let Some(z) = columns.iter().find(|c| c.complex) {
         // A column of complex numbers: a frequency response measured line by line.
         let _ = writeln!(out, "[frequency_response.table]\npath = {name:?}");
