@@ -523,7 +523,8 @@ fn scope_header(
     (named && units[..width].iter().all(word) && !settings.is_empty()).then_some(settings)
 }
 
-/// A cell as a number with `decimal` as its decimal mark, if it reads as one.
+/// A cell as a number with `decimal` as its decimal mark, if it reads as one; a clock
+/// time (`12:00:00.002`, with a date before it) as its seconds.
 pub(crate) fn number(cell: &str, decimal: char) -> Option<f64> {
     if cell.contains(':') {
         // A logger's clock time (`12:00:00.002`, with a date before it): its seconds.
