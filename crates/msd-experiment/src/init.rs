@@ -18,7 +18,7 @@
 
 use crate::config::Quantity;
 use crate::error::{ExperimentError, Result};
-use crate::inspect::{Column, Survey, config_lines, rate_of_time, survey, unit};
+use crate::inspect::{Column, Survey, column_key, config_lines, rate_of_time, survey, unit};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
@@ -193,7 +193,7 @@ fn config_text(
         .collect();
     let chosen = choose(path, &others, options)?;
     let mut out = header(path, survey, config_path, &chosen);
-    write_setup(&mut out, &chosen);
+    write_setup(&mut out, &chosen, &survey.keys);
     write_data(&mut out, survey, &grid, config_path, path, &chosen);
     out.push_str(ESTIMATION);
     Ok((out, chosen.roles()))
@@ -507,7 +507,7 @@ fn header(path: &Path, survey: &Survey, config_path: &Path, chosen: &Chosen<'_>)
 }
 
 /// The `[setup]` section.
-fn write_setup(out: &mut String, chosen: &Chosen<'_>) {
+fn write_setup(out: &mut String, chosen: &Chosen<'_>, keys: &[String]) {
     let _ = writeln!(out, "[setup]\nexcitation = {:?}", chosen.excitation);
     let _ = writeln!(out, "responses = [");
     for r in &chosen.responses {
@@ -518,9 +518,9 @@ fn write_setup(out: &mut String, chosen: &Chosen<'_>) {
         let unit = unit.map_or_else(String::new, |u| format!(", unit = {u:?}"));
         let _ = writeln!(
             out,
-            "    {{ quantity = {:?}, column = {:?}, scale = {}{unit} }},    # {}",
+            "    {{ quantity = {:?}, column = {}, scale = {}{unit} }},    # {}",
             quantity.name(),
-            r.column.name,
+            column_key(r.column, keys),
             scale,
             scale_comment(r.column, quantity, scale),
         );
@@ -604,14 +604,14 @@ fn write_data(
     }
     match grid {
         Grid::Time(t) => {
-            let _ = writeln!(out, "time = {:?}    # s", t.name);
+            let _ = writeln!(out, "time = {}    # s", column_key(t, &survey.keys));
         }
         Grid::Rate(rate, from) => {
             let _ = writeln!(out, "sample_rate = {rate}    # Hz, {from}");
         }
     }
     if let Some(input) = &chosen.input {
-        let _ = writeln!(out, "input = {:?}", input.column.name);
+        let _ = writeln!(out, "input = {}", column_key(input.column, &survey.keys));
         match input.role {
             Role::Force(scale) => {
                 if foreign_unit(input.column).is_some() || scale != 1.0 {

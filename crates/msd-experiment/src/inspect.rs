@@ -490,7 +490,7 @@ fn sampling_interval(settings: &[(String, f64)]) -> Option<f64> {
 
 /// How a config names the column: its name quoted, or without a header (`keys` say
 /// `header = false`) its 0-based number.
-fn column_key(c: &Column, keys: &[String]) -> String {
+pub(crate) fn column_key(c: &Column, keys: &[String]) -> String {
     match keys.iter().any(|k| k == "header = false") {
         true => c.name.clone(),
         false => format!("{:?}", c.name),

@@ -248,6 +248,26 @@ fn a_table_without_a_header_is_read_by_column_number() {
     }
     let (bare, _) = estimates(dir.path(), "bare.csv", "header = false", ["0", "1", "2"]);
     assert_eq!(bare, plain);
+    // `msd init` names the columns by number too, and its config reads them.
+    let options = msd_experiment::init::InitOptions {
+        input: Some("1".into()),
+        outputs: vec!["2".into()],
+        ..Default::default()
+    };
+    let init = msd_experiment::init::init(&dir.path().join("bare.csv"), &options).unwrap();
+    for said in [
+        "column = 2,",
+        "header = false\ntime = 0    # s\ninput = 1\n",
+    ] {
+        assert!(init.text.contains(said), "{}", init.text);
+    }
+    // Its fit (the setup kind) holds the plant's stiffness in its 95 % interval.
+    let run = run_in_temp(&dir.path().join("bare.toml"), None, None).expect("init's config runs");
+    let ci = msd_tests::lookup(&run.summary.results, "estimate.stiffness.ci95")
+        .and_then(|v| Some((v.get(0)?.as_f64()?, v.get(1)?.as_f64()?)))
+        .expect("an interval");
+    let k = msd_ident::Parameters::PAPER.stiffness;
+    assert!(ci.0 <= k && k <= ci.1, "k {k} outside {ci:?}");
     let template = std::fs::read_to_string(config("lab-template.toml")).unwrap();
     let config = dir.path().join("refused.toml");
     std::fs::write(
