@@ -299,7 +299,7 @@ fn text_table(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey> {
         .collect();
     let layout = text::layout(decoded.as_bytes(), &newlines, &format);
     // A table with no header: its first line is data.
-    let numbers = layout.headless;
+    let numbers = layout.headless.is_some();
     if numbers {
         format.header = false;
     }

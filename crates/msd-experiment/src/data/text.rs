@@ -87,8 +87,8 @@ pub(crate) fn scan<H>(
         .filter_map(|(i, &b)| (b == b'\n').then_some(i))
         .collect();
     let layout = layout(text, &newlines, format);
-    if format.header && layout.headless {
-        return Err(no_header(path, text, &newlines));
+    if let (true, Some(line)) = (format.header, layout.headless) {
+        return Err(no_header(path, text, &newlines, line));
     }
     notes.extend(layout.notes.iter().cloned());
     let lines = newlines.len() + usize::from(text.last().is_some_and(|&b| b != b'\n'));
@@ -176,14 +176,20 @@ pub(crate) fn scan<H>(
     Ok(notes)
 }
 
-/// The refusal of a table whose first line is data read with `header = true`.
-fn no_header(path: &Path, text: &[u8], newlines: &[usize]) -> ExperimentError {
-    let first = &text[..newlines.first().copied().unwrap_or(text.len())];
-    let shown: String = String::from_utf8_lossy(first).chars().take(60).collect();
+/// The refusal of a table whose first line (`line`, 0-based) is data read with
+/// `header = true`.
+fn no_header(path: &Path, text: &[u8], newlines: &[usize], line: usize) -> ExperimentError {
+    let from = if line == 0 { 0 } else { newlines[line - 1] + 1 };
+    let to = newlines.get(line).copied().unwrap_or(text.len());
+    let shown: String = String::from_utf8_lossy(&text[from.min(to)..to])
+        .chars()
+        .take(60)
+        .collect();
     ExperimentError::data(
         path,
         format!(
-            "the first line is data, not column names (`{}`): set header = false and give the columns by 0-based number (`msd inspect` prints the lines)",
+            "line {}: the first line is data, not column names (`{}`): set header = false and give the columns by 0-based number (`msd inspect` prints the lines)",
+            line + 1,
             shown.trim()
         ),
     )
@@ -332,9 +338,9 @@ pub(crate) struct Layout {
     /// Settings an oscilloscope writes beside its columns' names and units (Rigol's
     /// `Start`, `Increment`), as (name, value).
     pub settings: Vec<(String, f64)>,
-    /// The first line of the file is data (every field a number): there is no header,
-    /// whatever `header` says.
-    pub headless: bool,
+    /// The first line of the file (0-based, comment and blank lines aside) when it is
+    /// data (every field a number): there is no header, whatever `header` says.
+    pub headless: Option<usize>,
 }
 
 /// Finds the table in `text` when `format.skip_lines` is 0: the first line whose fields
@@ -403,7 +409,7 @@ pub(crate) fn layout(text: &[u8], newlines: &[usize], format: &TextFormat) -> La
         (true, 0, Some(i)) => i,
         (true, 0, None) => {
             return Layout {
-                headless: pos == 0,
+                headless: (pos == 0).then_some(data),
                 ..Layout::default()
             };
         }
@@ -870,8 +876,9 @@ mod tests {
     fn a_table_without_a_header_is_refused_until_header_false() {
         let text = "0.000,1.5,2e-3\n0.001,1.4,3e-3\n";
         let f = format(',', '.');
-        assert!(layout_of(text, &f).headless);
-        assert!(!layout_of(&format!("t,F,x\n{text}"), &f).headless);
+        assert_eq!(layout_of(text, &f).headless, Some(0));
+        assert_eq!(layout_of(&format!("# rig 3\n{text}"), &f).headless, Some(1));
+        assert_eq!(layout_of(&format!("t,F,x\n{text}"), &f).headless, None);
         let path = Path::new("run.csv");
         let e = scan(path, text.as_bytes(), &f, |_| Ok(()), |_, _, _| Ok(()))
             .unwrap_err()
