@@ -57,6 +57,7 @@ mod polish;
 mod set;
 mod set_poles;
 mod shapes;
+mod shared_force;
 mod stabilization;
 
 pub use indicator::{ModeIndicator, mode_indicator};
@@ -78,4 +79,5 @@ pub use oma::{
 pub use options::ModalOptions;
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
 pub use shapes::{ShapeComparison, compare_shapes, mac, mac_matrix, unit_normalised};
+pub use shared_force::SharedForce;
 pub use stabilization::{stabilization_diagram, why_too_few};

@@ -11,6 +11,7 @@ use crate::options::ModalOptions;
 use crate::polish::{PER_MODE, lsfd, model};
 use crate::set_poles::refine_poles;
 use crate::shapes::{mac_matrix, unit_normalised};
+use crate::shared_force::SharedForce;
 use crate::stabilization::{diagram_of_set, why_too_few};
 use msd_modal_core::diagram::{StabilizationDiagram, StableColumn};
 use msd_modal_core::error::{ModalError, Result};
@@ -103,8 +104,17 @@ pub struct ModeSetFit {
     pub conjugated: bool,
     /// The residuals of every member against its own noise, where the coherence gives
     /// each line's absolute variance in every member (two or more averages); `None`
-    /// otherwise. The members' errors are taken as independent of one another.
+    /// otherwise. The members' force noise is taken as common to them by
+    /// [`shared_force`](Self::shared_force)'s fraction, their response noise as
+    /// independent.
     pub noise_check: Option<NoiseCheck>,
+    /// How much of the members' force noise is common to them (one force record read
+    /// with every response), estimated from the residuals where every member's
+    /// coherence gives its force's share of each line (a noise model); taken into the
+    /// poles' covariance and the noise check. `None` otherwise: then the members are
+    /// taken as independent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shared_force: Option<SharedForce>,
 }
 
 impl ModeSetFit {
@@ -175,6 +185,9 @@ impl std::fmt::Display for ModeSetFit {
         }
         if let Some(check) = &self.noise_check {
             write!(f, "\n{check}")?;
+        }
+        if let Some(shared) = self.shared_force.filter(SharedForce::is_evident) {
+            write!(f, "\n{shared}")?;
         }
         if let Some(noise) = self.largest_input_noise() {
             write!(f, "\n{noise} (the largest of the members)")?;
@@ -467,6 +480,7 @@ fn assemble(members: &[SetMember], lines: &[Lines], parts: Parts) -> Result<Mode
         kind: members[0].frf.kind,
         conjugated: false,
         noise_check: poles.noise_check,
+        shared_force: poles.shared_force,
     })
 }
 

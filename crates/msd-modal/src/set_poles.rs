@@ -17,12 +17,15 @@
 //! correlated as its lines say (C = diag C_o),
 //! E\[SSE\] = tr(MC) = Σ_o (rows_o − tr(P_oC_o)) − tr(N⁻¹G), G = Σ J_oᵀC_oJ_o, and
 //! Var\[SSE\]/2 = tr(MCMC) = Σ_o tr(Q_oC_oQ_oC_o) − 2·tr(N⁻¹·Σ_o J_oᵀC_oQ_oC_oJ_o) +
-//! tr((N⁻¹G)²) (Q·J = J). A fixed force channel read with several responses shares its
-//! noise between those members; the check takes them as independent.
+//! tr((N⁻¹G)²) (Q·J = J). Members that read one force record share its noise: G and
+//! tr C² then gain the cross terms of [`crate::shared_force`], with κ estimated from the
+//! residuals (Σ J_oᵀC_oQ_oC_oJ_o keeps the members' own terms only; its cross terms are
+//! of the order of the fit's 2M + 2 columns against each member's 2L rows).
 
 use nalgebra::{DMatrix, DVector};
 
 use crate::polish::lsfd_system;
+use crate::shared_force::{SharedForce, cross_information, cross_squared_correlation, estimate};
 use msd_modal_core::correlated::{complex_inner, sandwich};
 use msd_modal_core::error::{ModalError, Result, not_identifiable};
 use msd_modal_core::lines::Lines;
@@ -40,6 +43,7 @@ pub(crate) struct RefinedPoles {
     pub degrees_of_freedom: usize,
     pub iterations: usize,
     pub noise_check: Option<NoiseCheck>,
+    pub shared_force: Option<SharedForce>,
 }
 
 /// The sum of squares and the reduced normal equations at some poles.
@@ -92,10 +96,17 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
             why: "lines (summed over the set) for the modal parameters of every mode",
         });
     }
+    let members: Vec<Member> = (lines.iter())
+        .map(|l| Member::at(l, &poles))
+        .collect::<Option<_>>()
+        .ok_or_else(cannot_tell_apart)?;
+    let weighted: Vec<&DVector<f64>> = members.iter().map(|m| &m.r).collect();
+    let shared_force = estimate(lines, &weighted, at.sse / (residuals - parameters) as f64);
+    let kappa = shared_force.map_or(0.0, |s| s.fraction);
     // The lines' correlated errors: the sandwich where every member's correlation is
     // known (s² over the degrees of freedom the fit leaves the correlated residuals),
     // else the first member's correlation length for all.
-    let (normal, residual_dof) = error_information(lines, &poles)
+    let (normal, residual_dof) = error_information(lines, &members, kappa)
         .and_then(|(g, constants_taken)| {
             let (normal, poles_taken) = sandwich(&at.normal, &g)?;
             Some((normal, residuals as f64 - constants_taken - poles_taken))
@@ -111,7 +122,8 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
         .map(|l| l.covariance(s2))
         .map_err(|e| not_identifiable(e, "the set's lines", &[]))?;
     Ok(RefinedPoles {
-        noise_check: noise_check(lines, &poles, at.sse),
+        noise_check: noise_check(lines, &members, at.sse, kappa),
+        shared_force,
         poles,
         covariance,
         sigma: s2.sqrt(),
@@ -122,25 +134,23 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
 
 /// The set's SSE against its members' own noise (see the module docs); `None` where a
 /// member's σ are not absolute or the moments cannot be formed.
-fn noise_check(lines: &[Lines], poles: &[(f64, f64)], sse: f64) -> Option<NoiseCheck> {
+fn noise_check(lines: &[Lines], members: &[Member], sse: f64, kappa: f64) -> Option<NoiseCheck> {
     if lines
         .iter()
         .any(|l| l.noise_model.is_none() || l.averages < 2)
     {
         return None;
     }
-    let (mean, variance) = set_moments(lines, poles)?;
+    let (mean, variance) = set_moments(lines, members, kappa)?;
     NoiseCheck::from_moments(sse, mean, variance)
 }
 
-/// E\[SSE\] and Var\[SSE\] of the set under its members' noise alone (the module docs).
-fn set_moments(lines: &[Lines], poles: &[(f64, f64)]) -> Option<(f64, f64)> {
-    let members: Vec<Member> = (lines.iter())
-        .map(|l| Member::at(l, poles))
-        .collect::<Option<_>>()?;
+/// E\[SSE\] and Var\[SSE\] of the set under its members' noise alone (the module docs),
+/// their force noise common by `kappa`.
+fn set_moments(lines: &[Lines], members: &[Member], kappa: f64) -> Option<(f64, f64)> {
+    let m2 = members[0].d.ncols();
     let mut reduced: Vec<DMatrix<f64>> = members.iter().map(Member::projected).collect();
     // One column scaling for every member (N sums them); the traces do not depend on it.
-    let m2 = 2 * poles.len();
     for j in 0..m2 {
         let norm = (reduced.iter())
             .map(|d| d.column(j).norm_squared())
@@ -157,7 +167,11 @@ fn set_moments(lines: &[Lines], poles: &[(f64, f64)]) -> Option<(f64, f64)> {
         DMatrix::zeros(m2, m2),
         DMatrix::zeros(m2, m2),
     );
-    for ((l, m), j) in lines.iter().zip(&members).zip(&reduced) {
+    if kappa > 0.0 {
+        g += kappa * cross_information(lines, &reduced);
+        half += 2.0 * kappa * kappa * cross_squared_correlation(lines);
+    }
+    for ((l, m), j) in lines.iter().zip(members).zip(&reduced) {
         let (mean_o, variance_o) = l.residual_moments(&m.a)?;
         mean += mean_o;
         half += variance_o / 2.0;
@@ -190,17 +204,21 @@ fn reduce(lines: &[Lines], poles: &[(f64, f64)]) -> Result<Reduced> {
         normal: DMatrix::zeros(m2, m2),
         gradient: DVector::zeros(m2),
     };
-    let singular = || ModalError::NotIdentifiable {
-        reason: "the modal constants cannot be told apart (two poles too close?)".into(),
-    };
     for l in lines {
-        let m = Member::at(l, poles).ok_or_else(singular)?;
+        let m = Member::at(l, poles).ok_or_else(cannot_tell_apart)?;
         let atd = m.a.transpose() * &m.d;
         out.sse += m.r.norm_squared();
         out.normal += m.d.transpose() * &m.d - atd.transpose() * m.gram.solve(&atd);
         out.gradient += m.d.transpose() * &m.r;
     }
     Ok(out)
+}
+
+/// The error of a member whose modal constants cannot be told apart.
+fn cannot_tell_apart() -> ModalError {
+    ModalError::NotIdentifiable {
+        reason: "the modal constants cannot be told apart (two poles too close?)".into(),
+    }
 }
 
 /// One member's LSFD at fixed poles: the column-scaled A with its Gram factor, the
@@ -235,18 +253,38 @@ impl Member {
 }
 
 /// Σ_o J_oᵀC_oJ_o over the members, the information their correlated lines' errors
-/// carry about the poles (each member's errors correlated as its own lines say, the
-/// members' taken as independent of one another), and Σ_o tr(P_o·C_o), the degrees of
-/// freedom the members' modal constants take from the correlated residuals (P_o the
-/// projection on member o's LSFD columns); `None` when a member's correlation is not
-/// known.
-fn error_information(lines: &[Lines], poles: &[(f64, f64)]) -> Option<(DMatrix<f64>, f64)> {
-    let mut sum = DMatrix::zeros(2 * poles.len(), 2 * poles.len());
+/// carry about the poles (each member's errors correlated as its own lines say; with
+/// their force noise common by `shared` > 0, the cross terms of
+/// [`crate::shared_force`], a member whose correlation is not known taken with
+/// independent lines when its [`Lines::correlated_lines`] is 1, as a table's), and
+/// Σ_o tr(P_o·C_o), the degrees of freedom the members' modal constants take from the
+/// correlated residuals (P_o the projection on member o's LSFD columns); `None` when a
+/// member's correlation is not known.
+fn error_information(
+    lines: &[Lines],
+    members: &[Member],
+    shared: f64,
+) -> Option<(DMatrix<f64>, f64)> {
+    let cross = shared > 0.0
+        && (lines.iter()).all(|l| !l.correlation.is_empty() || l.correlated_lines == 1.0);
+    let m2 = members[0].d.ncols();
+    let mut sum = DMatrix::zeros(m2, m2);
     let mut taken = 0.0;
-    for l in lines {
-        let member = Member::at(l, poles)?;
-        sum += l.error_information(&member.projected())?;
-        taken += member.gram.solve(&l.error_information(&member.a)?).trace();
+    let mut reduced = Vec::with_capacity(members.len());
+    for (l, member) in lines.iter().zip(members) {
+        let j = member.projected();
+        if cross && l.correlation.is_empty() {
+            // Independent lines: C_o = I.
+            sum += j.transpose() * &j;
+            taken += member.a.ncols() as f64;
+        } else {
+            sum += l.error_information(&j)?;
+            taken += member.gram.solve(&l.error_information(&member.a)?).trace();
+        }
+        reduced.push(j);
+    }
+    if cross {
+        sum += shared * cross_information(lines, &reduced);
     }
     Some((sum, taken))
 }

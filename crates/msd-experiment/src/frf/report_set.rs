@@ -66,10 +66,11 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
     }
     if let Some(check) = &m.noise_check {
         let sentence = super::report::weights_sentence(check, "the modes leave", o);
-        writeln!(
-            w,
-            "\n{sentence} The members' errors are taken as independent of one another."
-        )?;
+        let members = match m.shared_force {
+            Some(shared) => crate::fmt::capitalised(&shared.to_string()),
+            None => "The members' errors are taken as independent of one another".into(),
+        };
+        writeln!(w, "\n{sentence} {members}.")?;
     }
     writeln!(
         w,

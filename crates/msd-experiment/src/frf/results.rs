@@ -71,6 +71,10 @@ struct SetSummary<'a> {
     /// The residuals against the members' own noise (absent without coherence).
     #[serde(skip_serializing_if = "Option::is_none")]
     noise_check: Option<msd_modal::NoiseCheck>,
+    /// How much of the members' force noise is common to them (absent without the
+    /// coherence's noise model).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    shared_force: Option<msd_modal::SharedForce>,
 }
 
 #[derive(Serialize)]
@@ -238,6 +242,7 @@ pub fn to_json(o: &FrfOutcome, extra: &[(&'static str, Duration)], total: Durati
             conjugated: m.conjugated,
             stabilization: &m.diagram,
             noise_check: m.noise_check,
+            shared_force: m.shared_force,
         }),
         modal_fit: modal(o),
         classroom: &o.classroom,

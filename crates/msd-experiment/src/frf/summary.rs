@@ -159,6 +159,9 @@ fn set(s: &mut String, f: &ModeSetFit) {
         let text = format!("{noise} (the largest of the members)");
         summary::labelled(s, "force noise", &text);
     }
+    if let Some(shared) = f.shared_force.filter(msd_modal::SharedForce::is_evident) {
+        summary::labelled(s, "shared force", &shared.to_string());
+    }
 }
 
 /// The modes a several-mode fit refused, and its residuals against the FRF's own noise.
