@@ -119,6 +119,14 @@ fn universal_file(path: &Path, file_name: String, bytes: &[u8]) -> Result<Survey
             "\nConfig lines that read it ({n} frequency response functions: all as one set of a test; or one of them with `function = N`, N the listing's number + 1):\n[frequency_response.uff]\npath = {file_name:?}\nset = true"
         ),
     };
+    if frfs > 0
+        && (uff.functions.iter()).any(|f| f.function_type == msd_uff::FunctionType::Coherence)
+    {
+        description.push_str("# The coherence functions weight their FRFs' lines; say over how many averages they were estimated
+# (the analyser's setup) and the residuals are checked against them:
+# averages = 16
+");
+    }
     description.push_str(&times);
     if !columns.is_empty() {
         description.push_str(&column_table(&columns));

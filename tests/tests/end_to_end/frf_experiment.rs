@@ -377,11 +377,21 @@ fn a_set_sharing_one_force_record_is_found_and_said() {
     eprintln!("{}", shared.summary.summary);
 }
 
-/// Point `point`'s accelerance table of a two-mode structure (12 Hz, ζ 2 %; 31 Hz, ζ
-/// 1.5 %), the force at point 1: H1 over 16 averages with the force's noise v = 3e-3 a
-/// line (`shared`: the same draw in every table) and flat response noise, with the
-/// coherence both give.
+/// Point `point`'s accelerance table of a two-mode structure (see [`roving_frf`]).
 fn roving_table(point: u32, shared: bool) -> String {
+    let (f, h, coherence) = roving_frf(point, shared);
+    let mut text = String::from("f,re,im,coh\n");
+    for ((f, h), g) in f.iter().zip(&h).zip(&coherence) {
+        text.push_str(&format!("{f},{:e},{:e},{g}\n", h.re, h.im));
+    }
+    text
+}
+
+/// Point `point`'s accelerance of a two-mode structure (12 Hz, ζ 2 %; 31 Hz, ζ 1.5 %),
+/// the force at point 1: H1 over 16 averages with the force's noise v = 3e-3 a line
+/// (`shared`: the same draw at every point) and flat response noise, with the coherence
+/// both give: lines, values, coherence.
+fn roving_frf(point: u32, shared: bool) -> (Vec<f64>, Vec<msd_signal::Complex64>, Vec<f64>) {
     use msd_signal::{Complex64, gaussian_noise};
     use std::f64::consts::TAU;
     let modes = [
@@ -400,7 +410,7 @@ fn roving_table(point: u32, shared: bool) -> String {
         noise(100 + u64::from(point), "re"),
         noise(100 + u64::from(point), "im"),
     );
-    let mut text = String::from("f,re,im,coh\n");
+    let (mut h, mut coherence) = (Vec::new(), Vec::new());
     for (j, &fj) in f.iter().enumerate() {
         let w = TAU * fj;
         let exact: Complex64 = (modes.iter())
@@ -412,10 +422,94 @@ fn roving_table(point: u32, shared: bool) -> String {
             .sum();
         let force = (v / 2.0).sqrt() * Complex64::new(fre[j], fim[j]);
         let response = sigma / 2f64.sqrt() * Complex64::new(re[j], im[j]);
-        let h = exact / (1.0 + (k - 1.0) * v) + exact * force + response;
+        let line = exact / (1.0 + (k - 1.0) * v) + exact * force + response;
         let total = sigma * sigma + v * exact.norm_sqr();
-        let coherence = h.norm_sqr() / (h.norm_sqr() + (k - 1.0) * total);
-        text.push_str(&format!("{fj},{:e},{:e},{coherence}\n", h.re, h.im));
+        coherence.push(line.norm_sqr() / (line.norm_sqr() + (k - 1.0) * total));
+        h.push(line);
     }
-    text
+    (f, h, coherence)
+}
+
+/// The roving-accelerometer set of [`a_set_sharing_one_force_record_is_found_and_said`]
+/// exported as one UFF file, each FRF (dataset 58, type 4) followed by its coherence
+/// (type 6, same DOFs): `set = true` with `averages = 16` weights every member by its
+/// coherence, checks the residuals and finds the shared force; one FRF with `function`
+/// takes its coherence too; `msd inspect` says the key; a coherence on other lines and
+/// one above 1 are refused naming the datasets.
+#[test]
+fn a_universal_file_s_coherence_functions_weight_its_frfs() {
+    use msd_uff::{Abscissa, Function58, FunctionType, Ordinate};
+    let dir = tempfile::tempdir().unwrap();
+    let mut file = msd_uff::UffFile::default();
+    for point in 1..=4u32 {
+        let (f, h, coherence) = roving_frf(point, true);
+        let lines = Abscissa::Uneven(f);
+        let values = h.iter().map(|h| (h.re, h.im)).collect();
+        let mut frf = Function58::new(
+            FunctionType::FrequencyResponse,
+            lines.clone(),
+            Ordinate::Complex(values),
+        );
+        let mut gamma = Function58::new(FunctionType::Coherence, lines, Ordinate::Real(coherence));
+        for d in [&mut frf, &mut gamma] {
+            (d.response_node, d.response_direction) = (i64::from(point), 3);
+            (d.reference_node, d.reference_direction) = (1, 3);
+        }
+        frf.ordinate_axis.data_type = 12;
+        file.functions.extend([frf, gamma]);
+    }
+    let uff = dir.path().join("roving.uff");
+    msd_uff::write(&uff, &file, &Default::default()).unwrap();
+    let config = dir.path().join("roving.toml");
+    let run = |lines: &str| {
+        std::fs::write(
+            &config,
+            format!("name = \"roving\"\n[frequency_response.uff]\npath = \"roving.uff\"\n{lines}"),
+        )
+        .unwrap();
+        run_in_temp(&config, None, None)
+    };
+    let set = run("set = true\naverages = 16\n").expect("the set runs");
+    let results = &set.summary.results;
+    assert_eq!(results["modal_set"]["weighting"], "coherence", "{results}");
+    assert!(results["modal_set"]["noise_check"].is_object(), "{results}");
+    let fraction = results["modal_set"]["shared_force"]["fraction"]
+        .as_f64()
+        .unwrap();
+    assert!(fraction > 0.5, "{results}");
+    let source = results["data"]["source"].as_str().unwrap();
+    assert!(
+        source.contains("each with its coherence function"),
+        "{source}"
+    );
+    let one = run("function = 3\naverages = 16\n").expect("one FRF runs");
+    let fit = &one.summary.results["estimate"];
+    assert_eq!(fit["weighting"], "coherence", "{fit}");
+    let source = one.summary.results["data"]["source"].as_str().unwrap();
+    assert!(source.contains("its coherence dataset 58 #4"), "{source}");
+    let listing = msd_experiment::inspect::inspect(&uff).unwrap();
+    assert!(listing.contains("# averages = 16"), "{listing}");
+    // A coherence on other lines, then one above 1.
+    let Ordinate::Real(good) = file.functions[1].ordinate.clone() else {
+        panic!("real")
+    };
+    file.functions[1].ordinate = Ordinate::Real(good[1..].to_vec());
+    file.functions[1].abscissa =
+        Abscissa::Uneven(file.functions[0].abscissa_values()[1..].to_vec());
+    msd_uff::write(&uff, &file, &Default::default()).unwrap();
+    let message = run("set = true\n").err().expect("refused").to_string();
+    assert!(
+        message.contains("dataset 58 #2 (the coherence of #1)") && message.contains("232 lines"),
+        "{message}"
+    );
+    let mut high = good.clone();
+    high[9] = 1.2;
+    file.functions[1].ordinate = Ordinate::Real(high);
+    file.functions[1].abscissa = file.functions[0].abscissa.clone();
+    msd_uff::write(&uff, &file, &Default::default()).unwrap();
+    let message = run("set = true\n").err().expect("refused").to_string();
+    assert!(
+        message.contains("value 10") && message.contains("1.2") && message.contains("[0, 1]"),
+        "{message}"
+    );
 }

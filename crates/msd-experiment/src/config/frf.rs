@@ -459,6 +459,14 @@ pub struct UffSource {
     /// (instead of `function`). By default false.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub set: bool,
+    /// The number of averages K the file's coherence functions were estimated over (the
+    /// analyser's setup says it). Each FRF takes the coherence function (dataset 58 of
+    /// function type 6) of its response and reference DOFs, when the file holds one, and
+    /// the fits weight its lines by it; with K the coherence gives each line's absolute
+    /// variance and the residuals are checked against it, without K the lines' relative
+    /// weights only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub averages: Option<usize>,
 }
 
 /// Measured time records in one CSV file: `force[i]` and `response[i]` are record i.

@@ -393,11 +393,12 @@ fn increasing(path: &Path, f: &[f64], lines: &[usize], column: &Column, unit: &s
 fn uff(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
     let fail = |message: String| ExperimentError::data(path, message);
     let (index, function) = super::uff::pick(&file, u.function).map_err(fail)?;
-    let frf = uff_function(function, index, u, path)?;
+    let (frf, coherence) = uff_function(function, index, u, path, &file)?;
+    let paired: Vec<usize> = coherence.into_iter().collect();
     Ok(Loaded {
         time: None,
         description: format!(
-            "dataset 58 #{} of {} ({}, response {}:{}, reference {}:{}, {} lines, {}){}",
+            "dataset 58 #{} of {} ({}, response {}:{}, reference {}:{}, {} lines, {}{}){}",
             index + 1,
             path.display(),
             function.function_type,
@@ -407,7 +408,11 @@ fn uff(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
             function.reference_direction,
             function.len(),
             frf.kind,
-            not_read(&file.functions)
+            coherence.map_or(String::new(), |j| format!(
+                ", its coherence dataset 58 #{}",
+                j + 1
+            )),
+            not_read(&file.functions, &paired)
         ),
         frf,
         members: Vec::new(),
@@ -415,13 +420,16 @@ fn uff(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
     })
 }
 
-/// The datasets 58 of a file that are not frequency responses, said after a source's
-/// description ("; not read: dataset 58 #2 (time response)"), or nothing.
-fn not_read(functions: &[msd_uff::Function58]) -> String {
+/// The datasets 58 of a file that are neither frequency responses nor their coherences
+/// (`paired`, by index), said after a source's description ("; not read: dataset 58 #2
+/// (time response)"), or nothing.
+fn not_read(functions: &[msd_uff::Function58], paired: &[usize]) -> String {
     let others: Vec<String> = functions
         .iter()
         .enumerate()
-        .filter(|(_, f)| f.function_type != msd_uff::FunctionType::FrequencyResponse)
+        .filter(|(i, f)| {
+            f.function_type != msd_uff::FunctionType::FrequencyResponse && !paired.contains(i)
+        })
         .map(|(i, f)| format!("#{} ({})", i + 1, f.function_type))
         .collect();
     match others.len() {
@@ -437,14 +445,16 @@ fn not_read(functions: &[msd_uff::Function58]) -> String {
     }
 }
 
-/// Dataset 58 number `index` (from 0) as a frequency response, its values checked.
+/// Dataset 58 number `index` (from 0) of `file` as a frequency response, its values
+/// checked, with its coherence function where the file holds one (and its index).
 fn uff_function(
     function: &msd_uff::Function58,
     index: usize,
     u: &UffSource,
     path: &Path,
-) -> Result<FrequencyResponseEstimate> {
-    let frf = super::uff::to_estimate(function, u.kind).map_err(|e| {
+    file: &msd_uff::UffFile,
+) -> Result<(FrequencyResponseEstimate, Option<usize>)> {
+    let mut frf = super::uff::to_estimate(function, u.kind).map_err(|e| {
         ExperimentError::data(
             path,
             format!("dataset 58 #{} (frequency_response.uff): {e}", index + 1),
@@ -458,18 +468,28 @@ fn uff_function(
             frf.frequency[k]
         )
     })?;
-    Ok(frf)
+    let coherence = super::uff::coherence_of(file, function, index)
+        .map_err(|e| ExperimentError::data(path, e))?;
+    Ok(match coherence {
+        Some((j, coherence)) => {
+            (frf.coherence, frf.averages) = (coherence, u.averages.unwrap_or(0));
+            (frf, Some(j))
+        }
+        None => (frf, None),
+    })
 }
 
 /// Every frequency response function of a UFF file as a set, each with its DOFs.
 fn uff_set(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded> {
     let fail = |message: String| ExperimentError::data(path, message);
     let mut members = Vec::new();
+    let mut paired = Vec::new();
     for (index, function) in file.functions.iter().enumerate() {
         if function.function_type != msd_uff::FunctionType::FrequencyResponse {
             continue;
         }
-        let frf = uff_function(function, index, u, path)?;
+        let (frf, coherence) = uff_function(function, index, u, path, &file)?;
+        paired.push(coherence);
         let dof = |node: i64, direction: i32| {
             u32::try_from(node)
                 .map(|node| Dof { node, direction })
@@ -516,22 +536,44 @@ fn uff_set(u: &UffSource, file: msd_uff::UffFile, path: &Path) -> Result<Loaded>
             )));
         }
     }
-    let members: Vec<SetMember> = members.into_iter().map(|(_, m)| m).collect();
+    let mut members: Vec<SetMember> = members.into_iter().map(|(_, m)| m).collect();
+    let coherences = set_coherences(&mut members, &paired);
+    let paired: Vec<usize> = paired.into_iter().flatten().collect();
     let first = &members[0].frf;
     Ok(Loaded {
         frf: first.clone(),
         description: format!(
-            "the {} frequency response functions of {} as a set ({} lines each, {}){}",
+            "the {} frequency response functions of {} as a set ({} lines each, {}{coherences}){}",
             members.len(),
             path.display(),
             first.frequency.len(),
             first.kind,
-            not_read(&file.functions)
+            not_read(&file.functions, &paired)
         ),
         time: None,
         members,
         nodes: file.nodes,
     })
+}
+
+/// What the description says of a set's coherence functions (`paired[o]`, member o's
+/// dataset index): with every member's, the set is weighted by them; with only some
+/// members', none is used (the members would be weighted unalike) and the description
+/// says which member has none.
+fn set_coherences(members: &mut [SetMember], paired: &[Option<usize>]) -> String {
+    match paired.iter().position(Option::is_none) {
+        _ if paired.iter().all(Option::is_none) => String::new(),
+        None => ", each with its coherence function".into(),
+        Some(o) => {
+            for m in members.iter_mut() {
+                (m.frf.coherence, m.frf.averages) = (vec![1.0; m.frf.frequency.len()], 1);
+            }
+            format!(
+                "; their coherence functions not used: response {} / reference {} has none, and the members are weighted alike",
+                members[o].response, members[o].reference
+            )
+        }
+    }
 }
 
 fn records(

@@ -81,6 +81,86 @@ pub(crate) fn to_estimate(
     Ok(frf)
 }
 
+/// The coherence function of `function` (dataset 58 #`index + 1`) in `file`: the dataset
+/// 58 of function type 6 with its response and reference DOFs, with its index; `None`
+/// when the file holds none. Errors: two such, other lines than the FRF's, a value that
+/// is not a real number in [0, 1] — each naming the datasets.
+pub(crate) fn coherence_of(
+    file: &UffFile,
+    function: &Function58,
+    index: usize,
+) -> Result<Option<(usize, Vec<f64>)>, String> {
+    let dofs = |f: &Function58| {
+        (
+            f.response_node,
+            f.response_direction,
+            f.reference_node,
+            f.reference_direction,
+        )
+    };
+    let found: Vec<(usize, &Function58)> = (file.functions.iter().enumerate())
+        .filter(|(_, f)| f.function_type == FunctionType::Coherence && dofs(f) == dofs(function))
+        .collect();
+    let (j, coherence) = match found.as_slice() {
+        [] => return Ok(None),
+        [one] => *one,
+        [a, b, ..] => {
+            return Err(format!(
+                "datasets 58 #{} and #{} are both coherences of the FRF #{}: expected one",
+                a.0 + 1,
+                b.0 + 1,
+                index + 1
+            ));
+        }
+    };
+    let said = |what: String| {
+        format!(
+            "dataset 58 #{} (the coherence of #{}): {what}",
+            j + 1,
+            index + 1
+        )
+    };
+    if coherence.abscissa_values() != function.abscissa_values() {
+        return Err(said(format!(
+            "{} lines from {} Hz, the FRF {} from {} Hz: expected the FRF's lines",
+            coherence.len(),
+            coherence
+                .abscissa_values()
+                .first()
+                .copied()
+                .unwrap_or(f64::NAN),
+            function.len(),
+            function
+                .abscissa_values()
+                .first()
+                .copied()
+                .unwrap_or(f64::NAN)
+        )));
+    }
+    let values: Vec<f64> = match &coherence.ordinate {
+        Ordinate::Real(v) => v.clone(),
+        Ordinate::Complex(v) => v.iter().map(|&(re, _)| re).collect(),
+    };
+    let imaginary = match &coherence.ordinate {
+        Ordinate::Complex(v) => v.iter().position(|&(_, im)| im != 0.0),
+        Ordinate::Real(_) => None,
+    };
+    let bad = (values.iter()).position(|g| !(0.0..=1.0).contains(g));
+    match (imaginary, bad) {
+        (Some(k), _) => Err(said(format!(
+            "value {}: an imaginary part: expected a real coherence",
+            k + 1
+        ))),
+        (None, Some(k)) => Err(said(format!(
+            "value {} ({} Hz) is {}: expected a coherence in [0, 1]",
+            k + 1,
+            function.abscissa_values()[k],
+            values[k]
+        ))),
+        (None, None) => Ok(Some((j, values))),
+    }
+}
+
 /// What a frequency response function measures, from the file: the ordinate axis's
 /// data type (SDRC 8 displacement, 11 velocity, 12 acceleration) and its units and label
 /// (`m/N`, `(m/s)/N`, `(1/N)*(m/s2)`, `g/N`, "accelerance", …), which decide when the type

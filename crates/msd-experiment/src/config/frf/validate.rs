@@ -152,7 +152,15 @@ impl FrequencyResponseSection {
                 " = 0: expected a dataset number from 1".into(),
             );
         }
-        Ok(())
+        match self.uff.as_ref().and_then(|u| u.averages) {
+            Some(k) if k < 2 => err(
+                "frequency_response.uff.averages",
+                format!(
+                    " = {k}: expected at least 2 (one average has a coherence of 1 on every line)"
+                ),
+            ),
+            _ => Ok(()),
+        }
     }
 
     /// Each FRF of a `set`: its table and its two DOFs.
