@@ -28,7 +28,7 @@ impl Lines {
     /// (see [`error_information`](Self::error_information)); `None` when the
     /// correlation is not known.
     pub fn correlated_columns(&self, jacobian: &DMatrix<f64>) -> Option<ComplexColumns> {
-        if self.correlation.is_empty() {
+        if self.correlation.is_empty() && !self.independent_scaled() {
             return None;
         }
         let n = self.omega.len();
@@ -47,16 +47,27 @@ impl Lines {
         Some((z, correlated))
     }
 
+    /// Whether the lines' errors are independent (no correlation known, one line of
+    /// noise bandwidth, as a table's) with variances of their own
+    /// ([`variance_scale`](Self::variance_scale)): C is then diagonal.
+    pub fn independent_scaled(&self) -> bool {
+        self.correlation.is_empty()
+            && self.correlated_lines == 1.0
+            && self.variance_scale.len() == self.omega.len()
+    }
+
     /// r_k = √(1 − f_k²) and f_k·φ_k of every line: the response's and the force's parts
-    /// of its weighted error (see [`error_information`](Self::error_information)).
+    /// of its weighted error (see [`error_information`](Self::error_information)), each
+    /// times √v_k where the lines' variances differ ([`variance_scale`](Self::variance_scale)).
     pub fn shares(&self) -> (Vec<f64>, Vec<Complex64>) {
         let n = self.omega.len();
         let share = |k: usize| self.force_share.get(k).copied().unwrap_or(0.0);
-        let response = (0..n).map(|k| (1.0 - share(k)).sqrt()).collect();
+        let scale = |k: usize| self.variance_scale.get(k).map_or(1.0, |v| v.sqrt());
+        let response = (0..n).map(|k| scale(k) * (1.0 - share(k)).sqrt()).collect();
         let force = (0..n)
             .map(|k| match self.h[k].norm() {
                 0.0 => Complex64::new(0.0, 0.0),
-                norm => self.h[k] / norm * share(k).sqrt(),
+                norm => self.h[k] / norm * scale(k) * share(k).sqrt(),
             })
             .collect();
         (response, force)

@@ -14,7 +14,7 @@ use nalgebra::{DMatrix, DVector};
 
 use msd_modal_core::error::{ModalError, Result, not_identifiable};
 use msd_modal_core::input_noise::InputNoise;
-use msd_modal_core::lines::Lines;
+use msd_modal_core::lines::{FrfWeighting, Lines, leverages};
 use msd_modal_core::modal::{term, term_with_gradient};
 use msd_modal_core::noise_check::NoiseCheck;
 use msd_opt::statistics::Linearization;
@@ -125,6 +125,16 @@ pub(crate) fn polish(lines: &Lines, start: Vec<f64>) -> Result<Polished> {
         });
     }
     let theta: Vec<f64> = fit.x.iter().zip(&scale).map(|(x, s)| x * s).collect();
+    // Uniform weights: each line's variance from the polished model's residuals.
+    let scaled;
+    let lines = if lines.weighting == FrfWeighting::Uniform {
+        let mut l = lines.clone();
+        l.residual_variances(|w| model(&theta, w), &leverages(&fit.jacobian));
+        scaled = l;
+        &scaled
+    } else {
+        lines
+    };
     let (rows, p) = fit.jacobian.shape();
     // J in θ: the solver's J (in x) with each column divided by its scale.
     let jacobian = DMatrix::from_fn(rows, p, |i, j| fit.jacobian[(i, j)] / scale[j]);

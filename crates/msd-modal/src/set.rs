@@ -8,15 +8,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::modes::{RefusedMode, drop_moved, moved_from_column, or_conjugated, pole_intervals};
 use crate::options::ModalOptions;
-use crate::polish::{PER_MODE, lsfd, model};
-use crate::set_poles::refine_poles;
+use crate::polish::{PER_MODE, lsfd, lsfd_system, model};
+use crate::set_poles::{covariance_at, reduce, refine_poles};
 use crate::shapes::{mac_matrix, unit_normalised};
 use crate::shared_force::SharedForce;
 use crate::stabilization::{diagram_of_set, why_too_few};
 use msd_modal_core::diagram::{StabilizationDiagram, StableColumn};
 use msd_modal_core::error::{ModalError, Result};
 use msd_modal_core::input_noise::InputNoise;
-use msd_modal_core::lines::{FrfWeighting, Lines, prepare};
+use msd_modal_core::lines::{FrfWeighting, Lines, leverages, prepare};
 use msd_modal_core::mode::{Dof, Mode, ShapeEntry};
 use msd_modal_core::noise_check::NoiseCheck;
 use msd_modal_core::phase::{mean_phase_deviation, modal_phase_collinearity};
@@ -350,7 +350,18 @@ fn set_as_given(members: &[SetMember], options: &ModalOptions) -> Result<ModeSet
             l.smooth_coherence_weights(|w| model(&theta, w));
             input_noise.push(l.correct_input_noise());
         }
-        let poles = refine_poles(&weighted, start)?;
+        let mut poles = refine_poles(&weighted, start)?;
+        if weighted[0].weighting == FrfWeighting::Uniform {
+            // Each line's variance from the refined poles' residuals (the diagram's
+            // poles leave their own misfit at the peaks), the poles kept.
+            for l in &mut weighted {
+                let theta = lsfd(l, &poles.poles)?;
+                let (a, _) = lsfd_system(l, &poles.poles);
+                l.residual_variances(|w| model(&theta, w), &leverages(&a));
+            }
+            let at = reduce(&weighted, &poles.poles)?;
+            poles = covariance_at(&weighted, poles.poles, at, poles.iterations)?;
+        }
         let moved: Vec<RefusedMode> = (0..selected.len())
             .filter_map(|r| {
                 let (wn, zeta) = poles.poles[r];

@@ -47,7 +47,7 @@ pub(crate) struct RefinedPoles {
 }
 
 /// The sum of squares and the reduced normal equations at some poles.
-struct Reduced {
+pub(crate) struct Reduced {
     sse: f64,
     normal: DMatrix<f64>,
     gradient: DVector<f64>,
@@ -87,6 +87,17 @@ pub(crate) fn refine_poles(lines: &[Lines], start: Vec<(f64, f64)>) -> Result<Re
             _ => lambda *= 10.0,
         }
     }
+    covariance_at(lines, poles, at, iterations)
+}
+
+/// The poles' covariance at `poles` (the reduced problem `at` there), with σ̂, the
+/// degrees of freedom, the shared force and the noise check (see the module docs).
+pub(crate) fn covariance_at(
+    lines: &[Lines],
+    poles: Vec<(f64, f64)>,
+    at: Reduced,
+    iterations: usize,
+) -> Result<RefinedPoles> {
     let residuals: usize = lines.iter().map(|l| 2 * l.omega.len()).sum();
     let parameters = 2 * poles.len() + lines.len() * (2 * poles.len() + 2);
     if residuals <= parameters {
@@ -197,7 +208,7 @@ fn set_moments(lines: &[Lines], members: &[Member], kappa: f64) -> Option<(f64, 
 }
 
 /// The reduced problem at `poles`: Σ SSE, Σ J_oᵀJ_o and Σ J_oᵀr_o.
-fn reduce(lines: &[Lines], poles: &[(f64, f64)]) -> Result<Reduced> {
+pub(crate) fn reduce(lines: &[Lines], poles: &[(f64, f64)]) -> Result<Reduced> {
     let m2 = 2 * poles.len();
     let mut out = Reduced {
         sse: 0.0,
@@ -273,13 +284,17 @@ fn error_information(
     let mut reduced = Vec::with_capacity(members.len());
     for (l, member) in lines.iter().zip(members) {
         let j = member.projected();
-        if cross && l.correlation.is_empty() {
-            // Independent lines: C_o = I.
-            sum += j.transpose() * &j;
-            taken += member.a.ncols() as f64;
-        } else {
-            sum += l.error_information(&j)?;
-            taken += member.gram.solve(&l.error_information(&member.a)?).trace();
+        match l.error_information(&j) {
+            Some(g) => {
+                sum += g;
+                taken += member.gram.solve(&l.error_information(&member.a)?).trace();
+            }
+            // Independent lines of equal variance: C_o = I.
+            None if cross => {
+                sum += j.transpose() * &j;
+                taken += member.a.ncols() as f64;
+            }
+            None => return None,
         }
         reduced.push(j);
     }

@@ -16,8 +16,12 @@
 //! c_op,k = F_o,k·F̄_p,k, s² the set's SSE over its degrees of freedom,
 //!
 //! whose standard error where κ = 0 is 1/√(2·Σ|c|²) (the terms independent, each of
-//! variance 2|c|²), clamped to [0, 1]. A model that misses a mode leaves residuals alike
-//! across members too; κ̂ then errs high, and the intervals wide.
+//! variance 2|c|²), clamped to [0, 1]. Where the force's share comes from the residuals'
+//! own noise model ([`FrfWeighting::Residuals`](msd_modal_core::FrfWeighting::Residuals):
+//! no coherence), F is the part of the errors in proportion to H, whatever its cause.
+//! A misfit the members share — a resonance that moved between two measurements of a
+//! roving-hammer test, a mode missed — leaves residuals alike across them too: κ̂ then
+//! takes it in, and the poles' intervals widen by what the members do not tell apart.
 //!
 //! With κ > 0 the members' errors are no longer independent: the poles' information
 //! G = Σ_o J_oᵀC_oJ_o gains κ·Σ_{o≠p} J_oᵀC_opJ_p with
@@ -41,7 +45,7 @@ use msd_signal::{Complex64, LineCorrelation};
 /// ```
 /// use msd_modal::SharedForce;
 /// let shared = SharedForce { fraction: 0.97, standard_error: 0.02 };
-/// assert!(shared.to_string().starts_with("the members' force noise is 97 ± 2 % common"));
+/// assert!(shared.to_string().starts_with("the members' errors in proportion to H are 97 ± 2 % common"));
 /// assert!(shared.is_evident());
 /// assert!(!SharedForce { fraction: 0.03, standard_error: 0.02 }.is_evident());
 /// ```
@@ -67,7 +71,7 @@ impl std::fmt::Display for SharedForce {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "the members' force noise is {:.0} ± {:.0} % common to them (100 %: one force record read with every response), estimated from the residuals: taken into the poles' intervals and the noise check",
+            "the members' errors in proportion to H are {:.0} ± {:.0} % common to them (one force record read with every response, or a misfit they share: a resonance that moved between measurements), estimated from the residuals: taken into the poles' intervals and the noise check",
             100.0 * self.fraction,
             100.0 * self.standard_error
         )

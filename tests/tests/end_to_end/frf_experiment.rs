@@ -345,7 +345,7 @@ fn a_set_sharing_one_force_record_is_found_and_said() {
     );
     assert!(fraction > 0.5 && fraction > 2.0 * se, "{found}");
     assert!(
-        shared.summary.summary.contains("shared force"),
+        shared.summary.summary.contains("common errors"),
         "{}",
         shared.summary.summary
     );

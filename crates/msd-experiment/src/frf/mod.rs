@@ -87,6 +87,15 @@ impl FrfFit {
         }
     }
 
+    /// The lines' weighting.
+    pub fn weighting(&self) -> msd_modal::FrfWeighting {
+        match self {
+            FrfFit::OneMode(f) => f.weighting,
+            FrfFit::Modes(m) => m.weighting,
+            FrfFit::Set(m) => m.weighting,
+        }
+    }
+
     /// Every fitted mode's fn and ζ with their intervals.
     pub fn poles(&self) -> Vec<(msd_ident::Interval, msd_ident::Interval)> {
         match self {

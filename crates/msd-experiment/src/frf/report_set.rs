@@ -71,6 +71,8 @@ pub(super) fn section(w: &mut String, o: &FrfOutcome, m: &ModeSetFit) -> std::fm
             None => "The members' errors are taken as independent of one another".into(),
         };
         writeln!(w, "\n{sentence} {members}.")?;
+    } else if let Some(shared) = m.shared_force.filter(msd_modal::SharedForce::is_evident) {
+        writeln!(w, "\n{}.", crate::fmt::capitalised(&shared.to_string()))?;
     }
     writeln!(
         w,

@@ -160,7 +160,7 @@ fn set(s: &mut String, f: &ModeSetFit) {
         summary::labelled(s, "force noise", &text);
     }
     if let Some(shared) = f.shared_force.filter(msd_modal::SharedForce::is_evident) {
-        summary::labelled(s, "shared force", &shared.to_string());
+        summary::labelled(s, "common errors", &shared.to_string());
     }
 }
 

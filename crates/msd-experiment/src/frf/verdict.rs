@@ -21,8 +21,12 @@ pub(crate) fn verdict(o: &FrfOutcome) -> Verdict {
     findings.push(match check {
         Some(check) => residual_finding(check, model, missing),
         None => Finding::unchecked(format!(
-            "{}, so the residual cannot be tested against the data's own noise: the intervals assume that the model leaves only independent noise on each line, at the residual's own level",
-            unchecked_because(o)
+            "{}, so the residual cannot be tested against the data's own noise: the intervals assume that the model leaves only independent noise on each line, at {}",
+            unchecked_because(o),
+            match o.fit.weighting() {
+                FrfWeighting::Uniform => "the level the residuals' own noise model gives it (a part in proportion to |H|, a part flat in the quantity measured)",
+                _ => "the residual's own level",
+            }
         )),
     });
     match &o.fit {
@@ -71,11 +75,7 @@ fn residual_finding(check: &NoiseCheck, model: &str, missing: &str) -> Finding {
 
 /// Why the residuals were not tested against the FRF's own noise, in words.
 fn unchecked_because(o: &FrfOutcome) -> String {
-    let weighting = match &o.fit {
-        FrfFit::OneMode(f) => f.weighting,
-        FrfFit::Modes(m) => m.weighting,
-        FrfFit::Set(m) => m.weighting,
-    };
+    let weighting = o.fit.weighting();
     let (_, low) = fitted_band_coherence(o);
     let what = if o.members.is_empty() {
         "the FRF carries"

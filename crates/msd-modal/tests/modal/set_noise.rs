@@ -7,7 +7,10 @@
 //! members read one force record shares its force noise: the poles' intervals and the
 //! check take that in, and members measured one after another are told apart from it.
 
-use msd_modal::{Dof, ModalOptions, ModalParameters, NoiseCheck, SetMember, fit_mode_set};
+use msd_modal::{
+    Dof, FrfWeighting, ModalOptions, ModalParameters, NoiseCheck, SetMember, fit_mode_set,
+    fit_modes,
+};
 use msd_signal::{
     Complex64, Estimator, FrequencyResponseEstimate, FrfKind, LineCorrelation, gaussian_noise,
 };
@@ -312,4 +315,105 @@ fn members_measured_one_after_another_do_not() {
     let (kappa, se) = roving_calibrated(false, true);
     let mean = kappa.iter().sum::<f64>() / kappa.len() as f64;
     assert!(mean < 2.0 * se, "κ̂ {mean}, SE {se}");
+}
+
+/// `members` as a file without coherence gives them (a table, a UFF file): every line's
+/// coherence 1, one average, no estimator; the fit weights them by the residuals.
+fn without_coherence(mut members: Vec<SetMember>) -> Vec<SetMember> {
+    for m in &mut members {
+        m.frf.coherence = vec![1.0; m.frf.frequency.len()];
+        (m.frf.averages, m.frf.estimator) = (1, None);
+    }
+    members
+}
+
+/// Without coherence, over 100 sets whose errors at the peaks are mostly in proportion
+/// to H (the force's noise, v = 2e-3): roving-hammer sets, roving-accelerometer sets
+/// that read one force record, and every set's first FRF fitted alone. The lines keep
+/// their equal weights (the default's fallback) and the estimates do not change; the
+/// covariance takes each line's variance from the residuals' own noise model
+/// ([`Lines::residual_variances`]). With every line's variance taken alike, as it was,
+/// the intervals of fn and ζ held the truth 29 % and 14 % of the time for the sets (rms
+/// z 7.8 and 19), 34 % and 38 % for the first FRF alone (rms z 8.4 and 7.4). Now: the
+/// roving-hammer sets 95 ± 3 % (600 intervals), rms z within 3/√(2·600) of 1; the rest
+/// as measured and said below.
+///
+/// [`Lines::residual_variances`]: msd_modal::lines::Lines::residual_variances
+#[test]
+fn without_coherence_the_residuals_give_each_line_its_variance() {
+    for (shared, roving_response) in [(false, false), (true, true)] {
+        let (mut z, mut alone) = (Vec::new(), Vec::new());
+        for seed in 0..100 {
+            let test = Test {
+                force_noise: 2e-3,
+                roving_response,
+                shared,
+                ..Test::default()
+            };
+            let members = without_coherence(set(seed, test));
+            let fit = fit_mode_set(&members, &ModalOptions::default()).expect("a set fit");
+            assert_eq!(fit.weighting, FrfWeighting::Uniform);
+            assert_eq!(fit.modes.len(), MODES.len(), "{fit}");
+            z.extend(pole_z(
+                fit.modes
+                    .iter()
+                    .map(|m| (m.natural_frequency_hz, m.damping_ratio)),
+            ));
+            let one = fit_modes(&members[0].frf, &ModalOptions::default()).expect("a fit");
+            assert_eq!(one.modes.len(), MODES.len(), "{one}");
+            alone.extend(pole_z(
+                one.modes
+                    .iter()
+                    .map(|m| (m.natural_frequency_hz, m.damping_ratio)),
+            ));
+        }
+        for (what, z) in [("set", &z), ("first FRF alone", &alone)] {
+            let coverage = z.iter().filter(|z| z.abs() <= 1.96).count() as f64 / z.len() as f64;
+            let rms = (z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64).sqrt();
+            eprintln!(
+                "no coherence, shared {shared}, {what}: coverage of fn and ζ {coverage:.3}, rms z {rms:.3}"
+            );
+            if shared && what == "set" {
+                // One force record without coherence: measured 0.655, rms z 2.06 (was
+                // 0.14 and 19) — not yet honest. The common error at the peaks moves
+                // the poles of an equally weighted fit and so leaves its residuals:
+                // the common fraction found from them is too small. A guard only.
+                assert!(
+                    coverage >= 0.6 && rms <= 2.2,
+                    "{what}: {coverage}, rms z {rms}"
+                );
+                continue;
+            }
+            assert!(
+                (coverage - 0.95).abs() <= 0.03,
+                "{what}: coverage {coverage}"
+            );
+            // A set: within 3/√(2·600) of 1. One FRF alone measured 1.12 and 1.33
+            // (coverage 0.923 and 0.952): its equally weighted estimate leans on the
+            // peaks' few lines, whose variance the model, fitted to residuals the fit
+            // partly absorbs there (the leverage taken off), still puts low in some
+            // sets. Bounded at 1.4 so that it cannot slide back towards the 7–8 of
+            // equal variances unseen.
+            let bound = match what {
+                "set" => 3.0 / (2.0 * z.len() as f64).sqrt(),
+                _ => 0.4,
+            };
+            assert!((rms - 1.0).abs() <= bound, "{what}: rms z {rms}");
+        }
+    }
+}
+
+/// z = (estimate − truth)/SE of every mode's fn and ζ, in the order of `MODES`.
+fn pole_z(
+    modes: impl Iterator<Item = (msd_opt::statistics::Interval, msd_opt::statistics::Interval)>,
+) -> Vec<f64> {
+    modes
+        .zip(&MODES)
+        .flat_map(|((f, d), &(fn_hz, zeta))| {
+            [
+                (f.value - fn_hz) / f.standard_error,
+                (d.value - zeta) / d.standard_error,
+            ]
+        })
+        .collect()
 }
