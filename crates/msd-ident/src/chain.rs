@@ -22,7 +22,9 @@ pub use fit::{
     CUTOFF_NOT_SEPARATED, ChainFit, ChainOptions, GROUND_AT_ZERO, GROUND_NOT_IN_RECORDS, fit_chain,
 };
 pub use plan::predict_chain;
-pub use setup::{ChainDrive, ChainParameters, ChainRecord, ChainSensor, ChainSetup, LowPass};
+pub use setup::{
+    ChainDrive, ChainParameters, ChainSensor, ChainSetup, LowPass, level_out_of_range,
+};
 pub use setup::{LEVELS, MAX_MASSES};
 pub use uncertainty::{ChainIntervals, ChainUncertainty};
 pub use validate::{ChainPrediction, ChainValidation, hold_out_chain};

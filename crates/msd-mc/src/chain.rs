@@ -10,6 +10,7 @@ use crate::{
     error::{McError, Result},
 };
 use msd_ident::chain::{ChainParameters, ChainSetup, simulate_chain};
+use msd_signal::Recording;
 use rand::Rng;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -63,28 +64,28 @@ pub struct ChainBand {
     pub coverage: Option<Vec<f64>>,
 }
 
-/// The band of `setup` around `parameters` on `input` (every `dt` s), with the share of
-/// `measured` (one series per sensor) it holds. Bit for bit the same for any thread
+/// The band of `setup` around `parameters` driven by `record`'s drive, with the share of
+/// `record`'s channels (one series per sensor, when it has them) it holds. Bit for bit the same for any thread
 /// count: draw i depends on (seed, i) only, and the percentiles are taken in draw order.
 ///
 /// ```
 /// use msd_ident::{chain::{ChainParameters, ChainSetup}};
 /// use msd_mc::{ChainBandOptions, chain_band};
 /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
-/// let force = vec![1.0; 500];
-/// let band = chain_band(&ChainSetup::default(), &p, &force, 2e-3, None, &ChainBandOptions::default())?;
+/// let drive = ChainSetup::default().recording("step", 2e-3, vec![1.0; 500], Vec::new());
+/// let band = chain_band(&ChainSetup::default(), &p, &drive, &ChainBandOptions::default())?;
+/// assert_eq!(band.coverage, None); // no measured channel
 /// assert!(band.lower[0][499] < band.upper[0][499]);
 /// # Ok::<(), msd_mc::McError>(())
 /// ```
 pub fn chain_band(
     setup: &ChainSetup,
     parameters: &ChainParameters,
-    input: &[f64],
-    dt: f64,
-    measured: Option<&[Vec<f64>]>,
+    record: &Recording,
     options: &ChainBandOptions,
 ) -> Result<ChainBand> {
     validate(options)?;
+    let (input, dt) = (record.input(), record.dt);
     let nominal = simulate_chain(setup, parameters, input, dt)?;
     let p = options.percent / 100.0;
     let draw = |i: usize| -> Result<Vec<Vec<f64>>> {
@@ -136,8 +137,9 @@ pub fn chain_band(
         lower.push(lo);
         upper.push(hi);
     }
-    let coverage = measured.map(|m| {
-        m.iter()
+    let coverage = (!record.channels.is_empty()).then(|| {
+        record
+            .responses()
             .zip(lower.iter().zip(&upper))
             .map(|(y, (lo, hi))| {
                 let inside = y
@@ -215,19 +217,18 @@ mod tests {
             ..ChainBandOptions::default()
         };
         let nominal = simulate_chain(&setup, &p, &force, 2e-3).unwrap();
+        let record = setup.recording("nominal", 2e-3, force, nominal);
         let one = chain_band(
             &setup,
             &p,
-            &force,
-            2e-3,
-            Some(&nominal),
+            &record,
             &ChainBandOptions {
                 threads: 1,
                 ..options.clone()
             },
         )
         .unwrap();
-        let two = chain_band(&setup, &p, &force, 2e-3, Some(&nominal), &options).unwrap();
+        let two = chain_band(&setup, &p, &record, &options).unwrap();
         assert_eq!(one, two);
         // The static deflection under 1 N is Σ 1/k_i: every draw's springs within
         // ±10 %, so the band at the end (80 s: the slowest decay e^(−ζωn·t) is below 1e-9
@@ -261,7 +262,8 @@ mod tests {
                 ..ChainBandOptions::default()
             },
         ] {
-            assert!(chain_band(&setup, &p, &[1.0; 10], 1e-3, None, &options).is_err());
+            let drive = setup.recording("short", 1e-3, vec![1.0; 10], Vec::new());
+            assert!(chain_band(&setup, &p, &drive, &options).is_err());
         }
     }
 }

@@ -10,42 +10,9 @@ use crate::modal::ModalParameters;
 use crate::phase::{mean_phase_deviation, modal_phase_collinearity};
 use crate::window::WindowCorrection;
 
-/// A measurement point and direction (as UFF numbers them: direction 1, 2, 3 = +X, +Y,
-/// +Z, negative for the opposite sense). Displays as `node:direction`, e.g. `3:+2`.
-///
-/// ```
-/// use msd_modal_core::Dof;
-/// assert_eq!(Dof { node: 3, direction: -2 }.to_string(), "3:-2");
-/// ```
-#[derive(
-    Debug, Clone, Copy, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize,
-)]
-pub struct Dof {
-    /// The node (point) number.
-    pub node: u32,
-    /// The direction: ±1, ±2, ±3 (translations), ±4, ±5, ±6 (rotations).
-    pub direction: i32,
-}
-
-impl Dof {
-    /// Whether the direction is one UFF numbers: ±1 … ±6.
-    ///
-    /// ```
-    /// use msd_modal_core::Dof;
-    /// assert!(Dof { node: 3, direction: -3 }.is_valid());
-    /// assert!(!Dof { node: 3, direction: 0 }.is_valid());
-    /// assert!(!Dof { node: 3, direction: 7 }.is_valid());
-    /// ```
-    pub fn is_valid(&self) -> bool {
-        (1..=6).contains(&self.direction.unsigned_abs())
-    }
-}
-
-impl std::fmt::Display for Dof {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}:{:+}", self.node, self.direction)
-    }
-}
+/// A measurement point and direction, msd-signal's: the same in a recording's channels
+/// and in a mode's shape.
+pub use msd_signal::Dof;
 
 /// One entry of a mode shape (or of a mode's modal constants): a DOF, the complex value
 /// there and, where the method gives them, the standard errors of its real and

@@ -5,7 +5,7 @@ use crate::convert::{options, result_dict, vec_f64};
 use crate::errors;
 use msd_ident::{
     IdentError,
-    chain::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup},
+    chain::{ChainOptions, ChainParameters, ChainSensor, ChainSetup},
 };
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -94,11 +94,12 @@ pub fn fit_chain<'py>(
             "passes = 0: expected at least 1 (each pass fits the record once)",
         ));
     }
-    let record = ChainRecord {
+    let record = setup.recording(
+        "record",
         dt,
-        input: vec_f64(&input),
-        outputs: outputs.iter().map(vec_f64).collect(),
-    };
+        vec_f64(&input),
+        outputs.iter().map(vec_f64).collect(),
+    );
     // fit_chain checks the setup, the guess, the options and the record itself.
     let fit = py
         .detach(|| msd_ident::chain::fit_chain(&setup, &record, &guess, &opts))

@@ -164,6 +164,23 @@ pub enum SignalError {
         /// The first record's length.
         expected: usize,
     },
+    /// A channel of a [`Recording`](crate::Recording) whose length differs from the first
+    /// channel's.
+    #[error(
+        "recording `{recording}`: channel `{channel}` has {len} samples, `{first}` has {expected}"
+    )]
+    ChannelLength {
+        /// The recording's name.
+        recording: String,
+        /// The channel's name.
+        channel: String,
+        /// Its length.
+        len: usize,
+        /// The first channel's name.
+        first: String,
+        /// The first channel's length.
+        expected: usize,
+    },
     /// An input with no power at all (after detrending), so no frequency response exists.
     #[error(
         "the input `{name}` has zero power after detrending: no frequency response can be estimated"

@@ -10,6 +10,9 @@
 //! * [`noise`]: seeded Gaussian white noise in named, independent ChaCha streams.
 //! * [`pair`]: strict `[low, high]` pairs for configs read with serde.
 //! * [`quantity`]: [`ResponseQuantity`], what a sensor measures.
+//! * [`recording`]: [`Recording`], one test run as every engine reads it: a uniform
+//!   grid, the measured inputs and the response [`Channel`]s with their [`Quantity`],
+//!   unit, scale and [`Dof`].
 //! * [`preprocess`]: mean/offset and trend removal, moving average, decimation,
 //!   resampling onto a uniform grid, each refusing bad data with a clear error.
 //! * [`spectral`]: Welch PSD, cross spectrum, H1 frequency-response estimate and
@@ -73,6 +76,7 @@ pub mod pair;
 pub mod paper;
 pub mod preprocess;
 pub mod quantity;
+pub mod recording;
 pub mod signal;
 pub mod spectral;
 
@@ -89,6 +93,7 @@ pub use preprocess::{
     resample_uniform,
 };
 pub use quantity::ResponseQuantity;
+pub use recording::{Channel, Dof, Quantity, Recording};
 pub use rustfft::num_complex::Complex64;
 pub use signal::{
     Breakpoint, ClippingOptions, LineSelection, Multisine, MultisineSpec, PhaseScheme, Prbs,

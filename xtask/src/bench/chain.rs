@@ -7,16 +7,13 @@ use super::rows::fail;
 use crate::Result;
 use msd_ident::{
     ResponseQuantity,
-    chain::{
-        ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, fit_chain,
-        simulate_chain,
-    },
+    chain::{ChainOptions, ChainParameters, ChainSensor, ChainSetup, fit_chain, simulate_chain},
     records::NoiseModel,
 };
-use msd_signal::gaussian_noise;
+use msd_signal::{Recording, gaussian_noise};
 
 /// A 3-mass chain, force on the top mass, accelerometers on all three.
-fn three_masses() -> Result<(ChainSetup, ChainRecord, ChainParameters)> {
+fn three_masses() -> Result<(ChainSetup, Recording, ChainParameters)> {
     let setup = ChainSetup {
         masses: 3,
         force_at: 3,
@@ -54,15 +51,8 @@ fn three_masses() -> Result<(ChainSetup, ChainRecord, ChainParameters)> {
         springs: vec![3.3e4, 1.8e4, 1.1e4],
         ..ChainParameters::default()
     };
-    Ok((
-        setup,
-        ChainRecord {
-            dt: 2e-3,
-            input,
-            outputs,
-        },
-        guess,
-    ))
+    let record = setup.recording("three masses", 2e-3, input, outputs);
+    Ok((setup, record, guess))
 }
 
 /// The fit and one simulation of the 3-mass chain.
@@ -98,7 +88,7 @@ pub fn chain_rows(budget: &Budget) -> Result<Vec<Row>> {
             "chain",
             "3-mass chain: one exact simulation, 3 channels × 10,000 samples",
             measure(budget, || {
-                simulate_chain(&setup, &fit.parameters, &record.input, record.dt).ok()
+                simulate_chain(&setup, &fit.parameters, record.input(), record.dt).ok()
             }),
         ),
     ])

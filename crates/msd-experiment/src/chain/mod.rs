@@ -16,10 +16,11 @@ use crate::{
     options::RunOptions,
 };
 use msd_ident::chain::{
-    ChainFit, ChainOptions, ChainRecord, ChainValidation, fit_chain, hold_out_chain, simulate_chain,
+    ChainFit, ChainOptions, ChainValidation, fit_chain, hold_out_chain, level_out_of_range,
+    simulate_chain,
 };
 use msd_mc::{ChainBand, ChainBandOptions, chain_band};
-use msd_signal::gaussian_noise;
+use msd_signal::{Recording, gaussian_noise};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -39,7 +40,7 @@ pub struct ChainOutcome {
     /// The seed used.
     pub seed: u64,
     /// The record: the drive and each sensor's noisy series.
-    pub record: ChainRecord,
+    pub record: Recording,
     /// The fit with the sensors as configured.
     pub fit: ChainFit,
     /// The fitted model's reading of each sensor.
@@ -85,14 +86,14 @@ pub fn run(
             sensor.delay = Some(d.value);
         }
     }
-    let fitted = simulate_chain(&reading, &fit.parameters, &record.input, dt)
+    let fitted = simulate_chain(&reading, &fit.parameters, record.input(), dt)
         .map_err(|e| ExperimentError::run("estimation", e))?;
     timings.push(("estimation", t.elapsed()));
     progress.stage("monte carlo");
     let t = Instant::now();
     // Every draw's response of every sensor is held for the percentiles: a long measured
     // record gets fewer draws (the report says how many), at least 20.
-    let per_draw = (record.input.len() * record.outputs.len().max(1)) as f64;
+    let per_draw = (record.len() * record.channels.len().max(1)) as f64;
     let draws = (crate::budget::SAMPLES_HELD / per_draw).floor() as usize;
     let band_options = ChainBandOptions {
         seed,
@@ -102,15 +103,8 @@ pub fn run(
         samples: draws.clamp(20, ChainBandOptions::default().samples),
         ..ChainBandOptions::default()
     };
-    let band = chain_band(
-        &reading,
-        &fit.parameters,
-        &record.input,
-        dt,
-        Some(&record.outputs),
-        &band_options,
-    )
-    .map_err(|e| ExperimentError::run("monte carlo", e))?;
+    let band = chain_band(&reading, &fit.parameters, &record, &band_options)
+        .map_err(|e| ExperimentError::run("monte carlo", e))?;
     timings.push(("monte carlo", t.elapsed()));
     let t = Instant::now();
     let validation = hold_out_chain(&fitted_setup, &record, &chain.guess, &fit_options, HOLD_OUT)
@@ -159,7 +153,7 @@ pub fn run(
 /// The synthetic record of `config` for `seed`: the drive from `[identification.input]`
 /// on the `[time]` grid, each sensor's reading of the true chain (delays and filters
 /// included) plus its noise (stream `chain/<sensor index>`).
-pub(crate) fn record(config: &Config, chain: &ChainSection, seed: u64) -> Result<ChainRecord> {
+pub(crate) fn record(config: &Config, chain: &ChainSection, seed: u64) -> Result<Recording> {
     let config_path = config.sources.config_file();
     if let Some(d) = &config.data {
         return measured_record(config, chain, d);
@@ -182,17 +176,13 @@ pub(crate) fn record(config: &Config, chain: &ChainSection, seed: u64) -> Result
     // The drive as its sensor reads it: the chain felt the exact one.
     let drive_noise = gaussian_noise(seed, "chain/drive", chain.drive_sigma, input.len())
         .map_err(|e| ExperimentError::run("data", e))?;
-    let record = ChainRecord {
-        dt: input.dt(),
-        input: input
-            .samples()
-            .iter()
-            .zip(drive_noise)
-            .map(|(u, e)| u + e)
-            .collect(),
-        outputs,
-    };
-    match record.level_out_of_range() {
+    let drive = (input.samples().iter().zip(drive_noise))
+        .map(|(u, e)| u + e)
+        .collect();
+    let record = chain
+        .fitted()
+        .recording(config.name.as_str(), input.dt(), drive, outputs);
+    match level_out_of_range(&record) {
         None => Ok(record),
         Some((which, level)) => Err(ExperimentError::config(
             config_path,
@@ -219,7 +209,7 @@ fn measured_record(
     config: &Config,
     chain: &ChainSection,
     d: &crate::config::DataSection,
-) -> Result<ChainRecord> {
+) -> Result<Recording> {
     use crate::data::ColumnSpec;
     let path = config.sources.path(d.path.first());
     let missing = |key: String| {
@@ -252,12 +242,15 @@ fn measured_record(
     }
     let mut table = crate::data::read_columns(d, &config.sources, &path, "data.path", &specs)?;
     let input = table.columns.remove(0);
-    let record = ChainRecord {
-        dt: table.dt,
-        input,
-        outputs: table.columns,
-    };
-    match record.level_out_of_range() {
+    let mut record = chain
+        .fitted()
+        .recording(config.name.as_str(), table.dt, input, table.columns);
+    // The channels keep the file's names and the factors that scaled them.
+    for (channel, spec) in record.all_channels_mut().zip(&specs) {
+        channel.name = spec.column.to_string();
+        channel.scale = spec.scale;
+    }
+    match level_out_of_range(&record) {
         None => Ok(record),
         Some((which, level)) => {
             let spec = &specs[which.map_or(0, |i| i + 1)];
@@ -290,7 +283,7 @@ pub(crate) fn fit_options(chain: &ChainSection) -> ChainOptions {
 }
 
 /// `record` fitted as the run fits it: the sensors as configured, from the guess.
-pub(crate) fn fit(chain: &ChainSection, record: &ChainRecord) -> Result<ChainFit> {
+pub(crate) fn fit(chain: &ChainSection, record: &Recording) -> Result<ChainFit> {
     fit_chain(&chain.fitted(), record, &chain.guess, &fit_options(chain))
         .map_err(|e| ExperimentError::run("estimation", e))
 }
@@ -311,8 +304,8 @@ pub(crate) fn tables(o: &ChainOutcome) -> Vec<(String, String)> {
     }
     text.push('\n');
     for k in 0..o.record.len() {
-        text.push_str(&format!("{},{}", k as f64 * o.record.dt, o.record.input[k]));
-        for (y, f) in o.record.outputs.iter().zip(&o.fitted) {
+        text.push_str(&format!("{},{}", o.record.time(k), o.record.input()[k]));
+        for (y, f) in o.record.responses().zip(&o.fitted) {
             text.push_str(&format!(",{},{}", y[k], f[k]));
         }
         text.push('\n');

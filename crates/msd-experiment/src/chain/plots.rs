@@ -36,7 +36,7 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
         curves: vec![Curve {
             label: "measured".into(),
             x: &time,
-            y: o.record.input.clone(),
+            y: o.record.input().to_vec(),
             style: Style::Line(BLUE, 1),
         }],
         band: None,
@@ -45,7 +45,7 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
     let bands = o.band.lower.iter().zip(&o.band.upper);
     for (((name, measured), fitted), (lower, upper)) in channel_names(o)
         .iter()
-        .zip(&o.record.outputs)
+        .zip(o.record.responses())
         .zip(&o.fitted)
         .zip(bands)
     {
@@ -58,7 +58,7 @@ pub(crate) fn write_all(o: &ChainOutcome, dir: &Path) -> Result<Vec<&'static str
                 Curve {
                     label: "measured".into(),
                     x: &time,
-                    y: measured.clone(),
+                    y: measured.to_vec(),
                     style: Style::Points(BLUE, 2),
                 },
                 Curve {

@@ -3,13 +3,14 @@
 use super::identifiable::hold_lost;
 use super::noise::treat;
 use super::problem::{ChainProblem, Layout, enough_rows};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup, levels, rms, setup_error};
+use super::setup::{ChainParameters, ChainSetup, levels, rms, setup_error};
 use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
 use crate::error::{IdentError, Result};
 use crate::input_noise::{NoiseModel, NoiseModelFit, ResidualWhiteness, notes};
 use crate::residuals::ResidualOptions;
 use msd_opt::statistics::Interval;
 use msd_opt::{LeastSquaresProblem, LevenbergMarquardtOptions, LmExit, levenberg_marquardt};
+use msd_signal::Recording;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
@@ -102,7 +103,7 @@ impl std::fmt::Display for ChainFit {
 /// mass, too few sensors) the fit says which combinations are lost and reports the modes.
 ///
 /// ```
-/// use msd_ident::{chain::{ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, fit_chain, simulate_chain}};
+/// use msd_ident::{chain::{ChainOptions, ChainParameters, ChainSensor, ChainSetup, fit_chain, simulate_chain}};
 /// use msd_ident::ResponseQuantity::Acceleration;
 /// let setup = ChainSetup {
 ///     masses: 2,
@@ -117,7 +118,7 @@ impl std::fmt::Display for ChainFit {
 /// let dt = 2e-3;
 /// let force: Vec<f64> = (0..2000).map(|i| ((i * 7919) % 1000) as f64 / 500.0 - 1.0).collect();
 /// let outputs = simulate_chain(&setup, &truth, &force, dt)?;
-/// let record = ChainRecord { dt, input: force, outputs };
+/// let record = setup.recording("test", dt, force, outputs);
 /// let guess = ChainParameters { masses: vec![2.4, 0.8], dampers: vec![3.0, 3.0], springs: vec![2.5e4, 0.8e4], ..ChainParameters::default() };
 /// let fit = fit_chain(&setup, &record, &guess, &ChainOptions::default())?;
 /// assert!((fit.parameters.springs[1] / 1e4 - 1.0).abs() < 1e-6);
@@ -126,7 +127,7 @@ impl std::fmt::Display for ChainFit {
 /// ```
 pub fn fit_chain(
     setup: &ChainSetup,
-    record: &ChainRecord,
+    record: &Recording,
     guess: &ChainParameters,
     options: &ChainOptions,
 ) -> Result<ChainFit> {
@@ -203,13 +204,13 @@ fn runaway_cutoffs(fit: &ChainFit, dt: f64) -> Vec<usize> {
 /// Checks the inputs; the errors name the key.
 fn check(
     setup: &ChainSetup,
-    record: &ChainRecord,
+    record: &Recording,
     guess: &ChainParameters,
     options: &ChainOptions,
 ) -> Result<()> {
     setup.validate()?;
     guess.validate(setup.masses)?;
-    record.validate(setup)?;
+    setup.check_recording(record)?;
     if let Some(&m) = options
         .known_masses
         .iter()
@@ -247,14 +248,14 @@ impl<'a> Start<'a> {
     }
 
     /// The problem on `record`, each channel weighted by its RMS.
-    fn problem(&self, record: &'a ChainRecord) -> ChainProblem<'a> {
+    fn problem(&self, record: &'a Recording) -> ChainProblem<'a> {
         ChainProblem {
             setup: self.setup,
             record,
             layout: self.layout,
             base: self.guess,
             delays: self.delays,
-            noise: record.outputs.iter().map(|y| rms(y)).collect(),
+            noise: record.responses().map(rms).collect(),
         }
     }
 }
@@ -281,7 +282,7 @@ struct Solved {
 /// [`MIN_STAGE`] samples), each starting where the last ended; these stages are also
 /// cheap. A stage that fails, or runs a parameter away (see [`runaway`]), leaves the
 /// start as it was.
-fn solve(start: &Start<'_>, record: &ChainRecord, passes: usize) -> Result<Solved> {
+fn solve(start: &Start<'_>, record: &Recording, passes: usize) -> Result<Solved> {
     // The step test at 1e-6 of ‖θ‖: a step of 1e-6 in a logarithm is 1e-6 relative, far
     // below any standard error a record gives; the cost test stays MINPACK's √ε.
     let lm = LevenbergMarquardtOptions {
@@ -391,7 +392,7 @@ fn absent_or_lost(
     start: &Start<'_>,
     theta: &[f64],
     j: usize,
-    record: &ChainRecord,
+    record: &Recording,
     options: &ChainOptions,
 ) -> Result<ChainFit> {
     use super::model::Family::{GroundDamper, GroundSpring};
@@ -437,7 +438,7 @@ const RUNAWAY: f64 = 1e4;
 /// The intervals, the modes and what is lost, at the solution.
 fn statistics(
     start: &Start<'_>,
-    record: &ChainRecord,
+    record: &Recording,
     solved: Solved,
     options: &ChainOptions,
 ) -> Result<ChainFit> {
@@ -521,11 +522,10 @@ fn ground_at_zero(uncertainty: &ChainUncertainty) -> Vec<String> {
 }
 
 /// σ̂ of each channel from its residuals, with `inflation` = rows/dof shared evenly.
-fn channel_noise(outputs: &[f64], record: &ChainRecord, inflation: f64) -> Vec<f64> {
+fn channel_noise(outputs: &[f64], record: &Recording, inflation: f64) -> Vec<f64> {
     let samples = record.len();
     record
-        .outputs
-        .iter()
+        .responses()
         .enumerate()
         .map(|(ch, measured)| {
             let sse: f64 = outputs[ch * samples..(ch + 1) * samples]

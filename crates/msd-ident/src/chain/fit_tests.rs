@@ -2,6 +2,7 @@ use super::problem::{ChainProblem, Layout};
 use super::*;
 use crate::ResponseQuantity::{Acceleration, Displacement};
 use msd_opt::LeastSquaresProblem;
+use msd_signal::Recording;
 use msd_signal::noise::gaussian_noise;
 use nalgebra::DMatrix;
 
@@ -44,12 +45,7 @@ fn guess() -> ChainParameters {
 }
 
 /// A record of `setup` with `parameters` under a white force of 1 N, with noise σ per channel.
-fn record(
-    setup: &ChainSetup,
-    parameters: &ChainParameters,
-    seed: u64,
-    sigma: &[f64],
-) -> ChainRecord {
+fn record(setup: &ChainSetup, parameters: &ChainParameters, seed: u64, sigma: &[f64]) -> Recording {
     let (n, dt) = (5000, 2e-3);
     let input = gaussian_noise(seed, "force", 1.0, n).unwrap();
     let clean = simulate_chain(setup, parameters, &input, dt).unwrap();
@@ -62,7 +58,7 @@ fn record(
             y.iter().zip(noise).map(|(a, b)| a + b).collect()
         })
         .collect();
-    ChainRecord { dt, input, outputs }
+    setup.recording("test", dt, input, outputs)
 }
 
 #[test]
@@ -365,11 +361,7 @@ fn bad_layouts_name_the_key() {
     assert!(err.contains("sensors[0].low_pass.cutoff_hz = -50"), "{err}");
     let mut setup = two_storey();
     setup.sensors[0].delay = Some(20.0);
-    let rec = ChainRecord {
-        dt: 1e-3,
-        input: vec![0.0; 100],
-        outputs: vec![vec![0.0; 100]; 2],
-    };
+    let rec = setup.recording("test", 1e-3, vec![0.0; 100], vec![vec![0.0; 100]; 2]);
     let err = fit_chain(&setup, &rec, &truth(), &ChainOptions::default()).unwrap_err();
     assert!(err.to_string().contains("sensors[0].delay = 20"), "{err}");
     let setup = ChainSetup {
@@ -398,7 +390,7 @@ fn bad_layouts_name_the_key() {
 
 /// The paper's plant and input, its displacement read 3 samples late through a 50 Hz
 /// first-order low-pass, σ = 2.5 mm.
-fn delayed_paper(seed: u64) -> (ChainSetup, ChainRecord) {
+fn delayed_paper(seed: u64) -> (ChainSetup, Recording) {
     let experiment = crate::synthetic::PaperExperiment::generate(seed).unwrap();
     let input = experiment.identification.excitation.samples().to_vec();
     let dt = crate::synthetic::PaperExperiment::DT;
@@ -428,14 +420,8 @@ fn delayed_paper(seed: u64) -> (ChainSetup, ChainRecord) {
     )
     .unwrap();
     let output = clean[0].iter().zip(noise).map(|(a, b)| a + b).collect();
-    (
-        setup,
-        ChainRecord {
-            dt,
-            input,
-            outputs: vec![output],
-        },
-    )
+    let record = setup.recording("test", dt, input, vec![output]);
+    (setup, record)
 }
 
 #[test]
@@ -513,25 +499,48 @@ fn a_hundred_records_of_the_rig_all_converge_to_the_truth() {
 }
 
 #[test]
+fn recordings_that_do_not_match_the_setup_are_refused_naming_the_channel() {
+    let setup = two_storey();
+    let rec = record(&setup, &truth(), 1, &[0.02, 0.02]);
+    let refused = |r: &Recording| {
+        let err = fit_chain(&setup, r, &guess(), &ChainOptions::default()).unwrap_err();
+        err.to_string()
+    };
+    let mut wrong = rec.clone();
+    wrong.channels[1].quantity = msd_signal::Quantity::Displacement;
+    let err = refused(&wrong);
+    assert!(
+        err.contains(
+            "channel `mass 2 acceleration` measures Displacement: sensors[1] reads Acceleration"
+        ),
+        "{err}"
+    );
+    let mut no_drive = rec.clone();
+    no_drive.inputs.clear();
+    assert!(refused(&no_drive).contains("has 0 measured inputs"));
+    let mut short = rec.clone();
+    short.channels[0].samples.pop();
+    assert!(refused(&short).contains("channel `mass 1 acceleration` has 4999 samples"));
+}
+
+#[test]
 fn records_with_nothing_to_fit_are_refused() {
     let setup = two_storey();
     let mut rec = record(&setup, &truth(), 1, &[0.02, 0.02]);
-    let zero = ChainRecord {
-        input: vec![0.0; rec.len()],
-        ..rec.clone()
-    };
+    let mut zero = rec.clone();
+    zero.inputs[0].samples = vec![0.0; rec.len()];
     let err = fit_chain(&setup, &zero, &guess(), &ChainOptions::default()).unwrap_err();
     assert!(
         err.to_string().contains("the drive is zero throughout"),
         "{err}"
     );
-    rec.outputs[1].iter_mut().for_each(|y| *y = 0.0);
+    rec.channels[1].samples.iter_mut().for_each(|y| *y = 0.0);
     let err = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap_err();
     assert!(
         err.to_string().contains("sensors[1]: its series has RMS 0"),
         "{err}"
     );
-    rec.outputs[1].iter_mut().for_each(|y| *y = 1e300);
+    rec.channels[1].samples.iter_mut().for_each(|y| *y = 1e300);
     let err = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap_err();
     assert!(
         err.to_string()
@@ -593,11 +602,7 @@ fn a_sensor_filters_cut_off_is_estimated() {
     let clean = simulate_chain(&setup, &paper, &input, 2e-3).unwrap();
     let noise = gaussian_noise(1, "sensor", 1e-4, input.len()).unwrap();
     let output = clean[0].iter().zip(noise).map(|(a, b)| a + b).collect();
-    let rec = ChainRecord {
-        dt: 2e-3,
-        input,
-        outputs: vec![output],
-    };
+    let rec = setup.recording("test", 2e-3, input, vec![output]);
     setup.sensors[0].estimate_cutoff = true;
     setup.sensors[0].low_pass = Some(LowPass {
         cutoff_hz: 25.0,
@@ -888,7 +893,7 @@ fn displacement_sensors_under_a_noisy_drive_are_white_under_the_model() {
     for seed in 1..=10 {
         let mut rec = record(&setup, &truth(), seed, &[1e-6, 1e-6]);
         let noise = gaussian_noise(seed, "load cell", 0.03, rec.len()).unwrap();
-        for (u, e) in rec.input.iter_mut().zip(noise) {
+        for (u, e) in rec.inputs[0].samples.iter_mut().zip(noise) {
             *u += e;
         }
         let fit = fit_chain(&setup, &rec, &guess(), &ChainOptions::default()).unwrap();

@@ -12,10 +12,11 @@
 
 use super::model::Family;
 use super::problem::{ChainProblem, Layout};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup, rms};
+use super::setup::{ChainParameters, ChainSetup, rms};
 use super::uncertainty::lost_in_words;
 use msd_opt::LeastSquaresProblem;
 use msd_opt::statistics::SINGULAR_CONDITION;
+use msd_signal::Recording;
 use nalgebra::DMatrix;
 
 /// The samples the linearisation looks at: enough for any lost direction to show, few
@@ -26,7 +27,7 @@ const SAMPLES: usize = 16_384;
 /// (empty when everything can be identified).
 pub(super) fn hold_lost(
     setup: &ChainSetup,
-    record: &ChainRecord,
+    record: &Recording,
     guess: &ChainParameters,
     delays: &[f64],
     layout: &mut Layout,
@@ -39,7 +40,7 @@ pub(super) fn hold_lost(
         layout,
         base: guess,
         delays,
-        noise: record.outputs.iter().map(|y| rms(y)).collect(),
+        noise: record.responses().map(rms).collect(),
     };
     let Some((scaled, norms)) = scaled_sensitivities(&mut problem) else {
         return words;

@@ -5,7 +5,6 @@
 //! each sensor is its own group and the Jacobian is the solver's.
 
 use super::problem::ChainProblem;
-use super::setup::ChainRecord;
 use super::setup::rms;
 use crate::correlation::autocorrelation;
 use crate::input_noise::{
@@ -15,6 +14,7 @@ use crate::input_noise::{
 };
 use crate::residuals::{ResidualOptions, ljung_box, residual_analysis};
 use msd_opt::statistics::Linearization;
+use msd_signal::Recording;
 use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 
@@ -40,7 +40,7 @@ pub(super) fn treat(
 ) -> Treated {
     let record = problem.record;
     let len = record.len();
-    let channels = record.outputs.len();
+    let channels = record.channels.len();
     let rows = |ch: usize| ch * len..(ch + 1) * len;
     let mut whiteness = as_fitted(record, residuals, &problem.noise, tests);
     let white = Treated {
@@ -114,7 +114,7 @@ pub(super) fn treat(
     let fit = NoiseModelFit {
         treatment: "input_noise".into(),
         input_noise_sigma: Some(sigma_u),
-        input_noise_fraction: Some(sigma_u / rms(&record.input)),
+        input_noise_fraction: Some(sigma_u / rms(record.input())),
         sensor_sigmas: model
             .sensor_variance
             .iter()
@@ -219,13 +219,13 @@ fn noise_fit(
 /// and its spectrum against the white level (`noise`: each sensor's σ̂, the residuals'
 /// unit).
 fn as_fitted(
-    record: &ChainRecord,
+    record: &Recording,
     residuals: &[f64],
     noise: &[f64],
     tests: &ResidualOptions,
 ) -> Vec<ResidualWhiteness> {
     let len = record.len();
-    (0..record.outputs.len())
+    (0..record.channels.len())
         .map(|ch| {
             let r = &residuals[ch * len..(ch + 1) * len];
             let ljung = ljung_box(&autocorrelation(r, tests.max_lag), len);
@@ -241,7 +241,7 @@ fn as_fitted(
                 channel: format!("sensor {}", ch + 1),
                 ljung_box: ljung,
                 ljung_box_under_noise_model: None,
-                input_correlation: residual_analysis(r, &record.input, tests)
+                input_correlation: residual_analysis(r, record.input(), tests)
                     .ok()
                     .map(|a| a.cross_correlation),
                 spectrum: Some(spectrum),
@@ -307,11 +307,9 @@ fn impulse_responses(
     let len = problem.record.len() + extra;
     let mut input = vec![0.0; len + 1];
     input[1] = 1.0;
-    let record = ChainRecord {
-        dt: problem.record.dt,
-        input,
-        outputs: Vec::new(),
-    };
+    let record = problem
+        .setup
+        .recording("impulse", problem.record.dt, input, Vec::new());
     let impulse = ChainProblem {
         record: &record,
         noise: problem.noise.clone(),
@@ -376,11 +374,7 @@ mod tests {
         noise[0] = 0.0;
         let quiet = vec![0.0; n];
         let response = simulate_chain(&setup, &truth, &noise, dt).expect("simulated");
-        let record = ChainRecord {
-            dt,
-            input: quiet,
-            outputs: response.clone(),
-        };
+        let record = setup.recording("quiet", dt, quiet, response.clone());
         let layout = Layout::new(&setup, &[], &truth);
         let delays = [0.004, 0.0];
         let theta = layout.theta(&truth, &delays);

@@ -1,7 +1,7 @@
 //! `predict_chain`: the Cramér–Rao prediction of a chain test before it is run.
 
 use super::problem::{ChainProblem, Layout, enough_rows};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup, setup_error};
+use super::setup::{ChainParameters, ChainSetup, setup_error};
 use super::uncertainty::{ChainUncertainty, Point, uncertainty_at};
 use super::{ChainOptions, simulate_chain};
 use crate::error::{IdentError, Result};
@@ -48,12 +48,8 @@ pub fn predict_chain(
             "sensors[{i}] noise σ = {s}: expected a finite number > 0 (a noiseless channel would predict zero uncertainty)"
         )));
     }
-    let record = ChainRecord {
-        dt,
-        input: input.to_vec(),
-        outputs,
-    };
-    record.validate(setup)?;
+    let record = setup.recording("plan", dt, input.to_vec(), outputs);
+    setup.check_recording(&record)?;
     super::setup::levels(&record)?;
     if let Some(&m) = options
         .known_masses

@@ -3,9 +3,10 @@
 //! estimated delay in seconds).
 
 use super::model::{self, Family, System, Values};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup};
+use super::setup::{ChainParameters, ChainSetup};
 use super::simulate::{Simulation, simulate};
 use msd_opt::LeastSquaresProblem;
+use msd_signal::Recording;
 use nalgebra::DMatrix;
 
 /// The fitted columns and what is held.
@@ -241,7 +242,7 @@ fn cutoff_derivative(setup: &ChainSetup, v: &Values, ch: usize) -> System {
 /// The weighted residuals (ŷ − y)/σ of every channel, for the solver.
 pub(crate) struct ChainProblem<'a> {
     pub setup: &'a ChainSetup,
-    pub record: &'a ChainRecord,
+    pub record: &'a Recording,
     pub layout: &'a Layout,
     pub base: &'a ChainParameters,
     pub delays: &'a [f64],
@@ -274,7 +275,7 @@ impl ChainProblem<'_> {
             &plant,
             &partials,
             &delays,
-            &self.record.input,
+            self.record.input(),
             self.record.dt,
             jacobian,
         )
@@ -283,7 +284,7 @@ impl ChainProblem<'_> {
 
     fn weighted(&self, outputs: &[f64], out: &mut [f64]) {
         let samples = self.record.len();
-        for (ch, measured) in self.record.outputs.iter().enumerate() {
+        for (ch, measured) in self.record.responses().enumerate() {
             let scale = 1.0 / self.noise[ch];
             let range = ch * samples..(ch + 1) * samples;
             for ((r, y), m) in out[range.clone()]
@@ -299,7 +300,7 @@ impl ChainProblem<'_> {
 
 impl LeastSquaresProblem for ChainProblem<'_> {
     fn residual_count(&self) -> usize {
-        self.record.len() * self.record.outputs.len()
+        self.record.len() * self.record.channels.len()
     }
 
     fn residuals(&mut self, theta: &[f64], out: &mut [f64]) -> bool {

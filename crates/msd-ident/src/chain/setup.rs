@@ -1,7 +1,7 @@
 //! What a chain fit is given: the chain's layout, its drive, its sensors, its record.
 
 use crate::error::{IdentError, Result};
-use msd_signal::ResponseQuantity;
+use msd_signal::{Channel, Dof, Quantity, Recording, ResponseQuantity};
 use serde::{Deserialize, Serialize};
 
 /// What drives a chain of masses.
@@ -338,95 +338,101 @@ impl ChainParameters {
     }
 }
 
-/// One test of a chain: the drive's samples (force or base acceleration) and one series
-/// per sensor, every `dt` seconds from rest.
-///
-/// ```
-/// use msd_ident::chain::ChainRecord;
-/// let record = ChainRecord { dt: 1e-3, input: vec![0.0; 4], outputs: vec![vec![0.0; 4]] };
-/// assert_eq!(record.len(), 4);
-/// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ChainRecord {
-    /// The sampling interval, s.
-    pub dt: f64,
-    /// The drive's samples (N or m/s²), linear between samples.
-    pub input: Vec<f64>,
-    /// One series per sensor, in the setup's order.
-    pub outputs: Vec<Vec<f64>>,
-}
-
-impl ChainRecord {
-    /// The number of samples.
-    pub fn len(&self) -> usize {
-        self.input.len()
-    }
-
-    /// Whether the record has no samples.
-    pub fn is_empty(&self) -> bool {
-        self.input.is_empty()
-    }
-
-    /// The record's first `samples` samples.
-    pub(crate) fn prefix(&self, samples: usize) -> Self {
-        let n = samples.min(self.len());
-        Self {
-            dt: self.dt,
-            input: self.input[..n].to_vec(),
-            outputs: self.outputs.iter().map(|y| y[..n].to_vec()).collect(),
-        }
-    }
-
-    /// The first series whose RMS lies outside [`LEVELS`] — `None` for the drive,
-    /// `Some(i)` for sensor i — and that RMS; `None` when every one is inside.
+impl ChainSetup {
+    /// A recording of a test on this setup, every `dt` seconds from rest: the drive's
+    /// samples (force on [`force_at`](Self::force_at), N, or base acceleration, m/s²,
+    /// linear between samples) and one series per sensor, each channel named after its
+    /// sensor (`mass 2 acceleration`), of its quantity, at its mass (DOF `mass:+1`).
     ///
     /// ```
-    /// use msd_ident::chain::ChainRecord;
-    /// let record = ChainRecord { dt: 1e-3, input: vec![0.0; 10], outputs: vec![vec![1.0; 10]] };
-    /// assert_eq!(record.level_out_of_range(), Some((None, 0.0)));
+    /// use msd_ident::chain::ChainSetup;
+    /// use msd_signal::Quantity;
+    /// let record = ChainSetup::default().recording("test", 1e-3, vec![0.0; 4], vec![vec![0.0; 4]]);
+    /// assert_eq!((record.len(), record.channels[0].name.as_str()), (4, "mass 1 displacement"));
+    /// assert_eq!(record.inputs[0].quantity, Quantity::Force);
     /// ```
-    pub fn level_out_of_range(&self) -> Option<(Option<usize>, f64)> {
-        let inside = |level: f64| (LEVELS[0]..=LEVELS[1]).contains(&level);
-        let drive = rms(&self.input);
-        if !inside(drive) {
-            return Some((None, drive));
-        }
-        (self.outputs.iter().map(|y| rms(y)).enumerate())
-            .find(|&(_, level)| !inside(level))
-            .map(|(i, level)| (Some(i), level))
-    }
-
-    /// Checks the record against `setup`: dt, one finite series per sensor of the
-    /// input's length, delays shorter than the record.
-    pub fn validate(&self, setup: &ChainSetup) -> Result<()> {
-        if !(self.dt.is_finite() && self.dt > 0.0) {
-            return Err(IdentError::InvalidParameter {
-                name: "dt",
-                value: self.dt,
-                expected: "a finite number > 0",
+    pub fn recording(
+        &self,
+        name: impl Into<String>,
+        dt: f64,
+        input: Vec<f64>,
+        outputs: Vec<Vec<f64>>,
+    ) -> Recording {
+        let drive = match self.drive {
+            ChainDrive::Force => Channel::new("force", Quantity::Force, input).at(Dof {
+                node: self.force_at as u32,
+                direction: 1,
+            }),
+            ChainDrive::BaseAcceleration => {
+                Channel::new("base acceleration", Quantity::Acceleration, input).at(Dof {
+                    node: 0,
+                    direction: 1,
+                })
+            }
+        };
+        let mut record = Recording::new(name, 0.0, dt).with_input(drive);
+        for (i, samples) in outputs.into_iter().enumerate() {
+            record.channels.push(match self.sensors.get(i) {
+                Some(sensor) => {
+                    let quantity = Quantity::from(sensor.quantity);
+                    let name = format!("mass {} {}", sensor.at, quantity_word(sensor.quantity));
+                    Channel::new(name, quantity, samples).at(Dof {
+                        node: sensor.at as u32,
+                        direction: 1,
+                    })
+                }
+                None => Channel::new(format!("series {}", i + 1), Quantity::Displacement, samples),
             });
         }
-        if self.outputs.len() != setup.sensors.len() {
+        record
+    }
+
+    /// Checks `record` against the setup: its grid and samples, one measured drive of
+    /// the drive's quantity, one channel per sensor of the sensor's quantity, filters and
+    /// delays that the record's length can show.
+    pub fn check_recording(&self, record: &Recording) -> Result<()> {
+        record.validate()?;
+        let drive = match self.drive {
+            ChainDrive::Force => Quantity::Force,
+            ChainDrive::BaseAcceleration => Quantity::Acceleration,
+        };
+        match record.inputs.as_slice() {
+            [input] if input.quantity == drive => {}
+            inputs => {
+                return Err(setup_error(format!(
+                    "recording `{}` has {} measured inputs ({}): expected one, the drive's {}",
+                    record.name,
+                    inputs.len(),
+                    inputs
+                        .iter()
+                        .map(|c| format!("`{}` {:?}", c.name, c.quantity))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    drive.si_unit()
+                )));
+            }
+        }
+        if record.channels.len() != self.sensors.len() {
             return Err(setup_error(format!(
                 "the record has {} output series: expected one per sensor ({})",
-                self.outputs.len(),
-                setup.sensors.len()
+                record.channels.len(),
+                self.sensors.len()
             )));
         }
-        check_finite("input", &self.input)?;
-        for output in &self.outputs {
-            if output.len() != self.input.len() {
-                return Err(IdentError::LengthMismatch {
-                    what: "output",
-                    expected: self.input.len(),
-                    got: output.len(),
-                });
+        for (i, (channel, sensor)) in record.channels.iter().zip(&self.sensors).enumerate() {
+            if channel.quantity != Quantity::from(sensor.quantity) {
+                return Err(setup_error(format!(
+                    "channel `{}` measures {:?}: sensors[{i}] reads {:?}",
+                    channel.name, channel.quantity, sensor.quantity
+                )));
             }
-            check_finite("output", output)?;
         }
-        let duration = self.dt * self.input.len() as f64;
-        for (i, sensor) in setup.sensors.iter().enumerate() {
+        self.check_duration(record.dt * record.len() as f64)
+    }
+
+    /// Refuses sensor filters and delays a record of `duration` seconds cannot show.
+    fn check_duration(&self, duration: f64) -> Result<()> {
+        for (i, sensor) in self.sensors.iter().enumerate() {
             if let Some(filter) = sensor.low_pass
                 && filter.cutoff_hz * duration < 1.0
             {
@@ -450,15 +456,31 @@ impl ChainRecord {
     }
 }
 
-fn check_finite(field: &'static str, values: &[f64]) -> Result<()> {
-    match values.iter().position(|v| !v.is_finite()) {
-        Some(index) => Err(IdentError::NonFiniteSample {
-            field,
-            index,
-            value: values[index],
-        }),
-        None => Ok(()),
+fn quantity_word(q: ResponseQuantity) -> &'static str {
+    match q {
+        ResponseQuantity::Displacement => "displacement",
+        ResponseQuantity::Velocity => "velocity",
+        ResponseQuantity::Acceleration => "acceleration",
     }
+}
+
+/// The first series of `record` whose RMS lies outside [`LEVELS`] — `None` for the
+/// drive, `Some(i)` for sensor i — and that RMS; `None` when every one is inside.
+///
+/// ```
+/// use msd_ident::chain::{ChainSetup, level_out_of_range};
+/// let record = ChainSetup::default().recording("test", 1e-3, vec![0.0; 10], vec![vec![1.0; 10]]);
+/// assert_eq!(level_out_of_range(&record), Some((None, 0.0)));
+/// ```
+pub fn level_out_of_range(record: &Recording) -> Option<(Option<usize>, f64)> {
+    let inside = |level: f64| (LEVELS[0]..=LEVELS[1]).contains(&level);
+    let drive = rms(record.input());
+    if !inside(drive) {
+        return Some((None, drive));
+    }
+    (record.responses().map(rms).enumerate())
+        .find(|&(_, level)| !inside(level))
+        .map(|(i, level)| (Some(i), level))
 }
 
 pub(crate) fn setup_error(reason: String) -> IdentError {
@@ -478,10 +500,10 @@ pub(crate) fn show(v: f64) -> String {
 }
 
 /// Refuses a record with a series of no signal, or beyond double precision's squares.
-pub(crate) fn levels(record: &ChainRecord) -> Result<()> {
-    match record.level_out_of_range() {
+pub(crate) fn levels(record: &Recording) -> Result<()> {
+    match level_out_of_range(record) {
         None => Ok(()),
-        Some((None, level)) if level == 0.0 && record.input.iter().all(|&u| u == 0.0) => Err(
+        Some((None, level)) if level == 0.0 && record.input().iter().all(|&u| u == 0.0) => Err(
             setup_error("the drive is zero throughout: nothing excites the chain".into()),
         ),
         Some((which, level)) => Err(setup_error(format!(

@@ -7,11 +7,12 @@
 //! is tested as the paper's (Ljung–Box whiteness, residual–drive cross-correlation).
 
 use super::fit::{ChainOptions, fit_chain};
-use super::setup::{ChainParameters, ChainRecord, ChainSetup};
+use super::setup::{ChainParameters, ChainSetup};
 use crate::error::Result;
 use crate::input_noise::NoiseModel;
 use crate::metrics::FitMetrics;
 use crate::residuals::{ResidualAnalysis, ResidualOptions, residual_analysis};
+use msd_signal::Recording;
 use serde::Serialize;
 
 /// One sensor's prediction of the held-out samples.
@@ -49,14 +50,14 @@ pub struct ChainValidation {
 /// `guess`) and predicts the rest from rest through the whole record.
 ///
 /// ```
-/// use msd_ident::chain::{ChainOptions, ChainParameters, ChainRecord, ChainSetup, hold_out_chain, simulate_chain};
+/// use msd_ident::chain::{ChainOptions, ChainParameters, ChainSetup, hold_out_chain, simulate_chain};
 /// use msd_signal::{gaussian_noise, paper_identification_input};
 /// let p = ChainParameters { masses: vec![2.5], dampers: vec![1.8], springs: vec![120.0], ..ChainParameters::default() };
 /// let input = paper_identification_input().sample(0.0, 0.002, 7501);
 /// let clean = simulate_chain(&ChainSetup::default(), &p, &input, 0.002)?;
 /// let noise = gaussian_noise(1, "x", 1e-4, input.len())?;
 /// let y = clean[0].iter().zip(&noise).map(|(y, n)| y + n).collect();
-/// let record = ChainRecord { dt: 0.002, input, outputs: vec![y] };
+/// let record = ChainSetup::default().recording("test", 0.002, input, vec![y]);
 /// let v = hold_out_chain(&ChainSetup::default(), &record, &p, &ChainOptions::default(), 0.2)?;
 /// assert_eq!(v.held_out, 1500);
 /// assert!((v.sensors[0].fit.residual_rms / 1e-4 - 1.0).abs() < 0.1);
@@ -67,7 +68,7 @@ pub struct ChainValidation {
 /// what [`fit_chain`] refuses.
 pub fn hold_out_chain(
     setup: &ChainSetup,
-    record: &ChainRecord,
+    record: &Recording,
     guess: &ChainParameters,
     options: &ChainOptions,
     fraction: f64,
@@ -96,11 +97,10 @@ pub fn hold_out_chain(
             sensor.delay = Some(d.value);
         }
     }
-    let predicted = super::simulate_chain(&reading, &fit.parameters, &record.input, record.dt)?;
-    let drive = &record.input[n - held..];
+    let predicted = super::simulate_chain(&reading, &fit.parameters, record.input(), record.dt)?;
+    let drive = &record.input()[n - held..];
     let sensors = record
-        .outputs
-        .iter()
+        .responses()
         .zip(&predicted)
         .map(|(y, p)| {
             let (y, p) = (&y[n - held..], &p[n - held..]);

@@ -174,8 +174,7 @@ fn a_held_out_end_gets_its_own_initial_state() {
 #[test]
 fn a_chain_is_checked_on_its_held_out_end() {
     use msd_ident::chain::{
-        ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, hold_out_chain,
-        simulate_chain,
+        ChainOptions, ChainParameters, ChainSensor, ChainSetup, hold_out_chain, simulate_chain,
     };
     let p = ChainParameters {
         masses: vec![2.5],
@@ -195,11 +194,7 @@ fn a_chain_is_checked_on_its_held_out_end() {
         let clean = simulate_chain(setup, &p, &input, 0.002).expect("simulated");
         let noise = gaussian_noise(9, "chain", 1e-4, input.len()).expect("noise");
         let y = clean[0].iter().zip(&noise).map(|(y, n)| y + n).collect();
-        ChainRecord {
-            dt: 0.002,
-            input: input.clone(),
-            outputs: vec![y],
-        }
+        ChainSetup::default().recording("test", 0.002, input.clone(), vec![y])
     };
     let plain = ChainSetup::default();
     let options = ChainOptions::default();

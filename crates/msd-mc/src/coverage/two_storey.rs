@@ -3,7 +3,7 @@
 use super::{CoverageOptions, SeedFit};
 use crate::error::Result;
 use msd_ident::chain::{
-    ChainOptions, ChainParameters, ChainRecord, ChainSensor, ChainSetup, fit_chain, simulate_chain,
+    ChainOptions, ChainParameters, ChainSensor, ChainSetup, fit_chain, simulate_chain,
 };
 use msd_ident::{IdentError, ResponseQuantity};
 use msd_signal::{Multisine, MultisineSpec, PhaseScheme, Signal, gaussian_noise};
@@ -63,11 +63,8 @@ pub(super) fn fit_seed(options: &CoverageOptions, seed: u64) -> Result<SeedFit> 
     }
     let drive_noise = gaussian_noise(seed, "force", options.drive_noise * FORCE_RMS, SAMPLES)
         .map_err(IdentError::from)?;
-    let record = ChainRecord {
-        dt: DT,
-        input: exact.iter().zip(&drive_noise).map(|(u, e)| u + e).collect(),
-        outputs,
-    };
+    let input = exact.iter().zip(&drive_noise).map(|(u, e)| u + e).collect();
+    let record = setup.recording(format!("seed {seed}"), DT, input, outputs);
     let guess = ChainParameters {
         masses: vec![2.5, 1.2],
         dampers: vec![2.0, 3.0],
