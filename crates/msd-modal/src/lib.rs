@@ -72,10 +72,12 @@ pub use msd_modal_core::{
     modal_phase_collinearity, synthetic_frequency_response,
 };
 pub use oma::{
-    FddOptions, MergedFit, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity,
-    Setup, ShearBuilding, SingularSpectrum, direction_from_angles, efdd, merge_setups,
-    node_components, singular_spectrum, ssi_cov, ssi_dat,
+    FddOptions, MergedFit, OmaFit, OmaMethod, OmaOptions, OutputRecord, Setup, ShearBuilding,
+    SingularSpectrum, accelerometer, direction_from_angles, efdd, merge_setups, node_components,
+    singular_spectrum, ssi_cov, ssi_dat,
 };
+// An output-only record's channels, msd-signal's: where its user expects them.
+pub use msd_signal::{Channel, Quantity, Recording};
 pub use options::ModalOptions;
 pub use set::{MemberFit, ModeSetFit, Roving, SetMember, fit_mode_set};
 pub use shapes::{ShapeComparison, compare_shapes, mac, mac_matrix, unit_normalised};

@@ -3,8 +3,9 @@
 
 use crate::convert::{PyDof, channel_dof, integer, options, result_dict};
 use crate::errors;
+use msd_signal::Channel;
 use msd_modal::{
-    FddOptions, OmaFit, OmaMethod, OmaOptions, OutputChannel, OutputRecord, Quantity, Setup, efdd,
+    FddOptions, OmaFit, OmaMethod, OmaOptions, OutputRecord, Quantity, Setup, efdd,
     merge_setups, ssi_cov, ssi_dat,
 };
 use numpy::PyReadonlyArray2;
@@ -146,11 +147,8 @@ fn record_of(prefix: &str, setup: PySetup<'_>) -> PyResult<OutputRecord> {
         .enumerate()
         .map(|(i, r)| integer(&format!("{prefix}references[{i}]"), r))
         .collect::<PyResult<_>>()?;
-    let mut record = OutputRecord {
-        sample_rate_hz,
-        channels: Vec::with_capacity(channels),
-        references,
-    };
+    let mut record =
+        OutputRecord::new(sample_rate_hz, Vec::with_capacity(channels)).with_references(references);
     for (c, (((pair, oblique), quantity), name)) in dofs
         .iter()
         .zip(&directions)
@@ -164,9 +162,9 @@ fn record_of(prefix: &str, setup: PySetup<'_>) -> PyResult<OutputRecord> {
             &serde_json::Value::from(quantity.as_str()).to_string(),
         )?;
         let samples = array.column(c).iter().copied().collect();
-        record.channels.push(OutputChannel {
+        record.recording.channels.push(Channel {
             direction: *oblique,
-            ..OutputChannel::new(name.clone(), dof, quantity, samples)
+            ..Channel::new(name.clone(), quantity, samples).at(dof)
         });
     }
     Ok(record)

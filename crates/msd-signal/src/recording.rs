@@ -123,6 +123,10 @@ pub struct Channel {
     /// Where it measures, when the test names its points.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dof: Option<Dof>,
+    /// Its measuring direction as a unit vector in the test geometry's axes (x, y, z)
+    /// where it is oblique; `None` means along `dof`'s direction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<[f64; 3]>,
     /// One sample per grid instant.
     pub samples: Vec<f64>,
 }
@@ -136,6 +140,7 @@ impl Channel {
             unit: quantity.si_unit().into(),
             scale: 1.0,
             dof: None,
+            direction: None,
             samples,
         }
     }

@@ -151,7 +151,12 @@ fn write_building_csv(path: &Path, seed: u64, edit: impl Fn(usize, &mut Vec<Stri
     let mut text = String::from("t,a1,a2,a3\n");
     for t in 0..record.len() {
         let mut cells = vec![format!("{}", t as f64 / 50.0)];
-        cells.extend(record.channels.iter().map(|c| format!("{}", c.samples[t])));
+        cells.extend(
+            record
+                .channels()
+                .iter()
+                .map(|c| format!("{}", c.samples[t])),
+        );
         edit(t, &mut cells);
         text += &(cells.join(",") + "\n");
     }
@@ -333,6 +338,12 @@ fn bad_records_and_options_are_refused_naming_the_key_or_column() {
         &|_, _| {},
         "[operational.ssi]\norder = [2, 60]\n",
         &["order"],
+    );
+    // A force channel: an output-only analysis reads motions.
+    refused(
+        &|_, _| {},
+        "[[operational.channels]]\ncolumn = \"a2\"\nnode = 4\nquantity = \"force\"\n",
+        &["operational.channels[3].quantity = \"force\"", "motions"],
     );
 }
 

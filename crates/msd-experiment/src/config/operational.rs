@@ -182,7 +182,7 @@ pub struct OutputChannelSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elevation_deg: Option<f64>,
     /// `"displacement"`, `"velocity"` or `"acceleration"` (the default).
-    #[serde(default)]
+    #[serde(default = "acceleration")]
     pub quantity: Quantity,
     /// Whether it is a reference channel. By default every channel is, when none is
     /// named.
@@ -219,6 +219,10 @@ pub struct SimulatedBuilding {
 
 fn tenth() -> f64 {
     0.1
+}
+
+fn acceleration() -> Quantity {
+    Quantity::Acceleration
 }
 
 fn hundredth() -> f64 {
@@ -312,6 +316,12 @@ fn validate_record(r: &RecordSource, channels: &[OutputChannelSection]) -> Check
         return err(
             "record.sample_rate_hz",
             format!(" = {fs}: expected a positive rate"),
+        );
+    }
+    if let Some(i) = channels.iter().position(|c| c.quantity == Quantity::Force) {
+        return err(
+            &format!("channels[{i}].quantity"),
+            " = \"force\": expected \"displacement\", \"velocity\" or \"acceleration\" (an output-only analysis reads motions)".into(),
         );
     }
     let csv = r

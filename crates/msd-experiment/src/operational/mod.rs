@@ -224,7 +224,7 @@ struct RecordSummary<'a> {
 #[derive(Serialize)]
 struct ChannelSummary<'a> {
     name: &'a str,
-    dof: msd_modal::Dof,
+    dof: Option<msd_modal::Dof>,
     #[serde(skip_serializing_if = "Option::is_none")]
     oblique_direction: Option<[f64; 3]>,
     quantity: msd_modal::Quantity,
@@ -298,11 +298,11 @@ pub(crate) fn results(
         command: &o.command,
         verdict: &o.verdict,
         record: RecordSummary {
-            sample_rate_hz: o.record.sample_rate_hz,
+            sample_rate_hz: o.record.sample_rate_hz(),
             samples: o.record.len(),
             channels: o
                 .record
-                .channels
+                .channels()
                 .iter()
                 .enumerate()
                 .map(|(i, c)| ChannelSummary {

@@ -9,7 +9,8 @@ use crate::config::{
 use crate::data::csv::{ColumnSpec, read_columns};
 use crate::error::{ExperimentError, Result};
 use crate::sources::Sources;
-use msd_modal::{Dof, OutputChannel, OutputRecord, Quantity, ShearBuilding, direction_from_angles};
+use msd_modal::{Dof, OutputRecord, ShearBuilding, direction_from_angles};
+use msd_signal::{Channel, Quantity, Recording};
 use std::path::{Path, PathBuf};
 
 /// The record to analyse, the channels left out (name and why) and, for a simulated
@@ -112,7 +113,7 @@ fn without_dead(
     let mut references = Vec::new();
     let mut left_out = Vec::new();
     let named = record.reference_indices();
-    for (i, channel) in record.channels.into_iter().enumerate() {
+    for (i, channel) in record.recording.channels.into_iter().enumerate() {
         let why = if let Some(t) = channel.samples.iter().position(|v| !v.is_finite()) {
             Some(format!("sample {t} is {}", channel.samples[t]))
         } else if channel.samples.iter().all(|&v| v == channel.samples[0]) {
@@ -150,9 +151,11 @@ fn without_dead(
     }
     Ok((
         OutputRecord {
-            channels: kept,
+            recording: Recording {
+                channels: kept,
+                ..record.recording
+            },
             references,
-            ..record
         },
         left_out,
     ))
@@ -235,11 +238,7 @@ fn read_npy(
         ));
     }
     Ok((
-        OutputRecord {
-            sample_rate_hz: fs,
-            channels,
-            references,
-        },
+        OutputRecord::new(fs, channels).with_references(references),
         files,
     ))
 }
@@ -288,7 +287,7 @@ fn picked(
     given: &[OutputChannelSection],
     columns: &[Vec<f64>],
     path: &Path,
-) -> Result<(Vec<OutputChannel>, Vec<usize>)> {
+) -> Result<(Vec<Channel>, Vec<usize>)> {
     let mut channels = Vec::new();
     for (i, c) in given.iter().enumerate() {
         let Column::Index(k) = c.column else {
@@ -363,9 +362,12 @@ fn read_csv(
         .zip(table.columns)
         .map(|(c, samples)| channel_of(c, samples))
         .collect();
+    let name = source.path.display().to_string();
     Ok(OutputRecord {
-        sample_rate_hz: 1.0 / table.dt,
-        channels,
+        recording: Recording {
+            channels,
+            ..Recording::new(name, 0.0, table.dt)
+        },
         references: references_of(given),
     })
 }
@@ -374,7 +376,7 @@ fn references_of(given: &[OutputChannelSection]) -> Vec<usize> {
     (0..given.len()).filter(|&i| given[i].reference).collect()
 }
 
-fn channel_of(c: &OutputChannelSection, samples: Vec<f64>) -> OutputChannel {
+fn channel_of(c: &OutputChannelSection, samples: Vec<f64>) -> Channel {
     let name = match &c.column {
         Column::Name(n) => n.clone(),
         Column::Index(i) => format!("column {i}"),
@@ -387,15 +389,10 @@ fn channel_of(c: &OutputChannelSection, samples: Vec<f64>) -> OutputChannel {
             c.quantity,
             samples,
         ),
-        (direction, _, _) => OutputChannel::new(
-            name,
-            Dof {
-                node: c.node,
-                direction: direction.unwrap_or(1),
-            },
-            c.quantity,
-            samples,
-        ),
+        (direction, _, _) => Channel::new(name, c.quantity, samples).at(Dof {
+            node: c.node,
+            direction: direction.unwrap_or(1),
+        }),
     }
 }
 
@@ -407,11 +404,11 @@ fn oriented(
     unit: [f64; 3],
     quantity: Quantity,
     samples: Vec<f64>,
-) -> OutputChannel {
+) -> Channel {
     let axis = (0..3).find(|&a| unit[a].abs() > 1.0 - 1e-9);
     let direction = axis.map_or(0, |a| (a as i32 + 1) * unit[a].signum() as i32);
-    OutputChannel {
+    Channel {
         direction: axis.is_none().then_some(unit),
-        ..OutputChannel::new(name, Dof { node, direction }, quantity, samples)
+        ..Channel::new(name, quantity, samples).at(Dof { node, direction })
     }
 }

@@ -43,22 +43,23 @@ fn record(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     writeln!(
         s,
         "{} channels, {} samples at {} Hz ({} s), {what}.\n",
-        r.channels.len(),
+        r.channels().len(),
         r.len(),
-        sig(r.sample_rate_hz, 6),
-        sig(r.len() as f64 / r.sample_rate_hz, 4)
+        sig(r.sample_rate_hz(), 6),
+        sig(r.len() as f64 / r.sample_rate_hz(), 4)
     )?;
     writeln!(
         s,
         "| channel | DOF | direction | quantity | reference |\n|---|---|---|---|---|"
     )?;
     let refs = r.reference_indices();
-    for (i, c) in r.channels.iter().enumerate() {
+    for (i, c) in r.channels().iter().enumerate() {
         let direction = c.direction.map_or_else(
-            || format!("{:+}", c.dof.direction),
+            || format!("{:+}", c.dof.unwrap_or_default().direction),
             |[x, y, z]| format!("oblique ({x:.3}, {y:.3}, {z:.3})"),
         );
         let quantity = match c.quantity {
+            Quantity::Force => "force",
             Quantity::Displacement => "displacement",
             Quantity::Velocity => "velocity",
             Quantity::Acceleration => "acceleration",
@@ -67,7 +68,8 @@ fn record(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
         writeln!(
             s,
             "| {} | {} | {direction} | {quantity} | {reference} |",
-            c.name, c.dof.node
+            c.name,
+            c.dof.unwrap_or_default().node
         )?;
     }
     writeln!(s)?;
@@ -152,7 +154,7 @@ fn shapes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
     )?;
     // One row per mode, one column per channel: the table stays narrow.
     write!(s, "| mode |")?;
-    for (c, channel) in o.record.channels.iter().enumerate() {
+    for (c, channel) in o.record.channels().iter().enumerate() {
         // An oblique channel's DOF has direction 0: its name tells the three apart.
         let dof = modes[0].shape.get(c).map(|e| e.dof());
         match (channel.direction, dof) {
@@ -161,7 +163,7 @@ fn shapes(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
             (_, None) => write!(s, " {} |", channel.name)?,
         }
     }
-    writeln!(s, "\n|---|{}", "---|".repeat(o.record.channels.len()))?;
+    writeln!(s, "\n|---|{}", "---|".repeat(o.record.channels().len()))?;
     for (k, m) in modes.iter().enumerate() {
         write!(s, "| {} |", k + 1)?;
         for entry in &m.shape {
@@ -214,8 +216,8 @@ fn what(o: &OperationalOutcome) -> String {
     format!(
         "output-only modal analysis by {}: {} channels at {} Hz; {}",
         o.fit.method,
-        o.record.channels.len(),
-        o.record.sample_rate_hz,
+        o.record.channels().len(),
+        o.record.sample_rate_hz(),
         summary::data(o.truth.is_some().then_some(o.seed))
     )
 }

@@ -40,7 +40,7 @@ fn page(s: &mut String, o: &SeriesOutcome, figures: &[&str]) -> std::fmt::Result
             "| {} | `{}` | {} | {} | {} | {} |",
             r.label,
             r.path.display(),
-            r.record.channels.len(),
+            r.record.channels().len(),
             r.record.len(),
             r.fit.modes.len(),
             if r.left_out.is_empty() {
@@ -230,7 +230,12 @@ fn results(
                 path: r.path.display().to_string(),
                 label: &r.label,
                 samples: r.record.len(),
-                channels: r.record.channels.iter().map(|c| c.name.as_str()).collect(),
+                channels: r
+                    .record
+                    .channels()
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect(),
                 left_out: r.left_out.iter().map(|(n, _)| n.as_str()).collect(),
                 settings: format!("{}: {}", r.fit.method, r.fit.settings()),
                 modes: &r.fit.modes,

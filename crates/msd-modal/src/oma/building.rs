@@ -6,7 +6,7 @@
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use serde::{Deserialize, Serialize};
 
-use super::record::{OutputChannel, OutputRecord, Quantity};
+use super::record::{OutputRecord, accelerometer};
 use msd_modal_core::error::{ModalError, Result};
 use msd_modal_core::mode::Dof;
 
@@ -176,21 +176,13 @@ impl ShearBuilding {
                 for a in &mut v {
                     *a += noise_fraction * rms * normal();
                 }
-                OutputChannel::new(
-                    format!("a{}", r + 1),
-                    Dof {
-                        node: r as u32 + 1,
-                        direction: 1,
-                    },
-                    Quantity::Acceleration,
-                    v,
-                )
+                let dof = Dof {
+                    node: r as u32 + 1,
+                    direction: 1,
+                };
+                accelerometer(format!("a{}", r + 1), dof, v)
             })
             .collect();
-        Ok(OutputRecord {
-            sample_rate_hz,
-            channels,
-            references: Vec::new(),
-        })
+        Ok(OutputRecord::new(sample_rate_hz, channels))
     }
 }

@@ -11,6 +11,7 @@ use super::covariance::{BlockCovariances, Lags};
 use super::decay::decay;
 use super::options::FddOptions;
 use super::record::OutputRecord;
+use super::record::order;
 use super::select::Physical;
 use super::spectrum::{Line, SingularSpectrum, decompose, default_lags, spectral_matrix};
 use super::uncertainty::{mode_with_errors, standard_errors};
@@ -44,7 +45,7 @@ use msd_modal_core::error::{ModalError, Result};
 /// four times the lags, no peak.
 ///
 /// ```
-/// use msd_modal::{Dof, FddOptions, OutputChannel, OutputRecord, Quantity, efdd};
+/// use msd_modal::{Channel, Dof, FddOptions, OutputRecord, Quantity, efdd};
 /// // Two channels of one 4 Hz mode with 2 % damping driven by noise (an AR(2) process).
 /// let (fs, f, zeta) = (50.0_f64, 4.0_f64, 0.02_f64);
 /// let w = std::f64::consts::TAU * f / fs;
@@ -55,9 +56,9 @@ use msd_modal_core::error::{ModalError, Result};
 ///     seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
 ///     x[t] = a1 * x[t - 1] + a2 * x[t - 2] + ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
 /// }
-/// let channel = |node: u32, gain: f64| OutputChannel::new(format!("d{node}"),
-///     Dof { node, direction: 1 }, Quantity::Displacement, x.iter().map(|v| gain * v).collect());
-/// let record = OutputRecord { sample_rate_hz: fs, channels: vec![channel(1, 1.0), channel(2, -0.5)], references: vec![] };
+/// let channel = |node: u32, gain: f64| Channel::new(format!("d{node}"), Quantity::Displacement,
+///     x.iter().map(|v| gain * v).collect()).at(Dof { node, direction: 1 });
+/// let record = OutputRecord::new(fs, vec![channel(1, 1.0), channel(2, -0.5)]);
 /// let fit = efdd(&record, &FddOptions::default())?;
 /// assert_eq!(fit.modes.len(), 1);
 /// let mode = &fit.modes[0];
@@ -70,7 +71,7 @@ use msd_modal_core::error::{ModalError, Result};
 pub fn efdd(record: &OutputRecord, options: &FddOptions) -> Result<OmaFit> {
     record.check()?;
     options.validate()?;
-    let fs = record.sample_rate_hz;
+    let fs = record.sample_rate_hz();
     let (scaled, scales) = record.standardised_by_quantity();
     let lags = options
         .lags
@@ -203,8 +204,8 @@ impl Context<'_> {
         let s = Complex64::new(0.0, std::f64::consts::TAU * frequency_hz);
         let shape: Vec<Complex64> = vector
             .iter()
-            .zip(self.scales.iter().zip(&self.record.channels))
-            .map(|(v, (scale, c))| v * *scale / s.powi(c.quantity.order()))
+            .zip(self.scales.iter().zip(self.record.channels()))
+            .map(|(v, (scale, c))| v * *scale / s.powi(order(c.quantity)))
             .collect();
         let largest = shape
             .iter()

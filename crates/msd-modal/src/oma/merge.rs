@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::OmaFit;
 use super::record::OutputRecord;
+use super::record::dof;
 use super::select::aligned;
 use crate::shapes::mac;
 use msd_modal_core::error::{ModalError, Result};
@@ -45,11 +46,12 @@ pub struct MergedFit {
 /// vector); other channels as they are. Standard errors propagate as independent.
 ///
 /// ```
-/// use msd_modal::{Dof, OutputChannel, OutputRecord, Quantity, ShapeEntry, node_components};
+/// use msd_modal::{Channel, Dof, OutputRecord, Quantity, ShapeEntry, node_components};
 /// use msd_signal::Complex64;
-/// let c = |v: [f64; 3], n: &str| OutputChannel { direction: Some(v), ..OutputChannel::new(n, Dof { node: 5, direction: 0 }, Quantity::Velocity, vec![0.0, 1.0]) };
+/// let c = |v: [f64; 3], n: &str| Channel { direction: Some(v),
+///     ..Channel::new(n, Quantity::Velocity, vec![0.0, 1.0]).at(Dof { node: 5, direction: 0 }) };
 /// let s = 0.5_f64.sqrt();
-/// let record = OutputRecord { sample_rate_hz: 1.0, channels: vec![c([s, s, 0.0], "a"), c([s, -s, 0.0], "b"), c([0.0, 0.0, 1.0], "c")], references: vec![] };
+/// let record = OutputRecord::new(1.0, vec![c([s, s, 0.0], "a"), c([s, -s, 0.0], "b"), c([0.0, 0.0, 1.0], "c")]);
 /// // The node moves along x by 1: the beams read 1/√2, 1/√2, 0.
 /// let shape: Vec<ShapeEntry> = [s, s, 0.0].iter().map(|&v| ShapeEntry::new(Dof { node: 5, direction: 0 }, Complex64::new(v, 0.0))).collect();
 /// let xyz = node_components(&record, &shape);
@@ -63,9 +65,9 @@ pub fn node_components(record: &OutputRecord, shape: &[ShapeEntry]) -> Vec<Shape
         if done[i] {
             continue;
         }
-        let node = record.channels[i].dof.node;
+        let node = dof(&record.channels()[i]).node;
         let same: Vec<usize> = (i..shape.len())
-            .filter(|&j| record.channels[j].dof.node == node)
+            .filter(|&j| dof(&record.channels()[j]).node == node)
             .collect();
         let units: Vec<Option<[f64; 3]>> = same.iter().map(|&j| unit(record, j)).collect();
         let solved = (same.len() >= 3 && units.iter().all(Option::is_some))
@@ -93,9 +95,9 @@ pub fn node_components(record: &OutputRecord, shape: &[ShapeEntry]) -> Vec<Shape
 
 /// Channel `j`'s measuring direction as a unit vector (None for a rotation).
 fn unit(record: &OutputRecord, j: usize) -> Option<[f64; 3]> {
-    let c = &record.channels[j];
+    let c = &record.channels()[j];
     c.direction.or_else(|| {
-        let d = c.dof.direction;
+        let d = dof(c).direction;
         (1..=3).contains(&d.abs()).then(|| {
             let mut v = [0.0; 3];
             v[d.unsigned_abs() as usize - 1] = f64::from(d.signum());

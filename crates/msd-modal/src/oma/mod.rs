@@ -29,7 +29,7 @@ pub use building::ShearBuilding;
 pub use efdd::efdd;
 pub use merge::{MergedFit, Setup, merge_setups, node_components};
 pub use options::{FddOptions, OmaOptions};
-pub use record::{OutputChannel, OutputRecord, Quantity, direction_from_angles};
+pub use record::{OutputRecord, accelerometer, direction_from_angles};
 pub use spectrum::{SingularSpectrum, singular_spectrum};
 pub use ssi::{ssi_cov, ssi_dat};
 

@@ -5,59 +5,34 @@ use serde::{Deserialize, Serialize};
 
 use msd_modal_core::error::{ModalError, Result};
 use msd_modal_core::mode::Dof;
+use msd_signal::{Channel, Quantity, Recording};
 
-/// What a channel measures. Shapes are reported as displacement shapes: a velocity
-/// channel's entry divided by the pole λ, an acceleration's by λ².
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Quantity {
-    /// Displacement.
-    Displacement,
-    /// Velocity.
-    Velocity,
-    /// Acceleration (the default: most ambient records are accelerometers').
-    #[default]
-    Acceleration,
-}
-
-impl Quantity {
-    /// The power of λ that turns a displacement into this quantity (0, 1, 2).
-    pub fn order(self) -> i32 {
-        match self {
-            Self::Displacement => 0,
-            Self::Velocity => 1,
-            Self::Acceleration => 2,
-        }
+/// The power of λ that turns a displacement into a channel's quantity (0, 1, 2): shapes
+/// are reported as displacement shapes, a velocity channel's entry divided by the pole
+/// λ, an acceleration's by λ². [`OutputRecord::check`] refuses a force channel.
+pub(crate) fn order(quantity: Quantity) -> i32 {
+    match quantity {
+        Quantity::Displacement | Quantity::Force => 0,
+        Quantity::Velocity => 1,
+        Quantity::Acceleration => 2,
     }
 }
 
-/// One channel of an output-only record.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct OutputChannel {
-    /// Its name (a column name, or `channel <i>`).
-    pub name: String,
-    /// Where it measures: the node and direction its shape entry is reported at.
-    pub dof: Dof,
-    /// Its measuring direction as a unit vector in the geometry's axes (x, y, z), where
-    /// it is oblique; `None` means along `dof`'s direction.
-    pub direction: Option<[f64; 3]>,
-    /// What it measures.
-    pub quantity: Quantity,
-    /// The samples.
-    pub samples: Vec<f64>,
+/// The DOF a channel's shape entry is reported at ([`OutputRecord::check`] refuses a
+/// channel without one).
+pub(crate) fn dof(channel: &Channel) -> Dof {
+    channel.dof.unwrap_or_default()
 }
 
-impl OutputChannel {
-    /// A channel measuring `quantity` at `dof`, along it.
-    pub fn new(name: impl Into<String>, dof: Dof, quantity: Quantity, samples: Vec<f64>) -> Self {
-        Self {
-            name: name.into(),
-            dof,
-            direction: None,
-            quantity,
-            samples,
-        }
-    }
+/// An accelerometer's channel at `dof` (most ambient records are accelerometers').
+///
+/// ```
+/// use msd_modal::{Dof, accelerometer};
+/// let c = accelerometer("a1", Dof { node: 1, direction: 3 }, vec![0.0, 1.0]);
+/// assert_eq!((c.unit.as_str(), c.dof), ("m/s²", Some(Dof { node: 1, direction: 3 })));
+/// ```
+pub fn accelerometer(name: impl Into<String>, dof: Dof, samples: Vec<f64>) -> Channel {
+    Channel::new(name, Quantity::Acceleration, samples).at(dof)
 }
 
 /// The unit vector of a measuring direction given as azimuth and elevation in degrees
@@ -72,33 +47,59 @@ pub fn direction_from_angles(azimuth_deg: f64, elevation_deg: f64) -> [f64; 3] {
     [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
 }
 
-/// Channels sampled together at one rate with no measured input (an ambient or
-/// operational record), and which of them are the references.
+/// Channels sampled together with no measured input (an ambient or operational record),
+/// each at its DOF, and which of them are the references.
 ///
 /// ```
-/// use msd_modal::{Dof, OutputChannel, OutputRecord, Quantity};
-/// let channel = |i: u32| OutputChannel::new(format!("a{i}"), Dof { node: i, direction: 1 },
-///     Quantity::Acceleration, (0..100).map(|t| ((t * (i as usize + 3)) as f64).sin()).collect());
-/// let record = OutputRecord { sample_rate_hz: 100.0, channels: vec![channel(1), channel(2)], references: vec![1] };
+/// use msd_modal::{Dof, OutputRecord, accelerometer};
+/// let channel = |i: u32| accelerometer(format!("a{i}"), Dof { node: i, direction: 1 },
+///     (0..100).map(|t| ((t * (i as usize + 3)) as f64).sin()).collect());
+/// let record = OutputRecord::new(100.0, vec![channel(1), channel(2)]).with_references(vec![1]);
 /// assert!(record.check().is_ok());
+/// assert_eq!(record.sample_rate_hz(), 100.0);
 /// let bad = OutputRecord { references: vec![2], ..record };
 /// assert!(bad.check().unwrap_err().to_string().contains("references"));
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OutputRecord {
-    /// Samples per second, Hz.
-    pub sample_rate_hz: f64,
-    /// The channels, each with as many samples.
-    pub channels: Vec<OutputChannel>,
-    /// The reference channels' indices into `channels`; empty = every channel.
+    /// The channels (no measured input), each with as many samples, on one grid.
+    pub recording: Recording,
+    /// The reference channels' indices into the recording's channels; empty = every
+    /// channel.
     pub references: Vec<usize>,
 }
 
 impl OutputRecord {
+    /// `channels` sampled at `sample_rate_hz` from t = 0, every channel a reference.
+    pub fn new(sample_rate_hz: f64, channels: Vec<Channel>) -> Self {
+        Self {
+            recording: Recording {
+                channels,
+                ..Recording::new("output-only record", 0.0, sample_rate_hz.recip())
+            },
+            references: Vec::new(),
+        }
+    }
+
+    /// With the reference channels `references` (indices into the channels).
+    pub fn with_references(self, references: Vec<usize>) -> Self {
+        Self { references, ..self }
+    }
+
+    /// Samples per second, Hz.
+    pub fn sample_rate_hz(&self) -> f64 {
+        self.recording.dt.recip()
+    }
+
+    /// The channels.
+    pub fn channels(&self) -> &[Channel] {
+        &self.recording.channels
+    }
+
     /// A band's lower edge below the record's Nyquist frequency.
     pub(crate) fn check_band(&self, band_hz: Option<[f64; 2]>) -> Result<()> {
         match band_hz {
-            Some([low, _]) if low >= 0.5 * self.sample_rate_hz => {
+            Some([low, _]) if low >= 0.5 * self.sample_rate_hz() => {
                 Err(ModalError::InvalidParameter {
                     name: "band_hz[0]",
                     value: low,
@@ -116,11 +117,11 @@ impl OutputRecord {
     pub(crate) fn standardised_by_quantity(&self) -> (Vec<Vec<f64>>, Vec<f64>) {
         let (centred, sds) = self.standardised();
         let common: Vec<f64> = self
-            .channels
+            .channels()
             .iter()
             .map(|c| {
                 let (sum, count) = self
-                    .channels
+                    .channels()
                     .iter()
                     .zip(&sds)
                     .filter(|(d, _)| d.quantity == c.quantity)
@@ -139,7 +140,7 @@ impl OutputRecord {
     /// Each channel less its mean, divided by its standard deviation; and those
     /// deviations.
     pub(crate) fn standardised(&self) -> (Vec<Vec<f64>>, Vec<f64>) {
-        self.channels
+        self.channels()
             .iter()
             .map(|c| {
                 let n = c.samples.len() as f64;
@@ -152,7 +153,7 @@ impl OutputRecord {
 
     /// Samples per channel.
     pub fn len(&self) -> usize {
-        self.channels.first().map_or(0, |c| c.samples.len())
+        self.recording.len()
     }
 
     /// Whether there are no samples.
@@ -163,7 +164,7 @@ impl OutputRecord {
     /// The references' indices (every channel where none are named).
     pub fn reference_indices(&self) -> Vec<usize> {
         if self.references.is_empty() {
-            (0..self.channels.len()).collect()
+            (0..self.channels().len()).collect()
         } else {
             self.references.clone()
         }
@@ -172,22 +173,22 @@ impl OutputRecord {
     /// Checks the rate, the channels' lengths and values and the references, naming the
     /// first channel or value that is wrong.
     pub fn check(&self) -> Result<()> {
-        if !(self.sample_rate_hz.is_finite() && self.sample_rate_hz > 0.0) {
+        if !(self.sample_rate_hz().is_finite() && self.sample_rate_hz() > 0.0) {
             return Err(invalid(
                 "sample_rate_hz",
-                self.sample_rate_hz,
+                self.sample_rate_hz(),
                 "a positive rate",
             ));
         }
-        if self.channels.len() < 2 {
+        if self.channels().len() < 2 {
             return Err(invalid(
                 "channels",
-                self.channels.len() as f64,
+                self.channels().len() as f64,
                 "at least two channels (one channel has no shape and no references to spare)",
             ));
         }
         let n = self.len();
-        for c in &self.channels {
+        for c in self.channels() {
             if c.samples.len() != n {
                 return Err(ModalError::LengthMismatch {
                     what: "a channel of the record",
@@ -197,8 +198,15 @@ impl OutputRecord {
             }
             check_channel(c)?;
         }
+        if let Some(input) = self.recording.inputs.first() {
+            return Err(ModalError::BadChannel {
+                channel: input.name.clone(),
+                reason: "a measured input: an output-only record has none (fit FRFs instead)"
+                    .into(),
+            });
+        }
         for &r in &self.references {
-            if r >= self.channels.len() {
+            if r >= self.channels().len() {
                 return Err(invalid(
                     "references",
                     r as f64,
@@ -210,8 +218,20 @@ impl OutputRecord {
     }
 }
 
-/// A channel whose values are all finite and not all equal.
-fn check_channel(c: &OutputChannel) -> Result<()> {
+/// A motion channel at a DOF whose values are all finite and not all equal.
+fn check_channel(c: &Channel) -> Result<()> {
+    let bad = |reason: String| ModalError::BadChannel {
+        channel: c.name.clone(),
+        reason,
+    };
+    if c.quantity == Quantity::Force {
+        return Err(bad("it measures a force: an output-only analysis reads motions (displacement, velocity, acceleration)".into()));
+    }
+    if c.dof.is_none() {
+        return Err(bad(
+            "it has no DOF: an output-only analysis reports its shapes at DOFs".into(),
+        ));
+    }
     if let Some(t) = c.samples.iter().position(|v| !v.is_finite()) {
         return Err(ModalError::BadChannel {
             channel: c.name.clone(),

@@ -45,7 +45,7 @@ pub fn singular_spectrum(
 ) -> Result<SingularSpectrum> {
     record.check()?;
     let (scaled, _) = record.standardised();
-    let fs = record.sample_rate_hz;
+    let fs = record.sample_rate_hz();
     let lags = lags.unwrap_or_else(|| default_lags(&scaled, fs, band_hz));
     if record.len() < 4 * lags.max(16) {
         return Err(ModalError::TooFewSamples {

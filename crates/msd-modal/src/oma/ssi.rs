@@ -8,6 +8,7 @@ use super::covariance::{BlockCovariances, Lags, subspace_matrix};
 use super::horizon::block_rows;
 use super::options::OmaOptions;
 use super::record::OutputRecord;
+use super::record::order;
 use super::select::{
     Physical, clusters, column, flag_stability, mean_pole, selected, without_splits,
 };
@@ -42,7 +43,7 @@ use nalgebra::DMatrix;
 /// blocks, orders the Toeplitz matrix cannot hold, no mode selected.
 ///
 /// ```
-/// use msd_modal::{Dof, OmaOptions, OutputChannel, OutputRecord, Quantity, ssi_cov};
+/// use msd_modal::{Channel, Dof, OmaOptions, OutputRecord, Quantity, ssi_cov};
 /// // Two channels of one lightly damped 4 Hz mode driven by noise (an AR(2) process).
 /// let (fs, f, zeta) = (50.0_f64, 4.0_f64, 0.02_f64);
 /// let w = std::f64::consts::TAU * f / fs;
@@ -53,9 +54,9 @@ use nalgebra::DMatrix;
 ///     seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
 ///     x[t] = a1 * x[t - 1] + a2 * x[t - 2] + ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
 /// }
-/// let channel = |node: u32, gain: f64| OutputChannel::new(format!("d{node}"),
-///     Dof { node, direction: 1 }, Quantity::Displacement, x.iter().map(|v| gain * v).collect());
-/// let record = OutputRecord { sample_rate_hz: fs, channels: vec![channel(1, 1.0), channel(2, -0.5)], references: vec![] };
+/// let channel = |node: u32, gain: f64| Channel::new(format!("d{node}"), Quantity::Displacement,
+///     x.iter().map(|v| gain * v).collect()).at(Dof { node, direction: 1 });
+/// let record = OutputRecord::new(fs, vec![channel(1, 1.0), channel(2, -0.5)]);
 /// let fit = ssi_cov(&record, &OmaOptions { orders: [2, 20], ..OmaOptions::default() })?;
 /// assert_eq!(fit.modes.len(), 1);
 /// let mode = &fit.modes[0];
@@ -104,9 +105,9 @@ fn subspace_identification(
 ) -> Result<OmaFit> {
     record.check()?;
     options.validate()?;
-    let fs = record.sample_rate_hz;
+    let fs = record.sample_rate_hz();
     let references = record.reference_indices();
-    let (l, r) = (record.channels.len(), references.len());
+    let (l, r) = (record.channels().len(), references.len());
     let (scaled, scales) = record.standardised();
     let i = block_rows(options, &scaled, fs, r);
     check_sizes(record, options, i, l, r)?;
@@ -125,7 +126,11 @@ fn subspace_identification(
     let nyquist = 0.5 * fs;
     let band = options.band_hz.unwrap_or([0.0, nyquist]);
     let physical = |order_index: usize| {
-        let quantities: Vec<i32> = record.channels.iter().map(|c| c.quantity.order()).collect();
+        let quantities: Vec<i32> = record
+            .channels()
+            .iter()
+            .map(|c| order(c.quantity))
+            .collect();
         let scales = scales.clone();
         move |p: &Pole| physical_pole(p, order_index, &scales, &quantities, band, options)
     };
@@ -204,7 +209,7 @@ fn subspace_identification(
         blocks: options.blocks,
         references: references
             .iter()
-            .map(|&r| record.channels[r].name.clone())
+            .map(|&r| record.channels()[r].name.clone())
             .collect(),
         singular_values: subspace.singular_values,
         unconfirmed,

@@ -171,12 +171,12 @@ pub(crate) fn mode_with_errors(
     t: f64,
 ) -> Mode {
     let shape = record
-        .channels
+        .channels()
         .iter()
         .enumerate()
         .map(|(c, ch)| ShapeEntry {
             standard_error: se.shape.get(c).copied(),
-            ..ShapeEntry::new(ch.dof, p.shape[c])
+            ..ShapeEntry::new(super::record::dof(ch), p.shape[c])
         })
         .collect();
     Mode::new(

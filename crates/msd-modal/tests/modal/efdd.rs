@@ -107,7 +107,10 @@ fn bad_options_and_short_records_are_refused_by_name() {
         "{err}"
     );
     let mut dead = good.clone();
-    dead.channels[0].samples.iter_mut().for_each(|v| *v = 1.0);
+    dead.recording.channels[0]
+        .samples
+        .iter_mut()
+        .for_each(|v| *v = 1.0);
     assert!(matches!(
         efdd(&dead, &FddOptions::default()),
         Err(ModalError::BadChannel { .. })

@@ -4,7 +4,9 @@
 //! records refused by name.
 
 use crate::building::{building, record};
-use msd_modal::{ModalError, OmaFit, OmaOptions, OutputRecord, mac, ssi_cov, ssi_dat};
+use msd_modal::{
+    FddOptions, ModalError, OmaFit, OmaOptions, OutputRecord, efdd, mac, ssi_cov, ssi_dat,
+};
 use msd_signal::Complex64;
 
 #[test]
@@ -98,7 +100,7 @@ fn coverage(method: fn(&OutputRecord, &OmaOptions) -> Result<OmaFit, ModalError>
 fn bad_records_are_refused_by_name() {
     let good = record(2);
     let mut nan = good.clone();
-    nan.channels[2].samples[17] = f64::NAN;
+    nan.recording.channels[2].samples[17] = f64::NAN;
     let err = ssi_cov(&nan, &OmaOptions::default()).unwrap_err();
     assert!(
         matches!(&err, ModalError::BadChannel { channel, .. } if channel == "a3"),
@@ -107,15 +109,44 @@ fn bad_records_are_refused_by_name() {
     assert!(err.to_string().contains("sample 17 is NaN"), "{err}");
 
     let mut dead = good.clone();
-    dead.channels[4].samples.iter_mut().for_each(|v| *v = 0.25);
+    dead.recording.channels[4]
+        .samples
+        .iter_mut()
+        .for_each(|v| *v = 0.25);
     let err = ssi_cov(&dead, &OmaOptions::default()).unwrap_err();
     assert!(
         err.to_string().contains("channel a5") && err.to_string().contains("constant"),
         "{err}"
     );
 
+    // What a recording may hold that an output-only analysis cannot read: a force, a
+    // channel at no DOF, a measured input.
+    let mut force = good.clone();
+    force.recording.channels[1].quantity = msd_modal::Quantity::Force;
+    let err = ssi_cov(&force, &OmaOptions::default()).unwrap_err();
+    assert!(
+        err.to_string().contains("channel a2") && err.to_string().contains("force"),
+        "{err}"
+    );
+    let mut nowhere = good.clone();
+    nowhere.recording.channels[0].dof = None;
+    let err = efdd(&nowhere, &FddOptions::default()).unwrap_err();
+    assert!(
+        err.to_string().contains("channel a1") && err.to_string().contains("no DOF"),
+        "{err}"
+    );
+    let mut driven = good.clone();
+    let hammer =
+        msd_modal::Channel::new("hammer", msd_modal::Quantity::Force, vec![0.0; good.len()]);
+    driven.recording.inputs.push(hammer);
+    let err = ssi_cov(&driven, &OmaOptions::default()).unwrap_err();
+    assert!(
+        err.to_string().contains("channel hammer") && err.to_string().contains("measured input"),
+        "{err}"
+    );
+
     let mut one = good.clone();
-    one.channels.truncate(1);
+    one.recording.channels.truncate(1);
     let err = ssi_cov(&one, &OmaOptions::default()).unwrap_err();
     assert!(err.to_string().contains("channels"), "{err}");
 
@@ -129,7 +160,7 @@ fn bad_records_are_refused_by_name() {
     );
 
     let mut short = good.clone();
-    short.channels[1].samples.pop();
+    short.recording.channels[1].samples.pop();
     let err = ssi_cov(&short, &OmaOptions::default()).unwrap_err();
     assert!(
         matches!(
@@ -212,12 +243,12 @@ fn the_numbers_do_not_depend_on_the_thread_count() {
 fn two_setups_with_a_shared_reference_merge_into_the_whole_shape() {
     let truth = building().modes().expect("valid");
     let pick = |seed: u64, floors: [usize; 3]| {
-        let full = record(seed);
-        OutputRecord {
-            channels: floors.iter().map(|&f| full.channels[f].clone()).collect(),
-            references: vec![2],
-            ..full
-        }
+        let mut full = record(seed);
+        full.recording.channels = floors
+            .iter()
+            .map(|&f| full.recording.channels[f].clone())
+            .collect();
+        full.with_references(vec![2])
     };
     let records = [pick(11, [0, 1, 4]), pick(12, [2, 3, 4])];
     let fits: Vec<_> = records
