@@ -291,15 +291,15 @@ def test_bad_records_and_parameters(rig):
     fit = lambda *a, **k: msd.fit_chain(*a, **dict({"force_at": 2, "sensors": SENSORS}, **k))  # noqa: E731
     with pytest.raises(ValueError, match="1 output series: expected one per sensor"):
         fit(force, outputs[0], DT, GUESS)
-    with pytest.raises(ValueError, match="length mismatch"):
+    with pytest.raises(ValueError, match="channel `mass 1 acceleration` has 4999 samples, `force` has 5000"):
         fit(force, outputs[:, :-1], DT, GUESS)
     bad = outputs.copy()
     bad[1, 7] = np.nan
-    with pytest.raises(ValueError, match="output sample 7 is NaN"):
+    with pytest.raises(ValueError, match="channel `mass 2 acceleration` sample 7 = NaN"):
         fit(force, bad, DT, GUESS)
-    with pytest.raises(ValueError, match="input sample 3 is inf"):
+    with pytest.raises(ValueError, match="channel `force` sample 3 = inf"):
         fit(np.where(np.arange(force.size) == 3, np.inf, force), outputs, DT, GUESS)
-    with pytest.raises(ValueError, match="invalid dt = -0.002"):
+    with pytest.raises(ValueError, match="dt = -0.002: expected a finite sampling interval > 0"):
         fit(force, outputs, -DT, GUESS)
     with pytest.raises(ValueError, match="dt = 'fast'"):
         fit(force, outputs, "fast", GUESS)

@@ -164,6 +164,19 @@ pub enum SignalError {
         /// The first record's length.
         expected: usize,
     },
+    /// A [`Recording`](crate::Recording)'s grid, a channel's scale or a sample that is not
+    /// what it must be.
+    #[error("recording `{recording}`: {what} = {value}: expected {expected}")]
+    InvalidRecording {
+        /// The recording's name.
+        recording: String,
+        /// What is wrong: `dt`, `channel `force` scale`, `channel `laser` sample 3`.
+        what: String,
+        /// The rejected value.
+        value: f64,
+        /// What was expected, in words.
+        expected: &'static str,
+    },
     /// A channel of a [`Recording`](crate::Recording) whose length differs from the first
     /// channel's.
     #[error(

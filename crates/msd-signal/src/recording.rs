@@ -272,9 +272,10 @@ impl Recording {
     /// Checks the grid (t₀ finite, dt finite and positive) and the channels (one
     /// length, finite samples, a positive finite scale).
     pub fn validate(&self) -> Result<()> {
-        let bad = |parameter: String, value: f64, expected| {
-            Err(SignalError::InvalidParameter {
-                parameter: format!("recording `{}`: {parameter}", self.name),
+        let bad = |what: String, value: f64, expected| {
+            Err(SignalError::InvalidRecording {
+                recording: self.name.clone(),
+                what,
                 value,
                 expected,
             })
@@ -337,13 +338,20 @@ mod tests {
         let message = |r: Recording| r.validate().unwrap_err().to_string();
         let mut r = run();
         r.dt = 0.0;
-        assert!(message(r).contains("recording `run`: dt` = 0"));
+        assert!(
+            message(r)
+                .contains("recording `run`: dt = 0: expected a finite sampling interval > 0, s")
+        );
         let mut r = run();
         r.channels[0].samples[3] = f64::NAN;
-        assert!(message(r).contains("channel `laser` sample 3` = NaN"));
+        assert!(
+            message(r).contains(
+                "recording `run`: channel `laser` sample 3 = NaN: expected a finite value"
+            )
+        );
         let mut r = run();
         r.inputs[0].scale = -9.81;
-        assert!(message(r).contains("channel `force` scale` = -9.81"));
+        assert!(message(r).contains("channel `force` scale = -9.81"));
         assert!(Recording::new("empty", 0.0, 1.0).validate().is_ok());
     }
 
