@@ -91,6 +91,22 @@ impl Quantity {
     }
 }
 
+/// The quantity's name as configs spell it: `force`, `displacement`, ….
+///
+/// ```
+/// assert_eq!(msd_signal::Quantity::Velocity.to_string(), "velocity");
+/// ```
+impl std::fmt::Display for Quantity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Force => "force",
+            Self::Displacement => "displacement",
+            Self::Velocity => "velocity",
+            Self::Acceleration => "acceleration",
+        })
+    }
+}
+
 impl From<ResponseQuantity> for Quantity {
     fn from(q: ResponseQuantity) -> Self {
         match q {

@@ -3,7 +3,7 @@
 use super::OperationalOutcome;
 use crate::fmt::sig;
 use crate::summary;
-use msd_modal::{Mode, Quantity};
+use msd_modal::Mode;
 use std::fmt::Write;
 
 /// `report.md` of `o`, with `figures` embedded.
@@ -58,12 +58,7 @@ fn record(s: &mut String, o: &OperationalOutcome) -> std::fmt::Result {
             || format!("{:+}", c.dof.unwrap_or_default().direction),
             |[x, y, z]| format!("oblique ({x:.3}, {y:.3}, {z:.3})"),
         );
-        let quantity = match c.quantity {
-            Quantity::Force => "force",
-            Quantity::Displacement => "displacement",
-            Quantity::Velocity => "velocity",
-            Quantity::Acceleration => "acceleration",
-        };
+        let quantity = c.quantity;
         let reference = if refs.contains(&i) { "yes" } else { "" };
         writeln!(
             s,

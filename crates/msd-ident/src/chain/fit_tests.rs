@@ -511,13 +511,15 @@ fn recordings_that_do_not_match_the_setup_are_refused_naming_the_channel() {
     let err = refused(&wrong);
     assert!(
         err.contains(
-            "channel `mass 2 acceleration` measures Displacement: sensors[1] reads Acceleration"
+            "channel `mass 2 acceleration` measures displacement: sensors[1] reads acceleration"
         ),
         "{err}"
     );
     let mut no_drive = rec.clone();
     no_drive.inputs.clear();
-    assert!(refused(&no_drive).contains("has 0 measured inputs"));
+    assert!(
+        refused(&no_drive).contains("has 0 measured inputs (): expected one, the drive's force")
+    );
     let mut short = rec.clone();
     short.channels[0].samples.pop();
     assert!(refused(&short).contains("channel `mass 1 acceleration` has 4999 samples"));

@@ -375,7 +375,7 @@ impl ChainSetup {
             record.channels.push(match self.sensors.get(i) {
                 Some(sensor) => {
                     let quantity = Quantity::from(sensor.quantity);
-                    let name = format!("mass {} {}", sensor.at, quantity_word(sensor.quantity));
+                    let name = format!("mass {} {quantity}", sensor.at);
                     Channel::new(name, quantity, samples).at(Dof {
                         node: sensor.at as u32,
                         direction: 1,
@@ -405,10 +405,10 @@ impl ChainSetup {
                     inputs.len(),
                     inputs
                         .iter()
-                        .map(|c| format!("`{}` {:?}", c.name, c.quantity))
+                        .map(|c| format!("`{}` {}", c.name, c.quantity))
                         .collect::<Vec<_>>()
                         .join(", "),
-                    drive.si_unit()
+                    drive
                 )));
             }
         }
@@ -422,8 +422,10 @@ impl ChainSetup {
         for (i, (channel, sensor)) in record.channels.iter().zip(&self.sensors).enumerate() {
             if channel.quantity != Quantity::from(sensor.quantity) {
                 return Err(setup_error(format!(
-                    "channel `{}` measures {:?}: sensors[{i}] reads {:?}",
-                    channel.name, channel.quantity, sensor.quantity
+                    "channel `{}` measures {}: sensors[{i}] reads {}",
+                    channel.name,
+                    channel.quantity,
+                    Quantity::from(sensor.quantity)
                 )));
             }
         }
@@ -453,14 +455,6 @@ impl ChainSetup {
             }
         }
         Ok(())
-    }
-}
-
-fn quantity_word(q: ResponseQuantity) -> &'static str {
-    match q {
-        ResponseQuantity::Displacement => "displacement",
-        ResponseQuantity::Velocity => "velocity",
-        ResponseQuantity::Acceleration => "acceleration",
     }
 }
 
