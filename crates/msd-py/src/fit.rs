@@ -3,7 +3,7 @@
 
 use crate::convert::{array, integer, merged, options, result_dict, vec_f64};
 use crate::errors;
-use msd_ident::dynamometer::Condition;
+use msd_ident::dynamometer::{Condition, machine_recording};
 use msd_ident::{
     Backend, Channel, DataSet, EstimationOptions, Excitation, InitialState, PaperExperiment,
     Parameters, Record, RecordsOptions, ValidationOptions, dynamometer::DynamometerOptions,
@@ -398,10 +398,7 @@ pub fn dynamometer<'py>(
             }
         };
         built.push(Condition {
-            name: name.clone(),
-            dt,
-            displacement: vec_f64(x),
-            force: vec_f64(f),
+            recording: machine_recording(name, dt, vec_f64(x), vec_f64(f)),
             frequency_hz: *hz,
         });
     }
@@ -421,15 +418,10 @@ type PyStroke<'py> = (
     PyReadonlyArray1<'py, f64>,
 );
 
-fn stroke_records(records: &[PyStroke<'_>]) -> Vec<msd_ident::dynamometer::StrokeRecord> {
+fn stroke_records(records: &[PyStroke<'_>]) -> Vec<msd_signal::Recording> {
     records
         .iter()
-        .map(|(name, dt, x, f)| msd_ident::dynamometer::StrokeRecord {
-            name: name.clone(),
-            dt: *dt,
-            stroke: vec_f64(x),
-            force: vec_f64(f),
-        })
+        .map(|(name, dt, x, f)| machine_recording(name, *dt, vec_f64(x), vec_f64(f)))
         .collect()
 }
 

@@ -3,8 +3,9 @@
 //! default settings: within 3 % of the benchmark's reference model, and the validation
 //! record's force predicted as well as the reference model predicts it.
 
-use msd_ident::dynamometer::{InverseOptions, StrokeRecord, inverse_dynamics};
+use msd_ident::dynamometer::{InverseOptions, inverse_dynamics, machine_recording};
 use msd_ident::law::DampingLaw;
+use msd_signal::Recording;
 use msd_tests::real_data;
 use std::path::Path;
 
@@ -17,17 +18,15 @@ const REFERENCE: [(&str, f64); 4] = [
 ];
 
 /// A record of the set: the measured position and the force gtau·vir.
-fn record(path: &Path) -> StrokeRecord {
+fn record(path: &Path) -> Recording {
     let c = msd_files::read(path).unwrap();
     let values = |name: &str| c.channel(name).unwrap().values.clone();
     let gain = values("gtau")[0];
     let t = values("t");
-    StrokeRecord {
-        name: path.file_name().unwrap().to_string_lossy().into(),
-        dt: (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64,
-        stroke: values("qm"),
-        force: values("vir").iter().map(|v| gain * v).collect(),
-    }
+    let name = path.file_name().unwrap().to_string_lossy();
+    let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+    let force = values("vir").iter().map(|v| gain * v).collect();
+    machine_recording(name, dt, values("qm"), force)
 }
 
 #[test]

@@ -15,7 +15,7 @@ use msd_ident::{
 pub fn dynamometer_rows(budget: &Budget) -> Result<Vec<Row>> {
     let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())
         .map_err(fail("bench: dynamometer"))?;
-    let samples: usize = conditions.iter().map(|c| c.force.len()).sum();
+    let samples: usize = conditions.iter().map(|c| c.force().len()).sum();
     let all = DynamometerOptions::default();
     let one = DynamometerOptions {
         laws: vec![DampingLaw::QuadraticViscous],

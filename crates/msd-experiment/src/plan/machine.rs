@@ -56,7 +56,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
             }
         })
         .collect();
-    let samples: usize = conditions.iter().map(|c| c.force.len()).sum();
+    let samples: usize = conditions.iter().map(|c| c.force().len()).sum();
     let mut notes = vec![format!(
         "the {law:?} law of [plant] planned; the run compares it with the other laws by BIC"
     )];
@@ -69,7 +69,7 @@ pub(super) fn plan(config: &Config, path: &Path, options: &PlanOptions) -> Resul
             excitation: setup.excitation.name(),
             records: conditions.len(),
             samples,
-            duration_s: samples as f64 * conditions.first().map_or(0.0, |c| c.dt),
+            duration_s: samples as f64 * conditions.first().map_or(0.0, Condition::dt),
             drive: "stroke",
             peak_drive: setup.conditions.iter().fold(0.0, |m, c| m.max(c.amplitude)),
             drive_unit: "m",
@@ -140,13 +140,10 @@ fn planned_conditions(
     for (i, c) in setup.conditions.iter().enumerate() {
         let clean = machine::stroke_record(plant, c, cycles, dt)
             .map_err(|e| ExperimentError::config(path, format!("setup.conditions[{i}]: {e}")))?;
-        conditions.push(Condition {
-            name: format!("condition-{}", i + 1),
-            dt,
-            displacement: clean.input.map_or_else(Vec::new, |x| x.samples().to_vec()),
-            force: clean.channels.into_iter().next().unwrap_or_default(),
-            frequency_hz: Some(c.frequency),
-        });
+        let stroke = clean.input.map_or_else(Vec::new, |x| x.samples().to_vec());
+        let force = clean.channels.into_iter().next().unwrap_or_default();
+        let name = format!("condition-{}", i + 1);
+        conditions.push(Condition::new(name, dt, stroke, force).at_frequency(c.frequency));
     }
     Ok(conditions)
 }

@@ -1,6 +1,7 @@
 //! The fit of a setup's records: msd-ident's joint fit of records and channels, or the
 //! test machine's analysis.
 
+use super::stroke::stroke_recording;
 use super::{SetupData, SetupOutcome, SetupRecord};
 use crate::config::{Config, ExcitationKind, Frame, Quantity, Response, SetupSection};
 use crate::error::{ExperimentError, Result};
@@ -153,13 +154,7 @@ pub(crate) fn machine_conditions(data: &SetupData) -> Vec<Condition> {
     data.records
         .iter()
         .map(|r| Condition {
-            name: r.name.clone(),
-            dt: r.dt,
-            displacement: r
-                .input
-                .as_ref()
-                .map_or_else(Vec::new, |x| x.samples().to_vec()),
-            force: r.channels[0].clone(),
+            recording: stroke_recording(r),
             frequency_hz: r.frequency,
         })
         .collect()

@@ -8,9 +8,10 @@ use crate::config::setup::StrokeAnalysis;
 use crate::fmt::sig;
 use crate::verdict::{Finding, Verdict};
 use msd_ident::dynamometer::{
-    ForcePrediction, InverseDynamics, InverseOptions, StrokeRecord, fundamental_share,
-    inverse_dynamics,
+    ForcePrediction, InverseDynamics, InverseOptions, fundamental_share, inverse_dynamics,
+    machine_recording,
 };
+use msd_signal::Recording;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -58,16 +59,14 @@ pub(crate) fn any_stroke(setup: &SetupSection, data: &SetupData, measured: bool)
     }
 }
 
-fn stroke_record(r: &SetupRecord) -> StrokeRecord {
-    StrokeRecord {
-        name: r.name.clone(),
-        dt: r.dt,
-        stroke: r
-            .input
-            .as_ref()
-            .map_or_else(Vec::new, |x| x.samples().to_vec()),
-        force: r.channels.first().cloned().unwrap_or_default(),
-    }
+/// A test machine's record as a recording: its stroke (the input) and its force.
+pub(crate) fn stroke_recording(r: &SetupRecord) -> Recording {
+    let stroke = r
+        .input
+        .as_ref()
+        .map_or_else(Vec::new, |x| x.samples().to_vec());
+    let force = r.channels.first().cloned().unwrap_or_default();
+    machine_recording(&r.name, r.dt, stroke, force)
 }
 
 /// Fits the records of `data` and predicts every record's force.
@@ -79,12 +78,12 @@ pub(crate) fn fit(data: &SetupData) -> msd_ident::Result<StrokeFit> {
         known_mass: setup.known_mass,
         ..InverseOptions::default()
     };
-    let fitted: Vec<StrokeRecord> = data.records.iter().map(stroke_record).collect();
+    let fitted: Vec<Recording> = data.records.iter().map(stroke_recording).collect();
     let inverse = inverse_dynamics(&fitted, &options)?;
     let mut predictions = Vec::new();
     for (records, validation) in [(&data.records, false), (&data.validation, true)] {
         for r in records.iter() {
-            let force = inverse.predict(inverse.best, &stroke_record(r))?;
+            let force = inverse.predict(inverse.best, &stroke_recording(r))?;
             predictions.push(RecordPrediction {
                 record: r.name.clone(),
                 validation,

@@ -11,27 +11,15 @@
 //! each block's score Σ φᵢ·eᵢ an independent draw when the residual decorrelates within
 //! a block), with Student's t on blocks − 1 degrees of freedom.
 
+use super::recording::stroke_and_force;
 use crate::error::{IdentError, Result};
 use crate::law::{DampingLaw, smoothed_sign};
 use crate::nonlinear::bic_evidence;
 use crate::residuals::sandwich::block_sandwich;
 use msd_opt::statistics::{Interval, t_975};
+use msd_signal::Recording;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
-
-/// One record of a test machine: the imposed stroke (m) and the measured force (N),
-/// sampled every `dt` seconds.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StrokeRecord {
-    /// Its name in reports.
-    pub name: String,
-    /// Sampling interval, s.
-    pub dt: f64,
-    /// The stroke x(t), m.
-    pub stroke: Vec<f64>,
-    /// The force F(t), N.
-    pub force: Vec<f64>,
-}
 
 /// Options of [`inverse_dynamics`].
 ///
@@ -181,10 +169,11 @@ impl Motion {
     }
 }
 
-fn motion(r: &StrokeRecord, cutoff_hz: f64) -> Result<Motion> {
+fn motion(r: &Recording, cutoff_hz: f64) -> Result<Motion> {
+    let (stroke, force) = stroke_and_force(r)?;
     let fs = 1.0 / r.dt;
     let filter = |x: &[f64]| msd_signal::lowpass_zero_phase(x, fs, cutoff_hz);
-    let displacement = filter(&r.stroke)?;
+    let displacement = filter(stroke)?;
     let velocity = msd_signal::central_difference(&displacement, r.dt)?;
     let acceleration = msd_signal::central_difference(&velocity, r.dt)?;
     Ok(Motion {
@@ -193,16 +182,16 @@ fn motion(r: &StrokeRecord, cutoff_hz: f64) -> Result<Motion> {
         displacement,
         velocity,
         acceleration,
-        force: filter(&r.force)?,
+        force: filter(force)?,
     })
 }
 
 /// The default cut-off: 10× the frequency below which 99 % of the stroke velocity's
 /// power lies, at most fs/4.
-fn default_cutoff(records: &[StrokeRecord]) -> Result<f64> {
+fn default_cutoff(records: &[Recording]) -> Result<f64> {
     let r = &records[0];
     let fs = 1.0 / r.dt;
-    let v = msd_signal::central_difference(&r.stroke, r.dt)?;
+    let v = msd_signal::central_difference(stroke_and_force(r)?.0, r.dt)?;
     let segment = v.len().min(4096);
     let options = msd_signal::WelchOptions {
         segment_length: Some(segment),
@@ -227,14 +216,14 @@ fn default_cutoff(records: &[StrokeRecord]) -> Result<f64> {
 /// any stroke (see the module doc); every law of `options` is fitted and ranked by BIC.
 ///
 /// ```
-/// use msd_ident::dynamometer::{inverse_dynamics, InverseOptions, StrokeRecord};
+/// use msd_ident::dynamometer::{inverse_dynamics, machine_recording, InverseOptions};
 /// // A smooth back-and-forth stroke, force of m = 20 kg, c = 150 N·s/m, F_c = 12 N, F₀ = −2 N.
 /// let dt = 1e-3;
 /// let x: Vec<f64> = (0..20_000).map(|i| { let t = i as f64 * dt; 0.1 * (1.3 * t).sin() + 0.03 * (4.1 * t).sin() }).collect();
 /// let v: Vec<f64> = (0..20_000).map(|i| { let t = i as f64 * dt; 0.13 * (1.3 * t).cos() + 0.123 * (4.1 * t).cos() }).collect();
 /// let a: Vec<f64> = (0..20_000).map(|i| { let t = i as f64 * dt; -0.169 * (1.3 * t).sin() - 0.5043 * (4.1 * t).sin() }).collect();
 /// let force: Vec<f64> = (0..20_000).map(|i| 20.0 * a[i] + 150.0 * v[i] + 12.0 * v[i].signum() - 2.0).collect();
-/// let record = StrokeRecord { name: "run".into(), dt, stroke: x, force };
+/// let record = machine_recording("run", dt, x, force);
 /// let fit = inverse_dynamics(&[record], &InverseOptions::default())?;
 /// let best = &fit.laws[fit.best];
 /// assert_eq!(best.law, msd_ident::law::DampingLaw::CoulombViscous);
@@ -243,7 +232,7 @@ fn default_cutoff(records: &[StrokeRecord]) -> Result<f64> {
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 pub fn inverse_dynamics(
-    records: &[StrokeRecord],
+    records: &[Recording],
     options: &InverseOptions,
 ) -> Result<InverseDynamics> {
     check(records, options)?;
@@ -303,7 +292,7 @@ pub fn inverse_dynamics(
     })
 }
 
-fn check(records: &[StrokeRecord], options: &InverseOptions) -> Result<()> {
+fn check(records: &[Recording], options: &InverseOptions) -> Result<()> {
     let invalid = |name, value: f64, expected| {
         Err(IdentError::InvalidParameter {
             name,
@@ -326,17 +315,18 @@ fn check(records: &[StrokeRecord], options: &InverseOptions) -> Result<()> {
         return invalid("known_mass", m, "a finite number ≥ 0 kg");
     }
     for r in records {
+        let (stroke, force) = stroke_and_force(r)?;
         if !(r.dt.is_finite() && r.dt > 0.0) {
             return invalid("dt", r.dt, "a finite step > 0 s");
         }
-        if r.stroke.len() != r.force.len() || r.stroke.len() < 20 * options.blocks {
+        if stroke.len() != force.len() || stroke.len() < 20 * options.blocks {
             return invalid(
                 "samples",
-                r.stroke.len().min(r.force.len()) as f64,
+                stroke.len().min(force.len()) as f64,
                 "a stroke and a force of one length, at least 20 samples per block",
             );
         }
-        if let Some(i) = r.stroke.iter().chain(&r.force).position(|v| !v.is_finite()) {
+        if let Some(i) = stroke.iter().chain(force).position(|v| !v.is_finite()) {
             return invalid("sample", i as f64, "finite strokes and forces");
         }
     }
@@ -472,7 +462,7 @@ impl InverseDynamics {
     /// The force law `law` (an index in `laws`) predicts for `record` from its stroke,
     /// beside its measured force filtered as in the fit: validation on a record the fit
     /// did not see.
-    pub fn predict(&self, law: usize, record: &StrokeRecord) -> Result<ForcePrediction> {
+    pub fn predict(&self, law: usize, record: &Recording) -> Result<ForcePrediction> {
         let l = self.laws.get(law).ok_or(IdentError::InvalidParameter {
             name: "law",
             value: law as f64,

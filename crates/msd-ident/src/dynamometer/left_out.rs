@@ -52,12 +52,12 @@ pub(super) fn leave_one_condition_out(
         let mut normal = Normal::default();
         for (j, (c, p)) in conditions.iter().zip(&mut prepared).enumerate() {
             if j != i {
-                p.accumulate(c.dt, 1.0 / smoothing, needs, &mut normal);
+                p.accumulate(c.dt(), 1.0 / smoothing, needs, &mut normal);
             }
         }
         if let Some(model) = fitted_force(law, &normal, &prepared[i], smoothing, options) {
             out.push(ConditionPrediction {
-                condition: left.name.clone(),
+                condition: left.name().to_string(),
                 fit: FitMetrics::new(&prepared[i].force, &model),
             });
         }

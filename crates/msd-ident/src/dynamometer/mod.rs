@@ -11,18 +11,20 @@ mod inverse;
 mod law_fit;
 mod left_out;
 mod predicted;
+mod recording;
 mod regression;
 mod summary;
 mod synthetic;
 
 pub use condition::{Condition, MIN_CYCLES};
 pub use inverse::{
-    ForcePrediction, InverseCoefficient, InverseDynamics, InverseLaw, InverseOptions, StrokeRecord,
+    ForcePrediction, InverseCoefficient, InverseDynamics, InverseLaw, InverseOptions,
     inverse_dynamics,
 };
 pub use law_fit::LawFit;
 pub use left_out::ConditionPrediction;
 pub use predicted::PredictedLaw;
+pub use recording::{machine_recording, stroke_and_force};
 pub use summary::ConditionSummary;
 pub use synthetic::{Stroke, SyntheticDynamometer, synthetic_dynamometer};
 
@@ -359,7 +361,7 @@ fn fit_laws(
     };
     let mut normal = Normal::default();
     for (c, p) in conditions.iter().zip(&mut prepared) {
-        p.accumulate(c.dt, 1.0 / smoothing, needs, &mut normal);
+        p.accumulate(c.dt(), 1.0 / smoothing, needs, &mut normal);
     }
     let mut laws = Vec::with_capacity(options.laws.len());
     for &law in &options.laws {
@@ -379,7 +381,7 @@ fn prepare(c: &Condition, harmonics: usize) -> Result<(ConditionSummary, Prepare
     let (f, estimated) = match c.frequency_hz {
         Some(f) => (f, false),
         None => {
-            let f = estimate_frequency(c.dt, &c.displacement).ok_or_else(|| {
+            let f = estimate_frequency(c.dt(), c.displacement()).ok_or_else(|| {
                 let found = "fewer than two upward zero crossings".to_string();
                 c.invalid(
                     "displacement",
@@ -392,15 +394,15 @@ fn prepare(c: &Condition, harmonics: usize) -> Result<(ConditionSummary, Prepare
         }
     };
     let (cycles, n) = c.whole_cycles(f);
-    let (x, force) = (&c.displacement[..n], &c.force[..n]);
-    let fit = HarmonicFit::new(c.dt, 2.0 * PI * f, harmonics, x, force).ok_or_else(|| {
+    let (x, force) = (&c.displacement()[..n], &c.force()[..n]);
+    let fit = HarmonicFit::new(c.dt(), 2.0 * PI * f, harmonics, x, force).ok_or_else(|| {
         c.invalid(
             "displacement",
             "a singular Fourier basis".into(),
             "whole cycles of f",
         )
     })?;
-    let summary = ConditionSummary::new(&c.name, &fit, (cycles, estimated), x, force);
+    let summary = ConditionSummary::new(c.name(), &fit, (cycles, estimated), x, force);
     let ready = Prepared {
         fit,
         force: force.to_vec(),

@@ -103,8 +103,8 @@ impl Default for SyntheticDynamometer {
 /// use msd_ident::{dynamometer::{synthetic_dynamometer, SyntheticDynamometer}};
 /// let conditions = synthetic_dynamometer(&SyntheticDynamometer::default())?;
 /// assert_eq!(conditions.len(), 10);
-/// assert_eq!(conditions[0].name, "1 Hz, 10 mm");
-/// assert_eq!(conditions[0].displacement.len(), 8000); // 4 cycles of 1 Hz at 2 kHz
+/// assert_eq!(conditions[0].name(), "1 Hz, 10 mm");
+/// assert_eq!(conditions[0].displacement().len(), 8000); // 4 cycles of 1 Hz at 2 kHz
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 pub fn synthetic_dynamometer(spec: &SyntheticDynamometer) -> Result<Vec<Condition>> {
@@ -167,11 +167,6 @@ fn condition(spec: &SyntheticDynamometer, i: usize, stroke: &Stroke) -> Result<C
         *fo += p.mass() * a + law + p.stiffness() * xt + spec.force_offset;
         *x += xt;
     }
-    Ok(Condition {
-        name: format!("{f} Hz, {} mm", amplitude * 1e3),
-        dt: spec.dt,
-        displacement,
-        force,
-        frequency_hz: Some(f),
-    })
+    let name = format!("{f} Hz, {} mm", amplitude * 1e3);
+    Ok(Condition::new(name, spec.dt, displacement, force).at_frequency(f))
 }

@@ -246,9 +246,9 @@ fn an_unknown_frequency_is_estimated_within_its_cramer_rao_bound() {
     }
     let result = dynamometer(&conditions, &DynamometerOptions::default()).unwrap();
     for ((s, stroke), c) in result.conditions.iter().zip(&spec.strokes).zip(&conditions) {
-        let n = c.displacement.len() as f64;
+        let n = c.displacement().len() as f64;
         let crb = (12.0 * spec.displacement_noise.powi(2)
-            / (stroke.amplitude.powi(2) * c.dt * c.dt * n * (n * n - 1.0)))
+            / (stroke.amplitude.powi(2) * c.dt() * c.dt() * n * (n * n - 1.0)))
             .sqrt()
             / (2.0 * PI);
         assert!(s.frequency_estimated);
@@ -360,13 +360,13 @@ fn condition(n: usize, f: f64) -> Condition {
     let x: Vec<f64> = (0..n)
         .map(|i| 0.01 * (2.0 * PI * f * i as f64 * dt).sin())
         .collect();
-    Condition {
-        name: "A".into(),
-        dt,
-        force: x.iter().map(|x| 5000.0 * x).collect(),
-        displacement: x,
-        frequency_hz: Some(f),
-    }
+    let force = x.iter().map(|x| 5000.0 * x).collect();
+    Condition::new("A", dt, x, force).at_frequency(f)
+}
+
+/// The force channel's samples, to spoil.
+fn force(c: &mut Condition) -> &mut Vec<f64> {
+    &mut c.recording.channels[0].samples
 }
 
 #[test]
@@ -378,13 +378,13 @@ fn bad_conditions_are_refused_with_the_condition_the_field_and_what_was_expected
         err.to_string()
     };
     let mut short_force = condition(1000, 5.0);
-    short_force.force.pop();
+    force(&mut short_force).pop();
     assert_eq!(
         message(short_force),
         "condition 'A', force: 999 samples; expected 1000 samples, as many as the displacement"
     );
     let mut constant = condition(1000, 5.0);
-    constant.displacement = vec![0.01; 1000];
+    constant.recording.inputs[0].samples = vec![0.01; 1000];
     assert_eq!(
         message(constant),
         "condition 'A', displacement: constant (every sample 0.01); expected an imposed stroke that moves"
@@ -400,7 +400,7 @@ fn bad_conditions_are_refused_with_the_condition_the_field_and_what_was_expected
         "condition 'A', displacement: fewer than two upward zero crossings; expected at least 2 whole cycles"
     );
     let mut nan = condition(1000, 5.0);
-    nan.force[7] = f64::NAN;
+    force(&mut nan)[7] = f64::NAN;
     assert_eq!(
         message(nan),
         "condition 'A', force: sample 7 is NaN; expected a finite number"
@@ -408,6 +408,14 @@ fn bad_conditions_are_refused_with_the_condition_the_field_and_what_was_expected
     assert_eq!(
         message(condition(1000, 120.0)),
         "condition 'A', frequency_hz: 5 harmonics of 120 Hz reach 600 Hz; expected below the Nyquist frequency 500 Hz (a finer dt or fewer harmonics)"
+    );
+    let mut accelerometer = condition(1000, 5.0);
+    accelerometer.recording.channels[0].quantity = msd_signal::Quantity::Acceleration;
+    let err = dynamometer(&[accelerometer], &options).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "record `A`, channel `force`: it measures acceleration: a test machine's recording \
+         has the stroke (displacement) as its input and the force as its channel"
     );
     let no_laws = DynamometerOptions {
         laws: vec![],

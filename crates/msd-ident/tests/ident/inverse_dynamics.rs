@@ -2,8 +2,9 @@
 //! and intervals that cover the truth at their nominal rate when the load cell's noise is
 //! coloured (an AR(1) process, as a filtered amplifier's is).
 
-use msd_ident::dynamometer::{InverseOptions, StrokeRecord, inverse_dynamics};
+use msd_ident::dynamometer::{InverseOptions, inverse_dynamics, machine_recording};
 use msd_ident::law::DampingLaw;
+use msd_signal::Recording;
 use std::f64::consts::PI;
 
 const TRUTH: [(&str, f64); 4] = [
@@ -15,7 +16,7 @@ const TRUTH: [(&str, f64); 4] = [
 
 /// A two-tone stroke of `n` samples at 1 kHz and its exact force, plus AR(1) noise of
 /// innovation σ `sigma` and pole `rho` from `seed`.
-fn record(n: usize, seed: u64, sigma: f64, rho: f64) -> StrokeRecord {
+fn record(n: usize, seed: u64, sigma: f64, rho: f64) -> Recording {
     let dt = 1e-3;
     let (w1, w2) = (2.0 * PI * 0.7, 2.0 * PI * 3.1);
     let innovations = msd_signal::gaussian_noise(seed, "load cell", sigma, n).unwrap();
@@ -30,12 +31,7 @@ fn record(n: usize, seed: u64, sigma: f64, rho: f64) -> StrokeRecord {
         stroke.push(x);
         force.push(20.0 * a + 150.0 * v + 12.0 * v.signum() - 2.0 + e);
     }
-    StrokeRecord {
-        name: format!("seed {seed}"),
-        dt,
-        stroke,
-        force,
-    }
+    machine_recording(format!("seed {seed}"), dt, stroke, force)
 }
 
 #[test]
