@@ -241,7 +241,7 @@ impl Chosen<'_> {
         }
         for r in &self.responses {
             if let Role::Motion(q, _) = r.role {
-                let what = format!("the mass's {} (a response)", q.name());
+                let what = format!("the mass's {} (a response)", q);
                 lines.push(format!("{:?} is {what}, by {}", r.column.name, r.because));
             }
         }
@@ -519,7 +519,7 @@ fn write_setup(out: &mut String, chosen: &Chosen<'_>, keys: &[String]) {
         let _ = writeln!(
             out,
             "    {{ quantity = {:?}, column = {}, scale = {}{unit} }},    # {}",
-            quantity.name(),
+            quantity.to_string(),
             column_key(r.column, keys),
             scale,
             scale_comment(r.column, quantity, scale),

@@ -104,11 +104,12 @@ pub use msd_ode::{Hold, Stats as Ode45Stats};
 #[doc(no_inline)]
 pub use msd_opt::LmExit;
 pub use msd_opt::statistics::Interval;
-/// What a sensor measures (msd-signal's, shared by every record and engine).
-pub use msd_signal::ResponseQuantity;
-pub use params::{InitialState, KnownParameter, PARAMETER_NAMES, Parameters};
+/// A sensor's channel, its frame and what it measures (msd-signal's, shared by every
+/// record and engine).
+pub use msd_signal::{Channel, Frame, Quantity, ResponseQuantity};
+pub use params::{InitialState, KnownParameter, Parameters};
 pub use plant::Drive;
-pub use records::{Channel, Frame, Record, RecordsFit, RecordsOptions, fit_records};
+pub use records::{Record, RecordsFit, RecordsOptions, fit_records};
 pub use residuals::{ResidualAnalysis, ResidualOptions, residual_analysis};
 pub use simulate::{Backend, simulate, simulate_into};
 pub use stop::StopReason;

@@ -27,10 +27,14 @@ pub struct Parameters {
     pub stiffness: f64,
 }
 
-/// Names of the three parameters, in the order used by vectors and matrices.
-pub const PARAMETER_NAMES: [&str; 3] = ["mass", "damping", "stiffness"];
-
 impl Parameters {
+    /// Names of the three parameters, in the order used by vectors and matrices.
+    ///
+    /// ```
+    /// assert_eq!(msd_ident::Parameters::NAMES[1], "damping");
+    /// ```
+    pub const NAMES: [&str; 3] = ["mass", "damping", "stiffness"];
+
     /// Checked constructor.
     pub fn new(mass: f64, damping: f64, stiffness: f64) -> Result<Self> {
         let p = Self {

@@ -353,16 +353,8 @@ fn record(
     for ((name, quantity, sigma), clean) in sensors.iter().zip(clean) {
         let noise = gaussian_noise(seed, &stream(name), *sigma, n).map_err(ident)?;
         let offset = 3.0 * sigma;
-        channels.push(Channel {
-            name: name.to_string(),
-            quantity: *quantity,
-            frame: Frame::Absolute,
-            samples: clean
-                .iter()
-                .zip(&noise)
-                .map(|(x, e)| x + e + offset)
-                .collect(),
-        });
+        let samples = clean.iter().zip(&noise).map(|(x, e)| x + e + offset);
+        channels.push(Channel::new(*name, (*quantity).into(), samples.collect()));
     }
     let drive_noise =
         gaussian_noise(seed, &stream("drive"), options.drive_noise * rms, n).map_err(ident)?;

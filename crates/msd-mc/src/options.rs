@@ -1,7 +1,7 @@
 //! Options of a Monte Carlo band run and how parameters are sampled.
 
 use crate::error::{McError, Result};
-use msd_ident::{Backend, InitialState, PARAMETER_NAMES, Uncertainty};
+use msd_ident::{Backend, InitialState, Parameters, Uncertainty};
 use serde::{Deserialize, Serialize};
 
 /// How the N parameter samples are drawn around the nominal θ̂ = (m, c, k).
@@ -42,7 +42,7 @@ impl Sampling {
     /// the estimate, gets zero variance); initial state and offset columns are dropped.
     pub fn from_uncertainty(uncertainty: &Uncertainty, scale: f64) -> Self {
         let column = |name: &str| uncertainty.names.iter().position(|n| *n == name);
-        let columns = PARAMETER_NAMES.map(column);
+        let columns = Parameters::NAMES.map(column);
         let mut covariance = [[0.0; 3]; 3];
         for (r, row) in covariance.iter_mut().enumerate() {
             for (c, value) in row.iter_mut().enumerate() {

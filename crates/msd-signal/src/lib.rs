@@ -93,7 +93,7 @@ pub use preprocess::{
     resample_uniform,
 };
 pub use quantity::ResponseQuantity;
-pub use recording::{Channel, Dof, Quantity, Recording};
+pub use recording::{Channel, Dof, Frame, Quantity, Recording};
 pub use rustfft::num_complex::Complex64;
 pub use signal::{
     Breakpoint, ClippingOptions, LineSelection, Multisine, MultisineSpec, PhaseScheme, Prbs,

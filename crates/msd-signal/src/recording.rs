@@ -117,6 +117,42 @@ impl From<ResponseQuantity> for Quantity {
     }
 }
 
+/// Whether a motion channel measures the mass's motion itself or its motion relative to
+/// the base. With a fixed base the two are the same. By default [`Frame::Absolute`].
+///
+/// ```
+/// use msd_signal::Frame;
+/// assert_eq!(serde_json::to_value(Frame::Relative)?, "relative");
+/// assert_eq!((Frame::default(), Frame::Relative.to_string()), (Frame::Absolute, "relative".to_string()));
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Frame {
+    /// The mass's motion x (an accelerometer on the mass, a laser from the ground).
+    #[default]
+    Absolute,
+    /// The motion relative to the base, y = x − z (an LVDT between base and mass).
+    Relative,
+}
+
+impl Frame {
+    /// Whether this is [`Frame::Absolute`] (the default, left out of serialized channels).
+    pub fn is_absolute(&self) -> bool {
+        *self == Self::Absolute
+    }
+}
+
+/// The frame's name as configs spell it: `absolute` or `relative`.
+impl std::fmt::Display for Frame {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Absolute => "absolute",
+            Self::Relative => "relative",
+        })
+    }
+}
+
 /// One named channel of a [`Recording`]: its samples in SI units.
 ///
 /// ```
@@ -143,6 +179,9 @@ pub struct Channel {
     /// where it is oblique; `None` means along `dof`'s direction.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub direction: Option<[f64; 3]>,
+    /// For a motion, whether it is the mass's own or relative to the base.
+    #[serde(default, skip_serializing_if = "Frame::is_absolute")]
+    pub frame: Frame,
     /// One sample per grid instant.
     pub samples: Vec<f64>,
 }
@@ -157,8 +196,22 @@ impl Channel {
             scale: 1.0,
             dof: None,
             direction: None,
+            frame: Frame::Absolute,
             samples,
         }
+    }
+
+    /// The same channel in `frame` (a relative sensor, such as an LVDT between base and
+    /// mass, is [`Frame::Relative`]).
+    ///
+    /// ```
+    /// use msd_signal::{Channel, Frame, Quantity};
+    /// let lvdt = Channel::new("lvdt", Quantity::Displacement, vec![0.0, 1e-3]).in_frame(Frame::Relative);
+    /// assert_eq!(serde_json::to_value(&lvdt)?["frame"], "relative");
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
+    pub fn in_frame(self, frame: Frame) -> Self {
+        Self { frame, ..self }
     }
 
     /// The same channel at `dof`.

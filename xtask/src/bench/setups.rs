@@ -12,7 +12,7 @@ use msd_experiment::plan::{PlanOptions, plan_config};
 use msd_ident::records::NoiseModel;
 use msd_ident::{
     Channel, Drive, EstimationOptions, Excitation, Frame, InitialState, KnownParameter,
-    PaperExperiment, Parameters, Record, RecordsOptions, ResponseQuantity, fit_records,
+    PaperExperiment, Parameters, Quantity, Record, RecordsOptions, ResponseQuantity, fit_records,
     free_decay::{FreeDecayOptions, free_decay},
     predicted_uncertainty,
     records::simulate_response,
@@ -227,14 +227,13 @@ fn accelerometer_records(experiment: &PaperExperiment) -> Result<(Vec<Record>, V
     let record = |r: usize| Record {
         name: format!("run {r}"),
         excitation: force.clone(),
-        channels: vec![Channel {
-            name: "accelerometer".into(),
-            quantity: ResponseQuantity::Acceleration,
-            frame: Frame::Absolute,
-            samples: (0..a.len())
+        channels: vec![Channel::new(
+            "accelerometer",
+            Quantity::Acceleration,
+            (0..a.len())
                 .map(|i| a[i] + noise[(i + 701 * r) % noise.len()])
                 .collect(),
-        }],
+        )],
     };
     Ok((vec![record(0)], (0..10).map(record).collect()))
 }
@@ -254,15 +253,10 @@ fn pipeline_records(
         .zip(&experiment.identification_truth)
         .map(|(y, x)| y - x)
         .collect();
-    let channel =
-        |name: &str, quantity, frame, clean: Vec<f64>, scale: f64, shift: usize| Channel {
-            name: name.into(),
-            quantity,
-            frame,
-            samples: (0..clean.len())
-                .map(|i| clean[i] + scale * noise[(i + shift) % noise.len()])
-                .collect(),
-        };
+    let channel = |name: &str, quantity, frame, clean: Vec<f64>, scale: f64, shift: usize| {
+        let samples = (0..clean.len()).map(|i| clean[i] + scale * noise[(i + shift) % noise.len()]);
+        Channel::new(name, quantity, samples.collect()).in_frame(frame)
+    };
     let response = |quantity, frame| {
         simulate_response(
             &Parameters::PAPER,
@@ -282,7 +276,7 @@ fn pipeline_records(
         channels: vec![
             channel(
                 "laser",
-                ResponseQuantity::Displacement,
+                Quantity::Displacement,
                 Frame::Relative,
                 relative,
                 1.0,
@@ -290,7 +284,7 @@ fn pipeline_records(
             ),
             channel(
                 "accelerometer",
-                ResponseQuantity::Acceleration,
+                Quantity::Acceleration,
                 Frame::Absolute,
                 absolute,
                 0.05 / PaperExperiment::SIGMA,
@@ -305,7 +299,7 @@ fn pipeline_records(
         excitation: zero,
         channels: vec![channel(
             "laser",
-            ResponseQuantity::Displacement,
+            Quantity::Displacement,
             Frame::Absolute,
             decay.to_vec(),
             0.0,

@@ -99,62 +99,8 @@ impl ExcitationKind {
     }
 }
 
-/// What a channel measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Quantity {
-    /// Displacement (a laser, an LVDT), m.
-    Displacement,
-    /// Velocity (a vibrometer, a geophone), m/s.
-    Velocity,
-    /// Acceleration (an accelerometer), m/s².
-    Acceleration,
-    /// Force (the load cell of a test machine), N.
-    Force,
-}
-
-impl Quantity {
-    /// The name as written in a config.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Quantity::Displacement => "displacement",
-            Quantity::Velocity => "velocity",
-            Quantity::Acceleration => "acceleration",
-            Quantity::Force => "force",
-        }
-    }
-
-    /// The SI unit.
-    pub fn unit(&self) -> &'static str {
-        match self {
-            Quantity::Displacement => "m",
-            Quantity::Velocity => "m/s",
-            Quantity::Acceleration => "m/s²",
-            Quantity::Force => "N",
-        }
-    }
-}
-
-/// Whose motion a channel measures.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Frame {
-    /// The mass's own motion. The default.
-    #[default]
-    Absolute,
-    /// The mass's motion relative to the base (base excitation only).
-    Relative,
-}
-
-impl Frame {
-    /// The name as written in a config.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Frame::Absolute => "absolute",
-            Frame::Relative => "relative",
-        }
-    }
-}
+/// What a channel measures and whose motion (msd-signal's, as every record spells them).
+pub use msd_signal::{Frame, Quantity};
 
 /// One response channel: `{ quantity, frame, sigma, column, scale, unit, name }`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -193,8 +139,8 @@ impl Response {
     pub fn channel_name(&self) -> String {
         match (&self.name, self.frame) {
             (Some(n), _) => n.clone(),
-            (None, Frame::Absolute) => self.quantity.name().to_string(),
-            (None, Frame::Relative) => format!("relative_{}", self.quantity.name()),
+            (None, Frame::Absolute) => self.quantity.to_string(),
+            (None, Frame::Relative) => format!("relative_{}", self.quantity),
         }
     }
 }
@@ -382,18 +328,15 @@ impl SetupSection {
                 } else {
                     "a force is measured by a test machine only (setup.excitation = \"imposed_displacement\"): expected displacement, velocity or acceleration"
                 };
-                return Err((
-                    key("quantity"),
-                    format!(" = \"{}\": {why}", r.quantity.name()),
-                ));
+                return Err((key("quantity"), format!(" = \"{}\": {why}", r.quantity)));
             }
             if !machine && !self.excitation.measures(r.quantity, r.frame) {
                 return Err((
                     key("quantity"),
                     format!(
                         " = \"{}\" (frame = \"{}\"): not a response of setup.excitation = \"{}\": expected {}",
-                        r.quantity.name(),
-                        r.frame.name(),
+                        r.quantity,
+                        r.frame,
                         self.excitation.name(),
                         self.excitation.responses()
                     ),

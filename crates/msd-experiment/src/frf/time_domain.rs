@@ -45,7 +45,7 @@ use super::{FrfFit, Truth};
 use crate::fmt::sig;
 use msd_ident::Hold;
 use msd_ident::{
-    Channel, Drive, Excitation, Frame, IdentError, Interval, OneModeFit, Record, RecordsOptions,
+    Channel, Drive, Excitation, IdentError, Interval, OneModeFit, Record, RecordsOptions,
     ResponseQuantity, fit_records,
     records::{ChannelNoise, PlantIntervals},
 };
@@ -177,12 +177,7 @@ fn fit_time(records: &TimeRecords, one: &OneModeFit) -> Result<msd_ident::Record
             Ok(Record {
                 name: format!("record {}", i + 1),
                 excitation: Excitation::from_samples(0.0, dt, force.clone())?,
-                channels: vec![Channel {
-                    name: "response".into(),
-                    quantity,
-                    frame: Frame::Absolute,
-                    samples: response.clone(),
-                }],
+                channels: vec![Channel::new("response", quantity.into(), response.clone())],
             })
         })
         .collect::<Result<Vec<_>, IdentError>>()?;

@@ -114,14 +114,11 @@ impl<'a> Planned<'a> {
         let channels = responses
             .iter()
             .zip(&sigmas)
-            .map(|(r, &sigma)| {
-                let c = fit::channel(r);
-                PlannedChannel {
-                    name: c.name,
-                    quantity: c.quantity,
-                    frame: c.frame,
-                    sigma,
-                }
+            .map(|(r, &sigma)| PlannedChannel {
+                name: r.channel_name(),
+                quantity: fit::sensor(r).0,
+                frame: r.frame,
+                sigma,
             })
             .collect();
         Ok(Self {
@@ -283,7 +280,7 @@ impl Planned<'_> {
                 .channels()
                 .iter()
                 .zip(&self.channels)
-                .map(|(r, c)| (c.name.clone(), c.sigma, r.quantity.unit()))
+                .map(|(r, c)| (c.name.clone(), c.sigma, r.quantity.si_unit()))
                 .collect(),
         }
     }

@@ -3,7 +3,7 @@
 
 use super::stroke::stroke_recording;
 use super::{SetupData, SetupOutcome, SetupRecord};
-use crate::config::{Config, ExcitationKind, Frame, Quantity, Response, SetupSection};
+use crate::config::{Config, ExcitationKind, Frame, Response, SetupSection};
 use crate::error::{ExperimentError, Result};
 use crate::table::Table;
 use msd_ident::records::NoiseModel;
@@ -177,32 +177,13 @@ pub(crate) fn drive(kind: ExcitationKind) -> msd_ident::Drive {
     }
 }
 
-fn quantity(q: Quantity) -> ResponseQuantity {
-    match q {
-        Quantity::Velocity => ResponseQuantity::Velocity,
-        Quantity::Acceleration => ResponseQuantity::Acceleration,
-        Quantity::Displacement | Quantity::Force => ResponseQuantity::Displacement,
-    }
-}
-
 /// What a response measures and in which frame.
-pub(crate) fn sensor(c: &Response) -> (ResponseQuantity, msd_ident::Frame) {
-    let frame = match c.frame {
-        Frame::Absolute => msd_ident::Frame::Absolute,
-        Frame::Relative => msd_ident::Frame::Relative,
-    };
-    (quantity(c.quantity), frame)
-}
-
-/// The channel a response describes, without samples.
-pub(crate) fn channel(c: &Response) -> Channel {
-    let (quantity, frame) = sensor(c);
-    Channel {
-        name: c.channel_name(),
-        quantity,
-        frame,
-        samples: Vec::new(),
-    }
+pub(crate) fn sensor(c: &Response) -> (ResponseQuantity, Frame) {
+    let motion = c
+        .quantity
+        .motion()
+        .unwrap_or(ResponseQuantity::Displacement);
+    (motion, c.frame)
 }
 
 /// The records as msd-ident takes them (a free decay's excitation is zero).
@@ -219,9 +200,8 @@ pub(crate) fn ident_records(records: &[SetupRecord], sensors: &[Response]) -> Re
                 .channels
                 .iter()
                 .zip(sensors)
-                .map(|(samples, c)| Channel {
-                    samples: samples.clone(),
-                    ..channel(c)
+                .map(|(samples, c)| {
+                    Channel::new(c.channel_name(), c.quantity, samples.clone()).in_frame(c.frame)
                 })
                 .collect();
             Ok(Record {

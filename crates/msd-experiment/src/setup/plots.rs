@@ -74,7 +74,7 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
         panels.push(Panel {
             title: format!("{} — {}", channel.channel_name(), record.name),
             x_desc: "time t [s]".into(),
-            y_desc: format!("{} [{}]", channel.quantity.name(), channel.quantity.unit()),
+            y_desc: format!("{} [{}]", channel.quantity, channel.quantity.si_unit()),
             x_range: range,
             curves: vec![
                 Curve {
@@ -117,7 +117,7 @@ fn noise_spectra<'a>(o: &'a SetupOutcome, fit: &'a RecordsFit) -> Option<NoiseSp
         .filter_map(|(check, channel)| {
             Some(SpectrumPanel {
                 title: format!("{} — {}", channel.channel_name(), check.record),
-                unit: channel.quantity.unit().to_string(),
+                unit: channel.quantity.si_unit().to_string(),
                 spectrum: check.spectrum.as_ref()?,
             })
         })

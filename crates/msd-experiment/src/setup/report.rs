@@ -234,9 +234,9 @@ fn setup_section(s: &mut String, o: &SetupOutcome) -> std::fmt::Result {
             s,
             "| {} | {} | {} | {} |",
             c.channel_name(),
-            c.quantity.name(),
-            c.frame.name(),
-            c.unit.as_deref().unwrap_or(c.quantity.unit()),
+            c.quantity,
+            c.frame,
+            c.unit.as_deref().unwrap_or(c.quantity.si_unit()),
         )?;
         if synthetic {
             let sigma = c.sigma.or(default_sigma).map_or("—".into(), |v| sig(v, 4));

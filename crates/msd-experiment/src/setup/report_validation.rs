@@ -46,7 +46,7 @@ pub(super) fn section(s: &mut String, fit: &RecordsFit, sensors: &[Response]) ->
             let unit = sensors
                 .iter()
                 .find(|r| r.channel_name() == c.channel)
-                .map_or("", |r| r.quantity.unit());
+                .map_or("", |r| r.quantity.si_unit());
             let (white, cross, bad) = crate::fmt::residual_cells(tests.as_ref());
             failed |= bad;
             writeln!(

@@ -48,7 +48,7 @@ impl Layout {
     pub(crate) fn names(&self) -> Vec<&'static str> {
         let mut names: Vec<&'static str> = self
             .free()
-            .map(|i| crate::params::PARAMETER_NAMES[i])
+            .map(|i| crate::params::Parameters::NAMES[i])
             .collect();
         if self.estimate_initial_state {
             names.extend(STATE_NAMES);

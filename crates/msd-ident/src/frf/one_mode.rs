@@ -10,7 +10,7 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{IdentError, Result};
-use crate::params::{PARAMETER_NAMES, Parameters};
+use crate::params::Parameters;
 use crate::uncertainty::{ResidualNoise, Uncertainty, from_normal_matrix};
 use msd_modal_core::lines::{CONJUGATED, FrfWeighting, Lines, as_measured, check_band, prepare};
 use msd_modal_core::{
@@ -334,7 +334,7 @@ fn fit_in_band(
     let uncertainty = from_normal_matrix(
         &normal,
         noise,
-        PARAMETER_NAMES.to_vec(),
+        Parameters::NAMES.to_vec(),
         theta.to_vec(),
         &parameters,
         [Some(0), Some(1), Some(2)],

@@ -1,7 +1,6 @@
 //! Noise-free records of a lab setup on the physical plant (m, c, k): every channel of
 //! one exact simulation, for synthetic tests.
 
-use super::setup::Frame;
 use crate::plant::{Drive, Plant};
 use crate::{
     data::Excitation,
@@ -9,6 +8,7 @@ use crate::{
     params::{InitialState, Parameters},
 };
 use msd_ode::{ExactSimulator, Hold, SVector, SampledInput};
+use msd_signal::Frame;
 use msd_signal::ResponseQuantity;
 
 /// The noise-free channels (`quantity`, `frame`) of `plant` under `drive`, released from

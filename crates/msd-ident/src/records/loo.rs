@@ -130,9 +130,8 @@ mod tests {
         data::Excitation,
         params::{InitialState, Parameters},
         plant::Drive,
-        records::{Channel, Frame},
     };
-    use msd_signal::ResponseQuantity;
+    use msd_signal::{Channel, Frame, Quantity, ResponseQuantity};
 
     /// On five repeats of the paper's test (σ = 2.5 mm each, as `configs/repeats.toml`),
     /// the one-step plant's prediction of each left-out record differs from the refitted
@@ -160,12 +159,11 @@ mod tests {
                 Record {
                     name: format!("run {i}"),
                     excitation: force.clone(),
-                    channels: vec![Channel {
-                        name: "laser".into(),
-                        quantity: ResponseQuantity::Displacement,
-                        frame: Frame::Absolute,
-                        samples: clean.iter().zip(&noise).map(|(c, n)| c + n).collect(),
-                    }],
+                    channels: vec![Channel::new(
+                        "laser",
+                        Quantity::Displacement,
+                        clean.iter().zip(&noise).map(|(c, n)| c + n).collect(),
+                    )],
                 }
             })
             .collect();

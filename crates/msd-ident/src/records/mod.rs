@@ -27,7 +27,7 @@ pub use generate::simulate_channels;
 pub use intervals::PlantIntervals;
 pub use plan::{PlannedChannel, PlannedRecord, predicted_records_uncertainty, simulate_response};
 pub use result::{ChannelFit, ChannelNoise, LeftOut, RecordFit, RecordsFit};
-pub use setup::{Channel, Frame, Record, RecordsOptions};
+pub use setup::{Record, RecordsOptions};
 pub use validate::{RecordsValidation, validate_records};
 
 use crate::plant::{Drive, Plant};
@@ -48,7 +48,7 @@ use std::time::Instant;
 /// ## The model
 /// Every drive is one linear model of the plant ([`Drive`] gives the equations); each
 /// channel is the displacement, velocity or acceleration of the mass, absolute or
-/// relative to the base ([`Frame`]), plus its own offset. What each setup identifies:
+/// relative to the base ([`Frame`](crate::Frame)), plus its own offset. What each setup identifies:
 /// a force drive m, c and k; the base drives and free decays ωn and ζ only (scaling m, c
 /// and k together leaves those records unchanged), and m, c, k with a known mass or
 /// static stiffness. A velocity or acceleration channel does not see a displacement
@@ -64,7 +64,7 @@ use std::time::Instant;
 /// Student's t and, for derived quantities, the delta method.
 ///
 /// ```
-/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, Parameters, Record, RecordsOptions, ResponseQuantity, records::simulate_response};
+/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, Parameters, Quantity, Record, RecordsOptions, ResponseQuantity, records::simulate_response};
 /// use msd_signal::{gaussian_noise, paper_identification_input};
 /// // The paper's plant and input, an accelerometer on the mass (σ = 0.05 m/s², seed 1).
 /// let p = Parameters::PAPER;
@@ -73,8 +73,7 @@ use std::time::Instant;
 ///     ResponseQuantity::Acceleration, Frame::Absolute)?;
 /// let noise = gaussian_noise(1, "accelerometer", 0.05, a.len())?;
 /// let samples = a.iter().zip(&noise).map(|(a, n)| a + n).collect();
-/// let channel = Channel { name: "accelerometer".into(), quantity: ResponseQuantity::Acceleration,
-///     frame: Frame::Absolute, samples };
+/// let channel = Channel::new("accelerometer", Quantity::Acceleration, samples);
 /// let record = Record { name: "run 1".into(), excitation: force, channels: vec![channel] };
 /// let fit = fit_records(&[record], &RecordsOptions::default())?;
 /// assert_eq!(fit.plant.identifiable.len(), 5);

@@ -475,10 +475,10 @@ pub(super) fn impulse_responses(
 mod tests {
     use super::*;
     use crate::input_noise::spectrum;
-    use crate::records::setup::{Channel, Record, RecordsOptions};
+    use crate::records::setup::{Record, RecordsOptions};
     use crate::records::{model::OutputKind, simulate_channels};
-    use crate::{Excitation, Frame, InitialState, Parameters};
-    use msd_signal::{ResponseQuantity, gaussian_noise};
+    use crate::{Excitation, InitialState, Parameters};
+    use msd_signal::{Channel, Frame, ResponseQuantity, gaussian_noise};
 
     /// The FFT middle matrix equals Jᵀ·W·Σ·W·J with Σ the covariance of the modelled
     /// noise written out entry by entry (to rounding: the padding makes the circular
@@ -595,11 +595,8 @@ mod tests {
             .into_iter()
             .zip(["acc", "lvdt"])
             .zip(kinds)
-            .map(|((samples, name), (quantity, frame))| Channel {
-                name: name.into(),
-                quantity,
-                frame,
-                samples,
+            .map(|((samples, name), (quantity, frame))| {
+                Channel::new(name, quantity.into(), samples).in_frame(frame)
             })
             .collect();
         Record {

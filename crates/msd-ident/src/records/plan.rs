@@ -3,7 +3,7 @@
 
 use super::intervals::{PlantIntervals, log_covariance, plant_intervals};
 use super::problem::Joint;
-use super::setup::{Channel, Frame, Record, RecordsOptions};
+use super::setup::{Record, RecordsOptions};
 use crate::plant::Drive;
 use crate::plant::Plant;
 use crate::{
@@ -12,7 +12,7 @@ use crate::{
     params::{InitialState, Parameters},
 };
 use msd_ode::{SVector, SampledInput};
-use msd_signal::ResponseQuantity;
+use msd_signal::{Channel, Frame, ResponseQuantity};
 
 /// A sensor of a planned record: what it will measure and its noise level (see
 /// [`predicted_records_uncertainty`] for a plan).
@@ -178,11 +178,8 @@ fn stand_in_records(records: &[PlannedRecord], options: &RecordsOptions) -> Resu
             let channels = r
                 .channels
                 .iter()
-                .map(|c| Channel {
-                    name: c.name.clone(),
-                    quantity: c.quantity,
-                    frame: c.frame,
-                    samples: Vec::new(),
+                .map(|c| {
+                    Channel::new(c.name.clone(), c.quantity.into(), Vec::new()).in_frame(c.frame)
                 })
                 .collect();
             Ok(Record {
@@ -245,12 +242,7 @@ pub fn simulate_response(
         drive,
         ..RecordsOptions::default()
     };
-    let channel = Channel {
-        name: "response".into(),
-        quantity,
-        frame,
-        samples: Vec::new(),
-    };
+    let channel = Channel::new("response", quantity.into(), Vec::new()).in_frame(frame);
     let map = Plant {
         theta: model_theta(plant, drive),
         drive,

@@ -105,7 +105,7 @@ pub struct LeftOut {
 /// the counts and `wall_time_s`. Displays a compact table.
 ///
 /// ```
-/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, KnownParameter, Parameters, Record, RecordsOptions, ResponseQuantity, records::simulate_response};
+/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, KnownParameter, Parameters, Quantity, Record, RecordsOptions, ResponseQuantity, records::simulate_response};
 /// use msd_signal::gaussian_noise;
 /// // Two plucks of the paper's plant, 4 s at 5 ms, a laser with σ = 0.1 mm, the mass weighed.
 /// let grid = Excitation::from_samples(0.0, 0.005, vec![0.0; 801])?;
@@ -116,7 +116,7 @@ pub struct LeftOut {
 ///     let noise = gaussian_noise(seed, "laser", 1e-4, x.len())?;
 ///     let samples = x.iter().zip(&noise).map(|(x, n)| x + n).collect();
 ///     Ok(Record { name: name.into(), excitation: grid.clone(),
-///         channels: vec![Channel { name: "laser".into(), samples, ..Default::default() }] })
+///         channels: vec![Channel::new("laser", Quantity::Displacement, samples)] })
 /// };
 /// let options = RecordsOptions { drive: Drive::None, known: KnownParameter::Mass(2.5), ..Default::default() };
 /// let fit = fit_records(&[pluck("1", 0.01, 1)?, pluck("2", -0.02, 2)?], &options)?;

@@ -11,66 +11,24 @@ use crate::{
 };
 use msd_ode::Hold;
 use msd_opt::LevenbergMarquardtOptions;
-use msd_signal::ResponseQuantity;
+use msd_signal::{Channel, Frame, ResponseQuantity};
 use serde::{Deserialize, Serialize};
-
-/// Whether a channel measures the mass's motion itself or its motion relative to the
-/// base. With a fixed base ([`Drive::Force`], [`Drive::None`]) the two are the same.
-///
-/// By default [`Frame::Absolute`].
-///
-/// ```
-/// use msd_ident::Frame;
-/// assert_eq!(serde_json::to_value(Frame::Relative)?, "relative");
-/// assert_eq!(Frame::default(), Frame::Absolute);
-/// # Ok::<(), serde_json::Error>(())
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Frame {
-    /// The mass's motion x (an accelerometer on the mass, a laser from the ground).
-    #[default]
-    Absolute,
-    /// The motion relative to the base, y = x − z (an LVDT between base and mass).
-    Relative,
-}
-
-/// One sensor of a record: what it measures and its samples, at the record's instants.
-///
-/// Each channel of each record has its own offset (the sensor's zero): a velocity or
-/// acceleration channel does not see a displacement sensor's offset, and the reverse.
-///
-/// ```
-/// use msd_ident::{Channel, Frame, ResponseQuantity};
-/// let lvdt = Channel { name: "lvdt".into(), quantity: ResponseQuantity::Displacement,
-///     frame: Frame::Relative, samples: vec![0.0, 1e-3, 2e-3] };
-/// let json = serde_json::to_value(&lvdt)?;
-/// assert_eq!((json["quantity"].as_str(), json["frame"].as_str()), (Some("displacement"), Some("relative")));
-/// # Ok::<(), serde_json::Error>(())
-/// ```
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-pub struct Channel {
-    /// The sensor's name; channels of the same name in several records share one noise
-    /// level.
-    pub name: String,
-    /// Displacement (m), velocity (m/s) or acceleration (m/s²).
-    pub quantity: ResponseQuantity,
-    /// Absolute, or relative to the base.
-    pub frame: Frame,
-    /// The samples, one per excitation sample.
-    pub samples: Vec<f64>,
-}
 
 /// One test run: the drive's samples and the sensors' records.
 ///
+/// Each channel (an [`msd_signal::Channel`] measuring a motion, absolute or relative to
+/// the base) has its own offset in each record (the sensor's zero): a velocity or
+/// acceleration channel does not see a displacement sensor's offset, and the reverse.
+/// Channels of the same name in several records share one noise level.
+///
 /// ```
-/// use msd_ident::{Channel, Excitation, Record, ResponseQuantity};
+/// use msd_ident::{Channel, Excitation, Quantity, Record};
 /// // A pluck: no drive, so the excitation only gives the grid (100 samples of 10 ms).
 /// let grid = Excitation::from_samples(0.0, 0.01, vec![0.0; 100])?;
 /// let samples = (0..100).map(|i| (-0.1 * i as f64).exp() * (0.5 * i as f64).cos()).collect();
 /// let record = Record { name: "pluck 1".into(), excitation: grid,
-///     channels: vec![Channel { name: "laser".into(), samples, ..Default::default() }] };
-/// assert_eq!(record.channels[0].quantity, ResponseQuantity::Displacement);
+///     channels: vec![Channel::new("laser", Quantity::Displacement, samples)] };
+/// assert_eq!(record.channels[0].quantity, Quantity::Displacement);
 /// # Ok::<(), msd_ident::IdentError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
@@ -80,7 +38,7 @@ pub struct Record {
     /// The drive's samples (force, base acceleration or base displacement) with the
     /// sampling grid; for [`Drive::None`] only its grid is used.
     pub excitation: Excitation,
-    /// At least one channel.
+    /// At least one channel, each measuring the mass's motion.
     pub channels: Vec<Channel>,
 }
 
@@ -210,7 +168,18 @@ impl RecordsOptions {
     pub(crate) fn output_kind(&self, record: &str, channel: &Channel) -> Result<OutputKind> {
         use Frame::{Absolute, Relative};
         use ResponseQuantity::{Acceleration, Displacement, Velocity};
-        let kind = match (self.drive, channel.frame, channel.quantity) {
+        let refuse = |reason: String| IdentError::InvalidRecord {
+            record: record.to_string(),
+            channel: Some(channel.name.clone()),
+            reason,
+        };
+        let Some(motion) = channel.quantity.motion() else {
+            return Err(refuse(format!(
+                "it measures {}: a record's channels measure the mass's motion (the drive is the record's excitation)",
+                channel.quantity
+            )));
+        };
+        let kind = match (self.drive, channel.frame, motion) {
             (Drive::Force | Drive::None, _, Displacement) => Some(OutputKind::Displacement),
             (Drive::Force | Drive::None, _, Velocity) => Some(OutputKind::Velocity),
             (Drive::Force | Drive::None, _, Acceleration) => Some(OutputKind::Acceleration),
@@ -227,23 +196,14 @@ impl RecordsOptions {
             }
             _ => None,
         };
-        kind.ok_or_else(|| IdentError::InvalidRecord {
-            record: record.to_string(),
-            channel: Some(channel.name.clone()),
-            reason: format!(
+        kind.ok_or_else(|| {
+            refuse(format!(
                 "the {} {} cannot be predicted from a {}: {}",
-                match channel.frame {
-                    Frame::Absolute => "absolute",
-                    Frame::Relative => "relative",
-                },
-                match channel.quantity {
-                    ResponseQuantity::Displacement => "displacement",
-                    ResponseQuantity::Velocity => "velocity",
-                    ResponseQuantity::Acceleration => "acceleration",
-                },
+                channel.frame,
+                channel.quantity,
                 self.drive.setup(),
                 supported(self.drive)
-            ),
+            ))
         })
     }
 }

@@ -114,7 +114,7 @@ pub(super) fn hold_out(
             name,
             excitation: record.excitation.slice(range.start, range.end)?,
             channels: (record.channels.iter())
-                .map(|c| super::Channel {
+                .map(|c| msd_signal::Channel {
                     samples: c.samples[range.clone()].to_vec(),
                     ..c.clone()
                 })
@@ -152,7 +152,7 @@ pub(super) fn hold_out(
 /// held, as MATLAB's `compare`; the channels are weighted by `fit`'s noise levels.
 ///
 /// ```
-/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, Parameters, Record, RecordsOptions, ResponseQuantity, records::{simulate_response, validate_records}};
+/// use msd_ident::{fit_records, Channel, Drive, Excitation, Frame, InitialState, Parameters, Quantity, Record, RecordsOptions, ResponseQuantity, records::{simulate_response, validate_records}};
 /// use msd_signal::{gaussian_noise, paper_identification_input, paper_validation_input};
 /// let record = |name: &str, signal, seed| -> msd_ident::Result<Record> {
 ///     let force = Excitation::from_signal(signal, 0.0, 0.002, 7501)?;
@@ -161,7 +161,7 @@ pub(super) fn hold_out(
 ///     let noise = gaussian_noise(seed, name, 1e-4, x.len())?;
 ///     let samples = x.iter().zip(&noise).map(|(x, n)| x + n).collect();
 ///     Ok(Record { name: name.into(), excitation: force,
-///         channels: vec![Channel { name: "laser".into(), samples, ..Default::default() }] })
+///         channels: vec![Channel::new("laser", Quantity::Displacement, samples)] })
 /// };
 /// let options = RecordsOptions::default();
 /// let fit = fit_records(&[record("step and sines", paper_identification_input(), 1)?], &options)?;

@@ -3,7 +3,7 @@
 
 use msd_ident::records::{NoiseModel, simulate_channels};
 use msd_ident::{
-    Channel, Drive, Excitation, Frame, InitialState, Parameters, Record, RecordsFit,
+    Channel, Drive, Excitation, Frame, InitialState, Parameters, Quantity, Record, RecordsFit,
     RecordsOptions, ResponseQuantity, fit_records,
 };
 use msd_signal::{Multisine, MultisineSpec, PhaseScheme, Signal, gaussian_noise};
@@ -47,16 +47,15 @@ fn load_cell_record(seed: u64, fraction: f64, sensors: &[(ResponseQuantity, f64)
         .enumerate()
         .map(|(i, (&(quantity, sigma), clean))| {
             let noise = gaussian_noise(seed, &format!("sensor {i}"), sigma, n).expect("noise");
-            Channel {
-                name: format!("sensor {i}"),
-                quantity,
-                frame: Frame::Absolute,
-                samples: clean
+            Channel::new(
+                format!("sensor {i}"),
+                quantity.into(),
+                clean
                     .iter()
                     .zip(&noise)
                     .map(|(x, e)| x + e + 2.0 * sigma)
                     .collect(),
-            }
+            )
         })
         .collect();
     let drive_noise = gaussian_noise(seed, "load cell", fraction * FORCE_RMS, n).expect("noise");
@@ -303,11 +302,7 @@ fn a_free_decay_is_white() {
     let record = Record {
         name: "pluck".into(),
         excitation: grid,
-        channels: vec![Channel {
-            name: "laser".into(),
-            samples,
-            ..Default::default()
-        }],
+        channels: vec![Channel::new("laser", Quantity::Displacement, samples)],
     };
     let options = RecordsOptions {
         drive: Drive::None,

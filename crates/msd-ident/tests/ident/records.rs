@@ -9,7 +9,7 @@
 
 use msd_ident::{
     Backend, Channel, Drive, Excitation, Frame, IdentError, InitialState, Interval, KnownParameter,
-    Parameters, Record, RecordsFit, RecordsOptions, ResponseQuantity, fit_records,
+    Parameters, Quantity, Record, RecordsFit, RecordsOptions, ResponseQuantity, fit_records,
     records::{
         NoiseModel, PlannedChannel, PlannedRecord, PlantIntervals, predicted_records_uncertainty,
         simulate_response,
@@ -36,12 +36,8 @@ fn noisy(
     seed: u64,
 ) -> Channel {
     let noise = gaussian_noise(seed, name, sigma, clean.len()).unwrap();
-    Channel {
-        name: name.into(),
-        quantity,
-        frame,
-        samples: clean.iter().zip(&noise).map(|(c, n)| c + n).collect(),
-    }
+    let samples = clean.iter().zip(&noise).map(|(c, n)| c + n).collect();
+    Channel::new(name, quantity.into(), samples).in_frame(frame)
 }
 
 fn planned(name: &str, quantity: ResponseQuantity, frame: Frame, sigma: f64) -> PlannedChannel {
@@ -654,12 +650,7 @@ fn base_displacement_noise_free_recovers_wn_and_zeta() {
         ..Default::default()
     };
     for (frame, samples) in [(Frame::Absolute, x), (Frame::Relative, relative)] {
-        let channel = Channel {
-            name: "laser".into(),
-            quantity: ResponseQuantity::Displacement,
-            frame,
-            samples,
-        };
+        let channel = Channel::new("laser", Quantity::Displacement, samples).in_frame(frame);
         let fit = fit_records(&[one_record("shaker", &base, vec![channel])], &options).unwrap();
         let (f, z) = (
             fit.plant.natural_frequency_hz.value,
@@ -693,12 +684,7 @@ fn bad_records_and_setups_are_refused_with_located_messages() {
         Frame::Absolute,
     )
     .unwrap();
-    let acc = |samples: Vec<f64>| Channel {
-        name: "acc".into(),
-        quantity: ResponseQuantity::Acceleration,
-        frame: Frame::Absolute,
-        samples,
-    };
+    let acc = |samples: Vec<f64>| Channel::new("acc", Quantity::Acceleration, samples);
     let options = RecordsOptions::default();
     let message = |records: &[Record], options: &RecordsOptions| {
         fit_records(records, options).unwrap_err().to_string()
@@ -788,14 +774,15 @@ fn bad_records_and_setups_are_refused_with_located_messages() {
         drive: Drive::BaseAcceleration,
         ..Default::default()
     };
-    let laser = Channel {
-        name: "laser".into(),
-        quantity: ResponseQuantity::Displacement,
-        frame: Frame::Absolute,
-        samples: a.clone(),
-    };
+    let laser = Channel::new("laser", Quantity::Displacement, a.clone());
     let err = message(&[one_record("table", &force, vec![laser])], &base_acc);
     assert!(err.starts_with("record `table`, channel `laser`: the absolute displacement cannot be predicted from a base acceleration: it supports relative displacement, velocity and acceleration and absolute acceleration"), "{err}");
+    // A load cell among the channels: the drive belongs in the excitation.
+    let load_cell = Channel::new("load cell", Quantity::Force, a.clone());
+    assert_eq!(
+        message(&[one_record("shaker", &force, vec![load_cell])], &options),
+        "record `shaker`, channel `load cell`: it measures force: a record's channels measure the mass's motion (the drive is the record's excitation)"
+    );
     // What a free decay cannot give, and a free decay that grows.
     let decay = RecordsOptions {
         drive: Drive::None,
@@ -821,12 +808,7 @@ fn bad_records_and_setups_are_refused_with_located_messages() {
     let growing: Vec<f64> = (0..7501)
         .map(|i| (0.3 * i as f64 * DT).exp() * (2.0 * PI * 1.1 * i as f64 * DT).cos())
         .collect();
-    let laser = Channel {
-        name: "laser".into(),
-        quantity: ResponseQuantity::Displacement,
-        frame: Frame::Absolute,
-        samples: growing,
-    };
+    let laser = Channel::new("laser", Quantity::Displacement, growing);
     let free = RecordsOptions {
         drive: Drive::None,
         ..Default::default()

@@ -4,7 +4,7 @@
 
 use msd_ident::records::{simulate_response, validate_records};
 use msd_ident::{
-    Channel, Drive, Excitation, Frame, InitialState, Parameters, Record, RecordsOptions,
+    Channel, Drive, Excitation, Frame, InitialState, Parameters, Quantity, Record, RecordsOptions,
     ResponseQuantity, fit_records,
 };
 use msd_signal::{gaussian_noise, paper_identification_input, paper_validation_input};
@@ -29,11 +29,7 @@ fn record(name: &str, signal: msd_signal::Signal, seed: u64, delay: usize) -> Re
     Record {
         name: name.into(),
         excitation: force,
-        channels: vec![Channel {
-            name: "laser".into(),
-            samples,
-            ..Default::default()
-        }],
+        channels: vec![Channel::new("laser", Quantity::Displacement, samples)],
     }
 }
 
@@ -236,11 +232,11 @@ fn the_quiet_end_of_a_free_decay_is_not_a_failed_prediction() {
     let record = Record {
         name: "pluck".into(),
         excitation: grid,
-        channels: vec![Channel {
-            name: "laser".into(),
-            samples: x.iter().zip(&noise).map(|(x, n)| x + n).collect(),
-            ..Default::default()
-        }],
+        channels: vec![Channel::new(
+            "laser",
+            Quantity::Displacement,
+            x.iter().zip(&noise).map(|(x, n)| x + n).collect(),
+        )],
     };
     let options = RecordsOptions {
         drive: Drive::None,
