@@ -243,6 +243,14 @@ pub fn paper_data<'py>(py: Python<'py>, seed: Bound<'py, PyAny>) -> PyResult<Bou
     Ok(out)
 }
 
+/// What a channel of `fit_records` measures, as Python names it.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Sensor {
+    quantity: msd_ident::Quantity,
+    frame: msd_ident::Frame,
+}
+
 /// One channel as the Python layer passes it: name, quantity, frame, samples.
 type PyChannel<'py> = (String, String, String, PyReadonlyArray1<'py, f64>);
 /// One record as the Python layer passes it: name, t, drive samples (None: no drive),
@@ -276,11 +284,10 @@ pub fn fit_records<'py>(
         let excitation = excitation(name, &t, drive)?;
         let mut chans = Vec::with_capacity(channels.len());
         for (cname, quantity, frame, samples) in channels {
-            let described = serde_json::json!({ "name": cname, "quantity": quantity, "frame": frame, "samples": [] });
-            let mut channel: Channel =
-                options(&format!("channel `{cname}`"), &described.to_string())?;
-            channel.samples = vec_f64(samples);
-            chans.push(channel);
+            let described = serde_json::json!({ "quantity": quantity, "frame": frame });
+            let sensor: Sensor = options(&format!("channel `{cname}`"), &described.to_string())?;
+            let channel = Channel::new(cname.clone(), sensor.quantity, vec_f64(samples));
+            chans.push(channel.in_frame(sensor.frame));
         }
         built.push(Record {
             name: name.clone(),

@@ -16,6 +16,7 @@ mod noise;
 mod noise_model;
 mod plan;
 mod problem;
+mod recording;
 mod result;
 mod setup;
 mod spectra;

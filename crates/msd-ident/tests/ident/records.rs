@@ -916,3 +916,85 @@ fn an_inverted_sensor_a_zero_force_and_a_far_guess() {
         }
     }
 }
+
+/// A record read from a `Recording` (a load cell as its input, a base accelerometer, a
+/// free decay with none) fits to the same numbers, bit for bit, as the one built by
+/// hand from the same samples; a recording whose input is not the drive's is refused
+/// naming the channel.
+#[test]
+fn a_recording_is_fitted_as_the_record_of_its_samples() {
+    let force = paper_force();
+    let sampled = Excitation::from_samples(0.0, DT, force.samples().to_vec()).unwrap();
+    let a = simulate_response(
+        &P,
+        Drive::Force,
+        &sampled,
+        InitialState::REST,
+        ResponseQuantity::Acceleration,
+        Frame::Absolute,
+    )
+    .unwrap();
+    let acc = noisy(
+        "acc",
+        ResponseQuantity::Acceleration,
+        Frame::Absolute,
+        &a,
+        ACC_SIGMA,
+        3,
+    );
+    let run = msd_signal::Recording::new("shaker", 0.0, DT)
+        .with_input(Channel::new(
+            "load cell",
+            Quantity::Force,
+            force.samples().to_vec(),
+        ))
+        .with_channel(acc.clone());
+    let options = RecordsOptions {
+        hold_out: 0.0,
+        ..Default::default()
+    };
+    let read = Record::from_recording(&run, Drive::Force).unwrap();
+    let by_hand = one_record("shaker", &sampled, vec![acc]);
+    assert_eq!(read, by_hand);
+    let (x, y) = (
+        fit_records(&[read], &options).unwrap(),
+        fit_records(&[by_hand], &options).unwrap(),
+    );
+    assert_eq!(x.plant, y.plant);
+    assert_eq!(x.noise_model.estimator, y.noise_model.estimator);
+    // A free decay has no input: the excitation is the grid's zeros.
+    let mut decay = run.clone();
+    let err = Record::from_recording(&decay, Drive::None).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "record `shaker`, channel `load cell`: a free decay has no drive: expected no measured input"
+    );
+    decay.inputs.clear();
+    let zeros = Record::from_recording(&decay, Drive::None).unwrap();
+    assert!(zeros.excitation.samples().iter().all(|&u| u == 0.0));
+    assert_eq!(zeros.excitation.len(), 7501);
+    assert_eq!(
+        Record::from_recording(&decay, Drive::BaseDisplacement)
+            .unwrap_err()
+            .to_string(),
+        "record `shaker`: no measured input: a base displacement needs one, measuring displacement"
+    );
+    let two = run.clone().with_input(Channel::new(
+        "second",
+        Quantity::Force,
+        force.samples().to_vec(),
+    ));
+    assert!(
+        Record::from_recording(&two, Drive::Force)
+            .unwrap_err()
+            .to_string()
+            .starts_with("record `shaker`, channel `second`: a second measured input")
+    );
+    // The recording's own check comes first, naming the sample.
+    let mut bad = run;
+    bad.channels[0].samples[5] = f64::NAN;
+    let err = Record::from_recording(&bad, Drive::Force)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("channel `acc` sample 5"), "{err}");
+}
