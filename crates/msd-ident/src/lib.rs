@@ -16,8 +16,10 @@
 //!   correlation, verdicts in words) and [`frequency_check`](frequency::frequency_check);
 //! - every lab setup as one joint fit, [`fit_records`]: a force on the mass, the base's
 //!   acceleration or displacement, or a free decay ([`Drive`]); displacement, velocity and
-//!   acceleration sensors, absolute or relative ([`Channel`], [`Frame`]), several at once
-//!   with their noise levels estimated; several [`Record`]s of one rig with
+//!   acceleration sensors, absolute or relative ([`Channel`], [`Frame`]: msd-signal's, as
+//!   every engine's records), several at once with their noise levels estimated; a
+//!   [`Record`] built by hand or read from an msd-signal
+//!   [`Recording`](msd_signal::Recording) ([`Record::from_recording`]); several records of one rig with
 //!   leave-one-record-out validation; what each setup identifies said in
 //!   [`PlantIntervals`](records::PlantIntervals), its Cramér–Rao prediction by [`predicted_records_uncertainty`](records::predicted_records_uncertainty);
 //! - frequency responses as a way in: [`fit_one_mode`] (m, c, k with intervals, the
