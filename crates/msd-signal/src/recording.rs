@@ -305,6 +305,31 @@ impl Recording {
         self.inputs.first().map_or(&[], |c| &c.samples)
     }
 
+    /// Response channel `channel` against the first measured input: the pair the
+    /// frequency-response estimates take ([`frf_estimate`](crate::frf_estimate)); `None`
+    /// without an input or without that channel.
+    ///
+    /// ```
+    /// use msd_signal::{Channel, FrfOptions, Quantity, Recording, frf_estimate};
+    /// let force: Vec<f64> = (0..200).map(|i| if (5..8).contains(&i) { 10.0 } else { 0.0 }).collect();
+    /// let gain: Vec<f64> = force.iter().map(|f| 2.0 * f).collect();
+    /// let hit = Recording::new("hit 1", 0.0, 0.01)
+    ///     .with_input(Channel::new("hammer", Quantity::Force, force.clone()))
+    ///     .with_channel(Channel::new("response", Quantity::Displacement, gain));
+    /// let pair = hit.pair(0).expect("an input and a channel");
+    /// assert_eq!((pair.input, pair.output[6]), (&force[..], 20.0));
+    /// assert!(hit.pair(1).is_none());
+    /// let frf = frf_estimate(&[pair], 1.0 / hit.dt, &FrfOptions::default())?;
+    /// assert!(frf.h.iter().all(|h| h.norm() == 0.0 || (h.re - 2.0).abs() < 1e-9));
+    /// # Ok::<(), msd_signal::SignalError>(())
+    /// ```
+    pub fn pair(&self, channel: usize) -> Option<crate::frf::Record<'_>> {
+        Some(crate::frf::Record {
+            input: &self.inputs.first()?.samples,
+            output: &self.channels.get(channel)?.samples,
+        })
+    }
+
     /// The responses' samples, in order.
     pub fn responses(&self) -> impl ExactSizeIterator<Item = &[f64]> {
         self.channels.iter().map(|c| c.samples.as_slice())
