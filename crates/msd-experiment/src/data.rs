@@ -219,28 +219,14 @@ fn plant_record(
     }
 }
 
-/// The columns of a CSV file as read.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Record {
-    /// Time stamps (from the time column, or i/fs).
-    pub time: Vec<f64>,
-    /// The input column (scaled).
-    pub input: Vec<f64>,
-    /// The output column (scaled).
-    pub output: Vec<f64>,
-    /// Sampling interval, s.
-    pub dt: f64,
-    /// What the reader did that the report should say (metadata skipped, missing values).
-    pub notes: Vec<String>,
-}
-
 fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Result<ExperimentData> {
     let path = sources.path(d.path.first());
     let record = read_csv(d, sources, &path)?;
-    let rows = record.input.len();
+    let rows = record.time.len();
     let (record, factor) = preprocess(record, &d.preprocessing, &path)?;
-    let n = record.input.len();
-    let grid = (record.input.len(), record.time[0], record.dt);
+    let [input, output] = [&record.columns[INPUT], &record.columns[OUTPUT]];
+    let n = input.len();
+    let grid = (n, record.time[0], record.dt);
     let est = resolve_range(&d.estimation, grid, rows, factor, "data.estimation")
         .map_err(|m| ExperimentError::config(config_path, m))?;
     let val_spec = d.validation.unwrap_or(d.estimation);
@@ -268,9 +254,9 @@ fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Resu
     }
     let make = |name: &str, [a, b]: [usize; 2]| -> Result<DataSet> {
         let excitation =
-            Excitation::from_samples(record.time[a], record.dt, record.input[a..b].to_vec())
+            Excitation::from_samples(record.time[a], record.dt, input[a..b].to_vec())
                 .map_err(|e| ExperimentError::data(&path, e.to_string()))?;
-        let mut set = DataSet::new(name, excitation, record.output[a..b].to_vec())
+        let mut set = DataSet::new(name, excitation, output[a..b].to_vec())
             .map_err(|e| ExperimentError::data(&path, format!("{name} range {a}..{b}: {e}")))?;
         set.input_unit = d.input_unit.clone();
         set.output_unit = d.output_unit.clone();
@@ -321,21 +307,25 @@ pub(crate) fn overlap_note(est: [usize; 2], val: [usize; 2]) -> Option<String> {
 
 /// Applies the preprocessing steps in order; returns the record and the total
 /// decimation factor.
-fn preprocess(mut r: Record, steps: &[Preprocess], path: &Path) -> Result<(Record, usize)> {
+/// The input's and the output's columns in [`read_csv`]'s table.
+const INPUT: usize = 0;
+const OUTPUT: usize = 1;
+
+fn preprocess(mut r: Table, steps: &[Preprocess], path: &Path) -> Result<(Table, usize)> {
     let mut factor = 1;
     let fail = |i: usize, e: msd_signal::SignalError| {
         ExperimentError::data(path, format!("data.preprocessing[{i}]: {e}"))
     };
     for (i, step) in steps.iter().enumerate() {
-        let apply = |r: &mut Record,
+        let apply = |r: &mut Table,
                      columns: Columns,
                      f: &dyn Fn(&[f64]) -> msd_signal::Result<Vec<f64>>|
          -> Result<()> {
             if columns != Columns::Output {
-                r.input = f(&r.input).map_err(|e| fail(i, e))?;
+                r.columns[INPUT] = f(&r.columns[INPUT]).map_err(|e| fail(i, e))?;
             }
             if columns != Columns::Input {
-                r.output = f(&r.output).map_err(|e| fail(i, e))?;
+                r.columns[OUTPUT] = f(&r.columns[OUTPUT]).map_err(|e| fail(i, e))?;
             }
             Ok(())
         };

@@ -404,7 +404,7 @@ fn a_scaled_value_that_overflows_is_refused_at_its_line() {
     match msd_experiment::data::read_csv(section, &config.sources, &path) {
         Ok(r) => panic!(
             "accepted; first output value {}",
-            r.output.first().copied().unwrap_or(f64::NAN)
+            r.columns[1].first().copied().unwrap_or(f64::NAN)
         ),
         Err(e) => assert!(e.to_string().contains("line 2"), "{e}"),
     }
@@ -432,7 +432,7 @@ fn columns_given_in_memory_read_as_the_file() {
         .with_columns("data.csv", columns.clone());
     let from_memory = msd_experiment::data::read_csv(section, &sources, &path).unwrap();
     assert_eq!(from_memory, from_file);
-    assert_eq!(from_memory.output[7], column(2)[7] * 1e-3);
+    assert_eq!(from_memory.columns[1][7], column(2)[7] * 1e-3);
     let without = config
         .sources
         .clone()

@@ -4,7 +4,6 @@
 //! (read by msd-files as named channels). Every bad cell is reported with the file, its
 //! line and the column.
 
-use super::Record;
 use super::clock::is_clock;
 use super::text::{self, Header, TextFormat};
 use crate::config::{Column, DataSection};
@@ -43,12 +42,13 @@ pub struct Table {
     pub notes: Vec<String>,
 }
 
-/// Reads the input, output and (optional) time columns of a CSV file.
+/// Reads the input, output and (optional) time columns of a CSV file: a [`Table`] whose
+/// columns are the input then the output, scaled.
 ///
 /// Errors name the file, the 1-based line and the column: a missing file, a missing
 /// column, an empty or non-numeric cell, NaN or infinity, time that does not increase
 /// or is not uniform (within 1 % of the mean step).
-pub fn read_csv(d: &DataSection, sources: &Sources, path: &Path) -> Result<Record> {
+pub fn read_csv(d: &DataSection, sources: &Sources, path: &Path) -> Result<Table> {
     let spec = |role: &str, column: &Option<Column>, scale: f64| -> Result<ColumnSpec> {
         let column = column.clone().ok_or_else(|| {
             ExperimentError::data(
@@ -68,16 +68,7 @@ pub fn read_csv(d: &DataSection, sources: &Sources, path: &Path) -> Result<Recor
         spec("input", &d.input, d.input_scale)?,
         spec("output", &d.output, d.output_scale)?,
     ];
-    let mut table = read_columns(d, sources, path, "data.path", &specs)?;
-    let output = table.columns.pop().unwrap_or_default();
-    let input = table.columns.pop().unwrap_or_default();
-    Ok(Record {
-        time: table.time,
-        input,
-        output,
-        dt: table.dt,
-        notes: table.notes,
-    })
+    read_columns(d, sources, path, "data.path", &specs)
 }
 
 /// Reads the time (`d.time` or `d.sample_rate`) and the `columns` of the CSV file `path`
