@@ -305,12 +305,12 @@ pub(crate) fn overlap_note(est: [usize; 2], val: [usize; 2]) -> Option<String> {
     })
 }
 
-/// Applies the preprocessing steps in order; returns the record and the total
-/// decimation factor.
 /// The input's and the output's columns in [`read_csv`]'s table.
 const INPUT: usize = 0;
 const OUTPUT: usize = 1;
 
+/// Applies the preprocessing steps in order; returns the table and the total
+/// decimation factor.
 fn preprocess(mut r: Table, steps: &[Preprocess], path: &Path) -> Result<(Table, usize)> {
     let mut factor = 1;
     let fail = |i: usize, e: msd_signal::SignalError| {
