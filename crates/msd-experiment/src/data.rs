@@ -253,9 +253,8 @@ fn load_measured(d: &DataSection, sources: &Sources, config_path: &Path) -> Resu
         ));
     }
     let make = |name: &str, [a, b]: [usize; 2]| -> Result<DataSet> {
-        let excitation =
-            Excitation::from_samples(record.time[a], record.dt, input[a..b].to_vec())
-                .map_err(|e| ExperimentError::data(&path, e.to_string()))?;
+        let excitation = Excitation::from_samples(record.time[a], record.dt, input[a..b].to_vec())
+            .map_err(|e| ExperimentError::data(&path, e.to_string()))?;
         let mut set = DataSet::new(name, excitation, output[a..b].to_vec())
             .map_err(|e| ExperimentError::data(&path, format!("{name} range {a}..{b}: {e}")))?;
         set.input_unit = d.input_unit.clone();
