@@ -917,10 +917,10 @@ fn an_inverted_sensor_a_zero_force_and_a_far_guess() {
     }
 }
 
-/// A record read from a `Recording` (a load cell as its input, a base accelerometer, a
-/// free decay with none) fits to the same numbers, bit for bit, as the one built by
-/// hand from the same samples; a recording whose input is not the drive's is refused
-/// naming the channel.
+/// A record read from a `Recording` (a load cell as its input and an accelerometer) fits
+/// to the same numbers, bit for bit, as the one built by hand from the same samples; a
+/// free decay's has no input (the grid's zeros); an input that is not the drive's, a
+/// missing or second one, and a bad sample are refused naming the channel.
 #[test]
 fn a_recording_is_fitted_as_the_record_of_its_samples() {
     let force = paper_force();
