@@ -260,6 +260,8 @@ pub struct ExactSimulator<const N: usize> {
     phi_rows: [[f64; N]; N],
     /// Stencil weights: `weights[variant][node][component]`.
     weights: [[[f64; N]; 4]; 7],
+    /// Γⱼ: the state's response over one step, from rest, to the input u(s) = sʲ.
+    gamma: [SVector<f64, N>; 4],
 }
 
 impl<const N: usize> ExactSimulator<N> {
@@ -344,6 +346,7 @@ impl<const N: usize> ExactSimulator<N> {
             phi,
             phi_rows,
             weights,
+            gamma,
         })
     }
 

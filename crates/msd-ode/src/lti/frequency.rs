@@ -47,6 +47,67 @@ impl<const N: usize> ExactSimulator<N> {
                 *d += power * *weight;
             }
         }
+        self.resolve(z, drive)
+    }
+
+    /// The DFT of a simulated record's states at a line z of its n-point DFT (zⁿ = 1),
+    /// in closed form: Σ_{t<n} x_t·z⁻ᵗ = (I − Φ/z)⁻¹·(x₀ − Φ·x_{n−1} + Σⱼ Γⱼ·Mⱼ(z)),
+    /// with x₀ the initial state, x_{n−1} the last (from the simulation, or any other
+    /// way), Γⱼ the state's response over one step to the input sʲ and
+    /// Mⱼ(z) = Σ_{t=1}^{n−1} aⱼ(t)·z⁻ᵗ the DFT of the hold's j-th coefficient on the step
+    /// into sample t ([`SampledInput::hold_polynomials`](crate::SampledInput::hold_polynomials), entry t − 1). The record's
+    /// ends and breakpoints are in the Mⱼ: the identity is exact, where the DFT of an
+    /// input times [`frequency_response`](Self::frequency_response) leaves the
+    /// transient out. The Mⱼ do not depend on the model, so a fit that moves the model
+    /// transforms its input once and each state sequence costs one 2 × 2 solve per line
+    /// instead of a simulation and an FFT. `None` where zI − Φ is singular.
+    ///
+    /// ```
+    /// use msd_ode::{Complex, ExactSimulator, Hold, LtiModel, SampledInput, SMatrix, SVector};
+    /// let model = LtiModel {
+    ///     a: SMatrix::<f64, 2, 2>::new(0.0, 1.0, -48.0, -0.72),
+    ///     b: SVector::<f64, 2>::new(0.0, 0.4),
+    /// };
+    /// let sim = ExactSimulator::new(&model, 0.05, Hold::Cubic)?;
+    /// let u: Vec<f64> = (0..40).map(|t| (0.3 * t as f64).sin()).collect();
+    /// let input = SampledInput::smooth(&u);
+    /// let x0 = SVector::<f64, 2>::new(0.01, -0.2);
+    /// let states = sim.simulate(&x0, &input)?;
+    /// let holds = input.hold_polynomials(Hold::Cubic)?;
+    /// let z = Complex::from_polar(1.0, 2.0 * std::f64::consts::PI * 3.0 / 40.0);
+    /// let dft = |f: &dyn Fn(usize) -> f64, from: usize| -> Complex<f64> {
+    ///     (from..40).map(|t| f(t) * z.powi(-(t as i32))).sum()
+    /// };
+    /// let m: [Complex<f64>; 4] = std::array::from_fn(|j| dft(&|t| holds[t - 1][j], 1));
+    /// let closed = sim.state_spectrum(z, &x0, &states[39], &m).unwrap();
+    /// for i in 0..2 {
+    ///     let direct = dft(&|t| states[t][i], 0);
+    ///     assert!((closed[i] - direct).norm() < 1e-12 * direct.norm(), "{closed} {direct}");
+    /// }
+    /// # Ok::<(), msd_ode::OdeError>(())
+    /// ```
+    pub fn state_spectrum(
+        &self,
+        z: Complex<f64>,
+        x0: &SVector<f64, N>,
+        last: &SVector<f64, N>,
+        hold: &[Complex<f64>; 4],
+    ) -> Option<SVector<Complex<f64>, N>> {
+        let end = self.phi * last;
+        // z·(x₀ − Φ·x_{n−1} + Σⱼ Γⱼ·Mⱼ), then (zI − Φ)⁻¹ of it.
+        let drive: [Complex<f64>; N] = std::array::from_fn(|r| {
+            let held: Complex<f64> = (self.gamma.iter().zip(hold)).map(|(g, m)| m * g[r]).sum();
+            z * (held + (x0[r] - end[r]))
+        });
+        self.resolve(z, drive)
+    }
+
+    /// (zI − Φ)⁻¹·`drive`; `None` where zI − Φ is singular.
+    fn resolve(
+        &self,
+        z: Complex<f64>,
+        drive: [Complex<f64>; N],
+    ) -> Option<SVector<Complex<f64>, N>> {
         let shifted: [[Complex<f64>; N]; N] = std::array::from_fn(|r| {
             std::array::from_fn(|c| {
                 let diagonal = if r == c { z } else { Complex::new(0.0, 0.0) };

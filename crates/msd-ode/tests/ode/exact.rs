@@ -415,6 +415,13 @@ fn the_frequency_response_is_the_impulse_responses_dft() {
     }
     // Three states (elimination, where two take the adjugate): the plant behind a
     // first-order sensor filter at 50 rad/s.
+    let filtered = behind_a_sensor_filter(&plant);
+    let sim = ExactSimulator::new(&filtered, DT, Hold::Cubic).expect("valid model");
+    impulse_against_response(&sim, Hold::Cubic);
+}
+
+/// The plant behind a first-order sensor filter at 50 rad/s: three states.
+fn behind_a_sensor_filter(plant: &Plant) -> LtiModel<3> {
     let two = plant.model();
     let (a, b) = (two.a, two.b);
     #[rustfmt::skip]
@@ -426,8 +433,7 @@ fn the_frequency_response_is_the_impulse_responses_dft() {
         ),
         b: SVector::<f64, 3>::new(b[0], b[1], 0.0),
     };
-    let sim = ExactSimulator::new(&filtered, DT, Hold::Cubic).expect("valid model");
-    impulse_against_response(&sim, Hold::Cubic);
+    filtered
 }
 
 fn impulse_against_response<const N: usize>(sim: &ExactSimulator<N>, hold: Hold) {
@@ -459,6 +465,76 @@ fn impulse_against_response<const N: usize>(sim: &ExactSimulator<N>, hold: Hold)
                 "{hold:?}, {N} states, line {line}, state {i}: {} against {}",
                 response[i],
                 dft[i]
+            );
+        }
+    }
+}
+
+/// A record's state spectrum in closed form is its DFT, for every hold, on a record
+/// with jumps (breakpoints, the stencils' one-sided variants around them), a nonzero
+/// initial state, odd and even lengths and 2 and 3 states, at lines from the lowest to
+/// Nyquist's: the identity is exact, so they agree to the DFT's rounding.
+#[test]
+fn the_state_spectrum_is_the_records_dft() {
+    let plant = Plant::PAPER;
+    for hold in [Hold::Zero, Hold::First, Hold::Cubic] {
+        let sim = ExactSimulator::new(&plant.model(), DT, hold).expect("valid model");
+        for n in [501usize, 800] {
+            state_spectrum_against_dft(&sim, hold, n, SVector::from([2e-3, -0.05]));
+        }
+    }
+    let filtered = behind_a_sensor_filter(&plant);
+    let sim = ExactSimulator::new(&filtered, DT, Hold::Cubic).expect("valid model");
+    state_spectrum_against_dft(&sim, Hold::Cubic, 640, SVector::from([1e-3, 0.0, 0.2]));
+}
+
+fn state_spectrum_against_dft<const N: usize>(
+    sim: &ExactSimulator<N>,
+    hold: Hold,
+    n: usize,
+    x0: SVector<f64, N>,
+) {
+    // A multisine with a step up at sample 100 and a kink at 300.
+    let values: Vec<f64> = (0..n)
+        .map(|t| {
+            let s = (0.07 * t as f64).sin() + 0.4 * (0.31 * t as f64).cos();
+            s + if t >= 100 { 3.0 } else { 0.0 } + 0.01 * (t.max(300) - 300) as f64
+        })
+        .collect();
+    let jumps = [
+        Breakpoint {
+            index: 100,
+            left: values[99] + (values[99] - values[98]),
+            right: values[100],
+        },
+        Breakpoint {
+            index: 300,
+            left: values[300],
+            right: values[300],
+        },
+    ];
+    let input = SampledInput {
+        values: &values,
+        breakpoints: &jumps,
+    };
+    let x = sim.simulate(&x0, &input).expect("simulates");
+    let holds = input.hold_polynomials(hold).expect("valid input");
+    let phase = |line: usize, t: usize| {
+        let turns = (line * t) % n;
+        Complex::from_polar(1.0, -2.0 * std::f64::consts::PI * turns as f64 / n as f64)
+    };
+    for line in [1usize, 7, n / 5, n / 2 - 1, n / 2] {
+        let z = Complex::from_polar(1.0, 2.0 * std::f64::consts::PI * line as f64 / n as f64);
+        let m: [Complex<f64>; 4] =
+            std::array::from_fn(|j| (1..n).map(|t| holds[t - 1][j] * phase(line, t)).sum());
+        let closed = sim.state_spectrum(z, &x0, &x[n - 1], &m).expect("regular");
+        for i in 0..N {
+            let dft: Complex<f64> = (0..n).map(|t| x[t][i] * phase(line, t)).sum();
+            let floor = n as f64 * f64::EPSILON * x.iter().map(|s| s[i].abs()).sum::<f64>();
+            assert!(
+                (closed[i] - dft).norm() < 1e-9 * dft.norm() + 100.0 * floor,
+                "{hold:?}, n {n}, {N} states, line {line}, state {i}: {} against {dft}",
+                closed[i]
             );
         }
     }
