@@ -1,8 +1,7 @@
 //! The middle matrix B = Jᵀ·W·Σ·W·J of the sandwich covariance, in the frequency domain.
 
 use super::SpectralModel;
-use super::spectral::{padded, spectrum};
-use crate::fft;
+use super::spectral::{padded, real_inverses, spectra};
 use nalgebra::DMatrix;
 use rustfft::num_complex::Complex64;
 use std::ops::Range;
@@ -52,28 +51,33 @@ pub(crate) fn middle_matrix(
     };
     for rec in records {
         let size = padded(rec.len);
-        let transfer: Vec<Vec<Complex64>> = rec
-            .impulse
-            .iter()
-            .map(|g| spectrum(g.iter().copied(), size, 1.0))
-            .collect();
-        let h: Vec<Vec<f64>> = (0..p)
-            .map(|c| {
-                let mut sum = vec![Complex64::new(0.0, 0.0); size];
-                for (ch, g) in transfer.iter().enumerate() {
-                    let column = jacobian.column(c);
-                    let x = spectrum(
-                        column.rows_range(rec.rows[ch].clone()).iter().copied(),
-                        size,
-                        rec.weights[ch],
-                    );
-                    for ((s, x), g) in sum.iter_mut().zip(&x).zip(g) {
-                        *s += g.conj() * x;
-                    }
-                }
-                fft::inverse(size).process(&mut sum);
-                sum[..rec.len].iter().map(|v| v.re / size as f64).collect()
+        // Each channel's impulse response, then each column's rows per channel weighted,
+        // two to a transform.
+        let columns = (0..p).flat_map(|c| {
+            (rec.rows.iter().zip(&rec.weights)).map(move |(rows, w)| {
+                let column = jacobian.column(c);
+                column
+                    .rows_range(rows.clone())
+                    .iter()
+                    .map(|v| v * w)
+                    .collect()
             })
+        });
+        let all: Vec<Vec<f64>> = rec.impulse.iter().cloned().chain(columns).collect();
+        let mut transformed = spectra(all.into_iter().map(Vec::into_iter), size, 1.0);
+        let x = transformed.split_off(rec.impulse.len());
+        let correlations = (0..p).map(|c| {
+            let mut sum = vec![Complex64::new(0.0, 0.0); size];
+            for (g, x) in transformed.iter().zip(&x[c * rec.rows.len()..]) {
+                for ((s, x), g) in sum.iter_mut().zip(x).zip(g) {
+                    *s += g.conj() * x;
+                }
+            }
+            sum
+        });
+        let h: Vec<Vec<f64>> = real_inverses(correlations, size)
+            .into_iter()
+            .map(|v| v[..rec.len].iter().map(|v| v / size as f64).collect())
             .collect();
         for r in 0..p {
             for c in 0..p {

@@ -65,7 +65,7 @@ pub(crate) use restricted::Sensitivity;
 pub(crate) use satterthwaite::satterthwaite;
 pub(crate) use spectral::{
     Lines, SpectralModel, concentrate, impulse_spectrum, likelihood_lines, residual_spectrum,
-    spectrum, whitened_ljung_box,
+    spectra, spectrum, whitened_ljung_box,
 };
 
 /// The level of the test for the drive's noise (and of the whiteness tests by default).

@@ -20,7 +20,7 @@
 //! spread over their standard errors 1.06–1.13 (`cargo xtask noise-study`, 400 seeds);
 //! with them 0.28 % and 1.03–1.05.
 
-use super::spectral::{Lines, likelihood_lines, spectrum};
+use super::spectral::{Lines, likelihood_lines, spectra};
 use nalgebra::DMatrix;
 use rustfft::num_complex::Complex64;
 
@@ -250,9 +250,8 @@ fn line_sensitivities(l: &Lines, fit: &Sensitivity, p: usize) -> Hats {
     let hat: Vec<Vec<Vec<Complex64>>> = (fit.columns.iter())
         .zip(fit.nuisance.iter().map(Some).chain(std::iter::repeat(None)))
         .map(|(cols, own)| {
-            (cols.iter().chain(own.into_iter().flatten()))
-                .map(|x| spectrum(x.iter().copied(), l.size, scale))
-                .collect()
+            let all = cols.iter().chain(own.into_iter().flatten());
+            spectra(all.map(|x| x.iter().copied()), l.size, scale)
         })
         .collect();
     let mut values = Vec::with_capacity(l.size * c * width);

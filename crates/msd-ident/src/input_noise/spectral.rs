@@ -53,6 +53,66 @@ pub(crate) fn spectrum(x: impl Iterator<Item = f64>, size: usize, scale: f64) ->
     buffer
 }
 
+/// The DFTs of real sequences zero-padded to `size`, times `scale`, two to each complex
+/// FFT: z = x + i·y transforms to Z, and X_k = (Z_k + Z̄_(N−k))/2,
+/// Y_k = (Z_k − Z̄_(N−k))/(2i) by the conjugate symmetry of a real sequence's DFT.
+/// Half the transforms of [`spectrum`] for the same lines to rounding (the smaller of
+/// a pair carries the larger's rounding, 1e-16 of it).
+pub(crate) fn spectra<I: Iterator<Item = f64>>(
+    sequences: impl IntoIterator<Item = I>,
+    size: usize,
+    scale: f64,
+) -> Vec<Vec<Complex64>> {
+    let mut sequences = sequences.into_iter();
+    let mut out = Vec::new();
+    while let Some(x) = sequences.next() {
+        let Some(y) = sequences.next() else {
+            out.push(spectrum(x, size, scale));
+            break;
+        };
+        let mut z = vec![Complex64::new(0.0, 0.0); size];
+        for (z, v) in z.iter_mut().zip(x) {
+            z.re = v * scale;
+        }
+        for (z, v) in z.iter_mut().zip(y) {
+            z.im = v * scale;
+        }
+        fft::forward(size).process(&mut z);
+        let mirror = |k: usize| z[(size - k) % size].conj();
+        out.push((0..size).map(|k| (z[k] + mirror(k)) * 0.5).collect());
+        out.push(
+            (0..size)
+                .map(|k| (z[k] - mirror(k)) * Complex64::new(0.0, -0.5))
+                .collect(),
+        );
+    }
+    out
+}
+
+/// The inverse DFTs (unnormalised) of conjugate-symmetric spectra of length `size`,
+/// real sequences, two to each complex FFT: the inverse of X + i·Y is x + i·y.
+pub(crate) fn real_inverses(
+    spectra: impl IntoIterator<Item = Vec<Complex64>>,
+    size: usize,
+) -> Vec<Vec<f64>> {
+    let mut spectra = spectra.into_iter();
+    let mut out = Vec::new();
+    while let Some(mut z) = spectra.next() {
+        let second = spectra.next();
+        if let Some(y) = &second {
+            for (z, y) in z.iter_mut().zip(y) {
+                *z += Complex64::new(-y.im, y.re);
+            }
+        }
+        fft::inverse(size).process(&mut z);
+        out.push(z.iter().map(|v| v.re).collect());
+        if second.is_some() {
+            out.push(z.iter().map(|v| v.im).collect());
+        }
+    }
+    out
+}
+
 /// The one-sided lines of an unpadded DFT used by the likelihood: no mean, no Nyquist.
 pub(crate) fn likelihood_lines(size: usize) -> std::ops::Range<usize> {
     1..size.div_ceil(2)
@@ -153,6 +213,49 @@ pub(crate) fn concentrate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The paired inverses give back the sequences the paired transforms took.
+    #[test]
+    fn paired_inverses_undo_the_paired_transforms() {
+        let sequences: Vec<Vec<f64>> = (0..3)
+            .map(|s| {
+                (0..9)
+                    .map(|t| ((t * (s + 2)) as f64 * 0.3).cos() - s as f64)
+                    .collect()
+            })
+            .collect();
+        let transformed = spectra(sequences.iter().map(|x| x.iter().copied()), 9, 1.0);
+        let back = real_inverses(transformed, 9);
+        assert_eq!(back.len(), 3);
+        for (x, y) in sequences.iter().zip(&back) {
+            for (a, b) in x.iter().zip(y) {
+                assert!((a - b / 9.0).abs() < 1e-13, "{a} against {}", b / 9.0);
+            }
+        }
+    }
+
+    /// Two at a time, an odd one left over, odd and even lengths, padded: each is its
+    /// own transform to rounding.
+    #[test]
+    fn paired_spectra_are_each_sequences_own() {
+        for (len, size) in [(7usize, 7usize), (10, 10), (5, 16)] {
+            let sequences: Vec<Vec<f64>> = (0..3)
+                .map(|s| {
+                    (0..len)
+                        .map(|t| ((t * (s + 3)) as f64 * 0.7).sin() + s as f64)
+                        .collect()
+                })
+                .collect();
+            let paired = spectra(sequences.iter().map(|x| x.iter().copied()), size, 0.5);
+            assert_eq!(paired.len(), 3);
+            for (x, pair) in sequences.iter().zip(&paired) {
+                let own = spectrum(x.iter().copied(), size, 0.5);
+                for (a, b) in pair.iter().zip(&own) {
+                    assert!((a - b).norm() < 1e-13, "{len} {size}: {a} against {b}");
+                }
+            }
+        }
+    }
 
     /// Whatever lies in the span of the two free responses leaves the test unmoved (it
     /// is projected out), and without them the same term colours the residual.

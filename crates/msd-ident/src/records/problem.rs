@@ -191,6 +191,11 @@ impl<'a> Joint<'a> {
         ok
     }
 
+    /// The record's drive as the simulator takes it (zeros for a free decay).
+    pub(crate) fn drive_input<'b>(&'b self, rec: &RecordRows<'b>) -> SampledInput<'b> {
+        input(self.drive, &self.zeros, rec)
+    }
+
     /// The model of one row (unweighted): f + G·β.
     pub(crate) fn model(&self, rec: &RecordRows<'_>, ch: usize, i: usize) -> f64 {
         let row = rec.start + ch * rec.len + i;

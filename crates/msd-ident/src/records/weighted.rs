@@ -16,7 +16,8 @@
 //!
 //! Gauss–Newton on the whitened lines ε_k = S_k^(−1/2)·R_k (Woodbury: S is diagonal
 //! plus rank one), the Jacobian by central differences in ln θ at the start (the chord
-//! method), each step halved until V falls, until a step is below 1e-4 standard errors
+//! method), each step halved until V falls (twice at most once the step is below 0.1
+//! standard errors: the chord's resolution), until a step is below 1e-4 standard errors
 //! (the Newton decrement). Its information is F = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·∂R_k) over the lines, each
 //! record's initial state concentrated out in S's metric (a Schur complement): F⁻¹ is
 //! the Cramér–Rao bound of the model as fitted. The covariance reported is the
@@ -29,10 +30,12 @@
 //! simulated load-cell records of `cargo xtask noise-study` they agree to three
 //! digits), and the estimate's spread over 400 seeds is 0.91–1.13 of it.
 
-use super::problem::Joint;
+use super::model::OutputMap;
+use super::problem::{Joint, RecordRows};
 use super::spectra::{free_spectra, line_points, transfer_spectra};
-use crate::input_noise::{SpectralModel, concentrate, likelihood_lines, residual_spectrum};
+use crate::input_noise::{SpectralModel, concentrate, likelihood_lines, spectra};
 use crate::plant::Plant;
+use msd_ode::{ExactSimulator, SVector, SampledInput};
 use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 
@@ -55,6 +58,9 @@ pub(super) struct Weighted {
 const DECREMENT: f64 = 1e-4;
 const TOLERANCE: f64 = 1e-12;
 const MAX_STEPS: usize = 30;
+/// The step, in standard errors, below which the chord's direction is not searched
+/// past half its length.
+const RESOLUTION: f64 = 0.1;
 /// The central-difference step in ln θ.
 const STEP: f64 = 1e-4;
 
@@ -67,7 +73,7 @@ pub(super) fn refit(
     theta0: [f64; 3],
     model: &SpectralModel,
 ) -> Option<Weighted> {
-    let variances = Variances::of(model, problem);
+    let variances = Variances::of(model, problem)?;
     let mut x = problem.pack(theta0);
     let (mut e, mut states) = whitened(problem, &x, &variances)?;
     let mut cost = e.norm_squared();
@@ -82,11 +88,16 @@ pub(super) fn refit(
         let step = factor.solve(&(-j.tr_mul(&e)));
         // The step in standard errors (ε is whitened: JᵀJ is the information), the
         // Newton decrement: below DECREMENT the estimate sits far inside its precision.
-        if (step.transpose() * &normal * &step)[(0, 0)].sqrt() < DECREMENT {
+        let decrement = (step.transpose() * &normal * &step)[(0, 0)].sqrt();
+        if decrement < DECREMENT {
             break;
         }
+        // A short step V does not lower at full or half length ends the iteration: the
+        // chord's direction is then at its resolution, where halving it further
+        // finds only the gap between J₀ and J* (ten more evaluations for nothing).
+        let trials = if decrement < RESOLUTION { 2 } else { 12 };
         let (mut scale, mut accepted) = (1.0, None);
-        for _ in 0..12 {
+        for _ in 0..trials {
             let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + scale * d).collect();
             if let Some((t, s)) = whitened(problem, &trial, &variances) {
                 let c = t.norm_squared();
@@ -127,21 +138,23 @@ pub(super) fn refit(
     })
 }
 
-/// The noise variances of the model: the drive's and each sensor group's; with each
-/// record's DFT points, where the spectra are evaluated.
+/// The noise variances of the model, the drive's and each sensor group's, with each
+/// record's measured spectra: what the refit holds fixed.
 struct Variances {
     input: f64,
     sensors: Vec<f64>,
-    points: Vec<Vec<Complex64>>,
+    measured: Vec<Measured>,
 }
 
 impl Variances {
-    fn of(model: &SpectralModel, problem: &Joint<'_>) -> Self {
-        Self {
+    fn of(model: &SpectralModel, problem: &Joint<'_>) -> Option<Self> {
+        Some(Self {
             input: model.input_variance,
             sensors: model.sensor_variance.clone(),
-            points: problem.records.iter().map(|r| line_points(r.len)).collect(),
-        }
+            measured: (problem.records.iter())
+                .map(|rec| Measured::of(problem, rec))
+                .collect::<Option<_>>()?,
+        })
     }
 }
 
@@ -155,14 +168,12 @@ struct RecordSpectra {
     transfer: Vec<Vec<Complex64>>,
 }
 
-/// Every record's spectra at ln θ = `x` (`prepare`s the problem there).
-fn spectra(
-    problem: &mut Joint<'_>,
-    x: &[f64],
-    variances: &Variances,
-) -> Option<Vec<RecordSpectra>> {
+/// Every record's spectra at ln θ = `x`, in closed form: the model's lines from the
+/// measured drive's transforms ([`msd_ode::ExactSimulator::state_spectrum`]), no
+/// simulation of the record's response nor FFT of its residual but its last state.
+fn spectra_at(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<Vec<RecordSpectra>> {
     let theta = problem.theta(x);
-    if !theta.iter().all(|v| v.is_finite() && *v > 0.0) || !problem.prepare(theta) {
+    if !theta.iter().all(|v| v.is_finite() && *v > 0.0) {
         return None;
     }
     let plant = Plant {
@@ -170,28 +181,19 @@ fn spectra(
         drive: problem.drive,
     };
     let sim = plant.response(problem.dt, problem.hold).ok()?;
-    (problem.records.iter().zip(&variances.points))
-        .map(|(rec, points)| {
-            let n = rec.len;
-            // Full and half (0..=N/2) spectra alike: the likelihood's lines start at 1.
-            let lines = |v: &[Complex64]| v[likelihood_lines(n)].to_vec();
-            let residual = (rec.record.channels.iter().enumerate())
-                .map(|(ch, channel)| {
-                    let from_rest = channel
-                        .samples
-                        .iter()
-                        .zip(&problem.forced[Joint::rows_of(rec, ch)]);
-                    lines(&residual_spectrum(from_rest.map(|(y, f)| y - f), n))
-                })
-                .collect();
+    (problem.records.iter().zip(&variances.measured))
+        .map(|(rec, measured)| {
+            let maps: Vec<OutputMap> = rec.kinds.iter().map(|k| plant.output(*k)).collect();
+            let residual = measured.residual(&sim, &maps, problem.drive_input(rec))?;
+            let lines = |v: &[Complex64]| v[likelihood_lines(rec.len)].to_vec();
             let mut basis = [Vec::new(), Vec::new()];
             if problem.state {
-                for [b0, b1] in free_spectra(&sim, &rec.maps, points, n) {
+                for [b0, b1] in free_spectra(&sim, &maps, &measured.points, rec.len) {
                     basis[0].push(lines(&b0));
                     basis[1].push(lines(&b1));
                 }
             }
-            let transfer = transfer_spectra(&sim, &rec.maps, points)?;
+            let transfer = transfer_spectra(&sim, &maps, &measured.points)?;
             Some(RecordSpectra {
                 groups: rec.groups.clone(),
                 residual,
@@ -202,17 +204,91 @@ fn spectra(
         .collect()
 }
 
+/// One record's measured spectra at its likelihood lines, unitary scaling: each
+/// channel's, the drive's and the transforms Mⱼ of its hold's coefficients, which
+/// give the model's lines at any θ in closed form.
+struct Measured {
+    /// The DFT points of the lines 0..=N/2.
+    points: Vec<Complex64>,
+    /// Each channel's spectrum at the likelihood lines.
+    outputs: Vec<Vec<Complex64>>,
+    /// The drive's spectrum at the likelihood lines.
+    drive: Vec<Complex64>,
+    /// Mⱼ at the likelihood lines.
+    hold: Vec<[Complex64; 4]>,
+}
+
+impl Measured {
+    fn of(problem: &Joint<'_>, rec: &RecordRows<'_>) -> Option<Self> {
+        let n = rec.len;
+        let lines = likelihood_lines(n);
+        let cut = |v: Vec<Complex64>| v[lines.clone()].to_vec();
+        let input = problem.drive_input(rec);
+        let polynomials = input.hold_polynomials(problem.hold).ok()?;
+        // Mⱼ = Σ_{t≥1} aⱼ(t)·z⁻ᵗ: the coefficient of the step into sample t at t; then
+        // the drive's and each channel's spectra.
+        let coefficients = (0..4).map(|j| {
+            let steps = polynomials.iter().map(|a| a[j]);
+            std::iter::once(0.0).chain(steps).collect::<Vec<f64>>()
+        });
+        let measured = (coefficients.chain(std::iter::once(input.values.to_vec())))
+            .chain(rec.record.channels.iter().map(|c| c.samples.clone()));
+        let mut all = spectra(measured.map(Vec::into_iter), n, 1.0 / (n as f64).sqrt())
+            .into_iter()
+            .map(cut);
+        let transforms: [Vec<Complex64>; 4] =
+            std::array::from_fn(|_| all.next().unwrap_or_default());
+        let drive = all.next()?;
+        Some(Self {
+            points: line_points(n),
+            outputs: all.collect(),
+            drive,
+            hold: (0..lines.len())
+                .map(|k| std::array::from_fn(|j| transforms[j][k]))
+                .collect(),
+        })
+    }
+
+    /// Each channel's residual from rest y − f(θ) at the likelihood lines, with the
+    /// record's `input`: f's state from the closed form, its last state simulated.
+    fn residual(
+        &self,
+        sim: &ExactSimulator<2>,
+        maps: &[OutputMap],
+        input: SampledInput<'_>,
+    ) -> Option<Vec<Vec<Complex64>>> {
+        let n = input.values.len();
+        let mut last = SVector::<f64, 2>::zeros();
+        (sim.simulate_with(&SVector::zeros(), &input, |i, s| {
+            if i + 1 == n {
+                last = *s;
+            }
+        }))
+        .ok()?;
+        last /= (n as f64).sqrt();
+        let first = likelihood_lines(n).start;
+        let mut out: Vec<Vec<Complex64>> = self.outputs.clone();
+        for (j, hold) in self.hold.iter().enumerate() {
+            let x = sim.state_spectrum(self.points[first + j], &SVector::zeros(), &last, hold)?;
+            for (r, map) in out.iter_mut().zip(maps) {
+                r[j] -= x[0] * map.c[0] + x[1] * map.c[1] + self.drive[j] * map.d;
+            }
+        }
+        Some(out)
+    }
+}
+
 /// ε at ln θ = `x`: every record's lines whitened by S_k(θ), √2·Re then √2·Im of each
 /// channel's line, each record's initial state concentrated out; with each record's
 /// initial state.
 fn whitened(
-    problem: &mut Joint<'_>,
+    problem: &Joint<'_>,
     x: &[f64],
     variances: &Variances,
 ) -> Option<(DVector<f64>, Vec<[f64; 2]>)> {
     let mut out = Vec::new();
     let mut states = Vec::new();
-    for record in spectra(problem, x, variances)? {
+    for record in spectra_at(problem, x, variances)? {
         let whitening = Whitening::of(&record, variances);
         let metric = |k: usize, v: &mut [Complex64]| whitening.apply(k, v);
         let residual = columns(&record.residual, metric);
@@ -232,7 +308,7 @@ fn whitened(
 }
 
 /// ∂ε/∂ln θ by central differences.
-fn jacobian(problem: &mut Joint<'_>, x: &[f64], variances: &Variances) -> Option<DMatrix<f64>> {
+fn jacobian(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<DMatrix<f64>> {
     let mut columns = Vec::with_capacity(x.len());
     for p in 0..x.len() {
         let mut shifted = x.to_vec();
@@ -254,7 +330,7 @@ struct Sensitivities {
 /// Each record's spectra at ln θ = `x` and the derivatives of its residual
 /// R = y − f(θ) − B(θ)·x₀ at the initial states `states`, by central differences.
 fn sensitivities(
-    problem: &mut Joint<'_>,
+    problem: &Joint<'_>,
     x: &[f64],
     states: &[[f64; 2]],
     variances: &Variances,
@@ -274,9 +350,9 @@ fn sensitivities(
     for p in 0..x.len() {
         let mut shifted = x.to_vec();
         shifted[p] = x[p] + STEP;
-        let up = spectra(problem, &shifted, variances)?;
+        let up = spectra_at(problem, &shifted, variances)?;
         shifted[p] = x[p] - STEP;
-        let down = spectra(problem, &shifted, variances)?;
+        let down = spectra_at(problem, &shifted, variances)?;
         for (r, (u, d)) in up.iter().zip(&down).enumerate() {
             let (u, d) = (total(u, &states[r]), total(d, &states[r]));
             let column = u.iter().zip(&d).map(|(u, d)| {
@@ -287,7 +363,7 @@ fn sensitivities(
             derivatives[r].push(column.collect());
         }
     }
-    let at = spectra(problem, x, variances)?;
+    let at = spectra_at(problem, x, variances)?;
     Some(
         at.into_iter()
             .zip(derivatives)
@@ -486,7 +562,7 @@ mod tests {
         let variances = Variances {
             input,
             sensors: d.to_vec(),
-            points: Vec::new(),
+            measured: Vec::new(),
         };
         let mut z = z0;
         let whitening = Whitening::of(&record, &variances);
