@@ -230,17 +230,22 @@ fn whiteness(
             let raw: Vec<f64> = (0..rec.len)
                 .map(|i| rec.record.channels[ch].samples[i] - problem.model(rec, ch, i))
                 .collect();
-            let raw_test = ljung_box(&autocorrelation(&raw, lags), rec.len);
-            let whitened =
-                model.map(|m| whitened_ljung_box(&lines, ch, m, lags, rec.len, transient));
-            let judged = whitened.unwrap_or(raw_test);
-            let input_correlation = (problem.drive != Drive::None)
+            // With a drive, one pass gives the residual's test and its correlation with
+            // the drive.
+            let analysis = (problem.drive != Drive::None)
                 .then(|| {
                     let u = rec.record.excitation.samples();
                     residual_analysis(&raw, u, tests).ok()
                 })
-                .flatten()
-                .map(|a| a.cross_correlation);
+                .flatten();
+            let raw_test = match &analysis {
+                Some(a) => a.ljung_box,
+                None => ljung_box(&autocorrelation(&raw, lags), rec.len),
+            };
+            let whitened =
+                model.map(|m| whitened_ljung_box(&lines, ch, m, lags, rec.len, transient));
+            let judged = whitened.unwrap_or(raw_test);
+            let input_correlation = analysis.map(|a| a.cross_correlation);
             checks.push(ResidualWhiteness {
                 record: rec.record.name.clone(),
                 channel: rec.record.channels[ch].name.clone(),
