@@ -169,8 +169,8 @@ struct RecordSpectra {
 }
 
 /// Every record's spectra at ln θ = `x`, in closed form: the model's lines from the
-/// measured drive's transforms ([`msd_ode::ExactSimulator::state_spectrum`]), no
-/// simulation of the record's response nor FFT of its residual but its last state.
+/// measured drive's transforms ([`msd_ode::ExactSimulator::state_spectrum`]); the
+/// response is simulated for its last state alone and nothing is transformed.
 fn spectra_at(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<Vec<RecordSpectra>> {
     let theta = problem.theta(x);
     if !theta.iter().all(|v| v.is_finite() && *v > 0.0) {
