@@ -113,8 +113,7 @@ pub(crate) fn correlations(e: &[f64], u: &[f64], max_lag: usize) -> (Vec<f64>, V
     // W_k = |E_k|² + i·E_k·conj(U_k), with E_k = (Z_k + conj Z_{M−k})/2 and
     // U_k = (Z_k − conj Z_{M−k})/(2i). Pairs (k, M − k) are updated together in place.
     let spectrum = |zk: Complex64, zm: Complex64| {
-        let ek = (zk + zm.conj()) * 0.5;
-        let uk = (zk - zm.conj()) * Complex64::new(0.0, -0.5);
+        let (ek, uk) = crate::fft::split(zk, zm);
         Complex64::new(ek.norm_sqr(), 0.0) + Complex64::new(0.0, 1.0) * (ek * uk.conj())
     };
     z[0] = spectrum(z[0], z[0]);

@@ -54,8 +54,7 @@ pub(crate) fn spectrum(x: impl Iterator<Item = f64>, size: usize, scale: f64) ->
 }
 
 /// The DFTs of real sequences zero-padded to `size`, times `scale`, two to each complex
-/// FFT: z = x + i·y transforms to Z, and X_k = (Z_k + Z̄_(N−k))/2,
-/// Y_k = (Z_k − Z̄_(N−k))/(2i) by the conjugate symmetry of a real sequence's DFT.
+/// FFT: z = x + i·y transforms to Z, split into X and Y by [`fft::split`].
 /// Half the transforms of [`spectrum`] for the same lines to rounding (the smaller of
 /// a pair carries the larger's rounding, 1e-16 of it).
 pub(crate) fn spectra<I: Iterator<Item = f64>>(
@@ -78,13 +77,10 @@ pub(crate) fn spectra<I: Iterator<Item = f64>>(
             z.im = v * scale;
         }
         fft::forward(size).process(&mut z);
-        let mirror = |k: usize| z[(size - k) % size].conj();
-        out.push((0..size).map(|k| (z[k] + mirror(k)) * 0.5).collect());
-        out.push(
-            (0..size)
-                .map(|k| (z[k] - mirror(k)) * Complex64::new(0.0, -0.5))
-                .collect(),
-        );
+        let (x, y): (Vec<_>, Vec<_>) = (0..size)
+            .map(|k| fft::split(z[k], z[(size - k) % size]))
+            .unzip();
+        out.extend([x, y]);
     }
     out
 }
