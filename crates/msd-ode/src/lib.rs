@@ -54,7 +54,8 @@ pub mod tableau;
 pub use dopri::{LaneSystem, Ode45Lanes, Ode45Stepper, Solution, TimeGrid, ode45, ode45_with};
 pub use error::OdeError;
 pub use lti::{
-    Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, RampStep, SampledInput,
+    Breakpoint, ExactSimulator, Hold, InputSchedule, Lockstep, LtiModel, RampStep, Resolvent,
+    SampledInput,
 };
 pub use nalgebra::{Complex, SMatrix, SVector};
 pub use options::{Ode45Options, Stats};

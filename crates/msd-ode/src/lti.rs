@@ -25,6 +25,7 @@
 //! for four samples.
 
 mod frequency;
+pub use frequency::Resolvent;
 mod lockstep;
 mod ramp;
 

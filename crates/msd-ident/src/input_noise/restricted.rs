@@ -133,32 +133,37 @@ pub(crate) fn expected(
 
 /// One record's Jᴴ·W²·S_q·W²·J per unit variance over every line, for the drive (q = 0)
 /// then each of `groups` sensor groups (width × width, the record's nuisance columns
-/// after θ's).
+/// after θ's). Each term is real and symmetric, and lines k and N − k conjugate (the
+/// columns are real): the lines up to N/2 are summed, each below it twice, and the
+/// upper triangle mirrored.
 fn record_middle(l: &Lines, fit: &Sensitivity, hat: &Hats, groups: usize) -> Vec<DMatrix<f64>> {
     let (c, p) = (l.groups.len(), hat.width);
     let w2: Vec<f64> = fit.weights.iter().map(|w| w * w).collect();
-    let mut middle = vec![DMatrix::<f64>::zeros(p, p); groups + 1];
-    for k in 0..l.size {
+    let mut sums = vec![vec![0.0; p * p]; groups + 1];
+    let mut u = vec![Complex64::new(0.0, 0.0); p];
+    for k in 0..=l.size / 2 {
+        let twice = k > 0 && 2 * k < l.size;
+        let weight = if twice { 2.0 } else { 1.0 };
         let j = hat.line(k, c);
         // The drive: u·uᴴ, u = Jᴴ·W²·g.
-        let u: Vec<Complex64> = (0..p)
-            .map(|r| {
-                (0..c)
-                    .map(|a| j[a * p + r].conj() * w2[a] * l.transfer[a][k])
-                    .sum()
-            })
-            .collect();
+        for (r, u) in u.iter_mut().enumerate() {
+            *u = (0..c)
+                .map(|a| j[a * p + r].conj() * w2[a] * l.transfer[a][k])
+                .sum();
+        }
         for r in 0..p {
-            for t in 0..p {
-                middle[0][(r, t)] += (u[r] * u[t].conj()).re;
+            for t in r..p {
+                sums[0][r * p + t] += weight * (u[r] * u[t].conj()).re;
                 for a in 0..c {
                     let x = (j[a * p + r].conj() * j[a * p + t]).re * w2[a] * w2[a];
-                    middle[1 + l.groups[a]][(r, t)] += x;
+                    sums[1 + l.groups[a]][r * p + t] += weight * x;
                 }
             }
         }
     }
-    middle
+    (sums.iter())
+        .map(|m| DMatrix::from_fn(p, p, |r, t| m[r.min(t) * p + r.max(t)]))
+        .collect()
 }
 
 /// One record's expected matrices at its likelihood lines, from its normal-matrix
@@ -172,67 +177,68 @@ fn record_expected(
 ) -> Expected {
     let (c, p) = (l.groups.len(), hat.width);
     let w2: Vec<f64> = fit.weights.iter().map(|w| w * w).collect();
+    let zero = Complex64::new(0.0, 0.0);
+    // Buffers reused at every line: most lines are dropped as negligible.
+    let (mut jm, mut h) = (vec![zero; c * p], vec![zero; c * c]);
+    let mut matrices = vec![vec![zero; c * c]; parts.len()];
     let out = likelihood_lines(l.size)
         .map(|k| {
             let j = hat.line(k, c);
-            let h = sandwich(j, inverse, c, p);
-            let g: Vec<Complex64> = (0..c).map(|a| l.transfer[a][k]).collect();
+            sandwich(j, inverse, p, &mut jm, &mut h);
             let mut largest = 0.0f64;
-            let matrices: Vec<Vec<Complex64>> = (parts.iter().enumerate())
-                .map(|(q, part)| {
-                    let mut m = sandwich(j, part, c, p);
-                    let unit = |a: usize, b: usize| {
-                        if q == 0 {
-                            g[a] * g[b].conj()
-                        } else if a == b && l.groups[a] == q - 1 {
-                            Complex64::new(1.0, 0.0)
-                        } else {
-                            Complex64::new(0.0, 0.0)
-                        }
-                    };
-                    // (H·W²·S)[a][b], then M = S − H·W²·S − (H·W²·S)ᴴ + J·C_q·Jᴴ.
-                    let hws: Vec<Complex64> = (0..c * c)
-                        .map(|i| {
-                            let (a, b) = (i / c, i % c);
-                            (0..c).map(|e| h[a * c + e] * w2[e] * unit(e, b)).sum()
-                        })
-                        .collect();
-                    let (mut change, mut size) = (0.0, 0.0);
-                    for a in 0..c {
-                        for b in 0..c {
-                            let s = unit(a, b);
-                            m[a * c + b] -= hws[a * c + b] + hws[b * c + a].conj();
-                            change += m[a * c + b].norm_sqr();
-                            size += s.norm_sqr();
-                            m[a * c + b] += s;
-                        }
+            for (q, (part, m)) in parts.iter().zip(&mut matrices).enumerate() {
+                sandwich(j, part, p, &mut jm, m);
+                let unit = |a: usize, b: usize| {
+                    if q == 0 {
+                        l.transfer[a][k] * l.transfer[b][k].conj()
+                    } else if a == b && l.groups[a] == q - 1 {
+                        Complex64::new(1.0, 0.0)
+                    } else {
+                        zero
                     }
-                    if size > 0.0 {
-                        largest = largest.max((change / size).sqrt());
+                };
+                // (H·W²·S)[a][b], then M = S − H·W²·S − (H·W²·S)ᴴ + J·C_q·Jᴴ.
+                let hws = |a: usize, b: usize| -> Complex64 {
+                    (0..c).map(|e| h[a * c + e] * w2[e] * unit(e, b)).sum()
+                };
+                let (mut change, mut size) = (0.0, 0.0);
+                for a in 0..c {
+                    for b in 0..c {
+                        let s = unit(a, b);
+                        m[a * c + b] -= hws(a, b) + hws(b, a).conj();
+                        change += m[a * c + b].norm_sqr();
+                        size += s.norm_sqr();
+                        m[a * c + b] += s;
                     }
-                    m
-                })
-                .collect();
-            (largest >= NEGLIGIBLE).then_some(matrices)
+                }
+                if size > 0.0 {
+                    largest = largest.max((change / size).sqrt());
+                }
+            }
+            (largest >= NEGLIGIBLE).then(|| matrices.clone())
         })
         .collect();
     Expected { lines: out }
 }
 
-/// J·M·Jᴴ (c×c, row-major) of the line's Ĵ (c×p, row-major) and a real p×p `m`.
-fn sandwich(j: &[Complex64], m: &DMatrix<f64>, c: usize, p: usize) -> Vec<Complex64> {
-    let jm: Vec<Complex64> = (0..c * p)
-        .map(|i| {
-            let (a, t) = (i / p, i % p);
-            (0..p).map(|r| j[a * p + r] * m[(r, t)]).sum()
-        })
-        .collect();
-    (0..c * c)
-        .map(|i| {
-            let (a, b) = (i / c, i % c);
-            (0..p).map(|t| jm[a * p + t] * j[b * p + t].conj()).sum()
-        })
-        .collect()
+/// J·M·Jᴴ (c×c, row-major, into `out`) of the line's Ĵ (c×p, row-major) and a real
+/// p×p `m`, with `jm` (c×p) for J·M.
+fn sandwich(
+    j: &[Complex64],
+    m: &DMatrix<f64>,
+    p: usize,
+    jm: &mut [Complex64],
+    out: &mut [Complex64],
+) {
+    for (i, v) in jm.iter_mut().enumerate() {
+        let (a, t) = (i / p, i % p);
+        *v = (0..p).map(|r| j[a * p + r] * m[(r, t)]).sum();
+    }
+    let c = jm.len() / p.max(1);
+    for (i, v) in out.iter_mut().enumerate() {
+        let (a, b) = (i / c, i % c);
+        *v = (0..p).map(|t| jm[a * p + t] * j[b * p + t].conj()).sum();
+    }
 }
 
 /// Each record's [`line_sensitivities`] (`p` parameters).

@@ -56,8 +56,11 @@ pub(crate) fn maximise(
         .collect();
     let start: Vec<f64> = std::iter::once(0.0).chain(white.iter().copied()).collect();
     let (boundary, white_likelihood) = maximise_from(lines, expected, start, &scale, false);
-    let mut start = boundary.clone();
-    start[0] = 0.25 * reference;
+    // From the lines' moments weighted at a quarter of σ²_u's scale (Newton on a
+    // variance from far below only doubles it per step), or from there.
+    let mut guess = boundary.clone();
+    guess[0] = 0.25 * reference;
+    let start = moments(lines, &guess).unwrap_or(guess);
     let (fitted, likelihood) = maximise_from(lines, expected, start, &scale, true);
     let (v, best) = if likelihood > white_likelihood && fitted[0] > 0.0 {
         (fitted, likelihood)
@@ -79,6 +82,43 @@ pub(crate) fn maximise(
         likelihood_ratio,
         p_value,
     }
+}
+
+/// (σ²_u, σ²_a…) by the lines' moments, E|R_k|² = σ²_a + σ²_u·|G_k|², least squares
+/// weighted by each power's variance at `at` (the periodogram's: its mean squared),
+/// reweighted once at the first fit; `None` unless σ²_u and every σ²_a come out
+/// positive. A start for the likelihood's maximum, not an estimate: `at` needs σ²_u
+/// > 0, or the few lines at the resonance outweigh all others.
+fn moments(lines: &[Lines], at: &[f64]) -> Option<Vec<f64>> {
+    let mut v = at.to_vec();
+    for _ in 0..2 {
+        // Normal equations in (σ²_u, σ²_a…): unknowns q = 0 (drive) and 1 + group.
+        let q = v.len();
+        let (mut normal, mut rhs) = (DMatrix::<f64>::zeros(q, q), nalgebra::DVector::zeros(q));
+        for l in lines {
+            for (ch, &g) in l.groups.iter().enumerate() {
+                for k in likelihood_lines(l.size) {
+                    let gain = l.transfer[ch][k].norm_sqr();
+                    let mean = v[1 + g] + v[0] * gain;
+                    let w = 1.0 / (mean * mean).max(f64::MIN_POSITIVE);
+                    let power = l.residual[ch][k].norm_sqr();
+                    let x = [(0, gain), (1 + g, 1.0)];
+                    for &(a, xa) in &x {
+                        rhs[a] += w * xa * power;
+                        for &(b, xb) in &x {
+                            normal[(a, b)] += w * xa * xb;
+                        }
+                    }
+                }
+            }
+        }
+        let solved = normal.cholesky()?.solve(&rhs);
+        if !solved.iter().all(|x| x.is_finite() && *x > 0.0) {
+            return None;
+        }
+        v = solved.iter().copied().collect();
+    }
+    Some(v)
 }
 
 /// Each group's mean line power: the white model's variances.
@@ -128,6 +168,11 @@ fn maximise_from(
             .zip(delta.iter())
             .all(|(&q, d)| d.abs() <= STEP_TOLERANCE * v[q].abs().max(scale[q]));
         if small {
+            // Taken, not evaluated: Newton's next error is this step's square, so the
+            // result no longer depends on the start; the likelihood moves by as little.
+            for (i, &q) in free.iter().enumerate() {
+                v[q] = (v[q] + delta[i]).max(if q == 0 { 0.0 } else { 0.1 * v[q] });
+            }
             break;
         }
         let mut step = 1.0;
@@ -452,5 +497,38 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Newton's maximum does not depend on where it starts: from the lines' moments and
+    /// from a drive variance a hundred times too small (seven doublings away), the
+    /// variances agree to rounding, since the last step below tolerance is taken.
+    #[test]
+    fn the_maximum_does_not_depend_on_the_start() {
+        let (size, d, s) = (1024usize, 0.5, 40.0);
+        let gain = |k: usize| {
+            let r = k as f64 / 80.0;
+            Complex64::new(1.0 - r * r, 0.1 * r).inv()
+        };
+        let draws = msd_signal::gaussian_noise(7, "scoring test", 1.0, 2 * size).expect("draws");
+        let residual: Vec<Complex64> = (0..size)
+            .map(|k| {
+                let spread = ((d + s * gain(k).norm_sqr()) / 2.0).sqrt();
+                Complex64::new(draws[2 * k], draws[2 * k + 1]) * spread
+            })
+            .collect();
+        let lines = [Lines {
+            size,
+            groups: vec![0],
+            residual: vec![residual],
+            transfer: vec![(0..size).map(gain).collect()],
+        }];
+        let scale = [s, d];
+        let start = moments(&lines, &[0.01 * s, d]).expect("the drive's noise shows");
+        let (near, near_likelihood) = maximise_from(&lines, None, start, &scale, true);
+        let (far, far_likelihood) = maximise_from(&lines, None, vec![0.01 * s, d], &scale, true);
+        for (a, b) in near.iter().zip(&far) {
+            assert!((a - b).abs() < 1e-12 * a.abs(), "{near:?} against {far:?}");
+        }
+        assert!((near_likelihood - far_likelihood).abs() < 1e-12 * near_likelihood.abs());
     }
 }

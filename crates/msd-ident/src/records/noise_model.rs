@@ -50,7 +50,12 @@ pub(super) fn covariance(
         NoiseModel::White => None,
         NoiseModel::InputNoise => fit_spectral_model(problem, theta, &linearised)?,
     };
-    let Some((model, information)) = model else {
+    let Some(FittedModel {
+        model,
+        information,
+        lines,
+    }) = model
+    else {
         return Ok(Treated {
             theta,
             reported: white,
@@ -85,8 +90,8 @@ pub(super) fn covariance(
     // The weighted estimate trusts the noise model to weigh each line: only where the
     // residuals are white under it (a model that leaves colour, a nonlinearity, keeps
     // the output-error estimate, the best prediction in the time domain).
-    let as_fitted = whiteness(problem, theta, Some(&model), tests)?;
-    let trusted = shows && as_fitted.iter().all(|c| c.passed);
+    // Only the verdict is needed here; the whole check is taken where it is reported.
+    let trusted = shows && whitened_passes(problem, theta, &lines, &model, tests)?;
     let Some(weighted) = trusted.then(|| refit(problem, theta, &model)).flatten() else {
         // Left where the output-error fit put it (a failed refit may have moved it).
         problem.prepare(theta);
@@ -96,7 +101,7 @@ pub(super) fn covariance(
             reported,
             white,
             output_error: None,
-            whiteness: as_fitted,
+            whiteness: whiteness(problem, theta, Some(&model), tests)?,
             fit,
         });
     };
@@ -223,7 +228,7 @@ fn whiteness(
         let closed = (model.map(|_| closed_form(problem, rec, theta))).transpose()?;
         let lines = record_lines(problem, rec, closed.as_ref())?;
         let free = match &closed {
-            Some(closed) => free_responses(rec, closed),
+            Some(closed) => free_responses(rec, closed)?,
             None => vec![Vec::new(); rec.groups.len()],
         };
         for (ch, transient) in free.iter().enumerate() {
@@ -260,6 +265,27 @@ fn whiteness(
     Ok(checks)
 }
 
+/// Whether every channel's residual at θ (the problem prepared there, its `lines`
+/// taken there) passes the Ljung–Box test under `model`: [`whiteness`]'s verdict alone.
+fn whitened_passes(
+    problem: &Joint<'_>,
+    theta: [f64; 3],
+    lines: &[Lines],
+    model: &SpectralModel,
+    tests: &ResidualOptions,
+) -> Result<bool> {
+    for (rec, lines) in problem.records.iter().zip(lines) {
+        let free = free_responses(rec, &closed_form(problem, rec, theta)?)?;
+        for (ch, transient) in free.iter().enumerate() {
+            let test = whitened_ljung_box(lines, ch, model, tests.max_lag, rec.len, transient);
+            if test.p_value < 1.0 - tests.confidence {
+                return Ok(false);
+            }
+        }
+    }
+    Ok(true)
+}
+
 /// A record's plant at θ as the simulator discretises it, with its DFT's points
 /// (lines 0..=N/2): what the closed-form spectra are taken from.
 struct ClosedForm {
@@ -276,11 +302,19 @@ fn closed_form(problem: &Joint<'_>, rec: &RecordRows<'_>, theta: [f64; 3]) -> Re
 
 /// The DFTs (scaled as the residual's, every line) of each channel's free responses
 /// from a unit initial displacement and velocity.
-fn free_responses(rec: &RecordRows<'_>, closed: &ClosedForm) -> Vec<Vec<Vec<Complex64>>> {
-    let free = free_spectra(&closed.sim, &rec.maps, &closed.points, rec.len);
-    (free.into_iter())
+fn free_responses(rec: &RecordRows<'_>, closed: &ClosedForm) -> Result<Vec<Vec<Vec<Complex64>>>> {
+    let free =
+        free_spectra(&closed.sim, &rec.maps, &closed.points, rec.len).ok_or_else(singular)?;
+    Ok((free.into_iter())
         .map(|pair| pair.into_iter().map(|b| mirrored(b, rec.len)).collect())
-        .collect()
+        .collect())
+}
+
+/// The refusal where zI − Φ is singular at a line of a record's DFT.
+fn singular() -> IdentError {
+    IdentError::EstimationFailed {
+        reason: "the plant's frequency response is singular on the record's lines".into(),
+    }
 }
 
 /// The plant at θ under the problem's drive.
@@ -307,6 +341,14 @@ fn drive_rms(problem: &Joint<'_>) -> f64 {
     (sum / count.max(1) as f64).sqrt()
 }
 
+/// The spectral model with the Fisher information of ln θ under it and the records'
+/// lines it was fitted to.
+struct FittedModel {
+    model: SpectralModel,
+    information: DMatrix<f64>,
+    lines: Vec<Lines>,
+}
+
 /// Fits the spectral model to the residuals of the prepared problem at θ, with the
 /// Fisher information of ln θ under it (None for a free decay: no drive, no drive
 /// noise).
@@ -316,7 +358,7 @@ fn fit_spectral_model(
     problem: &Joint<'_>,
     theta: [f64; 3],
     linearised: &Linearised,
-) -> Result<Option<(SpectralModel, DMatrix<f64>)>> {
+) -> Result<Option<FittedModel>> {
     if problem.drive == Drive::None {
         return Ok(None);
     }
@@ -345,12 +387,12 @@ fn fit_spectral_model(
         })
         .collect();
     let groups = problem.group_names.len();
-    Ok(Some(restricted_fit(
-        &lines,
-        &fits,
-        &linearised.inverse,
-        groups,
-    )))
+    let (model, information) = restricted_fit(&lines, &fits, &linearised.inverse, groups);
+    Ok(Some(FittedModel {
+        model,
+        information,
+        lines,
+    }))
 }
 
 /// Per channel, the record's initial-state responses that the fit projected θ's
@@ -396,9 +438,6 @@ fn record_lines(
         .collect();
     let transfer = if let Some(closed) = closed {
         let half = transfer_spectra(&closed.sim, &rec.maps, &closed.points);
-        let singular = || IdentError::EstimationFailed {
-            reason: "the plant's frequency response is singular on the record's lines".into(),
-        };
         (half.ok_or_else(singular)?.into_iter())
             .map(|g| mirrored(g, size))
             .collect()

@@ -10,7 +10,7 @@
 //! C·(I − Φᴺ)·(I − Φ/z_k)⁻¹·e_i exactly (a geometric series; z_k^N = 1).
 
 use super::model::OutputMap;
-use msd_ode::{ExactSimulator, SMatrix};
+use msd_ode::{ExactSimulator, Resolvent, SMatrix, SVector};
 use rustfft::num_complex::Complex64;
 
 /// The points z_k = e^{2πik/N} of the lines k = 0..=N/2 of an N-point DFT (the rest are
@@ -40,42 +40,45 @@ pub(super) fn transfer_spectra(
 
 /// Each channel's two free responses (from a unit initial displacement and velocity)
 /// at the lines k = 0..=N/2 of the record's N-point DFT (`points`), scaled by 1/√N as
-/// a residual's spectrum, at the transition matrix of `sim`.
+/// a residual's spectrum, at the transition matrix of `sim`; `None` where zI − Φ is
+/// singular.
 pub(super) fn free_spectra(
     sim: &ExactSimulator<2>,
     maps: &[OutputMap],
     points: &[Complex64],
     n: usize,
-) -> Vec<[Vec<Complex64>; 2]> {
-    let phi = sim.transition();
-    let end = SMatrix::<f64, 2, 2>::identity() - phi.pow(n as u32);
+) -> Option<Vec<[Vec<Complex64>; 2]>> {
+    let rows = free_rows(sim, maps, n);
+    let capacity = points.len();
+    let mut out = vec![[Vec::with_capacity(capacity), Vec::with_capacity(capacity)]; maps.len()];
+    for z in points {
+        let columns = free_columns(&sim.resolvent(*z)?)?;
+        for (pair, row) in out.iter_mut().zip(&rows) {
+            for (column, x) in pair.iter_mut().zip(&columns) {
+                column.push(row[0] * x[0] + row[1] * x[1]);
+            }
+        }
+    }
+    Some(out)
+}
+
+/// cᵀ·(I − Φᴺ)/√N per channel: the row that (I − Φ/z)⁻¹ ([`free_columns`]) turns into
+/// the channel's free responses at a line of an N-point record.
+pub(super) fn free_rows(sim: &ExactSimulator<2>, maps: &[OutputMap], n: usize) -> Vec<[f64; 2]> {
+    let end = SMatrix::<f64, 2, 2>::identity() - sim.transition().pow(n as u32);
     let scale = 1.0 / (n as f64).sqrt();
-    // cᵀ·(I − Φᴺ), per channel: the row the resolvent multiplies.
-    let rows: Vec<[f64; 2]> = (maps.iter())
+    (maps.iter())
         .map(|m| {
             let r = nalgebra::RowVector2::new(m.c[0], m.c[1]) * end;
             [r[0] * scale, r[1] * scale]
         })
-        .collect();
-    let capacity = points.len();
-    let mut out = vec![[Vec::with_capacity(capacity), Vec::with_capacity(capacity)]; maps.len()];
-    for z in points {
-        // (I − Φ/z)⁻¹ = z·(zI − Φ)⁻¹, by the 2 × 2 adjugate.
-        let (a, b, c, d) = (
-            *z - phi[(0, 0)],
-            -phi[(0, 1)],
-            -phi[(1, 0)],
-            *z - phi[(1, 1)],
-        );
-        let factor = *z / (a * d - b * c);
-        let inverse = [[d * factor, -b * factor], [-c * factor, a * factor]];
-        for (columns, r) in out.iter_mut().zip(&rows) {
-            for (i, column) in columns.iter_mut().enumerate() {
-                column.push(r[0] * inverse[0][i] + r[1] * inverse[1][i]);
-            }
-        }
-    }
-    out
+        .collect()
+}
+
+/// The columns of (I − Φ/z)⁻¹ = z·(zI − Φ)⁻¹ at a line.
+pub(super) fn free_columns(line: &Resolvent<2>) -> Option<[SVector<Complex64, 2>; 2]> {
+    let (z, zero) = (line.z(), Complex64::new(0.0, 0.0));
+    Some([line.solve([z, zero])?, line.solve([zero, z])?])
 }
 
 /// The lines 0..=N/2 of a real sequence's DFT completed to N by conjugate symmetry.
@@ -110,7 +113,7 @@ mod tests {
         ];
         let phi = sim.transition();
         for n in [63usize, 64] {
-            let free = free_spectra(&sim, &maps, &line_points(n), n);
+            let free = free_spectra(&sim, &maps, &line_points(n), n).expect("regular");
             for (map, pair) in maps.iter().zip(&free) {
                 for (i, closed) in pair.iter().enumerate() {
                     let mut state = SMatrix::<f64, 2, 1>::zeros();

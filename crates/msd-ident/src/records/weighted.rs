@@ -32,7 +32,7 @@
 
 use super::model::OutputMap;
 use super::problem::{Joint, RecordRows};
-use super::spectra::{free_spectra, line_points, transfer_spectra};
+use super::spectra::{free_columns, free_rows, line_points};
 use crate::input_noise::{SpectralModel, concentrate, likelihood_lines, spectra};
 use crate::plant::Plant;
 use msd_ode::{ExactSimulator, SVector, SampledInput};
@@ -75,8 +75,8 @@ pub(super) fn refit(
 ) -> Option<Weighted> {
     let variances = Variances::of(model, problem)?;
     let mut x = problem.pack(theta0);
-    let (mut e, mut states) = whitened(problem, &x, &variances)?;
-    let mut cost = e.norm_squared();
+    let mut at = whitened(problem, &x, &variances)?;
+    let mut cost = at.e.norm_squared();
     // The chord method: the Jacobian of the start kept for every step (six evaluations
     // saved per step). The estimate moves from the output-error one by a few standard
     // errors, over which J changes little; its fixed point J₀ᵀ·ε = 0 lies off the
@@ -85,7 +85,7 @@ pub(super) fn refit(
     let normal = j.tr_mul(&j);
     let factor = normal.clone().cholesky()?;
     for _ in 0..MAX_STEPS {
-        let step = factor.solve(&(-j.tr_mul(&e)));
+        let step = factor.solve(&(-j.tr_mul(&at.e)));
         // The step in standard errors (ε is whitened: JᵀJ is the information), the
         // Newton decrement: below DECREMENT the estimate sits far inside its precision.
         let decrement = (step.transpose() * &normal * &step)[(0, 0)].sqrt();
@@ -99,25 +99,26 @@ pub(super) fn refit(
         let (mut scale, mut accepted) = (1.0, None);
         for _ in 0..trials {
             let trial: Vec<f64> = x.iter().zip(&step).map(|(a, d)| a + scale * d).collect();
-            if let Some((t, s)) = whitened(problem, &trial, &variances) {
-                let c = t.norm_squared();
+            if let Some(t) = whitened(problem, &trial, &variances) {
+                let c = t.e.norm_squared();
                 if c <= cost {
-                    accepted = Some((trial, t, s, c));
+                    accepted = Some((trial, t, c));
                     break;
                 }
             }
             scale *= 0.5;
         }
-        let Some((trial, t, s, c)) = accepted else {
+        let Some((trial, t, c)) = accepted else {
             break;
         };
         let change = (cost - c) / cost;
-        (x, e, states, cost) = (trial, t, s, c);
+        (x, at, cost) = (trial, t, c);
         if change < TOLERANCE || step.norm() * scale < 1e-10 {
             break;
         }
     }
-    let sensitivities = sensitivities(problem, &x, &states, &variances)?;
+    let residuals = at.e.len();
+    let sensitivities = sensitivities(problem, &x, at, &variances)?;
     let (f, columns) = information(&sensitivities, &variances);
     let inverse = f.try_inverse()?;
     let weights = score_weights(problem, &sensitivities, &columns, &variances);
@@ -126,8 +127,7 @@ pub(super) fn refit(
         return None;
     }
     problem.solve_linear();
-    let expected = e
-        .len()
+    let expected = residuals
         .saturating_sub(x.len() + 2 * problem.records.len())
         .max(1);
     Some(Weighted {
@@ -171,7 +171,12 @@ struct RecordSpectra {
 /// Every record's spectra at ln θ = `x`, in closed form: the model's lines from the
 /// measured drive's transforms ([`msd_ode::ExactSimulator::state_spectrum`]); the
 /// response is simulated for its last state alone and nothing is transformed.
-fn spectra_at(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<Vec<RecordSpectra>> {
+fn spectra_at(
+    problem: &Joint<'_>,
+    x: &[f64],
+    variances: &Variances,
+    transfer: bool,
+) -> Option<Vec<RecordSpectra>> {
     let theta = problem.theta(x);
     if !theta.iter().all(|v| v.is_finite() && *v > 0.0) {
         return None;
@@ -184,22 +189,10 @@ fn spectra_at(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<V
     (problem.records.iter().zip(&variances.measured))
         .map(|(rec, measured)| {
             let maps: Vec<OutputMap> = rec.kinds.iter().map(|k| plant.output(*k)).collect();
-            let residual = measured.residual(&sim, &maps, problem.drive_input(rec))?;
-            let lines = |v: &[Complex64]| v[likelihood_lines(rec.len)].to_vec();
-            let mut basis = [Vec::new(), Vec::new()];
-            if problem.state {
-                for [b0, b1] in free_spectra(&sim, &maps, &measured.points, rec.len) {
-                    basis[0].push(lines(&b0));
-                    basis[1].push(lines(&b1));
-                }
-            }
-            let transfer = transfer_spectra(&sim, &maps, &measured.points)?;
-            Some(RecordSpectra {
-                groups: rec.groups.clone(),
-                residual,
-                basis,
-                transfer: transfer.iter().map(|g| lines(g)).collect(),
-            })
+            let input = problem.drive_input(rec);
+            let mut spectra = measured.model_lines(&sim, &maps, input, problem.state, transfer)?;
+            spectra.groups = rec.groups.clone();
+            Some(spectra)
         })
         .collect()
 }
@@ -216,6 +209,8 @@ struct Measured {
     drive: Vec<Complex64>,
     /// Mⱼ at the likelihood lines.
     hold: Vec<[Complex64; 4]>,
+    /// The hold's interior transforms Pⱼ at the likelihood lines: the transfer's.
+    stencil: Vec<[Complex64; 4]>,
 }
 
 impl Measured {
@@ -239,8 +234,12 @@ impl Measured {
         let transforms: [Vec<Complex64>; 4] =
             std::array::from_fn(|_| all.next().unwrap_or_default());
         let drive = all.next()?;
+        let points = line_points(n);
         Some(Self {
-            points: line_points(n),
+            stencil: (points[lines.clone()].iter())
+                .map(|z| problem.hold.interior_transforms(*z))
+                .collect(),
+            points,
             outputs: all.collect(),
             drive,
             hold: (0..lines.len())
@@ -249,14 +248,19 @@ impl Measured {
         })
     }
 
-    /// Each channel's residual from rest y − f(θ) at the likelihood lines, with the
-    /// record's `input`: f's state from the closed form, its last state simulated.
-    fn residual(
+    /// The record's spectra at the plant `sim` discretises (its outputs `maps`, the
+    /// record's `input`): each channel's residual from rest y − f(θ), f's state from
+    /// the closed form with its last state simulated; the free responses when the
+    /// initial `state` is estimated; the `transfer` when asked. One resolvent per line
+    /// serves all three. `groups` is left for the caller.
+    fn model_lines(
         &self,
         sim: &ExactSimulator<2>,
         maps: &[OutputMap],
         input: SampledInput<'_>,
-    ) -> Option<Vec<Vec<Complex64>>> {
+        state: bool,
+        transfer: bool,
+    ) -> Option<RecordSpectra> {
         let n = input.values.len();
         let mut last = SVector::<f64, 2>::zeros();
         (sim.simulate_with(&SVector::zeros(), &input, |i, s| {
@@ -267,29 +271,64 @@ impl Measured {
         .ok()?;
         last /= (n as f64).sqrt();
         let first = likelihood_lines(n).start;
-        let mut out: Vec<Vec<Complex64>> = self.outputs.clone();
+        let rows = if state {
+            free_rows(sim, maps, n)
+        } else {
+            Vec::new()
+        };
+        let lines = self.hold.len();
+        let empty = || vec![Vec::with_capacity(lines); maps.len()];
+        let (mut basis, mut gains) = ([empty(), empty()], empty());
+        let mut residual: Vec<Vec<Complex64>> = self.outputs.clone();
         for (j, hold) in self.hold.iter().enumerate() {
-            let x = sim.state_spectrum(self.points[first + j], &SVector::zeros(), &last, hold)?;
-            for (r, map) in out.iter_mut().zip(maps) {
+            let line = sim.resolvent(self.points[first + j])?;
+            let x = line.state_spectrum(sim, &SVector::zeros(), &last, hold)?;
+            for (r, map) in residual.iter_mut().zip(maps) {
                 r[j] -= x[0] * map.c[0] + x[1] * map.c[1] + self.drive[j] * map.d;
             }
+            if transfer {
+                let g = line.held_response(sim, &self.stencil[j])?;
+                for (t, map) in gains.iter_mut().zip(maps) {
+                    t.push(map.c[0] * g[0] + map.c[1] * g[1] + map.d);
+                }
+            }
+            if state {
+                let columns = free_columns(&line)?;
+                for (ch, row) in rows.iter().enumerate() {
+                    for (b, x) in basis.iter_mut().zip(&columns) {
+                        b[ch].push(row[0] * x[0] + row[1] * x[1]);
+                    }
+                }
+            }
         }
-        Some(out)
+        Some(RecordSpectra {
+            groups: Vec::new(),
+            residual,
+            basis: if state {
+                basis
+            } else {
+                [Vec::new(), Vec::new()]
+            },
+            transfer: gains,
+        })
     }
 }
 
 /// ε at ln θ = `x`: every record's lines whitened by S_k(θ), √2·Re then √2·Im of each
 /// channel's line, each record's initial state concentrated out; with each record's
-/// initial state.
-fn whitened(
-    problem: &Joint<'_>,
-    x: &[f64],
-    variances: &Variances,
-) -> Option<(DVector<f64>, Vec<[f64; 2]>)> {
+/// initial state and spectra.
+struct Evaluation {
+    e: DVector<f64>,
+    states: Vec<[f64; 2]>,
+    spectra: Vec<RecordSpectra>,
+}
+
+fn whitened(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<Evaluation> {
     let mut out = Vec::new();
     let mut states = Vec::new();
-    for record in spectra_at(problem, x, variances)? {
-        let whitening = Whitening::of(&record, variances);
+    let spectra = spectra_at(problem, x, variances, true)?;
+    for record in &spectra {
+        let whitening = Whitening::of(record, variances);
         let metric = |k: usize, v: &mut [Complex64]| whitening.apply(k, v);
         let residual = columns(&record.residual, metric);
         let (e, state) = if problem.state {
@@ -302,9 +341,11 @@ fn whitened(
         out.extend(e.iter().flat_map(|v| [root2 * v.re, root2 * v.im]));
         states.push(state);
     }
-    out.iter()
-        .all(|v| v.is_finite())
-        .then(|| (DVector::from_vec(out), states))
+    (out.iter().all(|v| v.is_finite())).then(|| Evaluation {
+        e: DVector::from_vec(out),
+        states,
+        spectra,
+    })
 }
 
 /// ∂ε/∂ln θ by central differences.
@@ -313,9 +354,9 @@ fn jacobian(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<DMa
     for p in 0..x.len() {
         let mut shifted = x.to_vec();
         shifted[p] = x[p] + STEP;
-        let (up, _) = whitened(problem, &shifted, variances)?;
+        let up = whitened(problem, &shifted, variances)?.e;
         shifted[p] = x[p] - STEP;
-        let (down, _) = whitened(problem, &shifted, variances)?;
+        let down = whitened(problem, &shifted, variances)?.e;
         columns.push((up - down) / (2.0 * STEP));
     }
     Some(DMatrix::from_columns(&columns))
@@ -332,7 +373,7 @@ struct Sensitivities {
 fn sensitivities(
     problem: &Joint<'_>,
     x: &[f64],
-    states: &[[f64; 2]],
+    at: Evaluation,
     variances: &Variances,
 ) -> Option<Vec<Sensitivities>> {
     let total = |s: &RecordSpectra, state: &[f64; 2]| -> Vec<Vec<Complex64>> {
@@ -346,13 +387,14 @@ fn sensitivities(
         }
         r
     };
+    let states = &at.states;
     let mut derivatives = vec![Vec::new(); states.len()];
     for p in 0..x.len() {
         let mut shifted = x.to_vec();
         shifted[p] = x[p] + STEP;
-        let up = spectra_at(problem, &shifted, variances)?;
+        let up = spectra_at(problem, &shifted, variances, false)?;
         shifted[p] = x[p] - STEP;
-        let down = spectra_at(problem, &shifted, variances)?;
+        let down = spectra_at(problem, &shifted, variances, false)?;
         for (r, (u, d)) in up.iter().zip(&down).enumerate() {
             let (u, d) = (total(u, &states[r]), total(d, &states[r]));
             let column = u.iter().zip(&d).map(|(u, d)| {
@@ -363,9 +405,9 @@ fn sensitivities(
             derivatives[r].push(column.collect());
         }
     }
-    let at = spectra_at(problem, x, variances)?;
     Some(
-        at.into_iter()
+        at.spectra
+            .into_iter()
             .zip(derivatives)
             .map(|(at, derivatives)| Sensitivities { at, derivatives })
             .collect(),

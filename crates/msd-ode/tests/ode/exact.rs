@@ -455,17 +455,22 @@ fn impulse_against_response<const N: usize>(sim: &ExactSimulator<N>, hold: Hold)
             }
         }
         let response = sim.frequency_response(z).expect("regular");
+        // The same response from the hold's interior transforms (one resolvent).
+        let resolvent = sim.resolvent(z).expect("regular");
+        let held = (resolvent.held_response(sim, &hold.interior_transforms(z))).expect("regular");
         for i in 0..N {
             // Near Nyquist the sum cancels to 1e-4 of its terms: its rounding, about
             // n·ε·Σ|x|, is the floor.
             let floor = n as f64 * f64::EPSILON * x.iter().map(|s| s[i].abs()).sum::<f64>();
             let scale = dft[i].norm() + floor / 1e-9;
-            assert!(
-                (response[i] - dft[i]).norm() < 1e-9 * scale,
-                "{hold:?}, {N} states, line {line}, state {i}: {} against {}",
-                response[i],
-                dft[i]
-            );
+            for (how, r) in [("stencil weights", response), ("interior transforms", held)] {
+                assert!(
+                    (r[i] - dft[i]).norm() < 1e-9 * scale,
+                    "{hold:?} by its {how}, {N} states, line {line}, state {i}: {} against {}",
+                    r[i],
+                    dft[i]
+                );
+            }
         }
     }
 }
