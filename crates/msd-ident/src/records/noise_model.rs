@@ -613,6 +613,46 @@ mod tests {
 
     /// A record of the plant (1.7 kg, 3.1 N·s/m, 950 N/m) under a random force, with an
     /// accelerometer and a displacement sensor, noise-free.
+    /// The sensitivity system's output derivatives are the central differences of the
+    /// model's response from the same initial state (to their O(h²) and rounding), at a
+    /// θ other than the one the problem was prepared at: the outputs are taken at θ.
+    #[test]
+    fn the_output_sensitivities_are_the_responses_derivatives() {
+        let (dt, n) = (1e-2, 400);
+        let record = two_channel_record(dt, n);
+        let kinds = vec![vec![OutputKind::Acceleration, OutputKind::Displacement]];
+        let options = RecordsOptions::default();
+        let mut problem = Joint::new(&[&record], &kinds, &options, [None; 3]);
+        assert!(problem.prepare([1.2, 2.0, 700.0]));
+        let (theta, state) = ([1.7, 3.1, 950.0], [2e-3, -0.04]);
+        let exact =
+            (problem.output_sensitivities(&problem.records[0], theta, state)).expect("simulated");
+        let h = 1e-5;
+        for (p, exact) in exact.iter().enumerate() {
+            let mut response = |sign: f64| {
+                let mut shifted = theta;
+                shifted[p] *= (sign * h).exp();
+                assert!(problem.prepare(shifted));
+                let g = |row: usize| problem.basis[row];
+                (0..2 * n)
+                    .map(|row| problem.forced[row] + g(row)[0] * state[0] + g(row)[1] * state[1])
+                    .collect::<Vec<f64>>()
+            };
+            let (up, down) = (response(1.0), response(-1.0));
+            for (ch, exact) in exact.iter().enumerate() {
+                let size = exact.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for (t, v) in exact.iter().enumerate() {
+                    let row = ch * n + t;
+                    let difference = (up[row] - down[row]) / (2.0 * h);
+                    assert!(
+                        (difference - v).abs() < 1e-7 * size,
+                        "θ_{p}, channel {ch}, sample {t}: {v} against {difference}"
+                    );
+                }
+            }
+        }
+    }
+
     fn two_channel_record(dt: f64, n: usize) -> Record {
         let plant = Parameters {
             mass: 1.7,

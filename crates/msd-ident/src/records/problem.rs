@@ -258,7 +258,7 @@ impl<'a> Joint<'a> {
             let mut z0 = SVector::<f64, 8>::zeros();
             [z0[0], z0[1]] = self.initial_state(rec);
             let input = input(self.drive, &self.zeros, rec);
-            let coefficients = self.jacobian_coefficients(rec, theta);
+            let coefficients = self.jacobian_coefficients(&rec.maps, theta, &rec.weights);
             let cols = out.as_mut_slice();
             sim.simulate_with(&z0, &input, |i, z| {
                 let u = input.values[i];
@@ -277,12 +277,51 @@ impl<'a> Joint<'a> {
         Ok(())
     }
 
-    /// Per channel and free parameter p, the row k with −w·θ_p·∂y/∂θ_p = k·(z, u), z
-    /// the 8 states of the sensitivity system: ∂y/∂θ_p = C·s_p + C_p·s + D_p·u.
-    fn jacobian_coefficients(&self, rec: &RecordRows<'_>, theta: [f64; 3]) -> Vec<Vec<[f64; 9]>> {
-        rec.maps
-            .iter()
-            .zip(&rec.weights)
+    /// Each free parameter's ∂y/∂ln θ_p of the model of `rec` (unweighted, one series
+    /// per channel) at θ from the initial state `state`, by the sensitivity system:
+    /// exact, where differences of two responses carry their step's error.
+    pub(crate) fn output_sensitivities(
+        &self,
+        rec: &RecordRows<'_>,
+        theta: [f64; 3],
+        state: [f64; 2],
+    ) -> Result<Vec<Vec<Vec<f64>>>> {
+        let plant = Plant {
+            theta,
+            drive: self.drive,
+        };
+        let sim = plant.sensitivities(self.dt, self.hold)?;
+        let mut z0 = SVector::<f64, 8>::zeros();
+        [z0[0], z0[1]] = state;
+        let input = input(self.drive, &self.zeros, rec);
+        // The outputs at θ (the prepared ones may be another θ's); weight −1: the
+        // coefficients give θ_p·∂y/∂θ_p itself.
+        let maps: Vec<OutputMap> = rec.kinds.iter().map(|k| plant.output(*k)).collect();
+        let coefficients = self.jacobian_coefficients(&maps, theta, &vec![-1.0; maps.len()]);
+        let mut out = vec![vec![vec![0.0; rec.len]; rec.maps.len()]; self.free.len()];
+        sim.simulate_with(&z0, &input, |i, z| {
+            let u = input.values[i];
+            for (ch, by_column) in coefficients.iter().enumerate() {
+                for (col, k) in by_column.iter().enumerate() {
+                    let dot: f64 = (0..8).map(|j| k[j] * z[j]).sum();
+                    out[col][ch][i] = dot + k[8] * u;
+                }
+            }
+        })?;
+        Ok(out)
+    }
+
+    /// Per channel (its output `maps`, weighted by `weights`) and free parameter p, the
+    /// row k with −w·θ_p·∂y/∂θ_p = k·(z, u), z the 8 states of the sensitivity system:
+    /// ∂y/∂θ_p = C·s_p + C_p·s + D_p·u.
+    fn jacobian_coefficients(
+        &self,
+        maps: &[OutputMap],
+        theta: [f64; 3],
+        weights: &[f64],
+    ) -> Vec<Vec<[f64; 9]>> {
+        maps.iter()
+            .zip(weights)
             .map(|(map, &w)| {
                 self.free
                     .iter()

@@ -18,7 +18,8 @@
 //! plus rank one), the Jacobian by central differences in ln θ at the start (the chord
 //! method), each step halved until V falls (twice at most once the step is below 0.1
 //! standard errors: the chord's resolution), until a step is below 1e-4 standard errors
-//! (the Newton decrement). Its information is F = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·∂R_k) over the lines, each
+//! (the Newton decrement). Its information is F = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·∂R_k) over the
+//! lines (∂R_k exact: the transforms of the sensitivity system's outputs), each
 //! record's initial state concentrated out in S's metric (a Schur complement): F⁻¹ is
 //! the Cramér–Rao bound of the model as fitted. The covariance reported is the
 //! sandwich F⁻¹·B·F⁻¹ of the estimating equations s = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·R_k):
@@ -118,7 +119,7 @@ pub(super) fn refit(
         }
     }
     let residuals = at.e.len();
-    let sensitivities = sensitivities(problem, &x, at, &variances)?;
+    let sensitivities = sensitivities(problem, &x, at)?;
     let (f, columns) = information(&sensitivities, &variances);
     let inverse = f.try_inverse()?;
     let weights = score_weights(problem, &sensitivities, &columns, &variances);
@@ -171,12 +172,7 @@ struct RecordSpectra {
 /// Every record's spectra at ln θ = `x`, in closed form: the model's lines from the
 /// measured drive's transforms ([`msd_ode::ExactSimulator::state_spectrum`]); the
 /// response is simulated for its last state alone and nothing is transformed.
-fn spectra_at(
-    problem: &Joint<'_>,
-    x: &[f64],
-    variances: &Variances,
-    transfer: bool,
-) -> Option<Vec<RecordSpectra>> {
+fn spectra_at(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<Vec<RecordSpectra>> {
     let theta = problem.theta(x);
     if !theta.iter().all(|v| v.is_finite() && *v > 0.0) {
         return None;
@@ -190,7 +186,7 @@ fn spectra_at(
         .map(|(rec, measured)| {
             let maps: Vec<OutputMap> = rec.kinds.iter().map(|k| plant.output(*k)).collect();
             let input = problem.drive_input(rec);
-            let mut spectra = measured.model_lines(&sim, &maps, input, problem.state, transfer)?;
+            let mut spectra = measured.model_lines(&sim, &maps, input, problem.state)?;
             spectra.groups = rec.groups.clone();
             Some(spectra)
         })
@@ -251,15 +247,14 @@ impl Measured {
     /// The record's spectra at the plant `sim` discretises (its outputs `maps`, the
     /// record's `input`): each channel's residual from rest y − f(θ), f's state from
     /// the closed form with its last state simulated; the free responses when the
-    /// initial `state` is estimated; the `transfer` when asked. One resolvent per line
-    /// serves all three. `groups` is left for the caller.
+    /// initial `state` is estimated; the transfer. One resolvent per line serves all
+    /// three. `groups` is left for the caller.
     fn model_lines(
         &self,
         sim: &ExactSimulator<2>,
         maps: &[OutputMap],
         input: SampledInput<'_>,
         state: bool,
-        transfer: bool,
     ) -> Option<RecordSpectra> {
         let n = input.values.len();
         let mut last = SVector::<f64, 2>::zeros();
@@ -286,11 +281,9 @@ impl Measured {
             for (r, map) in residual.iter_mut().zip(maps) {
                 r[j] -= x[0] * map.c[0] + x[1] * map.c[1] + self.drive[j] * map.d;
             }
-            if transfer {
-                let g = line.held_response(sim, &self.stencil[j])?;
-                for (t, map) in gains.iter_mut().zip(maps) {
-                    t.push(map.c[0] * g[0] + map.c[1] * g[1] + map.d);
-                }
+            let g = line.held_response(sim, &self.stencil[j])?;
+            for (t, map) in gains.iter_mut().zip(maps) {
+                t.push(map.c[0] * g[0] + map.c[1] * g[1] + map.d);
             }
             if state {
                 let columns = free_columns(&line)?;
@@ -326,7 +319,7 @@ struct Evaluation {
 fn whitened(problem: &Joint<'_>, x: &[f64], variances: &Variances) -> Option<Evaluation> {
     let mut out = Vec::new();
     let mut states = Vec::new();
-    let spectra = spectra_at(problem, x, variances, true)?;
+    let spectra = spectra_at(problem, x, variances)?;
     for record in &spectra {
         let whitening = Whitening::of(record, variances);
         let metric = |k: usize, v: &mut [Complex64]| whitening.apply(k, v);
@@ -368,50 +361,27 @@ struct Sensitivities {
     derivatives: Vec<Vec<Vec<Complex64>>>,
 }
 
-/// Each record's spectra at ln θ = `x` and the derivatives of its residual
-/// R = y − f(θ) − B(θ)·x₀ at the initial states `states`, by central differences.
-fn sensitivities(
-    problem: &Joint<'_>,
-    x: &[f64],
-    at: Evaluation,
-    variances: &Variances,
-) -> Option<Vec<Sensitivities>> {
-    let total = |s: &RecordSpectra, state: &[f64; 2]| -> Vec<Vec<Complex64>> {
-        let mut r = s.residual.clone();
-        if !s.basis[0].is_empty() {
-            for (ch, r) in r.iter_mut().enumerate() {
-                for (k, v) in r.iter_mut().enumerate() {
-                    *v -= s.basis[0][ch][k] * state[0] + s.basis[1][ch][k] * state[1];
-                }
-            }
-        }
-        r
-    };
-    let states = &at.states;
-    let mut derivatives = vec![Vec::new(); states.len()];
-    for p in 0..x.len() {
-        let mut shifted = x.to_vec();
-        shifted[p] = x[p] + STEP;
-        let up = spectra_at(problem, &shifted, variances, false)?;
-        shifted[p] = x[p] - STEP;
-        let down = spectra_at(problem, &shifted, variances, false)?;
-        for (r, (u, d)) in up.iter().zip(&down).enumerate() {
-            let (u, d) = (total(u, &states[r]), total(d, &states[r]));
-            let column = u.iter().zip(&d).map(|(u, d)| {
-                (u.iter().zip(d))
-                    .map(|(u, d)| (u - d) / (2.0 * STEP))
-                    .collect()
-            });
-            derivatives[r].push(column.collect());
-        }
-    }
-    Some(
-        at.spectra
-            .into_iter()
-            .zip(derivatives)
-            .map(|(at, derivatives)| Sensitivities { at, derivatives })
-            .collect(),
-    )
+/// Each record's spectra at ln θ = `x` (those of the evaluation `at`) and the
+/// derivatives of its residual R = y − f(θ) − B(θ)·x₀ at its initial state: the
+/// transforms of the sensitivity system's output derivatives, exact (the closed-form
+/// lines are the simulated record's DFT).
+fn sensitivities(problem: &Joint<'_>, x: &[f64], at: Evaluation) -> Option<Vec<Sensitivities>> {
+    let theta = problem.theta(x);
+    (problem.records.iter().zip(at.spectra).zip(&at.states))
+        .map(|((rec, at), state)| {
+            let series = problem.output_sensitivities(rec, theta, *state).ok()?;
+            let (n, lines) = (rec.len, likelihood_lines(rec.len));
+            // ∂R = −∂y, transformed as the residual is.
+            let scale = -1.0 / (n as f64).sqrt();
+            let derivatives = (series.iter())
+                .map(|channels| {
+                    let all = spectra(channels.iter().map(|c| c.iter().copied()), n, scale);
+                    all.into_iter().map(|s| s[lines.clone()].to_vec()).collect()
+                })
+                .collect();
+            Some(Sensitivities { at, derivatives })
+        })
+        .collect()
 }
 
 /// F = Σ_k 2·Re(∂R_kᴴ·S_k⁻¹·∂R_k) under `variances`, each record's initial state
