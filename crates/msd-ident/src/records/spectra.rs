@@ -76,7 +76,7 @@ pub(super) fn free_rows(sim: &ExactSimulator<2>, maps: &[OutputMap], n: usize) -
 }
 
 /// The columns of (I − Φ/z)⁻¹ = z·(zI − Φ)⁻¹ at a line.
-pub(super) fn free_columns(line: &Resolvent<2>) -> Option<[SVector<Complex64, 2>; 2]> {
+pub(super) fn free_columns(line: &Resolvent<'_, 2>) -> Option<[SVector<Complex64, 2>; 2]> {
     let (z, zero) = (line.z(), Complex64::new(0.0, 0.0));
     Some([line.solve([z, zero])?, line.solve([zero, z])?])
 }

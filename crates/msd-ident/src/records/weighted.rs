@@ -277,11 +277,11 @@ impl Measured {
         let mut residual: Vec<Vec<Complex64>> = self.outputs.clone();
         for (j, hold) in self.hold.iter().enumerate() {
             let line = sim.resolvent(self.points[first + j])?;
-            let x = line.state_spectrum(sim, &SVector::zeros(), &last, hold)?;
+            let x = line.state_spectrum(&SVector::zeros(), &last, hold)?;
             for (r, map) in residual.iter_mut().zip(maps) {
                 r[j] -= x[0] * map.c[0] + x[1] * map.c[1] + self.drive[j] * map.d;
             }
-            let g = line.held_response(sim, &self.stencil[j])?;
+            let g = line.held_response(&self.stencil[j])?;
             for (t, map) in gains.iter_mut().zip(maps) {
                 t.push(map.c[0] * g[0] + map.c[1] * g[1] + map.d);
             }

@@ -29,7 +29,7 @@ impl<const N: usize> ExactSimulator<N> {
     /// # Ok::<(), msd_ode::OdeError>(())
     /// ```
     pub fn frequency_response(&self, z: Complex<f64>) -> Option<SVector<Complex<f64>, N>> {
-        self.resolvent(z)?.frequency_response(self)
+        self.resolvent(z)?.frequency_response()
     }
 
     /// The DFT of a simulated record's states at a line z of its n-point DFT (zⁿ = 1),
@@ -75,7 +75,7 @@ impl<const N: usize> ExactSimulator<N> {
         last: &SVector<f64, N>,
         hold: &[Complex<f64>; 4],
     ) -> Option<SVector<Complex<f64>, N>> {
-        self.resolvent(z)?.state_spectrum(self, x0, last, hold)
+        self.resolvent(z)?.state_spectrum(x0, last, hold)
     }
 
     /// (zI − Φ) at the line z, ready to solve: one line's [`frequency_response`],
@@ -95,7 +95,7 @@ impl<const N: usize> ExactSimulator<N> {
     /// let sim = ExactSimulator::new(&model, 0.05, Hold::Cubic)?;
     /// let z = Complex::from_polar(1.0, 0.3);
     /// let line = sim.resolvent(z).unwrap();
-    /// assert_eq!(line.frequency_response(&sim), sim.frequency_response(z));
+    /// assert_eq!(line.frequency_response(), sim.frequency_response(z));
     /// // (zI − Φ)·x = b for any b.
     /// let b = [Complex::new(1.0, -2.0), Complex::new(0.5, 0.0)];
     /// let x = line.solve(b).unwrap();
@@ -103,7 +103,7 @@ impl<const N: usize> ExactSimulator<N> {
     /// assert!((back - SVector::from(b)).norm() < 1e-12);
     /// # Ok::<(), msd_ode::OdeError>(())
     /// ```
-    pub fn resolvent(&self, z: Complex<f64>) -> Option<Resolvent<N>> {
+    pub fn resolvent(&self, z: Complex<f64>) -> Option<Resolvent<'_, N>> {
         let shifted: [[Complex<f64>; N]; N] = std::array::from_fn(|r| {
             std::array::from_fn(|c| {
                 let diagonal = if r == c { z } else { Complex::new(0.0, 0.0) };
@@ -119,21 +119,27 @@ impl<const N: usize> ExactSimulator<N> {
             }
             scale = det.inv();
         }
-        Some(Resolvent { z, shifted, scale })
+        Some(Resolvent {
+            sim: self,
+            z,
+            shifted,
+            scale,
+        })
     }
 }
 
 /// zI − Φ at one line z of a sampled system ([`ExactSimulator::resolvent`]), with its
 /// determinant's inverse for N = 2: each (zI − Φ)⁻¹·b at the line costs a few products.
 #[derive(Debug, Clone, Copy)]
-pub struct Resolvent<const N: usize> {
+pub struct Resolvent<'a, const N: usize> {
+    sim: &'a ExactSimulator<N>,
     z: Complex<f64>,
     shifted: [[Complex<f64>; N]; N],
     /// 1 / det(zI − Φ) for N = 2 (unused otherwise).
     scale: Complex<f64>,
 }
 
-impl<const N: usize> Resolvent<N> {
+impl<const N: usize> Resolvent<'_, N> {
     /// The line's point z.
     pub fn z(&self) -> Complex<f64> {
         self.z
@@ -152,11 +158,10 @@ impl<const N: usize> Resolvent<N> {
         solve(self.shifted, b).map(SVector::from)
     }
 
-    /// [`ExactSimulator::frequency_response`] at this line of `sim`'s (the simulator
-    /// this resolvent was taken from).
-    pub fn frequency_response(&self, sim: &ExactSimulator<N>) -> Option<SVector<Complex<f64>, N>> {
-        let (z, variant) = (self.z, interior(sim.hold));
-        let w = &sim.weights[variant];
+    /// [`ExactSimulator::frequency_response`] at this line.
+    pub fn frequency_response(&self) -> Option<SVector<Complex<f64>, N>> {
+        let (z, variant) = (self.z, interior(self.sim.hold));
+        let w = &self.sim.weights[variant];
         let mut drive = [Complex::new(0.0, 0.0); N];
         for (node, power) in stencil_powers(z, variant).enumerate() {
             for (d, weight) in drive.iter_mut().zip(&w[node]) {
@@ -170,28 +175,25 @@ impl<const N: usize> Resolvent<N> {
     /// coefficients have the transforms `m`. With [`Hold::interior_transforms`] it is
     /// the frequency response; a fit that visits the same lines at many models takes
     /// those once.
-    pub fn held_response(
-        &self,
-        sim: &ExactSimulator<N>,
-        m: &[Complex<f64>; 4],
-    ) -> Option<SVector<Complex<f64>, N>> {
+    pub fn held_response(&self, m: &[Complex<f64>; 4]) -> Option<SVector<Complex<f64>, N>> {
         self.solve(std::array::from_fn(|r| {
-            (sim.gamma.iter().zip(m)).map(|(g, m)| m * g[r]).sum()
+            (self.sim.gamma.iter().zip(m)).map(|(g, m)| m * g[r]).sum()
         }))
     }
 
-    /// [`ExactSimulator::state_spectrum`] at this line of `sim`'s.
+    /// [`ExactSimulator::state_spectrum`] at this line.
     pub fn state_spectrum(
         &self,
-        sim: &ExactSimulator<N>,
         x0: &SVector<f64, N>,
         last: &SVector<f64, N>,
         hold: &[Complex<f64>; 4],
     ) -> Option<SVector<Complex<f64>, N>> {
-        let end = sim.phi * last;
+        let end = self.sim.phi * last;
         // z·(x₀ − Φ·x_{n−1} + Σⱼ Γⱼ·Mⱼ), then (zI − Φ)⁻¹ of it.
         let drive: [Complex<f64>; N] = std::array::from_fn(|r| {
-            let held: Complex<f64> = (sim.gamma.iter().zip(hold)).map(|(g, m)| m * g[r]).sum();
+            let held: Complex<f64> = (self.sim.gamma.iter().zip(hold))
+                .map(|(g, m)| m * g[r])
+                .sum();
             self.z * (held + (x0[r] - end[r]))
         });
         self.solve(drive)

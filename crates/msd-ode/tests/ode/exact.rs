@@ -457,7 +457,7 @@ fn impulse_against_response<const N: usize>(sim: &ExactSimulator<N>, hold: Hold)
         let response = sim.frequency_response(z).expect("regular");
         // The same response from the hold's interior transforms (one resolvent).
         let resolvent = sim.resolvent(z).expect("regular");
-        let held = (resolvent.held_response(sim, &hold.interior_transforms(z))).expect("regular");
+        let held = (resolvent.held_response(&hold.interior_transforms(z))).expect("regular");
         for i in 0..N {
             // Near Nyquist the sum cancels to 1e-4 of its terms: its rounding, about
             // n·ε·Σ|x|, is the floor.
