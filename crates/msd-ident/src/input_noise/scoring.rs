@@ -213,6 +213,7 @@ struct Work {
     solved: Vec<Vec<Complex64>>,
     y: Vec<Complex64>,
     residual: Vec<Complex64>,
+    sums: GroupSums,
 }
 
 /// The likelihood, score and Fisher information at `v` over every line of every record.
@@ -233,6 +234,7 @@ fn evaluate(lines: &[Lines], expected: Option<&[Expected]>, v: &[f64]) -> Evalua
         solved: vec![Vec::new(); q],
         y: Vec::new(),
         residual: Vec::new(),
+        sums: GroupSums::default(),
     };
     for (r, l) in lines.iter().enumerate() {
         for (i, k) in likelihood_lines(l.size).enumerate() {
@@ -247,7 +249,11 @@ fn evaluate(lines: &[Lines], expected: Option<&[Expected]>, v: &[f64]) -> Evalua
                     continue;
                 }
             }
-            // The noise's own spectrum: G·Gᴴ for the drive, each group's diagonal.
+            // The noise's own spectrum, D + σ²_u·G·Gᴴ: in closed form where there are
+            // several channels (one is the scalar case).
+            if l.groups.len() > 1 && accumulate_rank_one(l, k, v, &mut work.sums, &mut out) {
+                continue;
+            }
             noise_matrices(l, k, &mut work.matrices);
             accumulate(v, &mut work, &mut out);
         }
@@ -332,6 +338,114 @@ fn accumulate(v: &[f64], work: &mut Work, out: &mut Evaluation) -> bool {
                 if qi != qj {
                     m[(qj, qi)] += value;
                 }
+            }
+        }
+    }
+    true
+}
+
+/// One line's sums per sensor group under Σ = D + σ²_u·g·gᴴ ([`accumulate_rank_one`]),
+/// with h = D⁻¹·g and y = Σ⁻¹·R: Σ|h_a|², Σ h̄_a·y_a, Σ|y_a|², Σ|y_a|²/d_a, the trace
+/// of Σ⁻¹ over the group's channels and Σ (1/d_a² − 2β·|h_a|²/d_a).
+#[derive(Default)]
+struct GroupSums {
+    h2: Vec<f64>,
+    u: Vec<Complex64>,
+    y2: Vec<f64>,
+    yd: Vec<f64>,
+    trace: Vec<f64>,
+    diagonal: Vec<f64>,
+}
+
+/// [`accumulate`] at an unrestricted line k of `l`, where Σ = D + σ²_u·g·gᴴ (D the
+/// groups' variances on the diagonal) is diagonal plus rank one: Σ⁻¹ = D⁻¹ − β·h·hᴴ
+/// with γ = gᴴ·D⁻¹·g, κ = 1 + σ²_u·γ, β = σ²_u/κ, and det Σ = κ·det D (Sherman–Morrison
+/// and the determinant lemma). Every trace of [`accumulate`] then reduces to sums over
+/// the channels, without a factorisation. False, adding nothing, where a variance is
+/// not positive (or σ²_u negative).
+fn accumulate_rank_one(
+    l: &Lines,
+    k: usize,
+    v: &[f64],
+    sums: &mut GroupSums,
+    out: &mut Evaluation,
+) -> bool {
+    let (s, groups) = (v[0], v.len() - 1);
+    let variance = |a: usize| v[1 + l.groups[a]];
+    let c = l.groups.len();
+    // NaN fails these too.
+    let positive = |x: f64| x.partial_cmp(&0.0) == Some(std::cmp::Ordering::Greater);
+    if s.is_nan() || s < 0.0 || !(0..c).all(|a| positive(variance(a))) {
+        return false;
+    }
+    let (mut gamma, mut rho) = (0.0, Complex64::new(0.0, 0.0));
+    for a in 0..c {
+        let h = l.transfer[a][k] / variance(a);
+        gamma += (l.transfer[a][k].conj() * h).re;
+        rho += h.conj() * l.residual[a][k];
+    }
+    let kappa = 1.0 + s * gamma;
+    let beta = s / kappa;
+    for part in [
+        &mut sums.h2,
+        &mut sums.y2,
+        &mut sums.yd,
+        &mut sums.trace,
+        &mut sums.diagonal,
+    ] {
+        part.clear();
+        part.resize(groups, 0.0);
+    }
+    sums.u.clear();
+    sums.u.resize(groups, Complex64::new(0.0, 0.0));
+    let (mut log_det, mut quadratic) = (kappa.ln(), -beta * rho.norm_sqr());
+    for a in 0..c {
+        let (j, d, r) = (l.groups[a], variance(a), l.residual[a][k]);
+        let h = l.transfer[a][k] / d;
+        let y = r / d - h * (beta * rho);
+        log_det += d.ln();
+        quadratic += r.norm_sqr() / d;
+        sums.h2[j] += h.norm_sqr();
+        sums.u[j] += h.conj() * y;
+        sums.y2[j] += y.norm_sqr();
+        sums.yd[j] += y.norm_sqr() / d;
+        sums.trace[j] += 1.0 / d - beta * h.norm_sqr();
+        sums.diagonal[j] += 1.0 / (d * d) - 2.0 * beta * h.norm_sqr() / d;
+    }
+    out.log_likelihood -= log_det + quadratic;
+    let k2 = kappa * kappa;
+    out.score[0] += rho.norm_sqr() / k2 - gamma / kappa;
+    for j in 0..groups {
+        out.score[1 + j] += sums.y2[j] - sums.trace[j];
+    }
+    // Each pair's tr(P_q·P_r) and Re((M_r·y)ᴴ·Σ⁻¹·M_q·y); the observed information is
+    // twice the second less the first.
+    let mut add = |q: usize, r: usize, trace: f64, cross: f64| {
+        for (m, value) in [
+            (&mut out.fisher, trace),
+            (&mut out.observed, 2.0 * cross - trace),
+        ] {
+            m[(q, r)] += value;
+            if q != r {
+                m[(r, q)] += value;
+            }
+        }
+    };
+    add(
+        0,
+        0,
+        (gamma / kappa).powi(2),
+        rho.norm_sqr() / k2 * gamma / kappa,
+    );
+    for j in 0..groups {
+        add(0, 1 + j, sums.h2[j] / k2, (sums.u[j].conj() * rho).re / k2);
+        for m in j..groups {
+            let shared = beta * beta * sums.h2[j] * sums.h2[m];
+            let cross = -beta * (sums.u[m].conj() * sums.u[j]).re;
+            if m == j {
+                add(1 + j, 1 + j, shared + sums.diagonal[j], cross + sums.yd[j]);
+            } else {
+                add(1 + j, 1 + m, shared, cross);
             }
         }
     }
@@ -530,5 +644,83 @@ mod tests {
             assert!((a - b).abs() < 1e-12 * a.abs(), "{near:?} against {far:?}");
         }
         assert!((near_likelihood - far_likelihood).abs() < 1e-12 * near_likelihood.abs());
+    }
+
+    /// The closed form of a line whose Σ is diagonal plus rank one gives the general
+    /// factorisation's likelihood, score and both informations, for three channels in
+    /// two groups, with and without the drive's noise.
+    #[test]
+    fn the_rank_one_line_is_the_general_one() {
+        let size = 16;
+        let wave = |k: usize, a: usize, f: f64| {
+            Complex64::new((f * (k + a) as f64).sin(), (0.7 * f * (k * a) as f64).cos())
+        };
+        let lines = Lines {
+            size,
+            groups: vec![0, 1, 1],
+            residual: (0..3)
+                .map(|a| (0..size).map(|k| wave(k, a, 0.9)).collect())
+                .collect(),
+            transfer: (0..3)
+                .map(|a| {
+                    (0..size)
+                        .map(|k| wave(k, a, 0.4) * (1.0 + a as f64))
+                        .collect()
+                })
+                .collect(),
+        };
+        for v in [[0.7, 0.4, 1.3], [0.0, 0.2, 2.5]] {
+            let fresh = || Evaluation {
+                log_likelihood: 0.0,
+                score: vec![0.0; 3],
+                fisher: DMatrix::zeros(3, 3),
+                observed: DMatrix::zeros(3, 3),
+            };
+            for k in 1..size / 2 {
+                let (mut general, mut closed) = (fresh(), fresh());
+                let mut work = Work {
+                    matrices: vec![Vec::new(); 3],
+                    factor: Vec::new(),
+                    inverse: Vec::new(),
+                    parts: vec![Vec::new(); 3],
+                    images: vec![Vec::new(); 3],
+                    solved: vec![Vec::new(); 3],
+                    y: Vec::new(),
+                    residual: (0..3).map(|a| lines.residual[a][k]).collect(),
+                    sums: GroupSums::default(),
+                };
+                noise_matrices(&lines, k, &mut work.matrices);
+                assert!(accumulate(&v, &mut work, &mut general));
+                assert!(accumulate_rank_one(
+                    &lines,
+                    k,
+                    &v,
+                    &mut work.sums,
+                    &mut closed
+                ));
+                let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(1.0);
+                assert!(
+                    close(general.log_likelihood, closed.log_likelihood),
+                    "line {k}"
+                );
+                for q in 0..3 {
+                    assert!(
+                        close(general.score[q], closed.score[q]),
+                        "line {k}, score {q}"
+                    );
+                    for r in 0..3 {
+                        let (f, o) = ((q, r), (q, r));
+                        assert!(
+                            close(general.fisher[f], closed.fisher[f]),
+                            "line {k}, F {q}{r}"
+                        );
+                        assert!(
+                            close(general.observed[o], closed.observed[o]),
+                            "line {k}, O {q}{r}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }
