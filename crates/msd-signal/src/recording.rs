@@ -340,6 +340,17 @@ impl Recording {
         self.t0 + self.dt * i as f64
     }
 
+    /// The time of every sample, s: the grid's [`time`](Self::time)s.
+    ///
+    /// ```
+    /// let run = msd_signal::Recording::new("run", 1.0, 0.5)
+    ///     .with_channel(msd_signal::Channel::new("x", msd_signal::Quantity::Displacement, vec![0.0; 3]));
+    /// assert_eq!(run.times(), [1.0, 1.5, 2.0]);
+    /// ```
+    pub fn times(&self) -> Vec<f64> {
+        (0..self.len()).map(|i| self.time(i)).collect()
+    }
+
     /// Samples `[a, b)` of every channel (clamped to the record), the grid starting at
     /// sample `a`.
     pub fn slice(&self, a: usize, b: usize) -> Self {

@@ -64,6 +64,27 @@ impl ExcitationKind {
             ExcitationKind::None => "",
         }
     }
+
+    /// What the measured drive is (none for a free decay).
+    pub fn quantity(&self) -> Option<Quantity> {
+        match self {
+            ExcitationKind::Force => Some(Quantity::Force),
+            ExcitationKind::BaseDisplacement | ExcitationKind::ImposedDisplacement => {
+                Some(Quantity::Displacement)
+            }
+            ExcitationKind::BaseAcceleration => Some(Quantity::Acceleration),
+            ExcitationKind::None => None,
+        }
+    }
+
+    /// The drive channel's name in a record and its file: the excitation's name, `stroke`
+    /// for the test machine's.
+    pub fn channel_name(&self) -> &'static str {
+        match self {
+            ExcitationKind::ImposedDisplacement => "stroke",
+            other => other.name(),
+        }
+    }
 }
 
 impl ExcitationKind {

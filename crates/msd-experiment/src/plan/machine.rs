@@ -140,7 +140,7 @@ fn planned_conditions(
     for (i, c) in setup.conditions.iter().enumerate() {
         let clean = machine::stroke_record(plant, c, cycles, dt)
             .map_err(|e| ExperimentError::config(path, format!("setup.conditions[{i}]: {e}")))?;
-        let stroke = clean.input.map_or_else(Vec::new, |x| x.samples().to_vec());
+        let stroke = clean.input.unwrap_or_default();
         let force = clean.channels.into_iter().next().unwrap_or_default();
         let name = format!("condition-{}", i + 1);
         conditions.push(Condition::new(name, dt, stroke, force).at_frequency(c.frequency));

@@ -220,7 +220,7 @@ fn verify(p: &Planned<'_>, names: &[&str], plan: &PlanOptions) -> Result<Option<
     };
     let draws = draws(plan.verify, "plan --verify", plan.progress, |seed| {
         let loaded = data::load(p.config, p.setup, seed)?;
-        let records = fit::ident_records(&loaded.records, &loaded.channels)?;
+        let records = fit::ident_records(&loaded.records, loaded.setup.excitation)?;
         let fit = fit_records(&records, &options)
             .map_err(|e| ExperimentError::run("plan --verify", format!("seed {seed}: {e}")))?;
         let values = names

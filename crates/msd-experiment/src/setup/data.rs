@@ -6,26 +6,18 @@ use crate::config::DataSection;
 use crate::config::{Config, ExcitationKind, Plant, Response, SetupSection};
 use crate::data::{ColumnSpec, overlap_note, read_columns, resolve_range};
 use crate::error::{ExperimentError, Result};
-use msd_ident::Excitation;
-use msd_signal::gaussian_noise;
+use msd_signal::{Channel, Recording, gaussian_noise};
 use std::path::{Path, PathBuf};
 
-/// One record: the drive as measured (none for a free decay) and the response
-/// channels, in SI units, on one uniform grid.
+/// One record of a setup: the run as every engine reads it, with what only a synthetic
+/// record knows.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SetupRecord {
-    /// `record-1`, … (synthetic) or the file's stem (measured).
-    pub name: String,
-    /// The drive: force, base motion or the imposed stroke (None for a free decay).
-    pub input: Option<Excitation>,
-    /// Time of each sample, s.
-    pub time: Vec<f64>,
-    /// Time of the first sample, s.
-    pub t0: f64,
-    /// Sampling interval, s.
-    pub dt: f64,
-    /// The channels, in the order of `setup.responses`.
-    pub channels: Vec<Vec<f64>>,
+    /// The run on its uniform grid, in SI units: the drive as measured (a force, the
+    /// base's motion or the imposed stroke, named as the record's file names it; no input
+    /// for a free decay) and the response channels, in the order of `setup.responses`.
+    /// Named `record-1`, … (synthetic) or after the file's stem (measured).
+    pub recording: Recording,
     /// The noise-free channels (synthetic only).
     pub truth: Option<Vec<Vec<f64>>>,
     /// The stroke's frequency, Hz (synthetic test machine only; measured ones are
@@ -34,32 +26,43 @@ pub struct SetupRecord {
 }
 
 impl SetupRecord {
-    /// Samples `[a, b)` of the record, named `name`.
-    fn part(&self, name: String, [a, b]: [usize; 2]) -> std::result::Result<Self, String> {
-        let input = match &self.input {
-            Some(x) => Some(x.slice(a, b).map_err(|e| e.to_string())?),
-            None => None,
-        };
-        Ok(SetupRecord {
+    /// Samples `[a, b)` of the record (a range [`resolve_range`] checked), named `name`.
+    fn part(&self, name: String, [a, b]: [usize; 2]) -> Self {
+        let recording = Recording {
             name,
-            input,
-            time: self.time[a..b].to_vec(),
-            t0: self.time[a],
-            dt: self.dt,
-            channels: self.channels.iter().map(|c| c[a..b].to_vec()).collect(),
-            truth: (self.truth.as_ref()).map(|t| t.iter().map(|c| c[a..b].to_vec()).collect()),
+            ..self.recording.slice(a, b)
+        };
+        let truth = (self.truth.as_ref()).map(|t| t.iter().map(|c| c[a..b].to_vec()).collect());
+        Self {
+            recording,
+            truth,
             frequency: self.frequency,
-        })
+        }
+    }
+
+    /// The record's name.
+    pub fn name(&self) -> &str {
+        &self.recording.name
     }
 
     /// Number of samples.
     pub fn len(&self) -> usize {
-        self.channels.first().map_or(0, Vec::len)
+        self.recording.len()
     }
 
     /// Whether the record holds no sample.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// The drive's samples (empty for a free decay).
+    pub fn drive(&self) -> &[f64] {
+        self.recording.input()
+    }
+
+    /// Response channel `i`'s samples (in the order of `setup.responses`).
+    pub fn channel(&self, i: usize) -> &[f64] {
+        &self.recording.channels[i].samples
     }
 }
 
@@ -124,22 +127,21 @@ fn split(data: &mut SetupData, d: &DataSection, config_path: &Path) -> Result<()
         return Ok(());
     }
     let mut records = Vec::with_capacity(data.records.len());
-    for (i, r) in data.records.iter().enumerate() {
-        let grid = (r.len(), r.t0, r.dt);
+    for r in &data.records {
+        let grid = (r.len(), r.recording.t0, r.recording.dt);
         let range = |spec, key| {
             resolve_range(spec, grid, r.len(), 1, key).map_err(|m| {
-                ExperimentError::config(config_path, format!("{m} (record `{}`)", r.name))
+                ExperimentError::config(config_path, format!("{m} (record `{}`)", r.name()))
             })
         };
         let est = range(&d.estimation, "data.estimation")?;
-        let failed = |e: String| ExperimentError::data(&data.files[i], e);
-        records.push(r.part(r.name.clone(), est).map_err(failed)?);
+        records.push(r.part(r.name().to_string(), est));
         if let Some(spec) = &d.validation {
             let val = range(spec, "data.validation")?;
-            let name = format!("{} (validation)", r.name);
-            data.validation.push(r.part(name, val).map_err(failed)?);
+            let name = format!("{} (validation)", r.name());
+            data.validation.push(r.part(name, val));
             if let Some(note) = overlap_note(est, val) {
-                data.notes.push(format!("record `{}`: {note}", r.name));
+                data.notes.push(format!("record `{}`: {note}", r.name()));
             }
         }
     }
@@ -172,6 +174,11 @@ fn measured(config: &Config, setup: &SetupSection, channels: &[Response]) -> Res
             scale_key: format!("setup.responses[{i}].scale"),
         });
     }
+    let layout = Layout {
+        specs,
+        excitation: setup.excitation,
+        channels,
+    };
     let mut records = Vec::new();
     let mut files = Vec::new();
     let mut notes = Vec::new();
@@ -179,7 +186,7 @@ fn measured(config: &Config, setup: &SetupSection, channels: &[Response]) -> Res
         records.push(read_record(
             config,
             d,
-            &specs,
+            &layout,
             file,
             &d.path.key(i),
             &mut notes,
@@ -190,7 +197,7 @@ fn measured(config: &Config, setup: &SetupSection, channels: &[Response]) -> Res
     if let Some(paths) = &d.validation_path {
         for (i, file) in paths.0.iter().enumerate() {
             let key = format!("data.validation_path[{i}]");
-            validation.push(read_record(config, d, &specs, file, &key, &mut notes)?);
+            validation.push(read_record(config, d, &layout, file, &key, &mut notes)?);
             files.push(config.sources.path(file));
         }
     }
@@ -212,43 +219,76 @@ struct Measured {
     validation: Vec<SetupRecord>,
 }
 
-/// One measured record: the columns of `specs` from `file` (config key `key`), the
+/// What a `[data]` file's record is read as: its columns (the drive's first, when
+/// measured), the drive and the channels' descriptions.
+struct Layout<'a> {
+    specs: Vec<ColumnSpec>,
+    excitation: ExcitationKind,
+    channels: &'a [Response],
+}
+
+/// One measured record: the columns of `layout` from `file` (config key `key`), the
 /// reader's notes added to `notes`.
 fn read_record(
     config: &Config,
     d: &crate::config::DataSection,
-    specs: &[ColumnSpec],
+    layout: &Layout<'_>,
     file: &Path,
     key: &str,
     notes: &mut Vec<String>,
 ) -> Result<SetupRecord> {
     let path = config.sources.path(file);
-    let mut table = read_columns(d, &config.sources, &path, key, specs)?;
+    let mut table = read_columns(d, &config.sources, &path, key, &layout.specs)?;
     let label = file.display();
     notes.extend(table.notes.drain(..).map(|n| format!("{label}: {n}")));
-    let input = match d.input {
-        Some(_) => {
-            let samples = table.columns.remove(0);
-            Some(
-                Excitation::from_samples(table.time[0], table.dt, samples)
-                    .map_err(|e| ExperimentError::data(&path, format!("data.input: {e}")))?,
-            )
-        }
-        None => None,
-    };
+    let drive = d.input.as_ref().map(|_| table.columns.remove(0));
     let name = file
         .file_stem()
         .map_or_else(|| key.to_string(), |s| s.to_string_lossy().into());
-    Ok(SetupRecord {
+    let recording = run_recording(
         name,
-        input,
-        t0: table.time[0],
-        time: table.time.clone(),
-        dt: table.dt,
-        channels: table.columns,
+        (table.time[0], table.dt),
+        layout.excitation,
+        (drive, d.input_scale),
+        table.columns,
+        layout.channels,
+    );
+    recording
+        .validate()
+        .map_err(|e| ExperimentError::data(&path, e.to_string()))?;
+    Ok(SetupRecord {
+        recording,
         truth: None,
         frequency: None,
     })
+}
+
+/// The recording of one run: `drive` (none for a free decay) as the setup's measured
+/// input, `drive_scale` the factor that took the file's numbers to it, and `samples` as
+/// the channels `responses` describe.
+fn run_recording(
+    name: String,
+    (t0, dt): (f64, f64),
+    excitation: ExcitationKind,
+    (drive, drive_scale): (Option<Vec<f64>>, f64),
+    samples: Vec<Vec<f64>>,
+    responses: &[Response],
+) -> Recording {
+    let mut recording = Recording::new(name, t0, dt);
+    if let (Some(samples), Some(quantity)) = (drive, excitation.quantity()) {
+        let input = Channel::new(excitation.channel_name(), quantity, samples);
+        recording.inputs.push(Channel {
+            scale: drive_scale,
+            ..input
+        });
+    }
+    recording.channels = (samples.into_iter().zip(responses))
+        .map(|(samples, r)| Channel {
+            scale: r.scale,
+            ..Channel::new(r.channel_name(), r.quantity, samples).in_frame(r.frame)
+        })
+        .collect();
+    recording
 }
 
 fn synthetic(
@@ -269,7 +309,7 @@ fn synthetic(
             let name = format!("condition-{}", i + 1);
             let clean = super::machine::stroke_record(&plant, c, setup.cycles, time.dt)
                 .map_err(|e| ExperimentError::run("data", e))?;
-            let mut record = noisy(name, clean, &sigmas, setup.input_sigma, seed)?;
+            let mut record = noisy(name, clean, setup, (channels, &sigmas), seed)?;
             record.frequency = Some(c.frequency);
             records.push(record);
         }
@@ -291,12 +331,12 @@ fn synthetic(
     for r in 0..setup.records {
         let name = format!("record-{}", r + 1);
         let record = Clean {
-            input: input.clone(),
+            input: input.as_ref().map(|x| x.samples().to_vec()),
             t0: time.start,
             dt: time.dt,
             channels: clean.clone(),
         };
-        records.push(noisy(name, record, &sigmas, setup.input_sigma, seed)?);
+        records.push(noisy(name, record, setup, (channels, &sigmas), seed)?);
     }
     Ok(records)
 }
@@ -312,49 +352,144 @@ pub(crate) fn channel_sigmas(config: &Config, channels: &[Response]) -> Vec<f64>
 
 /// A noise-free record.
 pub(crate) struct Clean {
-    pub input: Option<Excitation>,
+    /// The drive's samples (none for a free decay).
+    pub input: Option<Vec<f64>>,
     pub t0: f64,
     pub dt: f64,
     pub channels: Vec<Vec<f64>>,
 }
 
-/// Adds each channel's noise (stream `<record>/<channel index>`) and the drive's
-/// (stream `<record>/input`).
+/// Adds each channel's noise (stream `<record>/<channel index>`, of level `sigmas`)
+/// and the drive's (stream `<record>/input`); the channels as `channels` describe them.
 fn noisy(
     name: String,
     clean: Clean,
-    sigmas: &[f64],
-    input_sigma: f64,
+    setup: &SetupSection,
+    (channels, sigmas): (&[Response], &[f64]),
     seed: u64,
 ) -> Result<SetupRecord> {
     let noise = |stream: String, sigma: f64, n: usize| {
         gaussian_noise(seed, &stream, sigma, n).map_err(|e| ExperimentError::run("data", e))
     };
-    let mut channels = Vec::with_capacity(clean.channels.len());
+    let mut noisy = Vec::with_capacity(clean.channels.len());
     for (j, (c, &sigma)) in clean.channels.iter().zip(sigmas).enumerate() {
         let e = noise(format!("{name}/{j}"), sigma, c.len())?;
-        channels.push(c.iter().zip(e).map(|(y, e)| y + e).collect());
+        noisy.push(c.iter().zip(e).map(|(y, e)| y + e).collect());
     }
     let input = match clean.input {
-        Some(x) if input_sigma > 0.0 => {
-            let e = noise(format!("{name}/input"), input_sigma, x.len())?;
-            let samples = x.samples().iter().zip(e).map(|(u, e)| u + e).collect();
-            Some(
-                Excitation::from_samples(x.t0(), x.dt(), samples)
-                    .map_err(|e| ExperimentError::run("data", e))?,
-            )
+        Some(x) if setup.input_sigma > 0.0 => {
+            let e = noise(format!("{name}/input"), setup.input_sigma, x.len())?;
+            Some(x.iter().zip(e).map(|(u, e)| u + e).collect())
         }
         other => other,
     };
-    let n = clean.channels.first().map_or(0, Vec::len);
-    Ok(SetupRecord {
+    let recording = run_recording(
         name,
-        input,
-        time: (0..n).map(|i| clean.t0 + i as f64 * clean.dt).collect(),
-        t0: clean.t0,
-        dt: clean.dt,
+        (clean.t0, clean.dt),
+        setup.excitation,
+        (input, 1.0),
+        noisy,
         channels,
+    );
+    recording
+        .validate()
+        .map_err(|e| ExperimentError::run("data", e))?;
+    Ok(SetupRecord {
+        recording,
         truth: Some(clean.channels),
         frequency: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use msd_signal::{Frame, Quantity};
+
+    fn response(quantity: Quantity, frame: Frame) -> Response {
+        Response {
+            quantity,
+            frame,
+            sigma: None,
+            column: None,
+            scale: 9.80665,
+            unit: Some("g".into()),
+            name: None,
+        }
+    }
+
+    /// Every drive's record is one the engine of its kind reads: msd-ident's records
+    /// under the setup's drive, the test machine's inverse dynamics as stroke and
+    /// force; the drive's scale and each channel's name, frame and scale kept.
+    #[test]
+    fn each_drives_recording_is_what_its_engine_reads() {
+        let samples = |k: f64| {
+            (0..64)
+                .map(|i| (0.3 * k * i as f64).sin())
+                .collect::<Vec<f64>>()
+        };
+        let cases = [
+            (
+                ExcitationKind::Force,
+                Quantity::Acceleration,
+                Frame::Absolute,
+            ),
+            (
+                ExcitationKind::BaseAcceleration,
+                Quantity::Displacement,
+                Frame::Relative,
+            ),
+            (
+                ExcitationKind::BaseDisplacement,
+                Quantity::Displacement,
+                Frame::Absolute,
+            ),
+            (ExcitationKind::None, Quantity::Velocity, Frame::Absolute),
+            (
+                ExcitationKind::ImposedDisplacement,
+                Quantity::Force,
+                Frame::Absolute,
+            ),
+        ];
+        for (excitation, quantity, frame) in cases {
+            let responses = [response(quantity, frame)];
+            let drive = excitation.quantity().map(|_| samples(1.0));
+            let r = run_recording(
+                "run".into(),
+                (0.5, 1e-3),
+                excitation,
+                (drive, 2.5),
+                vec![samples(2.0)],
+                &responses,
+            );
+            r.validate().expect("a valid recording");
+            let channel = &r.channels[0];
+            assert_eq!(
+                (channel.name.as_str(), channel.frame, channel.scale),
+                (responses[0].channel_name().as_str(), frame, 9.80665)
+            );
+            assert_eq!(
+                r.inputs.iter().map(|c| c.scale).collect::<Vec<_>>(),
+                match excitation {
+                    ExcitationKind::None => vec![],
+                    _ => vec![2.5],
+                }
+            );
+            if excitation == ExcitationKind::ImposedDisplacement {
+                let (stroke, force) =
+                    msd_ident::dynamometer::stroke_and_force(&r).expect("stroke and force");
+                assert_eq!((stroke, force), (&samples(1.0)[..], &samples(2.0)[..]));
+                assert_eq!(r.inputs[0].name, "stroke");
+            } else {
+                let record =
+                    msd_ident::Record::from_recording(&r, super::super::fit::drive(excitation))
+                        .unwrap_or_else(|e| panic!("{excitation:?}: {e}"));
+                assert_eq!(record.excitation.samples().len(), 64);
+                assert_eq!(
+                    r.input(),
+                    excitation.quantity().map_or(vec![], |_| samples(1.0))
+                );
+            }
+        }
+    }
 }

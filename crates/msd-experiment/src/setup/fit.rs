@@ -1,14 +1,13 @@
 //! The fit of a setup's records: msd-ident's joint fit of records and channels, or the
 //! test machine's analysis.
 
-use super::stroke::stroke_recording;
 use super::{SetupData, SetupOutcome, SetupRecord};
 use crate::config::{Config, ExcitationKind, Frame, Response, SetupSection};
 use crate::error::{ExperimentError, Result};
 use crate::table::Table;
 use msd_ident::records::NoiseModel;
 use msd_ident::{
-    Channel, Excitation, KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity,
+    KnownParameter, Record, RecordsFit, RecordsOptions, ResponseQuantity,
     dynamometer::{Condition, Dynamometer, DynamometerOptions, dynamometer},
     fit_records,
     free_decay::ClassroomEstimates,
@@ -48,7 +47,7 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
             let file = data
                 .records
                 .iter()
-                .position(|r| &r.name == record)
+                .position(|r| r.name() == record)
                 .and_then(|i| data.files.get(i));
             ExperimentError::data(
                 file.map_or(config_path, PathBuf::as_path),
@@ -77,14 +76,14 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
             dynamometer(&machine_conditions(data), &machine_options(setup)).map_err(refused)?;
         return Ok(SetupFit::Machine(Box::new(result)));
     }
-    let records = ident_records(&data.records, &data.channels)?;
+    let records = ident_records(&data.records, setup.excitation)?;
     let mut options = records_options(config, setup);
     if !data.validation.is_empty() {
         options.hold_out = 0.0;
     }
     let mut fit = fit_records(&records, &options).map_err(refused)?;
     if !data.validation.is_empty() {
-        let fresh = ident_records(&data.validation, &data.channels)?;
+        let fresh = ident_records(&data.validation, setup.excitation)?;
         let validation = validate_records(&fit, &fresh, &options).map_err(refused)?;
         fit.validation = Some(validation);
     }
@@ -92,9 +91,11 @@ pub(crate) fn fit(config: &Config, config_path: &Path, data: &SetupData) -> Resu
     fit.notes.extend(data.notes.iter().cloned());
     // The classroom's reading of the decay beside the fit (not a second fit of it).
     let classroom = match (setup.excitation, data.records.first()) {
-        (ExcitationKind::None, Some(r)) => ClassroomEstimates::from_record(r.dt, &r.channels[0])
-            .ok()
-            .map(Box::new),
+        (ExcitationKind::None, Some(r)) => {
+            ClassroomEstimates::from_record(r.recording.dt, r.channel(0))
+                .ok()
+                .map(Box::new)
+        }
         _ => None,
     };
     Ok(SetupFit::Records {
@@ -154,7 +155,7 @@ pub(crate) fn machine_conditions(data: &SetupData) -> Vec<Condition> {
     data.records
         .iter()
         .map(|r| Condition {
-            recording: stroke_recording(r),
+            recording: r.recording.clone(),
             frequency_hz: r.frequency,
         })
         .collect()
@@ -186,29 +187,16 @@ pub(crate) fn sensor(c: &Response) -> (ResponseQuantity, Frame) {
     (motion, c.frame)
 }
 
-/// The records as msd-ident takes them (a free decay's excitation is zero).
-pub(crate) fn ident_records(records: &[SetupRecord], sensors: &[Response]) -> Result<Vec<Record>> {
-    records
-        .iter()
+/// The records as msd-ident takes them under the setup's drive `excitation` (a free
+/// decay's excitation is zero).
+pub(crate) fn ident_records(
+    records: &[SetupRecord],
+    excitation: ExcitationKind,
+) -> Result<Vec<Record>> {
+    (records.iter())
         .map(|r| {
-            let excitation = match &r.input {
-                Some(x) => x.clone(),
-                None => Excitation::from_samples(r.t0, r.dt, vec![0.0; r.len()])
-                    .map_err(|e| ExperimentError::run("estimation", e))?,
-            };
-            let channels = r
-                .channels
-                .iter()
-                .zip(sensors)
-                .map(|(samples, c)| {
-                    Channel::new(c.channel_name(), c.quantity, samples.clone()).in_frame(c.frame)
-                })
-                .collect();
-            Ok(Record {
-                name: r.name.clone(),
-                excitation,
-                channels,
-            })
+            Record::from_recording(&r.recording, drive(excitation))
+                .map_err(|e| ExperimentError::run("estimation", e))
         })
         .collect()
 }
@@ -218,26 +206,23 @@ pub(crate) fn ident_records(records: &[SetupRecord], sensors: &[Response]) -> Re
 /// the model's prediction of each as `model_<name>`.
 pub(crate) fn record_files(o: &SetupOutcome) -> Vec<(String, String)> {
     let d = &o.data;
-    let drive = match d.setup.excitation {
-        ExcitationKind::ImposedDisplacement => "stroke",
-        other => other.name(),
-    };
+    let drive = d.setup.excitation.channel_name();
     d.records
         .iter()
         .enumerate()
         .map(|(i, r)| {
             let mut t = Table::new();
-            t.column("t", &r.time);
-            if let Some(x) = &r.input {
-                t.column(drive, x.samples());
+            t.column("t", &r.recording.times());
+            if let Some(x) = r.recording.inputs.first() {
+                t.column(drive, &x.samples);
             }
-            for (samples, c) in r.channels.iter().zip(&d.channels) {
+            for (samples, c) in r.recording.responses().zip(&d.channels) {
                 t.column(c.channel_name(), samples);
             }
             for (name, model) in models(o, i) {
                 t.column(format!("model_{name}"), model);
             }
-            (format!("{}.csv", r.name), t.render())
+            (format!("{}.csv", r.name()), t.render())
         })
         .collect()
 }

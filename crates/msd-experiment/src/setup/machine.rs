@@ -3,7 +3,6 @@
 
 use super::data::Clean;
 use crate::config::{Plant, StrokeCondition};
-use msd_ident::Excitation;
 use std::f64::consts::PI;
 
 /// The noise-free record of one condition: `cycles` whole periods of the stroke
@@ -38,7 +37,7 @@ pub(crate) fn stroke_record(
         );
     }
     Ok(Clean {
-        input: Some(Excitation::from_samples(0.0, dt, stroke)?),
+        input: Some(stroke),
         t0: 0.0,
         dt,
         channels: vec![force],

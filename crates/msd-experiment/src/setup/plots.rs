@@ -23,8 +23,9 @@ use std::path::Path;
 /// Writes every figure of the setup; returns their base names.
 pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str>> {
     register_fonts();
+    let time = o.data.records.first().map(|r| r.recording.times());
     let figures = match &o.fit {
-        SetupFit::Records { .. } => vec![fit_figure(o)],
+        SetupFit::Records { .. } => vec![time.as_deref().and_then(|t| fit_figure(o, t))],
         SetupFit::Machine(_) => vec![loops(o), force_velocity(o)],
         SetupFit::Stroke(f) => vec![stroke_force(o, f)],
     };
@@ -40,12 +41,12 @@ pub(crate) fn write_all(o: &SetupOutcome, dir: &Path) -> Result<Vec<&'static str
     Ok(drawn.iter().map(|f| f.file_name()).collect())
 }
 
-fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
+/// The first record on its sample times `time`.
+fn fit_figure<'a>(o: &'a SetupOutcome, time: &'a [f64]) -> Option<Stack<'a>> {
     let record = o.data.records.first()?;
-    let time: &[f64] = &record.time;
     let range = (*time.first()?, *time.last()?);
     let mut panels = Vec::new();
-    if let Some(x) = &record.input {
+    if let Some(x) = record.recording.inputs.first() {
         panels.push(Panel {
             title: format!("Drive: {}", o.data.setup.excitation.name()),
             x_desc: "time t [s]".into(),
@@ -58,21 +59,19 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
             curves: vec![Curve {
                 label: "measured".into(),
                 x: time,
-                y: x.samples().to_vec(),
+                y: x.samples.clone(),
                 style: Style::Line(BLUE, 1),
             }],
             band: None,
             legend: None,
         });
     }
-    for ((samples, channel), (_, model)) in record
-        .channels
-        .iter()
+    for ((samples, channel), (_, model)) in (record.recording.responses())
         .zip(&o.data.channels)
         .zip(models(o, 0))
     {
         panels.push(Panel {
-            title: format!("{} — {}", channel.channel_name(), record.name),
+            title: format!("{} — {}", channel.channel_name(), record.name()),
             x_desc: "time t [s]".into(),
             y_desc: format!("{} [{}]", channel.quantity, channel.quantity.si_unit()),
             x_range: range,
@@ -80,7 +79,7 @@ fn fit_figure(o: &SetupOutcome) -> Option<Stack<'_>> {
                 Curve {
                     label: "measured".into(),
                     x: time,
-                    y: samples.clone(),
+                    y: samples.to_vec(),
                     style: Style::Points(BLUE, 2),
                 },
                 Curve {

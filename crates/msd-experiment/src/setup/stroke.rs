@@ -2,14 +2,13 @@
 //! each record's force predicted (the validation records' on fresh data), and its part
 //! of `report.md`, of the summary and of the verdict.
 
-use super::{SetupData, SetupRecord};
+use super::SetupData;
 use crate::config::SetupSection;
 use crate::config::setup::StrokeAnalysis;
 use crate::fmt::sig;
 use crate::verdict::{Finding, Verdict};
 use msd_ident::dynamometer::{
     ForcePrediction, InverseDynamics, InverseOptions, fundamental_share, inverse_dynamics,
-    machine_recording,
 };
 use msd_signal::Recording;
 use serde::Serialize;
@@ -52,21 +51,10 @@ pub(crate) fn any_stroke(setup: &SetupSection, data: &SetupData, measured: bool)
         StrokeAnalysis::Auto => {
             measured
                 && data.records.iter().any(|r| {
-                    let stroke = r.input.as_ref().map_or(&[][..], |x| x.samples());
-                    fundamental_share(r.dt, stroke).is_none_or(|share| share < 0.9)
+                    fundamental_share(r.recording.dt, r.drive()).is_none_or(|share| share < 0.9)
                 })
         }
     }
-}
-
-/// A test machine's record as a recording: its stroke (the input) and its force.
-pub(crate) fn stroke_recording(r: &SetupRecord) -> Recording {
-    let stroke = r
-        .input
-        .as_ref()
-        .map_or_else(Vec::new, |x| x.samples().to_vec());
-    let force = r.channels.first().cloned().unwrap_or_default();
-    machine_recording(&r.name, r.dt, stroke, force)
 }
 
 /// Fits the records of `data` and predicts every record's force.
@@ -78,18 +66,20 @@ pub(crate) fn fit(data: &SetupData) -> msd_ident::Result<StrokeFit> {
         known_mass: setup.known_mass,
         ..InverseOptions::default()
     };
-    let fitted: Vec<Recording> = data.records.iter().map(stroke_recording).collect();
+    let fitted: Vec<Recording> = data.records.iter().map(|r| r.recording.clone()).collect();
     let inverse = inverse_dynamics(&fitted, &options)?;
     let mut predictions = Vec::new();
     for (records, validation) in [(&data.records, false), (&data.validation, true)] {
         for r in records.iter() {
-            let force = inverse.predict(inverse.best, &stroke_recording(r))?;
+            let force = inverse.predict(inverse.best, &r.recording)?;
             predictions.push(RecordPrediction {
-                record: r.name.clone(),
+                record: r.name().to_string(),
                 validation,
                 rms_error: force.rms_error,
                 rms_force: force.rms_force,
-                time: r.time[force.first..force.first + force.predicted.len()].to_vec(),
+                time: (force.first..force.first + force.predicted.len())
+                    .map(|i| r.recording.time(i))
+                    .collect(),
                 force,
             });
         }
